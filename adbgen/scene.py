@@ -1,0 +1,249 @@
+"""The scene: what a user describes in a few lines, validated before anything is derived.
+
+A scene fixes the *structure* of the model (number of balls, whether balls are equal, whether the
+support is isotropic, gravity on/off, the speed law) and supplies *default values* for its
+parameters.  The derivation stays symbolic in every parameter; values only become defaults of the
+generated code.  Units are SI throughout (kg, m, s, rad).
+
+The default scene is the thesis' parameter set (5.1) with n = 2 realised physically:
+M = 1 kg, k = 1e4 N/m (omega_n = 100 rad/s), R = 0.05 m, so that mu = 0.05, Omega = 4,
+zeta = beta = delta = 0.01.
+
+A scene in TOML::
+
+    n = 3
+    ball_mass = 0.05            # one value: equal balls; a list of n values: unequal balls
+    stiffness = [1.0e4, 1.2e4]  # one value: isotropic; [k_X, k_Y]: anisotropic
+    gravity = true
+    [speed]
+    law = "constant"            # or "profile" (omega = "expression in t") or "torque"
+    omega = 400.0
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any, Mapping
+
+from .errors import SceneError
+
+SPEED_LAWS = ("constant", "profile", "torque")
+_SPEED_FIELDS = {
+    "constant": {"law", "omega"},
+    "profile": {"law", "omega"},
+    "torque": {"law", "tau0", "motor_slope"},
+}
+# Functions allowed in a speed profile expression; nothing else is evaluated.
+_PROFILE_FUNCTIONS = ("exp", "sin", "cos", "tanh", "sqrt", "log", "Min", "Max", "pi")
+
+
+def _number(name: str, value: Any, *, positive: bool = False, nonnegative: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(name, f"must be a number, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise SceneError(name, f"must be finite, got {value!r}")
+    if positive and value <= 0:
+        raise SceneError(name, f"must be positive, got {value!r}")
+    if nonnegative and value < 0:
+        raise SceneError(name, f"must be non-negative, got {value!r}")
+    return value
+
+
+def _per_ball(name: str, value: Any, n: int, **kw) -> tuple[float, ...] | float:
+    """A scalar (the same for every ball) or a list of exactly n values."""
+    if isinstance(value, (list, tuple)):
+        if len(value) != n:
+            raise SceneError(name, f"needs one value or n = {n} values, got {len(value)}")
+        return tuple(_number(f"{name}[{i}]", v, **kw) for i, v in enumerate(value))
+    return _number(name, value, **kw)
+
+
+def _xy(name: str, value: Any, **kw) -> tuple[float, float] | float:
+    """A scalar (isotropic) or a pair (X, Y)."""
+    if isinstance(value, (list, tuple)):
+        if len(value) != 2:
+            raise SceneError(name, f"needs one value or two values [X, Y], got {len(value)}")
+        return (_number(f"{name}[0]", value[0], **kw), _number(f"{name}[1]", value[1], **kw))
+    return _number(name, value, **kw)
+
+
+@dataclass(frozen=True)
+class SpeedLaw:
+    """How the spin psi of the rotor is governed.
+
+    - ``constant``: psi = omega t (thesis (2.14));
+    - ``profile``: psi' = Omega(t) given as an expression in t (a run-up);
+    - ``torque``: psi is a degree of freedom driven by tau(psi') = tau0 - motor_slope psi' (2.9).
+    """
+
+    law: str = "constant"
+    omega: float | str | None = 400.0
+    tau0: float = 0.0
+    motor_slope: float = 0.0
+
+    @classmethod
+    def from_mapping(cls, data: Any) -> "SpeedLaw":
+        if not isinstance(data, Mapping):
+            raise SceneError("speed", f"must be a table with a 'law', got {data!r}")
+        law = data.get("law", "constant")
+        if law not in SPEED_LAWS:
+            raise SceneError("speed.law", f"unknown speed law {law!r}; choose one of {', '.join(SPEED_LAWS)}")
+        for key in sorted(set(data) - _SPEED_FIELDS[law]):
+            raise SceneError(f"speed.{key}", f"unknown option for law {law!r}")
+        if law == "constant":
+            return cls(law, omega=_number("speed.omega", data.get("omega", 400.0), positive=True))
+        if law == "profile":
+            expr = data.get("omega")
+            if not isinstance(expr, str) or not expr.strip():
+                raise SceneError("speed.omega", "a profile needs omega = 'expression in t' (rad/s)")
+            profile_expression(expr)  # validates
+            return cls(law, omega=expr)
+        return cls(
+            law,
+            omega=None,
+            tau0=_number("speed.tau0", data.get("tau0", 0.0)),
+            motor_slope=_number("speed.motor_slope", data.get("motor_slope", 0.0), nonnegative=True),
+        )
+
+
+def profile_expression(text: str):
+    """Parse a speed profile Omega(t) safely: only t, numbers and a few named functions."""
+    import sympy as sp
+    from sympy.parsing.sympy_parser import parse_expr, standard_transformations
+
+    t = sp.Symbol("t", real=True)
+    allowed = {name: getattr(sp, name) for name in _PROFILE_FUNCTIONS}
+    allowed["t"] = t
+    try:
+        expr = parse_expr(text, local_dict=allowed, global_dict={"__builtins__": {}, **allowed},
+                          transformations=standard_transformations, evaluate=True)
+    except Exception as exc:  # parse_expr raises many types; all mean the same to a user
+        raise SceneError("speed.omega", f"cannot parse profile {text!r}: {type(exc).__name__}") from None
+    if not isinstance(expr, sp.Expr):
+        raise SceneError("speed.omega", f"profile {text!r} is not an expression")
+    unknown = sorted(str(s) for s in expr.free_symbols if s != t)
+    if unknown:
+        raise SceneError("speed.omega", f"profile may use only t, got unknown names {', '.join(unknown)}")
+    value = expr.subs(t, 0)
+    if not value.is_real or not value.is_finite:
+        raise SceneError("speed.omega", f"profile {text!r} is not finite and real at t = 0")
+    return expr
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A single-plane automatic dynamic balancer (thesis ch. 2, Figure 2.1)."""
+
+    n: int = 2
+    rotor_mass: float = 1.0  # M
+    eccentricity: float = 5.0e-4  # epsilon, distance C -> W
+    polar_inertia: float = 2.5e-3  # I_z, used only when the spin is a degree of freedom
+    race_radius: float = 0.05  # R
+    ball_mass: float | tuple[float, ...] = 0.05  # m or m_i
+    ball_damping: float | tuple[float, ...] = 1.25e-4  # D or D_i
+    stiffness: float | tuple[float, float] = 1.0e4  # k or (k_X, k_Y)
+    damping: float | tuple[float, float] = 2.0  # c or (c_X, c_Y)
+    gravity: bool = False
+    g: float = 9.80665
+    speed: SpeedLaw = field(default_factory=SpeedLaw)
+
+    # --- construction ------------------------------------------------------------------
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any]) -> "Scene":
+        if not isinstance(data, Mapping):
+            raise SceneError("<root>", "a scene is a table of options")
+        known = {f.name for f in fields(cls)}
+        for key in sorted(data):
+            if key not in known:
+                raise SceneError(str(key), "unknown option")
+        defaults = cls()
+        raw = {f.name: data.get(f.name, getattr(defaults, f.name)) for f in fields(cls)}
+        n = raw["n"]
+        if isinstance(n, bool) or not isinstance(n, int):
+            if isinstance(n, float) and math.isfinite(n) and n.is_integer():
+                n = int(n)
+            else:
+                raise SceneError("n", f"must be a whole number of balls, got {n!r}")
+        if n < 1:
+            raise SceneError("n", f"needs at least one ball, got {n}")
+        gravity = raw["gravity"]
+        if not isinstance(gravity, bool):
+            raise SceneError("gravity", f"must be true or false, got {gravity!r}")
+        speed = raw["speed"]
+        if not isinstance(speed, SpeedLaw):
+            speed = SpeedLaw.from_mapping(speed)
+        return cls(
+            n=n,
+            rotor_mass=_number("rotor_mass", raw["rotor_mass"], positive=True),
+            eccentricity=_number("eccentricity", raw["eccentricity"], nonnegative=True),
+            polar_inertia=_number("polar_inertia", raw["polar_inertia"], positive=True),
+            race_radius=_number("race_radius", raw["race_radius"], positive=True),
+            ball_mass=_per_ball("ball_mass", raw["ball_mass"], n, positive=True),
+            ball_damping=_per_ball("ball_damping", raw["ball_damping"], n, nonnegative=True),
+            stiffness=_xy("stiffness", raw["stiffness"], nonnegative=True),
+            damping=_xy("damping", raw["damping"], nonnegative=True),
+            gravity=gravity,
+            g=_number("g", raw["g"], positive=True),
+            speed=speed,
+        )
+
+    @classmethod
+    def load(cls, path: str | Path) -> "Scene":
+        path = Path(path)
+        try:
+            data = tomllib.loads(path.read_text())
+        except FileNotFoundError:
+            raise SceneError("<file>", f"no scene file at {path}") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise SceneError("<file>", f"{path} is not valid TOML: {exc}") from None
+        return cls.from_mapping(data)
+
+    # --- structure -----------------------------------------------------------------------
+    @property
+    def equal_balls(self) -> bool:
+        return not isinstance(self.ball_mass, tuple) and not isinstance(self.ball_damping, tuple)
+
+    @property
+    def isotropic(self) -> bool:
+        return not isinstance(self.stiffness, tuple) and not isinstance(self.damping, tuple)
+
+    def masses(self) -> tuple[float, ...]:
+        return self.ball_mass if isinstance(self.ball_mass, tuple) else (self.ball_mass,) * self.n
+
+    def ball_dampings(self) -> tuple[float, ...]:
+        d = self.ball_damping
+        return d if isinstance(d, tuple) else (d,) * self.n
+
+    def stiffness_xy(self) -> tuple[float, float]:
+        k = self.stiffness
+        return k if isinstance(k, tuple) else (k, k)
+
+    def damping_xy(self) -> tuple[float, float]:
+        c = self.damping
+        return c if isinstance(c, tuple) else (c, c)
+
+    def nondimensional(self) -> dict[str, float]:
+        """The thesis' dimensionless parameters (2.15)-(2.19); needs (2.14) and (2.18) to hold."""
+        if not (self.equal_balls and self.isotropic and self.speed.law == "constant"):
+            raise SceneError("speed", "the thesis scalings (2.14)-(2.19) need equal balls, "
+                             "isotropic support and constant speed")
+        k = self.stiffness_xy()[0]
+        if k <= 0:
+            raise SceneError("stiffness", "the scalings (2.15)-(2.19) need a positive stiffness")
+        if self.eccentricity <= 0 and self.gravity:
+            raise SceneError("eccentricity", "G = g/(eps omega_n^2) (2.16) needs eps > 0")
+        M, m, R = self.rotor_mass, self.masses()[0], self.race_radius
+        omega_n = math.sqrt(k / M)
+        out = {
+            "mu": m / M,
+            "Omega": float(self.speed.omega) / omega_n,
+            "zeta": self.damping_xy()[0] / (2.0 * math.sqrt(k * M)),
+            "beta": self.ball_dampings()[0] / (m * R**2 * omega_n),
+            "delta": self.eccentricity / R,
+        }
+        out["G"] = self.g / (self.eccentricity * omega_n**2) if self.gravity else 0.0
+        return out

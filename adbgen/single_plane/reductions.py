@@ -1,0 +1,183 @@
+"""Reductions of the single-plane model, each a function from one form to the next.
+
+    derive(scene)                fixed frame, dimensional          thesis (2.10)-(2.13)
+      -> nondimensionalise       fixed frame, (2.14)-(2.19)         thesis (2.20)-(2.22)
+      -> rotating_frame          (2.23)-(2.24), G = 0, autonomous   thesis (2.25)-(2.27)
+      -> first_order             structured solve + states          thesis Appendix A (A.1)-(A.14)
+
+Each step refuses a model it does not apply to (ReductionError) and checks its own result's
+invariants (no dimensional symbol left after scaling; no explicit time left in the rotating frame).
+The comparison with the printed equations is in the tests and in `adbgen verify`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import sympy as sp
+
+from ..errors import ReductionError
+from ..mechanics import (Coordinate, EquationsOfMotion, Parameter, StructuredSolve, canonical_trig,
+                         schur_solve, time_derivative)
+from ..scene import Scene
+from .model import derive
+from .symbols import DimensionalSymbols, G, Omega, beta, delta, mu, nondimensional_parameters, omega_n, t, zeta
+
+
+def thesis_scene_check(scene: Scene) -> None:
+    """(2.14) and (2.18): equal balls, constant speed, isotropic support with k > 0."""
+    if not scene.equal_balls:
+        raise ReductionError("the non-dimensional form (2.20)-(2.22) assumes equal balls (2.14)")
+    if scene.speed.law != "constant":
+        raise ReductionError("the non-dimensional form (2.20)-(2.22) assumes constant speed (2.14)")
+    if not scene.isotropic:
+        raise ReductionError("the non-dimensional form (2.20)-(2.22) assumes isotropic support (2.18)")
+
+
+def scaling(scene: Scene) -> tuple[dict, dict]:
+    """The substitution (2.15)-(2.19) and the row scales that make (2.20)-(2.22) come out.
+
+    Returns (substitution of dimensional symbols, {coordinate name: row divisor}).  Positions scale
+    by R, time by 1/omega_n (so rates by omega_n, accelerations by omega_n^2), and the parameters
+    are written through mu, Omega, delta, G, zeta, beta with k = M omega_n^2 (2.17).
+    """
+    thesis_scene_check(scene)
+    s = DimensionalSymbols.for_scene(scene)
+    M, R = s.M, s.R
+    sub = {
+        s.kX: M * omega_n**2,
+        s.cX: 2 * zeta * M * omega_n,  # zeta = c / (2 sqrt(k M))
+        s.m[0]: mu * M,
+        s.eps: delta * R,
+        s.D[0]: beta * mu * M * R**2 * omega_n,  # beta = D / (m R^2 omega_n)
+        s.omega: Omega * omega_n,
+        t: t / omega_n,
+    }
+    if scene.gravity:
+        sub[s.g] = G * delta * R * omega_n**2  # G = g / (eps omega_n^2)
+    X, Y = Coordinate.make("X"), Coordinate.make("Y")
+    for c in (X, Y):
+        sub.update({c.q: R * c.q, c.qd: R * omega_n * c.qd, c.qdd: R * omega_n**2 * c.qdd})
+    rows = {"X": M * R * omega_n**2, "Y": M * R * omega_n**2}
+    for i in range(scene.n):
+        f = Coordinate.make(f"phi_{i + 1}")
+        sub.update({f.qd: omega_n * f.qd, f.qdd: omega_n**2 * f.qdd})
+        rows[f.name] = mu * M * R**2 * omega_n**2  # m R^2 omega_n^2: (2.22) has phi'' with coefficient 1
+    return sub, rows
+
+
+def nondimensionalise(scene: Scene, eom: EquationsOfMotion | None = None) -> EquationsOfMotion:
+    """Fixed-frame equations in the thesis' dimensionless form (2.20)-(2.22)."""
+    eom = eom if eom is not None else derive(scene)
+    sub, rows = scaling(scene)
+    residuals = []
+    for k, c in enumerate(eom.coordinates):
+        residuals.append(sp.expand(eom.residual(k).xreplace(sub) / rows[c.name]))
+    params = nondimensional_parameters(scene.nondimensional(), gravity=scene.gravity)
+    allowed = {p.symbol for p in params} | {t}
+    coords = eom.coordinates
+    for c in coords:
+        allowed |= {c.q, c.qd, c.qdd}
+    for r in residuals:
+        left = r.free_symbols - allowed
+        if left:
+            raise AssertionError(f"dimensional symbols survive the scaling: {sorted(map(str, left))}")
+    return EquationsOfMotion.from_residuals(residuals, coords, t, parameters=params,
+                                            reference="thesis (2.20)-(2.22)")
+
+
+def rotating_substitution() -> tuple[tuple[Coordinate, Coordinate], dict]:
+    """(2.23)-(2.24) with its first and second time derivatives."""
+    x, y = Coordinate.make("x"), Coordinate.make("y")
+    X = x.q * sp.cos(Omega * t) - y.q * sp.sin(Omega * t)
+    Y = x.q * sp.sin(Omega * t) + y.q * sp.cos(Omega * t)
+    Xd, Yd = (time_derivative(e, (x, y), t) for e in (X, Y))
+    Xdd, Ydd = (time_derivative(e, (x, y), t) for e in (Xd, Yd))
+    Xc, Yc = Coordinate.make("X"), Coordinate.make("Y")
+    sub = {Xc.q: X, Yc.q: Y, Xc.qd: Xd, Yc.qd: Yd, Xc.qdd: Xdd, Yc.qdd: Ydd}
+    return (x, y), sub
+
+
+def rotating_frame(scene: Scene, nondim: EquationsOfMotion | None = None) -> EquationsOfMotion:
+    """The autonomous system (2.25)-(2.27): (2.23)-(2.24) applied to (2.20)-(2.22) with G = 0.
+
+    The rotor rows are projected on the rotating axes (E_x = cos E_X + sin E_Y,
+    E_y = -sin E_X + cos E_Y); the result must be free of t, which is checked.
+    """
+    if scene.gravity:
+        raise ReductionError("gravity rotates in the rotating frame: the system is not autonomous; "
+                             "use the fixed-frame model (thesis sets G = 0 for (2.25)-(2.27))")
+    nondim = nondim if nondim is not None else nondimensionalise(scene)
+    (x, y), sub = rotating_substitution()
+    res = {c.name: nondim.residual(k).xreplace(sub) for k, c in enumerate(nondim.coordinates)}
+    C, S = sp.cos(Omega * t), sp.sin(Omega * t)
+    rows = [C * res["X"] + S * res["Y"], -S * res["X"] + C * res["Y"]]
+    rows += [res[f"phi_{i + 1}"] for i in range(scene.n)]
+    rows = [canonical_trig(r) for r in rows]
+    for r in rows:
+        if t in r.free_symbols:
+            raise AssertionError("the rotating-frame equations still depend on t")
+    coords = (x, y) + nondim.coordinates[2:]
+    return EquationsOfMotion.from_residuals(rows, coords, t, parameters=nondim.parameters,
+                                            reference="thesis (2.25)-(2.27)")
+
+
+@dataclass(frozen=True)
+class FirstOrderSystem:
+    """y' = F(y) with y = (positions, rates), accelerations from the structured solve.
+
+    Thesis Appendix A: states (A.1)-(A.2) (ordered here positions first, then rates), the rotor
+    accelerations (A.7)-(A.8) from the 2x2 (generally r x r) Schur system and the ball
+    accelerations (A.6) by back-substitution.
+    """
+
+    solve: StructuredSolve
+    parameters: tuple[Parameter, ...]
+    reference: str
+
+    @property
+    def coordinates(self) -> tuple[Coordinate, ...]:
+        return self.solve.eom.coordinates
+
+    @property
+    def states(self) -> tuple[sp.Symbol, ...]:
+        return tuple(c.q for c in self.coordinates) + tuple(c.qd for c in self.coordinates)
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return tuple(s.name for s in self.states)
+
+    def rhs(self) -> list[sp.Expr]:
+        """F(y) in closed form (O(n^2) in size: for checks; generated code uses the structure)."""
+        return [c.qd for c in self.coordinates] + self.solve.accelerations()
+
+    def count_ops(self) -> int:
+        return self.solve.count_ops()
+
+
+def first_order(eom: EquationsOfMotion, core: tuple[str, ...] | None = None) -> FirstOrderSystem:
+    """First-order form of any single-plane EquationsOfMotion: Appendix A's construction."""
+    if core is None:
+        core = tuple(c.name for c in eom.coordinates if not c.name.startswith("phi_"))
+    return FirstOrderSystem(schur_solve(eom, core), eom.parameters,
+                            f"thesis Appendix A (A.1)-(A.14) applied to {eom.reference}")
+
+
+def thesis_chain(n: int, gravity: bool = False) -> dict[str, object]:
+    """The whole chain for the thesis scene with n balls: every form, in order."""
+    scene = Scene(n=n, gravity=gravity)
+    fixed = derive(scene)
+    nondim = nondimensionalise(scene, fixed)
+    out = {"scene": scene, "fixed": fixed, "nondimensional": nondim}
+    if not gravity:
+        rot = rotating_frame(scene, nondim)
+        out["rotating"] = rot
+        out["first_order"] = first_order(rot)
+    return out
+
+
+def with_parameters(eom: EquationsOfMotion, **values: float) -> EquationsOfMotion:
+    """The same equations with different default parameter values."""
+    params = tuple(Parameter(p.symbol, p.description, p.unit, float(values.get(p.name, p.default)))
+                   for p in eom.parameters)
+    return replace(eom, parameters=params)
