@@ -23,6 +23,7 @@ A scene in TOML::
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -115,11 +116,16 @@ def profile_expression(text: str):
     import sympy as sp
     from sympy.parsing.sympy_parser import parse_expr, standard_transformations
 
+    # parse_expr evaluates Python: admit arithmetic on numbers, t and named functions only.
+    if not re.fullmatch(r"[0-9A-Za-z_+\-*/().,\s]*", text) or "__" in text or re.search(r"[A-Za-z_)]\s*\.", text):
+        raise SceneError("speed.omega", f"profile {text!r} may contain only numbers, t, + - * / ** ( ) "
+                         f"and {', '.join(_PROFILE_FUNCTIONS)}")
     t = sp.Symbol("t", real=True)
     allowed = {name: getattr(sp, name) for name in _PROFILE_FUNCTIONS}
     allowed["t"] = t
+    numbers = {"Integer": sp.Integer, "Float": sp.Float, "Rational": sp.Rational, "Symbol": sp.Symbol}
     try:
-        expr = parse_expr(text, local_dict=allowed, global_dict={"__builtins__": {}, **allowed},
+        expr = parse_expr(text, local_dict=allowed, global_dict={"__builtins__": {}, **numbers, **allowed},
                           transformations=standard_transformations, evaluate=True)
     except Exception as exc:  # parse_expr raises many types; all mean the same to a user
         raise SceneError("speed.omega", f"cannot parse profile {text!r}: {type(exc).__name__}") from None

@@ -39,10 +39,13 @@ def is_identity(lhs: sp.Expr, rhs: sp.Expr = sp.S.Zero) -> bool:
     if diff == 0:
         return True
     numerator, _ = sp.fraction(sp.together(diff))
-    if canonical_trig(numerator) == 0:
+    canonical = canonical_trig(numerator)
+    if canonical == 0:
         return True
-    # Square roots of squares need the symbols' sign assumptions; give SymPy one chance at them.
-    return sp.simplify(canonical_trig(numerator)) == 0
+    # Radicals (square roots of squares) need the symbols' sign assumptions: give SymPy one chance.
+    # Without radicals the canonical form is decisive.
+    has_radical = any(not p.exp.is_Integer for p in canonical.atoms(sp.Pow))
+    return has_radical and sp.simplify(canonical) == 0
 
 
 def assert_identity(lhs: sp.Expr, rhs: sp.Expr = sp.S.Zero, what: str = "identity") -> None:

@@ -149,17 +149,16 @@ class EquationsOfMotion:
         """Split residuals that are linear in the accelerations into M q'' - f."""
         accel = [c.qdd for c in coordinates]
         mass, forcing = {}, []
+        accel_set = set(accel)
         for k, r in enumerate(residuals):
             r = sp.expand(r)
             for j, a in enumerate(accel):
-                coeff = r.coeff(a)
+                coeff = sp.diff(r, a)
+                if coeff.free_symbols & accel_set:
+                    raise ValueError(f"row {k} is not linear in the accelerations")
                 if coeff != 0:
                     mass[(k, j)] = coeff
-            rest = r.subs({a: 0 for a in accel})
-            if any(a in rest.free_symbols for a in accel) or any(
-                    a in e.free_symbols for e in mass.values() for a in accel):
-                raise ValueError(f"row {k} is not linear in the accelerations")
-            forcing.append(-rest)
+            forcing.append(-sp.expand(r.xreplace({a: 0 for a in accel})))
         return cls(tuple(coordinates), mass, tuple(forcing), time, **kw)
 
 

@@ -1,0 +1,269 @@
+"""The `adbgen` command line (argparse: standard library, nothing to install).
+
+    adbgen verify   [--n 1 2 3 4 6]           every reduction checked against the thesis
+    adbgen derive   [--scene F] [--n N] [--form ...] [--format text|latex|json]
+    adbgen steady   [--n N] [--mu ..] [--Omega ..] [--zeta ..] [--delta ..]
+    adbgen demo     [--out DIR]               thesis Fig. 5.4: transients reproduced, plotted
+    adbgen bench derive [--out FILE] [--n ...]
+
+Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from . import __version__
+from .errors import AdbgenError, SceneError
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str):  # one line, not usage + line
+        raise _UsageError(message)
+
+
+class _UsageError(AdbgenError):
+    pass
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"n must be at least 1, got {value}")
+    return value
+
+
+def _finite(text: str) -> float:
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
+    return value
+
+
+def _scene(args):
+    from .scene import Scene
+
+    data = {}
+    if getattr(args, "scene", None):
+        scene = Scene.load(args.scene)
+        if args.n is None:
+            return scene
+        import dataclasses
+
+        data = {f.name: getattr(scene, f.name) for f in dataclasses.fields(scene)}
+        for key in ("ball_mass", "ball_damping"):
+            if isinstance(data[key], tuple):
+                raise SceneError("n", f"--n cannot resize a scene with per-ball {key}")
+    if args.n is not None:
+        data["n"] = args.n
+    return Scene.from_mapping(data)
+
+
+def cmd_verify(args) -> int:
+    from .single_plane.verify import run_all
+
+    failed = 0
+
+    def show(r):
+        nonlocal failed
+        failed += not r.passed
+        print(f"{'ok  ' if r.passed else 'FAIL'} {r.seconds:6.2f}s  {r.name:40s} {r.reference:48s} {r.detail}", flush=True)
+
+    results = run_all(tuple(args.n), progress=show)
+    print(f"{len(results) - failed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+def _form(scene, form: str):
+    from .single_plane import reductions
+    from .single_plane.model import derive
+    from .single_plane.selection import smallest_model
+
+    if form == "fixed":
+        return derive(scene)
+    if form == "nondimensional":
+        return reductions.nondimensionalise(scene)
+    if form == "rotating":
+        return reductions.rotating_frame(scene)
+    if form == "first-order":
+        return smallest_model(scene).system
+    raise AssertionError(form)
+
+
+def cmd_derive(args) -> int:
+    import sympy as sp
+
+    from .single_plane.reductions import FirstOrderSystem
+
+    scene = _scene(args)
+    model = _form(scene, args.form)
+    if isinstance(model, FirstOrderSystem):
+        solve = model.solve
+        coords = solve.eom.coordinates
+        data = {"reference": model.reference, "states": list(model.state_names),
+                "parameters": [p.name for p in model.parameters],
+                "schur": [[str(e) for e in solve.schur.row(i)] for i in range(solve.schur.rows)],
+                "schur_rhs": [str(e) for e in solve.rhs],
+                "ball_accelerations": {coords[k].qdd.name: str(a) for k, a in zip(solve.leaves, solve.leaf_accel)}}
+    else:
+        data = {"reference": model.reference, "coordinates": [c.name for c in model.coordinates],
+                "parameters": [p.name for p in model.parameters],
+                "rows": {c.name: str(model.residual(k)) for k, c in enumerate(model.coordinates)}}
+    if args.format == "json":
+        print(json.dumps(data, indent=2))
+    elif args.format == "latex" and not isinstance(model, FirstOrderSystem):
+        for k, c in enumerate(model.coordinates):
+            print(f"% row {c.name}\n{sp.latex(model.residual(k))} = 0\n")
+    else:
+        print(f"# {data['reference']}")
+        for key, value in data.items():
+            if key in ("rows", "ball_accelerations"):
+                for name, expr in value.items():
+                    print(f"{name}: {expr}{' = 0' if key == 'rows' else ''}")
+            elif key != "reference":
+                print(f"{key}: {value}")
+    return 0
+
+
+def cmd_steady(args) -> int:
+    import sympy as sp
+
+    from .single_plane import steady_states as ss
+
+    n = args.n or 2
+    p = {"mu": args.mu, "Omega": args.Omega, "zeta": args.zeta, "delta": args.delta}
+    for name in ("mu", "Omega", "delta"):
+        if p[name] <= 0:
+            raise SceneError(name, f"must be positive, got {p[name]}")
+    if p["zeta"] <= 0:
+        raise SceneError("zeta", "the closed forms (3.9)-(3.10) need zeta > 0")
+    print(f"n = {n}, " + ", ".join(f"{k} = {v:g}" for k, v in p.items()) + f", K = {1 - p['Omega']**2 * (1 + n * p['mu']):.6g}")
+    rows = []
+    if n >= 2:  # the thesis' representative of the family: phi_3 = ... = phi_n = pi (ch. 4)
+        try:
+            state = ss.evaluate(ss.balanced(n, [sp.pi] * (n - 2), branch=-1), p)
+        except ValueError:  # arccos of more than 1: no balanced state with these free angles
+            state = None
+        rows.append(("1 (3.6)" + (", phi_3.. = pi" if n > 2 else ""), state))
+    for m in range(n, 0, -1):
+        for sign in (1, -1):
+            label = f"2{'+' if sign > 0 else '-'} (3.9)" if m == n else f"3({n}-{m}){'+' if sign > 0 else '-'} (3.10)"
+            ok = ss.inline_exists(n, m, p["mu"], p["Omega"], p["zeta"], p["delta"])
+            rows.append((label, ss.evaluate(ss.inline(n, m, sign), p) if ok else None))
+    for label, state in rows:
+        text = "does not exist here" if state is None else "  ".join(f"{k} = {v:+.9f}" for k, v in state.items())
+        print(f"  {label:22s} {text}")
+    for m in range(n, 0, -1):
+        speeds = ss.critical_speeds(n, m, p["mu"], p["zeta"], p["delta"])
+        name = "2+-" if m == n else f"3({n}-{m})+-"
+        if speeds:
+            print(f"  {name} absent for {speeds[0]:.6f} < Omega < {speeds[1]:.6f}  ((3.16)/(3.18))")
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from .single_plane import steady_states as ss
+    from .single_plane.transient import FIGURE_5_4, simulate
+    from .single_plane.verify import rotating
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    check = rotating(2)
+    print(f"rotating-frame model n = 2 derived and checked against (2.25)-(2.27): {'ok' if check.passed else 'FAIL'}")
+    print(f"balanced state (3.6)/(5.2): phi_1 = {ss.evaluate(ss.balanced(2, branch=-1), {'mu': 0.05, 'delta': 0.01})['phi_1']:.14f}")
+    runs = {}
+    for panel, (phi0, (r_ref, t_ref)) in FIGURE_5_4.items():
+        tr = simulate(2, phi0)
+        runs[panel] = tr
+        print(f"Fig. 5.4({panel}1): r_max = {tr.r_max:.4f} (thesis {r_ref}), t_dec = {tr.t_dec:.2f} (thesis {t_ref})")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig, axes = plt.subplots(2, len(runs), figsize=(4 * len(runs), 5), sharex=True, constrained_layout=True)
+    for col, (panel, tr) in enumerate(runs.items()):
+        axes[0, col].plot(tr.t, np.hypot(tr.y[0], tr.y[1]), lw=0.6)
+        axes[0, col].set_title(f"Fig. 5.4({panel}): $\\phi(0)$ = ({FIGURE_5_4[panel][0][0]:.2f}, {FIGURE_5_4[panel][0][1]:.2f})")
+        axes[0, col].set_ylabel("$r$")
+        for i in range(2):
+            axes[1, col].plot(tr.t, tr.y[2 + i], lw=0.8, label=f"$\\phi_{i + 1}$")
+        axes[1, col].set_xlabel("$t$")
+        axes[1, col].legend(loc="best")
+    path = out / "fig5_4.png"
+    fig.savefig(path, dpi=120)
+    print(f"wrote {path}")
+    return 0 if check.passed else 1
+
+
+def cmd_bench(args) -> int:
+    from . import bench
+
+    if args.what != "derive":
+        raise _UsageError(f"unknown benchmark {args.what!r}; choose: derive")
+    result = bench.bench_derive(tuple(args.n), progress=lambda r: print(
+        f"{r['model']:30s} n={r['n']:3d}  {r['seconds']:8.3f} s  eom ops {r['eom_ops']:7d}  first-order ops {r['first_order_ops']:7d}",
+        flush=True))
+    path = bench.write(result, args.out)
+    print(f"wrote {path}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="adbgen", description="Equations of motion of automatic dynamic balancers.")
+    p.add_argument("--version", action="version", version=f"adbgen {__version__}")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    v = sub.add_parser("verify", help="check every reduction against the thesis")
+    v.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 3, 4, 6])
+    v.set_defaults(fn=cmd_verify)
+
+    d = sub.add_parser("derive", help="derive and print a model")
+    d.add_argument("--scene", help="scene file (TOML)")
+    d.add_argument("--n", type=_positive_int)
+    d.add_argument("--form", choices=("fixed", "nondimensional", "rotating", "first-order"), default="first-order",
+                   help="first-order = the smallest exact model for the scene")
+    d.add_argument("--format", choices=("text", "latex", "json"), default="text")
+    d.set_defaults(fn=cmd_derive)
+
+    s = sub.add_parser("steady", help="closed-form steady states and where they exist (thesis ch. 3)")
+    s.add_argument("--n", type=_positive_int)
+    for name, default in (("mu", 0.05), ("Omega", 4.0), ("zeta", 0.01), ("delta", 0.01)):
+        s.add_argument(f"--{name}", type=_finite, default=default)
+    s.set_defaults(fn=cmd_steady)
+
+    m = sub.add_parser("demo", help="reproduce the thesis' Fig. 5.4 transients and plot them")
+    m.add_argument("--out", default="out/demo")
+    m.set_defaults(fn=cmd_demo)
+
+    b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
+    b.add_argument("what", help="derive")
+    b.add_argument("--out", default="benchmarks/derive.json")
+    b.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
+    b.set_defaults(fn=cmd_bench)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    try:
+        args = build_parser().parse_args(argv)
+        return args.fn(args)
+    except AdbgenError as exc:
+        print(f"adbgen: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

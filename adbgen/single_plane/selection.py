@@ -1,0 +1,42 @@
+"""Model no more than the scene needs: the smallest form that is exact for it.
+
+- isotropic support, equal balls, constant speed, no gravity: the autonomous rotating-frame system
+  (2.25)-(2.27) in the thesis' dimensionless parameters (2 + n coordinates, no explicit time);
+- anisotropy, gravity, unequal balls or a prescribed run-up: the fixed-frame equations (2.10), (2.11),
+  (2.13) with the spin prescribed (2 + n coordinates, explicit time);
+- a driving torque: the fixed frame with the torsional equation (2.12) (3 + n coordinates).
+
+(Unequal balls on an isotropic support at constant speed would also be autonomous in a rotating
+frame; the thesis' scalings assume equal balls, so such a scene gets the exact fixed-frame model.)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..scene import Scene
+from .model import derive
+from .reductions import FirstOrderSystem, first_order, rotating_frame
+
+
+@dataclass(frozen=True)
+class SelectedModel:
+    kind: str
+    reason: str
+    system: FirstOrderSystem
+
+
+def smallest_model(scene: Scene) -> SelectedModel:
+    law = scene.speed.law
+    if law == "torque":
+        return SelectedModel("fixed-frame-torque", "the spin is driven by a torque: (2.12) is needed",
+                             first_order(derive(scene)))
+    reasons = [why for cond, why in ((law == "profile", "prescribed run-up"), (not scene.isotropic, "anisotropic support"),
+                                     (scene.gravity, "gravity"), (not scene.equal_balls, "unequal balls"),
+                                     (scene.isotropic and scene.stiffness_xy()[0] <= 0, "no support stiffness"))
+               if cond]
+    if reasons:
+        return SelectedModel("fixed-frame", ", ".join(reasons) + ": not autonomous in the thesis' rotating frame",
+                             first_order(derive(scene)))
+    return SelectedModel("rotating-frame", "isotropic, equal balls, constant speed, no gravity: autonomous (2.25)-(2.27)",
+                         first_order(rotating_frame(scene)))
