@@ -12,12 +12,13 @@ as printed, so the equation for psi carries I_z + M eps^2, as (2.12) does.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import sympy as sp
 
 from ..mechanics import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, time_derivative
+from ..errors import SceneError
 from ..scene import Scene, profile_expression
 from .symbols import DimensionalSymbols, t
 
@@ -87,7 +88,6 @@ def speed_law_substitution(scene: Scene, symbols: DimensionalSymbols) -> dict[sp
         tau = sp.Dummy("tau", real=True)
         angle = sp.integrate(Om.subs(t, tau), (tau, 0, t))
         if angle.has(sp.Integral):
-            from ..errors import SceneError
             raise SceneError("speed.omega", "the profile has no closed-form angle; give a simpler Omega(t)")
         return {psi.q: angle, psi.qd: Om, psi.qdd: sp.diff(Om, t)}
     return {}
@@ -107,10 +107,7 @@ def derive(scene: Scene) -> EquationsOfMotion:
                              parameters=lag.symbols.parameters, reference=reference)
     law = speed_law_substitution(scene, lag.symbols)
     if scene.speed.law == "constant":
-        eom = eom.map(lambda e: sp.expand(e.xreplace(law)))
-        from dataclasses import replace
-        eom = replace(eom, driven=())
+        eom = replace(eom.map(lambda e: sp.expand(e.xreplace(law))), driven=())
     elif scene.speed.law == "profile":
-        from dataclasses import replace
         eom = replace(eom, driven_law=law)
     return eom

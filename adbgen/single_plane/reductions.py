@@ -12,7 +12,7 @@ The comparison with the printed equations is in the tests and in `adbgen verify`
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import sympy as sp
 
@@ -174,10 +174,3 @@ def thesis_chain(n: int, gravity: bool = False) -> dict[str, object]:
         out["rotating"] = rot
         out["first_order"] = first_order(rot)
     return out
-
-
-def with_parameters(eom: EquationsOfMotion, **values: float) -> EquationsOfMotion:
-    """The same equations with different default parameter values."""
-    params = tuple(Parameter(p.symbol, p.description, p.unit, float(values.get(p.name, p.default)))
-                   for p in eom.parameters)
-    return replace(eom, parameters=params)

@@ -3,7 +3,6 @@ existence conditions (3.14)-(3.18) and the numbers printed in chapters 3-5 are r
 
 import math
 
-import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import given, settings

@@ -4,7 +4,6 @@ The thesis used ode45 at default tolerances; we integrate at rtol 1e-10 and acce
 t_dec (decay below r = 1e-3), and the balanced state (5.2) as the end point to 5e-3 (still ringing at t = 700).
 """
 
-import numpy as np
 
 from adbgen.single_plane.transient import FIGURE_5_4, simulate
 
