@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import math
 import struct
+import subprocess
+import sys
 from dataclasses import fields
 
 import pytest
@@ -107,10 +109,10 @@ BAD = (
         None, "", "   ", 400.0, 400, ["t"],
         "t +", "(t", "t t", "exp(", "t = 1",                      # unparsable
         "__import__('os')", "open('x')", "eval('t')", "lambda: t",  # unsafe
+        "t.func", "exp(t).args", "exp.__call__(t)", "pi.__class__",
         "t + x", "x", "omega0*t", "y(t)",                           # unknown names
         "exp", "True", "(t, t)",                                    # not an expression
         "1/t", "log(t)", "sqrt(-1)",                                # not finite and real at t = 0
-        "10**10**10", "2**(999999*999999)",                         # must fail fast, not compute
     )]
     # speed.tau0 (any finite number) and speed.motor_slope (non-negative), torque law
     + _bad_speed_numbers("torque", "tau0", zero_ok=True, negative_ok=True)
@@ -151,8 +153,6 @@ def test_scene_must_be_a_table(data):
     raises_for(data, "<root>")
 
 
-@pytest.mark.xfail(strict=True, raises=OverflowError,
-                   reason="bug: _number calls float() unguarded; an int beyond float range escapes as OverflowError")
 def test_huge_integer_is_a_scene_error():
     raises_for({"rotor_mass": 10**400}, "rotor_mass")
 
@@ -328,11 +328,6 @@ def test_profile_without_numbers_is_accepted():
     assert float(expr.subs(t, 1)) == pytest.approx(math.pi * math.tanh(1.0), rel=1e-12)
 
 
-NUMBERS_BUG = ("bug: profile_expression passes a global_dict without Integer/Float/Symbol, so every "
-               "profile containing a number fails with NameError")
-
-
-@pytest.mark.xfail(strict=True, raises=SceneError, reason=NUMBERS_BUG)
 @pytest.mark.parametrize("text, at_0, at_2", [
     ("100*(1-exp(-t/2))", 0.0, 100 * (1 - math.exp(-1.0))),
     ("Min(400, 50*t)", 0.0, 100.0),
@@ -348,8 +343,6 @@ def test_profile_run_up_is_accepted(text, at_0, at_2):
     assert float(expr.subs(t, 2)) == pytest.approx(at_2, rel=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="bug: profile_expression eval()s attribute access; builtins are reachable "
-                                       "through a function's __globals__, so a scene file can run code")
 def test_profile_cannot_reach_builtins(tmp_path):
     marker = tmp_path / "escaped"
     text = f"sqrt.__globals__['__builtins__']['open']('{marker}', 'w')"
@@ -357,6 +350,25 @@ def test_profile_cannot_reach_builtins(tmp_path):
         Scene.from_mapping({"speed": {"law": "profile", "omega": text}})
     assert_scene_error(info.value, "speed.omega")
     assert not marker.exists(), "the profile expression executed code"
+
+
+_PROFILE_IN_CHILD = """
+import sys
+from adbgen.errors import SceneError
+from adbgen.scene import profile_expression
+try:
+    profile_expression(sys.argv[1])
+except SceneError:
+    sys.exit(0)
+sys.exit(1)
+"""
+
+
+@pytest.mark.parametrize("text", ["10**10**10"])
+def test_huge_power_in_profile_fails_fast(text):
+    """Run in a child process: a hang must end the test, not the test run."""
+    result = subprocess.run([sys.executable, "-c", _PROFILE_IN_CHILD, text], timeout=4, capture_output=True)
+    assert result.returncode == 0, result.stderr.decode()
 
 
 # --- TOML --------------------------------------------------------------------------------
@@ -469,8 +481,6 @@ def test_missing_file(tmp_path):
     assert str(path) in str(info.value)
 
 
-@pytest.mark.xfail(strict=True, raises=(IsADirectoryError, UnicodeDecodeError),
-                   reason="bug: Scene.load catches only FileNotFoundError and TOMLDecodeError")
 @pytest.mark.parametrize("kind", ["directory", "binary"])
 def test_unreadable_file(tmp_path, kind):
     path = tmp_path
