@@ -116,6 +116,8 @@ def cmd_derive(args) -> int:
                 "schur": [[str(e) for e in solve.schur.row(i)] for i in range(solve.schur.rows)],
                 "schur_rhs": [str(e) for e in solve.rhs],
                 "ball_accelerations": {coords[k].qdd.name: str(a) for k, a in zip(solve.leaves, solve.leaf_accel)}}
+        if solve.eom.driven_law:  # a prescribed run-up: the spin and its rates are inputs in t
+            data["driven"] = {sym.name: str(expr) for sym, expr in sorted(solve.eom.driven_law.items(), key=str)}
     else:
         data = {"reference": model.reference, "coordinates": [c.name for c in model.coordinates],
                 "parameters": [p.name for p in model.parameters],
@@ -128,7 +130,7 @@ def cmd_derive(args) -> int:
     else:
         print(f"# {data['reference']}")
         for key, value in data.items():
-            if key in ("rows", "ball_accelerations"):
+            if key in ("rows", "ball_accelerations", "driven"):
                 for name, expr in value.items():
                     print(f"{name}: {expr}{' = 0' if key == 'rows' else ''}")
             elif key != "reference":
