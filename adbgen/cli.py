@@ -2,7 +2,7 @@
 
     adbgen verify   [--n 1 2 3 4 6]           every reduction checked against the thesis
     adbgen derive   [--scene F] [--n N] [--form ...] [--format text|latex|json]
-    adbgen steady   [--n N] [--mu ..] [--Omega ..] [--zeta ..] [--delta ..]
+    adbgen steady   [--n N] [--mu ..] [--Omega ..] [--zeta ..] [--delta ..] [--beta ..]
     adbgen demo     [--out DIR]               thesis Fig. 5.4: transients reproduced, plotted
     adbgen bench derive [--out FILE] [--n ...]
 
@@ -139,17 +139,25 @@ def cmd_derive(args) -> int:
 
 
 def cmd_steady(args) -> int:
+    import numpy as np
     import sympy as sp
 
+    from .scene import Scene
     from .single_plane import steady_states as ss
+    from .single_plane.reductions import rotating_frame
+    from .single_plane.stability import Linearisation
 
     n = args.n or 2
-    p = {"mu": args.mu, "Omega": args.Omega, "zeta": args.zeta, "delta": args.delta}
+    p = {"mu": args.mu, "Omega": args.Omega, "zeta": args.zeta, "delta": args.delta, "beta": args.beta}
     for name in ("mu", "Omega", "delta"):
         if p[name] <= 0:
             raise SceneError(name, f"must be positive, got {p[name]}")
     if p["zeta"] <= 0:
         raise SceneError("zeta", "the closed forms (3.9)-(3.10) need zeta > 0")
+    if p["beta"] < 0:
+        raise SceneError("beta", f"must be non-negative, got {p['beta']}")
+    lin = Linearisation(rotating_frame(Scene(n=n)))
+    pvec = lin.parameters(**p)
     print(f"n = {n}, " + ", ".join(f"{k} = {v:g}" for k, v in p.items()) + f", K = {1 - p['Omega']**2 * (1 + n * p['mu']):.6g}")
     rows = []
     if n >= 2:  # the thesis' representative of the family: phi_3 = ... = phi_n = pi (ch. 4)
@@ -164,8 +172,13 @@ def cmd_steady(args) -> int:
             ok = ss.inline_exists(n, m, p["mu"], p["Omega"], p["zeta"], p["delta"])
             rows.append((label, ss.evaluate(ss.inline(n, m, sign), p) if ok else None))
     for label, state in rows:
-        text = "does not exist here" if state is None else "  ".join(f"{k} = {v:+.9f}" for k, v in state.items())
-        print(f"  {label:22s} {text}")
+        if state is None:
+            print(f"  {label:22s} does not exist here")
+            continue
+        spectrum = lin.spectrum(np.array([state[c.name] for c in lin.eom.coordinates]), pvec)
+        verdict = "stable" if spectrum.stable else f"unstable ({spectrum.n_unstable})"
+        text = "  ".join(f"{k} = {v:+.9f}" for k, v in state.items())
+        print(f"  {label:22s} {verdict:14s} {text}")
     for m in range(n, 0, -1):
         speeds = ss.critical_speeds(n, m, p["mu"], p["zeta"], p["delta"])
         name = "2+-" if m == n else f"3({n}-{m})+-"
@@ -242,7 +255,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("steady", help="closed-form steady states and where they exist (thesis ch. 3)")
     s.add_argument("--n", type=_positive_int)
-    for name, default in (("mu", 0.05), ("Omega", 4.0), ("zeta", 0.01), ("delta", 0.01)):
+    for name, default in (("mu", 0.05), ("Omega", 4.0), ("zeta", 0.01), ("delta", 0.01), ("beta", 0.01)):
         s.add_argument(f"--{name}", type=_finite, default=default)
     s.set_defaults(fn=cmd_steady)
 

@@ -196,6 +196,64 @@ def thesis_numbers() -> list[CheckResult]:
     return rows
 
 
+def _balanced_coordinates(lin, n: int, mu_: float = 0.05, delta_: float = 0.01):
+    """The thesis' state 1 (ch. 4): phi_3 = ... = phi_n = pi."""
+    import numpy as np
+
+    state = ss.evaluate(ss.balanced(n, [sp.pi] * (n - 2), branch=-1), {"mu": mu_, "delta": delta_})
+    return np.array([state[c.name] for c in lin.eom.coordinates])
+
+
+def _critical(lin, q, parameter: str, grid, **fixed) -> list[float]:
+    """Parameter values on a grid where the stability of equilibrium q changes, refined by brentq."""
+    from .stability import hopf_crossing
+
+    stable = [lin.spectrum(q, lin.parameters(**fixed, **{parameter: v})).stable for v in grid]
+    return [hopf_crossing(lin, lambda v: q, parameter, (grid[i], grid[i + 1]), fixed=fixed)
+            for i in range(len(grid) - 1) if stable[i] != stable[i + 1]]
+
+
+def chapter4_numbers() -> list[CheckResult]:
+    """Stability results of thesis ch. 4, from the exact linearisation of the derived equations."""
+    import numpy as np
+
+    from .stability import Linearisation, hopf_crossing
+
+    rows = []
+    lins = {n: Linearisation(rotating_frame(Scene(n=n))) for n in (2, 3, 4)}
+    for n, lin in lins.items():
+        def run(n=n, lin=lin):
+            q = np.array([0.0, 0.0] + [math.pi] * n)  # at mu = mu_c the balanced and coincident states meet
+            om = hopf_crossing(lin, lambda v: q, "Omega", (1.2, 1.5), fixed={"mu": 0.01 / n})
+            return abs(om - 1.338096) <= 1e-6, f"Omega = {om:.7f} vs printed 1.338096 (tol 1e-6)"
+        rows.append(_timed(f"pitchfork-Hopf point, n={n}", "thesis ch. 4.1-4.2, (mu_c, 1.338096)", run))
+
+    def windows():
+        grid = np.linspace(0.3, 5.0, 471)
+        found = {n: _critical(lins[n], _balanced_coordinates(lins[n], n), "Omega", grid) for n in (2, 3)}
+        ok = len(found[2]) == 3 and len(found[3]) == 1
+        text = "; ".join(f"n={n}: stability changes at Omega = {', '.join(f'{v:.5f}' for v in vals)}"
+                         for n, vals in found.items())
+        return ok, text + " (n=2: a window near Omega = 1 and Omega > H1; n=3: only Omega > H1)"
+    rows.append(_timed("balanced state 1 stability windows, mu=0.05", "thesis Fig. 4.2(a), 4.6(a)", windows))
+
+    def zeta_limit():
+        crit = _critical(lins[4], _balanced_coordinates(lins[4], 4), "zeta", np.linspace(0.001, 0.5, 101), Omega=3.0)
+        return len(crit) == 1 and 0.09 <= crit[0] <= 0.1, f"n=4, Omega=3: stable for zeta < {crit[0]:.4f} (thesis: < 0.1)"
+    rows.append(_timed("zeta limit of state 1, n=4", "thesis Fig. 4.13(b) text", zeta_limit))
+
+    def beta_effect():
+        grid = np.linspace(0.001, 0.5, 101)
+        q4, q3 = _balanced_coordinates(lins[4], 4), _balanced_coordinates(lins[3], 3)
+        all4 = not _critical(lins[4], q4, "zeta", grid, Omega=4.0, beta=0.05)
+        z3 = [_critical(lins[3], q3, "zeta", grid, Omega=4.0, beta=b)[0] for b in (0.05, 0.1)]
+        linear = abs(z3[1] / z3[0] - 2) < 0.1
+        return all4 and linear, (f"n=4, beta=0.05: stable for all zeta < 0.5 ({all4}); n=3: zeta limit "
+                                 f"{z3[0]:.4f} at beta=0.05, {z3[1]:.4f} at beta=0.1 (grows linearly)")
+    rows.append(_timed("ball damping widens stability", "thesis Fig. 4.9(a), 4.14(a)", beta_effect))
+    return rows
+
+
 SYMBOLIC_CHECKS = (fixed_frame, prescribed_speed, nondimensional, rotating, two_routes, appendix_a,
                    steady_states, jacobi)
 
@@ -208,7 +266,7 @@ def run_all(ns=(1, 2, 3, 4, 6), progress: Callable[[CheckResult], None] | None =
             results.append(r)
             if progress:
                 progress(r)
-    for r in thesis_numbers():
+    for r in thesis_numbers() + chapter4_numbers():
         results.append(r)
         if progress:
             progress(r)
