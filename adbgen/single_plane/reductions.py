@@ -86,11 +86,11 @@ def nondimensionalise(scene: Scene, eom: EquationsOfMotion | None = None) -> Equ
                                             reference="thesis (2.20)-(2.22)")
 
 
-def rotating_substitution() -> tuple[tuple[Coordinate, Coordinate], dict]:
-    """(2.23)-(2.24) with its first and second time derivatives."""
+def rotating_substitution(rate: sp.Symbol = Omega) -> tuple[tuple[Coordinate, Coordinate], dict]:
+    """(2.23)-(2.24) with its first and second time derivatives, axes turning at `rate`."""
     x, y = Coordinate.make("x"), Coordinate.make("y")
-    X = x.q * sp.cos(Omega * t) - y.q * sp.sin(Omega * t)
-    Y = x.q * sp.sin(Omega * t) + y.q * sp.cos(Omega * t)
+    X = x.q * sp.cos(rate * t) - y.q * sp.sin(rate * t)
+    Y = x.q * sp.sin(rate * t) + y.q * sp.cos(rate * t)
     Xd, Yd = (time_derivative(e, (x, y), t) for e in (X, Y))
     Xdd, Ydd = (time_derivative(e, (x, y), t) for e in (Xd, Yd))
     Xc, Yc = Coordinate.make("X"), Coordinate.make("Y")
@@ -98,28 +98,54 @@ def rotating_substitution() -> tuple[tuple[Coordinate, Coordinate], dict]:
     return (x, y), sub
 
 
-def rotating_frame(scene: Scene, nondim: EquationsOfMotion | None = None) -> EquationsOfMotion:
-    """The autonomous system (2.25)-(2.27): (2.23)-(2.24) applied to (2.20)-(2.22) with G = 0.
+def to_rotating(eom: EquationsOfMotion, rate: sp.Symbol, reference: str) -> EquationsOfMotion:
+    """Rewrite fixed-frame equations in axes turning at `rate` (2.23)-(2.24).
 
     The rotor rows are projected on the rotating axes (E_x = cos E_X + sin E_Y,
-    E_y = -sin E_X + cos E_Y); the result must be free of t, which is checked.
+    E_y = -sin E_X + cos E_Y), the ball rows only change variables.  The result must be free of t
+    (autonomous), which is checked: it is when the support is isotropic, the speed constant and
+    gravity absent.
     """
-    if scene.gravity:
-        raise ReductionError("gravity rotates in the rotating frame: the system is not autonomous; "
-                             "use the fixed-frame model (thesis sets G = 0 for (2.25)-(2.27))")
-    nondim = nondim if nondim is not None else nondimensionalise(scene)
-    (x, y), sub = rotating_substitution()
-    res = {c.name: nondim.residual(k).xreplace(sub) for k, c in enumerate(nondim.coordinates)}
-    C, S = sp.cos(Omega * t), sp.sin(Omega * t)
+    (x, y), sub = rotating_substitution(rate)
+    res = {c.name: eom.residual(k).xreplace(sub) for k, c in enumerate(eom.coordinates)}
+    C, S = sp.cos(rate * t), sp.sin(rate * t)
     rows = [C * res["X"] + S * res["Y"], -S * res["X"] + C * res["Y"]]
-    rows += [res[f"phi_{i + 1}"] for i in range(scene.n)]
+    rows += [res[c.name] for c in eom.coordinates[2:]]
     rows = [canonical_trig(r) for r in rows]
     for r in rows:
         if t in r.free_symbols:
             raise AssertionError("the rotating-frame equations still depend on t")
-    coords = (x, y) + nondim.coordinates[2:]
-    return EquationsOfMotion.from_residuals(rows, coords, t, parameters=nondim.parameters,
-                                            reference="thesis (2.25)-(2.27)")
+    return EquationsOfMotion.from_residuals(rows, (x, y) + eom.coordinates[2:], t, parameters=eom.parameters,
+                                            reference=reference)
+
+
+def _autonomous_check(scene: Scene) -> None:
+    if scene.gravity:
+        raise ReductionError("gravity rotates in the rotating frame: the system is not autonomous; "
+                             "use the fixed-frame model (thesis sets G = 0 for (2.25)-(2.27))")
+    if not scene.isotropic:
+        raise ReductionError("anisotropic support turns in the rotating frame: the system is not autonomous; "
+                             "use the fixed-frame model")
+    if scene.speed.law != "constant":
+        raise ReductionError("a varying spin speed makes the rotating frame non-autonomous; use the fixed frame")
+
+
+def rotating_frame(scene: Scene, nondim: EquationsOfMotion | None = None) -> EquationsOfMotion:
+    """The autonomous system (2.25)-(2.27): (2.23)-(2.24) applied to (2.20)-(2.22) with G = 0."""
+    _autonomous_check(scene)
+    nondim = nondim if nondim is not None else nondimensionalise(scene)
+    return to_rotating(nondim, Omega, "thesis (2.25)-(2.27)")
+
+
+def rotating_frame_dimensional(scene: Scene) -> EquationsOfMotion:
+    """The rotating-frame system of any isotropic scene at constant speed without gravity.
+
+    Unlike (2.25)-(2.27) it keeps the dimensional parameters, so unequal balls (m_i, D_i) are
+    allowed; for equal balls it is (2.25)-(2.27) before the scalings (2.15)-(2.19) (tested).
+    """
+    _autonomous_check(scene)
+    omega = DimensionalSymbols.for_scene(scene).omega
+    return to_rotating(derive(scene), omega, "thesis (2.10), (2.11), (2.13) in the rotating frame (2.23)-(2.24)")
 
 
 @dataclass(frozen=True)
