@@ -139,7 +139,6 @@ def cmd_derive(args) -> int:
 
 
 def cmd_steady(args) -> int:
-    import numpy as np
     import sympy as sp
 
     from .scene import Scene
@@ -175,7 +174,7 @@ def cmd_steady(args) -> int:
         if state is None:
             print(f"  {label:22s} does not exist here")
             continue
-        spectrum = lin.spectrum(np.array([state[c.name] for c in lin.eom.coordinates]), pvec)
+        spectrum = lin.spectrum(lin.point(state), pvec)
         verdict = "stable" if spectrum.stable else f"unstable ({spectrum.n_unstable})"
         text = "  ".join(f"{k} = {v:+.9f}" for k, v in state.items())
         print(f"  {label:22s} {verdict:14s} {text}")

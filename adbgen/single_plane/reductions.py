@@ -119,15 +119,19 @@ def to_rotating(eom: EquationsOfMotion, rate: sp.Symbol, reference: str) -> Equa
                                             reference=reference)
 
 
+def non_autonomous_reasons(scene: Scene) -> list[str]:
+    """Why the scene is not autonomous in a rotating frame (empty when it is)."""
+    return [why for cond, why in (
+        (scene.speed.law != "constant", "a varying spin speed"),
+        (not scene.isotropic, "anisotropic support (it turns in the rotating frame)"),
+        (scene.gravity, "gravity (it turns in the rotating frame; the thesis sets G = 0 for (2.25)-(2.27))"),
+    ) if cond]
+
+
 def _autonomous_check(scene: Scene) -> None:
-    if scene.gravity:
-        raise ReductionError("gravity rotates in the rotating frame: the system is not autonomous; "
-                             "use the fixed-frame model (thesis sets G = 0 for (2.25)-(2.27))")
-    if not scene.isotropic:
-        raise ReductionError("anisotropic support turns in the rotating frame: the system is not autonomous; "
-                             "use the fixed-frame model")
-    if scene.speed.law != "constant":
-        raise ReductionError("a varying spin speed makes the rotating frame non-autonomous; use the fixed frame")
+    reasons = non_autonomous_reasons(scene)
+    if reasons:
+        raise ReductionError(", ".join(reasons) + ": not autonomous in a rotating frame; use the fixed-frame model")
 
 
 def rotating_frame(scene: Scene, nondim: EquationsOfMotion | None = None) -> EquationsOfMotion:

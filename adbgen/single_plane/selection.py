@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 from ..scene import Scene
 from .model import derive
-from .reductions import FirstOrderSystem, first_order, rotating_frame, rotating_frame_dimensional
+from .reductions import (FirstOrderSystem, first_order, non_autonomous_reasons, rotating_frame,
+                         rotating_frame_dimensional)
 
 
 @dataclass(frozen=True)
@@ -26,12 +27,10 @@ class SelectedModel:
 
 
 def smallest_model(scene: Scene) -> SelectedModel:
-    law = scene.speed.law
-    if law == "torque":
+    if scene.speed.law == "torque":
         return SelectedModel("fixed-frame-torque", "the spin is driven by a torque: (2.12) is needed",
                              first_order(derive(scene)))
-    reasons = [why for cond, why in ((law == "profile", "prescribed run-up"), (not scene.isotropic, "anisotropic support"),
-                                     (scene.gravity, "gravity")) if cond]
+    reasons = non_autonomous_reasons(scene)
     if reasons:
         return SelectedModel("fixed-frame", ", ".join(reasons) + ": not autonomous in a rotating frame",
                              first_order(derive(scene)))

@@ -72,6 +72,10 @@ class Linearisation:
             p[self.parameter_names.index(name)] = value
         return p
 
+    def point(self, state: dict[str, float]) -> np.ndarray:
+        """The coordinate vector of a state given by name (e.g. from `steady_states.evaluate`)."""
+        return np.array([state[c.name] for c in self.eom.coordinates], dtype=float)
+
     def residual(self, q, p) -> np.ndarray:
         """f(q, 0): zero at an equilibrium."""
         return np.asarray(self._f(np.asarray(q, float), p), dtype=float)

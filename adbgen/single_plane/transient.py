@@ -9,6 +9,7 @@ default tolerances, so agreement to a few tenths of a percent is what to expect.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -32,10 +33,15 @@ class Transient:
     t_dec: float  # last time r >= threshold (first sample after it)
 
 
+@lru_cache(maxsize=8)
+def _thesis_rhs(n: int) -> NumericFirstOrder:
+    return NumericFirstOrder(thesis_chain(n)["first_order"])
+
+
 def simulate(n: int, phi0, t_end: float = 1000.0, params: dict[str, float] | None = None,
              threshold: float = 1e-3, samples: int = 200_001, rtol: float = 1e-10) -> Transient:
     """Rotating-frame transient from rest (x = y = 0, all rates 0) with balls at phi0."""
-    f = NumericFirstOrder(thesis_chain(n)["first_order"])
+    f = _thesis_rhs(n)
     p = f.defaults.copy()
     for name, value in (params or {}).items():
         p[f.parameter_names.index(name)] = value

@@ -198,10 +198,7 @@ def thesis_numbers() -> list[CheckResult]:
 
 def _balanced_coordinates(lin, n: int, mu_: float = 0.05, delta_: float = 0.01):
     """The thesis' state 1 (ch. 4): phi_3 = ... = phi_n = pi."""
-    import numpy as np
-
-    state = ss.evaluate(ss.balanced(n, [sp.pi] * (n - 2), branch=-1), {"mu": mu_, "delta": delta_})
-    return np.array([state[c.name] for c in lin.eom.coordinates])
+    return lin.point(ss.evaluate(ss.balanced(n, [sp.pi] * (n - 2), branch=-1), {"mu": mu_, "delta": delta_}))
 
 
 def _critical(lin, q, parameter: str, grid, **fixed) -> list[float]:

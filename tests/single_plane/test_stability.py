@@ -25,14 +25,10 @@ def n2():
     return Linearisation(rot), NumericFirstOrder(first_order(rot))
 
 
-def _coords(state, lin):
-    return np.array([state[c.name] for c in lin.eom.coordinates])
-
-
 def test_jacobian_equals_finite_differences(n2):
     lin, f = n2
     p = lin.parameters(Omega=1.5)
-    q = _coords(ss.evaluate(ss.coincident(2, -1), dict(mu=0.05, Omega=1.5, zeta=0.01, delta=0.01)), lin)
+    q = lin.point(ss.evaluate(ss.coincident(2, -1), dict(mu=0.05, Omega=1.5, zeta=0.01, delta=0.01)))
     assert np.max(np.abs(lin.residual(q, p))) < 1e-13
     y = np.concatenate([q, np.zeros(4)])
     fd = np.column_stack([(f(0, y + h, p) - f(0, y - h, p)) / 2e-7 for h in np.eye(8) * 1e-7])
@@ -49,17 +45,17 @@ def test_low_speed_coincident_states(n2):
     lin, _ = n2
     values = dict(mu=0.05, Omega=0.5, zeta=0.01, delta=0.01)
     p = lin.parameters(Omega=0.5)
-    assert lin.spectrum(_coords(ss.evaluate(ss.coincident(2, -1), values), lin), p).stable
-    assert not lin.spectrum(_coords(ss.evaluate(ss.coincident(2, 1), values), lin), p).stable
+    assert lin.spectrum(lin.point(ss.evaluate(ss.coincident(2, -1), values)), p).stable
+    assert not lin.spectrum(lin.point(ss.evaluate(ss.coincident(2, 1), values)), p).stable
     for Om in (0.5, 1.5, 4.0):
         state = ss.evaluate(ss.inline(2, 1, 1), {**values, "Omega": Om})
-        assert not lin.spectrum(_coords(state, lin), lin.parameters(Omega=Om)).stable
+        assert not lin.spectrum(lin.point(state), lin.parameters(Omega=Om)).stable
 
 
 def test_hopf_point_agrees_with_simulation(n2):
     """Just above H1 a perturbed balanced state returns, just below it leaves (n = 2, mu = 0.05)."""
     lin, f = n2
-    q = _coords(ss.evaluate(ss.balanced(2, branch=-1), dict(mu=0.05, delta=0.01)), lin)
+    q = lin.point(ss.evaluate(ss.balanced(2, branch=-1), dict(mu=0.05, delta=0.01)))
     h1 = hopf_crossing(lin, lambda v: q, "Omega", (1.8, 2.0))
     for Om, should_decay in ((h1 + 0.1, True), (h1 - 0.1, False)):
         y0 = np.concatenate([q, np.zeros(4)])
@@ -72,5 +68,5 @@ def test_hopf_point_agrees_with_simulation(n2):
 def test_balanced_family_has_n_minus_2_zero_eigenvalues():
     for n in (3, 4):
         lin = Linearisation(rotating_frame(Scene(n=n)))
-        q = _coords(ss.evaluate(ss.balanced(n, [sp.pi] * (n - 2), branch=-1), dict(mu=0.05, delta=0.01)), lin)
+        q = lin.point(ss.evaluate(ss.balanced(n, [sp.pi] * (n - 2), branch=-1), dict(mu=0.05, delta=0.01)))
         assert lin.spectrum(q, lin.parameters(Omega=3.0)).n_zero == n - 2
