@@ -277,6 +277,11 @@ def main(argv: list[str] | None = None) -> int:
     except AdbgenError as exc:
         print(f"adbgen: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into e.g. `head`, which closed early: not an error
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sysconfig
 from pathlib import Path
@@ -177,3 +178,13 @@ def test_console_script_exit_status():
     assert result.stdout == ""
     assert result.stderr.count("\n") == 1 and result.stderr.endswith("\n"), result.stderr
     assert result.stderr.startswith(PREFIX + "argument --n: "), result.stderr
+
+
+def test_output_into_a_closed_pipe_is_not_an_error():
+    """`adbgen steady | head -1`: the reader closes early; no traceback, exit 0."""
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}  # each line written at once, so later lines hit the closed pipe
+    proc = subprocess.Popen(["adbgen", "steady", "--n", "3"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+    proc.stdout.readline()
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=60) == 0 and "Traceback" not in err, err
