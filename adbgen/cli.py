@@ -4,7 +4,9 @@
     adbgen derive   [--scene F] [--n N] [--form ...] [--format text|latex|json]
     adbgen steady   [--n N] [--mu ..] [--Omega ..] [--zeta ..] [--delta ..] [--beta ..]
     adbgen demo     [--out DIR]               thesis Fig. 5.4: transients reproduced, plotted
-    adbgen bench derive [--out FILE] [--n ...]
+    adbgen regenerate [--check] [--scene F] [--n N ...] [--out DIR] [--targets ...]
+                                              derive, check, emit numba/C/CVODE/AUTO into generated/
+    adbgen bench derive|codegen [--out FILE] [--n ...]
 
 Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
 """
@@ -49,6 +51,12 @@ def _finite(text: str) -> float:
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
     return value
+
+
+def _identifier(text: str) -> str:
+    if not text.isidentifier():
+        raise argparse.ArgumentTypeError(f"not an identifier (letters, digits, _): {text!r}")
+    return text
 
 
 def _scene(args):
@@ -235,6 +243,37 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def cmd_regenerate(args) -> int:
+    from .codegen import models
+    from .codegen.regenerate import DEFAULT_OUT, render_all, stale, write
+
+    custom = args.scene is not None or args.n is not None
+    if custom and args.out is None:
+        raise _UsageError("--scene/--n generate models outside the default set: give --out DIR "
+                          "(generated/ holds the default set only)")
+    out = Path(args.out) if args.out is not None else DEFAULT_OUT
+    if args.scene is not None:
+        specs = [models.for_scene(_scene(args), args.name)]
+    elif args.n is not None:
+        specs = [spec for n in args.n for spec in (models.thesis_rotating(n), models.single_plane_fixed(n))]
+    else:
+        specs = models.default_set()
+    log = (lambda line: None) if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
+    rendered = render_all(specs, tuple(args.targets), run_checks=not args.skip_checks, progress=log)
+    if args.check:
+        report = stale(rendered, out)
+        for rel, status in report.items():
+            print(f"stale: {out / rel} ({status})")
+        if report:
+            print(f"{len(report)} file(s) out of date: run `adbgen regenerate`", file=sys.stderr)
+            return 1
+        print(f"{out}: {len(rendered.files)} files up to date")
+        return 0
+    changed = write(rendered, out)
+    print(f"{out}: {len(rendered.files)} files, {len(changed)} changed")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="adbgen", description="Equations of motion of automatic dynamic balancers.")
     p.add_argument("--version", action="version", version=f"adbgen {__version__}")
@@ -261,6 +300,18 @@ def build_parser() -> argparse.ArgumentParser:
     m = sub.add_parser("demo", help="reproduce the thesis' Fig. 5.4 transients and plot them")
     m.add_argument("--out", default="out/demo")
     m.set_defaults(fn=cmd_demo)
+
+    r = sub.add_parser("regenerate", help="derive, check and emit the generated code (numba, C, CVODE, AUTO-07p)")
+    r.add_argument("--check", action="store_true", help="write nothing; exit 1 naming the files that are out of date")
+    r.add_argument("--scene", help="scene file (TOML): its smallest exact model (needs --out)")
+    r.add_argument("--n", type=_positive_int, nargs="+", help="the default families for these n (needs --out)")
+    r.add_argument("--name", type=_identifier, help="model name for --scene")
+    r.add_argument("--out", help="output folder (default: the repository's generated/)")
+    r.add_argument("--targets", nargs="+", choices=("numba", "c", "cvode", "auto"),
+                   default=["numba", "c", "cvode", "auto"])
+    r.add_argument("--skip-checks", action="store_true", help="skip the reduction checks (the lowering check stays)")
+    r.add_argument("--quiet", action="store_true", help="no progress lines")
+    r.set_defaults(fn=cmd_regenerate)
 
     b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
     b.add_argument("what", help="derive")

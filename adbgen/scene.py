@@ -301,4 +301,6 @@ class Scene:
             "delta": self.eccentricity / R,
         }
         out["G"] = self.g / (self.eccentricity * omega_n**2) if self.gravity else 0.0
-        return out
+        # 15 significant digits: the ratios of values given in decimal come out as printed ((5.1):
+        # beta = 0.01, not 0.009999999999999998), which the generated code's defaults show
+        return {key: float(f"{value:.15g}") for key, value in out.items()}

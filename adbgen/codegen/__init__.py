@@ -1,0 +1,1 @@
+"""Code generation: intermediate form (`ir`), printers, rendering through templates, the default set."""

@@ -1,0 +1,122 @@
+"""Which models are generated: the default set of `generated/`, and a model for any scene.
+
+The default set (issue: code generation, item 3):
+
+- ``thesis_rotating_n{2,3,4}``: the thesis' autonomous rotating-frame system (2.25)-(2.27) in first-
+  order form (Appendix A), dimensionless parameters mu, Omega, zeta, beta, delta; AUTO starts from
+  the balanced state (3.6) at the defaults (5.1);
+- ``single_plane_fixed_n{2,3,4}``: the fixed-frame equations (2.10), (2.11), (2.13) of a rotor on an
+  anisotropic support (k_Y = 1.2 k_X, c_Y = 1.2 c_X) with gravity at constant speed, dimensional
+  parameters; periodically forced, so it keeps explicit time (AUTO gets it autonomous through the
+  oscillator (u, v) = (sin omega t, cos omega t), see templates/auto).
+
+A scene given on the command line gets the smallest model that is exact for it (`smallest_model`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import sympy as sp
+
+from ..scene import Scene
+from ..single_plane import steady_states as ss
+from ..single_plane.model import derive
+from ..single_plane.reductions import FirstOrderSystem, first_order, thesis_chain
+from ..single_plane.selection import smallest_model
+from .ir import ModelIR, build
+
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """A named model: how to derive its first-order system, and its AUTO start point."""
+
+    name: str
+    title: str
+    n: int
+    system: Callable[[], FirstOrderSystem]
+    start: Callable[[FirstOrderSystem], tuple[tuple[float, ...] | None, str]] = lambda system: (None, "")
+
+    def build(self) -> ModelIR:
+        system = self.system()
+        start, label = self.start(system)
+        return build(self.name, system, title=self.title, n_balls=self.n, start=start, start_label=label)
+
+
+def balanced_start(system: FirstOrderSystem, n: int) -> tuple[tuple[float, ...] | None, str]:
+    """The balanced state (3.6) at the model's defaults (phi_3.. = pi, as in the thesis' ch. 4).
+
+    For n = 1 no balanced state exists unless mu = delta: the coincident state 2+ (3.9) is used.
+    Checked to be an exact steady state of the derived equations in the tests and by `regenerate`.
+    """
+    values = {p.name: p.default for p in system.parameters}
+    if n >= 2 and ss.balanced_exists(n, values["mu"], values["delta"]):
+        state, label = ss.balanced(n, [sp.pi] * (n - 2)), "balanced state 1 (3.6), phi_3.. = pi"
+    else:
+        state, label = ss.coincident(n, 1), "coincident state 2+ (3.9)"
+    numeric = ss.evaluate(state, values)
+    positions = [numeric[s.name] for s in system.states[: len(system.coordinates)]]
+    start = tuple(float(v) for v in positions) + (0.0,) * len(positions)
+    if not all(math.isfinite(v) for v in start):
+        return None, ""
+    return start, f"{label} at the defaults"
+
+
+def thesis_rotating(n: int) -> ModelSpec:
+    return ModelSpec(
+        f"thesis_rotating_n{n}",
+        f"Single-plane balancer with {n} ball{'s' if n > 1 else ''}, rotating frame, dimensionless (thesis)",
+        n, lambda: thesis_chain(n)["first_order"], lambda system: balanced_start(system, n))
+
+
+def fixed_scene(n: int) -> Scene:
+    return Scene.from_mapping({"n": n, "stiffness": [1.0e4, 1.2e4], "damping": [2.0, 2.4], "gravity": True})
+
+
+def single_plane_fixed(n: int) -> ModelSpec:
+    return ModelSpec(
+        f"single_plane_fixed_n{n}",
+        f"Single-plane balancer with {n} ball{'s' if n > 1 else ''}, fixed frame, anisotropic support, gravity",
+        n, lambda: first_order(derive(fixed_scene(n))))
+
+
+def default_set() -> list[ModelSpec]:
+    return [thesis_rotating(n) for n in (2, 3, 4)] + [single_plane_fixed(n) for n in (2, 3, 4)]
+
+
+def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
+    """The smallest exact model of a scene (`adbgen regenerate --scene`)."""
+    selected = smallest_model(scene)
+    name = name or f"scene_{selected.kind.replace('-', '_')}_n{scene.n}"
+    start = (lambda system: balanced_start(system, scene.n)) if selected.kind == "rotating-frame" else \
+        (lambda system: (None, ""))
+    return ModelSpec(name, f"Single-plane balancer with {scene.n} balls: {selected.reason}", scene.n,
+                     lambda: selected.system, start)
+
+
+def lowering_error(ir: ModelIR, system: FirstOrderSystem, samples: int = 20, seed: int = 0) -> float:
+    """Largest relative difference between the rhs program and the closed-form rhs at random points.
+
+    The closed form (Cramer's rule on the full system) is independent of the structured lowering.
+    """
+    from .interpret import compile_program
+
+    rng = np.random.default_rng(seed)
+    t = system.solve.eom.time
+    law = dict(system.solve.eom.driven_law)
+    closed = sp.lambdify((t, list(system.states), [p.symbol for p in system.parameters]),
+                         [sp.sympify(e).xreplace(law) for e in system.rhs()], modules="math")
+    program = compile_program(ir, "rhs")
+    worst = 0.0
+    defaults = np.array([p.default for p in system.parameters])
+    for _ in range(samples):
+        y = rng.uniform(-1, 1, ir.n_states)
+        y[: ir.n_coordinates] *= 0.1
+        p = defaults * rng.uniform(0.5, 1.5, defaults.size)
+        time = float(rng.uniform(0, 10))
+        a, b = np.array(program(time, y, p)), np.array(closed(time, y, p), dtype=float)
+        worst = max(worst, float(np.max(np.abs(a - b)) / max(1e-300, float(np.max(np.abs(b))))))
+    return worst
