@@ -79,8 +79,9 @@ class ModelIR:
     jac_p: Program
     mass: Program
     forcing: Program
-    start: tuple[float, ...] | None = None  # a steady state at the defaults (AUTO's stpnt)
+    start: tuple[float, ...] | None = None  # a steady state (AUTO's stpnt) at start_parameters
     start_label: str = ""
+    start_parameters: tuple[float, ...] | None = None  # the defaults unless the start needs others
     extras: dict = field(default_factory=dict)
 
     @property
@@ -104,7 +105,7 @@ class ModelIR:
         h = hashlib.sha256()
         for item in (self.name, self.title, self.reference, self.n_balls, self.autonomous,
                      self.state_names, [(p.name, p.description, p.unit, repr(p.default)) for p in self.parameters],
-                     self.core, self.leaves, self.mass_pattern, self.start, self.start_label):
+                     self.core, self.leaves, self.mass_pattern, self.start, self.start_label, self.start_parameters):
             h.update(repr(item).encode())
         for prog in (self.rhs, self.jac, self.jac_p, self.mass, self.forcing):
             h.update(repr(prog.shape).encode())
@@ -327,7 +328,8 @@ def _describe(name: str) -> str:
 
 
 def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
-          start: Sequence[float] | None = None, start_label: str = "") -> ModelIR:
+          start: Sequence[float] | None = None, start_label: str = "",
+          start_parameters: Sequence[float] | None = None) -> ModelIR:
     """Lower a first-order system to the intermediate form (pure: same input, same output)."""
     if not name.isidentifier():
         raise ValueError(f"model name {name!r} is not an identifier")
@@ -356,4 +358,6 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
         mass_pattern=tuple(sorted(b.mass_entries)), rhs=rhs, jac=jac, jac_p=jac_p, mass=mass,
         forcing=forcing, start=tuple(float(v) for v in start) if start is not None else None,
         start_label=start_label,
+        start_parameters=tuple(float(v) for v in (start_parameters if start_parameters is not None
+                                                 else [p.default for p in params])) if start is not None else None,
     )

@@ -38,22 +38,31 @@ class ModelSpec:
     title: str
     n: int
     system: Callable[[], FirstOrderSystem]
-    start: Callable[[FirstOrderSystem], tuple[tuple[float, ...] | None, str]] = lambda system: (None, "")
+    # system -> (state, label) at the defaults, or (state, label, {parameter: value}) elsewhere
+    start: Callable[[FirstOrderSystem], tuple] = lambda system: (None, "")
 
     def build(self) -> ModelIR:
         system = self.system()
-        start, label = self.start(system)
-        return build(self.name, system, title=self.title, n_balls=self.n, start=start, start_label=label)
+        start, label, *where = self.start(system)
+        values = [p.default for p in system.parameters]
+        if where:
+            names = [p.name for p in system.parameters]
+            for key, value in where[0].items():
+                values[names.index(key)] = float(value)
+        return build(self.name, system, title=self.title, n_balls=self.n, start=start, start_label=label,
+                     start_parameters=values)
 
 
-def balanced_start(system: FirstOrderSystem, n: int) -> tuple[tuple[float, ...] | None, str]:
-    """The balanced state (3.6) at the model's defaults (phi_3.. = pi, as in the thesis' ch. 4).
+def balanced_start(system: FirstOrderSystem, n: int, state: str = "balanced",
+                   **overrides: float) -> tuple[tuple[float, ...] | None, str, dict]:
+    """The balanced state (3.6) (phi_3.. = pi, as in the thesis' ch. 4) at the defaults or `overrides`.
 
-    For n = 1 no balanced state exists unless mu = delta: the coincident state 2+ (3.9) is used.
-    Checked to be an exact steady state of the derived equations in the tests and by `regenerate`.
+    For n = 1 no balanced state exists unless mu = delta: the coincident state 2+ (3.9) is used, as it
+    is when `state` = "coincident".  `regenerate` checks that the start is a steady state of the
+    generated right-hand side.
     """
-    values = {p.name: p.default for p in system.parameters}
-    if n >= 2 and ss.balanced_exists(n, values["mu"], values["delta"]):
+    values = {p.name: p.default for p in system.parameters} | overrides
+    if state == "balanced" and n >= 2 and ss.balanced_exists(n, values["mu"], values["delta"]):
         state, label = ss.balanced(n, [sp.pi] * (n - 2)), "balanced state 1 (3.6), phi_3.. = pi"
     else:
         state, label = ss.coincident(n, 1), "coincident state 2+ (3.9)"
@@ -61,8 +70,9 @@ def balanced_start(system: FirstOrderSystem, n: int) -> tuple[tuple[float, ...] 
     positions = [numeric[s.name] for s in system.states[: len(system.coordinates)]]
     start = tuple(float(v) for v in positions) + (0.0,) * len(positions)
     if not all(math.isfinite(v) for v in start):
-        return None, ""
-    return start, f"{label} at the defaults"
+        return None, "", {}
+    where = ", ".join(f"{k} = {v!r}" for k, v in sorted(overrides.items()))
+    return start, f"{label} at the defaults" + (f" but {where}" if where else ""), overrides
 
 
 def thesis_rotating(n: int) -> ModelSpec:

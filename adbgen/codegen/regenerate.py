@@ -75,7 +75,7 @@ def render_all(specs: list[ModelSpec], targets=tuple(TARGETS), run_checks: bool 
             import numpy as np
 
             residual = float(np.max(np.abs(compile_program(ir, "rhs")(0.0, np.array(ir.start),
-                                                                        np.array([p.default for p in ir.parameters])))))
+                                                                        np.array(ir.start_parameters)))))
             if not residual <= 1e-12:
                 raise CheckFailed(f"{spec.name}: the AUTO start point is not a steady state (|rhs| = {residual:.2e})")
         model_files = render_model(ir, targets)

@@ -55,7 +55,7 @@ def environment() -> jinja2.Environment:
         raise AdbgenError(f"templates folder not found at {TEMPLATES}")
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATES)), undefined=jinja2.StrictUndefined,
                              keep_trailing_newline=True, autoescape=False)
-    env.filters.update(pyrepr=_pyrepr, pytuple=_pytuple, pylist=_pylist)
+    env.filters.update(pyrepr=_pyrepr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float)
     return env
 
 
@@ -107,8 +107,7 @@ def _c_float(value: float) -> str:
 def context(ir: ModelIR) -> dict:
     names = identifiers(ir)
     out = {"ir": ir, "source_hash": source_hash(ir), "P": ir.name.upper(),
-           "units": [p.unit for p in ir.parameters], "defaults": [_c_float(p.default) for p in ir.parameters],
-           "start": list(ir.start) if ir.start is not None else None,
+           "units": [p.unit for p in ir.parameters], "defaults": [p.default for p in ir.parameters],
            "coordinates": [s.name for s in ir.states[: ir.n_coordinates]], "version": __version__}
     for lang, printer in (("py", PythonPrinter(names)), ("c", CPrinter(names))):
         out[f"programs_{lang}"] = {key: _program_context(getattr(ir, key), ir, printer, names)
