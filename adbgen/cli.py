@@ -246,6 +246,7 @@ def cmd_bench(args) -> int:
 def cmd_regenerate(args) -> int:
     from .codegen import models
     from .codegen.regenerate import DEFAULT_OUT, render_all, stale, write
+    from .codegen.render import TARGETS
 
     custom = args.scene is not None or args.n is not None
     if custom and args.out is None:
@@ -261,7 +262,7 @@ def cmd_regenerate(args) -> int:
     log = (lambda line: None) if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
     rendered = render_all(specs, tuple(args.targets), run_checks=not args.skip_checks, progress=log)
     if args.check:
-        report = stale(rendered, out)
+        report = stale(rendered, out, extra=set(args.targets) == set(TARGETS))
         for rel, status in report.items():
             print(f"stale: {out / rel} ({status})")
         if report:
@@ -269,7 +270,7 @@ def cmd_regenerate(args) -> int:
             return 1
         print(f"{out}: {len(rendered.files)} files up to date")
         return 0
-    changed = write(rendered, out)
+    changed = write(rendered, out, prune=set(args.targets) == set(TARGETS) and not custom)
     print(f"{out}: {len(rendered.files)} files, {len(changed)} changed")
     return 0
 

@@ -98,8 +98,11 @@ def _existing(out: Path) -> dict[str, Path]:
     return found
 
 
-def stale(rendered: Rendered, out: Path) -> dict[str, str]:
-    """{relative path: 'differs' | 'missing' | 'not generated'} for every file out of date."""
+def stale(rendered: Rendered, out: Path, extra: bool = True) -> dict[str, str]:
+    """{relative path: 'differs' | 'missing' | 'not generated'} for every file out of date.
+
+    'not generated' (a file in `out` that nothing renders) is reported only with `extra`.
+    """
     have = _existing(out)
     report = {}
     for rel, text in sorted(rendered.files.items()):
@@ -107,18 +110,22 @@ def stale(rendered: Rendered, out: Path) -> dict[str, str]:
             report[rel] = "missing"
         elif have[rel].read_bytes() != text.encode():
             report[rel] = "differs"
-    for rel in sorted(set(have) - set(rendered.files)):
+    for rel in sorted(set(have) - set(rendered.files)) if extra else ():
         report[rel] = "not generated"
     return report
 
 
 def write(rendered: Rendered, out: Path, prune: bool = True) -> list[str]:
-    """Write the rendered files into `out` through a staging folder; returns the paths changed."""
+    """Write the rendered files into `out` through a staging folder; returns the paths changed.
+
+    With `prune`, files in `out` that were not rendered are removed (only pass it when every target
+    of every model was rendered).
+    """
     out.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out.name}-staging-", dir=out.parent))
     changed = []
     try:
-        report = stale(rendered, out)
+        report = stale(rendered, out, extra=prune)
         for rel, text in rendered.files.items():
             if report.get(rel) in ("missing", "differs"):
                 target = staging / rel
