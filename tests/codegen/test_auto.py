@@ -1,0 +1,339 @@
+"""The AUTO-07p target: user file (func with dfdu and dfdp, stpnt, pvls) and constants file.
+
+Built and run the way AUTO's own `@r` does (Debian's `auto-07p` with `gfortran`: the classic
+`make -f $AUTO_DIR/cmds/cmds.make EQUATION_NAME=<name> < c.<name>`), in a temporary folder; the
+bifurcation diagram is read from fort.7 directly (AUTO's Python reader fails under numpy 2).
+
+Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
+
+* continuing the balanced state (3.6) in Omega from 4 downwards (the committed
+  generated/thesis_rotating_n2/auto files, unchanged) finds the Hopf point where it loses stability,
+  Omega_H1 = 1.8822393..., and further down two more (1.0936..., 1.0297...); each HB agrees to 1e-5 with
+  a zero of the largest real part of the eigenvalues of the numba `jac` at the steady state (brentq),
+  and those eigenvalues are a complex pair there;
+* every change of the stability flag (sign of PT in fort.7) sits at a labelled bifurcation (a Hopf
+  point stepped over by a too large DSMAX shows up as an unlabelled change: with DSMAX = 0.01 the third
+  Hopf point, where two complex pairs interact, is missed; the template uses 0.002);
+* continuing the coincident state 2+ (3.9) from Omega = 0.5 upwards and from Omega = 1.5 downwards
+  finds the saddle-nodes (LP) at the critical speeds of the closed form (3.16), to 1e-5;
+* func's f, dfdu (column-major) and dfdp (AUTO's PAR indices) equal the numba rhs, jac and jac_p,
+  and stpnt and pvls store what the file header documents;
+* a periodically forced model renders a user file whose func stops AUTO with an error.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import importlib.util
+import os
+import re
+import shutil
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from adbgen.codegen import models
+from adbgen.codegen.regenerate import DEFAULT_OUT
+from adbgen.codegen.render import render_model
+from adbgen.single_plane.steady_states import critical_speeds
+
+
+def _load_toolchain():
+    spec = importlib.util.spec_from_file_location("_adbgen_codegen_toolchain", Path(__file__).with_name("toolchain.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+require_tool = _load_toolchain().require_tool
+
+AUTO_DIR = Path(os.environ.get("AUTO_DIR", "/usr/lib/auto-07p"))
+MU, ZETA, BETA, DELTA = 0.05, 0.01, 0.01, 0.01
+TOL = 1e-5
+BIFURCATIONS = {1: "BP", 2: "LP", 3: "HB"}  # |TY| in fort.7; 4 regular/UZ, 9 end points
+
+
+def _auto_header() -> Path | None:
+    for folder in (AUTO_DIR / "include", Path("/usr/include")):
+        if (folder / "auto_f2c.h").is_file():
+            return folder
+    return None
+
+
+@pytest.fixture(scope="module")
+def auto_toolchain():
+    missing = [what for what, ok in (
+        ("auto-07p (cmds/cmds.make)", (AUTO_DIR / "cmds" / "cmds.make").is_file()),
+        ("auto-07p (lib/libauto_c.a)", (AUTO_DIR / "lib" / "libauto_c.a").is_file()),
+        ("auto-07p (auto_f2c.h)", _auto_header() is not None),
+        ("gfortran", shutil.which("gfortran") is not None),
+        ("gcc", shutil.which("gcc") is not None),
+        ("make", shutil.which("make") is not None),
+    ) if not ok]
+    require_tool(not missing, ", ".join(missing) + " (Debian packages auto-07p gfortran)")
+    return AUTO_DIR
+
+
+# --- fort.7 ---------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Point:
+    branch: int
+    pt: int  # negative: stable
+    ty: int  # 1 BP, 2 LP, 3 HB, 4 regular output (-4 UZ), 9 / -9 end points, 0 not printed to fort.8
+    label: int
+    values: dict  # column title of fort.7 (PAR(1), L2-NORM, U(1), ..., PAR(6)) -> value
+
+    @property
+    def stable(self) -> bool:
+        return self.pt < 0
+
+    @property
+    def kind(self) -> str | None:
+        return BIFURCATIONS.get(abs(self.ty))
+
+
+def _number(text: str) -> float:
+    """Fortran E format; an exponent of three digits may lose its E ('1.7976+308')."""
+    if not re.search(r"[eEdD]", text):
+        text = re.sub(r"(?<=[0-9.])([+-]\d+)$", r"E\1", text)
+    return float(text.replace("D", "E").replace("d", "e"))
+
+
+def read_fort7(path: Path) -> list[Point]:
+    """Every continuation step of fort.7: lines starting with BR = 0 are headers (the last header
+    before the data names its columns: 0 PT TY LAB PAR(1) L2-NORM U(1) ...); the others are
+    BR PT TY LAB followed by those columns."""
+    points, titles = [], None
+    for line in path.read_text().splitlines():
+        fields = line.split()
+        if not fields:
+            continue
+        if fields[0] == "0":
+            if len(fields) > 4 and fields[1:4] == ["PT", "TY", "LAB"]:
+                titles = fields[4:]
+            continue
+        assert titles is not None, f"fort.7 data before its column titles: {line!r}"
+        br, pt, ty, lab = (int(v) for v in fields[:4])
+        values = [_number(v) for v in fields[4:]]
+        assert len(values) == len(titles), line
+        points.append(Point(br, pt, ty, lab, dict(zip(titles, values))))
+    return points
+
+
+def unlabelled_stability_changes(points: list[Point]) -> list[tuple[Point, Point]]:
+    """Consecutive steps whose stability differs without a labelled bifurcation at either of them."""
+    return [(a, b) for a, b in zip(points, points[1:])
+            if a.branch == b.branch and a.stable != b.stable and not (a.kind or b.kind)]
+
+
+# --- building and running -------------------------------------------------------------------------
+
+def build_and_run(files: dict[str, str], name: str, workdir: Path) -> str:
+    """Write the user and constants files, build and run them with AUTO's make runner; its output."""
+    workdir.mkdir(parents=True, exist_ok=True)
+    for filename, text in files.items():
+        (workdir / filename).write_text(text)
+    env = dict(os.environ, AUTO_DIR=str(AUTO_DIR))
+    with open(workdir / f"c.{name}") as constants:
+        r = subprocess.run(["make", "-f", str(AUTO_DIR / "cmds" / "cmds.make"), f"EQUATION_NAME={name}"],
+                           stdin=constants, cwd=workdir, env=env, capture_output=True, text=True, timeout=120)
+    return f"--- stdout\n{r.stdout[-4000:]}\n--- stderr\n{r.stderr[-4000:]}"
+
+
+def run_auto(files: dict[str, str], name: str, workdir: Path) -> list[Point]:
+    """Build and run with AUTO's make runner, read fort.7."""
+    log = build_and_run(files, name, workdir)
+    # cmds.make is .IGNORE: a failed compile or run does not change make's exit status
+    assert (workdir / f"{name}.exe").is_file(), f"AUTO build failed\n{log}"
+    assert (workdir / "fort.7").is_file(), f"AUTO did not run\n{log}"
+    assert "Unknown AUTO constant" not in log, log
+    points = read_fort7(workdir / "fort.7")
+    assert points, f"empty fort.7\n{log}"
+    return points
+
+
+def rendered_auto(ir) -> dict[str, str]:
+    return {Path(rel).name: text for rel, text in render_model(ir, ("auto",)).items()}
+
+
+def default_auto_files(spec: models.ModelSpec) -> dict[str, str]:
+    """The committed generated/<model>/auto files (what users run), or the same rendered now if absent."""
+    paths = [DEFAULT_OUT / spec.name / "auto" / f for f in (f"{spec.name}.c", f"c.{spec.name}")]
+    if all(path.is_file() for path in paths):
+        return {path.name: path.read_text() for path in paths}
+    return rendered_auto(spec.build())
+
+
+@pytest.fixture(scope="module")
+def balanced(auto_toolchain, generated_model, tmp_path_factory):
+    """(numba module, fort.7 points) of the committed balanced-state continuation of n = 2."""
+    module, _, _ = generated_model("thesis_rotating", 2)
+    files = default_auto_files(models.thesis_rotating(2))
+    return module, run_auto(files, "thesis_rotating_n2", tmp_path_factory.mktemp("auto_balanced"))
+
+
+# --- eigenvalues of the numba Jacobian ------------------------------------------------------------
+
+def steady_state(module, y0, p):
+    y = np.array(y0, float)
+    for _ in range(50):
+        f = module.rhs(0.0, y, p)
+        if np.max(np.abs(f)) < 1e-14:
+            break
+        y = y - np.linalg.solve(module.jac(0.0, y, p), f)
+    assert np.max(np.abs(module.rhs(0.0, y, p))) < 1e-12
+    return y
+
+
+def leading_eigenvalue(module, y0, omega: float) -> complex:
+    p = module.params(Omega=omega, mu=MU, zeta=ZETA, beta=BETA, delta=DELTA)
+    ev = np.linalg.eigvals(module.jac(0.0, steady_state(module, y0, p), p))
+    return complex(ev[np.argmax(ev.real)])
+
+
+def eigenvalue_crossings(module, y0, lo: float, hi: float, step: float = 0.005) -> list[float]:
+    """Omega in (lo, hi) where the largest real part of the eigenvalues changes sign (brentq)."""
+    g = lambda w: leading_eigenvalue(module, y0, w).real  # noqa: E731
+    grid = np.arange(hi, lo, -step)
+    values = [g(w) for w in grid]
+    return [brentq(g, b, a, xtol=1e-13, rtol=1e-13)
+            for a, b, ga, gb in zip(grid, grid[1:], values, values[1:]) if ga * gb < 0]
+
+
+# --- tests ----------------------------------------------------------------------------------------
+
+def test_balanced_state_loses_stability_at_a_hopf_point(balanced):
+    module, points = balanced
+    omega = [p.values["PAR(1)"] for p in points]
+    start = points[0]
+    assert start.values["PAR(1)"] == pytest.approx(4.0) and start.stable, start
+    assert np.allclose(module.START_PARAMETERS, [4.0, BETA, DELTA, MU, ZETA])  # Omega, beta, delta, mu, zeta
+    assert all(b <= a for a, b in zip(omega, omega[1:])), "the balanced branch is continued downwards"
+    assert min(omega) == pytest.approx(0.5), "stops at UZSTOP Omega = 0.5"
+
+    assert unlabelled_stability_changes(points) == [], "a stability change without a labelled bifurcation"
+    special = [p for p in points if p.kind]
+    assert {p.kind for p in special} == {"HB"}, special
+    hopf = [p.values["PAR(1)"] for p in special]
+
+    # the Hopf point where the balanced state loses stability: the first bifurcation from Omega = 4,
+    # stable on every step before it, unstable after
+    first = points.index(special[0])
+    assert all(p.stable for p in points[: first + 1]) and not points[first + 1].stable
+    crossings = eigenvalue_crossings(module, module.START, 0.5, 4.0)
+    assert len(crossings) == len(hopf), (crossings, hopf)
+    for w_auto, w_eig in zip(hopf, crossings):
+        assert abs(w_auto - w_eig) < TOL, (w_auto, w_eig)
+        assert abs(leading_eigenvalue(module, module.START, w_eig).imag) > 1e-3, "a complex pair crosses"
+    assert hopf[0] == pytest.approx(1.88224, abs=1e-5)
+    print(f"\nAUTO HB: {hopf}; eigenvalue crossings (numba jac): {crossings}; "
+          f"differences {[a - b for a, b in zip(hopf, crossings)]}")
+
+
+def test_a_large_dsmax_steps_over_a_hopf_point_and_the_cross_check_sees_it(balanced, tmp_path):
+    """Why the stability flag is cross-checked (issue 4): DSMAX = 0.01 misses the third Hopf point."""
+    _, points = balanced
+    name = "thesis_rotating_n2"
+    files = default_auto_files(models.thesis_rotating(2))
+    files[f"c.{name}"] = re.sub(r"DSMAX = [0-9.e+-]+", "DSMAX = 0.01", files[f"c.{name}"])
+    coarse = run_auto(files, name, tmp_path)
+    assert len([p for p in coarse if p.kind == "HB"]) < len([p for p in points if p.kind == "HB"])
+    assert unlabelled_stability_changes(coarse), "the missed Hopf point shows as an unlabelled stability change"
+
+
+@pytest.mark.parametrize("omega0, which", [(0.5, 0), (1.5, 1)], ids=["from-below", "from-above"])
+def test_coincident_states_fold_at_the_critical_speeds(auto_toolchain, generated_model, tmp_path, omega0, which):
+    module, _, _ = generated_model("thesis_rotating", 2)
+    spec = models.ModelSpec(f"coincident_n2_{which}", "thesis n = 2 from the coincident state 2+", 2,
+                            models.thesis_rotating(2).system,
+                            lambda s: models.balanced_start(s, 2, "coincident", Omega=omega0))
+    ir = spec.build()
+    assert "coincident" in ir.start_label and ir.start_parameters[0] == omega0
+    points = run_auto(rendered_auto(ir), spec.name, tmp_path)
+    assert points[0].values["PAR(1)"] == pytest.approx(omega0)
+    assert unlabelled_stability_changes(points) == []
+    folds = [p for p in points if p.kind == "LP"]
+    first = next(p for p in points if p.kind)
+    assert first.kind == "LP" and len(folds) == 1, [(p.kind, p.values["PAR(1)"]) for p in points if p.kind]
+    expected = critical_speeds(2, 2, MU, ZETA, DELTA)[which]
+    omega_lp = folds[0].values["PAR(1)"]
+    assert abs(omega_lp - expected) < TOL, (omega_lp, expected)
+    # the branch exists on the start's side only: 2+ turns into 2- at the fold
+    sides = {np.sign(p.values["PAR(1)"] - expected) for p in points if abs(p.values["PAR(1)"] - expected) > 1e-9}
+    assert sides == {-1.0 if which == 0 else 1.0}
+    print(f"\nLP from Omega = {omega0}: AUTO {omega_lp!r}, (3.16) {expected!r}, difference {omega_lp - expected:.2e}")
+
+
+HARNESS = r"""
+#include "{name}.c"
+
+void h_func(const double *u, const double *par, double *f, double *dfdu, double *dfdp)
+{{
+    func({ndim}, u, 0, par, 2, f, dfdu, dfdp);
+}}
+
+void h_stpnt(double *u, double *par) {{ stpnt({ndim}, 0.0, u, par); }}
+
+void h_pvls(const double *u, double *par) {{ pvls({ndim}, u, par); }}
+"""
+
+
+def _harness(user_file: str, name: str, ndim: int, tmp_path: Path):
+    """The user file's func, stpnt and pvls in a shared library (they are static: include the file)."""
+    (tmp_path / f"{name}.c").write_text(user_file)
+    (tmp_path / "harness.c").write_text(HARNESS.format(name=name, ndim=ndim))
+    lib = tmp_path / "harness.so"
+    r = subprocess.run(["gcc", "-std=gnu99", "-O1", "-Wall", "-Wextra", "-Werror", "-fPIC", "-shared",
+                        "-I", str(_auto_header()), "-o", str(lib), "harness.c", "-lm"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return ctypes.CDLL(str(lib))
+
+
+def _ptr(a: np.ndarray):
+    return a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+
+
+def test_func_dfdu_dfdp_stpnt_pvls_equal_the_numba_module(auto_toolchain, generated_model, tmp_path):
+    module, _, _ = generated_model("thesis_rotating", 2)
+    name, ndim, npar = "thesis_rotating_n2", module.N_STATES, 36
+    lib = _harness(default_auto_files(models.thesis_rotating(2))[f"{name}.c"], name, ndim, tmp_path)
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        y = rng.uniform(-1, 1, ndim)
+        p = module.DEFAULTS * rng.uniform(0.5, 2.0, module.DEFAULTS.size)
+        par = np.zeros(npar)
+        par[: p.size] = p  # fewer than 10 parameters: PAR(k+1) = parameter k
+        f, dfdu, dfdp = np.zeros(ndim), np.full(ndim * ndim, np.nan), np.full(ndim * npar, np.nan)
+        lib.h_func(_ptr(y), _ptr(par), _ptr(f), _ptr(dfdu), _ptr(dfdp))
+        scale = lambda a: max(1.0, float(np.max(np.abs(a))))  # noqa: E731
+        assert np.max(np.abs(f - module.rhs(0.0, y, p))) <= 1e-13 * scale(f)
+        J = dfdu.reshape(ndim, ndim).T  # column-major: dfdu[i + j*ndim] = dF_i/dU_j
+        assert np.max(np.abs(J - module.jac(0.0, y, p))) <= 1e-13 * scale(J)
+        Jp = dfdp.reshape(npar, ndim).T[:, : p.size]
+        assert np.max(np.abs(Jp - module.jac_p(0.0, y, p))) <= 1e-13 * scale(Jp)
+    u, par = np.zeros(ndim), np.zeros(npar)
+    lib.h_stpnt(_ptr(u), _ptr(par))
+    assert np.array_equal(u, module.START) and np.array_equal(par[:5], module.START_PARAMETERS)
+    u = rng.uniform(-1, 1, ndim)
+    lib.h_pvls(_ptr(u), _ptr(par))
+    assert par[5] == pytest.approx(np.hypot(u[0], u[1]), rel=1e-15)  # PAR(6): sqrt(x^2 + y^2)
+
+
+def test_forced_model_needs_an_oscillator(auto_toolchain, tmp_path):
+    """More than 10 parameters (PAR(11)-PAR(14) skipped) and explicit time: func stops AUTO."""
+    name = "single_plane_fixed_n2"
+    files = default_auto_files(models.single_plane_fixed(2))
+    user = files[f"{name}.c"]
+    assert "PERIODICALLY FORCED" in user and "PERIODICALLY FORCED" in files[f"c.{name}"]
+    assert re.search(r"PAR\(15\)\s+par\[14\]\s+omega", user), "parameter 10 (omega) is PAR(15)"
+    assert "par[10]" not in user and "par[11]" not in user
+    log = build_and_run(files, name, tmp_path)
+    assert (tmp_path / f"{name}.exe").is_file(), log
+    assert "periodically forced model" in log, log
+    assert not (tmp_path / "fort.7").is_file() or not read_fort7(tmp_path / "fort.7")
