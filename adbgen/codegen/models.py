@@ -62,11 +62,22 @@ def balanced_start(system: FirstOrderSystem, n: int, state: str = "balanced",
     generated right-hand side.
     """
     values = {p.name: p.default for p in system.parameters} | overrides
+    numeric = None
     if state == "balanced" and n >= 2 and ss.balanced_exists(n, values["mu"], values["delta"]):
-        state, label = ss.balanced(n, [sp.pi] * (n - 2)), "balanced state 1 (3.6), phi_3.. = pi"
-    else:
-        state, label = ss.coincident(n, 1), "coincident state 2+ (3.9)"
-    numeric = ss.evaluate(state, values)
+        # the thesis puts phi_3.. at pi; where that leaves phi_1,2 no solution (odd n), alternate pi, 0
+        for free, how in (([sp.pi] * (n - 2), "phi_3.. = pi"),
+                          ([sp.pi if k % 2 == 0 else sp.S.Zero for k in range(n - 2)], "phi_3.. = pi, 0, pi, ...")):
+            try:
+                numeric = ss.evaluate(ss.balanced(n, free), values)
+                label = f"balanced state 1 (3.6), {how}" if n > 2 else "balanced state 1 (3.6)"
+                break
+            except ValueError:
+                continue
+    if numeric is None:
+        try:
+            numeric, label = ss.evaluate(ss.coincident(n, 1), values), "coincident state 2+ (3.9)"
+        except ValueError:
+            return None, "", {}
     positions = [numeric[s.name] for s in system.states[: len(system.coordinates)]]
     start = tuple(float(v) for v in positions) + (0.0,) * len(positions)
     if not all(math.isfinite(v) for v in start):
