@@ -230,15 +230,29 @@ def cmd_demo(args) -> int:
     return 0 if check.passed else 1
 
 
+_BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json"}
+
+
 def cmd_bench(args) -> int:
     from . import bench
 
-    if args.what != "derive":
-        raise _UsageError(f"unknown benchmark {args.what!r}; choose: derive")
+    if args.what not in _BENCH_OUT:
+        raise _UsageError(f"unknown benchmark {args.what!r}; choose: {', '.join(_BENCH_OUT)}")
+    out = args.out if args.out is not None else _BENCH_OUT[args.what]
+    if args.what == "codegen":
+        from . import bench_codegen
+
+        ns = tuple(args.n)  # op counts for every n; timings for n <= 16 (jac and lambdify up to 8)
+        result = bench_codegen.bench_codegen(
+            ns, tuple(n for n in ns if n <= max(bench_codegen.SPEED_NS)),
+            progress=lambda r: print(bench_codegen.describe(r), flush=True))
+        path = bench.write(result, out)
+        print(f"wrote {path} ({result['seconds']} s)")
+        return 0
     result = bench.bench_derive(tuple(args.n), progress=lambda r: print(
         f"{r['model']:30s} n={r['n']:3d}  {r['seconds']:8.3f} s  eom ops {r['eom_ops']:7d}  first-order ops {r['first_order_ops']:7d}",
         flush=True))
-    path = bench.write(result, args.out)
+    path = bench.write(result, out)
     print(f"wrote {path}")
     return 0
 
@@ -315,8 +329,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(fn=cmd_regenerate)
 
     b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
-    b.add_argument("what", help="derive")
-    b.add_argument("--out", default="benchmarks/derive.json")
+    b.add_argument("what", help="derive or codegen")
+    b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json)")
     b.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
     b.set_defaults(fn=cmd_bench)
     return p

@@ -19,7 +19,7 @@ from typing import Callable, Iterable
 from ..errors import AdbgenError
 from ..single_plane import verify
 from .models import ModelSpec, lowering_error
-from .render import TARGETS, render_index, render_model
+from .render import TARGETS, render_index, render_model, skipped_targets
 
 DEFAULT_OUT = Path(__file__).resolve().parents[2] / "generated"
 IGNORED_DIRS = {"__pycache__"}
@@ -83,7 +83,8 @@ def render_all(specs: list[ModelSpec], targets=tuple(TARGETS), run_checks: bool 
         index.append((ir.name, ir.title, ir.reference))
         progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, rhs {ir.rhs.count_ops()} ops, "
                  f"jac {ir.jac.count_ops()} ops, lowering error {err:.1e}, {len(model_files)} files "
-                 f"({time.perf_counter() - start:.1f} s)")
+                 f"({time.perf_counter() - start:.1f} s)"
+                 + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir).items() if t in targets))
     files.update(render_index(index))
     return Rendered(files, tuple(name for name, _, _ in index))
 

@@ -125,15 +125,22 @@ TARGETS = {
 }
 
 
+def skipped_targets(ir: ModelIR) -> dict[str, str]:
+    """Targets a model does not get, and why."""
+    if ir.autonomous:
+        return {}
+    return {"auto": "periodically forced (explicit time): AUTO-07p continues autonomous systems only"}
+
+
 def render_model(ir: ModelIR, targets=tuple(TARGETS)) -> dict[str, str]:
     """{relative path: text} of every target's files for one model."""
     env = environment()
     ctx = context(ir)
     files = {}
     for target in targets:
+        if target == "auto" and not ir.autonomous:
+            continue  # AUTO-07p continues autonomous systems only (see `skipped_targets`)
         for template, path, lang in TARGETS[target]:
-            if not (TEMPLATES / template).exists():
-                continue
             text = env.get_template(template).render(**ctx, programs=ctx[f"programs_{lang}"])
             files[path.format(name=ir.name)] = text
     return files

@@ -18,7 +18,8 @@ Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
   finds the saddle-nodes (LP) at the critical speeds of the closed form (3.16), to 1e-5;
 * func's f, dfdu (column-major) and dfdp (AUTO's PAR indices) equal the numba rhs, jac and jac_p,
   and stpnt and pvls store what the file header documents;
-* a periodically forced model renders a user file whose func stops AUTO with an error.
+* a periodically forced model gets no AUTO files; a model with more than 10 parameters keeps PAR(11)-PAR(14)
+  free for AUTO and builds.
 """
 
 from __future__ import annotations
@@ -325,15 +326,28 @@ def test_func_dfdu_dfdp_stpnt_pvls_equal_the_numba_module(auto_toolchain, genera
     assert par[5] == pytest.approx(np.hypot(u[0], u[1]), rel=1e-15)  # PAR(6): sqrt(x^2 + y^2)
 
 
-def test_forced_model_needs_an_oscillator(auto_toolchain, tmp_path):
-    """More than 10 parameters (PAR(11)-PAR(14) skipped) and explicit time: func stops AUTO."""
-    name = "single_plane_fixed_n2"
-    files = default_auto_files(models.single_plane_fixed(2))
-    user = files[f"{name}.c"]
-    assert "PERIODICALLY FORCED" in user and "PERIODICALLY FORCED" in files[f"c.{name}"]
-    assert re.search(r"PAR\(15\)\s+par\[14\]\s+omega", user), "parameter 10 (omega) is PAR(15)"
-    assert "par[10]" not in user and "par[11]" not in user
-    log = build_and_run(files, name, tmp_path)
-    assert (tmp_path / f"{name}.exe").is_file(), log
-    assert "periodically forced model" in log, log
-    assert not (tmp_path / "fort.7").is_file() or not read_fort7(tmp_path / "fort.7")
+def test_forced_model_gets_no_auto_files():
+    """Explicit time (the fixed-frame models): AUTO-07p continues autonomous systems only."""
+    from adbgen.codegen.render import render_model, skipped_targets
+
+    ir = models.single_plane_fixed(2).build()
+    assert not ir.autonomous and "auto" in skipped_targets(ir)
+    assert not any("/auto/" in path for path in render_model(ir))
+    assert not (DEFAULT_OUT / ir.name / "auto").exists()
+
+
+def test_more_than_ten_parameters_skip_autos_own_par_slots(auto_toolchain, tmp_path):
+    """Unequal balls keep the dimensional rotating-frame model (12 parameters for n = 3):
+    parameters 10 and 11 go to PAR(15), PAR(16); PAR(11)-PAR(14) stay AUTO's; it builds."""
+    from adbgen.scene import Scene
+
+    spec = models.for_scene(Scene.from_mapping({"n": 3, "ball_mass": [0.05, 0.04, 0.03]}), "unequal_n3")
+    ir = spec.build()
+    assert ir.autonomous and len(ir.parameters) == 12
+    files = rendered_auto(ir)
+    user = files["unequal_n3.c"]
+    name10, name11 = ir.parameter_names[10], ir.parameter_names[11]
+    assert re.search(rf"PAR\(15\)\s+par\[14\]\s+{name10}", user) and re.search(rf"PAR\(16\)\s+par\[15\]\s+{name11}", user)
+    assert not re.search(r"par\[1[0-3]\]", user)
+    log = build_and_run(files, "unequal_n3", tmp_path)
+    assert (tmp_path / "unequal_n3.exe").is_file(), log

@@ -1,0 +1,488 @@
+"""Benchmark (not a test): size and speed of the emitted code against the number of balls.
+
+Issue: code generation, "operation count of the emitted rhs and jac for n = 1..32 (linear), and ns
+per rhs call of numba and C against sympy.lambdify, written to a committed results file".
+
+Two parts, both for the two model families of `adbgen.codegen.models`:
+
+- ``ops``: SymPy's ``count_ops`` of the intermediate form's ``rhs`` and ``jac`` programs (the exact
+  statements every target prints), the number of statements and the build time (derivation and
+  lowering) for n = 1, 2, 4, ..., 32, with least-squares fits.  The rhs is fitted by a + b n.  The jac
+  is split into its parts: the shared prefix (the rhs' statements it reuses), the derivative
+  expressions (``v_*`` and ``dR_*``: O(n)), and the per-column structured solves and stores (one
+  solve per column of the dense 2N x 2N Jacobian: O(n^2)); the whole is fitted by a + b n + c n^2.
+- ``speed``: ns per call of the rhs (and the jac) rendered from the templates into a temporary
+  folder, all measured in one run so that the ratios are meaningful (absolute times are not
+  comparable across machines or runs):
+
+  * numba ``rhs_inplace``/``jac_inplace`` called in a jitted loop (no Python call overhead),
+  * numba ``rhs`` called from Python (what ``solve_ivp`` sees),
+  * C ``<model>_rhs``/``<model>_jac`` called in a loop by a timing program compiled with ``gcc -O2``,
+  * ``sympy.lambdify`` of the closed form ``system.rhs()`` (``cse=True``; modules "math" and
+    "numpy") called from Python.
+
+  In the loops each call's input depends on the previous call's output (y[0] is nudged by 1e-300
+  times an output), so a compiler cannot hoist the pure computation out of the loop; consecutive
+  calls are serialised, as the stages of an integrator are.  Every figure is the median of
+  ``repeats`` repeats (all repeats are recorded), each repeat about ``target_seconds`` long.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import platform
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import timeit
+from pathlib import Path
+from statistics import median
+
+import numpy as np
+import sympy as sp
+
+from .bench import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
+from .codegen import models
+from .codegen.render import render_model
+from .single_plane.model import derive
+
+FAMILIES = {"thesis_rotating": models.thesis_rotating, "single_plane_fixed": models.single_plane_fixed}
+OPS_NS = (1, 2, 4, 8, 16, 32)
+SPEED_NS = (2, 4, 8, 16)
+JAC_NS = (2, 4, 8)
+# The closed form grows faster than n^2 (Cramer's rule on the full system): its lambdified source
+# exceeds CPython's compiler recursion limit at n = 16 (and takes tens of seconds to get there).
+LAMBDIFY_MAX_N = 8
+
+_JAC_DERIVATIVE = re.compile(r"^(v_\d+|dR_\d+_\d+)$")
+_JAC_COLUMN = re.compile(r"^(gs|zs|xs)_\d+_\d+$")
+
+
+# --------------------------------------------------------------------------------------------- ops
+
+def _ops(exprs) -> int:
+    return int(sum(sp.count_ops(e) for e in exprs))
+
+
+def jac_parts(program) -> dict:
+    """Ops of the jac program split into shared prefix, derivative expressions and column solves."""
+    parts = {"shared": 0, "derivatives": 0, "column_solves": 0}
+    for lhs, expr in program.assignments:
+        key = "derivatives" if _JAC_DERIVATIVE.match(lhs.name) else \
+            "column_solves" if _JAC_COLUMN.match(lhs.name) else "shared"
+        parts[key] += int(sp.count_ops(expr))
+    parts["column_solves"] += _ops(e for _, e in program.outputs)  # stores (mostly bare symbols)
+    return parts
+
+
+def polyfit(ns, values, degree: int) -> dict:
+    """Least-squares polynomial in n; coefficients from the constant up, worst residual / value."""
+    x = np.asarray(ns, float)
+    y = np.asarray(values, float)
+    coeffs = np.polynomial.polynomial.polyfit(x, y, degree)
+    resid = y - np.polynomial.polynomial.polyval(x, coeffs)
+    return {"coefficients": [round(float(c), 4) for c in coeffs],
+            "max_relative_residual": round(float(np.max(np.abs(resid) / np.abs(y))), 5)}
+
+
+def bench_ops(ns=OPS_NS, families=tuple(FAMILIES), progress=None) -> dict:
+    rows = []
+    for family in families:
+        for n in ns:
+            derive.cache_clear()
+            start = time.perf_counter()
+            ir = FAMILIES[family](n).build()
+            seconds = time.perf_counter() - start
+            parts = jac_parts(ir.jac)
+            row = {"family": family, "n": n, "build_seconds": round(seconds, 3),
+                   "rhs_ops": ir.rhs.count_ops(), "rhs_statements": len(ir.rhs.assignments),
+                   "jac_ops": ir.jac.count_ops(), "jac_statements": len(ir.jac.assignments),
+                   "jac_nonzero_outputs": len(ir.jac.outputs),
+                   "jac_ops_shared": parts["shared"], "jac_ops_derivatives": parts["derivatives"],
+                   "jac_ops_column_solves": parts["column_solves"]}
+            assert sum(parts.values()) == row["jac_ops"], (parts, row["jac_ops"])
+            rows.append(row)
+            if progress:
+                progress(row)
+    fits = {}
+    for family in families:
+        sel = [r for r in rows if r["family"] == family]
+        if len(sel) < 2:
+            continue
+        n = [r["n"] for r in sel]
+        fits[family] = {
+            "rhs_ops_linear": polyfit(n, [r["rhs_ops"] for r in sel], 1),
+            "rhs_ops_per_ball_first_last": [round(sel[0]["rhs_ops"] / sel[0]["n"], 2),
+                                            round(sel[-1]["rhs_ops"] / sel[-1]["n"], 2)],
+            "jac_ops_derivatives_linear": polyfit(n, [r["jac_ops_derivatives"] for r in sel], 1),
+            "jac_ops_shared_linear": polyfit(n, [r["jac_ops_shared"] for r in sel], 1),
+            "jac_ops_linear": polyfit(n, [r["jac_ops"] for r in sel], 1),
+        }
+        if len(sel) >= 3:
+            fits[family]["jac_ops_quadratic"] = polyfit(n, [r["jac_ops"] for r in sel], 2)
+            fits[family]["jac_ops_column_solves_quadratic"] = polyfit(
+                n, [r["jac_ops_column_solves"] for r in sel], 2)
+    return {"rows": rows, "fits": fits}
+
+
+# ------------------------------------------------------------------------------------------- speed
+
+_C_MAIN = r"""
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+#include "{name}.h"
+
+#define NS {upper}_N_STATES
+static const double Y0[NS] = {{ {y0} }};
+static const double P[{upper}_N_PARAMS] = {{ {p} }};
+static double jac_out[NS * NS];
+
+static double now(void)
+{{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}}
+
+/* y[0] follows the previous output (by 1e-300: no effect on the values), so calls cannot be hoisted */
+static double run_rhs(long calls)
+{{
+    double y[NS], out[NS];
+    long i;
+    int k;
+    for (k = 0; k < NS; ++k) y[k] = Y0[k];
+    for (i = 0; i < calls; ++i) {{
+        {name}_rhs(0.0, y, P, out);
+        y[0] = Y0[0] + 1e-300 * out[NS - 1];
+    }}
+    return out[NS - 1];
+}}
+
+static double run_jac(long calls)
+{{
+    double y[NS];
+    long i;
+    int k;
+    for (k = 0; k < NS; ++k) y[k] = Y0[k];
+    for (i = 0; i < calls; ++i) {{
+        {name}_jac(0.0, y, P, jac_out);
+        y[0] = Y0[0] + 1e-300 * jac_out[NS * NS - 1];
+    }}
+    return jac_out[NS * NS - 1];
+}}
+
+static void bench(const char *label, double (*run)(long), double target, int repeats)
+{{
+    long calls = 64;
+    double t0, t1, sink = 0.0;
+    int r;
+    for (;;) {{ /* calibrate: calls so that one repeat takes about `target` seconds */
+        t0 = now();
+        sink += run(calls);
+        t1 = now();
+        if (t1 - t0 > 0.2 * target || calls > (1L << 40)) break;
+        calls *= 4;
+    }}
+    calls = (long)((double)calls * target / (t1 - t0)) + 1;
+    printf("%s calls %ld\n", label, calls);
+    for (r = 0; r < repeats; ++r) {{
+        t0 = now();
+        sink += run(calls);
+        t1 = now();
+        printf("%s ns %.6f\n", label, 1e9 * (t1 - t0) / (double)calls);
+    }}
+    printf("%s sink %g\n", label, sink);
+}}
+
+int main(int argc, char **argv)
+{{
+    double target = argc > 1 ? atof(argv[1]) : 0.1;
+    int repeats = argc > 2 ? atoi(argv[2]) : 5;
+    int jac = argc > 3 ? atoi(argv[3]) : 1;
+    bench("rhs", run_rhs, target, repeats);
+    if (jac) bench("jac", run_jac, target, repeats);
+    return 0;
+}}
+"""
+
+
+def _c_literal(values) -> str:
+    return ", ".join(repr(float(v)) for v in values)
+
+
+def _time_c(folder: Path, name: str, y0, p, target: float, repeats: int, jac: bool,
+            cc: str = "gcc", flags=("-O2",)) -> dict:
+    main = folder / f"bench_{name}_main.c"
+    main.write_text(_C_MAIN.format(name=name, upper=name.upper(), y0=_c_literal(y0), p=_c_literal(p)))
+    exe = folder / f"bench_{name}"
+    start = time.perf_counter()
+    subprocess.run([cc, "-std=c99", *flags, "-o", str(exe), str(main), str(folder / f"{name}.c"), "-lm"],
+                   check=True, capture_output=True, text=True)
+    compile_seconds = time.perf_counter() - start
+    res = subprocess.run([str(exe), repr(target), str(repeats), "1" if jac else "0"],
+                         check=True, capture_output=True, text=True)
+    out: dict = {"compile_seconds": round(compile_seconds, 3)}
+    for line in res.stdout.splitlines():
+        label, key, value = line.split()
+        if key == "ns":
+            out.setdefault(label, {}).setdefault("repeats_ns", []).append(round(float(value), 2))
+        elif key == "calls":
+            out.setdefault(label, {})["calls"] = int(value)
+    for label in ("rhs", "jac"):
+        if label in out:
+            out[label]["ns"] = round(median(out[label]["repeats_ns"]), 2)
+    return out
+
+
+def _import_numba_module(folder: Path, name: str):
+    spec = importlib.util.spec_from_file_location(f"_adbgen_bench_{name}", folder / "__init__.py",
+                                                  submodule_search_locations=[str(folder)])
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def _numba_loop(fn):
+    """A jitted loop over `calls` calls of fn(t, y, p, out), with y[0] fed back (see `_C_MAIN`)."""
+    from numba import njit
+
+    @njit
+    def loop(y0, p, out, calls):
+        y = y0.copy()
+        flat = out.reshape(-1)
+        for _ in range(calls):
+            fn(0.0, y, p, out)
+            y[0] = y0[0] + 1e-300 * flat[flat.size - 1]
+        return flat[flat.size - 1]
+
+    return loop
+
+
+def _calibrate(run, target: float) -> int:
+    """Number of calls of run(calls) taking about `target` seconds."""
+    calls = 16
+    while True:
+        start = time.perf_counter()
+        run(calls)
+        elapsed = time.perf_counter() - start
+        if elapsed > 0.2 * target or calls > 1 << 40:
+            return max(1, int(calls * target / elapsed))
+        calls *= 4
+
+
+def _time_calls(run, target: float, repeats: int) -> dict:
+    calls = _calibrate(run, target)
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        run(calls)
+        times.append(1e9 * (time.perf_counter() - start) / calls)
+    return {"calls": calls, "repeats_ns": [round(t, 2) for t in times], "ns": round(median(times), 2)}
+
+
+def _time_python(fn, args, target: float, repeats: int) -> dict:
+    timer = timeit.Timer(lambda: fn(*args))
+    return _time_calls(lambda calls: timer.timeit(calls), target, repeats)
+
+
+def _sample_point(system, n_states: int, seed: int = 0):
+    rng = np.random.default_rng(seed)
+    y = rng.uniform(-1, 1, n_states)
+    y[: n_states // 2] *= 0.1
+    p = np.array([p.default for p in system.parameters], float)
+    return y, p
+
+
+def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, repeats: int = 5,
+                    jac: bool = True, lambdify: bool = True, cc: str | None = None) -> dict:
+    """ns per call for one model: numba (jitted loop, from Python), C, sympy.lambdify."""
+    spec = FAMILIES[family](n)
+    derive.cache_clear()
+    system = spec.system()
+    ir = spec.build()
+    root = workdir / f"{family}_n{n}"
+    for rel, text in render_model(ir, ("numba", "c")).items():
+        path = root / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    folder = root / ir.name
+    y, p = _sample_point(system, ir.n_states)
+    row: dict = {"family": family, "n": n, "n_states": ir.n_states, "rhs_ops": ir.rhs.count_ops()}
+
+    # numba
+    mod = _import_numba_module(folder, ir.name)
+    out = np.empty(ir.n_states)
+    start = time.perf_counter()
+    mod.rhs_inplace(0.0, y, p, out)
+    loop = _numba_loop(mod.rhs_inplace)
+    loop(y, p, out, 1)
+    row["numba_compile_seconds_rhs"] = round(time.perf_counter() - start, 3)
+    reference = np.asarray(mod.rhs(0.0, y, p))
+    row["numba_rhs_loop"] = _time_calls(lambda calls: loop(y, p, out, calls), target, repeats)
+    row["numba_rhs_python"] = _time_python(mod.rhs, (0.0, y, p), target, repeats)
+    if jac:
+        jout = np.empty((ir.n_states, ir.n_states))
+        start = time.perf_counter()
+        jloop = _numba_loop(mod.jac_inplace)
+        jloop(y, p, jout, 1)
+        mod.jac(0.0, y, p)
+        row["numba_compile_seconds_jac"] = round(time.perf_counter() - start, 3)
+        row["numba_jac_loop"] = _time_calls(lambda calls: jloop(y, p, jout, calls), target, repeats)
+        row["numba_jac_python"] = _time_python(mod.jac, (0.0, y, p), target, repeats)
+
+    # C
+    cc = cc or shutil.which("gcc") or shutil.which("cc")
+    if cc:
+        c = _time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc)
+        row["c_compile_seconds"] = c["compile_seconds"]
+        row["c_rhs_loop"] = c["rhs"]
+        if jac:
+            row["c_jac_loop"] = c["jac"]
+    else:
+        row["c_rhs_loop"] = "skipped: no C compiler"
+
+    # sympy.lambdify of the closed form
+    if lambdify:
+        eom = system.solve.eom
+        law = dict(eom.driven_law)
+        closed = [sp.sympify(e).xreplace(law) for e in system.rhs()]
+        row["closed_form_ops"] = _ops(closed)
+        args = (eom.time, list(system.states), [q.symbol for q in system.parameters])
+        for modules in ("math", "numpy"):
+            key = f"lambdify_{modules}"
+            start = time.perf_counter()
+            try:
+                fn = sp.lambdify(args, closed, modules=modules, cse=True)
+            except RecursionError as exc:  # the closed form's source is too deep for CPython
+                row[key] = f"failed: {type(exc).__name__} ({time.perf_counter() - start:.1f} s)"
+                continue
+            setup = time.perf_counter() - start
+            err = float(np.max(np.abs(np.asarray(fn(0.0, y, p), float) - reference))
+                        / np.max(np.abs(reference)))
+            row[key] = {**_time_python(fn, (0.0, y, p), target, repeats),
+                        "lambdify_seconds": round(setup, 3), "relative_difference_to_numba": err}
+    else:
+        row["lambdify_math"] = row["lambdify_numpy"] = f"skipped: n > {LAMBDIFY_MAX_N}, see notes"
+
+    # ratios of medians, all from this run
+    def ns(key):
+        v = row.get(key)
+        return v["ns"] if isinstance(v, dict) else None
+
+    base = ns("numba_rhs_loop")
+    ratios = {}
+    for key in ("c_rhs_loop", "numba_rhs_python", "lambdify_math", "lambdify_numpy"):
+        if ns(key) is not None and base:
+            ratios[f"{key}/numba_rhs_loop"] = round(ns(key) / base, 3)
+    if ns("c_rhs_loop"):
+        for key in ("numba_rhs_python", "lambdify_math", "lambdify_numpy"):
+            if ns(key) is not None:
+                ratios[f"{key}/c_rhs_loop"] = round(ns(key) / ns("c_rhs_loop"), 2)
+    if ns("numba_rhs_python"):
+        for key in ("lambdify_math", "lambdify_numpy"):
+            if ns(key) is not None:
+                ratios[f"{key}/numba_rhs_python"] = round(ns(key) / ns("numba_rhs_python"), 2)
+    if ns("numba_jac_loop") and ns("c_jac_loop"):
+        ratios["c_jac_loop/numba_jac_loop"] = round(ns("c_jac_loop") / ns("numba_jac_loop"), 3)
+    if ns("numba_jac_loop") and base:
+        ratios["numba_jac_loop/numba_rhs_loop"] = round(ns("numba_jac_loop") / base, 2)
+    row["ratios"] = ratios
+    return row
+
+
+def bench_speed(ns=SPEED_NS, families=tuple(FAMILIES), *, jac_ns=JAC_NS, lambdify_max_n=LAMBDIFY_MAX_N,
+                target: float = 0.1, repeats: int = 5, progress=None) -> list[dict]:
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="adbgen-bench-") as tmp:
+        for family in families:
+            for n in ns:
+                row = bench_speed_one(family, n, Path(tmp), target=target, repeats=repeats,
+                                      jac=n in jac_ns, lambdify=n <= lambdify_max_n)
+                rows.append(row)
+                if progress:
+                    progress(row)
+    return rows
+
+
+def _compiler() -> str:
+    cc = shutil.which("gcc") or shutil.which("cc")
+    if not cc:
+        return "none"
+    res = subprocess.run([cc, "--version"], capture_output=True, text=True)
+    return res.stdout.splitlines()[0] if res.returncode == 0 and res.stdout else cc
+
+
+def machine() -> dict:
+    import numba
+
+    cpu = platform.processor() or ""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {"platform": platform.platform(), "cpu": cpu, "cpus": os.cpu_count(),
+            "python": f"{platform.python_implementation()} {platform.python_version()}",
+            "sympy": sp.__version__, "numpy": np.__version__, "numba": numba.__version__,
+            "cc": _compiler(), "c_flags": "-std=c99 -O2"}
+
+
+NOTES = (
+    "ops: sympy count_ops of the intermediate form's programs (what every target prints). The rhs "
+    "grows linearly in n (fit a + b n). The jac's differentiated expressions (v_*, dR_*) and its "
+    "shared prefix grow linearly too, but the Jacobian is dense (every acceleration depends on "
+    "every angle through the rotor), so one structured solve per column of the 2N x 2N matrix costs "
+    "O(n^2) in all: the whole jac is fitted by a + b n + c n^2. speed: ns per call, median of the "
+    "repeats, all in one run (compare ratios, not absolute times across runs or machines); loops "
+    "feed y[0] back from the output so calls cannot be hoisted; numba loop = rhs_inplace in a "
+    "jitted loop (numba may inline it), numba python = rhs(t, y, p) from Python incl. the call "
+    "overhead and a new array, C = <model>_rhs from a C loop (separate translation unit, gcc -O2), "
+    "lambdify = sympy.lambdify(cse=True) of the closed form system.rhs() called from Python "
+    "(returns a list; solve_ivp would add an asarray). lambdify is measured up to n = 8 only: the "
+    "closed form (Cramer's rule) grows faster than n^2 and its generated source exceeds CPython's "
+    "compiler recursion limit at n = 16."
+)
+
+
+def bench_codegen(ops_ns=OPS_NS, speed_ns=SPEED_NS, *, families=tuple(FAMILIES), jac_ns=JAC_NS,
+                  lambdify_max_n=LAMBDIFY_MAX_N, target: float = 0.1, repeats: int = 5,
+                  progress=None) -> dict:
+    start = time.perf_counter()
+    ops = bench_ops(tuple(ops_ns), families, progress=progress)
+    speed = bench_speed(tuple(speed_ns), families, jac_ns=tuple(jac_ns), lambdify_max_n=lambdify_max_n,
+                        target=target, repeats=repeats, progress=progress)
+    return {"benchmark": "codegen", "machine": machine(), "notes": NOTES,
+            "settings": {"ops_n": list(ops_ns), "speed_n": list(speed_ns), "jac_speed_n": list(jac_ns),
+                         "lambdify_max_n": lambdify_max_n, "families": list(families),
+                         "repeat_target_seconds": target, "repeats": repeats},
+            "ops": ops, "speed": speed, "seconds": round(time.perf_counter() - start, 1)}
+
+
+def describe(row: dict) -> str:
+    """One progress line for a row of either part."""
+    if "rhs_statements" in row:
+        return (f"ops   {row['family']:18s} n={row['n']:3d}  rhs {row['rhs_ops']:6d}  jac {row['jac_ops']:7d} "
+                f"(shared {row['jac_ops_shared']}, derivatives {row['jac_ops_derivatives']}, "
+                f"column solves {row['jac_ops_column_solves']})  build {row['build_seconds']:.2f} s")
+
+    def ns(key):
+        v = row.get(key)
+        return f"{v['ns']:.0f}" if isinstance(v, dict) else "-"
+
+    return (f"speed {row['family']:18s} n={row['n']:3d}  rhs ns: numba loop {ns('numba_rhs_loop')}, "
+            f"numba python {ns('numba_rhs_python')}, C {ns('c_rhs_loop')}, lambdify math "
+            f"{ns('lambdify_math')}, numpy {ns('lambdify_numpy')}; jac ns: numba {ns('numba_jac_loop')}, "
+            f"C {ns('c_jac_loop')}")
+
+
+__all__ = ["bench_codegen", "bench_ops", "bench_speed", "bench_speed_one", "describe", "jac_parts",
+           "machine", "polyfit", "write"]
