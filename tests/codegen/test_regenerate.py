@@ -1,0 +1,126 @@
+"""`adbgen regenerate`: determinism, --check, atomic writes, bad input (issue: code generation)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from adbgen.codegen import models
+from adbgen.codegen.regenerate import DEFAULT_OUT, render_all, stale
+
+ADBGEN = [sys.executable, "-m", "adbgen.cli"]
+
+
+def run(*args, env=None, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run(ADBGEN + list(args), capture_output=True, text=True, timeout=600,
+                          env=dict(os.environ, **(env or {})), **kw)
+
+
+def snapshot(folder: Path) -> dict[str, bytes]:
+    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*"))
+            if p.is_file() and "__pycache__" not in p.parts}
+
+
+@pytest.fixture(scope="module")
+def small_tree(tmp_path_factory) -> Path:
+    """The n = 1 families, regenerated into a fresh folder (reduction checks on)."""
+    out = tmp_path_factory.mktemp("regen") / "gen"
+    r = run("regenerate", "--n", "1", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    assert "thesis_rotating_n1" in r.stderr and "[2/2]" in r.stderr  # progress is shown
+    return out
+
+
+def test_committed_generated_folder_is_current():
+    """What `adbgen regenerate --check` does in CI (there with the reduction checks too)."""
+    rendered = render_all(models.default_set(), run_checks=False)
+    assert stale(rendered, DEFAULT_OUT) == {}
+
+
+def test_output_is_byte_identical_under_any_hash_seed(small_tree, tmp_path):
+    for seed in ("0", "4242"):
+        out = tmp_path / f"seed{seed}"
+        r = run("regenerate", "--n", "1", "--out", str(out), "--skip-checks", "--quiet", env={"PYTHONHASHSEED": seed})
+        assert r.returncode == 0, r.stderr
+        assert snapshot(out) == snapshot(small_tree)
+
+
+def test_check_names_stale_missing_and_foreign_files(small_tree, tmp_path):
+    out = tmp_path / "gen"
+    subprocess.run(["cp", "-r", str(small_tree), str(out)], check=True)
+    r = run("regenerate", "--n", "1", "--out", str(out), "--check", "--skip-checks", "--quiet")
+    assert r.returncode == 0, r.stdout + r.stderr
+    c_file = out / "thesis_rotating_n1" / "thesis_rotating_n1.c"
+    c_file.write_text(c_file.read_text() + "/* edited by hand */\n")
+    (out / "single_plane_fixed_n1" / "single_plane_fixed_n1.h").unlink()
+    (out / "thesis_rotating_n1" / "notes.txt").write_text("mine")
+    r = run("regenerate", "--n", "1", "--out", str(out), "--check", "--skip-checks", "--quiet")
+    assert r.returncode == 1
+    assert f"stale: {c_file} (differs)" in r.stdout
+    assert "single_plane_fixed_n1.h (missing)" in r.stdout and "notes.txt (not generated)" in r.stdout
+    r = run("regenerate", "--n", "1", "--out", str(out), "--skip-checks", "--quiet")
+    assert r.returncode == 0 and snapshot(out) == snapshot(small_tree) | {"thesis_rotating_n1/notes.txt": b"mine"}
+
+
+def test_a_killed_regeneration_leaves_the_folder_as_it_was(small_tree, tmp_path):
+    out = tmp_path / "gen"
+    subprocess.run(["cp", "-r", str(small_tree), str(out)], check=True)
+    stale_file = out / "thesis_rotating_n1" / "__init__.py"
+    stale_file.write_text("# an old version\n")
+    before = snapshot(out)
+    proc = subprocess.Popen(ADBGEN + ["regenerate", "--n", "1", "--out", str(out)], stderr=subprocess.PIPE, text=True)
+    for line in proc.stderr:  # kill it half-way: after the first model is rendered, before the second
+        if line.startswith("[1/2]"):
+            proc.send_signal(signal.SIGKILL)
+            break
+    proc.wait(timeout=60)
+    assert proc.returncode == -signal.SIGKILL
+    assert snapshot(out) == before
+    assert not list(tmp_path.glob(".gen-staging-*"))
+
+
+@pytest.mark.parametrize("scene_text, message", [
+    ("n = 2\nrotor_mass = -1.0\n", "scene.rotor_mass: must be positive"),
+    ("n = 0\n", "scene.n"),
+    ("n = 2\neccentricity = nan\n", "scene.eccentricity: must be finite"),
+    ("n = 2\nflux = 3\n", "scene"),
+])
+def test_bad_scene_exits_with_one_line_and_writes_nothing(small_tree, tmp_path, scene_text, message):
+    out = tmp_path / "gen"
+    subprocess.run(["cp", "-r", str(small_tree), str(out)], check=True)
+    before = snapshot(out)
+    scene = tmp_path / "bad.toml"
+    scene.write_text(scene_text)
+    r = run("regenerate", "--scene", str(scene), "--out", str(out))
+    assert r.returncode == 2
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith("adbgen: error: ") and message in r.stderr
+    assert snapshot(out) == before
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--n", "0", "--out", "x"], "n must be at least 1"),
+    (["--n", "2"], "give --out DIR"),
+    (["--frobnicate"], "unrecognized arguments"),
+    (["--targets", "fortran"], "invalid choice"),
+    (["--scene", "s.toml", "--name", "1bad", "--out", "x"], "not an identifier"),
+])
+def test_bad_options_exit_with_one_line(args, message):
+    r = run("regenerate", *args)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and message in r.stderr, r.stderr
+
+
+def test_a_scene_gets_its_smallest_model(tmp_path):
+    scene = tmp_path / "unequal.toml"
+    scene.write_text("n = 3\nball_mass = [0.05, 0.04, 0.03]\n")
+    out = tmp_path / "gen"
+    r = run("regenerate", "--scene", str(scene), "--name", "unequal_n3", "--out", str(out), "--targets", "numba", "c")
+    assert r.returncode == 0, r.stderr
+    text = (out / "unequal_n3" / "__init__.py").read_text()
+    assert "STATE_NAMES = ('x', 'y', 'phi_1', 'phi_2', 'phi_3'," in text  # rotating frame: autonomous
+    assert "AUTONOMOUS = True" in text and "'m_3'" in text
+    assert sorted(p.name for p in (out / "unequal_n3").iterdir()) == ["__init__.py", "unequal_n3.c", "unequal_n3.h"]
