@@ -54,9 +54,11 @@ FAMILIES = {"thesis_rotating": models.thesis_rotating, "single_plane_fixed": mod
 OPS_NS = (1, 2, 4, 8, 16, 32)
 SPEED_NS = (2, 4, 8, 16)
 JAC_NS = (2, 4, 8)
-# The closed form grows faster than n^2 (Cramer's rule on the full system): its lambdified source
-# exceeds CPython's compiler recursion limit at n = 16 (and takes tens of seconds to get there).
-LAMBDIFY_MAX_N = 8
+# The closed form grows faster than n^2 (Cramer's rule on the full system): at n = 16 lambdify takes
+# ~10 s per module, and for the thesis model its source exceeds CPython's compiler recursion limit
+# (recorded as such).  Above LAMBDIFY_BOTH_MAX_N only modules="math" is tried.
+LAMBDIFY_MAX_N = 16
+LAMBDIFY_BOTH_MAX_N = 8
 
 _JAC_DERIVATIVE = re.compile(r"^(v_\d+|dR_\d+_\d+)$")
 _JAC_COLUMN = re.compile(r"^(gs|zs|xs)_\d+_\d+$")
@@ -217,10 +219,10 @@ def _c_literal(values) -> str:
 
 
 def _time_c(folder: Path, name: str, y0, p, target: float, repeats: int, jac: bool,
-            cc: str = "gcc", flags=("-O2",)) -> dict:
+            cc: str = "gcc", flags=("-O2",), suffix: str = "") -> dict:
     main = folder / f"bench_{name}_main.c"
     main.write_text(_C_MAIN.format(name=name, upper=name.upper(), y0=_c_literal(y0), p=_c_literal(p)))
-    exe = folder / f"bench_{name}"
+    exe = folder / f"bench_{name}{suffix}"
     start = time.perf_counter()
     subprocess.run([cc, "-std=c99", *flags, "-o", str(exe), str(main), str(folder / f"{name}.c"), "-lm"],
                    check=True, capture_output=True, text=True)
@@ -237,6 +239,7 @@ def _time_c(folder: Path, name: str, y0, p, target: float, repeats: int, jac: bo
     for label in ("rhs", "jac"):
         if label in out:
             out[label]["ns"] = round(median(out[label]["repeats_ns"]), 2)
+            out[label]["min_ns"] = min(out[label]["repeats_ns"])
     return out
 
 
@@ -284,7 +287,8 @@ def _time_calls(run, target: float, repeats: int) -> dict:
         start = time.perf_counter()
         run(calls)
         times.append(1e9 * (time.perf_counter() - start) / calls)
-    return {"calls": calls, "repeats_ns": [round(t, 2) for t in times], "ns": round(median(times), 2)}
+    return {"calls": calls, "repeats_ns": [round(t, 2) for t in times], "ns": round(median(times), 2),
+            "min_ns": round(min(times), 2)}
 
 
 def _time_python(fn, args, target: float, repeats: int) -> dict:
@@ -345,6 +349,16 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
         row["c_rhs_loop"] = c["rhs"]
         if jac:
             row["c_jac_loop"] = c["jac"]
+        # numba compiles for the host CPU (like -march=native): the same C built that way, for fairness
+        try:
+            c = _time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc, flags=("-O2", "-march=native"),
+                        suffix="_native")
+        except subprocess.CalledProcessError as exc:
+            row["c_native_rhs_loop"] = f"skipped: {exc.stderr.strip()[:200]}"
+        else:
+            row["c_native_rhs_loop"] = c["rhs"]
+            if jac:
+                row["c_native_jac_loop"] = c["jac"]
     else:
         row["c_rhs_loop"] = "skipped: no C compiler"
 
@@ -354,14 +368,16 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
         law = dict(eom.driven_law)
         closed = [sp.sympify(e).xreplace(law) for e in system.rhs()]
         row["closed_form_ops"] = _ops(closed)
+        if n > LAMBDIFY_BOTH_MAX_N:
+            row["lambdify_numpy"] = f"skipped: n > {LAMBDIFY_BOTH_MAX_N} (lambdify alone takes ~10 s)"
         args = (eom.time, list(system.states), [q.symbol for q in system.parameters])
-        for modules in ("math", "numpy"):
+        for modules in ("math", "numpy") if n <= LAMBDIFY_BOTH_MAX_N else ("math",):
             key = f"lambdify_{modules}"
             start = time.perf_counter()
             try:
                 fn = sp.lambdify(args, closed, modules=modules, cse=True)
             except RecursionError as exc:  # the closed form's source is too deep for CPython
-                row[key] = f"failed: {type(exc).__name__} ({time.perf_counter() - start:.1f} s)"
+                row[key] = f"failed: {type(exc).__name__} in lambdify after {time.perf_counter() - start:.1f} s"
                 continue
             setup = time.perf_counter() - start
             err = float(np.max(np.abs(np.asarray(fn(0.0, y, p), float) - reference))
@@ -378,7 +394,7 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
 
     base = ns("numba_rhs_loop")
     ratios = {}
-    for key in ("c_rhs_loop", "numba_rhs_python", "lambdify_math", "lambdify_numpy"):
+    for key in ("c_rhs_loop", "c_native_rhs_loop", "numba_rhs_python", "lambdify_math", "lambdify_numpy"):
         if ns(key) is not None and base:
             ratios[f"{key}/numba_rhs_loop"] = round(ns(key) / base, 3)
     if ns("c_rhs_loop"):
@@ -389,8 +405,9 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
         for key in ("lambdify_math", "lambdify_numpy"):
             if ns(key) is not None:
                 ratios[f"{key}/numba_rhs_python"] = round(ns(key) / ns("numba_rhs_python"), 2)
-    if ns("numba_jac_loop") and ns("c_jac_loop"):
-        ratios["c_jac_loop/numba_jac_loop"] = round(ns("c_jac_loop") / ns("numba_jac_loop"), 3)
+    for key in ("c_jac_loop", "c_native_jac_loop"):
+        if ns("numba_jac_loop") and ns(key):
+            ratios[f"{key}/numba_jac_loop"] = round(ns(key) / ns("numba_jac_loop"), 3)
     if ns("numba_jac_loop") and base:
         ratios["numba_jac_loop/numba_rhs_loop"] = round(ns("numba_jac_loop") / base, 2)
     row["ratios"] = ratios
@@ -398,7 +415,7 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
 
 
 def bench_speed(ns=SPEED_NS, families=tuple(FAMILIES), *, jac_ns=JAC_NS, lambdify_max_n=LAMBDIFY_MAX_N,
-                target: float = 0.1, repeats: int = 5, progress=None) -> list[dict]:
+                target: float = 0.1, repeats: int = 7, progress=None) -> list[dict]:
     rows = []
     with tempfile.TemporaryDirectory(prefix="adbgen-bench-") as tmp:
         for family in families:
@@ -433,28 +450,32 @@ def machine() -> dict:
     return {"platform": platform.platform(), "cpu": cpu, "cpus": os.cpu_count(),
             "python": f"{platform.python_implementation()} {platform.python_version()}",
             "sympy": sp.__version__, "numpy": np.__version__, "numba": numba.__version__,
-            "cc": _compiler(), "c_flags": "-std=c99 -O2"}
+            "cc": _compiler(), "c_flags": "-std=c99 -O2 (c_native: -O2 -march=native)",
+            "load_average_at_start": list(os.getloadavg()) if hasattr(os, "getloadavg") else None}
 
 
 NOTES = (
     "ops: sympy count_ops of the intermediate form's programs (what every target prints). The rhs "
     "grows linearly in n (fit a + b n). The jac's differentiated expressions (v_*, dR_*) and its "
-    "shared prefix grow linearly too, but the Jacobian is dense (every acceleration depends on "
-    "every angle through the rotor), so one structured solve per column of the 2N x 2N matrix costs "
-    "O(n^2) in all: the whole jac is fitted by a + b n + c n^2. speed: ns per call, median of the "
-    "repeats, all in one run (compare ratios, not absolute times across runs or machines); loops "
-    "feed y[0] back from the output so calls cannot be hoisted; numba loop = rhs_inplace in a "
-    "jitted loop (numba may inline it), numba python = rhs(t, y, p) from Python incl. the call "
-    "overhead and a new array, C = <model>_rhs from a C loop (separate translation unit, gcc -O2), "
-    "lambdify = sympy.lambdify(cse=True) of the closed form system.rhs() called from Python "
-    "(returns a list; solve_ivp would add an asarray). lambdify is measured up to n = 8 only: the "
-    "closed form (Cramer's rule) grows faster than n^2 and its generated source exceeds CPython's "
-    "compiler recursion limit at n = 16."
+    "shared prefix (the rhs' statements) grow linearly too, but the Jacobian is dense (every "
+    "acceleration depends on every angle through the rotor), so one structured solve per column of "
+    "the 2N x 2N matrix costs O(n^2) in all: the whole jac is fitted by a + b n + c n^2. "
+    "speed: ns per call, median of the repeats (min_ns: the fastest repeat, less sensitive to a "
+    "loaded machine), all in one run: compare ratios, not absolute times across runs or machines. "
+    "Loops feed y[0] back from the output so calls cannot be hoisted. numba loop = rhs_inplace in a "
+    "jitted loop (numba may inline it); numba python = rhs(t, y, p) from Python incl. the call "
+    "overhead and a new array; C = <model>_rhs from a C loop (separate translation unit, gcc -O2; "
+    "c_native: -O2 -march=native, as numba targets the host CPU); lambdify = "
+    "sympy.lambdify(cse=True) of the closed form system.rhs() called from Python (returns a list; "
+    "solve_ivp would add an asarray). The closed form (Cramer's rule) grows faster than n^2 "
+    "(closed_form_ops): at n = 16 only modules='math' is tried (lambdify alone takes ~10 s), and "
+    "for the thesis model the generated source exceeds CPython's compiler recursion limit (recorded "
+    "as failed)."
 )
 
 
 def bench_codegen(ops_ns=OPS_NS, speed_ns=SPEED_NS, *, families=tuple(FAMILIES), jac_ns=JAC_NS,
-                  lambdify_max_n=LAMBDIFY_MAX_N, target: float = 0.1, repeats: int = 5,
+                  lambdify_max_n=LAMBDIFY_MAX_N, target: float = 0.1, repeats: int = 7,
                   progress=None) -> dict:
     start = time.perf_counter()
     ops = bench_ops(tuple(ops_ns), families, progress=progress)
@@ -479,7 +500,8 @@ def describe(row: dict) -> str:
         return f"{v['ns']:.0f}" if isinstance(v, dict) else "-"
 
     return (f"speed {row['family']:18s} n={row['n']:3d}  rhs ns: numba loop {ns('numba_rhs_loop')}, "
-            f"numba python {ns('numba_rhs_python')}, C {ns('c_rhs_loop')}, lambdify math "
+            f"numba python {ns('numba_rhs_python')}, C {ns('c_rhs_loop')} (native {ns('c_native_rhs_loop')}), "
+            f"lambdify math "
             f"{ns('lambdify_math')}, numpy {ns('lambdify_numpy')}; jac ns: numba {ns('numba_jac_loop')}, "
             f"C {ns('c_jac_loop')}")
 
