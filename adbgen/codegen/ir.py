@@ -82,6 +82,8 @@ class ModelIR:
     start: tuple[float, ...] | None = None  # a steady state (AUTO's stpnt) at start_parameters
     start_label: str = ""
     start_parameters: tuple[float, ...] | None = None  # the defaults unless the start needs others
+    forcing_frequency: str = ""  # set on an oscillator extension: the frequency it replaces time by
+    autonomous_extension: "ModelIR | None" = None  # of a periodically forced model (for AUTO-07p)
     extras: dict = field(default_factory=dict)
 
     @property
@@ -90,7 +92,7 @@ class ModelIR:
 
     @property
     def n_coordinates(self) -> int:
-        return len(self.states) // 2
+        return len(self.core) + len(self.leaves)
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -105,7 +107,8 @@ class ModelIR:
         h = hashlib.sha256()
         for item in (self.name, self.title, self.reference, self.n_balls, self.autonomous,
                      self.state_names, [(p.name, p.description, p.unit, repr(p.default)) for p in self.parameters],
-                     self.core, self.leaves, self.mass_pattern, self.start, self.start_label, self.start_parameters):
+                     self.core, self.leaves, self.mass_pattern, self.start, self.start_label, self.start_parameters,
+                     self.forcing_frequency):
             h.update(repr(item).encode())
         for prog in (self.rhs, self.jac, self.jac_p, self.mass, self.forcing):
             h.update(repr(prog.shape).encode())
@@ -113,7 +116,61 @@ class ModelIR:
                 h.update(f"{lhs}={sp.srepr(rhs)};".encode())
             for idx, rhs in prog.outputs:
                 h.update(f"[{idx}]={sp.srepr(rhs)};".encode())
+        if self.autonomous_extension is not None:
+            h.update(self.autonomous_extension.fingerprint().encode())
         return h.hexdigest()
+
+
+@dataclass(frozen=True)
+class Oscillator:
+    """The autonomous extension of a periodically forced model (paper (40), two-plane 2011):
+
+        s' = s + w c - s (s^2 + c^2),    c' = c - w s - c (s^2 + c^2),
+
+    whose attracting limit cycle is s = sin(w t + theta), c = cos(w t + theta).  Every sin(w t + b),
+    cos(w t + b) of the model is replaced by s cos b + c sin b, c cos b - s sin b, so the extended
+    system is autonomous and equals the forced one on the cycle (theta = 0).  AUTO-07p continues its
+    periodic orbits.
+    """
+
+    sin: sp.Symbol
+    cos: sp.Symbol
+    frequency: sp.Expr
+
+    @classmethod
+    def detect(cls, exprs: Sequence[sp.Expr], t: sp.Symbol) -> "Oscillator":
+        freqs = set()
+        for e in exprs:
+            for atom in sp.sympify(e).atoms(sp.sin, sp.cos):
+                if t in atom.free_symbols:
+                    w = sp.diff(atom.args[0], t)
+                    if t in w.free_symbols:
+                        raise ValueError(f"{atom} is not forcing at a constant frequency")
+                    freqs.add(w)
+        if len(freqs) != 1:
+            raise ValueError(f"the explicit time enters at {len(freqs)} frequencies; one is needed")
+        return cls(sp.Symbol("osc_sin", real=True), sp.Symbol("osc_cos", real=True), freqs.pop())
+
+    def substitute(self, expr: sp.Expr, t: sp.Symbol) -> sp.Expr:
+        expr = sp.sympify(expr)
+        table = {}
+        for atom in expr.atoms(sp.sin, sp.cos):
+            if t in atom.free_symbols:
+                phase = sp.expand(atom.args[0] - self.frequency * t)
+                if t in phase.free_symbols:
+                    raise ValueError(f"{atom} is not at the frequency {self.frequency}")
+                s, c = self.sin, self.cos
+                table[atom] = (s * sp.cos(phase) + c * sp.sin(phase)) if atom.func is sp.sin \
+                    else (c * sp.cos(phase) - s * sp.sin(phase))
+        out = sp.expand(expr.xreplace(table))
+        if t in out.free_symbols:
+            raise ValueError("explicit time is left after the oscillator substitution")
+        return out
+
+    def rates(self) -> tuple[sp.Expr, sp.Expr]:
+        s, c, w = self.sin, self.cos, self.frequency
+        r2 = s**2 + c**2
+        return (s + w * c - s * r2, c - w * s - c * r2)
 
 
 class _Names:
@@ -139,10 +196,11 @@ def _cse(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[tuple[sp.Symbol, s
 class _Builder:
     """Emits the structured solve as statements (shared by rhs, jac and jac_p)."""
 
-    def __init__(self, system: FirstOrderSystem):
+    def __init__(self, system: FirstOrderSystem, oscillator: Oscillator | None = None):
         solve = system.solve
         eom = solve.eom
         law = dict(eom.driven_law)
+        self.oscillator = oscillator
         self.eom = eom
         self.law = law
         self.core = list(solve.core)
@@ -151,7 +209,10 @@ class _Builder:
         self.N = eom.size
         self.names = _Names()
         self.statements: list[tuple[sp.Symbol, sp.Expr]] = []
-        sub = lambda e: sp.sympify(e).xreplace(law) if law else sp.sympify(e)  # noqa: E731
+        def sub(e):
+            e = sp.sympify(e).xreplace(law) if law else sp.sympify(e)
+            return oscillator.substitute(e, eom.time) if oscillator is not None else e
+
         mass = {k: sub(v) for k, v in eom.mass.items()}
         self.mass_entries = mass
         self.A = [[mass.get((i, j), sp.S.Zero) for j in self.core] for i in self.core]
@@ -260,20 +321,24 @@ def _residual_rows(builder: _Builder) -> list[sp.Expr]:
     return rows
 
 
-def _rhs_program(system: FirstOrderSystem) -> Program:
-    b = _Builder(system)
+def _rhs_program(system: FirstOrderSystem, osc: Oscillator | None = None) -> Program:
+    b = _Builder(system, osc)
     h = b.base()
     fac = b.factor(h)
     x = b.solve(fac, [h["f"][k] for k in b.core], [h["f"][k] for k in b.leaves], "")
     N = b.N
     coords = system.coordinates
     outputs = [(k, coords[k].qd) for k in range(N)] + [(N + k, x[k]) for k in range(N)]
-    return Program(tuple(b.statements), tuple(outputs), (2 * N,))
+    extra = osc.rates() if osc is not None else ()
+    outputs += [(2 * N + r, rate) for r, rate in enumerate(extra)]
+    return Program(tuple(b.statements), tuple(outputs), (2 * N + len(extra),))
 
 
-def _derivative_program(system: FirstOrderSystem, wrt: Sequence[sp.Symbol], top: dict[tuple[int, int], sp.Expr]) -> Program:
-    """d(y')/dz for z in `wrt`: the rows of the accelerations by the structured solve per column."""
-    b = _Builder(system)
+def _derivative_program(system: FirstOrderSystem, wrt: Sequence[sp.Symbol], top: dict[tuple[int, int], sp.Expr],
+                        osc: Oscillator | None = None) -> Program:
+    """d(y')/dz for z in `wrt`: the rows of the accelerations by the structured solve per column
+    (and the oscillator's rows, if any, by plain differentiation)."""
+    b = _Builder(system, osc)
     N = b.N
     rows = _residual_rows(b)
     deriv = {}
@@ -306,12 +371,15 @@ def _derivative_program(system: FirstOrderSystem, wrt: Sequence[sp.Symbol], top:
             continue
         x = b.solve(fac, core_v, leaf_v, f"_{j}")
         outputs += [((N + k, j), x[k]) for k in range(N) if x[k] != 0]
+    extra = osc.rates() if osc is not None else ()
+    for r, rate in enumerate(extra):
+        outputs += [((2 * N + r, j), d) for j, z in enumerate(wrt) if (d := sp.diff(rate, z)) != 0]
     flat = sorted(((i * ncol + j), v) for (i, j), v in outputs)
-    return Program(tuple(b.statements), tuple(flat), (2 * N, ncol))
+    return Program(tuple(b.statements), tuple(flat), (2 * N + len(extra), ncol))
 
 
-def _mass_forcing_programs(system: FirstOrderSystem) -> tuple[Program, Program]:
-    b = _Builder(system)
+def _mass_forcing_programs(system: FirstOrderSystem, osc: Oscillator | None = None) -> tuple[Program, Program]:
+    b = _Builder(system, osc)
     N = b.N
     keys = sorted(b.mass_entries)
     repl, red = _cse([b.mass_entries[k] for k in keys], _TEMP_PREFIX)
@@ -329,8 +397,13 @@ def _describe(name: str) -> str:
 
 def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
           start: Sequence[float] | None = None, start_label: str = "",
-          start_parameters: Sequence[float] | None = None) -> ModelIR:
-    """Lower a first-order system to the intermediate form (pure: same input, same output)."""
+          start_parameters: Sequence[float] | None = None, oscillator: bool = False,
+          autonomous_extension: "ModelIR | None" = None) -> ModelIR:
+    """Lower a first-order system to the intermediate form (pure: same input, same output).
+
+    With `oscillator`, the periodically forced system is lowered in its autonomous extension
+    (`Oscillator`): two more states, osc_sin and osc_cos, after the rates.
+    """
     if not name.isidentifier():
         raise ValueError(f"model name {name!r} is not an identifier")
     eom = system.solve.eom
@@ -339,13 +412,21 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
     states = tuple(State(s.name, s, _describe(s.name)) for s in system.states)
     params = tuple(system.parameters)
     y_syms = list(system.states)
-    rhs = _rhs_program(system)
+    osc = None
+    if oscillator:
+        law = dict(eom.driven_law)
+        osc = Oscillator.detect([sp.sympify(e).xreplace(law) for e in list(eom.mass.values()) + list(eom.forcing)],
+                                eom.time)
+        states += (State(osc.sin.name, osc.sin, f"sin({osc.frequency} t) on the oscillator's limit cycle (paper (40))"),
+                   State(osc.cos.name, osc.cos, f"cos({osc.frequency} t) on the oscillator's limit cycle (paper (40))"))
+        y_syms += [osc.sin, osc.cos]
+    rhs = _rhs_program(system, osc)
     time_free = all(eom.time not in e.free_symbols for _, e in rhs.assignments) and \
         all(eom.time not in e.free_symbols for _, e in rhs.outputs)
-    jac = _derivative_program(system, y_syms, {(k, N + k): sp.S.One for k in range(N)})
-    jac_p = _derivative_program(system, [p.symbol for p in params], {})
-    mass, forcing = _mass_forcing_programs(system)
-    b = _Builder(system)
+    jac = _derivative_program(system, y_syms, {(k, N + k): sp.S.One for k in range(N)}, osc)
+    jac_p = _derivative_program(system, [p.symbol for p in params], {}, osc)
+    mass, forcing = _mass_forcing_programs(system, osc)
+    b = _Builder(system, osc)
     taken = {s.name for s in states} | {p.name for p in params}
     for prog in (rhs, jac, jac_p, mass, forcing):
         clash = taken & {lhs.name for lhs, _ in prog.assignments}
@@ -360,4 +441,6 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
         start_label=start_label,
         start_parameters=tuple(float(v) for v in (start_parameters if start_parameters is not None
                                                  else [p.default for p in params])) if start is not None else None,
+        forcing_frequency=str(osc.frequency) if osc is not None else "",
+        autonomous_extension=autonomous_extension,
     )

@@ -40,17 +40,30 @@ class ModelSpec:
     system: Callable[[], FirstOrderSystem]
     # system -> (state, label) at the defaults, or (state, label, {parameter: value}) elsewhere
     start: Callable[[FirstOrderSystem], tuple] = lambda system: (None, "")
+    # periodically forced models: the start (a point on a periodic orbit) of the oscillator extension
+    orbit_start: Callable[[FirstOrderSystem], tuple] | None = None
 
     def build(self) -> ModelIR:
         system = self.system()
-        start, label, *where = self.start(system)
-        values = [p.default for p in system.parameters]
-        if where:
-            names = [p.name for p in system.parameters]
-            for key, value in where[0].items():
-                values[names.index(key)] = float(value)
+        extension = None
+        if self.orbit_start is not None:
+            start, label, values = _start_values(system, self.orbit_start(system))
+            extension = build(self.name, system, title=self.title + ", autonomous extension (oscillator)",
+                              n_balls=self.n, start=start, start_label=label, start_parameters=values,
+                              oscillator=True)
+        start, label, values = _start_values(system, self.start(system))
         return build(self.name, system, title=self.title, n_balls=self.n, start=start, start_label=label,
-                     start_parameters=values)
+                     start_parameters=values, autonomous_extension=extension)
+
+
+def _start_values(system: FirstOrderSystem, start: tuple) -> tuple:
+    state, label, *where = start
+    values = [p.default for p in system.parameters]
+    if where:
+        names = [p.name for p in system.parameters]
+        for key, value in where[0].items():
+            values[names.index(key)] = float(value)
+    return state, label, values
 
 
 def balanced_start(system: FirstOrderSystem, n: int, state: str = "balanced",
@@ -97,11 +110,31 @@ def fixed_scene(n: int) -> Scene:
     return Scene.from_mapping({"n": n, "stiffness": [1.0e4, 1.2e4], "damping": [2.0, 2.4], "gravity": True})
 
 
+def balanced_orbit_start(system: FirstOrderSystem, n: int) -> tuple:
+    """A point of an exact periodic orbit of the fixed-frame model, for its oscillator extension.
+
+    Without gravity, with the balls in a balanced state ((3.6) with delta/mu = M eps/(m R)) the
+    rotor's centre stays at rest: no support force acts, anisotropic or not, and each ball keeps its
+    place, so X = Y = 0, phi_i constant, all rates zero, osc = (sin, cos)(omega t) is a solution.
+    AUTO-07p starts there (g = 0) and continues in g to the scene's value.
+    """
+    values = {p.name: p.default for p in system.parameters}
+    ratio = {"mu": values["m"] / values["M"], "delta": values["eps"] / values["R"]}
+    if n < 2 or not ss.balanced_exists(n, ratio["mu"], ratio["delta"]):
+        return None, "", {}
+    free = [sp.pi if k % 2 == 0 else sp.S.Zero for k in range(n - 2)]
+    angles = ss.evaluate(ss.balanced(n, free), ratio)
+    positions = [0.0 if s.name in ("X", "Y") else angles[s.name] for s in system.states[: len(system.coordinates)]]
+    start = tuple(float(v) for v in positions) + (0.0,) * len(positions) + (0.0, 1.0)
+    how = "" if n == 2 else ", phi_3.. = pi, 0, ..."
+    return start, f"balanced periodic orbit (3.6){how} at g = 0, t = 0 (exact: rotor centre at rest)", {"g": 0.0}
+
+
 def single_plane_fixed(n: int) -> ModelSpec:
     return ModelSpec(
         f"single_plane_fixed_n{n}",
         f"Single-plane balancer with {n} ball{'s' if n > 1 else ''}, fixed frame, anisotropic support, gravity",
-        n, lambda: first_order(derive(fixed_scene(n))))
+        n, lambda: first_order(derive(fixed_scene(n))), orbit_start=lambda system: balanced_orbit_start(system, n))
 
 
 def default_set() -> list[ModelSpec]:

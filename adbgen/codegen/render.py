@@ -127,9 +127,9 @@ TARGETS = {
 
 def skipped_targets(ir: ModelIR) -> dict[str, str]:
     """Targets a model does not get, and why."""
-    if ir.autonomous:
+    if ir.autonomous or ir.autonomous_extension is not None:
         return {}
-    return {"auto": "periodically forced (explicit time): AUTO-07p continues autonomous systems only"}
+    return {"auto": "explicit time without an autonomous extension: AUTO-07p continues autonomous systems only"}
 
 
 def render_model(ir: ModelIR, targets=tuple(TARGETS)) -> dict[str, str]:
@@ -138,10 +138,12 @@ def render_model(ir: ModelIR, targets=tuple(TARGETS)) -> dict[str, str]:
     ctx = context(ir)
     files = {}
     for target in targets:
-        if target == "auto" and not ir.autonomous:
-            continue  # AUTO-07p continues autonomous systems only (see `skipped_targets`)
+        if target in skipped_targets(ir):
+            continue
+        # AUTO-07p gets a periodically forced model as its autonomous extension (oscillator)
+        tctx = context(ir.autonomous_extension) if target == "auto" and not ir.autonomous else ctx
         for template, path, lang in TARGETS[target]:
-            text = env.get_template(template).render(**ctx, programs=ctx[f"programs_{lang}"])
+            text = env.get_template(template).render(**tctx, programs=tctx[f"programs_{lang}"])
             files[path.format(name=ir.name)] = text
     return files
 
