@@ -42,7 +42,23 @@ def identifiers(ir: ModelIR) -> dict[sp.Symbol, str]:
     return out
 
 
-class _ProductPowers:
+class _Rules:
+    """What both printers share: the model's identifiers, floats for every number, small integer
+    powers as products."""
+
+    def __init__(self, names: dict[sp.Symbol, str], *args):
+        super().__init__(*args)
+        self._names = names
+
+    def _print_Symbol(self, expr):
+        return self._names.get(expr, expr.name)
+
+    def _print_Integer(self, expr):
+        return f"{float(expr)!r}"
+
+    def _print_Rational(self, expr):
+        return f"{float(expr.p)!r}/{float(expr.q)!r}"
+
     def _print_Pow(self, expr, rational=False):
         base, exp = expr.as_base_exp()
         if exp.is_Integer and 2 <= abs(int(exp)) <= _MAX_PRODUCT_POWER:
@@ -55,36 +71,15 @@ class _ProductPowers:
             else super()._print_Pow(expr)
 
 
-class PythonPrinter(_ProductPowers, PythonCodePrinter):
+class PythonPrinter(_Rules, PythonCodePrinter):
     """math-module Python that numba compiles in nopython mode."""
 
     def __init__(self, names: dict[sp.Symbol, str]):
-        super().__init__({"fully_qualified_modules": True, "standard": "python3"})
-        self._names = names
-
-    def _print_Symbol(self, expr):
-        return self._names.get(expr, expr.name)
-
-    def _print_Rational(self, expr):
-        return f"{float(expr.p)!r}/{float(expr.q)!r}"
-
-    def _print_Integer(self, expr):
-        return f"{float(expr)!r}"
+        super().__init__(names, {"fully_qualified_modules": True, "standard": "python3"})
 
 
-class CPrinter(_ProductPowers, C99CodePrinter):
-    def __init__(self, names: dict[sp.Symbol, str]):
-        super().__init__()
-        self._names = names
-
-    def _print_Symbol(self, expr):
-        return self._names.get(expr, expr.name)
-
-    def _print_Rational(self, expr):
-        return f"({float(expr.p)!r}/{float(expr.q)!r})"
-
-    def _print_Integer(self, expr):
-        return f"{float(expr)!r}"
+class CPrinter(_Rules, C99CodePrinter):
+    """C99 with <math.h>."""
 
 
 def print_program(program: Program, printer) -> dict:

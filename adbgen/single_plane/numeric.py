@@ -1,7 +1,7 @@
 """Numeric evaluation of a first-order system straight from its symbolic structured form.
 
 This is the *reference* evaluator used to check the derivation numerically (Jacobi integral along a
-trajectory, reductions compared by simulation, the thesis' transients).  It keeps the Schur structure:
+trajectory, reductions compared by simulation, stability cross-checks).  It keeps the Schur structure:
 S and its right-hand side are evaluated, the r x r system is solved with numpy, then the balls are
 back-substituted.  Generated code (numba, C) is what users run; this exists to check it and the
 derivation.
