@@ -109,8 +109,8 @@ class Race:
         for key in sorted(set(map(str, data)) - {"z", "radius", "masses", "damping"}):
             raise SceneError(f"{where}.{key}", "unknown option")
         masses = data.get("masses")
-        if not isinstance(masses, (list, tuple)) or not masses:
-            raise SceneError(f"{where}.masses", "needs a list of at least one ball mass")
+        if not isinstance(masses, (list, tuple)):
+            raise SceneError(f"{where}.masses", "needs a list of ball masses (empty: a race without balls)")
         return cls(_number(f"{where}.z", data.get("z")), _number(f"{where}.radius", data.get("radius"), positive=True),
                    tuple(_number(f"{where}.masses[{i}]", m, positive=True) for i, m in enumerate(masses)),
                    _number(f"{where}.damping", data.get("damping", 0.0), nonnegative=True))
@@ -243,6 +243,8 @@ class TwoPlaneScene:
         for axis in (0, 1):
             if k1[axis] + k2[axis] <= 0:
                 raise SceneError("bearing_1.stiffness", "the rotor needs some support stiffness in X and in Y")
+        if not self.masses():
+            raise SceneError("races", "a balancer needs at least one ball")
         if self.races[0].z == self.races[1].z:
             raise SceneError("races[1].z", "the two races must be in different planes")
 
