@@ -105,3 +105,23 @@ class TwoPlaneSymbols:
 
 
 __all__ = ["TwoPlaneSymbols", "RACE_TAGS", "t"]
+
+
+# The symmetric set-up of paper section 3: m_k = m, R_k = R, z_{1,2} = -z_{3,4} = z, l_1 = l_2 = l,
+# k_{jX} = k_{jY} = k, c_{jX} = c_{jY} = c, one race damping c_b.
+m, R, z, k, l, c, c_b = (positive("m"), positive("R"), positive("z"), positive("k"), positive("l"),
+                         nonnegative("c"), nonnegative("c_b"))
+
+
+def symmetric_substitution(s: TwoPlaneSymbols) -> dict:
+    """Scene symbols -> the section-3 symbols (needs two balls per race and isotropic supports)."""
+    if len(s.m) != 4:
+        raise ValueError("the symmetric set-up of section 3 has two balls in each race")
+    sub = {mk: m for mk in s.m}
+    sub.update({Rk: R for Rk in s.R})
+    sub.update({zk: (z if i < 2 else -z) for i, zk in enumerate(s.z)})
+    sub.update({cb: c_b for cb in s.cb})
+    sub.update({kk: k for kk in s.k.values()})
+    sub.update({cc: c for cc in s.c.values()})
+    sub.update({s.l1: l, s.l2: l})
+    return sub
