@@ -174,12 +174,15 @@ def speed_law(scene: TwoPlaneScene, s: TwoPlaneSymbols) -> dict[sp.Symbol, sp.Ex
                 th0.qdd: sp.Piecewise((a, t < s.t_ramp), (0, True))}
     if law == "hill":  # (45): Omega = Omega_max tb^n / (t_half^n + tb^n), tb = Omega_cyl t
         n = scene.speed.n
-        tb = s.Omega_cyl * t
-        Om = s.Omega_max * tb**n / (s.t_half**n + tb**n)
-        tau = sp.Dummy("tau", positive=True)
-        angle = sp.integrate(Om.subs(t, tau), (tau, 0, t))
-        if angle.has(sp.Integral):
-            raise AssertionError("the Hill profile has no closed-form angle")
+        Om = s.Omega_max * (s.Omega_cyl * t) ** n / (s.t_half**n + (s.Omega_cyl * t) ** n)
+        # The angle through u = Omega_cyl t / t_half: SymPy integrates v^n/(1 + v^n) correctly, but
+        # not the same function with symbolic coefficients (wrong partial fractions for n = 3).
+        v = sp.Symbol("v", positive=True)
+        F = sp.integrate(v**n / (1 + v**n), v)
+        F = F - F.subs(v, 0)
+        if F.has(sp.Integral) or sp.simplify(sp.diff(F, v) - v**n / (1 + v**n)) != 0:
+            raise AssertionError(f"no verified closed-form angle for the Hill exponent {n}")
+        angle = s.Omega_max * s.t_half / s.Omega_cyl * F.subs(v, s.Omega_cyl * t / s.t_half)
         return {th0.q: angle, th0.qd: Om, th0.qdd: sp.diff(Om, t)}
     return {}
 

@@ -85,8 +85,8 @@ class TwoPlaneSpeed:
             return cls(law, omega_max=get("omega_max", positive=True), t_ramp=get("t_ramp", positive=True))
         if law == "hill":
             n = data.get("n", d.n)
-            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 8:
-                raise SceneError("speed.n", f"the Hill exponent must be a whole number 1..8, got {n!r}")
+            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 7:
+                raise SceneError("speed.n", f"the Hill exponent must be a whole number 1..7, got {n!r}")
             return cls(law, omega_max=get("omega_max", positive=True), t_half=get("t_half", positive=True), n=n,
                        omega_cyl=get("omega_cyl", positive=True))
         return cls(law, tau0=get("tau0"), motor_slope=get("motor_slope", nonnegative=True),
