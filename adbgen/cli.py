@@ -1,10 +1,11 @@
 """The `adbgen` command line (argparse: standard library, nothing to install).
 
-    adbgen verify   [--n 1 2 3 4 6]           every reduction checked against the thesis
+    adbgen verify   [--n 1 2 3 4 6] [--model single-plane|two-plane|all]   every reduction checked
     adbgen derive   [--scene F] [--n N] [--form ...] [--format text|latex|json]
     adbgen steady   [--n N] [--mu ..] [--Omega ..] [--zeta ..] [--delta ..] [--beta ..]
     adbgen demo     [--out DIR]               thesis Fig. 5.4: transients reproduced, plotted
     adbgen bench derive [--out FILE] [--n ...]
+    adbgen two-plane verify|derive|steady     the two-plane rotor (see adbgen/two_plane/commands.py)
 
 Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
 """
@@ -80,7 +81,11 @@ def cmd_verify(args) -> int:
         failed += not r.passed
         print(f"{'ok  ' if r.passed else 'FAIL'} {r.seconds:6.2f}s  {r.name:40s} {r.reference:48s} {r.detail}", flush=True)
 
-    results = run_all(tuple(args.n), progress=show)
+    results = run_all(tuple(args.n), progress=show) if args.model in ("single-plane", "all") else []
+    if args.model in ("two-plane", "all"):
+        from .two_plane.commands import run_checks
+
+        results += run_checks(show)
     print(f"{len(results) - failed} passed, {failed} failed")
     return 1 if failed else 0
 
@@ -242,6 +247,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("verify", help="check every reduction against the thesis")
     v.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 3, 4, 6])
+    v.add_argument("--model", choices=("single-plane", "two-plane", "all"), default="all")
     v.set_defaults(fn=cmd_verify)
 
     d = sub.add_parser("derive", help="derive and print a model")
@@ -267,6 +273,10 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--out", default="benchmarks/derive.json")
     b.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
     b.set_defaults(fn=cmd_bench)
+
+    from .two_plane.commands import add_parser as add_two_plane
+
+    add_two_plane(sub, _Parser)
     return p
 
 
