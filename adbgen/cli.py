@@ -107,12 +107,15 @@ def _form(scene, form: str):
 
 
 def cmd_derive(args) -> int:
+    return print_model(_form(_scene(args), args.form), args.format)
+
+
+def print_model(model, fmt: str) -> int:
+    """An EquationsOfMotion (rows) or a FirstOrderSystem (Schur form) as text, LaTeX or JSON."""
     import sympy as sp
 
     from .single_plane.reductions import FirstOrderSystem
 
-    scene = _scene(args)
-    model = _form(scene, args.form)
     if isinstance(model, FirstOrderSystem):
         solve = model.solve
         coords = solve.eom.coordinates
@@ -127,9 +130,9 @@ def cmd_derive(args) -> int:
         data = {"reference": model.reference, "coordinates": [c.name for c in model.coordinates],
                 "parameters": [p.name for p in model.parameters],
                 "rows": {c.name: str(model.residual(k)) for k, c in enumerate(model.coordinates)}}
-    if args.format == "json":
+    if fmt == "json":
         print(json.dumps(data, indent=2))
-    elif args.format == "latex" and not isinstance(model, FirstOrderSystem):
+    elif fmt == "latex" and not isinstance(model, FirstOrderSystem):
         for k, c in enumerate(model.coordinates):
             print(f"% row {c.name}\n{sp.latex(model.residual(k))} = 0\n")
     else:

@@ -1,13 +1,12 @@
 """`adbgen two-plane ...`: the two-plane model on the command line (registered by `adbgen.cli`).
 
     adbgen two-plane verify                      every two-plane check (also part of `adbgen verify`)
-    adbgen two-plane derive [--preset P | --scene F] [--form fixed|rotating|first-order] [--format text|json]
+    adbgen two-plane derive [--preset P | --scene F] [--form fixed|rotating|first-order] [--format text|latex|json]
     adbgen two-plane steady [--preset P | --scene F] [--eps E] [--Omega W] [--m M]
 """
 
 from __future__ import annotations
 
-import json
 import math
 
 
@@ -26,16 +25,10 @@ def run_checks(progress) -> list:
 
 
 def cmd_verify(args) -> int:
-    failed = 0
+    from ..cli import cmd_verify as verify_models
 
-    def show(r):
-        nonlocal failed
-        failed += not r.passed
-        print(f"{'ok  ' if r.passed else 'FAIL'} {r.seconds:6.2f}s  {r.name:40s} {r.reference:48s} {r.detail}", flush=True)
-
-    results = run_checks(show)
-    print(f"{len(results) - failed} passed, {failed} failed")
-    return 1 if failed else 0
+    args.model = "two-plane"
+    return verify_models(args)
 
 
 def cmd_derive(args) -> int:
@@ -50,31 +43,9 @@ def cmd_derive(args) -> int:
     else:
         fixed = args.form == "first-order-fixed" or not scene.isotropic or scene.speed.law != "constant"
         model = first_order(derive(scene) if fixed else rotating_frame(scene))
-    if hasattr(model, "solve"):
-        solve = model.solve
-        coords = solve.eom.coordinates
-        data = {"reference": model.reference, "states": list(model.state_names),
-                "parameters": [p.name for p in model.parameters],
-                "schur": [[str(e) for e in solve.schur.row(i)] for i in range(solve.schur.rows)],
-                "schur_rhs": [str(e) for e in solve.rhs],
-                "ball_accelerations": {coords[k].qdd.name: str(a) for k, a in zip(solve.leaves, solve.leaf_accel)}}
-        if solve.eom.driven_law:
-            data["driven"] = {sym.name: str(e) for sym, e in sorted(solve.eom.driven_law.items(), key=str)}
-    else:
-        data = {"reference": model.reference, "coordinates": [c.name for c in model.coordinates],
-                "parameters": [p.name for p in model.parameters],
-                "rows": {c.name: str(model.residual(k)) for k, c in enumerate(model.coordinates)}}
-    if args.format == "json":
-        print(json.dumps(data, indent=2))
-        return 0
-    print(f"# {data.pop('reference')}")
-    for key, value in data.items():
-        if isinstance(value, dict):
-            for name, expr in value.items():
-                print(f"{name}: {expr}{' = 0' if key == 'rows' else ''}")
-        else:
-            print(f"{key}: {value}")
-    return 0
+    from ..cli import print_model
+
+    return print_model(model, args.format)
 
 
 def cmd_steady(args) -> int:
@@ -150,7 +121,7 @@ def add_parser(sub, parser_class) -> None:
         if name == "derive":
             p.add_argument("--form", choices=("fixed", "rotating", "first-order", "first-order-fixed"),
                            default="first-order")
-            p.add_argument("--format", choices=("text", "json"), default="text")
+            p.add_argument("--format", choices=("text", "latex", "json"), default="text")
         else:
             p.add_argument("--eps", type=float)
             p.add_argument("--Omega", type=float)

@@ -35,9 +35,8 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..errors import SceneError
-from ..scene import _number, _xy
+from ..scene import _number, _xy, speed_law_name
 
-SPEED_LAWS = ("constant", "ramp", "hill", "torque")
 _SPEED_FIELDS = {
     "constant": {"law", "omega"},
     "ramp": {"law", "omega_max", "t_ramp"},
@@ -70,13 +69,7 @@ class TwoPlaneSpeed:
 
     @classmethod
     def from_mapping(cls, data: Any) -> "TwoPlaneSpeed":
-        if not isinstance(data, Mapping):
-            raise SceneError("speed", f"must be a table with a 'law', got {data!r}")
-        law = data.get("law", "constant")
-        if law not in SPEED_LAWS:
-            raise SceneError("speed.law", f"unknown speed law {law!r}; choose one of {', '.join(SPEED_LAWS)}")
-        for key in sorted(set(map(str, data)) - _SPEED_FIELDS[law]):
-            raise SceneError(f"speed.{key}", f"unknown option for law {law!r}")
+        law = speed_law_name(data, _SPEED_FIELDS)
         d = cls()
         get = lambda key, **kw: _number(f"speed.{key}", data.get(key, getattr(d, key)), **kw)  # noqa: E731
         if law == "constant":
