@@ -14,6 +14,9 @@ Errata found by that comparison (each tested both ways):
 - (2): the deviatoric damping term is printed C_d q'; the damping force C_X Re q' + i C_Y Im q' is
   C_m q' + C_d conj(q'), as the stiffness term K_d conj(q) already has.  The printed form fails as soon
   as the bearing damping is anisotropic (C_X != C_Y).
+- (28), fourth row of the ball forcing: printed z (cos a^_12 sin a-_12 + cos a^_34 sin a-_34); with
+  z_{3,4} = -z it is z (cos a^_12 sin a-_12 - cos a^_34 sin a-_34), as the second row already has.  The
+  paper only uses (28) at C3 with a-_12 = a-_34 = pi, where both forms vanish, so (29)-(34) stand.
 - (3), the modified polar inertia: printed J_p + J_t chi^2 + M eps^2.  The inertia of the rotor about
   the shaft axis, its principal axis p_3 tilted by chi, is J_p cos^2 chi + J_t sin^2 chi, so to the
   order kept J_p + (J_t - J_p) chi^2 + M eps^2; the printed value is what the linearised (not
@@ -148,6 +151,23 @@ def kappa_32(M, Jt, Jp, k, l, m, z, Omega, second_form: bool = False):
 def mR_31(M, eps, kappa, alpha_hat_34):
     """(31): m R on the C3 branch."""
     return M * eps / 2 / ((kappa + 1) * sp.cos(alpha_hat_34) + (1 - kappa))
+
+
+def steady_state_28(M, Jt, Jp, k, l, c, m, z, R, eps, Omega, xvec, mean12, hat12, mean34, hat34,
+                    printed: bool = True) -> list:
+    """(28) as residuals (left minus right), x = [x, phi_y, y, -phi_x]; printed=False corrects row 4's sign."""
+    K = sp.diag(2 * k, 2 * k * l**2)
+    Mm = sp.diag(M + 4 * m, Jt + 4 * m * z**2)
+    G = sp.diag(0, Jp)
+    C = sp.diag(2 * c, 2 * c * l**2)
+    A = K - Omega**2 * (Mm - G)
+    big = sp.Matrix(sp.BlockMatrix([[A, -Omega * C], [Omega * C, A]]))
+    c12, c34 = sp.cos(hat12), sp.cos(hat34)
+    row4 = z * (c12 * sp.sin(mean12) + (1 if printed else -1) * c34 * sp.sin(mean34))
+    rhs = Omega**2 * sp.Matrix([M * eps, 0, 0, 0]) + 2 * m * R * Omega**2 * sp.Matrix([
+        c12 * sp.cos(mean12) + c34 * sp.cos(mean34), z * (c12 * sp.cos(mean12) - c34 * sp.cos(mean34)),
+        c12 * sp.sin(mean12) + c34 * sp.sin(mean34), row4])
+    return list(big * sp.Matrix(xvec) - rhs)
 
 
 def a_sum_23(M, eps, R):

@@ -24,7 +24,7 @@ from .model import derive
 from .reductions import (at_rest, autonomous_extension, complex_rows, osc_c, osc_s, rotating_complex_rows,
                          rotating_frame, single_plane_limit)
 from .scene import TwoPlaneScene
-from .symbols import R, TwoPlaneSymbols, k, l, m, symmetric_substitution, t, z
+from .symbols import R, TwoPlaneSymbols, c, k, l, m, symmetric_substitution, t, z
 from .symmetry import GAMMAS, is_equivariant
 
 
@@ -240,6 +240,25 @@ def normal_form_symbolic() -> CheckResult:
     return _timed("D4 normal form coefficients", "paper (23)-(38)", run)
 
 
+def steady_state_28() -> CheckResult:
+    """The derived steady-state equations of the symmetric set-up are (28) (row 4 corrected)."""
+    def run():
+        sm = nf.symmetric_model()
+        s = sm.s
+        x, y, px, py = (sp.Symbol(n, real=True) for n in ("x", "y", "phi_x", "phi_y"))
+        b12, h12, b34, h34 = sp.symbols("abar_12 ahat_12 abar_34 ahat_34", real=True)
+        state = {"alpha_1": b12 + h12, "alpha_2": b12 - h12, "alpha_3": b34 + h34, "alpha_4": b34 - h34}
+        rows = sm.rows_at_rest(state, {s.chi: 0})
+        mine = [-rows["x"], -rows["phi_y"], -rows["y"], rows["phi_x"]]  # residual = -f at rest; Im r_2 = -phi_x
+        args = (s.M, s.Jt, s.Jp, k, l, c, m, z, R, s.eps, s.Omega, [x, py, y, -px], b12, h12, b34, h34)
+        corrected = [is_identity(a, b) for a, b in zip(mine, paper.steady_state_28(*args, printed=False))]
+        printed = [is_identity(a, b) for a, b in zip(mine, paper.steady_state_28(*args, printed=True))]
+        ok = all(corrected) and printed == [True, True, True, False]
+        return ok, ("rows 1-4 identical with row 4 corrected; the printed row 4 differs (erratum)" if ok
+                    else f"corrected: {corrected}, printed: {printed}")
+    return _timed("steady states of the symmetric set-up", "paper (27)-(28), row 4 corrected", run)
+
+
 def c3_relation_31() -> CheckResult:
     """The derived C3 branch E(m, alpha_hat) = 0 is (31) with kappa(m) of (32)."""
     def run():
@@ -372,8 +391,8 @@ def jacobi_identity() -> CheckResult:
 
 SYMBOLIC_CHECKS: tuple[Callable[[], CheckResult], ...] = (
     fixed_frame, prescribed_speed, lambda: prescribed_speed("hill"), rotating, balanced_condition, single_plane,
-    lambda: single_plane("constant"), critical_speeds_symbolic, normal_form_symbolic, c3_relation_31, criticality_35,
-    equivariance, oscillator, jacobi_identity)
+    lambda: single_plane("constant"), critical_speeds_symbolic, normal_form_symbolic, steady_state_28,
+    c3_relation_31, criticality_35, equivariance, oscillator, jacobi_identity)
 
 
 def run_all(progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
