@@ -23,7 +23,7 @@ for the vibration (X, Y, phi_X, phi_Y and their rates) and e for the imbalance (
    torsional row's order-h^2 terms, -J_p d/dt(phi_X phi_Y'), are dropped), and with it, so that the
    mass matrix stays symmetric, its partner in the phi_Y row: -J_p phi_X theta_0'' (a spin acceleration
    times a tilt; the paper's (2) has theta_0'' only in the imbalance forcing).  For the run-ups of
-   section 6 it is small: |theta_0''| <= 6e-4 (ramp) and 0.017 (Hill (45)) against theta_0'^2 ~ 1.
+   section 6 it is small: |theta_0''| <= 6e-4 (ramp) and 0.015 (Hill (45)) against theta_0'^2 ~ 1.
 
 Nothing of (2)-(4) is transcribed here; the printed equations are in
 `adbgen.references.two_plane_2011` and compared with the result in the tests.  The comparison found one
