@@ -100,3 +100,14 @@ def test_oscillator_extension_reproduces_the_forced_system():
     forced = simulate(fixed_frame_rhs(scene), y0, (0, 30), t_eval=grid, rtol=1e-11)
     assert ext_run.success
     assert np.abs(ext_run.y[:-2] - forced.y).max() <= 1e-8
+
+
+def test_first_order_size_is_affine_in_the_number_of_balls():
+    """Each ball adds the same number of operations to the structured first-order form (rotating frame,
+    1, 2, 3 balls per race): no symbolic inverse, no ball-ball coupling."""
+    sizes = []
+    for n in (1, 2, 3):
+        race = lambda z: {"z": z, "radius": 1.0, "masses": [0.001] * n, "damping": 1e-5}  # noqa: E731
+        scene = TwoPlaneScene.from_mapping({"races": [race(2.0), race(-2.0)]})
+        sizes.append(first_order(rotating_frame(scene)).count_ops())
+    assert sizes[2] - sizes[1] == sizes[1] - sizes[0] > 0, sizes
