@@ -1,12 +1,13 @@
 """The `adbgen` command line (argparse: standard library, nothing to install).
 
-    adbgen verify   [--n 1 2 3 4 6]           every reduction checked against the thesis
+    adbgen verify   [--n 1 2 3 4 6] [--model single-plane|two-plane|all]   every reduction checked
     adbgen derive   [--scene F] [--n N] [--form ...] [--format text|latex|json]
     adbgen steady   [--n N] [--mu ..] [--Omega ..] [--zeta ..] [--delta ..] [--beta ..]
     adbgen demo     [--out DIR]               thesis Fig. 5.4: transients reproduced, plotted
     adbgen regenerate [--check] [--scene F] [--n N ...] [--out DIR] [--targets ...]
                                               derive, check, emit numba/C/CVODE/AUTO into generated/
     adbgen bench derive|codegen [--out FILE] [--n ...]
+    adbgen two-plane verify|derive|steady     the two-plane rotor (see adbgen/two_plane/commands.py)
 
 Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
 """
@@ -88,7 +89,11 @@ def cmd_verify(args) -> int:
         failed += not r.passed
         print(f"{'ok  ' if r.passed else 'FAIL'} {r.seconds:6.2f}s  {r.name:40s} {r.reference:48s} {r.detail}", flush=True)
 
-    results = run_all(tuple(args.n), progress=show)
+    results = run_all(tuple(args.n), progress=show) if args.model in ("single-plane", "all") else []
+    if args.model in ("two-plane", "all"):
+        from .two_plane.commands import run_checks
+
+        results += run_checks(show)
     print(f"{len(results) - failed} passed, {failed} failed")
     return 1 if failed else 0
 
@@ -110,12 +115,15 @@ def _form(scene, form: str):
 
 
 def cmd_derive(args) -> int:
+    return print_model(_form(_scene(args), args.form), args.format)
+
+
+def print_model(model, fmt: str) -> int:
+    """An EquationsOfMotion (rows) or a FirstOrderSystem (Schur form) as text, LaTeX or JSON."""
     import sympy as sp
 
     from .single_plane.reductions import FirstOrderSystem
 
-    scene = _scene(args)
-    model = _form(scene, args.form)
     if isinstance(model, FirstOrderSystem):
         solve = model.solve
         coords = solve.eom.coordinates
@@ -130,9 +138,9 @@ def cmd_derive(args) -> int:
         data = {"reference": model.reference, "coordinates": [c.name for c in model.coordinates],
                 "parameters": [p.name for p in model.parameters],
                 "rows": {c.name: str(model.residual(k)) for k, c in enumerate(model.coordinates)}}
-    if args.format == "json":
+    if fmt == "json":
         print(json.dumps(data, indent=2))
-    elif args.format == "latex" and not isinstance(model, FirstOrderSystem):
+    elif fmt == "latex" and not isinstance(model, FirstOrderSystem):
         for k, c in enumerate(model.coordinates):
             print(f"% row {c.name}\n{sp.latex(model.residual(k))} = 0\n")
     else:
@@ -296,6 +304,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("verify", help="check every reduction against the thesis")
     v.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 3, 4, 6])
+    v.add_argument("--model", choices=("single-plane", "two-plane", "all"), default="all")
     v.set_defaults(fn=cmd_verify)
 
     d = sub.add_parser("derive", help="derive and print a model")
@@ -333,6 +342,10 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json)")
     b.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
     b.set_defaults(fn=cmd_bench)
+
+    from .two_plane.commands import add_parser as add_two_plane
+
+    add_two_plane(sub, _Parser)
     return p
 
 

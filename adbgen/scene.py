@@ -75,6 +75,18 @@ def _xy(name: str, value: Any, **kw) -> tuple[float, float] | float:
     return _number(name, value, **kw)
 
 
+def speed_law_name(data: Any, fields: Mapping[str, set]) -> str:
+    """The 'law' of a [speed] table, checked against ``fields`` {law: allowed keys}."""
+    if not isinstance(data, Mapping):
+        raise SceneError("speed", f"must be a table with a 'law', got {data!r}")
+    law = data.get("law", "constant")
+    if not isinstance(law, str) or law not in fields:
+        raise SceneError("speed.law", f"unknown speed law {law!r}; choose one of {', '.join(fields)}")
+    for key in sorted(set(map(str, data)) - fields[law]):
+        raise SceneError(f"speed.{key}", f"unknown option for law {law!r}")
+    return law
+
+
 @dataclass(frozen=True)
 class SpeedLaw:
     """How the spin psi of the rotor is governed.
@@ -91,13 +103,7 @@ class SpeedLaw:
 
     @classmethod
     def from_mapping(cls, data: Any) -> "SpeedLaw":
-        if not isinstance(data, Mapping):
-            raise SceneError("speed", f"must be a table with a 'law', got {data!r}")
-        law = data.get("law", "constant")
-        if law not in SPEED_LAWS:
-            raise SceneError("speed.law", f"unknown speed law {law!r}; choose one of {', '.join(SPEED_LAWS)}")
-        for key in sorted(set(map(str, data)) - _SPEED_FIELDS[law]):
-            raise SceneError(f"speed.{key}", f"unknown option for law {law!r}")
+        law = speed_law_name(data, _SPEED_FIELDS)
         if law == "constant":
             return cls(law, omega=_number("speed.omega", data.get("omega", 400.0), positive=True))
         if law == "profile":
