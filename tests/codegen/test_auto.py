@@ -18,8 +18,14 @@ Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
   finds the saddle-nodes (LP) at the critical speeds of the closed form (3.16), to 1e-5;
 * func's f, dfdu (column-major) and dfdp (AUTO's PAR indices) equal the numba rhs, jac and jac_p,
   and stpnt and pvls store what the file header documents;
-* a periodically forced model gets no AUTO files; a model with more than 10 parameters keeps PAR(11)-PAR(14)
-  free for AUTO and builds.
+* a periodically forced model (single_plane_fixed_n2) gets the files of its oscillator extension, a
+  periodic-orbit problem (IPS = 2): func equals the forced numba model on the oscillator's cycle, stpnt
+  is the exact balanced orbit at g = 0; stage 1 (c.<model>) reaches the default g on an orbit that the
+  numba model, integrated by DOP853 over one period, reproduces at every mesh point (to < 1e-6 of each
+  state's peak-to-peak; measured <= 1e-7), period 2 pi / omega, oscillator on its unit circle, Floquet
+  multipliers = the numba monodromy matrix's eigenvalues with 1 and exp(-2 T); stage 2 (c.<model>.2)
+  restarts from stage 1's label and continues in omega from 400 to 300 rad/s;
+* a model with more than 10 parameters keeps PAR(11)-PAR(14) free for AUTO and builds.
 """
 
 from __future__ import annotations
@@ -105,9 +111,21 @@ def _number(text: str) -> float:
     return float(text.replace("D", "E").replace("d", "e"))
 
 
+def _titles(fields: list[str]) -> list[str]:
+    """fort.7 column titles; periodic orbits (IPS = 2) print 'MAX U(1)', two words, joined here as 'MAX U(1)'."""
+    out = []
+    for field in fields:
+        if out and out[-1] in ("MAX", "MIN"):
+            out[-1] += " " + field
+        else:
+            out.append(field)
+    return out
+
+
 def read_fort7(path: Path) -> list[Point]:
     """Every continuation step of fort.7: lines starting with BR = 0 are headers (the last header
-    before the data names its columns: 0 PT TY LAB PAR(1) L2-NORM U(1) ...); the others are
+    before the data names its columns: 0 PT TY LAB PAR(1) L2-NORM U(1) ..., or MAX U(1) ... PERIOD
+    for periodic orbits); the others are
     BR PT TY LAB followed by those columns."""
     points, titles = [], None
     for line in path.read_text().splitlines():
@@ -116,7 +134,7 @@ def read_fort7(path: Path) -> list[Point]:
             continue
         if fields[0] == "0":
             if len(fields) > 4 and fields[1:4] == ["PT", "TY", "LAB"]:
-                titles = fields[4:]
+                titles = _titles(fields[4:])
             continue
         assert titles is not None, f"fort.7 data before its column titles: {line!r}"
         br, pt, ty, lab = (int(v) for v in fields[:4])
@@ -134,13 +152,14 @@ def unlabelled_stability_changes(points: list[Point]) -> list[tuple[Point, Point
 
 # --- building and running -------------------------------------------------------------------------
 
-def build_and_run(files: dict[str, str], name: str, workdir: Path) -> str:
-    """Write the user and constants files, build and run them with AUTO's make runner; its output."""
+def build_and_run(files: dict[str, str], name: str, workdir: Path, constants_file: str | None = None) -> str:
+    """Write the user and constants files, build and run them with AUTO's make runner (reading the
+    constants c.<name>, or `constants_file`); its output."""
     workdir.mkdir(parents=True, exist_ok=True)
     for filename, text in files.items():
         (workdir / filename).write_text(text)
     env = dict(os.environ, AUTO_DIR=str(AUTO_DIR))
-    with open(workdir / f"c.{name}") as constants:
+    with open(workdir / (constants_file or f"c.{name}")) as constants:
         r = subprocess.run(["make", "-f", str(AUTO_DIR / "cmds" / "cmds.make"), f"EQUATION_NAME={name}"],
                            stdin=constants, cwd=workdir, env=env, capture_output=True, text=True, timeout=120)
     return f"--- stdout\n{r.stdout[-4000:]}\n--- stderr\n{r.stderr[-4000:]}"
@@ -280,6 +299,8 @@ void h_func(const double *u, const double *par, double *f, double *dfdu, double 
 
 void h_stpnt(double *u, double *par) {{ stpnt({ndim}, 0.0, u, par); }}
 
+void h_stpnt_at(double t, double *u, double *par) {{ stpnt({ndim}, t, u, par); }}
+
 void h_pvls(const double *u, double *par) {{ pvls({ndim}, u, par); }}
 """
 
@@ -326,14 +347,255 @@ def test_func_dfdu_dfdp_stpnt_pvls_equal_the_numba_module(auto_toolchain, genera
     assert par[5] == pytest.approx(np.hypot(u[0], u[1]), rel=1e-15)  # PAR(6): sqrt(x^2 + y^2)
 
 
-def test_forced_model_gets_no_auto_files():
-    """Explicit time (the fixed-frame models): AUTO-07p continues autonomous systems only."""
-    from adbgen.codegen.render import render_model, skipped_targets
+# --- periodically forced models: periodic orbits of the oscillator extension (IPS = 2) -------------
+
+FORCED = "single_plane_fixed_n2"
+
+
+@dataclass(frozen=True)
+class Orbit:
+    """One labelled solution of fort.8: AUTO's scaled time t in [0, 1], u (NTPL x NDIM), PAR(1..NPAR)."""
+
+    label: int
+    ty: int
+    t: np.ndarray
+    u: np.ndarray
+    par: np.ndarray
+
+
+def read_fort8(path: Path) -> list[Orbit]:
+    """fort.8: per solution a header line of integers (IBR NTOT ITP LAB NFPR ISW NTPL NAR NROWPR NTST
+    NCOL NPARX, AUTO-07p 0.9 adds NDIM IPS IPRIV ...) and NROWPR lines: NTPL points (t, U(1..NDIM)),
+    each wrapped over several lines, then the NFPR free parameter indices, their NFPR derivatives, the
+    direction vector at the NTPL points (U only, no t) and the NPARX parameters, all read here as one
+    stream of numbers."""
+    lines = path.read_text().splitlines()
+    orbits, i = [], 0
+    while i < len(lines):
+        if not lines[i].strip():
+            i += 1
+            continue
+        head = [int(v) for v in lines[i].split()]
+        _, _, itp, lab, nfpr, _, ntpl, nar, nrowpr, _, _, npar = head[:12]
+        tokens = " ".join(lines[i + 1: i + 1 + nrowpr]).split()
+        assert len(tokens) == ntpl * nar + 2 * nfpr + ntpl * (nar - 1) + npar, (lab, len(tokens))
+        points = np.array([_number(v) for v in tokens[: ntpl * nar]]).reshape(ntpl, nar)
+        par = np.array([_number(v) for v in tokens[-npar:]])
+        orbits.append(Orbit(lab, itp, points[:, 0], points[:, 1:], par))
+        i += 1 + nrowpr
+    return orbits
+
+
+def read_multipliers(path: Path, ndim: int) -> np.ndarray:
+    """The Floquet multipliers fort.9 printed last (ISP = 2): ndim complex numbers."""
+    rows = re.findall(r"^\s*-?\d+\s+-?\d+\s+Multiplier\s+\d+\s+(\S+)\s+(\S+)\s+Abs\. Val\.", path.read_text(), re.M)
+    assert len(rows) >= ndim, f"no multipliers in {path}"
+    return np.array([complex(_number(a), _number(b)) for a, b in rows[-ndim:]])
+
+
+def forced_auto_files(ir) -> dict[str, str]:
+    """c.<model>, <model>.c and c.<model>.2 of a forced model: the committed generated/ files if
+    present, else rendered now (c.<model>.2 from templates/auto/constants_stage2.j2 while it is not a
+    rendered target)."""
+    from adbgen.codegen.render import context, environment
+
+    name = ir.name
+    folder = DEFAULT_OUT / name / "auto"
+    names = (f"{name}.c", f"c.{name}", f"c.{name}.2")
+    if all((folder / f).is_file() for f in names):
+        return {f: (folder / f).read_text() for f in names}
+    files = rendered_auto(ir)
+    if f"c.{name}.2" not in files:
+        ctx = context(ir.autonomous_extension)
+        files[f"c.{name}.2"] = environment().get_template("auto/constants_stage2.j2").render(
+            **ctx, programs=ctx["programs_c"])
+    return files
+
+
+@pytest.fixture(scope="module")
+def forced(auto_toolchain, generated_model, tmp_path_factory):
+    """Both stages for single_plane_fixed_n2, as the file headers say: stage 1 (c.<model>), its
+    fort.8 kept as s.<model>, stage 2 (c.<model>.2, naming s.<model> itself).  Returns
+    (numba module, ir, {stage: (fort.7 points, fort.8 orbits, multipliers at the last point)})."""
+    module, _, _ = generated_model("single_plane_fixed", 2)
+    ir = models.single_plane_fixed(2).build()
+    workdir = tmp_path_factory.mktemp("auto_forced")
+    files = forced_auto_files(ir)
+    ndim = ir.autonomous_extension.n_states
+    stages = {}
+    points = run_auto(files, FORCED, workdir)
+    stages[1] = (points, read_fort8(workdir / "fort.8"), read_multipliers(workdir / "fort.9", ndim))
+    shutil.copy(workdir / "fort.8", workdir / f"s.{FORCED}")
+    log = build_and_run({}, FORCED, workdir, f"c.{FORCED}.2")
+    assert "Unknown AUTO constant" not in log, log
+    stages[2] = (read_fort7(workdir / "fort.7"), read_fort8(workdir / "fort.8"), read_multipliers(workdir / "fort.9", ndim))
+    assert stages[2][0], f"stage 2 wrote no fort.7\n{log}"
+    return module, ir, stages
+
+
+def _param(module, name: str) -> int:
+    return list(module.PARAM_NAMES).index(name)
+
+
+def _auto_par(k: int) -> int:
+    """0-based index into AUTO's PAR array of model parameter k."""
+    return k if k < 10 else k + 4
+
+
+def _model_parameters(module, par: np.ndarray) -> np.ndarray:
+    return np.array([par[_auto_par(k)] for k in range(len(module.PARAM_NAMES))])
+
+
+def test_forced_model_renders_a_periodic_orbit_problem():
+    """The forced model's AUTO files are those of its oscillator extension: IPS = 2, two stages."""
+    from adbgen.codegen.render import skipped_targets
 
     ir = models.single_plane_fixed(2).build()
-    assert not ir.autonomous and "auto" in skipped_targets(ir)
-    assert not any("/auto/" in path for path in render_model(ir))
-    assert not (DEFAULT_OUT / ir.name / "auto").exists()
+    assert not ir.autonomous and "auto" not in skipped_targets(ir)
+    ext = ir.autonomous_extension
+    assert ext.autonomous and ext.forcing_frequency == "omega" and ext.state_names[-2:] == ("osc_sin", "osc_cos")
+    files = forced_auto_files(ir)
+    c1, c2, user = files[f"c.{FORCED}"], files[f"c.{FORCED}.2"], files[f"{FORCED}.c"]
+    g, omega = 7, 15  # PAR indices: g is parameter 6, omega parameter 10 (-> PAR(15))
+    assert re.search(r"^NDIM = 10, IPS = 2, IRS = 0,", c1, re.M) and re.search(rf"^ICP = \[{g}, 11, 16\]$", c1, re.M)
+    assert re.search(rf"^UZSTOP = \{{{g}: 9\.80665\}}$", c1, re.M) and re.search(r"^NTST = 40, NCOL = 4,", c1, re.M) and "JAC = 1" in c1
+    assert re.search(r"^s = 'single_plane_fixed_n2'$", c2, re.M) and re.search(r"^NDIM = 10, IPS = 2, IRS = 2,", c2, re.M)
+    assert re.search(rf"^ICP = \[{omega}, 11, 16\]$", c2, re.M) and re.search(rf"^UZSTOP = \{{{omega}: \[300\.0, 500\.0\]\}}$", c2, re.M)
+    assert "u[8] = sin(6.283185307179586 * t);" in user and "par[10] = 6.283185307179586 / par[14];" in user
+    # autonomous models have one stage: the stage-2 template renders nothing for them
+    from adbgen.codegen.render import context, environment
+    thesis = models.thesis_rotating(2).build()
+    ctx = context(thesis)
+    assert environment().get_template("auto/constants_stage2.j2").render(**ctx, programs=ctx["programs_c"]) == ""
+
+
+def test_forced_func_and_stpnt_equal_the_forced_numba_model_on_the_cycle(auto_toolchain, generated_model, tmp_path):
+    """On the oscillator's cycle (osc = (sin, cos)(omega t)) the extension's F, dF/dU and dF/dPAR are the
+    forced model's rhs, jac and jac_p at time t (but d/d omega, which the oscillator carries), and its
+    own rows are the cycle's derivative; stpnt is the exact orbit at AUTO's time t."""
+    module, _, _ = generated_model("single_plane_fixed", 2)
+    ir = models.single_plane_fixed(2).build()
+    ndim, npar, n = ir.autonomous_extension.n_states, 36, module.N_STATES
+    lib = _harness(forced_auto_files(ir)[f"{FORCED}.c"], FORCED, ndim, tmp_path)
+    lib.h_stpnt_at.argtypes = [ctypes.c_double, ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double)]
+    rng = np.random.default_rng(40)
+    k_omega = _param(module, "omega")
+    for _ in range(20):
+        p = module.DEFAULTS * rng.uniform(0.5, 2.0, module.DEFAULTS.size)
+        t = rng.uniform(0, 0.1)
+        w = p[k_omega]
+        y = rng.uniform(-1, 1, n) * np.r_[np.full(2, 1e-3), np.ones(n - 2)]
+        u = np.r_[y, np.sin(w * t), np.cos(w * t)]
+        par = np.zeros(npar)
+        for k, v in enumerate(p):
+            par[_auto_par(k)] = v
+        f, dfdu, dfdp = np.zeros(ndim), np.full(ndim * ndim, np.nan), np.full(ndim * npar, np.nan)
+        lib.h_func(_ptr(u), _ptr(par), _ptr(f), _ptr(dfdu), _ptr(dfdp))
+        scale = lambda a: max(1.0, float(np.max(np.abs(a))))  # noqa: E731
+        rhs = module.rhs(t, y, p)
+        assert np.max(np.abs(f[:n] - rhs)) <= 1e-12 * scale(rhs)
+        assert np.allclose(f[n:], [w * np.cos(w * t), -w * np.sin(w * t)], rtol=1e-13, atol=1e-13 * w)
+        J = dfdu.reshape(ndim, ndim).T
+        jac = module.jac(t, y, p)
+        assert np.max(np.abs(J[:n, :n] - jac)) <= 1e-12 * scale(jac)
+        Jp = dfdp.reshape(npar, ndim).T
+        jac_p = module.jac_p(t, y, p)
+        others = [k for k in range(p.size) if k != k_omega]
+        assert np.max(np.abs(Jp[:n, [_auto_par(k) for k in others]] - jac_p[:, others])) <= 1e-12 * scale(jac_p)
+    for t in (0.0, 0.25, 0.3, 1.0):
+        u, par = np.full(ndim, np.nan), np.zeros(npar)
+        lib.h_stpnt_at(t, _ptr(u), _ptr(par))
+        assert np.array_equal(u[:n], ir.autonomous_extension.start[:n])
+        assert u[n:] == pytest.approx([np.sin(2 * np.pi * t), np.cos(2 * np.pi * t)], abs=1e-15)
+        start_p = np.array(ir.autonomous_extension.start_parameters)
+        assert np.array_equal(_model_parameters(module, par), start_p) and start_p[_param(module, "g")] == 0.0
+        assert par[10] == pytest.approx(2 * np.pi / start_p[k_omega], rel=1e-15)
+    # the start is an exact periodic orbit of the forced model: zero rhs at g = 0 (rounding only, against
+    # terms of the order of the unbalance's eps omega^2 = 80 m/s^2)
+    start_p = np.array(ir.autonomous_extension.start_parameters)
+    scale = start_p[_param(module, "eps")] * start_p[k_omega] ** 2
+    for t in (0.0, 0.3, 1e-3):
+        assert np.max(np.abs(module.rhs(t, np.array(ir.autonomous_extension.start[:n]), start_p))) < 1e-13 * scale
+
+
+def test_forced_stage1_reaches_the_default_gravity_on_the_forced_models_orbit(forced):
+    """Stage 1 converges from the exact orbit at g = 0 and ends on label 2 (UZ) at the default g; that
+    orbit, integrated as the forced numba model (DOP853) from its point at AUTO time 0, returns the
+    AUTO orbit at every mesh point; period 2 pi / omega; the oscillator on its unit circle; Floquet
+    multipliers: 1, exp(-2 T) (the oscillator) and the forced model's monodromy eigenvalues."""
+    from scipy.integrate import solve_ivp
+
+    module, ir, stages = forced
+    points, orbits, multipliers = stages[1]
+    kg, kw = _param(module, "g"), _param(module, "omega")
+    g_default, omega = module.DEFAULTS[kg], module.DEFAULTS[kw]
+    assert points[0].values["PAR(7)"] == 0.0 and abs(points[0].ty) == 9 and points[0].label == 1
+    end = points[-1]
+    assert end.ty == -4 and end.label == 2, "stage 1 ends on the UZSTOP label 2"
+    assert end.values["PAR(7)"] == pytest.approx(g_default, abs=1e-6)
+    assert all(p.stable for p in points), "the balanced orbit stays stable from g = 0 to the default"
+    assert all(abs(p.values["PERIOD"] - 2 * np.pi / omega) < 1e-10 for p in points)
+
+    orbit = next(o for o in orbits if o.label == 2)
+    n = module.N_STATES
+    p = _model_parameters(module, orbit.par)
+    assert p[kg] == pytest.approx(g_default, abs=1e-6) and p[kw] == omega
+    T = orbit.par[10]
+    assert abs(T - 2 * np.pi / omega) < 1e-10
+    s, c = orbit.u[:, n], orbit.u[:, n + 1]
+    assert np.max(np.abs(s**2 + c**2 - 1)) < 1e-8
+    t0 = np.arctan2(s[0], c[0]) / omega  # the oscillator's phase at AUTO time 0, as forced-model time
+    times = t0 + T * orbit.t
+    assert np.max(np.abs(s - np.sin(omega * times))) < 1e-7 and np.max(np.abs(c - np.cos(omega * times))) < 1e-7
+    sol = solve_ivp(lambda t, y: module.rhs(t, y, p), (times[0], times[-1]), orbit.u[0, :n], method="DOP853",
+                    rtol=1e-10, atol=1e-14, t_eval=times)
+    assert sol.success
+    amplitude = np.ptp(orbit.u[:, :n], axis=0)
+    assert np.all(amplitude > 0), "every state moves at the default g"
+    rel = np.max(np.abs(sol.y.T - orbit.u[:, :n]), axis=0) / amplitude
+    assert np.max(rel) < 1e-6, dict(zip(module.STATE_NAMES, rel))
+
+    # Floquet multipliers (fort.9): the forced model's monodromy matrix over one period (variational
+    # equations along the numba orbit), plus the extension's 1 (phase) and exp(-2 T) (oscillator)
+    def variational(t, z):
+        y, phi = z[:n], z[n:].reshape(n, n)
+        return np.r_[module.rhs(t, y, p), (module.jac(t, y, p) @ phi).ravel()]
+    mono = solve_ivp(variational, (times[0], times[-1]), np.r_[orbit.u[0, :n], np.eye(n).ravel()], method="DOP853",
+                     rtol=1e-10, atol=1e-12).y[n:, -1].reshape(n, n)
+    expected = list(np.linalg.eigvals(mono)) + [1.0, np.exp(-2 * T)]
+    remaining = list(multipliers)
+    worst = 0.0
+    for mu in expected:
+        k = int(np.argmin([abs(mu - m) for m in remaining]))
+        worst = max(worst, abs(mu - remaining.pop(k)))
+    assert worst < 1e-4, (multipliers, expected)
+    assert np.max(np.abs(np.linalg.eigvals(mono))) < 1, "stable: every multiplier of the forced model inside the unit circle"
+    print(f"\nstage 1: {len(points)} steps to g = {end.values['PAR(7)']!r}; orbit vs numba DOP853, max |diff|/ptp "
+          f"per state {np.array2string(rel, precision=1)}; |T - 2 pi/omega| = {abs(T - 2 * np.pi / omega):.1e}; "
+          f"max |s^2 + c^2 - 1| = {np.max(np.abs(s**2 + c**2 - 1)):.1e}; multipliers {np.round(multipliers, 5)} "
+          f"(max |AUTO - monodromy| {worst:.1e})")
+
+
+def test_forced_stage2_restarts_and_continues_in_omega(forced):
+    """Stage 2 restarts from stage 1's label 2 (read from s.<model>) and continues in omega (PAR(15))
+    from 400 down to UZSTOP 300 rad/s, the period following 2 pi / omega, g staying at its default."""
+    module, ir, stages = forced
+    points, orbits, multipliers = stages[2]
+    kg = _param(module, "g")
+    omega = [p.values["PAR(15)"] for p in points]
+    assert omega[0] == pytest.approx(module.DEFAULTS[_param(module, "omega")], abs=1e-9)
+    assert all(b < a for a, b in zip(omega, omega[1:])), "omega decreases along the branch"
+    assert points[-1].ty == -4 and points[-1].values["PAR(15)"] == pytest.approx(300.0, abs=1e-6)
+    assert len(points) > 10
+    for p in points:
+        assert abs(p.values["PERIOD"] - 2 * np.pi / p.values["PAR(15)"]) < 1e-10, p
+    end = next(o for o in orbits if o.label == points[-1].label)
+    assert end.par[_auto_par(kg)] == pytest.approx(module.DEFAULTS[kg], abs=1e-6)
+    assert abs(end.par[10] - 2 * np.pi / 300.0) < 1e-10
+    assert all(p.stable for p in points), "the balanced orbit stays stable between 400 and 300 rad/s"
+    print(f"\nstage 2: {len(points)} steps, omega {omega[0]!r} -> {omega[-1]!r}, period {float(end.par[10])!r}, "
+          f"max |T - 2 pi/omega| {max(abs(p.values['PERIOD'] - 2 * np.pi / p.values['PAR(15)']) for p in points):.1e}; "
+          f"multipliers at 300 rad/s {np.round(multipliers, 5)}")
 
 
 def test_more_than_ten_parameters_skip_autos_own_par_slots(auto_toolchain, tmp_path):
