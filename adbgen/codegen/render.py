@@ -8,6 +8,7 @@ Targets (files relative to the output folder)::
     <model>/<model>_cvode_main.c    CVODE driver program    templates/cvode/
     <model>/auto/<model>.c          AUTO-07p user file      templates/auto/
     <model>/auto/c.<model>          AUTO-07p constants      templates/auto/
+    <model>/auto/c.<model>.2        its second stage (forced models: continuation in omega)
 
 Rendering is pure: the same intermediate form and templates give the same bytes (sorted symbols,
 fixed float formatting, no dates); the source hash in every header covers both.
@@ -121,7 +122,9 @@ TARGETS = {
     "c": [("c/model.h.j2", "{name}/{name}.h", "c"), ("c/model.c.j2", "{name}/{name}.c", "c")],
     "cvode": [("cvode/adaptor.h.j2", "{name}/{name}_cvode.h", "c"), ("cvode/adaptor.c.j2", "{name}/{name}_cvode.c", "c"),
               ("cvode/driver.c.j2", "{name}/{name}_cvode_main.c", "c")],
-    "auto": [("auto/user.c.j2", "{name}/auto/{name}.c", "c"), ("auto/constants.j2", "{name}/auto/c.{name}", "c")],
+    "auto": [("auto/user.c.j2", "{name}/auto/{name}.c", "c"), ("auto/constants.j2", "{name}/auto/c.{name}", "c"),
+             # second continuation stage: forced models only (the template is empty otherwise)
+             ("auto/constants_stage2.j2", "{name}/auto/c.{name}.2", "c")],
 }
 
 
@@ -144,7 +147,8 @@ def render_model(ir: ModelIR, targets=tuple(TARGETS)) -> dict[str, str]:
         tctx = context(ir.autonomous_extension) if target == "auto" and not ir.autonomous else ctx
         for template, path, lang in TARGETS[target]:
             text = env.get_template(template).render(**tctx, programs=tctx[f"programs_{lang}"])
-            files[path.format(name=ir.name)] = text
+            if text.strip():
+                files[path.format(name=ir.name)] = text
     return files
 
 
