@@ -46,8 +46,9 @@ class ModelSpec:
     def build(self) -> ModelIR:
         system = self.system()
         extension = None
-        if self.orbit_start is not None:
-            start, label, values = _start_values(system, self.orbit_start(system))
+        orbit = _start_values(system, self.orbit_start(system)) if self.orbit_start is not None else (None,)
+        if orbit[0] is not None:  # (no exact orbit known, e.g. one ball: no extension)
+            start, label, values = orbit
             extension = build(self.name, system, title=self.title + ", autonomous extension (oscillator)",
                               n_balls=self.n, start=start, start_label=label, start_parameters=values,
                               oscillator=True)

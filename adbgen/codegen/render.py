@@ -132,7 +132,8 @@ def skipped_targets(ir: ModelIR) -> dict[str, str]:
     """Targets a model does not get, and why."""
     if ir.autonomous or ir.autonomous_extension is not None:
         return {}
-    return {"auto": "explicit time without an autonomous extension: AUTO-07p continues autonomous systems only"}
+    return {"auto": "explicit time and no autonomous extension with a known start orbit "
+                     "(AUTO-07p continues autonomous systems only)"}
 
 
 def render_model(ir: ModelIR, targets=tuple(TARGETS)) -> dict[str, str]:
