@@ -113,3 +113,15 @@ def test_statement_names_cannot_shadow_model_symbols():
         dataclasses.replace(system.parameters[0], symbol=sp.Symbol("S_0_0", positive=True)),))
     with pytest.raises(ValueError, match="clash"):
         I.build("clash", clash, title="x", n_balls=1)
+
+
+def test_a_four_by_four_core_lowers_too():
+    """The two-plane rotor's rotating frame (x, y, phi_x, phi_y core; paper (7)-(8), preset (10), four
+    balls): the unrolled LU of the 4x4 Schur complement equals a dense solve of the whole system."""
+    from adbgen.two_plane import reductions
+    from adbgen.two_plane.scene import TwoPlaneScene
+
+    system = reductions.first_order(reductions.rotating_frame(TwoPlaneScene.from_mapping({"preset": "paper-10"})))
+    ir = I.build("two_plane_rotating", system, title="two-plane", n_balls=4)
+    assert ir.autonomous and ir.core == ("x", "y", "phi_x", "phi_y") and len(ir.leaves) == 4
+    assert models.lowering_error(ir, system, samples=50) < 1e-12
