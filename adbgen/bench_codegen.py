@@ -29,13 +29,11 @@ Two parts, both for the two model families of `adbgen.codegen.models`:
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import platform
 import re
 import shutil
 import subprocess
-import sys
 import tempfile
 import time
 import timeit
@@ -47,10 +45,10 @@ import sympy as sp
 
 from .bench import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
 from .codegen import models
-from .codegen.render import render_model
+from .codegen.scratch import import_numba, render_into
 from .single_plane.model import derive
 
-FAMILIES = {"thesis_rotating": models.thesis_rotating, "single_plane_fixed": models.single_plane_fixed}
+FAMILIES = models.FAMILIES
 OPS_NS = (1, 2, 4, 8, 16, 32)
 SPEED_NS = (2, 4, 8, 16)
 JAC_NS = (2, 4, 8)
@@ -243,15 +241,6 @@ def _time_c(folder: Path, name: str, y0, p, target: float, repeats: int, jac: bo
     return out
 
 
-def _import_numba_module(folder: Path, name: str):
-    spec = importlib.util.spec_from_file_location(f"_adbgen_bench_{name}", folder / "__init__.py",
-                                                  submodule_search_locations=[str(folder)])
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
 def _numba_loop(fn):
     """A jitted loop over `calls` calls of fn(t, y, p, out), with y[0] fed back (see `_C_MAIN`)."""
     from numba import njit
@@ -311,17 +300,12 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
     derive.cache_clear()
     system = spec.system()
     ir = spec.build()
-    root = workdir / f"{family}_n{n}"
-    for rel, text in render_model(ir, ("numba", "c")).items():
-        path = root / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
-    folder = root / ir.name
+    folder = render_into(ir, workdir / f"{family}_n{n}", ("numba", "c"))
     y, p = _sample_point(system, ir.n_states)
     row: dict = {"family": family, "n": n, "n_states": ir.n_states, "rhs_ops": ir.rhs.count_ops()}
 
     # numba
-    mod = _import_numba_module(folder, ir.name)
+    mod = import_numba(folder, f"_adbgen_bench_{ir.name}")
     out = np.empty(ir.n_states)
     start = time.perf_counter()
     mod.rhs_inplace(0.0, y, p, out)

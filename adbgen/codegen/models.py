@@ -138,8 +138,11 @@ def single_plane_fixed(n: int) -> ModelSpec:
         n, lambda: first_order(derive(fixed_scene(n))), orbit_start=lambda system: balanced_orbit_start(system, n))
 
 
+FAMILIES = {"thesis_rotating": thesis_rotating, "single_plane_fixed": single_plane_fixed}
+
+
 def default_set() -> list[ModelSpec]:
-    return [thesis_rotating(n) for n in (2, 3, 4)] + [single_plane_fixed(n) for n in (2, 3, 4)]
+    return [family(n) for family in FAMILIES.values() for n in (2, 3, 4)]
 
 
 def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
