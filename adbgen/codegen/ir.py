@@ -193,33 +193,53 @@ def _cse(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[tuple[sp.Symbol, s
     return list(replacements), list(reduced)
 
 
+@dataclass(frozen=True)
+class _Blocks:
+    """M and f after the speed law (and the oscillator), indexed for the structure; made once per build."""
+
+    coordinates: tuple
+    core: tuple[int, ...]
+    leaves: tuple[int, ...]
+    mass: dict  # {(row, col): entry}, nonzero entries only
+    f: tuple[sp.Expr, ...]
+
+    @property
+    def N(self) -> int:
+        return len(self.coordinates)
+
+
+def _blocks(system: FirstOrderSystem, oscillator: bool) -> tuple[_Blocks, Oscillator | None]:
+    solve = system.solve
+    eom = solve.eom
+    law = dict(eom.driven_law)
+    mass = {k: sp.sympify(v).xreplace(law) for k, v in eom.mass.items()}
+    f = [sp.sympify(e).xreplace(law) for e in eom.forcing]
+    osc = None
+    if oscillator:
+        osc = Oscillator.detect(list(mass.values()) + f, eom.time)
+        mass = {k: osc.substitute(v, eom.time) for k, v in mass.items()}
+        f = [osc.substitute(e, eom.time) for e in f]
+    return _Blocks(eom.coordinates, tuple(solve.core), tuple(solve.leaves), mass, tuple(f)), osc
+
+
 class _Builder:
     """Emits the structured solve as statements (shared by rhs, jac and jac_p)."""
 
-    def __init__(self, system: FirstOrderSystem, oscillator: Oscillator | None = None):
-        solve = system.solve
-        eom = solve.eom
-        law = dict(eom.driven_law)
-        self.oscillator = oscillator
-        self.eom = eom
-        self.law = law
-        self.core = list(solve.core)
-        self.leaves = list(solve.leaves)
+    def __init__(self, blocks: _Blocks):
+        self.coordinates = blocks.coordinates
+        self.core = list(blocks.core)
+        self.leaves = list(blocks.leaves)
         self.r = len(self.core)
-        self.N = eom.size
+        self.N = blocks.N
         self.names = _Names()
         self.statements: list[tuple[sp.Symbol, sp.Expr]] = []
-        def sub(e):
-            e = sp.sympify(e).xreplace(law) if law else sp.sympify(e)
-            return oscillator.substitute(e, eom.time) if oscillator is not None else e
-
-        mass = {k: sub(v) for k, v in eom.mass.items()}
+        mass = blocks.mass
         self.mass_entries = mass
         self.A = [[mass.get((i, j), sp.S.Zero) for j in self.core] for i in self.core]
         self.B = [[mass.get((a, i), sp.S.Zero) for a in self.core] for i in self.leaves]  # column of M
         self.C = [[mass.get((i, a), sp.S.Zero) for a in self.core] for i in self.leaves]  # row of M
         self.D = [mass[(i, i)] for i in self.leaves]
-        self.f = [sub(e) for e in eom.forcing]
+        self.f = list(blocks.f)
 
     def emit(self, name: str, expr: sp.Expr) -> sp.Expr:
         """Assign expr to a named statement unless it is trivial (a number or a symbol)."""
@@ -308,8 +328,7 @@ class _Builder:
 
 def _residual_rows(builder: _Builder) -> list[sp.Expr]:
     """R_k = f_k - sum_j M_kj q''_j with the accelerations as symbols (after the speed law)."""
-    eom = builder.eom
-    acc = [c.qdd for c in eom.coordinates]
+    acc = [c.qdd for c in builder.coordinates]
     rows = []
     for k in range(builder.N):
         row = builder.f[k]
@@ -321,24 +340,24 @@ def _residual_rows(builder: _Builder) -> list[sp.Expr]:
     return rows
 
 
-def _rhs_program(system: FirstOrderSystem, osc: Oscillator | None = None) -> Program:
-    b = _Builder(system, osc)
+def _rhs_program(blocks: _Blocks, osc: Oscillator | None) -> Program:
+    b = _Builder(blocks)
     h = b.base()
     fac = b.factor(h)
     x = b.solve(fac, [h["f"][k] for k in b.core], [h["f"][k] for k in b.leaves], "")
     N = b.N
-    coords = system.coordinates
+    coords = blocks.coordinates
     outputs = [(k, coords[k].qd) for k in range(N)] + [(N + k, x[k]) for k in range(N)]
     extra = osc.rates() if osc is not None else ()
     outputs += [(2 * N + r, rate) for r, rate in enumerate(extra)]
     return Program(tuple(b.statements), tuple(outputs), (2 * N + len(extra),))
 
 
-def _derivative_program(system: FirstOrderSystem, wrt: Sequence[sp.Symbol], top: dict[tuple[int, int], sp.Expr],
-                        osc: Oscillator | None = None) -> Program:
+def _derivative_program(blocks: _Blocks, wrt: Sequence[sp.Symbol], top: dict[tuple[int, int], sp.Expr],
+                        osc: Oscillator | None) -> Program:
     """d(y')/dz for z in `wrt`: the rows of the accelerations by the structured solve per column
     (and the oscillator's rows, if any, by plain differentiation)."""
-    b = _Builder(system, osc)
+    b = _Builder(blocks)
     N = b.N
     rows = _residual_rows(b)
     deriv = {}
@@ -355,7 +374,7 @@ def _derivative_program(system: FirstOrderSystem, wrt: Sequence[sp.Symbol], top:
     acc = b.solve(fac, [h["f"][k] for k in b.core], [h["f"][k] for k in b.leaves], "")
     # the derivatives were taken at fixed accelerations: the solved ones go in, and the
     # subexpressions already computed for the right-hand side are reused, not recomputed
-    accel_of = {c.qdd: acc[k] for k, c in enumerate(system.coordinates)}
+    accel_of = {c.qdd: acc[k] for k, c in enumerate(blocks.coordinates)}
     exprs = [deriv[key].xreplace(accel_of).xreplace(b.known) for key in keys]
     repl, red = _cse(exprs, "v_")
     for sym, expr in repl:
@@ -378,13 +397,12 @@ def _derivative_program(system: FirstOrderSystem, wrt: Sequence[sp.Symbol], top:
     return Program(tuple(b.statements), tuple(flat), (2 * N + len(extra), ncol))
 
 
-def _mass_forcing_programs(system: FirstOrderSystem, osc: Oscillator | None = None) -> tuple[Program, Program]:
-    b = _Builder(system, osc)
-    N = b.N
-    keys = sorted(b.mass_entries)
-    repl, red = _cse([b.mass_entries[k] for k in keys], _TEMP_PREFIX)
+def _mass_forcing_programs(blocks: _Blocks) -> tuple[Program, Program]:
+    N = blocks.N
+    keys = sorted(blocks.mass)
+    repl, red = _cse([blocks.mass[k] for k in keys], _TEMP_PREFIX)
     mass = Program(tuple(repl), tuple((i * N + j, e) for (i, j), e in zip(keys, red)), (N, N))
-    repl, red = _cse(b.f, _TEMP_PREFIX)
+    repl, red = _cse(blocks.f, _TEMP_PREFIX)
     forcing = Program(tuple(repl), tuple((k, e) for k, e in enumerate(red) if e != 0), (N,))
     return mass, forcing
 
@@ -412,21 +430,17 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
     states = tuple(State(s.name, s, _describe(s.name)) for s in system.states)
     params = tuple(system.parameters)
     y_syms = list(system.states)
-    osc = None
-    if oscillator:
-        law = dict(eom.driven_law)
-        osc = Oscillator.detect([sp.sympify(e).xreplace(law) for e in list(eom.mass.values()) + list(eom.forcing)],
-                                eom.time)
+    blocks, osc = _blocks(system, oscillator)
+    if osc is not None:
         states += (State(osc.sin.name, osc.sin, f"sin({osc.frequency} t) on the oscillator's limit cycle (paper (40))"),
                    State(osc.cos.name, osc.cos, f"cos({osc.frequency} t) on the oscillator's limit cycle (paper (40))"))
         y_syms += [osc.sin, osc.cos]
-    rhs = _rhs_program(system, osc)
+    rhs = _rhs_program(blocks, osc)
     time_free = all(eom.time not in e.free_symbols for _, e in rhs.assignments) and \
         all(eom.time not in e.free_symbols for _, e in rhs.outputs)
-    jac = _derivative_program(system, y_syms, {(k, N + k): sp.S.One for k in range(N)}, osc)
-    jac_p = _derivative_program(system, [p.symbol for p in params], {}, osc)
-    mass, forcing = _mass_forcing_programs(system, osc)
-    b = _Builder(system, osc)
+    jac = _derivative_program(blocks, y_syms, {(k, N + k): sp.S.One for k in range(N)}, osc)
+    jac_p = _derivative_program(blocks, [p.symbol for p in params], {}, osc)
+    mass, forcing = _mass_forcing_programs(blocks)
     taken = {s.name for s in states} | {p.name for p in params}
     for prog in (rhs, jac, jac_p, mass, forcing):
         clash = taken & {lhs.name for lhs, _ in prog.assignments}
@@ -435,8 +449,8 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
     return ModelIR(
         name=name, title=title, reference=system.reference, n_balls=n_balls, autonomous=time_free,
         states=states, parameters=params,
-        core=tuple(coords[k].name for k in b.core), leaves=tuple(coords[k].name for k in b.leaves),
-        mass_pattern=tuple(sorted(b.mass_entries)), rhs=rhs, jac=jac, jac_p=jac_p, mass=mass,
+        core=tuple(coords[k].name for k in blocks.core), leaves=tuple(coords[k].name for k in blocks.leaves),
+        mass_pattern=tuple(sorted(blocks.mass)), rhs=rhs, jac=jac, jac_p=jac_p, mass=mass,
         forcing=forcing, start=tuple(float(v) for v in start) if start is not None else None,
         start_label=start_label,
         start_parameters=tuple(float(v) for v in (start_parameters if start_parameters is not None
