@@ -14,7 +14,7 @@ import sympy as sp
 from sympy.printing.c import C99CodePrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from .ir import ModelIR, Program
+from .ir import ModelIR
 
 # Names the calling conventions of the targets use (arguments, modules, C keywords and macros).
 RESERVED = frozenset({
@@ -80,13 +80,3 @@ class PythonPrinter(_Rules, PythonCodePrinter):
 
 class CPrinter(_Rules, C99CodePrinter):
     """C99 with <math.h>."""
-
-
-def print_program(program: Program, printer) -> dict:
-    """The program's statements and stores as strings: {'assignments': [(lhs, rhs)], 'outputs': [(i, rhs)]}."""
-    return {
-        "assignments": [(printer.doprint(lhs), printer.doprint(rhs)) for lhs, rhs in program.assignments],
-        "outputs": [(i, printer.doprint(rhs)) for i, rhs in program.outputs],
-        "shape": program.shape,
-        "size": int(__import__("math").prod(program.shape)),
-    }

@@ -32,17 +32,11 @@ from .printers import CPrinter, PythonPrinter, identifiers
 TEMPLATES = Path(__file__).resolve().parents[2] / "templates"
 
 
-def _pyrepr(value) -> str:
-    if isinstance(value, float):
-        return repr(value)
-    return repr(value)
-
-
 def _pytuple(values) -> str:
     values = list(values)
     if not values:
         return "()"
-    inner = ", ".join(_pyrepr(v) for v in values)
+    inner = ", ".join(repr(v) for v in values)
     return f"({inner},)" if len(values) == 1 else f"({inner})"
 
 
@@ -56,7 +50,7 @@ def environment() -> jinja2.Environment:
         raise AdbgenError(f"templates folder not found at {TEMPLATES}")
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATES)), undefined=jinja2.StrictUndefined,
                              keep_trailing_newline=True, autoescape=False)
-    env.filters.update(pyrepr=_pyrepr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float)
+    env.filters.update(pyrepr=repr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float)
     return env
 
 
