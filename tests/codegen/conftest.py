@@ -8,12 +8,18 @@ get); other n are rendered from the same templates into a session temporary fold
 from __future__ import annotations
 
 import importlib
+import sys
+from pathlib import Path
 
 import pytest
 
 from adbgen.codegen import models
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.scratch import import_numba, render_into
+
+# pytest runs with --import-mode=importlib, which puts no test folder on sys.path: put this one there
+# so that the tests import their helpers (toolchain, sampling) by name
+sys.path.insert(0, str(Path(__file__).parent))
 
 _cache: dict = {}
 

@@ -31,7 +31,6 @@ Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
 from __future__ import annotations
 
 import ctypes
-import importlib.util
 import os
 import re
 import shutil
@@ -48,15 +47,9 @@ from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.render import render_model
 from adbgen.single_plane.steady_states import critical_speeds
 
+# helpers of this folder (conftest.py puts it on sys.path)
+from toolchain import require_tool
 
-def _load_toolchain():
-    spec = importlib.util.spec_from_file_location("_adbgen_codegen_toolchain", Path(__file__).with_name("toolchain.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-require_tool = _load_toolchain().require_tool
 
 AUTO_DIR = Path(os.environ.get("AUTO_DIR", "/usr/lib/auto-07p"))
 MU, ZETA, BETA, DELTA = 0.05, 0.01, 0.01, 0.01

@@ -21,11 +21,9 @@ Tests needing gcc fail in CI and skip elsewhere when it is missing (toolchain.re
 from __future__ import annotations
 
 import ctypes
-import importlib.util
 import os
 import re
 import subprocess
-import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -34,23 +32,12 @@ import pytest
 
 from adbgen.codegen.regenerate import DEFAULT_OUT
 
+# helpers of this folder (conftest.py puts it on sys.path)
+from sampling import random_inputs
+from toolchain import STRICT_CFLAGS, require_tool, which
+
 HERE = Path(__file__).parent
 
-
-def _sibling(stem: str):
-    """A helper module of this folder, loaded by path (pytest runs with --import-mode=importlib)."""
-    name = f"_adbgen_codegen_{stem}"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, HERE / f"{stem}.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
-
-
-toolchain = _sibling("toolchain")
-STRICT_CFLAGS, require_tool, which = toolchain.STRICT_CFLAGS, toolchain.require_tool, toolchain.which
-random_inputs = _sibling("test_numba_target").random_inputs
 
 RTOL = 1e-13
 EXTREME_RTOL = 1e-13  # measured: C and numba are bit-identical at the extreme inputs too
@@ -321,7 +308,6 @@ def test_sanitized_harness_runs_clean(harnesses, generated_model, family, n):
     print(f"{m.NAME} sanitized harness vs numba: max norm-wise relative difference", worst)
     assert all(e <= RTOL for e in worst["ordinary"].values()), worst["ordinary"]
     assert all(e <= EXTREME_RTOL for e in worst["extreme"].values()), worst["extreme"]
-
 
 
 def test_sanitizers_are_active(generated_model, tmp_path):

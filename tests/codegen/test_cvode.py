@@ -14,9 +14,7 @@ SciPy's DOP853 on the numba module of the same model:
 
 from __future__ import annotations
 
-import importlib.util
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -25,21 +23,9 @@ from scipy.integrate import solve_ivp
 
 from adbgen.codegen.regenerate import DEFAULT_OUT
 
+# helpers of this folder (conftest.py puts it on sys.path)
+from toolchain import STRICT_CFLAGS, require_tool, which
 
-
-def _load_toolchain():
-    # pytest runs with --import-mode=importlib: this folder is not on sys.path, so load the helper by path
-    name = "_adbgen_codegen_toolchain"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, Path(__file__).with_name("toolchain.py"))
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
-
-
-toolchain = _load_toolchain()
-STRICT_CFLAGS, require_tool, which = toolchain.STRICT_CFLAGS, toolchain.require_tool, toolchain.which
 
 LIBS = ("-lsundials_cvode", "-lsundials_nvecserial", "-lsundials_sunmatrixdense", "-lsundials_sunlinsoldense",
         "-lm")
