@@ -1,11 +1,11 @@
 """Model-independent mechanics: Lagrange's equations, structured mass-matrix solves, identities."""
 
 from .identities import assert_identity, canonical_trig, is_identity, reduce_pythagorean
-from .lagrange import Coordinate, EnergyTerm, EquationsOfMotion, Parameter, lagrange_equations, time_derivative
+from .lagrange import Coordinate, EnergyTerm, EquationsOfMotion, Parameter, ParameterTable, lagrange_equations, time_derivative
 from .structure import StructuredSolve, schur_solve
 
 __all__ = [
-    "Coordinate", "EnergyTerm", "EquationsOfMotion", "Parameter", "StructuredSolve",
+    "Coordinate", "EnergyTerm", "EquationsOfMotion", "Parameter", "ParameterTable", "StructuredSolve",
     "assert_identity", "canonical_trig", "is_identity", "reduce_pythagorean", "lagrange_equations", "schur_solve",
     "time_derivative",
 ]

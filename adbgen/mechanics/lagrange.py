@@ -49,6 +49,18 @@ class Parameter:
         return self.symbol.name
 
 
+class ParameterTable(list):
+    """Collects a model's parameters while its symbols are made: ``M = table.add(symbol, ...)``."""
+
+    def add(self, symbol: sp.Symbol, description: str, unit: str, default: float) -> sp.Symbol:
+        self.append(Parameter(symbol, description, unit, float(default)))
+        return symbol
+
+    def sorted(self) -> tuple[Parameter, ...]:
+        """By name: the order of generated code's parameter vectors."""
+        return tuple(sorted(self, key=lambda p: p.name))
+
+
 @dataclass(frozen=True)
 class EnergyTerm:
     """Kinetic energy T, potential V and Rayleigh dissipation F of one body."""

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ..mechanics import Parameter
+from ..mechanics import Parameter, ParameterTable
 from ..scene import Scene
 
 t = sp.Symbol("t", real=True)
@@ -56,11 +56,8 @@ class DimensionalSymbols:
     @classmethod
     def for_scene(cls, scene: Scene) -> "DimensionalSymbols":
         n = scene.n
-        params: list[Parameter] = []
-
-        def add(symbol, description, unit, default):
-            params.append(Parameter(symbol, description, unit, float(default)))
-            return symbol
+        params = ParameterTable()
+        add = params.add
 
         M = add(positive("M"), "rotor (disc) mass", "kg", scene.rotor_mass)
         eps = add(nonnegative("eps"), "eccentricity of the rotor's centre of mass W from C", "m",
@@ -93,8 +90,7 @@ class DimensionalSymbols:
             add(I_z, "polar moment of inertia of the rotor", "kg m^2", scene.polar_inertia)
             add(tau0, "stall torque of the drive", "N m", scene.speed.tau0)
             add(kappa, "slope of the drive's torque-speed line", "N m s/rad", scene.speed.motor_slope)
-        params.sort(key=lambda p: p.name)
-        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, tuple(params))
+        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted())
 
 
 def nondimensional_parameters(values: dict[str, float] | None = None, gravity: bool = False) -> tuple[Parameter, ...]:

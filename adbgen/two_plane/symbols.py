@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ..mechanics import Parameter
+from ..mechanics import Parameter, ParameterTable
 from ..single_plane.symbols import nonnegative, positive, t
 from .scene import TwoPlaneScene
 
@@ -47,11 +47,8 @@ class TwoPlaneSymbols:
 
     @classmethod
     def for_scene(cls, scene: TwoPlaneScene) -> "TwoPlaneSymbols":
-        params: list[Parameter] = []
-
-        def add(symbol, description, unit, default):
-            params.append(Parameter(symbol, description, unit, float(default)))
-            return symbol
+        params = ParameterTable()
+        add = params.add
 
         M = add(positive("M"), "rotor mass", "kg", scene.rotor_mass)
         Jt = add(positive("J_t"), "transverse moment of inertia of the rotor", "kg m^2", scene.transverse_inertia)
@@ -98,10 +95,9 @@ class TwoPlaneSymbols:
             add(c_r, "torsional damping c_r (3)", "N m s/rad", sp_.torsion_damping)
             add(tau0, "stall torque of the drive", "N m", sp_.tau0)
             add(kappa, "slope of the drive's torque-speed line", "N m s/rad", sp_.motor_slope)
-        params.sort(key=lambda p: p.name)
         return cls(M, Jt, Jp, eps, beta, chi, l1, l2, k, c, m, tuple(race_R[r] for r in races),
                    tuple(race_z[r] for r in races), tuple(race_cb[r] for r in races), Omega, c_r, tau0, kappa,
-                   Om_max, t_ramp, t_half, Om_cyl, tuple(params))
+                   Om_max, t_ramp, t_half, Om_cyl, params.sorted())
 
 
 __all__ = ["TwoPlaneSymbols", "RACE_TAGS", "t"]
