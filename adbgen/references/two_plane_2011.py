@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..mechanics import Coordinate
+from ..core import Coordinate
 
 I = sp.I
 

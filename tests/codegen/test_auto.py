@@ -42,10 +42,10 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from adbgen.codegen import models
+from adbgen.families.single_plane import models
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.render import render_model
-from adbgen.single_plane.steady_states import critical_speeds
+from adbgen.families.single_plane.steady_states import critical_speeds
 
 # helpers of this folder (conftest.py puts it on sys.path)
 from toolchain import require_tool
@@ -594,7 +594,7 @@ def test_forced_stage2_restarts_and_continues_in_omega(forced):
 def test_more_than_ten_parameters_skip_autos_own_par_slots(auto_toolchain, tmp_path):
     """Unequal balls keep the dimensional rotating-frame model (12 parameters for n = 3):
     parameters 10 and 11 go to PAR(15), PAR(16); PAR(11)-PAR(14) stay AUTO's; it builds."""
-    from adbgen.scene import Scene
+    from adbgen.families.single_plane.scene import Scene
 
     spec = models.for_scene(Scene.from_mapping({"n": 3, "ball_mass": [0.05, 0.04, 0.03]}), "unequal_n3")
     ir = spec.build()

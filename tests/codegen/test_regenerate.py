@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from adbgen.codegen import models
+from adbgen.families.single_plane import models
 from adbgen.codegen.regenerate import DEFAULT_OUT, render_all, stale
 
 ADBGEN = [sys.executable, "-m", "adbgen.cli"]

@@ -1,0 +1,39 @@
+"""`adbgen bench derive|codegen [--out FILE] [--n ...]`: benchmarks, results written to a committed file."""
+
+from __future__ import annotations
+
+from .cli_types import UsageError, positive_int
+
+_BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json"}
+
+
+def cmd_bench(args) -> int:
+    from . import bench
+
+    if args.what not in _BENCH_OUT:
+        raise UsageError(f"unknown benchmark {args.what!r}; choose: {', '.join(_BENCH_OUT)}")
+    out = args.out if args.out is not None else _BENCH_OUT[args.what]
+    if args.what == "codegen":
+        from . import bench_codegen
+
+        ns = tuple(args.n)  # op counts for every n; timings for n <= 16 (jac and lambdify up to 8)
+        result = bench_codegen.bench_codegen(
+            ns, tuple(n for n in ns if n <= max(bench_codegen.SPEED_NS)),
+            progress=lambda r: print(bench_codegen.describe(r), flush=True))
+        path = bench.write(result, out)
+        print(f"wrote {path} ({result['seconds']} s)")
+        return 0
+    result = bench.bench_derive(tuple(args.n), progress=lambda r: print(
+        f"{r['model']:30s} n={r['n']:3d}  {r['seconds']:8.3f} s  eom ops {r['eom_ops']:7d}  first-order ops {r['first_order_ops']:7d}",
+        flush=True))
+    path = bench.write(result, out)
+    print(f"wrote {path}")
+    return 0
+
+
+def register(sub) -> None:
+    b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
+    b.add_argument("what", help="derive or codegen")
+    b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json)")
+    b.add_argument("--n", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
+    b.set_defaults(fn=cmd_bench)
