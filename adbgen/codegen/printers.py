@@ -9,6 +9,7 @@ everywhere at once.
 from __future__ import annotations
 
 import keyword
+import math
 
 import sympy as sp
 from sympy.printing.c import C99CodePrinter
@@ -59,6 +60,17 @@ class _Rules:
     def _print_Rational(self, expr):
         return f"{float(expr.p)!r}/{float(expr.q)!r}"
 
+    def _print_Mul(self, expr):
+        # SymPy prints a single denominator as "a/" + den; a power printed as a product (t*t) must then
+        # be parenthesised: a/(t*t), not a/t*t (first met with the ramp's 1/t_ramp^2)
+        text = super()._print_Mul(expr)
+        dens = [f for f in expr.args if f.is_Pow and f.exp.is_Rational and f.exp.is_negative]
+        if len(dens) == 1 and dens[0].is_Pow and dens[0].exp.is_Integer and 2 <= -int(dens[0].exp) <= _MAX_PRODUCT_POWER:
+            inner = self._print(sp.Pow(dens[0].base, -dens[0].exp))
+            if text.endswith("/" + inner):
+                text = text[: -len(inner)] + f"({inner})"
+        return text
+
     def _print_Pow(self, expr, rational=False):
         base, exp = expr.as_base_exp()
         if exp.is_Integer and 2 <= abs(int(exp)) <= _MAX_PRODUCT_POWER:
@@ -79,4 +91,10 @@ class PythonPrinter(_Rules, PythonCodePrinter):
 
 
 class CPrinter(_Rules, C99CodePrinter):
-    """C99 with <math.h>."""
+    """C99 with <math.h>; constants as literals (M_PI, M_E are POSIX, not C99)."""
+
+    def _print_Pi(self, expr):
+        return repr(math.pi)
+
+    def _print_Exp1(self, expr):
+        return repr(math.e)

@@ -47,10 +47,14 @@ def scene(preset: str = "paper-10", speed: dict | None = None, m: float = BALL_M
 
 def balanced_angles(sc: TwoPlaneScene) -> list[float] | None:
     """B of (9) for the symmetric races: alpha = pi +- arccos(m_c/m), m_c = M eps/(4R), in each race."""
-    r0 = sc.races[0]
-    m_c = sc.rotor_mass * sc.eccentricity / (4 * r0.radius)
-    if not sc.symmetric or len(r0.masses) != 2 or r0.masses[0] <= m_c:
+    if len(sc.races) != 2 or sc.misalignment != 0:
         return None
+    r0, r1 = sc.races
+    mirrored = (r1.z == -r0.z and r1.radius == r0.radius and len(r0.masses) == 2
+                and len(set(r0.masses + r1.masses)) == 1)
+    m_c = sc.rotor_mass * sc.eccentricity / (4 * r0.radius)
+    if not mirrored or r0.masses[0] <= m_c:
+        return None  # (the bearings do not matter: at B the rotor is at rest, no support force acts)
     a = math.acos(m_c / r0.masses[0])
     return [math.pi + a, math.pi - a] * 2
 

@@ -49,10 +49,14 @@ class AutoTarget(Target):
             "npar_amp": apar(len(ir.parameters)),
         }
         if ir.forcing_frequency:
-            if cont.second != ir.forcing_frequency:
-                raise ValueError(f"{ir.name}: the second stage continues {cont.second!r}, "
-                                 f"not the forcing frequency {ir.forcing_frequency!r}")
-            out.update(stage2=names.index(cont.second),
+            # periodic orbits: either in the parameter the start moved, then (stage 2) in the forcing
+            # frequency; or, from an orbit at the defaults, in the forcing frequency at once
+            stages = 2 if cont.second else 1
+            frequency = cont.second or cont.parameter
+            if frequency != ir.forcing_frequency:
+                raise ValueError(f"{ir.name}: the continuation in {frequency!r} is not in the forcing frequency "
+                                 f"{ir.forcing_frequency!r}")
+            out.update(stages=stages, stage2=names.index(ir.forcing_frequency),
                        osc=(ir.state_names.index(OSC_SIN.name), ir.state_names.index(OSC_COS.name)))
         return out
 
