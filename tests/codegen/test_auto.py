@@ -30,6 +30,8 @@ Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
 
 from __future__ import annotations
 
+import dataclasses
+
 import ctypes
 import os
 import re
@@ -44,7 +46,8 @@ from scipy.optimize import brentq
 
 from adbgen.families.single_plane import models
 from adbgen.codegen.regenerate import DEFAULT_OUT
-from adbgen.codegen.render import render_model
+from adbgen.codegen.ir import Continuation
+from adbgen.codegen.render import render_model, skipped_targets
 from adbgen.families.single_plane.steady_states import critical_speeds
 
 # helpers of this folder (conftest.py puts it on sys.path)
@@ -264,7 +267,8 @@ def test_coincident_states_fold_at_the_critical_speeds(auto_toolchain, generated
     module, _, _ = generated_model("thesis_rotating", 2)
     spec = models.ModelSpec(f"coincident_n2_{which}", "thesis n = 2 from the coincident state 2+", 2,
                             models.thesis_rotating(2).system,
-                            lambda s: models.balanced_start(s, 2, "coincident", Omega=omega0))
+                            lambda s: models.balanced_start(s, 2, "coincident", Omega=omega0),
+                            continuation=models.steady_continuation("Omega", stop=(0.5, 6.0)))
     ir = spec.build()
     assert "coincident" in ir.start_label and ir.start_parameters[0] == omega0
     points = run_auto(rendered_auto(ir), spec.name, tmp_path)
@@ -388,21 +392,13 @@ def read_multipliers(path: Path, ndim: int) -> np.ndarray:
 
 def forced_auto_files(ir) -> dict[str, str]:
     """c.<model>, <model>.c and c.<model>.2 of a forced model: the committed generated/ files if
-    present, else rendered now (c.<model>.2 from templates/auto/constants_stage2.j2 while it is not a
-    rendered target)."""
-    from adbgen.codegen.render import context, environment
-
+    present, else rendered now."""
     name = ir.name
     folder = DEFAULT_OUT / name / "auto"
     names = (f"{name}.c", f"c.{name}", f"c.{name}.2")
     if all((folder / f).is_file() for f in names):
         return {f: (folder / f).read_text() for f in names}
-    files = rendered_auto(ir)
-    if f"c.{name}.2" not in files:
-        ctx = context(ir.autonomous_extension)
-        files[f"c.{name}.2"] = environment().get_template("auto/constants_stage2.j2").render(
-            **ctx, programs=ctx["programs_c"])
-    return files
+    return rendered_auto(ir)
 
 
 @pytest.fixture(scope="module")
@@ -456,10 +452,12 @@ def test_forced_model_renders_a_periodic_orbit_problem():
     assert re.search(rf"^ICP = \[{omega}, 11, 16\]$", c2, re.M) and re.search(rf"^UZSTOP = \{{{omega}: \[300\.0, 500\.0\]\}}$", c2, re.M)
     assert "u[8] = sin(6.283185307179586 * t);" in user and "par[10] = 6.283185307179586 / par[14];" in user
     # autonomous models have one stage: the stage-2 template renders nothing for them
+    from adbgen.codegen import targets
     from adbgen.codegen.render import context, environment
     thesis = models.thesis_rotating(2).build()
-    ctx = context(thesis)
-    assert environment().get_template("auto/constants_stage2.j2").render(**ctx, programs=ctx["programs_c"]) == ""
+    ctx = context(thesis, targets.get("auto"))
+    assert environment().get_template("auto/constants_stage2.j2").render(**ctx) == ""
+    assert "thesis_rotating_n2/auto/c.thesis_rotating_n2.2" not in render_model(thesis, ("auto",))
 
 
 def test_forced_func_and_stpnt_equal_the_forced_numba_model_on_the_cycle(auto_toolchain, generated_model, tmp_path):
@@ -599,6 +597,10 @@ def test_more_than_ten_parameters_skip_autos_own_par_slots(auto_toolchain, tmp_p
     spec = models.for_scene(Scene.from_mapping({"n": 3, "ball_mass": [0.05, 0.04, 0.03]}), "unequal_n3")
     ir = spec.build()
     assert ir.autonomous and len(ir.parameters) == 12
+    assert ir.start is None and "auto" in skipped_targets(ir)  # no steady state known: no AUTO files
+    # the PAR layout does not depend on the start: give it one (not a steady state) to render the files
+    ir = dataclasses.replace(ir, start=(0.0,) * ir.n_states, start_label="U = 0 (not a steady state)",
+                             start_parameters=tuple(p.default for p in ir.parameters), continuation=Continuation("omega"))
     files = rendered_auto(ir)
     user = files["unequal_n3.c"]
     name10, name11 = ir.parameter_names[10], ir.parameter_names[11]

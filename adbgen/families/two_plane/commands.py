@@ -19,10 +19,10 @@ def _scene(args):
 
 
 def cmd_verify(args) -> int:
+    from .. import get
     from ..commands import run_verify
-    from .family import FAMILY
 
-    return run_verify((FAMILY,), ())
+    return run_verify((get("two-plane"),), ())
 
 
 def cmd_derive(args) -> int:

@@ -111,8 +111,12 @@ def two_plane_ramp() -> ModelSpec:
                      checks=checks(("fixed_frame",), ("prescribed_speed", "ramp")))
 
 
+def two_plane_hill_scene() -> TwoPlaneScene:
+    return scene(speed={"law": "hill", "omega_max": 3.6, "t_half": 200.0, "n": 3, "omega_cyl": 1.0})
+
+
 def two_plane_hill() -> ModelSpec:
-    sc = scene(speed={"law": "hill", "omega_max": 3.6, "t_half": 200.0, "n": 3, "omega_cyl": 1.0})
+    sc = two_plane_hill_scene()
     return ModelSpec("two_plane_hill", "Two-plane balancer (10), 2 + 2 balls, Hill run-up (45)",
                      sc.n, lambda: first_order(derive(sc)), family=FAMILY,
                      checks=checks(("fixed_frame",), ("prescribed_speed", "hill")))

@@ -85,7 +85,7 @@ def test_oscillator_extension_reproduces_the_forced_system():
     f = NumericFirstOrder(first_order(eom))
     Om = TwoPlaneSymbols.for_scene(scene).Omega
     osc = sp.lambdify([osc_s, osc_c, Om], list(ext.oscillator))
-    i_s, i_c, i_om = (f.parameter_names.index(n) for n in ("s_osc", "c_osc", "Omega"))
+    i_s, i_c, i_om = (f.parameter_names.index(n) for n in ("osc_sin", "osc_cos", "Omega"))
 
     def rhs(t, y):
         p = f.defaults.copy()
