@@ -17,7 +17,7 @@ AUTO_DIR = Path(os.environ.get("AUTO_DIR", "/usr/lib/auto-07p"))
 BIFURCATIONS = {1: "BP", 2: "LP", 3: "HB"}  # |TY| in fort.7; 4 regular/UZ, 9 end points
 
 
-def _auto_header() -> Path | None:
+def auto_header() -> Path | None:
     for folder in (AUTO_DIR / "include", Path("/usr/include")):
         if (folder / "auto_f2c.h").is_file():
             return folder
@@ -29,7 +29,7 @@ def auto_toolchain():
     missing = [what for what, ok in (
         ("auto-07p (cmds/cmds.make)", (AUTO_DIR / "cmds" / "cmds.make").is_file()),
         ("auto-07p (lib/libauto_c.a)", (AUTO_DIR / "lib" / "libauto_c.a").is_file()),
-        ("auto-07p (auto_f2c.h)", _auto_header() is not None),
+        ("auto-07p (auto_f2c.h)", auto_header() is not None),
         ("gfortran", shutil.which("gfortran") is not None),
         ("gcc", shutil.which("gcc") is not None),
         ("make", shutil.which("make") is not None),

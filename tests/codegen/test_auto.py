@@ -51,7 +51,7 @@ from adbgen.codegen.render import render_model, skipped_targets
 from adbgen.families.single_plane.steady_states import critical_speeds
 
 # helpers of this folder (conftest.py puts it on sys.path)
-from autorun import (AUTO_DIR, Point, auto_toolchain, build_and_run, fortran_number, read_fort7,  # noqa: F401
+from autorun import (AUTO_DIR, Point, auto_header, auto_toolchain, build_and_run, fortran_number, read_fort7,  # noqa: F401
                      run_auto, unlabelled_stability_changes)
 from toolchain import require_tool  # noqa: F401
 
@@ -195,7 +195,7 @@ def _harness(user_file: str, name: str, ndim: int, tmp_path: Path):
     (tmp_path / "harness.c").write_text(HARNESS.format(name=name, ndim=ndim))
     lib = tmp_path / "harness.so"
     r = subprocess.run(["gcc", "-std=gnu99", "-O1", "-Wall", "-Wextra", "-Werror", "-fPIC", "-shared",
-                        "-I", str(_auto_header()), "-o", str(lib), "harness.c", "-lm"],
+                        "-I", str(auto_header()), "-o", str(lib), "harness.c", "-lm"],
                        cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     return ctypes.CDLL(str(lib))
