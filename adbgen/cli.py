@@ -8,6 +8,7 @@
                                               derive, check, emit numba/C/CVODE/AUTO into generated/
     adbgen bench derive|codegen [--out FILE] [--n ...]
     adbgen two-plane verify|derive|steady     the two-plane rotor (see adbgen/two_plane/commands.py)
+    adbgen simulate ...                       transients on the generated code (adbgen/analysis/commands.py)
 
 Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
 """
@@ -346,6 +347,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .two_plane.commands import add_parser as add_two_plane
 
     add_two_plane(sub, _Parser)
+    from .analysis.commands import register as add_analysis
+
+    add_analysis(sub, _Parser)
     return p
 
 
