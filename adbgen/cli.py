@@ -5,16 +5,18 @@
     adbgen two-plane verify|derive|steady      the two-plane family's commands
     adbgen regenerate [--check] [--scene F] [--n N ...] [--family F ...] [--out DIR] [--targets ...]
     adbgen bench derive|codegen [--out FILE] [--n ...]
+    adbgen simulate ...                        transients on the generated code (adbgen/analysis/commands.py)
 
 Every family in `families.REGISTRY` adds its own subcommands (`Family.register_commands`); other
 command groups are listed once in `COMMAND_GROUPS` as "module:function", each function taking the
-subparsers.  Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
+subparsers (and, if it asks for a second argument, the parser class, for nested subcommands).  Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import inspect
 import sys
 from typing import Callable
 
@@ -26,6 +28,7 @@ from .errors import AdbgenError
 COMMAND_GROUPS: list[str] = [
     "adbgen.codegen.commands:register",  # regenerate
     "adbgen.bench_commands:register",  # bench
+    "adbgen.analysis.commands:register",  # simulate (the analysis layer over generated code)
 ]
 
 
@@ -51,7 +54,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"adbgen {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for register in command_groups():
-        register(sub)
+        takes = len(inspect.signature(register).parameters)
+        register(sub, _Parser) if takes >= 2 else register(sub)
     return p
 
 

@@ -20,6 +20,7 @@ def compile_program(ir: ModelIR, which: str):
     program = getattr(ir, which)
     names = identifiers(ir)
     printer = PythonPrinter(names)
+    printer.set_program(program.assignments)
     lines = ["def _f(t, y, p):"]
     lines += [f"    {names[s.symbol]} = y[{k}]" for k, s in enumerate(ir.states)]
     lines += [f"    {names[q.symbol]} = p[{k}]" for k, q in enumerate(ir.parameters)]

@@ -103,6 +103,7 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
     states = [{"ident": names[s.symbol], "index": k} for k, s in enumerate(ir.states) if s.symbol in used]
     params = [{"ident": names[p.symbol], "index": k} for k, p in enumerate(ir.parameters) if p.symbol in used]
     ncol = program.shape[1] if len(program.shape) == 2 else 1
+    printer.set_program(program.assignments)
     outputs = [(i, printer.doprint(e)) for i, e in program.outputs]
     return {
         "states": states,

@@ -72,14 +72,18 @@ def balanced_start(system: FirstOrderSystem, n: int, state: str = "balanced",
     return start, f"{label} at the defaults" + (f" but {where}" if where else ""), overrides
 
 
-def steady_continuation(parameter: str, stop: tuple[float, float] | None = None):
-    """Continue the start's steady state in `parameter` towards 1 (the thesis' critical speeds lie
-    below the defaults), flagging a start on the continuum of balanced states (n >= 3)."""
+def steady_continuation(parameter: str | tuple[str, ...], stop: tuple[float, float] | None = None):
+    """Continue the start's steady state in `parameter` (the first of them the model has: the spin
+    speed is Omega in the thesis' dimensionless form, omega in the dimensional one) towards 1 (the
+    thesis' critical speeds lie below the defaults), flagging a start on the continuum of balanced
+    states (n >= 3)."""
     def decide(system: FirstOrderSystem, start: tuple) -> Continuation:
         state, label, values = start
-        value = values[[p.name for p in system.parameters].index(parameter)]
+        names = [p.name for p in system.parameters]
+        name = next(p for p in ((parameter,) if isinstance(parameter, str) else parameter) if p in names)
+        value = values[names.index(name)]
         n = sum(1 for c in system.coordinates if c.name.startswith("phi_"))
-        return Continuation(parameter, direction=-1 if value > 1 else 1, stop=stop,
+        return Continuation(name, direction=-1 if value > 1 else 1, stop=stop,
                             continuum=n >= 3 and label.startswith("balanced"))
     return decide
 
@@ -151,4 +155,4 @@ def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
     kinds = ("fixed_frame", "prescribed_speed") + (("rotating", "appendix_a") if rotating else ())
     return ModelSpec(name, f"Single-plane balancer with {scene.n} balls: {selected.reason}", scene.n,
                      lambda: selected.system, start, family=FAMILY, checks=checks(*kinds, n=scene.n),
-                     continuation=steady_continuation("omega") if rotating else None)
+                     continuation=steady_continuation(("Omega", "omega")) if rotating else None)

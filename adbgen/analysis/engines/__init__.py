@@ -1,0 +1,36 @@
+"""Integration engines, registered in one place (`ENGINES`); `DEFAULT` is the one users get.
+
+Every engine runs a generated model from t = 0 to t_end and reports the same things (status, r_max,
+t_dec, final state, evaluations, steps, wall time); `symmetric` says whether it keeps identical balls
+that start together bit-for-bit together (tested).  To add an engine: a class with `name`,
+`description`, `symmetric`, `run(...)` and `run_many(...)` (see compiled.py) and one line below.
+"""
+
+from __future__ import annotations
+
+from ..loading import AnalysisError
+from .compiled import CyRKEngine, SundialsEngine
+from .scipy_ivp import ScipyEngine
+
+DEFAULT = "cyrk-dop853"
+
+ENGINES = {e.name: e for e in (
+    CyRKEngine("DOP853"), CyRKEngine("Vern8"), CyRKEngine("Vern7"), CyRKEngine("RK45"), CyRKEngine("RK23"),
+    SundialsEngine("cvode-bdf", 10, "SUNDIALS CVODE BDF, Newton, dense LU with the generated Jacobian (stiff)",
+                   symmetric=False),
+    SundialsEngine("cvode-adams", 11, "SUNDIALS CVODE Adams-Moulton, fixed-point iteration", symmetric=True),
+    SundialsEngine("arkode-erk8", 0, "SUNDIALS ARKODE ERKStep, Fehlberg 13-stage 7(8)", symmetric=True),
+    SundialsEngine("arkode-dp5", 1, "SUNDIALS ARKODE ERKStep, Dormand-Prince 4(5)", symmetric=True),
+    SundialsEngine("arkode-erk6", 2, "SUNDIALS ARKODE ERKStep, Verner 5(6)", symmetric=True),
+    ScipyEngine("dop853"), ScipyEngine("rk45"), ScipyEngine("radau"), ScipyEngine("lsoda"), ScipyEngine("bdf"),
+    ScipyEngine("radau", use_jac=False), ScipyEngine("lsoda", use_jac=False),
+)}
+
+
+def engine(name: str | None):
+    """The engine called `name` (None: the default)."""
+    key = DEFAULT if name in (None, "", "default") else name
+    try:
+        return ENGINES[key]
+    except KeyError:
+        raise AnalysisError(f"unknown engine {name!r}; engines: {', '.join(ENGINES)}") from None

@@ -1,0 +1,276 @@
+"""The compiled engines: a generated model's C library inside a C driver, called through ctypes.
+
+Each driver (`cyrk_driver.c`, `sundials_driver.c`) is compiled once per model with gcc into a shared
+library cached under ``$ADBGEN_CACHE`` (default ``~/.cache/adbgen``), keyed by the driver, the model's
+C source and the flags; later runs only load it (milliseconds).  ctypes releases the GIL for the
+call, and a batch runs on OpenMP threads inside the library: no Python per step, per evaluation or
+per trajectory.
+
+    cyrk-dop853 (default), cyrk-vern8, cyrk-vern7, cyrk-rk45, cyrk-rk23
+        CyRK's C++ explicit Runge-Kutta solvers (CyRK.nb.numba_c_api's C entry points)
+    cvode-bdf      SUNDIALS CVODE, BDF with Newton and the generated analytic Jacobian (stiff)
+    cvode-adams    SUNDIALS CVODE, Adams-Moulton with fixed-point iteration (no linear algebra)
+    arkode-erk8, arkode-dp5, arkode-erk6
+                   SUNDIALS ARKODE ERKStep: Fehlberg 7(8), Dormand-Prince 4(5), Verner 5(6)
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+import threading
+import time
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from ..loading import AnalysisError, cache_dir
+from ..results import STOPPED, SUCCESS
+
+HERE = Path(__file__).resolve().parent
+STATUS = {0: SUCCESS, 1: "max_steps", 2: "step_underflow", 3: "nonfinite", 4: "solver_failure", 5: STOPPED,
+          6: "bad_input"}
+SUNDIALS_LIBS = ["-lsundials_arkode", "-lsundials_cvode", "-lsundials_nvecserial", "-lsundials_sunmatrixdense",
+                 "-lsundials_sunlinsoldense", "-lsundials_sunnonlinsolfixedpoint"]
+_CFLAGS = ["-std=gnu99", "-O2", "-fPIC", "-shared", "-fopenmp"]
+_lock = threading.Lock()
+
+D = ctypes.POINTER(ctypes.c_double)
+I = ctypes.POINTER(ctypes.c_int)
+L = ctypes.POINTER(ctypes.c_long)
+U8 = ctypes.POINTER(ctypes.c_uint8)
+
+
+class _Trajectory(ctypes.Structure):
+    _fields_ = [("t", D), ("y", D), ("k", ctypes.c_long)]
+
+
+def compiler() -> str:
+    cc = os.environ.get("CC") or shutil.which("gcc") or shutil.which("cc")
+    if not cc:
+        raise AnalysisError("no C compiler found (the compiled engines need gcc: apt-get install gcc)")
+    return cc
+
+
+def build(model, driver: str, libs: list[str]) -> Path:
+    """Compile `driver` with the model's C source into a cached shared library; returns its path."""
+    source = model.c_source()
+    drv = HERE / driver
+    h = hashlib.sha256()
+    for part in (drv.read_bytes(), (HERE / "driver_common.h").read_bytes(), source.read_bytes(),
+                 " ".join(_CFLAGS + libs).encode(), model.name.encode()):
+        h.update(part)
+        h.update(b"\0")
+    target = cache_dir() / "engines" / f"{model.name}-{drv.stem}-{h.hexdigest()[:16]}.so"
+    if target.is_file():
+        return target
+    target.parent.mkdir(parents=True, exist_ok=True)
+    name = model.name
+    defines = [f'-DADB_MODEL_SOURCE="{source}"', f"-DADB_RHS={name}_rhs", f"-DADB_JAC={name}_jac",
+               f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}"]
+    fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
+    os.close(fd)
+    cmd = [compiler(), *_CFLAGS, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, *libs, "-lm"]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        os.unlink(tmp)
+        first = next((ln for ln in proc.stderr.splitlines() if "error" in ln), proc.stderr.strip()[:300])
+        raise AnalysisError(f"building the {drv.stem} engine for {name} failed: {first}")
+    os.replace(tmp, target)  # atomic: concurrent builders (sweep workers) never see half a library
+    return target
+
+
+def _ptr(a: np.ndarray, kind=D):
+    return a.ctypes.data_as(kind)
+
+
+class _Compiled:
+    """Shared by the compiled engines: the library per model, the batch call, the outputs."""
+
+    symmetric = True
+    driver = ""
+    libs: list[str] = []
+    prefix = ""
+
+    def library(self, model):
+        return _load(self, model.name, model.source_hash, str(model.folder), model)
+
+    def _common(self, model, threshold):
+        ix, iy, ixd, iyd = model.amplitude_indices
+        return np.array([ix, iy, ixd, iyd], dtype=np.int32)
+
+    @staticmethod
+    def _targets(model, targets):
+        """(n, centres, weights, periodic) of early-stop regions (see driver_common.h)."""
+        if not targets:
+            return 0, None, None, None
+        centres = np.ascontiguousarray([c for c, _ in targets], dtype=float)
+        weights = np.ascontiguousarray([w for _, w in targets], dtype=float)
+        periodic = np.zeros(model.n_states, dtype=np.uint8)
+        periodic[list(model.angle_indices)] = 1
+        return len(targets), centres, weights, periodic
+
+    def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
+                 targets=()):
+        lib = self.library(model)
+        n = len(Y0)
+        Y0 = np.ascontiguousarray(Y0, dtype=float)
+        P = np.ascontiguousarray(P, dtype=float)
+        amp = self._common(model, threshold)
+        nt, centres, weights, periodic = self._targets(model, targets)
+        status = np.zeros(n, np.int32)
+        target = np.full(n, -1, np.int32)
+        y_end = np.zeros((n, model.n_states))
+        stats = np.zeros((n, 4))
+        counts = np.zeros((n, 2), np.int64)
+        start = time.perf_counter()
+        getattr(lib, self.prefix + "_integrate_many")(
+            n, _ptr(Y0), _ptr(P), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
+            self.method_id, ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
+            ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
+            None if weights is None else _ptr(weights), None if periodic is None else _ptr(periodic, U8),
+            int(threads or 0), _ptr(status, I), _ptr(target, I), _ptr(y_end), _ptr(stats), _ptr(counts, L))
+        wall = time.perf_counter() - start
+        codes = np.array([STATUS[int(c)] for c in status])
+        return {"status": codes, "r_max": stats[:, 0], "t_dec": stats[:, 1], "t_last": stats[:, 2],
+                "t_fail": stats[:, 3], "y_end": y_end, "target": target, "n_rhs": counts[:, 0],
+                "n_steps": counts[:, 1], "wall_s": wall}
+
+
+@lru_cache(maxsize=None)
+def _load_cached(path: str, prefix: str):
+    lib = ctypes.CDLL(path)
+    integrate = getattr(lib, prefix + "_integrate")
+    integrate.restype = ctypes.c_int
+    many = getattr(lib, prefix + "_integrate_many")
+    many.restype = None
+    return lib
+
+
+def _load(engine, name, source_hash, folder, model):
+    with _lock:
+        lib = _load_cached(str(build(model, engine.driver, engine.libs)), engine.prefix)
+        if engine.prefix == "adb_cyrk" and not getattr(lib, "_adbgen_ready", False):
+            lib.adb_cyrk_init.restype = ctypes.c_int
+            ptrs = (ctypes.c_void_p * 9)(*_cyrk_pointers())
+            lib.adb_cyrk_init(ptrs)
+            lib._adbgen_ready = True
+        return lib
+
+
+@lru_cache(maxsize=1)
+def _cyrk_pointers() -> tuple[int, ...]:
+    try:
+        import CyRK.nb.numba_c_api as api
+    except ImportError as exc:  # a declared dependency: a broken install, said in one line
+        raise AnalysisError(f"CyRK is not importable ({exc}); pip install 'CyRK>=0.20'") from None
+    return (api.get_solve_func_ptr(), api.get_success_func_ptr(), api.get_status_func_ptr(),
+            api.get_size_func_ptr(), api.get_t_func_ptr(), api.get_y_func_ptr(), api.get_steps_taken_func_ptr(),
+            api.get_call_call_func_ptr(), api.get_free_func_ptr())
+
+
+@lru_cache(maxsize=1)
+def _cyrk_methods() -> dict[str, int]:
+    from CyRK.cy.pyhelpers import find_ode_method_int
+
+    return {m: find_ode_method_int(m) for m in ("DOP853", "Vern8", "Vern7", "RK45", "RK23")}
+
+
+class CyRKEngine(_Compiled):
+    """CyRK's C++ explicit Runge-Kutta (cyrk_driver.c)."""
+
+    driver = "cyrk_driver.c"
+    libs: list[str] = []
+    prefix = "adb_cyrk"
+    native_events = False
+
+    def __init__(self, method: str):
+        self.method = method
+        self.name = "cyrk-" + method.lower()
+        self.description = f"CyRK {method} (C++) on the generated C library; compiled, no Python per step"
+
+    @property
+    def method_id(self) -> int:
+        return _cyrk_methods()[self.method]
+
+    def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=0):
+        lib = self.library(model)
+        y0 = np.ascontiguousarray(y0, dtype=float)
+        p = np.ascontiguousarray(p, dtype=float)
+        amp = self._common(model, threshold)
+        traj = _Trajectory()
+        target = ctypes.c_int(-1)
+        y_end = np.zeros(model.n_states)
+        stats = np.zeros(4)
+        counts = np.zeros(2, np.int64)
+        lib.adb_cyrk_integrate.argtypes = None
+        start = time.perf_counter()
+        code = lib.adb_cyrk_integrate(
+            _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id,
+            ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold), ctypes.c_double(0.0), 0, None,
+            None, None, 1 if keep_trajectory else 0, ctypes.byref(traj), ctypes.byref(target), _ptr(y_end),
+            _ptr(stats), _ptr(counts, L))
+        wall = time.perf_counter() - start
+        try:
+            k = traj.k
+            t = np.ctypeslib.as_array(traj.t, (k,)).copy() if k else np.zeros(0)
+            y = np.ctypeslib.as_array(traj.y, (k, model.n_states)).T.copy() if k else np.zeros((model.n_states, 0))
+        finally:
+            if traj.k:
+                lib.adb_cyrk_release(ctypes.byref(traj))
+        return _single(code, t, y, y_end, stats, counts, wall, "")
+
+
+class SundialsEngine(_Compiled):
+    """SUNDIALS CVODE or ARKODE ERKStep (sundials_driver.c); events by SUNDIALS' root finding."""
+
+    driver = "sundials_driver.c"
+    libs = SUNDIALS_LIBS
+    prefix = "adb_sundials"
+    native_events = True
+
+    def __init__(self, name: str, method_id: int, description: str, symmetric: bool):
+        self.name = name
+        self.method_id = method_id
+        self.description = description
+        self.symmetric = symmetric
+
+    def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=2001):
+        lib = self.library(model)
+        y0 = np.ascontiguousarray(y0, dtype=float)
+        p = np.ascontiguousarray(p, dtype=float)
+        amp = self._common(model, threshold)
+        n_s = int(samples) if keep_trajectory else 0
+        times = np.linspace(0.0, t_end, n_s + 1)[1:] if n_s else np.zeros(0)
+        out = np.zeros((max(n_s, 1), model.n_states))
+        target = ctypes.c_int(-1)
+        y_end = np.zeros(model.n_states)
+        stats = np.zeros(4)
+        counts = np.zeros(2, np.int64)
+        msg = ctypes.create_string_buffer(256)
+        start = time.perf_counter()
+        code = lib.adb_sundials_integrate(
+            _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id,
+            ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold), n_s, _ptr(times), _ptr(out),
+            ctypes.c_double(0.0), 0, None, None, None, ctypes.byref(target), _ptr(y_end), _ptr(stats),
+            _ptr(counts, L), msg)
+        wall = time.perf_counter() - start
+        reached = int(np.searchsorted(times, stats[2], side="right")) if n_s else 0
+        t = np.concatenate([[0.0], times[:reached]])
+        y = np.vstack([y0, out[:reached]]).T
+        return _single(code, t, y, y_end, stats, counts, wall, msg.value.decode(errors="replace"))
+
+
+def _single(code, t, y, y_end, stats, counts, wall, message) -> dict:
+    status = STATUS[int(code)]
+    if status == "bad_input":
+        raise AnalysisError("the engine refused its input (t_end, rtol and atol must be > 0, the state finite)")
+    return {"status": status, "t": t, "y": y, "r_max": float(stats[0]),
+            "t_dec": float(stats[1]), "y_end": y_end, "n_rhs": int(counts[0]), "n_steps": int(counts[1]),
+            "t_fail": None if status in (SUCCESS, STOPPED) else float(stats[3]), "wall_s": wall,
+            "message": message}

@@ -1,0 +1,342 @@
+/* adbgen's default integration path: a generated model's C library run by CyRK's C++ Runge-Kutta
+ * solvers (DOP853, Vern7, Vern8, RK45, RK23), with no Python per step or per evaluation.
+ *
+ * One translation unit per model: it #includes the model's generated C source (ADB_MODEL_SOURCE) so
+ * the compiler may inline the right-hand side into the callback.  CyRK's solver is reached through
+ * the C function pointers its numba bridge exports (CyRK.nb.numba_c_api), handed over once by
+ * adb_cyrk_init; compiled by adbgen.analysis.engines.compiled with
+ *
+ *     -DADB_MODEL_SOURCE='"<model>.c"' -DADB_RHS=<model>_rhs -DADB_NY=<states> -DADB_NP=<parameters>
+ *
+ * r_max and t_dec (thesis ch. 5) are located on the continuous solution: the step holding the last
+ * crossing of r = threshold and the steps around the largest peaks of r are integrated again from
+ * their accepted state with CyRK's dense output (the method's own continuous extension), and the
+ * crossing is found by bisection, the peak by a scan and golden section, on that interpolant.
+ *
+ * Exact symmetry: the RK stages update every component by the same element-wise operations and the
+ * generated code evaluates every ball in the same order, so identical balls stay together bit for bit.
+ */
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include ADB_MODEL_SOURCE
+#include "driver_common.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+typedef void (*PreEvalFn)(char *, double, double *, char *);
+typedef void (*DiffeqFn)(double *, double, double *, char *, PreEvalFn);
+typedef void *(*SolveFn)(DiffeqFn, double, double, double *, size_t, int, size_t, size_t, char *, size_t, size_t,
+                         size_t, bool, double *, size_t, PreEvalFn, void *, size_t, double *, size_t, double *, size_t,
+                         double, double, bool);
+typedef bool (*BoolFn)(void *);
+typedef int (*IntFn)(void *);
+typedef size_t (*SizeFn)(void *);
+typedef double *(*PtrFn)(void *);
+typedef int (*CallFn)(void *, double, double *);
+typedef void (*FreeFn)(void *);
+
+static struct {
+    SolveFn solve;
+    BoolFn success;
+    IntFn status;
+    SizeFn size;
+    PtrFn t;
+    PtrFn y;
+    SizeFn steps;
+    CallFn call;
+    FreeFn free;
+} cy;
+
+/* ptrs: solve, success, status, size, t, y, steps_taken, call, free (CyRK.nb.numba_c_api). */
+int adb_cyrk_init(void *const *ptrs)
+{
+    cy.solve = (SolveFn)ptrs[0];
+    cy.success = (BoolFn)ptrs[1];
+    cy.status = (IntFn)ptrs[2];
+    cy.size = (SizeFn)ptrs[3];
+    cy.t = (PtrFn)ptrs[4];
+    cy.y = (PtrFn)ptrs[5];
+    cy.steps = (SizeFn)ptrs[6];
+    cy.call = (CallFn)ptrs[7];
+    cy.free = (FreeFn)ptrs[8];
+    return ADB_NY;
+}
+
+/* CyRK copies the argument bytes; the counter pointer survives the copy */
+typedef struct {
+    double p[ADB_NP];
+    long *count;
+} Args;
+
+static void diffeq(double *dy, double t, double *y, char *args, PreEvalFn pre)
+{
+    (void)pre;
+    Args *a = (Args *)args;
+    ADB_RHS(t, y, a->p, dy);
+    ++*a->count;
+}
+
+typedef struct {
+    int method;
+    double rtol, atol;
+    size_t max_steps;
+} Settings;
+
+static void *solve(const Settings *s, double t0, double t1, double *y0, Args *args, bool dense, double first_step)
+{
+    /* CyRK refuses a first step longer than half the interval */
+    if (first_step > 0.49 * (t1 - t0)) first_step = 0.49 * (t1 - t0);
+    return cy.solve(diffeq, t0, t1, y0, ADB_NY, s->method, 0, 0, (char *)args, sizeof(Args), s->max_steps, 2000,
+                    dense, NULL, 0, NULL, NULL, 0, (double *)&s->rtol, 1, (double *)&s->atol, 1, INFINITY, first_step, true);
+}
+
+/* CyRK status -> ours (CyrkErrorCodes: -51..-53 step limits, -54/-55/-80 step size) */
+static int decode(int code)
+{
+    if (code == -51 || code == -52 || code == -53) return ADB_MAX_STEPS;
+    if (code == -54 || code == -55 || code == -80) return ADB_STEP_UNDERFLOW;
+    return ADB_SOLVER_FAILURE;
+}
+
+/* r^2 at time t on the dense output of `res` */
+static double dense_r2(void *res, double t, int ix, int iy)
+{
+    double y[ADB_NY];
+    cy.call(res, t, y);
+    return adb_r2(y, ix, iy);
+}
+
+/* t_dec in (t[k], t[k+1]]: r(t[k]) >= H > r(t[k+1]); bisection on the step's interpolant */
+static double locate_crossing(const Settings *s, Args *args, const double *t, const double *Y, size_t k, int ix,
+                              int iy, double H2)
+{
+    double y0[ADB_NY];
+    memcpy(y0, Y + k * ADB_NY, sizeof y0);
+    /* the window runs on past t[k+1] (CyRK's first step may be at most half of it), and its first step
+     * is the accepted step t[k] -> t[k+1] again */
+    double h = t[k + 1] - t[k];
+    void *res = solve(s, t[k], t[k] + 2.5 * h, y0, args, true, h);
+    double a = t[k], b = t[k + 1];
+    if (res && cy.success(res)) {
+        for (int it = 0; it < 200; ++it) {
+            double m = 0.5 * (a + b);
+            if (m <= a || m >= b) break;
+            if (dense_r2(res, m, ix, iy) >= H2) a = m;
+            else b = m;
+        }
+    }
+    if (res) cy.free(res);
+    return a;
+}
+
+/* largest r^2 on [t[lo], t[hi]] by the interpolant: a scan, then golden section around its best */
+static double refine_peak(const Settings *s, Args *args, const double *t, const double *Y, size_t lo, size_t hi,
+                          int ix, int iy, double best)
+{
+    double y0[ADB_NY];
+    memcpy(y0, Y + lo * ADB_NY, sizeof y0);
+    double h = t[lo + 1] - t[lo];
+    void *res = solve(s, t[lo], t[lo] + 1.25 * fmax(t[hi] - t[lo], 2.0 * h), y0, args, true, h);
+    if (!res || !cy.success(res)) {
+        if (res) cy.free(res);
+        return best;
+    }
+    const int ns = 32;
+    double span = t[hi] - t[lo], tb = t[lo];
+    for (int j = 0; j <= ns; ++j) {
+        double tt = t[lo] + span * j / ns, v = dense_r2(res, tt, ix, iy);
+        if (v > best) best = v, tb = tt;
+    }
+    double a = fmax(t[lo], tb - span / ns), b = fmin(t[hi], tb + span / ns), g = 0.5 * (sqrt(5.0) - 1.0);
+    double c = b - g * (b - a), d = a + g * (b - a), fc = dense_r2(res, c, ix, iy), fd = dense_r2(res, d, ix, iy);
+    for (int it = 0; it < 80; ++it) {
+        if (fc > fd) {
+            b = d, d = c, fd = fc;
+            c = b - g * (b - a);
+            fc = dense_r2(res, c, ix, iy);
+        } else {
+            a = c, c = d, fc = fd;
+            d = a + g * (b - a);
+            fd = dense_r2(res, d, ix, iy);
+        }
+    }
+    cy.free(res);
+    return fmax(best, fmax(fc, fd));
+}
+
+typedef struct {
+    double *t; /* accepted steps, malloc'd (adb_cyrk_release frees them) */
+    double *y;
+    long k;
+} Trajectory;
+
+/* (r_max, t_dec) from the accepted steps; t_dec NaN when r(t_end) >= H, 0 when no step reaches H */
+static void measure(const Settings *s, Args *args, const double *t, const double *Y, size_t K, int ix, int iy,
+                    double H, int n_peaks, double *r_max, double *t_dec)
+{
+    double H2 = H * H, best = 0.0;
+    size_t last = (size_t)-1;
+    for (size_t k = 0; k < K; ++k) {
+        double v = adb_r2(Y + k * ADB_NY, ix, iy);
+        if (v >= H2) last = k;
+        if (v > best) best = v;
+    }
+    if (adb_r2(Y + (K - 1) * ADB_NY, ix, iy) >= H2) *t_dec = NAN;
+    else if (last == (size_t)-1) *t_dec = 0.0;
+    else *t_dec = locate_crossing(s, args, t, Y, last, ix, iy, H2);
+    /* the n_peaks largest local maxima of r at accepted steps (at least a quarter of the largest) */
+    double floor_ = 0.25 * best, done_above = INFINITY, refined = best;
+    for (int p = 0; p < n_peaks; ++p) {
+        size_t kb = (size_t)-1;
+        double vb = -1.0;
+        for (size_t k = 0; k < K; ++k) {
+            double v = adb_r2(Y + k * ADB_NY, ix, iy);
+            if (v < floor_ || v >= done_above || v <= vb) continue;
+            if (k > 0 && adb_r2(Y + (k - 1) * ADB_NY, ix, iy) > v) continue;
+            if (k + 1 < K && adb_r2(Y + (k + 1) * ADB_NY, ix, iy) > v) continue;
+            kb = k, vb = v;
+        }
+        if (kb == (size_t)-1) break;
+        done_above = vb;
+        size_t lo = kb > 0 ? kb - 1 : 0, hi = kb + 1 < K ? kb + 1 : K - 1;
+        if (hi > lo) refined = refine_peak(s, args, t, Y, lo, hi, ix, iy, refined);
+    }
+    *r_max = sqrt(refined);
+}
+
+/* One trajectory from t = 0 to t_end (see sundials_driver.c for the same contract).
+ *
+ * Early stop: with check_dt > 0 and targets, the run goes in segments of check_dt (each a fresh solve
+ * from the previous end, first step = the last accepted step) and stops in the first target region.
+ * keep: 1 returns every accepted step in *traj (free with adb_cyrk_release), 0 only counts them.
+ * out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [rhs evaluations, steps]. */
+int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, int method,
+                       long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
+                       const double *centres, const double *weights, const unsigned char *periodic, int keep,
+                       Trajectory *traj, int *target, double *y_end, double *out_stats, long *out_counts)
+{
+    Settings s = {method, rtol, atol, max_steps > 0 ? (size_t)max_steps : 0};
+    long count = 0;
+    Args args;
+    memcpy(args.p, p, sizeof args.p);
+    args.count = &count;
+    int ix = amp_idx[0], iy = amp_idx[1];
+    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
+    out_counts[0] = out_counts[1] = 0;
+    if (target) *target = -1;
+    if (traj) traj->t = traj->y = NULL, traj->k = 0;
+    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
+
+    size_t cap = 1024, K = 0;
+    double *T = malloc(cap * sizeof(double)), *Y = malloc(cap * ADB_NY * sizeof(double));
+    T[0] = 0.0;
+    memcpy(Y, y0, sizeof(double) * ADB_NY);
+    K = 1;
+    int status = ADB_SUCCESS;
+    long steps = 0;
+    double t = 0.0, h = 0.0;
+    int segmented = check_dt > 0.0 && n_targets > 0;
+    while (t < t_end) {
+        double t1 = segmented ? fmin(t_end, t + check_dt) : t_end;
+        double ystart[ADB_NY];
+        memcpy(ystart, Y + (K - 1) * ADB_NY, sizeof ystart);
+        void *res = solve(&s, t, t1, ystart, &args, false, h);
+        if (!res) {
+            status = ADB_SOLVER_FAILURE;
+            out_stats[3] = t;
+            break;
+        }
+        size_t n = cy.size(res);
+        const double *rt = cy.t(res), *ry = cy.y(res);
+        steps += (long)cy.steps(res);
+        if (K + n > cap) {
+            while (K + n > cap) cap *= 2;
+            T = realloc(T, cap * sizeof(double));
+            Y = realloc(Y, cap * ADB_NY * sizeof(double));
+        }
+        /* the solver's first stored point is its start: skip it */
+        for (size_t j = 1; j < n; ++j) {
+            if (!adb_all_finite(ry + j * ADB_NY, ADB_NY)) {
+                status = ADB_NONFINITE;
+                out_stats[3] = rt[j];
+                break;
+            }
+            T[K] = rt[j];
+            memcpy(Y + K * ADB_NY, ry + j * ADB_NY, sizeof(double) * ADB_NY);
+            ++K;
+        }
+        int ok = cy.success(res);
+        int code = cy.status(res);
+        cy.free(res);
+        if (status != ADB_SUCCESS) break;
+        if (!ok) {
+            status = decode(code);
+            out_stats[3] = T[K - 1];
+            break;
+        }
+        if (K >= 2) h = T[K - 1] - T[K - 2];
+        t = T[K - 1];
+        if (max_steps > 0 && steps >= max_steps && t < t_end) {
+            status = ADB_MAX_STEPS;
+            out_stats[3] = t;
+            break;
+        }
+        if (segmented && t < t_end) {
+            int k = adb_in_target(Y + (K - 1) * ADB_NY, n_targets, centres, weights, periodic);
+            if (k >= 0) {
+                if (target) *target = k;
+                status = ADB_STOPPED;
+                break;
+            }
+        }
+    }
+    long evals = count;
+    if (status == ADB_SUCCESS)
+        measure(&s, &args, T, Y, K, ix, iy, threshold, 8, &out_stats[0], &out_stats[1]);
+    else {
+        double best = 0.0;
+        for (size_t k = 0; k < K; ++k) best = fmax(best, adb_r2(Y + k * ADB_NY, ix, iy));
+        out_stats[0] = sqrt(best);
+    }
+    out_stats[2] = T[K - 1];
+    memcpy(y_end, Y + (K - 1) * ADB_NY, sizeof(double) * ADB_NY);
+    out_counts[0] = evals;
+    out_counts[1] = steps;
+    if (traj && keep) {
+        traj->t = T, traj->y = Y, traj->k = (long)K;
+    } else {
+        free(T);
+        free(Y);
+    }
+    return status;
+}
+
+void adb_cyrk_release(Trajectory *traj)
+{
+    free(traj->t);
+    free(traj->y);
+    traj->t = traj->y = NULL;
+    traj->k = 0;
+}
+
+/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
+void adb_cyrk_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
+                             int method, long max_steps, const int *amp_idx, double threshold, double check_dt,
+                             int n_targets, const double *centres, const double *weights,
+                             const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
+                             double *stats, long *counts)
+{
+#ifdef _OPENMP
+    if (threads < 1) threads = omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+    for (int k = 0; k < n; ++k)
+        status[k] = adb_cyrk_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, method,
+                                       max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights,
+                                       periodic, 0, NULL, target + k, Y_end + (size_t)k * ADB_NY,
+                                       stats + (size_t)k * 4, counts + (size_t)k * 2);
+}

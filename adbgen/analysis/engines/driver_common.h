@@ -1,0 +1,51 @@
+/* What both compiled drivers (CyRK, SUNDIALS) share: status codes, the rotor amplitude, early-stop
+ * target regions.  Included after the model's generated C source, with ADB_NY defined. */
+#ifndef ADB_DRIVER_COMMON_H
+#define ADB_DRIVER_COMMON_H
+
+#include <math.h>
+#include <stddef.h>
+
+/* status codes, mirrored in adbgen/analysis/engines/compiled.py */
+#define ADB_SUCCESS 0
+#define ADB_MAX_STEPS 1
+#define ADB_STEP_UNDERFLOW 2
+#define ADB_NONFINITE 3
+#define ADB_SOLVER_FAILURE 4
+#define ADB_STOPPED 5 /* reached a target region (early stop), not a failure */
+#define ADB_BAD_INPUT 6
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* squared rotor amplitude x^2 + y^2 of the first two core coordinates */
+static inline double adb_r2(const double *y, int ix, int iy) { return y[ix] * y[ix] + y[iy] * y[iy]; }
+
+static inline int adb_all_finite(const double *y, int n)
+{
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(y[i])) return 0;
+    return 1;
+}
+
+/* Index of the first target region holding y, or -1: region k is max_i |wrap_i(y_i - c_ki)| w_ki <= 1,
+ * angles (periodic[i] != 0) wrapped to [-pi, pi]. */
+static int adb_in_target(const double *y, int n_targets, const double *centres, const double *weights,
+                         const unsigned char *periodic)
+{
+    for (int k = 0; k < n_targets; ++k) {
+        const double *c = centres + (size_t)k * ADB_NY, *w = weights + (size_t)k * ADB_NY;
+        double worst = 0.0;
+        for (int i = 0; i < ADB_NY; ++i) {
+            double e = y[i] - c[i];
+            if (periodic && periodic[i]) e = remainder(e, 2.0 * M_PI);
+            e = fabs(e) * w[i];
+            if (e > worst) worst = e;
+        }
+        if (worst <= 1.0) return k;
+    }
+    return -1;
+}
+
+#endif

@@ -1,0 +1,101 @@
+"""SciPy's solve_ivp on the generated numba functions: the reference path (a Python call per step).
+
+Kept selectable (`scipy-dop853`, `scipy-rk45`, `scipy-radau`, `scipy-lsoda`, `scipy-bdf`) because
+it is what users know and what the compiled engines are checked against.  It does not promise exact
+symmetry: its stage combinations go through BLAS matrix products, which may round identical
+components differently.  r_max and t_dec come from solve_ivp's events (extrema of r and crossings of
+the threshold) on its dense output.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ..results import SUCCESS
+
+METHODS = {"dop853": "DOP853", "rk45": "RK45", "radau": "Radau", "lsoda": "LSODA", "bdf": "BDF"}
+_IMPLICIT = {"Radau", "LSODA", "BDF"}
+
+
+class _NonFinite(Exception):
+    def __init__(self, t):
+        self.t = float(t)
+
+
+class ScipyEngine:
+    native_events = True
+    symmetric = False
+
+    def __init__(self, key: str, use_jac: bool = True):
+        self.method = METHODS[key]
+        self.use_jac = use_jac and self.method in _IMPLICIT
+        self.name = "scipy-" + key + ("" if use_jac or self.method not in _IMPLICIT else "-fdjac")
+        self.description = f"scipy.integrate.solve_ivp {self.method}" + \
+            (" with the generated analytic Jacobian" if self.use_jac else "") + "; a Python call per step"
+
+    def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=0):
+        mod = model.module
+        ix, iy, ixd, iyd = model.amplitude_indices
+        count = [0]
+
+        def f(t, y):
+            count[0] += 1
+            out = mod.rhs(t, y, p)
+            if not np.all(np.isfinite(out)):  # solve_ivp would shrink the step for ever on NaN
+                raise _NonFinite(t)
+            return out
+
+        def crossing(t, y):
+            return y[ix] * y[ix] + y[iy] * y[iy] - threshold * threshold
+
+        def extremum(t, y):
+            return y[ix] * y[ixd] + y[iy] * y[iyd]
+
+        kwargs = {"jac": (lambda t, y: mod.jac(t, y, p))} if self.use_jac else {}
+        start = time.perf_counter()
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                sol = solve_ivp(f, (0.0, t_end), np.asarray(y0, float), method=self.method, rtol=rtol, atol=atol,
+                                dense_output=True, events=(crossing, extremum), **kwargs)
+        except _NonFinite as exc:
+            return {"status": "nonfinite", "t": np.zeros(0), "y": np.zeros((len(y0), 0)), "r_max": float("nan"),
+                    "t_dec": float("nan"), "y_end": np.full(len(y0), np.nan), "n_rhs": count[0], "n_steps": 0,
+                    "t_fail": exc.t, "wall_s": time.perf_counter() - start, "message": "non-finite derivative"}
+        wall = time.perf_counter() - start
+        y_end = sol.y[:, -1]
+        t_last = float(sol.t[-1])
+        finite = bool(np.all(np.isfinite(sol.y)))
+        if sol.status == 0 and finite:
+            r = np.hypot(sol.y[ix], sol.y[iy])
+            peaks = [float(np.hypot(*sol.sol(te)[[ix, iy]])) for te in sol.t_events[1]]
+            r_max = max([float(r.max())] + peaks)
+            crossings = sol.t_events[0]
+            if r[-1] >= threshold:
+                t_dec = float("nan")
+            else:
+                t_dec = float(crossings[-1]) if len(crossings) else (0.0 if r.max() < threshold else float("nan"))
+            status, t_fail = SUCCESS, None
+        else:
+            bad = np.nonzero(~np.all(np.isfinite(sol.y), axis=0))[0]
+            status = "nonfinite" if (not finite or "finite" in sol.message) else (
+                "step_underflow" if "step size" in sol.message.lower() else "solver_failure")
+            t_fail = float(sol.t[bad[0]]) if len(bad) else t_last
+            r_max, t_dec = float("nan"), float("nan")
+        return {"status": status, "t": sol.t, "y": sol.y, "r_max": r_max, "t_dec": t_dec, "y_end": y_end,
+                "n_rhs": int(sol.nfev), "n_steps": int(len(sol.t) - 1), "t_fail": t_fail, "wall_s": wall,
+                "message": "" if status == SUCCESS else sol.message}
+
+    def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
+                 targets=()):
+        rows = [self.run(model, P[k], Y0[k], t_end, rtol, atol, threshold, max_steps, False) for k in range(len(Y0))]
+        return {"status": np.array([r["status"] for r in rows]), "r_max": np.array([r["r_max"] for r in rows]),
+                "t_dec": np.array([r["t_dec"] for r in rows]), "y_end": np.array([r["y_end"] for r in rows]),
+                "t_last": np.array([t_end if r["t_fail"] is None else r["t_fail"] for r in rows]),
+                "t_fail": np.array([np.nan if r["t_fail"] is None else r["t_fail"] for r in rows]),
+                "target": np.full(len(rows), -1), "n_rhs": np.array([r["n_rhs"] for r in rows]),
+                "n_steps": np.array([r["n_steps"] for r in rows]), "wall_s": sum(r["wall_s"] for r in rows)}
