@@ -164,3 +164,7 @@ def write_trajectory(model, sim, out: Path) -> None:
     a2.legend(loc="best", fontsize=8)
     fig.savefig(out / "trajectory.png", dpi=120)
     plt.close(fig)
+
+
+# stability and continue register themselves here (adbgen/analysis/stability_commands.py)
+from . import stability_commands  # noqa: E402,F401

@@ -31,17 +31,19 @@ Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
 from __future__ import annotations
 
 import ctypes
-import os
 import re
 import shutil
 import subprocess
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from adbgen.analysis import auto
+from adbgen.analysis.auto import (AUTO_DIR, build_and_run, read_fort7, read_fort8, read_multipliers,
+                                  unlabelled_stability_changes)
+from adbgen.analysis.auto import header_dir as _auto_header  # noqa: F401 (used by the harness)
 from adbgen.codegen import models
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.render import render_model
@@ -51,114 +53,18 @@ from adbgen.single_plane.steady_states import critical_speeds
 from toolchain import require_tool
 
 
-AUTO_DIR = Path(os.environ.get("AUTO_DIR", "/usr/lib/auto-07p"))
 MU, ZETA, BETA, DELTA = 0.05, 0.01, 0.01, 0.01
 TOL = 1e-5
-BIFURCATIONS = {1: "BP", 2: "LP", 3: "HB"}  # |TY| in fort.7; 4 regular/UZ, 9 end points
-
-
-def _auto_header() -> Path | None:
-    for folder in (AUTO_DIR / "include", Path("/usr/include")):
-        if (folder / "auto_f2c.h").is_file():
-            return folder
-    return None
 
 
 @pytest.fixture(scope="module")
 def auto_toolchain():
-    missing = [what for what, ok in (
-        ("auto-07p (cmds/cmds.make)", (AUTO_DIR / "cmds" / "cmds.make").is_file()),
-        ("auto-07p (lib/libauto_c.a)", (AUTO_DIR / "lib" / "libauto_c.a").is_file()),
-        ("auto-07p (auto_f2c.h)", _auto_header() is not None),
-        ("gfortran", shutil.which("gfortran") is not None),
-        ("gcc", shutil.which("gcc") is not None),
-        ("make", shutil.which("make") is not None),
-    ) if not ok]
+    missing = auto.missing_tools()
     require_tool(not missing, ", ".join(missing) + " (Debian packages auto-07p gfortran)")
     return AUTO_DIR
 
 
-# --- fort.7 ---------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class Point:
-    branch: int
-    pt: int  # negative: stable
-    ty: int  # 1 BP, 2 LP, 3 HB, 4 regular output (-4 UZ), 9 / -9 end points, 0 not printed to fort.8
-    label: int
-    values: dict  # column title of fort.7 (PAR(1), L2-NORM, U(1), ..., PAR(6)) -> value
-
-    @property
-    def stable(self) -> bool:
-        return self.pt < 0
-
-    @property
-    def kind(self) -> str | None:
-        return BIFURCATIONS.get(abs(self.ty))
-
-
-def _number(text: str) -> float:
-    """Fortran E format; an exponent of three digits may lose its E ('1.7976+308')."""
-    if not re.search(r"[eEdD]", text):
-        text = re.sub(r"(?<=[0-9.])([+-]\d+)$", r"E\1", text)
-    return float(text.replace("D", "E").replace("d", "e"))
-
-
-def _titles(fields: list[str]) -> list[str]:
-    """fort.7 column titles; periodic orbits (IPS = 2) print 'MAX U(1)', two words, joined here as 'MAX U(1)'."""
-    out = []
-    for field in fields:
-        if out and out[-1] in ("MAX", "MIN"):
-            out[-1] += " " + field
-        else:
-            out.append(field)
-    return out
-
-
-def read_fort7(path: Path) -> list[Point]:
-    """Every continuation step of fort.7: lines starting with BR = 0 are headers (the last header
-    before the data names its columns: 0 PT TY LAB PAR(1) L2-NORM U(1) ..., or MAX U(1) ... PERIOD
-    for periodic orbits); the others are
-    BR PT TY LAB followed by those columns."""
-    points, titles = [], None
-    for line in path.read_text().splitlines():
-        fields = line.split()
-        if not fields:
-            continue
-        if fields[0] == "0":
-            if len(fields) > 4 and fields[1:4] == ["PT", "TY", "LAB"]:
-                titles = _titles(fields[4:])
-            continue
-        assert titles is not None, f"fort.7 data before its column titles: {line!r}"
-        br, pt, ty, lab = (int(v) for v in fields[:4])
-        values = [_number(v) for v in fields[4:]]
-        assert len(values) == len(titles), line
-        points.append(Point(br, pt, ty, lab, dict(zip(titles, values))))
-    return points
-
-
-def unlabelled_stability_changes(points: list[Point]) -> list[tuple[Point, Point]]:
-    """Consecutive steps whose stability differs without a labelled bifurcation at either of them."""
-    return [(a, b) for a, b in zip(points, points[1:])
-            if a.branch == b.branch and a.stable != b.stable and not (a.kind or b.kind)]
-
-
-# --- building and running -------------------------------------------------------------------------
-
-def build_and_run(files: dict[str, str], name: str, workdir: Path, constants_file: str | None = None) -> str:
-    """Write the user and constants files, build and run them with AUTO's make runner (reading the
-    constants c.<name>, or `constants_file`); its output."""
-    workdir.mkdir(parents=True, exist_ok=True)
-    for filename, text in files.items():
-        (workdir / filename).write_text(text)
-    env = dict(os.environ, AUTO_DIR=str(AUTO_DIR))
-    with open(workdir / (constants_file or f"c.{name}")) as constants:
-        r = subprocess.run(["make", "-f", str(AUTO_DIR / "cmds" / "cmds.make"), f"EQUATION_NAME={name}"],
-                           stdin=constants, cwd=workdir, env=env, capture_output=True, text=True, timeout=120)
-    return f"--- stdout\n{r.stdout[-4000:]}\n--- stderr\n{r.stderr[-4000:]}"
-
-
-def run_auto(files: dict[str, str], name: str, workdir: Path) -> list[Point]:
+def run_auto(files: dict[str, str], name: str, workdir: Path) -> list[auto.Point]:
     """Build and run with AUTO's make runner, read fort.7."""
     log = build_and_run(files, name, workdir)
     # cmds.make is .IGNORE: a failed compile or run does not change make's exit status
@@ -343,47 +249,6 @@ def test_func_dfdu_dfdp_stpnt_pvls_equal_the_numba_module(auto_toolchain, genera
 # --- periodically forced models: periodic orbits of the oscillator extension (IPS = 2) -------------
 
 FORCED = "single_plane_fixed_n2"
-
-
-@dataclass(frozen=True)
-class Orbit:
-    """One labelled solution of fort.8: AUTO's scaled time t in [0, 1], u (NTPL x NDIM), PAR(1..NPAR)."""
-
-    label: int
-    ty: int
-    t: np.ndarray
-    u: np.ndarray
-    par: np.ndarray
-
-
-def read_fort8(path: Path) -> list[Orbit]:
-    """fort.8: per solution a header line of integers (IBR NTOT ITP LAB NFPR ISW NTPL NAR NROWPR NTST
-    NCOL NPARX, AUTO-07p 0.9 adds NDIM IPS IPRIV ...) and NROWPR lines: NTPL points (t, U(1..NDIM)),
-    each wrapped over several lines, then the NFPR free parameter indices, their NFPR derivatives, the
-    direction vector at the NTPL points (U only, no t) and the NPARX parameters, all read here as one
-    stream of numbers."""
-    lines = path.read_text().splitlines()
-    orbits, i = [], 0
-    while i < len(lines):
-        if not lines[i].strip():
-            i += 1
-            continue
-        head = [int(v) for v in lines[i].split()]
-        _, _, itp, lab, nfpr, _, ntpl, nar, nrowpr, _, _, npar = head[:12]
-        tokens = " ".join(lines[i + 1: i + 1 + nrowpr]).split()
-        assert len(tokens) == ntpl * nar + 2 * nfpr + ntpl * (nar - 1) + npar, (lab, len(tokens))
-        points = np.array([_number(v) for v in tokens[: ntpl * nar]]).reshape(ntpl, nar)
-        par = np.array([_number(v) for v in tokens[-npar:]])
-        orbits.append(Orbit(lab, itp, points[:, 0], points[:, 1:], par))
-        i += 1 + nrowpr
-    return orbits
-
-
-def read_multipliers(path: Path, ndim: int) -> np.ndarray:
-    """The Floquet multipliers fort.9 printed last (ISP = 2): ndim complex numbers."""
-    rows = re.findall(r"^\s*-?\d+\s+-?\d+\s+Multiplier\s+\d+\s+(\S+)\s+(\S+)\s+Abs\. Val\.", path.read_text(), re.M)
-    assert len(rows) >= ndim, f"no multipliers in {path}"
-    return np.array([complex(_number(a), _number(b)) for a, b in rows[-ndim:]])
 
 
 def forced_auto_files(ir) -> dict[str, str]:
