@@ -213,8 +213,9 @@ def _split_top(line: str) -> list[str]:
 
 
 def set_constants(text: str, **values) -> str:
-    """The constants file with KEY = value replaced (or appended as a line); several keys share a
-    line in the emitted files (NTST = 20, NCOL = 4, ...) and values may be lists or dicts."""
+    """The constants file with KEY = value replaced (or appended as a line; value None removes the
+    key); several keys share a line in the emitted files (NTST = 20, NCOL = 4, ...) and values may be
+    lists or dicts."""
     lines = text.splitlines()
     for key, value in values.items():
         for i, line in enumerate(lines):
@@ -223,16 +224,25 @@ def set_constants(text: str, **values) -> str:
             items = _split_top(line)
             keys = [item.split("=", 1)[0].strip() for item in items]
             if key in keys:
-                items[keys.index(key)] = f"{' ' if keys.index(key) else ''}{key} = {value}"
-                lines[i] = ",".join(items)
+                if value is None:
+                    del items[keys.index(key)]
+                else:
+                    items[keys.index(key)] = f"{' ' if keys.index(key) else ''}{key} = {value}"
+                lines[i] = ",".join(items).lstrip()
                 break
         else:
-            lines.append(f"{key} = {value}")
+            if value is not None:
+                lines.append(f"{key} = {value}")
     return "\n".join(lines) + "\n"
 
 
+def _plain(v):
+    """Python numbers and lists (numpy scalars print as np.float64(...), which AUTO cannot read)."""
+    return [_plain(x) for x in v] if isinstance(v, (list, tuple)) else float(v)
+
+
 def _mapping(d: dict) -> str:
-    return "{" + ", ".join(f"{k}: {v!r}" for k, v in d.items()) + "}"
+    return "{" + ", ".join(f"{int(k)}: {_plain(v)!r}" for k, v in d.items()) + "}"
 
 
 class Session:
@@ -372,6 +382,31 @@ class Curve:
     origin: float  # the one-parameter bifurcation it was started from
     points: list[tuple[float, float]]
     special: list[dict] = field(default_factory=list)
+    closed: bool = False  # went round a loop back to its origin
+    also_from: list[float] = field(default_factory=list)  # other one-parameter points on this curve
+
+
+def _cut_loop(points: list[Point], columns: tuple[str, str], origin: tuple[float, float], step: float):
+    """The points up to where the curve comes back to its origin (a closed curve), and whether it did.
+    AUTO's steps are at most DSMAX long, so a return passes within one step of the origin."""
+    far = False
+    for i, q in enumerate(points):
+        d = math.hypot(q.values[columns[0]] - origin[0], q.values[columns[1]] - origin[1])
+        if d > 5 * step:
+            far = True
+        elif far and d <= 1.01 * step:
+            return points[: i + 1], True
+    return points, False
+
+
+def _passes_through(curve: list[tuple[float, float]], origin: tuple[float, float], tol: float = 1e-3) -> bool:
+    """Whether the polyline crosses the line name2 = origin[1] within tol of origin[0] (linear interpolation)."""
+    for (a0, b0), (a1, b1) in zip(curve, curve[1:]):
+        if (b0 - origin[1]) * (b1 - origin[1]) <= 0 and b0 != b1:
+            a = a0 + (a1 - a0) * (origin[1] - b0) / (b1 - b0)
+            if abs(a - origin[0]) <= tol * max(1.0, abs(origin[0])):
+                return True
+    return False
 
 
 @dataclass
@@ -384,13 +419,20 @@ class AutoCurves:
 
     @property
     def special(self) -> list[dict]:
-        out = []
-        for c in self.curves:
-            out += [s | {"curve": self.curves.index(c)} for s in c.special]
+        """Codimension-two points, each once: a curve through the pitchfork at mu_c retraces itself
+        (the mirror copy phi_1 <-> phi_2 of the balanced state), meeting its points twice."""
+        out: list[dict] = []
+        for i, c in enumerate(self.curves):
+            for s in c.special:
+                same = [o for o in out if o["type"] == s["type"] and all(
+                    abs(o[k] - s[k]) <= 1e-5 * max(1.0, abs(s[k])) for k in (self.name, self.name2))]
+                if not same:
+                    out.append(s | {"curve": i})
         return out
 
     def to_json(self) -> dict:
-        return {"curves": [{"kind": c.kind, "origin": {self.name: c.origin},
+        return {"curves": [{"kind": c.kind, "origin": {self.name: c.origin}, "closed": c.closed,
+                            "also_from": [{self.name: v} for v in c.also_from],
                             "points": [[a, b] for a, b in c.points]} for c in self.curves],
                 "special": self.special}
 
@@ -414,20 +456,28 @@ def continue_two(model: Model, name: str, name2: str, p: np.ndarray | None = Non
                                                        max(one.p[k], to if to is not None else 0.5 * one.p[k]))
         a1, a2, amp = auto_parameter(k), auto_parameter(k2), auto_parameter(model.n_params)
         col1, col2 = f"PAR({a1})", f"PAR({a2})"
-        curves = []
+        curves: list[Curve] = []
         for pt in one.labelled():
             if pt.kind not in ("HB", "LP"):
                 continue
             kind = "hopf" if pt.kind == "HB" else "fold"
+            origin = (pt.values[one.column()], value2)
+            twin = next((c for c in curves if c.kind == kind and _passes_through(c.points, origin)), None)
+            if twin is not None:  # the same curve, met again from another point of the one-parameter run
+                twin.also_from.append(origin[0])
+                continue
             halves = []
             for sign in (1.0, -1.0):
                 points, _, _ = session.run(
                     s=repr(model.name), IRS=pt.label, ISW=2, ICP=f"[{a1}, {a2}, {amp}]", DS=sign * ds, DSMAX=ds_max,
-                    NMX=nmx, NPR=nmx, UZSTOP=_mapping({a1: [lo1, hi1], a2: [lo2, hi2]}), U="{}", PAR="{}")
+                    NMX=nmx, NPR=nmx, UZSTOP=_mapping({a1: [lo1, hi1], a2: [lo2, hi2]}), U=None, PAR=None)
+                points, closed = _cut_loop(points, (col1, col2), origin, ds_max)
                 halves.append(points)
-            back, fwd = halves[1], halves[0]
-            ordered = list(reversed(back)) + fwd[1:]
-            curve = Curve(kind, pt.values[one.column()], [(q.values[col1], q.values[col2]) for q in ordered])
+                if closed:  # a closed curve: one direction went all the way round
+                    break
+            ordered = list(reversed(halves[1])) + halves[0][1:] if len(halves) == 2 else halves[0]
+            curve = Curve(kind, origin[0], [(q.values[col1], q.values[col2]) for q in ordered],
+                          closed=len(halves) == 1)
             for q in ordered:
                 code = TYPES.get(q.ty)
                 if kind == "hopf" and code == "HB":
