@@ -75,6 +75,7 @@ def run_stability(args) -> int:
     from . import continuation, steady
 
     model = _load(args)
+    steady._require_autonomous(model)
     values = parse_assignments(args.set, "--set")
     if not (args.ds_max > 0 and math.isfinite(args.ds_max)):
         raise AnalysisError(f"--ds-max must be a finite number > 0, got {args.ds_max}")
