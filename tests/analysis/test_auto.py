@@ -15,8 +15,7 @@ import pytest
 
 from adbgen.analysis import auto, closed_forms, continuation, steady
 
-from conftest import require_auto  # noqa: F401  (this folder is on sys.path: see conftest.py)
-from thesis_ch4 import CH4
+from analysis_helpers import CH4, require_auto  # this folder is on sys.path: see conftest.py
 
 TOL = 1e-6
 

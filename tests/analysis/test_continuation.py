@@ -11,7 +11,7 @@ from scipy.optimize import brentq
 from adbgen.analysis import closed_forms, continuation, steady
 from adbgen.analysis.loading import AnalysisError
 
-from thesis_ch4 import CH4
+from analysis_helpers import CH4
 
 
 def _leading(m, omega):

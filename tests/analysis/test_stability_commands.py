@@ -9,8 +9,7 @@ import pytest
 
 from adbgen.cli import main
 
-from conftest import require_auto
-from thesis_ch4 import CH4
+from analysis_helpers import CH4, require_auto
 
 PREFIX = "adbgen: error: "
 SET = [arg for k, v in CH4.items() for arg in ("--set", f"{k}={v}")]

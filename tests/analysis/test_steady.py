@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from adbgen.analysis import closed_forms, steady
 from adbgen.analysis.loading import AnalysisError, load_model
 
-from thesis_ch4 import CH4  # this folder's helper (conftest.py puts it on sys.path)
+from analysis_helpers import CH4  # this folder's helper (conftest.py puts it on sys.path)
 
 
 def _match(a: np.ndarray, b: np.ndarray) -> float:
