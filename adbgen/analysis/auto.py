@@ -416,6 +416,7 @@ class AutoCurves:
     name2: str
     one: AutoRun
     curves: list[Curve]
+    double_hopf: list[dict] = field(default_factory=list)  # found by `double_hopf_points`
 
     @property
     def special(self) -> list[dict]:
@@ -428,7 +429,7 @@ class AutoCurves:
                     abs(o[k] - s[k]) <= 1e-5 * max(1.0, abs(s[k])) for k in (self.name, self.name2))]
                 if not same:
                     out.append(s | {"curve": i})
-        return out
+        return out + self.double_hopf
 
     def to_json(self) -> dict:
         return {"curves": [{"kind": c.kind, "origin": {self.name: c.origin}, "closed": c.closed,
@@ -487,3 +488,76 @@ def continue_two(model: Model, name: str, name2: str, p: np.ndarray | None = Non
                                           name2: q.values[col2]})
             curves.append(curve)
     return AutoCurves(model, name, name2, one, curves)
+
+
+# --- double Hopf points: where two Hopf curves (or one curve with itself) cross ----------------------
+
+def _crossings(a: np.ndarray, b: np.ndarray, same: bool, min_angle: float = 1e-2) -> list[tuple[float, float]]:
+    """Proper intersections of the polylines a and b (k x 2 each); with same = True, of a with itself
+    (segments at least two apart).  Nearly parallel segments (a curve retracing itself) are skipped."""
+    out = []
+    p, r = a[:-1], a[1:] - a[:-1]
+    q, s = b[:-1], b[1:] - b[:-1]
+    for i0 in range(0, len(p), 256):
+        P, R = p[i0:i0 + 256, None, :], r[i0:i0 + 256, None, :]
+        cross = R[..., 0] * s[None, :, 1] - R[..., 1] * s[None, :, 0]
+        qp = q[None, :, :] - P
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (qp[..., 0] * s[None, :, 1] - qp[..., 1] * s[None, :, 0]) / cross
+            u = (qp[..., 0] * R[..., 1] - qp[..., 1] * R[..., 0]) / cross
+        norms = np.linalg.norm(R, axis=-1) * np.linalg.norm(s, axis=-1)[None, :]
+        ok = (t >= 0) & (t < 1) & (u >= 0) & (u < 1) & (np.abs(cross) > min_angle * norms)
+        if same:
+            ii, jj = np.indices(ok.shape)
+            ok &= (jj - (ii + i0)) >= 2
+        for i, j in zip(*np.nonzero(ok)):
+            out.append(tuple(p[i0 + i] + t[i, j] * r[i0 + i]))
+    return out
+
+
+def double_hopf_points(model: Model, curves: list[Curve], p: np.ndarray, name: str, name2: str, steady_at,
+                       tol: float = 1e-9) -> list[dict]:
+    """Double Hopf points (HH) among the crossings of Hopf curves, confirmed and refined on the
+    analysis layer's transverse spectrum: two pairs with different frequencies on the imaginary axis.
+    `steady_at(p)` returns the followed steady state at parameters p (AUTO-07p 0.9 does not flag them)."""
+    from scipy.optimize import root
+
+    from .steady import analyse
+
+    k1, k2 = model.param_names.index(name), model.param_names.index(name2)
+    hopf = [np.array(c.points) for c in curves if c.kind == "hopf" and len(c.points) > 2]
+    candidates = []
+    for i, a in enumerate(hopf):
+        for j, b in enumerate(hopf[i:], start=i):
+            candidates += _crossings(a, b, same=(i == j))
+
+    def spectrum(x):
+        q = np.array(p, float)
+        q[k1], q[k2] = x
+        return analyse(model, q, steady_at(q)).transverse
+
+    found: list[dict] = []
+    for c in candidates:
+        try:
+            ev = spectrum(c)
+        except AnalysisError:
+            continue
+        pairs = ev[(ev.imag > 1e-6)]
+        pairs = pairs[np.argsort(np.abs(pairs.real))][:2]
+        if len(pairs) < 2 or abs(pairs[0].imag - pairs[1].imag) < 1e-4 or np.max(np.abs(pairs.real)) > 1e-3:
+            continue  # a curve crossing its own retrace, or one pair only
+
+        def g(x, w=(pairs[0].imag, pairs[1].imag)):
+            e = spectrum(x)
+            e = e[e.imag > 1e-6]
+            return [e[np.argmin(np.abs(e.imag - wk))].real for wk in w]
+        sol = root(g, np.array(c), tol=1e-14)
+        if not sol.success or np.max(np.abs(g(sol.x))) > tol:
+            continue
+        x = [float(v) for v in sol.x]
+        if any(abs(f[name] - x[0]) < 1e-7 and abs(f[name2] - x[1]) < 1e-7 for f in found):
+            continue
+        ev = spectrum(sol.x)
+        w = sorted(float(z.imag) for z in ev[(ev.imag > 1e-6)][np.argsort(np.abs(ev[(ev.imag > 1e-6)].real))][:2])
+        found.append({"type": "HH", "name": CODIM2["HH"], name: x[0], name2: x[1], "frequencies": w})
+    return found

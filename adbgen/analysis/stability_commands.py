@@ -142,27 +142,52 @@ def _add_continue(p) -> None:
     p.add_argument("--to", metavar="VALUE", help="continue --par from its start value to VALUE "
                                                  "(default: half the start value)")
     p.add_argument("--range2", metavar="LO:HI", help="bounds of --par2 (default 0 to ten times its value)")
+    p.add_argument("--state", metavar="LABEL",
+                   help="start from `start` (START, default) or, for the thesis models, a closed-form state at the "
+                        "--set parameters: 1, 2+, 2-, 3(k)+, 3(k)- (n >= 3: only the balanced family's member of the "
+                        "AUTO files, whose func pins phi_3.. at START's values)")
     p.add_argument("--keep", metavar="DIR", help="run AUTO in DIR and keep its files (fort.7, fort.8, ...)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.set_defaults(fn=run_continue)
 
 
-def _pinned_start(model, p):
-    """START, re-solved at p; for the n >= 3 family with its free angles kept at START's (the member
-    AUTO's regularised func follows)."""
+def _pinned(model, y0, p, guess=None):
+    """The steady state near `guess` (default y0) at p; on the n >= 3 balanced family with the free
+    angles kept at y0's (the member AUTO's regularised func follows)."""
     from . import steady
 
-    y0 = np.array(model.module.START, float)
-    if np.array_equal(p, model.module.START_PARAMETERS):
-        return y0
     free = list(model.angle_indices)[2:] if steady.on_balanced_family(model, y0) else []
     extra = None
     if free:
         rows = np.zeros((len(free), model.n_states))
         rows[range(len(free)), free] = 1.0
         extra = (lambda y: y[free] - y0[free], lambda y: rows)
-    y, _ = steady.newton(model, p, y0, extra=extra)
+    y, _ = steady.newton(model, p, y0 if guess is None else guess, extra=extra)
     return y
+
+
+def _pinned_start(model, p):
+    """START, re-solved at p (see `_pinned`)."""
+    y0 = np.array(model.module.START, float)
+    return y0 if np.array_equal(p, model.module.START_PARAMETERS) else _pinned(model, y0, p)
+
+
+def _follower(model, y0):
+    """p -> the followed steady state at p: the balanced state (3.6) from its closed form where y0 is
+    one (x = y = 0), else Newton from y0."""
+    from . import closed_forms, steady
+
+    core = [model.index(c) for c in model.module.CORE]
+    balanced = closed_forms.is_thesis_model(model) and np.max(np.abs(y0[core])) < 1e-12
+
+    def at(p):
+        guess = None
+        if balanced:
+            guess = closed_forms.state(model, "1", p)
+            if steady.on_balanced_family(model, y0):
+                guess[list(model.angle_indices)[2:]] = y0[list(model.angle_indices)[2:]]
+        return _pinned(model, y0, p, guess)
+    return at
 
 
 def run_continue(args) -> int:
@@ -189,7 +214,19 @@ def run_continue(args) -> int:
         range2 = (parse_value(lo, "--range2 LO"), parse_value(hi, "--range2 HI"))
         if not range2[0] < range2[1]:
             raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
-    y = _pinned_start(model, p)
+    if args.state in (None, "start"):
+        y = _pinned_start(model, p)
+    else:
+        from . import closed_forms
+
+        y = closed_forms.state(model, args.state, p)
+        y, _ = steady.newton(model, p, y)
+        start = np.asarray(model.module.START, float)
+        free = list(model.angle_indices)[2:] if steady.on_balanced_family(model, start) else []
+        if free and np.max(np.abs(np.angle(np.exp(1j * (y[free] - start[free]))))) > 1e-9:
+            raise AnalysisError(f"state {args.state}: {model.name}'s AUTO files pin the free angles "
+                                f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
+                                f"balanced continuum), which this state does not share; use stability --scan")
     if args.par2 is None:
         if args.keep:
             with auto.Session(model, keep=args.keep) as session:
@@ -199,6 +236,8 @@ def run_continue(args) -> int:
         out = {"model": model.name, "parameter": args.par, "points": run.to_json()}
     else:
         curves = auto.continue_two(model, args.par, args.par2, p, y, to, range2)
+        curves.double_hopf = auto.double_hopf_points(model, curves.curves, p, args.par, args.par2,
+                                                     _follower(model, y))
         out = {"model": model.name, "parameter": args.par, "parameter2": args.par2,
                "points": curves.one.to_json(), **curves.to_json()}
     if args.json:

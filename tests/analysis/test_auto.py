@@ -160,3 +160,38 @@ def test_two_parameter_hopf_curves_are_hopf_points_of_the_analysis_layer(auto_ok
             s = steady.analyse(m, p, closed_forms.state(m, "1", p))
             near = s.transverse[np.argsort(np.abs(s.transverse.real))[:2]]
             assert np.all(np.abs(near.real) < 1e-6) and np.all(np.abs(near.imag) > 1e-3), (a, b, near)
+
+
+def test_double_hopf_points_of_n3_are_two_pairs_on_the_axis(auto_ok, thesis):
+    """n = 3, (Omega, mu): the Hopf curve crosses itself where two pairs of different frequency are on
+    the imaginary axis (thesis: two H1 curves intersect, Fig. 4.5); checked on a fresh steady state."""
+    from adbgen.analysis.stability_commands import _follower
+
+    m = thesis(3)
+    res = auto.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
+    y = np.array(m.module.START)
+    hh = auto.double_hopf_points(m, res.curves, res.one.p, "Omega", "mu", _follower(m, y))
+    assert len(hh) >= 1
+    for point in hh:
+        p = m.params({**CH4, "Omega": point["Omega"], "mu": point["mu"]})
+        state = closed_forms.state(m, "1", p)
+        s = steady.analyse(m, p, state)
+        pairs = s.transverse[s.transverse.imag > 0]
+        near = pairs[np.argsort(np.abs(pairs.real))[:2]]
+        assert np.all(np.abs(near.real) < 1e-8), near
+        assert abs(near[0].imag - near[1].imag) > 1e-2
+        assert sorted(near.imag) == pytest.approx(point["frequencies"], rel=1e-7)
+    assert any(abs(pt["Omega"] - 1.5978798) < 1e-6 and abs(pt["mu"] - 0.0282608) < 1e-6 for pt in hh)
+
+
+def test_fold_curve_of_the_coincident_state_passes_the_wedge_tip(auto_ok, thesis):
+    """n = 2 from 2- at Omega = 0.5: the fold's curve in (Omega, mu) reaches its lowest mu at the wedge
+    tip (4.1), (mu_c, Omega_c) = (delta/2, 1/sqrt(1 + 2 mu_c)) (to the curve's sampling)."""
+    m = thesis(2)
+    p = m.params({**CH4, "Omega": 0.5})
+    res = auto.continue_two(m, "Omega", "mu", p, closed_forms.state(m, "2-", p), to=1.5, range2=(0.001, 0.2))
+    assert [c.kind for c in res.curves] == ["fold"]
+    pts = np.array(res.curves[0].points)
+    tip = pts[np.argmin(pts[:, 1])]
+    mu_c = CH4["delta"] / 2
+    assert abs(tip[1] - mu_c) < 1e-6 and abs(tip[0] - 1 / np.sqrt(1 + 2 * mu_c)) < 1e-3, tip

@@ -99,6 +99,8 @@ def test_stability_bad_input(capsys, argv, match):
     (["thesis_rotating_n2", "--par", "Omega", "--set", "mu=inf"], "cannot read"),
     (["thesis_rotating_n2", "--par", "Omega", "--set", "mu=1e999"], "not finite"),
     (["single_plane_fixed_n2", "--par", "omega"], "periodic orbits"),
+    (["thesis_rotating_n3", "--par", "Omega", "--state", "2-", "--set", "Omega=0.5"], "pin the free angles"),
+    (["thesis_rotating_n2", "--par", "Omega", "--state", "9"], "unknown state label"),
 ])
 def test_continue_bad_input(capsys, argv, match):
     if "--to" in argv:
