@@ -32,8 +32,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .loading import AnalysisError, Model
-from .steady import (SteadyStateError, _require_autonomous, balanced_family_tangent, classify, jacobian,
-                     refine, residual, transverse_spectrum)
+from .steady import (SteadyStateError, _require_autonomous, classify, family_tangent, jacobian, refine, residual,
+                     transverse_spectrum)
 
 NEWTON_TOL = 1e-12
 LOCATE_TOL = 1e-12
@@ -112,13 +112,13 @@ class _Problem:
         p = self.at(lam)
         return jacobian(self.model, y, p), np.asarray(self.model.module.jac_p(0.0, y, p))[:, self.k]
 
-    def family(self, y) -> np.ndarray:
-        return balanced_family_tangent(self.model, y)
+    def family(self, y, lam) -> np.ndarray:
+        return family_tangent(self.model, y, self.at(lam))
 
     def tangent(self, y, lam, previous: np.ndarray | None) -> np.ndarray:
         """Unit null vector of [[J, F_lambda], [T^T, 0]], oriented along `previous`."""
         J, fl = self.jacs(y, lam)
-        T = self.family(y)
+        T = self.family(y, lam)
         A = np.vstack([np.hstack([J, fl[:, None]]), np.hstack([T.T, np.zeros((T.shape[1], 1))])])
         t = np.linalg.svd(A)[2][-1]
         if previous is not None and np.dot(t, previous) < 0:
@@ -131,7 +131,7 @@ class _Problem:
         anchor = z_pred if anchor is None else anchor
         z = z_pred.copy()
         N = z.size - 1
-        T = self.family(z_pred[:N])
+        T = self.family(z_pred[:N], z_pred[N])
         for _ in range(max_iter):
             y, lam = z[:N], z[N]
             f = self.f(y, lam)
@@ -149,7 +149,7 @@ class _Problem:
         N = z.size - 1
         y, lam = z[:N], float(z[N])
         J, _ = self.jacs(y, lam)
-        spectrum = transverse_spectrum(J, self.family(y))
+        spectrum = transverse_spectrum(J, self.family(y, lam))
         kind, unstable, _ = classify(spectrum)
         return BranchPoint(lam, y, self.tangent(y, lam, previous_tangent), spectrum, unstable, kind)
 
@@ -235,7 +235,7 @@ def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint, sign: float) -> list
     def spectrum(s):
         z = z_at(s)
         J, _ = prob.jacs(z[:N], z[N])
-        return transverse_spectrum(J, prob.family(z[:N]))
+        return transverse_spectrum(J, prob.family(z[:N], z[N]))
 
     def g(s):
         return _sorted_real(spectrum(s))[m]

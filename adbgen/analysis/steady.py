@@ -34,7 +34,7 @@ import numpy as np
 
 from .loading import AnalysisError, Model
 
-NEWTON_TOL = 1e-12  # max |rhs| accepted as a steady state
+NEWTON_TOL = 1e-12  # max |rhs| accepted as a steady state, relative to max|J| max(1, max|y|)
 ON_AXIS = 1e-9  # |Re lambda| <= ON_AXIS * max(1, |lambda|_max): on the imaginary axis
 
 
@@ -70,9 +70,11 @@ def newton(model: Model, p: np.ndarray, y0: np.ndarray, tol: float = NEWTON_TOL,
         if not np.all(np.isfinite(f)):
             raise SteadyStateError("Newton: non-finite rhs (the state left the model's domain)")
         g = extra[0](y) if extra else np.zeros(0)
-        if max(np.max(np.abs(f)), np.max(np.abs(g), initial=0.0)) <= tol:
-            return y, it
         J = jacobian(model, y, p)
+        # relative to the size of the terms (dimensional models: accelerations of order omega^2)
+        scale = max(1.0, float(np.max(np.abs(J))) * max(1.0, float(np.max(np.abs(y)))))
+        if max(np.max(np.abs(f)), np.max(np.abs(g), initial=0.0)) <= tol * scale:
+            return y, it
         if extra:
             J, f = np.vstack([J, extra[1](y)]), np.r_[f, g]
         step = np.linalg.lstsq(J, -f, rcond=1e-11)[0]
@@ -103,20 +105,41 @@ def constraint_gradients(angles: np.ndarray) -> np.ndarray:
     return np.vstack([-np.sin(angles), np.cos(angles)])
 
 
-def balanced_family_tangent(model: Model, y: np.ndarray) -> np.ndarray:
+def balanced_family_tangent(model: Model, y: np.ndarray, p: np.ndarray | None = None) -> np.ndarray:
     """Orthonormal basis (N x (n - 2)) of the tangent space of the balanced family (3.6) at y.
 
     The null space of the constraint gradients (closed form (3.6), identical balls), taken by SVD
-    (exact to rounding), embedded in the angle coordinates.  N x 0 when y is not on the family."""
+    (exact to rounding), embedded in the angle coordinates.  With p given and unequal balls (where
+    (3.6) weighs each cos, sin by the ball's mass and the closed form does not annihilate J), the
+    gradients are the rotor rows of the generated jac with respect to the angles instead: the
+    balance conditions of any rotating-frame model.  N x 0 when y is not on the family."""
     N = model.n_states
     if not on_balanced_family(model, y):
         return np.zeros((N, 0))
     leaves = list(model.angle_indices)
     G = constraint_gradients(y[leaves])
+    if p is not None:
+        J = jacobian(model, y, p)
+        if family_residual(J, _null_in(G, leaves, N)) > 1e-8:
+            rotor = [model.index(c + "_dot") for c in model.module.CORE]
+            G = J[np.ix_(rotor, leaves)]
+    return _null_in(G, leaves, N)
+
+
+def _null_in(G: np.ndarray, leaves: list[int], N: int) -> np.ndarray:
+    """Orthonormal null space of G (2 x n, in the angles) embedded in the N states."""
     _, s, vt = np.linalg.svd(G)
-    rank = int(np.sum(s > 1e-12 * max(1.0, s[0])))
+    rank = int(np.sum(s > 1e-12 * max(1e-300, s[0])))
     T = np.zeros((N, len(leaves) - rank))
     T[leaves, :] = vt[rank:].T
+    return T
+
+
+def family_tangent(model: Model, y: np.ndarray, p: np.ndarray, J: np.ndarray | None = None) -> np.ndarray:
+    """`balanced_family_tangent`, kept only where it is one: |J T| <= 1e-8 |J| (else N x 0, no reduction)."""
+    T = balanced_family_tangent(model, y, p)
+    if T.shape[1] and family_residual(jacobian(model, y, p) if J is None else J, T) > 1e-8:
+        return np.zeros((model.n_states, 0))
     return T
 
 
@@ -227,10 +250,8 @@ def _split_neutral(full: np.ndarray, transverse: np.ndarray) -> np.ndarray:
 def analyse(model: Model, p: np.ndarray, y: np.ndarray, iterations: int = 0, label: str = "") -> SteadyState:
     """Eigenvalues and classification of the steady state y (already refined)."""
     J = jacobian(model, y, p)
-    T = balanced_family_tangent(model, y)
+    T = family_tangent(model, y, p, J)
     res = family_residual(J, T)
-    if res > 1e-8:  # not a family of the kind (3.6) describes (e.g. unequal balls): no reduction
-        T = np.zeros((model.n_states, 0))
     full = sort_spectrum(np.linalg.eigvals(J))
     transverse = transverse_spectrum(J, T)
     neutral = _split_neutral(full, transverse)

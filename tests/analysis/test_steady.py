@@ -188,3 +188,22 @@ def test_newton_failure_is_an_error(thesis):
     m = thesis(2)
     with pytest.raises(steady.SteadyStateError, match="Newton did not converge"):
         steady.newton(m, m.params({"Omega": 4.0}), m.state({"x": 0.5, "phi_1": 2.0}), max_iter=2)
+
+
+def test_unequal_balls_reduce_by_the_rotor_rows_of_the_generated_jac(tmp_path, monkeypatch):
+    """Unequal balls (a scene's dimensional rotating-frame model): (3.6) weighs each ball by its mass,
+    so the equal-ball closed form is not the tangent (|J T| large: the negative control); the rotor rows
+    of the generated jac give it, and the transverse spectrum is again the full one minus the zero."""
+    monkeypatch.setenv("ADBGEN_CACHE", str(tmp_path))
+    scene = tmp_path / "unequal.toml"
+    scene.write_text('n = 3\nball_mass = [0.05, 0.04, 0.03]\n[speed]\nlaw = "constant"\nomega = 400.0\n')
+    m = load_model(scene=scene)
+    p = m.params()
+    s = steady.refine(m, p, m.state({"phi_1": 1.2, "phi_2": -1.2, "phi_3": 3.1}))
+    assert s.tangent.shape[1] == 1 and s.classification == "stable" and abs(s.neutral[0]) < 1e-9
+    closed = steady.balanced_family_tangent(m, s.y)  # (3.6) for identical balls
+    assert steady.family_residual(s.jacobian, closed) > 1e-3
+    assert steady.family_residual(s.jacobian, s.tangent) < 1e-13
+    full = np.linalg.eigvals(s.jacobian)
+    rest = np.delete(full, np.argmin(np.abs(full)))
+    assert _match(s.transverse, rest) < 1e-9 * np.max(np.abs(full))
