@@ -195,3 +195,19 @@ def test_fold_curve_of_the_coincident_state_passes_the_wedge_tip(auto_ok, thesis
     tip = pts[np.argmin(pts[:, 1])]
     mu_c = CH4["delta"] / 2
     assert abs(tip[1] - mu_c) < 1e-6 and abs(tip[0] - 1 / np.sqrt(1 + 2 * mu_c)) < 1e-3, tip
+
+
+def test_zeta_limit_of_n4_at_omega_3(auto_ok, thesis):
+    """Fig. 4.13(b): at Omega = 3 the balanced state of n = 4 is stable only for zeta below about 0.1;
+    the scan and AUTO-07p (started at Omega = 3 through U and PAR, the free angles pinned) agree."""
+    from adbgen.analysis.stability_commands import _pinned_start
+
+    m = thesis(4)
+    p = m.params({**CH4, "Omega": 3.0})
+    scan = continuation.scan(m, p, m.module.START, "zeta", 0.01, 0.2)
+    assert [b.kind for b in scan.points] == ["hopf"] and scan.points[0].direction == "destabilising"
+    assert scan.stable_intervals == [pytest.approx((0.01, scan.points[0].value))]
+    run = auto.continue_one(m, "zeta", p, _pinned_start(m, p), to=0.2)
+    hb = [pt.values["PAR(5)"] for pt in run.points if pt.kind == "HB"]
+    assert len(hb) == 1 and abs(hb[0] - scan.points[0].value) < TOL
+    assert 0.09 < hb[0] < 0.1
