@@ -216,7 +216,7 @@ def _segment(prob: _Problem, a: BranchPoint, b: BranchPoint):
     return z_at, float(np.linalg.norm(zb - za)), d
 
 
-def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint, sign: float) -> list[Bifurcation]:
+def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
     """The stability change between consecutive branch points a and b."""
     N = a.y.size
     z_at, length, d = _segment(prob, a, b)
@@ -275,13 +275,12 @@ def _stable_intervals(branch: list[BranchPoint], bifurcations: list[tuple[int, B
 def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float, **options) -> Scan:
     """Follow the steady state near y0 from name = start to stop; Hopf points, folds, stable intervals."""
     prob, branch, reason = follow(model, p, y0, name, start, stop, **options)
-    sign = 1.0 if stop > start else -1.0
     lo, hi = min(start, stop), max(start, stop)
     found: list[tuple[int, Bifurcation]] = []
     for i, (a, b) in enumerate(zip(branch, branch[1:])):
         turned = a.tangent[-1] * b.tangent[-1] < 0
         if a.n_unstable != b.n_unstable or turned:
-            for bif in _locate(prob, a, b, sign):
+            for bif in _locate(prob, a, b):
                 if lo <= bif.value <= hi:
                     found.append((i, bif))
     return Scan(model, name, start, stop, branch, [b for _, b in found],

@@ -1,7 +1,7 @@
 """Steady states of a generated autonomous model, their eigenvalues and stability (thesis ch. 3-4).
 
     refine(model, p, y0)              Newton on the generated rhs/jac -> SteadyState
-    balanced_family_tangent(model, y) the tangent space of the balanced family (3.6) at y (N x (n-2))
+    family_tangent(model, y, p)       the tangent space of the balanced family (3.6) at y (N x (n-2))
     transverse_spectrum(J, T)         the eigenvalues of J without the family's zero eigenvalues
 
 **The continuum of balanced states.**  For n >= 3 balls (3.6) leaves n - 2 angles free: the balanced
