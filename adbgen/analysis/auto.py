@@ -324,13 +324,13 @@ class AutoRun:
 
     def to_json(self) -> list[dict]:
         m, col = self.model, self.column()
-        amp = f"PAR({auto_parameter(m.n_params)})" if m.n_params < 10 else None
+        amp = f"PAR({auto_parameter(m.n_params)})"  # pvls: the rotor amplitude
         by_label = {s.label: s for s in self.solutions}
         out = []
         for pt in self.labelled():
             row = {"label": pt.label, "type": pt.type, self.name: pt.values[col],
                    "stability": "stable" if pt.stable else "unstable", "step": abs(pt.pt)}
-            if amp and amp in pt.values:
+            if amp in pt.values:
                 row["amplitude"] = pt.values[amp]
             if pt.kind == "HB" and pt.label in by_label:
                 period = by_label[pt.label].par[10]
