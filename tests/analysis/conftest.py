@@ -21,8 +21,7 @@ _scans: dict = {}
 
 @pytest.fixture(scope="session")
 def thesis():
-    """n -> the generated thesis model."""
-    return lambda n: load_model(f"thesis_rotating_n{n}")
+    return {n: load_model(f"thesis_rotating_n{n}") for n in (2, 3, 4)}
 
 
 @pytest.fixture(scope="session")
@@ -30,7 +29,7 @@ def balanced_scan(thesis):
     """n -> the scan of the balanced state (START) from Omega = 4 down to 0.5 at CH4."""
     def get(n: int) -> continuation.Scan:
         if n not in _scans:
-            m = thesis(n)
+            m = thesis[n]
             p = m.params({"Omega": 4.0, **CH4})
             _scans[n] = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
         return _scans[n]

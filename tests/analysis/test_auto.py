@@ -31,7 +31,7 @@ def auto_runs(auto_ok, thesis):
 
     def get(n):
         if n not in cache:
-            m = thesis(n)
+            m = thesis[n]
             cache[n] = auto.continue_one(m, "Omega", to=0.5)
         return cache[n]
     return get
@@ -39,7 +39,7 @@ def auto_runs(auto_ok, thesis):
 
 @pytest.mark.parametrize("n", [2, 3, 4])
 def test_auto_hopf_points_equal_the_scan(auto_runs, balanced_scan, thesis, n):
-    m = thesis(n)
+    m = thesis[n]
     assert np.allclose(m.module.START_PARAMETERS, m.params({"Omega": 4.0, **CH4}))
     run = auto_runs(n)
     scan = balanced_scan(n)
@@ -58,7 +58,7 @@ def test_auto_hopf_points_equal_the_scan(auto_runs, balanced_scan, thesis, n):
 
 def test_auto_from_set_parameters_uses_u_and_par(auto_ok, thesis):
     """A start away from stpnt's parameters (mu = 0.04: another balanced state) through AUTO's U and PAR."""
-    m = thesis(3)
+    m = thesis[3]
     p = m.params({"Omega": 4.0, **CH4, "mu": 0.04})
     y = closed_forms.state(m, "1", p)
     run = auto.continue_one(m, "Omega", p, y, to=1.5)
@@ -111,7 +111,7 @@ def test_regularised_func_has_the_transverse_spectrum_and_minus_one(auto_ok, the
     """On the followed state dF/dU = J - T E^T: its eigenvalues are the transverse spectrum (the
     analysis layer's) and -1 (n - 2 times), so AUTO's Hopf points and stability are the deflated
     spectrum's.  Off the state, func = rhs + the term, and dfdu is its exact derivative."""
-    m = thesis(n)
+    m = thesis[n]
     func = _func(m, tmp_path)
     y = np.array(m.module.START)
     for omega in (4.0, 1.88, 1.3):
@@ -141,7 +141,7 @@ def test_two_parameter_hopf_curves_are_hopf_points_of_the_analysis_layer(auto_ok
     """n = 2 in (Omega, mu): every curve starts at a Hopf point of the one-parameter run; sampled points
     of each curve are Hopf points of the balanced state (3.6) at that (Omega, mu) by the analysis
     layer's own spectrum; the codimension-two points are reported once."""
-    m = thesis(2)
+    m = thesis[2]
     res = auto.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
     assert [c.kind for c in res.curves] == ["hopf", "hopf"], "H2 and H3 lie on one closed curve"
     assert res.curves[1].also_from == [pytest.approx(1.0296942, abs=1e-6)]
@@ -167,7 +167,7 @@ def test_double_hopf_points_of_n3_are_two_pairs_on_the_axis(auto_ok, thesis):
     the imaginary axis (thesis: two H1 curves intersect, Fig. 4.5); checked on a fresh steady state."""
     from adbgen.analysis.stability_commands import _follower
 
-    m = thesis(3)
+    m = thesis[3]
     res = auto.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
     y = np.array(m.module.START)
     hh = auto.double_hopf_points(m, res.curves, res.one.p, "Omega", "mu", _follower(m, y))
@@ -187,7 +187,7 @@ def test_double_hopf_points_of_n3_are_two_pairs_on_the_axis(auto_ok, thesis):
 def test_fold_curve_of_the_coincident_state_passes_the_wedge_tip(auto_ok, thesis):
     """n = 2 from 2- at Omega = 0.5: the fold's curve in (Omega, mu) reaches its lowest mu at the wedge
     tip (4.1), (mu_c, Omega_c) = (delta/2, 1/sqrt(1 + 2 mu_c)) (to the curve's sampling)."""
-    m = thesis(2)
+    m = thesis[2]
     p = m.params({**CH4, "Omega": 0.5})
     res = auto.continue_two(m, "Omega", "mu", p, closed_forms.state(m, "2-", p), to=1.5, range2=(0.001, 0.2))
     assert [c.kind for c in res.curves] == ["fold"]
@@ -202,7 +202,7 @@ def test_zeta_limit_of_n4_at_omega_3(auto_ok, thesis):
     the scan and AUTO-07p (started at Omega = 3 through U and PAR, the free angles pinned) agree."""
     from adbgen.analysis.stability_commands import _pinned_start
 
-    m = thesis(4)
+    m = thesis[4]
     p = m.params({**CH4, "Omega": 3.0})
     scan = continuation.scan(m, p, m.module.START, "zeta", 0.01, 0.2)
     assert [b.kind for b in scan.points] == ["hopf"] and scan.points[0].direction == "destabilising"

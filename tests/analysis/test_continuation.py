@@ -33,7 +33,7 @@ def test_n2_stability_window_and_hopf_points(balanced_scan, thesis):
     values = [b.value for b in hopf]
     assert values == pytest.approx([1.8822393, 1.0936343, 1.0296942], abs=1e-7)
     # independently: the leading eigenvalue's real part changes sign there (brentq on a fixed grid)
-    m = thesis(2)
+    m = thesis[2]
     for b in hopf:
         root = brentq(lambda w: _leading(m, w)[0], b.value - 1e-3, b.value + 1e-3, xtol=1e-14)
         assert abs(root - b.value) < 1e-9
@@ -47,7 +47,7 @@ def test_n3_n4_hopf_points_and_stable_intervals(balanced_scan, thesis, n, count)
     s = balanced_scan(n)
     hopf = [b for b in s.points if b.kind == "hopf"]
     assert len(hopf) == count
-    m = thesis(n)
+    m = thesis[n]
     for b in hopf:  # a pair on the imaginary axis at the frequency reported (not always the leading pair)
         p = m.params({"Omega": b.value, **CH4})
         y = np.array(m.module.START)
@@ -68,7 +68,7 @@ def test_coincident_state_folds_at_the_critical_speeds(thesis):
     """n = 2, state 2- from Omega = 0.5 upwards: the saddle-node at Omega_c1 of (3.16)."""
     from adbgen.single_plane.steady_states import critical_speeds
 
-    m = thesis(2)
+    m = thesis[2]
     p = m.params({"Omega": 0.5, **CH4})
     s = continuation.scan(m, p, closed_forms.state(m, "2-", p), "Omega", 0.5, 1.5)
     folds = [b for b in s.points if b.kind == "fold"]
@@ -80,7 +80,7 @@ def test_coincident_state_folds_at_the_critical_speeds(thesis):
 
 
 def test_bad_scans(thesis):
-    m = thesis(2)
+    m = thesis[2]
     with pytest.raises(AnalysisError, match="not a parameter"):
         continuation.scan(m, m.params(), m.module.START, "Omega_x", 4.0, 3.0)
     with pytest.raises(AnalysisError, match="empty scan range"):

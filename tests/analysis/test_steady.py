@@ -29,7 +29,7 @@ def _match(a: np.ndarray, b: np.ndarray) -> float:
 
 @pytest.mark.parametrize("n", [2, 3, 4])
 def test_start_is_a_steady_state_and_the_family_is_neutral_not_unstable(thesis, n):
-    m = thesis(n)
+    m = thesis[n]
     s = steady.refine(m, m.params({"Omega": 4.0, **CH4}), m.module.START)
     assert s.residual < 1e-14
     assert s.tangent.shape == (m.n_states, n - 2)
@@ -46,7 +46,7 @@ def test_start_is_a_steady_state_and_the_family_is_neutral_not_unstable(thesis, 
 
 
 def test_unstable_between_the_hopf_points_with_counts(thesis):
-    m = thesis(3)
+    m = thesis[3]
     s = steady.refine(m, m.params({"Omega": 1.8, **CH4}), m.module.START)
     assert s.classification == "unstable" and s.n_unstable == 2
     assert np.all(np.abs(s.neutral) < 1e-10)
@@ -54,7 +54,7 @@ def test_unstable_between_the_hopf_points_with_counts(thesis):
 
 @pytest.mark.parametrize("n", [3, 4])
 def test_tangent_is_the_null_space_and_moving_along_it_keeps_a_steady_state(thesis, n):
-    m = thesis(n)
+    m = thesis[n]
     p = m.params({"Omega": 2.5, **CH4})
     y = np.array(m.module.START)
     T = steady.balanced_family_tangent(m, y)
@@ -74,7 +74,7 @@ def test_tangent_is_the_null_space_and_moving_along_it_keeps_a_steady_state(thes
 @pytest.mark.parametrize("n", [3, 4])
 @pytest.mark.parametrize("omega", [4.0, 1.8, 1.05])
 def test_transverse_spectrum_is_the_full_spectrum_minus_the_zero_eigenvalues(thesis, n, omega):
-    m = thesis(n)
+    m = thesis[n]
     p = m.params({"Omega": omega, **CH4})
     y = np.array(m.module.START)
     J = steady.jacobian(m, y, p)
@@ -121,7 +121,7 @@ def test_reduction_is_exact_on_any_member_of_the_n3_family(free, ratio, omega, z
 
 
 def test_newton_converges_onto_the_family_from_a_perturbed_state(thesis):
-    m = thesis(3)
+    m = thesis[3]
     p = m.params({"Omega": 3.0, **CH4})
     rng = np.random.default_rng(3)
     y0 = np.array(m.module.START) + 1e-3 * rng.standard_normal(m.n_states)
@@ -134,7 +134,7 @@ def test_newton_converges_onto_the_family_from_a_perturbed_state(thesis):
 
 
 def test_isolated_states_have_no_neutral_directions(thesis):
-    m = thesis(3)
+    m = thesis[3]
     p = m.params({"Omega": 0.5, **CH4})
     s = steady.refine(m, p, closed_forms.state(m, "2-", p), label="2-")
     assert s.tangent.shape[1] == 0 and s.neutral.size == 0 and s.classification == "stable"
@@ -142,7 +142,7 @@ def test_isolated_states_have_no_neutral_directions(thesis):
 
 @pytest.mark.parametrize("n", [2, 3, 4])
 def test_closed_form_states_are_zeros_of_the_generated_rhs(thesis, n):
-    m = thesis(n)
+    m = thesis[n]
     labels = closed_forms.labels(m)
     assert labels[:3] == ["1", "2+", "2-"] and len(labels) == 3 + 2 * (n - 1)
     for omega in (0.5, 1.5, 4.0):
@@ -185,7 +185,7 @@ def test_forced_models_have_no_steady_states():
 
 
 def test_newton_failure_is_an_error(thesis):
-    m = thesis(2)
+    m = thesis[2]
     with pytest.raises(steady.SteadyStateError, match="Newton did not converge"):
         steady.newton(m, m.params({"Omega": 4.0}), m.state({"x": 0.5, "phi_1": 2.0}), max_iter=2)
 
