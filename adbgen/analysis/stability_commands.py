@@ -10,6 +10,7 @@ Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -67,6 +68,8 @@ def _add_stability(p) -> None:
     p.add_argument("--scan", metavar="NAME=FROM:TO",
                    help="follow the state from NAME = FROM to TO (pseudo-arclength), locate Hopf points and folds")
     p.add_argument("--ds-max", type=float, default=0.01, help="largest continuation step (default 0.01)")
+    p.add_argument("--out", help="with --scan: a folder for scan.csv (the branch: parameter, leading real part, "
+                                 "number unstable, rotor amplitude) and scan.png")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.set_defaults(fn=run_stability)
 
@@ -80,6 +83,8 @@ def run_stability(args) -> int:
     if not (args.ds_max > 0 and math.isfinite(args.ds_max)):
         raise AnalysisError(f"--ds-max must be a finite number > 0, got {args.ds_max}")
     scan = _scan_range(args.scan, model) if args.scan else None
+    if args.out is not None and scan is None:
+        raise AnalysisError("--out needs --scan")
     p = model.params(values)
     if scan:
         p[model.param_names.index(scan[0])] = scan[1]
@@ -93,6 +98,8 @@ def run_stability(args) -> int:
         return 0
     name, a, b = scan
     result = continuation.scan(model, p, y0, name, a, b, ds_max=args.ds_max)
+    if args.out is not None:
+        write_scan(result, Path(args.out))
     if args.json:
         _emit_json({**result.to_json(), "state_label": label})
     else:
@@ -117,6 +124,44 @@ def _print_steady(st) -> None:
         print(f"neutral (along the family, |J T| = {st.tangent_residual:.1e}):")
         for z in st.neutral:
             print("  " + _fmt(z))
+
+
+def write_scan(result, out: Path) -> None:
+    """scan.csv (one row per continuation step) and scan.png: the leading real part of the transverse
+    spectrum and the rotor amplitude along the parameter, stable stretches solid, Hopf points and folds
+    marked (the thesis' one-parameter diagrams, Fig. 4.2, 4.6, 4.11)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out.mkdir(parents=True, exist_ok=True)
+    m = result.model
+    ix, iy = m.amplitude_indices[:2]
+    lam = np.array([b.lam for b in result.branch])
+    lead = np.array([float(np.max(b.spectrum.real)) for b in result.branch])
+    amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
+    amp[amp < 1e-14] = 0.0  # the balanced state: rounding only
+    unstable = np.array([b.n_unstable for b in result.branch])
+    with open(out / "scan.csv", "w") as fh:
+        fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
+                 f"to {result.stop!r}\n")
+        fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
+        np.savetxt(fh, np.column_stack([lam, lead, unstable, amp]), delimiter=",", fmt="%.17g")
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True, constrained_layout=True)
+    for ax, values, label in ((a1, lead, "max Re $\\lambda$ (transverse)"), (a2, amp, "$r = \\sqrt{x^2 + y^2}$")):
+        stable = np.where(unstable == 0, values, np.nan)
+        ax.plot(lam, values, "--", color="C0", lw=0.8)
+        ax.plot(lam, stable, "-", color="C0", lw=1.6)
+        ax.set_ylabel(label)
+        for b in result.points:
+            ax.axvline(b.value, color="C3" if b.kind == "hopf" else "C2", lw=0.6, ls=":")
+    a1.axhline(0.0, color="0.5", lw=0.5)
+    a2.set_xlabel(result.name)
+    marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points)
+    a1.set_title(f"{m.name}: solid stable, dashed unstable; {marks}", fontsize=8)
+    fig.savefig(out / "scan.png", dpi=120)
+    plt.close(fig)
 
 
 def _print_scan(result) -> None:

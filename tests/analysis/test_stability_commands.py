@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from adbgen.cli import main
@@ -61,6 +62,15 @@ def test_stability_scan_json(capsys, balanced_scan):
     assert sum(data["stable_intervals"], []) == pytest.approx([1.0296942, 1.0936343, 1.8822393, 4.0], abs=1e-7)
 
 
+def test_stability_scan_out_writes_the_branch_and_a_plot(capsys, tmp_path):
+    code, out, err = run(capsys, "stability", "thesis_rotating_n2", *SET, "--state", "2-", "--scan", "Omega=0.5:1.5",
+                         "--out", str(tmp_path))
+    assert code == 0, err
+    rows = np.loadtxt(tmp_path / "scan.csv", delimiter=",", comments="#", skiprows=4)
+    assert rows.shape[1] == 4 and rows[0, 0] == 0.5 and rows[0, 2] == 0 and rows[0, 3] > 0.01
+    assert (tmp_path / "scan.png").stat().st_size > 10_000
+
+
 def test_stability_scan_fold_has_null_frequency(capsys):
     code, out, _ = run(capsys, "stability", "thesis_rotating_n2", *SET, "--state", "2-", "--scan", "Omega=0.5:1.5", "--json")
     points = json.loads(out)["points"]
@@ -80,6 +90,7 @@ def test_stability_scan_fold_has_null_frequency(capsys):
     (["thesis_rotating_n2", "--scan", "Omega=2:2"], "empty range"),
     (["thesis_rotating_n2", "--scan", "Omega=1:x"], "cannot read"),
     (["thesis_rotating_n2", "--ds-max", "0"], "--ds-max"),
+    (["thesis_rotating_n2", "--out", "x"], "--out needs --scan"),
     (["single_plane_fixed_n2"], "periodic orbits"),
     (["thesis_rotating_n2", "--bogus"], "unrecognized"),
 ])
