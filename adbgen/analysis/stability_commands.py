@@ -10,6 +10,7 @@ Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -143,7 +144,8 @@ def write_scan(result, out: Path) -> None:
     amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
     amp[amp < 1e-14] = 0.0  # the balanced state: rounding only
     unstable = np.array([b.n_unstable for b in result.branch])
-    with open(out / "scan.csv", "w") as fh:
+    # written under temporary names and renamed: an interrupted run leaves the folder as it was
+    with open(out / ".scan.csv.tmp", "w") as fh:
         fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
                  f"to {result.stop!r}\n")
         fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
@@ -160,8 +162,10 @@ def write_scan(result, out: Path) -> None:
     a2.set_xlabel(result.name)
     marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points)
     a1.set_title(f"{m.name}: solid stable, dashed unstable; {marks}", fontsize=8)
-    fig.savefig(out / "scan.png", dpi=120)
+    fig.savefig(out / ".scan.png.tmp", dpi=120, format="png")
     plt.close(fig)
+    os.replace(out / ".scan.csv.tmp", out / "scan.csv")
+    os.replace(out / ".scan.png.tmp", out / "scan.png")
 
 
 def _print_scan(result) -> None:
