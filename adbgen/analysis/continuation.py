@@ -21,7 +21,8 @@ along the chord so that folds are crossed too:
   reported apart from `points`.
 
 Direction: "stabilising" when the count of unstable eigenvalues drops in the direction of the scan
-(from FROM to TO), "destabilising" when it grows.
+(from FROM to TO), "destabilising" when it grows, null for a fold where it does not change (the
+balanced branch turning at mu_c into its mirror copy phi_1 <-> phi_2, the thesis' pitchfork PF1,2).
 """
 
 from __future__ import annotations
@@ -54,7 +55,7 @@ class Bifurcation:
     kind: str  # "hopf", "fold" or "branch"
     value: float
     frequency: float | None
-    direction: str  # "stabilising" | "destabilising" along the scan
+    direction: str | None  # "stabilising" | "destabilising" along the scan; None: no change (a fold only)
     y: np.ndarray
     n_unstable_before: int
     n_unstable_after: int
@@ -220,7 +221,8 @@ def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]
     """The stability change between consecutive branch points a and b."""
     N = a.y.size
     z_at, length, d = _segment(prob, a, b)
-    direction = "stabilising" if b.n_unstable < a.n_unstable else "destabilising"
+    direction = ("stabilising" if b.n_unstable < a.n_unstable else
+                 "destabilising" if b.n_unstable > a.n_unstable else None)  # None: a fold that keeps stability
     out = []
     if a.tangent[-1] * b.tangent[-1] < 0:  # the branch turns back: a fold
         def g(s):
@@ -254,22 +256,32 @@ def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]
 
 def _stable_intervals(branch: list[BranchPoint], bifurcations: list[tuple[int, Bifurcation]],
                       lo: float, hi: float) -> list[tuple[float, float]]:
-    """Parameter intervals (ascending) where the followed state is stable: runs of stable steps, their
-    ends at the located bifurcations or at the ends of the scanned range."""
-    at = dict(bifurcations)
+    """Parameter intervals (ascending, overlapping ones merged) where the followed state is stable:
+    runs of stable steps, extended to the located bifurcations that bound them (a fold inside a run,
+    e.g. the turn of the balanced branch at mu_c into its mirror copy, keeps the run going)."""
+    after: dict[int, list[float]] = {}
+    for i, bif in bifurcations:  # located between steps i and i + 1
+        after.setdefault(i, []).append(bif.value)
     runs, current = [], None
     for i, b in enumerate(branch):
         if b.classification == "stable":
             if current is None:
-                current = [at[i - 1].value if (i - 1) in at else min(max(b.lam, lo), hi)]
-            last = i
+                current = list(after.get(i - 1, []))[-1:]
+            current.append(b.lam)
+            current += after.get(i, [])
         elif current is not None:
-            current.append(at[last].value if last in at else b.lam)
             runs.append(current)
             current = None
     if current is not None:
-        runs.append(current + [min(max(branch[last].lam, lo), hi)])
-    return sorted((float(min(r)), float(max(r))) for r in runs)
+        runs.append(current)
+    spans = sorted((min(max(min(r), lo), hi), min(max(max(r), lo), hi)) for r in runs)
+    merged: list[list[float]] = []
+    for a, b in spans:
+        if merged and a <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], b)
+        else:
+            merged.append([a, b])
+    return [(float(a), float(b)) for a, b in merged]
 
 
 def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float, **options) -> Scan:

@@ -173,7 +173,7 @@ def _print_scan(result) -> None:
           f"{len(result.branch)} steps ({result.end_reason})")
     for b in result.points:
         freq = "" if b.frequency is None else f", frequency {b.frequency:.9g}"
-        print(f"  {b.kind:<5} {result.name} = {b.value:.10g}{freq}, {b.direction}")
+        print(f"  {b.kind:<5} {result.name} = {b.value:.10g}{freq}, {b.direction or 'stability unchanged'}")
     for b in result.branch_points:
         print(f"  branch point {result.name} = {b.value:.10g}")
     intervals = ", ".join(f"[{a:.7g}, {b:.7g}]" for a, b in result.stable_intervals) or "none"

@@ -211,3 +211,22 @@ def test_zeta_limit_of_n4_at_omega_3(auto_ok, thesis):
     hb = [pt.values["PAR(5)"] for pt in run.points if pt.kind == "HB"]
     assert len(hb) == 1 and abs(hb[0] - scan.points[0].value) < TOL
     assert 0.09 < hb[0] < 0.1
+
+
+def test_n3_in_mu_the_balanced_branch_turns_at_mu_c(auto_ok, thesis):
+    """n = 3, Omega = 1.5, mu from 0.05 down: stable below a Hopf point, and at mu_c = delta/3 (phi_3 = pi,
+    phi_1 = phi_2 = pi: the thesis' pitchfork PF1,2) the branch turns into its mirror copy without a
+    change of stability; scan and AUTO-07p agree on both points."""
+    m = thesis[3]
+    p = m.params({**CH4, "Omega": 1.5})
+    scan = continuation.scan(m, p, m.module.START, "mu", 0.05, 0.002)
+    kinds = [(b.kind, b.direction) for b in scan.points]
+    assert kinds == [("hopf", "stabilising"), ("fold", None), ("hopf", "destabilising")]
+    fold = scan.points[1]
+    assert abs(fold.value - CH4["delta"] / 3) < 1e-10
+    assert scan.stable_intervals == [pytest.approx((CH4["delta"] / 3, scan.points[0].value), abs=1e-10)]
+    run = auto.continue_one(m, "mu", p, m.module.START, to=0.002)
+    lp = [pt.values["PAR(4)"] for pt in run.points if pt.kind == "LP"]
+    hb = [pt.values["PAR(4)"] for pt in run.points if pt.kind == "HB"]
+    assert lp and all(abs(v - fold.value) < TOL for v in lp)
+    assert hb and all(abs(v - scan.points[0].value) < TOL for v in hb)
