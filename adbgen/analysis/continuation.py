@@ -59,10 +59,14 @@ class Bifurcation:
     y: np.ndarray
     n_unstable_before: int
     n_unstable_after: int
+    bracket: tuple[float, float] | None = None  # set when root finding failed: the step it lies in
 
     def to_json(self, name: str) -> dict:
-        return {"kind": self.kind, name: self.value, "frequency": self.frequency, "direction": self.direction,
-                "n_unstable_before": self.n_unstable_before, "n_unstable_after": self.n_unstable_after}
+        out = {"kind": self.kind, name: self.value, "frequency": self.frequency, "direction": self.direction,
+               "n_unstable_before": self.n_unstable_before, "n_unstable_after": self.n_unstable_after}
+        if self.bracket is not None:
+            out["bracket"] = list(self.bracket)
+        return out
 
 
 @dataclass
@@ -218,7 +222,21 @@ def _segment(prob: _Problem, a: BranchPoint, b: BranchPoint):
 
 
 def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
-    """The stability change between consecutive branch points a and b."""
+    """The stability change between consecutive branch points a and b; where root finding fails
+    (no sign change of the test function on the chord, Newton failing), the step it lies in."""
+    try:
+        return _locate_exactly(prob, a, b)
+    except (ValueError, SteadyStateError):
+        turned = a.tangent[-1] * b.tangent[-1] < 0
+        kind = "fold" if turned else ("hopf" if abs(a.n_unstable - b.n_unstable) == 2 else "branch")
+        near = b.spectrum[np.argsort(np.abs(b.spectrum.real))[:2]]
+        direction = ("stabilising" if b.n_unstable < a.n_unstable else
+                     "destabilising" if b.n_unstable > a.n_unstable else None)
+        return [Bifurcation(kind, 0.5 * (a.lam + b.lam), float(np.max(np.abs(near.imag))) if kind == "hopf" else None,
+                            direction, 0.5 * (a.y + b.y), a.n_unstable, b.n_unstable, (a.lam, b.lam))]
+
+
+def _locate_exactly(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
     N = a.y.size
     z_at, length, d = _segment(prob, a, b)
     direction = ("stabilising" if b.n_unstable < a.n_unstable else

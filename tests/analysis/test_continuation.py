@@ -85,3 +85,18 @@ def test_bad_scans(thesis):
         continuation.scan(m, m.params(), m.module.START, "Omega_x", 4.0, 3.0)
     with pytest.raises(AnalysisError, match="empty scan range"):
         continuation.scan(m, m.params(), m.module.START, "Omega", 4.0, 4.0)
+
+
+def test_a_change_that_root_finding_cannot_locate_is_reported_with_its_step(thesis, monkeypatch):
+    """If brentq fails (no sign change on the chord), the point is still reported, with the step
+    [a, b] it lies in as `bracket`, never dropped and never a traceback."""
+    m = thesis[2]
+
+    def fail(*args, **kwargs):
+        raise ValueError("f(a) and f(b) must have different signs")
+    monkeypatch.setattr(continuation, "brentq", fail)
+    s = continuation.scan(m, m.params({"Omega": 2.0, **CH4}), m.module.START, "Omega", 2.0, 1.8)
+    (hopf,) = s.points
+    lo, hi = sorted(hopf.bracket)
+    assert hopf.kind == "hopf" and lo <= 1.8822393 <= hi and hi - lo <= 0.011
+    assert s.to_json()["points"][0]["bracket"] == list(hopf.bracket)
