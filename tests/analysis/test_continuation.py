@@ -76,6 +76,10 @@ def test_coincident_state_folds_at_the_critical_speeds(thesis):
     expected = critical_speeds(2, 2, CH4["mu"], CH4["zeta"], CH4["delta"])[0]
     assert abs(folds[0].value - expected) < 1e-9, (folds[0].value, expected)
     assert folds[0].direction == "destabilising"  # 2- (stable) turns into 2+ (unstable) at the fold
+    # located on the tangent (d Omega/ds = 0); there a real eigenvalue of the spectrum is zero
+    q = m.params({"Omega": folds[0].value, **CH4})
+    ev = steady.transverse_spectrum(steady.jacobian(m, folds[0].y, q), np.zeros((m.n_states, 0)))
+    assert np.min(np.abs(ev)) < 1e-7 and abs(ev[np.argmin(np.abs(ev))].imag) == 0
     assert s.stable_intervals == [pytest.approx((0.5, folds[0].value))]
 
 
