@@ -7,6 +7,7 @@
     adbgen regenerate [--check] [--scene F] [--n N ...] [--out DIR] [--targets ...]
                                               derive, check, emit numba/C/CVODE/AUTO into generated/
     adbgen bench derive|codegen [--out FILE] [--n ...]
+    adbgen bench simulate [--out FILE] [--repeats N] [--engines E ...] [--no-peers]
     adbgen two-plane verify|derive|steady     the two-plane rotor (see adbgen/two_plane/commands.py)
     adbgen simulate ...                       transients on the generated code (adbgen/analysis/commands.py)
 
@@ -239,7 +240,8 @@ def cmd_demo(args) -> int:
     return 0 if check.passed else 1
 
 
-_BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json"}
+_BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json",
+              "simulate": "benchmarks/simulate.json"}
 
 
 def cmd_bench(args) -> int:
@@ -248,6 +250,8 @@ def cmd_bench(args) -> int:
     if args.what not in _BENCH_OUT:
         raise _UsageError(f"unknown benchmark {args.what!r}; choose: {', '.join(_BENCH_OUT)}")
     out = args.out if args.out is not None else _BENCH_OUT[args.what]
+    if args.what == "simulate":
+        return _bench_simulate(args, out)
     if args.what == "codegen":
         from . import bench_codegen
 
@@ -263,6 +267,27 @@ def cmd_bench(args) -> int:
         flush=True))
     path = bench.write(result, out)
     print(f"wrote {path}")
+    return 0
+
+
+def _bench_simulate(args, out) -> int:
+    from . import bench, bench_simulate
+
+    if args.repeats is not None and args.repeats < 1:
+        raise _UsageError(f"--repeats must be >= 1, got {args.repeats}")
+    if args.engines:
+        from .analysis.engines import engine
+
+        for name in args.engines:
+            engine(name)  # an unknown name: one line naming the engines, exit 2
+    result = bench_simulate.bench_simulate(
+        repeats=args.repeats or bench_simulate.DEFAULT_REPEATS, engines=args.engines, peers=not args.no_peers,
+        progress=lambda line: print(line, flush=True))
+    path = bench.write(result, out)
+    png = bench_simulate.chart(result, Path(out).with_suffix(".png"))
+    for line in bench_simulate.describe_targets(result):
+        print(line)
+    print(f"wrote {path} and {png} ({result['seconds']} s)")
     return 0
 
 
@@ -339,9 +364,13 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(fn=cmd_regenerate)
 
     b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
-    b.add_argument("what", help="derive or codegen")
-    b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json)")
+    b.add_argument("what", help="derive, codegen or simulate")
+    b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json; simulate also writes "
+                   "its chart next to it, <out>.png)")
     b.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
+    b.add_argument("--repeats", type=int, default=None, help="simulate: best of N (default 5)")
+    b.add_argument("--engines", nargs="+", default=None, help="simulate: only these engines (default: all)")
+    b.add_argument("--no-peers", action="store_true", help="simulate: skip JiTCODE and heyoka")
     b.set_defaults(fn=cmd_bench)
 
     from .two_plane.commands import add_parser as add_two_plane
