@@ -19,9 +19,11 @@ Measured in one run (compare ratios, not absolute times across runs: the machine
   times can be compared at equal error (log-log interpolation of time against error);
 - ``floor``: ns per call of the generated C rhs in a C loop (gcc -O2, as the engines are built) and of
   the numba rhs in a jitted loop; an engine's floor is its rhs evaluations times the C ns per call;
-- ``symmetry``: from phi(0) = (pi, pi, pi) identical balls must stay bitwise equal and reach the
-  coincident state 2- (thesis: x = 0.1285, y = -0.0083, phi = 3.0772), for every pathway that runs
-  problem A in under `SLOW_S`, the peers included;
+- ``symmetry``: ``runs``: from phi(0) = (pi, pi, pi) identical balls must stay bitwise equal and
+  reach the coincident state 2- (thesis: x = 0.1285, y = -0.0083, phi = 3.0772), for every pathway
+  that runs problem A in under `SLOW_S`, the peers included; ``rhs_symmetric_fraction``: how often
+  the rhs itself (generated, and as each peer evaluates it) gives identical balls identical
+  derivatives at random ball-symmetric states;
 - ``many``: `simulate_many` over `MANY_N` trajectories of problem A (phi_1(0) varied) with 1 and 2
   threads, and the speed-up;
 - ``targets``: the issue's targets, each with pass/fail and the measured ratio.
@@ -268,7 +270,10 @@ def floor_record(floors: list[Pathway], engines: list[dict]) -> dict:
 
 def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int = 3, engine: str | None = None,
          spread: float = 0.5) -> dict:
-    """simulate_many over n trajectories (phi_1(0) = problem's +- spread) with each thread count."""
+    """simulate_many over n trajectories (phi_1(0) = problem's +- spread) with each thread count.
+
+    cpu_s (the process' CPU time over the call) beside wall_s shows whether the cores were free: on a
+    loaded machine 2 threads get less than two cores and the speed-up says more about the load."""
     from .analysis.simulate import simulate_many
 
     p, y = problem.vectors(model)
@@ -279,10 +284,13 @@ def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int 
     ends: dict[int, np.ndarray] = {}
     n_rhs = None
     statuses = set()
+    cpu: dict[int, list] = {k: [] for k in threads}
     for _ in range(max(1, repeats)):
         for k in threads:
+            before = _cpu()
             ens = simulate_many(model, p[None, :], Y0, t_end=problem.t_end, rtol=problem.rtol, atol=problem.atol,
                                 engine=engine, threads=k)
+            cpu[k].append(_cpu() - before)
             runs[k].append(float(ens.wall_s))
             ends[k] = ens.y_end
             n_rhs = int(np.sum(ens.n_rhs))
@@ -290,12 +298,20 @@ def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int 
     best = {k: min(v) for k, v in runs.items()}
     out = {"n_trajectories": n, "phi_1_spread": spread, "engine": engine or "default", "total_rhs": n_rhs,
            "statuses": sorted(statuses),
-           "threads": {str(k): {"runs_s": [round(t, 6) for t in runs[k]], "wall_s": round(best[k], 6)}
-                       for k in threads},
+           "threads": {str(k): {"runs_s": [round(t, 6) for t in runs[k]], "wall_s": round(best[k], 6),
+                                "cpu_s": [round(t, 6) for t in cpu[k]]} for k in threads},
            "identical_across_threads": all(np.array_equal(ends[threads[0]], ends[k]) for k in threads)}
     if 1 in best and len(threads) > 1:
         out["speedup"] = {str(k): round(best[1] / best[k], 3) for k in threads if k != 1}
     return out
+
+
+def _cpu() -> float:
+    """CPU seconds of this process, all threads (with wall time: were the cores really free?)."""
+    import resource
+
+    use = resource.getrusage(resource.RUSAGE_SELF)
+    return use.ru_utime + use.ru_stime
 
 
 # ------------------------------------------------------------------------------------- symmetry
@@ -499,7 +515,11 @@ NOTES = (
     "default engine's error, interpolated log-log between its runs at the sweep tolerances (heyoka: "
     "tol; JiTCODE and the default engine: rtol, atol = rtol / 100). symmetry: from phi(0) = "
     "(pi, pi, pi); bitwise_equal = every ball's angle and rate identical at t_end; ends_at_2minus = "
-    "within 5e-4 of the thesis' printed 2- state. The machine is a shared 2-core VM (load averages "
+    "within 5e-4 of the thesis' printed 2- state; many.threads.*.cpu_s: CPU time of the process during each "
+    "run (cpu_s well below threads x wall_s: the cores were busy with other work); rhs_symmetric_fraction = share of 200 random "
+    "ball-symmetric states at which the rhs gives every ball bitwise the same derivatives (heyoka: "
+    "its compiled function of the same expressions, not its Taylor recursions). heyoka caches "
+    "compiled integrators, so its compile_s may be a warm figure. The machine is a shared 2-core VM (load averages "
     "recorded): compare ratios within this run."
 )
 
@@ -650,9 +670,14 @@ def chart(result: dict, path: str | Path) -> Path:
     rows = [(r["key"], r["wall_s"], r.get("error"), "default" if r["key"] == default else
              ("scipy" if r["key"].startswith("scipy-") else "compiled")) for r in result["engines"] if r.get("wall_s")]
     rtol = result["problem"]["rtol"]
+    setup = result.get("peers", {}).get("setup", {})
     for r in result.get("peers", {}).get("runs", []):
         if r.get("wall_s") and (r["tol"] == rtol or r["name"] == "heyoka" and r["tol"] in (1e-8, 1e-9)):
-            rows.append((r["key"], r["wall_s"], r.get("error"), "peer"))
+            compile_s = setup.get(r["name"], {}).get("compile_s")
+            if isinstance(compile_s, dict):
+                compile_s = compile_s.get(f"{r['tol']:g}")
+            label = r["key"] + (f" (+{compile_s:.2g} s setup)" if compile_s is not None else "")
+            rows.append((label, r["wall_s"], r.get("error"), "peer"))
     rows.sort(key=lambda row: row[1])
     colours = {"default": "#d62728", "compiled": "#1f77b4", "scipy": "#7f7f7f", "peer": "#2ca02c"}
     fig, ax = plt.subplots(figsize=(9, 0.32 * len(rows) + 1.8))
@@ -664,11 +689,13 @@ def chart(result: dict, path: str | Path) -> Path:
     ax.set_yticks(ypos, [r[0] for r in rows], fontsize=8)
     ax.set_xscale("log")
     floor = result.get("floor", {}).get("floor_s", {}).get(default)
+    lo = min([r[1] for r in rows] + ([floor] if floor else []))
+    ax.set_xlim(1e3 * lo / 2, 1e3 * max(r[1] for r in rows) * 8)
+    ax.set_ylim(-1.3, len(rows) - 0.4)
     if floor:
         ax.axvline(1e3 * floor, color=colours["default"], ls="--", lw=1)
-        ax.text(1e3 * floor, len(rows) - 0.4, f" floor of {default}\n ({1e3 * floor:.3g} ms)", color=colours["default"],
-                fontsize=7, va="top")
-    ax.set_xlim(right=ax.get_xlim()[1] * 8)
+        ax.text(1e3 * floor * 1.05, -1.0, f"floor of {default}: {1e3 * floor:.3g} ms (evaluations x C ns per call)",
+                color=colours["default"], fontsize=7, va="center")
     p = result["problem"]
     ax.set_xlabel("wall time of the integration [ms] (best of the repeats, log scale)")
     ax.set_title(f"Problem {p['label']}: {p['model']}, t in [0, {p['t_end']:g}], rtol {p['rtol']:g}, "
