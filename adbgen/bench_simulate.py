@@ -17,6 +17,8 @@ Measured in one run (compare ratios, not absolute times across runs: the machine
   program of the intermediate form, `adbgen.bench_peers`), their setup (translation, compilation)
   timed apart from the integration; with the default engine, at the tolerances `SWEEP_TOLS` so that
   times can be compared at equal error (log-log interpolation of time against error);
+- ``baselines``: the issue's starting points, the numba rhs as a Python callback of SciPy's
+  ``solve_ivp`` DOP853 and ``ode('dop853')`` without events;
 - ``floor``: ns per call of the generated C rhs in a C loop (gcc -O2, as the engines are built) and of
   the numba rhs in a jitted loop; an engine's floor is its rhs evaluations times the C ns per call;
 - ``symmetry``: ``runs``: from phi(0) = (pi, pi, pi) identical balls must stay bitwise equal and
@@ -123,6 +125,46 @@ def engine_pathway(model, problem: Problem, engine: str, rtol: float | None = No
                 "status": s.status, "r_max": s.r_max, "t_dec": s.t_dec}
 
     return Pathway(key or engine, "engine", engine, rtol, run)
+
+
+def baseline_pathways(model, problem: Problem) -> list[Pathway]:
+    """The issue's starting points: the generated numba rhs as a Python callback, no events.
+
+    "baseline:solve_ivp-dop853": ``solve_ivp(rhs, ..., method="DOP853")`` (the scipy-dop853 engine
+    adds the r_max/t_dec events and dense output to this); "baseline:ode-dop853":
+    ``scipy.integrate.ode(rhs).set_integrator("dop853")`` (Hairer's Fortran code, a Python call per
+    evaluation: what JiTCODE's dop853 backend runs, with numba's rhs instead of JiTCODE's)."""
+    from scipy.integrate import ode, solve_ivp
+
+    p, y = problem.vectors(model)
+    rhs = model.module.rhs
+
+    def run_ivp():
+        start = time.perf_counter()
+        sol = solve_ivp(rhs, (0.0, problem.t_end), y, method="DOP853", args=(p,), rtol=problem.rtol,
+                        atol=problem.atol)
+        wall = time.perf_counter() - start
+        return {"wall_s": wall, "y_end": sol.y[:, -1].copy(), "n_rhs": int(sol.nfev), "n_steps": len(sol.t) - 1,
+                "status": "success" if sol.status == 0 else f"failed: {sol.message}"}
+
+    def run_ode():
+        count = [0]
+
+        def f(t, yy):
+            count[0] += 1
+            return rhs(t, yy, p)
+
+        solver = ode(f).set_integrator("dop853", rtol=problem.rtol, atol=problem.atol, nsteps=10**7)
+        solver.set_initial_value(y, 0.0)
+        start = time.perf_counter()
+        y_end = solver.integrate(problem.t_end)
+        wall = time.perf_counter() - start
+        return {"wall_s": wall, "y_end": np.array(y_end, float), "n_rhs": count[0], "n_steps": None,
+                "status": "success" if solver.successful() else "failed"}
+
+    return [Pathway("baseline:solve_ivp-dop853", "baseline", "solve_ivp DOP853, numba rhs, no events",
+                    problem.rtol, run_ivp),
+            Pathway("baseline:ode-dop853", "baseline", "scipy.integrate.ode dop853, numba rhs", problem.rtol, run_ode)]
 
 
 def measure(pathways: list[Pathway], repeats: int, slow_s: float = SLOW_S, progress=None) -> None:
@@ -525,8 +567,9 @@ NOTES = (
 
 
 def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEATS, engines=None,
-                   peers: bool = True, sweep_tols=SWEEP_TOLS, many_n: int = MANY_N, many_repeats: int = 3,
-                   slow_s: float = SLOW_S, floor_target: float = 0.03, progress=None) -> dict:
+                   peers: bool = True, sweep_tols=SWEEP_TOLS, many_n: int = MANY_N, many_repeats: int = 5,
+                   slow_s: float = SLOW_S, floor_target: float = 0.03, baseline: bool = True,
+                   progress=None) -> dict:
     """Run the whole benchmark; returns the JSON-ready result (see the module docstring)."""
     from .analysis.engines import DEFAULT, ENGINES
     from .analysis.loading import load_model
@@ -545,7 +588,7 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
         timespec="seconds"), "machine": mach, "versions": _versions(), "notes": NOTES,
         "problem": problem.to_json(), "default_engine": DEFAULT,
         "settings": {"repeats": repeats, "slow_s": slow_s, "sweep_tols": list(sweep_tols), "many_n": many_n,
-                     "many_repeats": many_repeats, "engines": names, "peers": peers}}
+                     "many_repeats": many_repeats, "engines": names, "peers": peers, "baseline": baseline}}
 
     # build every compiled engine once (cached libraries, numba) outside the timings
     short = Problem(problem.label, problem.model, problem.params, problem.y0, min(1.0, problem.t_end),
@@ -569,18 +612,19 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
                             key=f"{DEFAULT}@{tol:g}") for tol in sweep_tols if tol != problem.rtol]
     setup: dict = {}
     peer_paths = peer_pathways(model, problem, sweep_tols, setup, progress=say) if peers else []
+    baselines = baseline_pathways(model, problem) if baseline else []
     y_ref = ref["y_end"]
     with tempfile.TemporaryDirectory(prefix="adbgen-floor-") as tmp:
         floors = floor_pathways(model, y_ref, p, Path(tmp), target=floor_target)
         result["load_average_before_timing"] = _load()
-        measure(pathways + sweep + peer_paths + floors, repeats, slow_s, progress=say)
+        measure(pathways + baselines + sweep + peer_paths + floors, repeats, slow_s, progress=say)
     result["load_average_after_timing"] = _load()
 
-    for pw in pathways + sweep + peer_paths:
+    for pw in pathways + baselines + sweep + peer_paths:
         pw.last["error"] = error(pw.last.get("y_end"), y_ref)
     result["reference"] = {**{k: v for k, v in ref.items() if k != "y_end"},
                            "y_end": dict(zip(model.state_names, map(float, y_ref)))}
-    errors = [pw.last["error"] for pw in pathways + sweep + peer_paths if pw.last.get("error")]
+    errors = [pw.last["error"] for pw in pathways + baselines + sweep + peer_paths if pw.last.get("error")]
     smallest = min(errors) if errors else None
     check = ref["check_difference"]
     result["reference"]["smallest_error_measured"] = smallest
@@ -613,6 +657,7 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
                                  for k, v in setup.items()},
                        "runs": [pw.record() for pw in peer_paths]}
     result["default_sweep"] = [pw.record() for pw in sweep]
+    result["baselines"] = [pw.record() for pw in baselines]
 
     floor = result["floor"] = floor_record(floors, result["engines"])
     say(f"floor: {1e9 * (floor['seconds_per_call'] or math.nan):.1f} ns per call ({floor['basis']}); "
@@ -672,6 +717,8 @@ def chart(result: dict, path: str | Path) -> Path:
     rows = [(r["key"], r["wall_s"], r.get("error"), "default" if r["key"] == default else
              ("scipy" if r["key"].startswith("scipy-") else "compiled")) for r in result["engines"] if r.get("wall_s")]
     rtol = result["problem"]["rtol"]
+    rows += [(r["key"].split(":")[1], r["wall_s"], r.get("error"), "scipy") for r in result.get("baselines", [])
+             if r.get("wall_s")]
     setup = result.get("peers", {}).get("setup", {})
     for r in result.get("peers", {}).get("runs", []):
         if r.get("wall_s") and (r["tol"] == rtol or r["name"] == "heyoka" and r["tol"] in (1e-8, 1e-9)):
@@ -722,6 +769,6 @@ def describe_targets(result: dict) -> list[str]:
     return lines
 
 
-__all__ = ["PROBLEM_A", "Pathway", "Problem", "bench_simulate", "chart", "describe_targets", "engine_pathway",
+__all__ = ["PROBLEM_A", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart", "describe_targets", "engine_pathway",
            "error", "evaluate_targets", "floor_pathways", "floor_record", "many", "measure", "reference", "rhs_symmetry", "symmetry_record",
            "time_at_error", "write"]

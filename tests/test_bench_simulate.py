@@ -32,7 +32,7 @@ def tiny_result():
 def test_result_has_every_part(tiny_result, tmp_path):
     r = tiny_result
     for key in ("benchmark", "date", "machine", "versions", "problem", "default_engine", "settings", "reference",
-                "engines", "equal_error", "peers", "default_sweep", "floor", "symmetry", "many", "targets", "seconds"):
+                "engines", "equal_error", "peers", "default_sweep", "baselines", "floor", "symmetry", "many", "targets", "seconds"):
         assert key in r, key
     assert r["problem"]["t_end"] == 20.0 and r["default_engine"] == "cyrk-dop853"
     assert r["machine"]["load_average_at_start"] is not None
@@ -55,6 +55,10 @@ def test_errors_against_a_converged_reference(tiny_result):
         assert e["n_rhs"] > 0 and e["n_steps"] > 0 and len(e["runs_s"]) >= 1 and e["wall_s"] == min(e["runs_s"])
     # CyRK's DOP853 and SciPy's are the same method: the same steps
     assert engines["cyrk-dop853"]["n_steps"] == engines["scipy-dop853"]["n_steps"]
+    base = {b["key"]: b for b in r["baselines"]}
+    assert set(base) == {"baseline:solve_ivp-dop853", "baseline:ode-dop853"}
+    assert base["baseline:solve_ivp-dop853"]["n_steps"] == engines["cyrk-dop853"]["n_steps"]
+    assert all(0 < b["error"] < 1e-4 and b["n_rhs"] > 0 for b in base.values())
     # a tighter tolerance gives a smaller error on the default engine's sweep
     curve = r["equal_error"]["curves"]["cyrk-dop853"]
     assert [c["tol"] for c in curve] == [1e-5, 1e-6]
