@@ -216,8 +216,9 @@ def _c_literal(values) -> str:
     return ", ".join(repr(float(v)) for v in values)
 
 
-def build_c_timer(folder: Path, name: str, y0, p, cc: str = "gcc", flags=("-O2",), suffix: str = "") -> tuple[Path, float]:
-    """Compile the timing program of `_C_MAIN` for the model's C library in `folder`: (executable, seconds)."""
+def build_c_timer(folder: Path, name: str, y0, p, cc: str = "gcc", flags=("-O2",),
+                  suffix: str = "") -> tuple[Path, float]:
+    """Compile the timing program of `_C_MAIN` for the model's C library in `folder`: (exe, seconds)."""
     main = folder / f"bench_{name}_main.c"
     main.write_text(_C_MAIN.format(name=name, upper=name.upper(), y0=_c_literal(y0), p=_c_literal(p)))
     exe = folder / f"bench_{name}{suffix}"

@@ -200,8 +200,9 @@ def time_at_error(points, target: float) -> dict | None:
     """A pathway's time at a given error, log-log interpolated from its (error, time) points.
 
     Points dominated by another (larger error and longer time) are dropped first: a tolerance that
-    happens to land badly does not count against the pathway.  Inside the range of errors: linear interpolation of log time against log error between the
-    neighbours (points sorted by error).  Outside it: the nearest two points' line (extrapolated)."""
+    happens to land badly does not count against the pathway.  Inside the range of errors: linear
+    interpolation of log time against log error between the neighbours (points sorted by error).
+    Outside it: the nearest two points' line (extrapolated)."""
     pts = sorted((e, t) for e, t in points if e is not None and e > 0 and t is not None and t > 0)
     if not pts or target is None or target <= 0:
         return None
@@ -555,14 +556,15 @@ NOTES = (
     "rhs evaluations times the best ns per call of the generated C rhs in a C loop (gcc -O2, the flags "
     "the engines are built with); floor.ratio = wall / floor. equal_error: each peer's time at the "
     "default engine's error, interpolated log-log between its runs at the sweep tolerances (heyoka: "
-    "tol; JiTCODE and the default engine: rtol, atol = rtol / 100). symmetry: from phi(0) = "
+    "tol; JiTCODE and the default engine: rtol, atol = rtol / 100). symmetry.runs: from phi(0) = "
     "(pi, pi, pi); bitwise_equal = every ball's angle and rate identical at t_end; ends_at_2minus = "
-    "within 5e-4 of the thesis' printed 2- state; many.threads.*.cpu_s: CPU time of the process during each "
-    "run (cpu_s well below threads x wall_s: the cores were busy with other work); rhs_symmetric_fraction = share of 200 random "
-    "ball-symmetric states at which the rhs gives every ball bitwise the same derivatives (heyoka: "
-    "its compiled function of the same expressions, not its Taylor recursions). heyoka caches "
-    "compiled integrators, so its compile_s may be a warm figure. The machine is a shared 2-core VM (load averages "
-    "recorded): compare ratios within this run."
+    "within 5e-4 of the thesis' printed 2- state. symmetry.rhs_symmetric_fraction: share of 200 "
+    "random ball-symmetric states at which the rhs gives every ball bitwise the same derivatives "
+    "(heyoka: its compiled function of the same expressions, not its Taylor recursions). "
+    "many.threads.*.cpu_s: CPU time of the process during each run (cpu_s well below threads x "
+    "wall_s: the cores were busy with other work). heyoka caches compiled integrators, so its "
+    "compile_s may be a warm figure. The machine is a shared 2-core VM (load averages recorded): "
+    "compare ratios within this run."
 )
 
 
@@ -769,6 +771,6 @@ def describe_targets(result: dict) -> list[str]:
     return lines
 
 
-__all__ = ["PROBLEM_A", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart", "describe_targets", "engine_pathway",
-           "error", "evaluate_targets", "floor_pathways", "floor_record", "many", "measure", "reference", "rhs_symmetry", "symmetry_record",
-           "time_at_error", "write"]
+__all__ = ["PROBLEM_A", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart", "describe_targets",
+           "engine_pathway", "error", "evaluate_targets", "floor_pathways", "floor_record", "many", "measure",
+           "reference", "rhs_symmetry", "symmetry_record", "time_at_error", "write"]

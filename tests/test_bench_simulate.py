@@ -32,7 +32,8 @@ def tiny_result():
 def test_result_has_every_part(tiny_result, tmp_path):
     r = tiny_result
     for key in ("benchmark", "date", "machine", "versions", "problem", "default_engine", "settings", "reference",
-                "engines", "equal_error", "peers", "default_sweep", "baselines", "floor", "symmetry", "many", "targets", "seconds"):
+                "engines", "equal_error", "peers", "default_sweep", "baselines", "floor", "symmetry", "many", "targets",
+                "seconds"):
         assert key in r, key
     assert r["problem"]["t_end"] == 20.0 and r["default_engine"] == "cyrk-dop853"
     assert r["machine"]["load_average_at_start"] is not None
