@@ -83,7 +83,11 @@ class Problem:
 
 
 PROBLEM_A = Problem("A", "thesis_rotating_n3", {}, {"phi_1": math.pi / 3, "phi_2": -math.pi / 3, "phi_3": math.pi})
-SYMMETRIC_Y0 = {"phi_1": math.pi, "phi_2": math.pi, "phi_3": math.pi}
+
+
+def symmetric_y0(model) -> dict:
+    """Every ball at pi, all else 0 (thesis ch. 5: for n = 3 the run ends at the coincident state 2-)."""
+    return {name: math.pi for name in model.leaves}
 
 
 # ------------------------------------------------------------------------------------ pathways
@@ -412,6 +416,9 @@ def peer_pathways(model, problem: Problem, tols, setup: dict, progress=None) -> 
         except bench_peers.PeerUnavailable as exc:
             setup[name] = {"skipped": str(exc)}
             continue
+        except Exception as exc:  # a peer that fails to build is recorded, not fatal to the benchmark
+            setup[name] = {"error": f"{type(exc).__name__}: {exc}"}
+            continue
         rec = {"translate_s": round(peer.translate_s, 4),
                "equations_max_relative_difference": bench_peers.check_equations(peer, model.module, p)}
         if name == "jitcode":
@@ -456,7 +463,7 @@ def _heyoka_run(peer, y, p, t_end, tol):
 def _peer_symmetry(setup: dict, model, problem: Problem) -> dict:
     out = {}
     p, _ = problem.vectors(model)
-    y = model.state(SYMMETRIC_Y0)
+    y = model.state(symmetric_y0(model))
     for name in ("jitcode", "heyoka"):
         peer = setup.get(name, {}).get("_peer")
         if peer is None:
@@ -669,7 +676,7 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
     sym = {}
     for pw in pathways:
         if pw.runs_s and pw.runs_s[0] <= slow_s and pw.last.get("status") == "success":
-            out = engine_pathway(model, problem, pw.name, y0=SYMMETRIC_Y0).run()
+            out = engine_pathway(model, problem, pw.name, y0=symmetric_y0(model)).run()
             sym[pw.name] = symmetry_record(model, out["y_end"])
     if peers:
         sym.update(_peer_symmetry(setup, model, problem))
@@ -773,4 +780,4 @@ def describe_targets(result: dict) -> list[str]:
 
 __all__ = ["PROBLEM_A", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart", "describe_targets",
            "engine_pathway", "error", "evaluate_targets", "floor_pathways", "floor_record", "many", "measure",
-           "reference", "rhs_symmetry", "symmetry_record", "time_at_error", "write"]
+           "reference", "rhs_symmetry", "symmetric_y0", "symmetry_record", "time_at_error", "write"]
