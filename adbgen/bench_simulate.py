@@ -51,7 +51,7 @@ import numpy as np
 
 from .bench import write  # noqa: F401  (re-exported: `adbgen bench simulate` writes with it)
 
-DEFAULT_REPEATS = 5
+DEFAULT_REPEATS = 7
 SLOW_S = 1.0  # a pathway slower than this on its first run is run once
 SWEEP_TOLS = (1e-7, 1e-8, 1e-9, 1e-10)
 MANY_N = 64
@@ -550,14 +550,37 @@ def _versions() -> dict:
     return out
 
 
+def _cold_build(model, engine) -> float | None:
+    """Seconds to compile a compiled engine's library for the model from scratch (a scratch cache)."""
+    from .analysis.engines import compiled
+
+    if not hasattr(engine, "driver"):
+        return None
+    old = os.environ.get("ADBGEN_CACHE")
+    with tempfile.TemporaryDirectory(prefix="adbgen-cold-") as tmp:
+        os.environ["ADBGEN_CACHE"] = tmp
+        try:
+            start = time.perf_counter()
+            compiled.build(model, engine.driver, engine.libs)
+            return round(time.perf_counter() - start, 3)
+        except Exception:
+            return None
+        finally:
+            if old is None:
+                os.environ.pop("ADBGEN_CACHE", None)
+            else:
+                os.environ["ADBGEN_CACHE"] = old
+
+
 def _load() -> list | None:
     return [round(v, 2) for v in os.getloadavg()] if hasattr(os, "getloadavg") else None
 
 
 NOTES = (
     "wall_s: best of the repeats (runs_s: all of them), the integration alone (no import, build or "
-    "compilation; peers' setup in peers.setup). Repeats run round-robin over the pathways; a pathway "
-    "slower than slow_s on its first run runs once. error: largest absolute difference of the final "
+    "compilation; peers' setup in peers.setup, the default engine's library build from scratch in "
+    "default_engine_cold_build_s: later runs load it from adbgen's cache). Repeats run round-robin "
+    "over the pathways; a pathway slower than slow_s on its first run runs once. error: largest absolute difference of the final "
     "state from the reference (compiled Verner 8(7) at rtol 1e-13, atol 1e-15), whose own error is "
     "bounded by reference.check_difference (SciPy DOP853 at the same tolerances). floor: the engine's "
     "rhs evaluations times the best ns per call of the generated C rhs in a C loop (gcc -O2, the flags "
@@ -569,8 +592,8 @@ NOTES = (
     "random ball-symmetric states at which the rhs gives every ball bitwise the same derivatives "
     "(heyoka: its compiled function of the same expressions, not its Taylor recursions). "
     "many.threads.*.cpu_s: CPU time of the process during each run (cpu_s well below threads x "
-    "wall_s: the cores were busy with other work). heyoka caches compiled integrators, so its "
-    "compile_s may be a warm figure. The machine is a shared 2-core VM (load averages recorded): "
+    "wall_s: the cores were busy with other work). heyoka's compile_s is cold (its memory "
+    "and disk caches bypassed). The machine is a shared 2-core VM (load averages recorded): "
     "compare ratios within this run."
 )
 
@@ -611,7 +634,8 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
         except Exception as exc:
             warm[name] = f"error: {exc}"
     result["engine_setup_s"] = warm
-    say(f"engines built/loaded: {warm}")
+    result["default_engine_cold_build_s"] = _cold_build(model, ENGINES[DEFAULT])
+    say(f"engines built/loaded: {warm}; {DEFAULT} cold build {result['default_engine_cold_build_s']} s")
 
     ref = reference(model, problem)
     say(f"reference: {ref['method']}; check {ref['check_seconds']} s, difference {ref['check_difference']:.2e}")

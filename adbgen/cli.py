@@ -368,7 +368,7 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json; simulate also writes "
                    "its chart next to it, <out>.png)")
     b.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
-    b.add_argument("--repeats", type=int, default=None, help="simulate: best of N (default 5)")
+    b.add_argument("--repeats", type=int, default=None, help="simulate: best of N (default 7)")
     b.add_argument("--engines", nargs="+", default=None, help="simulate: only these engines (default: all)")
     b.add_argument("--no-peers", action="store_true", help="simulate: skip JiTCODE and heyoka")
     b.set_defaults(fn=cmd_bench)

@@ -37,6 +37,7 @@ def test_result_has_every_part(tiny_result, tmp_path):
         assert key in r, key
     assert r["problem"]["t_end"] == 20.0 and r["default_engine"] == "cyrk-dop853"
     assert r["machine"]["load_average_at_start"] is not None
+    assert r["default_engine_cold_build_s"] > 0
     json.dumps(r)  # JSON-ready as returned
     path = bs.write(r, tmp_path / "simulate.json")
     assert json.loads(path.read_text())["benchmark"] == "simulate"
