@@ -577,24 +577,24 @@ def _load() -> list | None:
 
 
 NOTES = (
-    "wall_s: best of the repeats (runs_s: all of them), the integration alone (no import, build or "
+    'wall_s: best of the repeats (runs_s: all of them), the integration alone (no import, build or '
     "compilation; peers' setup in peers.setup, the default engine's library build from scratch in "
     "default_engine_cold_build_s: later runs load it from adbgen's cache). Repeats run round-robin "
-    "over the pathways; a pathway slower than slow_s on its first run runs once. error: largest "
-    "absolute difference of the final state from the reference (compiled Verner 8(7) at rtol "
-    "1e-13, atol 1e-15), whose own error is bounded by reference.check_difference (SciPy DOP853 at the same tolerances). floor: the engine's "
-    "rhs evaluations times the best ns per call of the generated C rhs in a C loop (gcc -O2, the flags "
-    "the engines are built with); floor.ratio = wall / floor. equal_error: each peer's time at the "
-    "default engine's error, interpolated log-log between its runs at the sweep tolerances (heyoka: "
-    "tol; JiTCODE and the default engine: rtol, atol = rtol / 100). symmetry.runs: from phi(0) = "
-    "(pi, pi, pi); bitwise_equal = every ball's angle and rate identical at t_end; ends_at_2minus = "
-    "within 5e-4 of the thesis' printed 2- state. symmetry.rhs_symmetric_fraction: share of 200 "
-    "random ball-symmetric states at which the rhs gives every ball bitwise the same derivatives "
-    "(heyoka: its compiled function of the same expressions, not its Taylor recursions). "
-    "many.threads.*.cpu_s: CPU time of the process during each run (cpu_s well below threads x "
-    "wall_s: the cores were busy with other work). heyoka's compile_s is cold (its memory "
-    "and disk caches bypassed). The machine is a shared 2-core VM (load averages recorded): "
-    "compare ratios within this run."
+    'over the pathways; a pathway slower than slow_s on its first run runs once. error: largest '
+    'absolute difference of the final state from the reference (compiled Verner 8(7) at rtol 1e-13, '
+    'atol 1e-15), whose own error is bounded by reference.check_difference (SciPy DOP853 at the same '
+    "tolerances). floor: the engine's rhs evaluations times the best ns per call of the generated C "
+    'rhs in a C loop (gcc -O2, the flags the engines are built with); floor.ratio = wall / floor. '
+    "equal_error: each peer's time at the default engine's error, interpolated log-log between its "
+    'runs at the sweep tolerances (heyoka: tol; JiTCODE and the default engine: rtol, atol = rtol / '
+    "100). symmetry.runs: from phi(0) = (pi, pi, pi); bitwise_equal = every ball's angle and rate "
+    "identical at t_end; ends_at_2minus = within 5e-4 of the thesis' printed 2- state. "
+    'symmetry.rhs_symmetric_fraction: share of 200 random ball-symmetric states at which the rhs '
+    'gives every ball bitwise the same derivatives (heyoka: its compiled function of the same '
+    'expressions, not its Taylor recursions). many.threads.*.cpu_s: CPU time of the process during '
+    "each run (cpu_s well below threads x wall_s: the cores were busy with other work). heyoka's "
+    'compile_s is cold (its memory and disk caches bypassed). The machine is a shared 2-core VM (load'
+    ' averages recorded): compare ratios within this run.'
 )
 
 
