@@ -598,6 +598,31 @@ NOTES = (
 )
 
 
+def _engine_record(pw: Pathway, engine) -> dict:
+    rec = pw.record()
+    if rec.get("wall_s") and rec.get("n_rhs"):
+        rec["ns_per_rhs"] = round(1e9 * rec["wall_s"] / rec["n_rhs"], 1)
+    if engine is not None:
+        rec["description"] = engine.description
+        rec["symmetric_declared"] = bool(engine.symmetric)
+    return rec
+
+
+def equal_error(default: Pathway, sweep: list[Pathway], peers: list[Pathway]) -> dict:
+    """(tol, wall, error) curves of the default engine and each peer, and each peer's time at the
+    default engine's error (`time_at_error`)."""
+    by_name: dict[str, list] = {}
+    for pw in [default] + sweep + peers:
+        by_name.setdefault(pw.name, []).append(pw)
+    curves = {name: [{"tol": pw.tol, "wall_s": pw.record()["wall_s"], "error": pw.last.get("error")}
+                     for pw in sorted(pws, key=lambda q: -q.tol)] for name, pws in by_name.items()}
+    e0 = default.last.get("error")
+    out = {"default_error": e0, "default_wall_s": default.record()["wall_s"], "curves": curves, "peers": {}}
+    for name in sorted({pw.name for pw in peers}):
+        out["peers"][name] = time_at_error([(c["error"], c["wall_s"]) for c in curves[name]], e0)
+    return out
+
+
 def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEATS, engines=None,
                    peers: bool = True, sweep_tols=SWEEP_TOLS, many_n: int = MANY_N, many_repeats: int = 5,
                    slow_s: float = SLOW_S, floor_target: float = 0.03, baseline: bool = True,
@@ -662,30 +687,9 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
     check = ref["check_difference"]
     result["reference"]["smallest_error_measured"] = smallest
     result["reference"]["converged"] = bool(check is not None and (smallest is None or check <= 0.01 * smallest))
-    result["engines"] = []
-    for pw in pathways:
-        rec = pw.record()
-        e = ENGINES.get(pw.name)
-        if rec.get("wall_s") and rec.get("n_rhs"):
-            rec["ns_per_rhs"] = round(1e9 * rec["wall_s"] / rec["n_rhs"], 1)
-        if e is not None:
-            rec["description"] = e.description
-            rec["symmetric_declared"] = bool(e.symmetric)
-        result["engines"].append(rec)
-
-    # the default engine against the peers, at equal error
-    by_name: dict[str, list] = {}
+    result["engines"] = [_engine_record(pw, ENGINES.get(pw.name)) for pw in pathways]
     default_pw = next(pw for pw in pathways if pw.name == DEFAULT)
-    for pw in [default_pw] + sweep + peer_paths:
-        by_name.setdefault(pw.name, []).append(pw)
-    curves = {name: [{"tol": pw.tol, "wall_s": pw.record()["wall_s"], "error": pw.last.get("error")}
-                     for pw in sorted(pws, key=lambda q: -q.tol)] for name, pws in by_name.items()}
-    e0 = default_pw.last.get("error")
-    equal = {"default_error": e0, "default_wall_s": default_pw.record()["wall_s"], "curves": curves, "peers": {}}
-    for name in ("jitcode", "heyoka"):
-        if name in curves:
-            equal["peers"][name] = time_at_error([(c["error"], c["wall_s"]) for c in curves[name]], e0)
-    result["equal_error"] = equal
+    result["equal_error"] = equal_error(default_pw, sweep, peer_paths)
     result["peers"] = {"setup": {k: {kk: vv for kk, vv in v.items() if kk != "_peer"} if isinstance(v, dict) else v
                                  for k, v in setup.items()},
                        "runs": [pw.record() for pw in peer_paths]}
@@ -803,5 +807,5 @@ def describe_targets(result: dict) -> list[str]:
 
 
 __all__ = ["PROBLEM_A", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart", "describe_targets",
-           "engine_pathway", "error", "evaluate_targets", "floor_pathways", "floor_record", "many", "measure",
+           "engine_pathway", "equal_error", "error", "evaluate_targets", "floor_pathways", "floor_record", "many", "measure",
            "reference", "rhs_symmetry", "symmetric_y0", "symmetry_record", "time_at_error", "write"]
