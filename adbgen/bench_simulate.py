@@ -27,7 +27,8 @@ Measured in one run (compare ratios, not absolute times across runs: the machine
   the rhs itself (generated, and as each peer evaluates it) gives identical balls identical
   derivatives at random ball-symmetric states;
 - ``many``: `simulate_many` over `MANY_N` trajectories of problem A (phi_1(0) varied) with 1 and 2
-  threads, and the speed-up;
+  threads, and the speed-up, beside a control (independent busy loops on OpenMP threads, timed just
+  before each run) that shows what speed-up the shared machine could give at that moment;
 - ``targets``: the issue's targets, each with pass/fail and the measured ratio.
 
 Every timing is the best of `repeats` (all recorded); repeats run round-robin over the pathways, so
@@ -41,6 +42,7 @@ import datetime
 import math
 import os
 import shutil
+import subprocess
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -332,16 +334,24 @@ def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int 
     n_rhs = None
     statuses = set()
     cpu: dict[int, list] = {k: [] for k in threads}
-    for _ in range(max(1, repeats)):
-        for k in threads:
-            before = _cpu()
-            ens = simulate_many(model, p[None, :], Y0, t_end=problem.t_end, rtol=problem.rtol, atol=problem.atol,
-                                engine=engine, threads=k)
-            cpu[k].append(_cpu() - before)
-            runs[k].append(float(ens.wall_s))
-            ends[k] = ens.y_end
-            n_rhs = int(np.sum(ens.n_rhs))
-            statuses |= set(map(str, ens.status))
+    control_runs: dict[int, list] = {k: [] for k in threads}
+    with tempfile.TemporaryDirectory(prefix="adbgen-omp-") as tmp:
+        try:
+            control = ParallelControl(Path(tmp))
+        except (RuntimeError, OSError, subprocess.CalledProcessError):
+            control = None
+        for _ in range(max(1, repeats)):
+            for k in threads:
+                if control is not None:
+                    control_runs[k].append(control.run(k))
+                before = _cpu()
+                ens = simulate_many(model, p[None, :], Y0, t_end=problem.t_end, rtol=problem.rtol,
+                                    atol=problem.atol, engine=engine, threads=k)
+                cpu[k].append(_cpu() - before)
+                runs[k].append(float(ens.wall_s))
+                ends[k] = ens.y_end
+                n_rhs = int(np.sum(ens.n_rhs))
+                statuses |= set(map(str, ens.status))
     best = {k: min(v) for k, v in runs.items()}
     out = {"n_trajectories": n, "phi_1_spread": spread, "engine": engine or "default", "total_rhs": n_rhs,
            "statuses": sorted(statuses),
@@ -350,6 +360,14 @@ def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int 
            "identical_across_threads": all(np.array_equal(ends[threads[0]], ends[k]) for k in threads)}
     if 1 in best and len(threads) > 1:
         out["speedup"] = {str(k): round(best[1] / best[k], 3) for k in threads if k != 1}
+    if all(control_runs.values()):
+        out["control"] = {"what": "independent busy loops on OpenMP threads (gcc -O2 -fopenmp), run just "
+                                  "before each simulate_many call: the speed-up the machine gave at that moment",
+                          "threads": {str(k): {"runs_s": [round(t, 6) for t in v], "wall_s": round(min(v), 6)}
+                                      for k, v in control_runs.items()}}
+        if 1 in control_runs and len(threads) > 1:
+            out["control"]["speedup"] = {str(k): round(min(control_runs[1]) / min(control_runs[k]), 3)
+                                         for k in threads if k != 1}
     return out
 
 
@@ -359,6 +377,56 @@ def _cpu() -> float:
 
     use = resource.getrusage(resource.RUSAGE_SELF)
     return use.ru_utime + use.ru_stime
+
+
+# A control for the thread speed-up: independent busy loops (no memory traffic, no shared state) on
+# OpenMP threads, built with the engines' flags.  Its speed-up is what the machine gives two threads
+# at that moment; on a shared machine whose other core is busy it is near 1, whatever the engine does.
+_OMP_CONTROL = r"""
+#include <stdio.h>
+#include <stdlib.h>
+#include <omp.h>
+int main(int argc, char **argv)
+{
+    int threads = atoi(argv[1]), tasks = atoi(argv[2]);
+    long work = atol(argv[3]);
+    double sum = 0.0, t0 = omp_get_wtime();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+:sum)
+    for (int i = 0; i < tasks; ++i) {
+        double x = i;
+        for (long k = 0; k < work; ++k) x = x * 1.0000001 + 1e-9;
+        sum += x;
+    }
+    printf("%.9f %g\n", omp_get_wtime() - t0, sum);
+    return 0;
+}
+"""
+
+
+class ParallelControl:
+    """Builds the control once; run(threads) returns its wall seconds (about `seconds` on one core)."""
+
+    def __init__(self, folder: Path, tasks: int = 64, seconds: float = 0.3):
+        cc = shutil.which("gcc") or shutil.which("cc")
+        if not cc:
+            raise RuntimeError("no C compiler")
+        src = folder / "omp_control.c"
+        src.write_text(_OMP_CONTROL)
+        self.exe = folder / "omp_control"
+        subprocess.run([cc, "-O2", "-fopenmp", str(src), "-o", str(self.exe)], check=True, capture_output=True)
+        self.tasks = tasks
+        self.work = 1000
+        while True:  # calibrate on one thread
+            t = self.run(1)
+            if t > 0.05 or self.work > 1 << 40:
+                break
+            self.work *= 8
+        self.work = max(1, int(self.work * seconds / t))
+
+    def run(self, threads: int) -> float:
+        out = subprocess.run([str(self.exe), str(threads), str(self.tasks), str(self.work)], check=True,
+                             capture_output=True, text=True).stdout
+        return float(out.split()[0])
 
 
 # ------------------------------------------------------------------------------------- symmetry
@@ -521,10 +589,12 @@ def evaluate_targets(result: dict) -> list[dict]:
     else:
         out.append(_target("a Runge-Kutta engine within 1.5x of its floor", "1.5 / (wall / floor) >= 1", None, 1.0,
                            "no floor measured"))
-    speed = result.get("many", {}).get("speedup", {}).get("2")
+    many_ = result.get("many", {})
+    speed = many_.get("speedup", {}).get("2")
+    control = many_.get("control", {}).get("speedup", {}).get("2")
     out.append(_target("many trajectories: second core", "wall(1 thread) / wall(2 threads) >= 1.7", speed, 1.7,
-                       f"{result.get('many', {}).get('n_trajectories')} trajectories of problem "
-                       f"{result['problem']['label']}"))
+                       f"{many_.get('n_trajectories')} trajectories of problem {result['problem']['label']}"
+                       + (f"; the parallel control got {control:.2f}x at the same moments" if control else "")))
     return out
 
 
@@ -592,9 +662,11 @@ NOTES = (
     'symmetry.rhs_symmetric_fraction: share of 200 random ball-symmetric states at which the rhs '
     'gives every ball bitwise the same derivatives (heyoka: its compiled function of the same '
     'expressions, not its Taylor recursions). many.threads.*.cpu_s: CPU time of the process during '
-    "each run (cpu_s well below threads x wall_s: the cores were busy with other work). heyoka's "
-    'compile_s is cold (its memory and disk caches bypassed). The machine is a shared 2-core VM (load'
-    ' averages recorded): compare ratios within this run.'
+    'each run (cpu_s well below threads x wall_s: the cores were busy with other work); many.control:'
+    ' the same speed-up for independent busy loops on OpenMP threads, measured just before each run: '
+    "what the machine could give at that moment. heyoka's compile_s is cold (its memory and disk "
+    'caches bypassed). The machine is a shared 2-core VM (load averages recorded): compare ratios '
+    'within this run.'
 )
 
 

@@ -79,6 +79,7 @@ def test_floor_symmetry_many_and_targets(tiny_result):
     many = r["many"]
     assert many["n_trajectories"] == 4 and set(many["threads"]) == {"1", "2"} and many["speedup"]["2"] > 0
     assert many["identical_across_threads"] and many["statuses"] == ["success"]
+    assert many["control"]["speedup"]["2"] > 0 and len(many["control"]["threads"]["2"]["runs_s"]) == 1
     targets = {t["target"]: t for t in r["targets"]}
     assert len(targets) == 4
     assert targets["default engine vs JiTCODE dop853"]["passed"] is None  # peers off: not measured
