@@ -878,6 +878,7 @@ def describe_targets(result: dict) -> list[str]:
     return lines
 
 
-__all__ = ["PROBLEM_A", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart", "describe_targets",
-           "engine_pathway", "equal_error", "error", "evaluate_targets", "floor_pathways", "floor_record", "many", "measure",
-           "reference", "rhs_symmetry", "symmetric_y0", "symmetry_record", "time_at_error", "write"]
+__all__ = ["PROBLEM_A", "ParallelControl", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart",
+           "describe_targets", "engine_pathway", "equal_error", "error", "evaluate_targets", "floor_pathways",
+           "floor_record", "many", "measure", "reference", "rhs_symmetry", "symmetric_y0", "symmetry_record",
+           "time_at_error", "write"]
