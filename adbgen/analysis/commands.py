@@ -164,3 +164,6 @@ def write_trajectory(model, sim, out: Path) -> None:
     a2.legend(loc="best", fontsize=8)
     fig.savefig(out / "trajectory.png", dpi=120)
     plt.close(fig)
+
+
+from . import sweep_commands  # noqa: E402,F401  (registers `adbgen sweep`)
