@@ -6,9 +6,10 @@
     adbgen demo     [--out DIR]               thesis Fig. 5.4: transients reproduced, plotted
     adbgen regenerate [--check] [--scene F] [--n N ...] [--out DIR] [--targets ...]
                                               derive, check, emit numba/C/CVODE/AUTO into generated/
-    adbgen bench derive|codegen [--out FILE] [--n ...]
+    adbgen bench derive|codegen|sweep [--out FILE] [--n ...]
     adbgen two-plane verify|derive|steady     the two-plane rotor (see adbgen/two_plane/commands.py)
     adbgen simulate ...                       transients on the generated code (adbgen/analysis/commands.py)
+    adbgen sweep ...                          grids of trajectories or steady states on Dask (analysis/sweep_commands.py)
 
 Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
 """
@@ -239,7 +240,8 @@ def cmd_demo(args) -> int:
     return 0 if check.passed else 1
 
 
-_BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json"}
+_BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json",
+              "sweep": "benchmarks/sweep.json"}
 
 
 def cmd_bench(args) -> int:
@@ -257,6 +259,14 @@ def cmd_bench(args) -> int:
             progress=lambda r: print(bench_codegen.describe(r), flush=True))
         path = bench.write(result, out)
         print(f"wrote {path} ({result['seconds']} s)")
+        return 0
+    if args.what == "sweep":
+        from . import bench_sweep
+
+        result = bench_sweep.bench_sweep(progress=lambda line: print(line, flush=True))
+        path = bench.write(result, out)
+        print(f"wrote {path} (shortcuts {result['runs']['shortcuts']['wall_s']} s, full "
+              f"{result['runs']['full']['wall_s']} s, labels identical: {result['labels_identical']})")
         return 0
     result = bench.bench_derive(tuple(args.n), progress=lambda r: print(
         f"{r['model']:30s} n={r['n']:3d}  {r['seconds']:8.3f} s  eom ops {r['eom_ops']:7d}  first-order ops {r['first_order_ops']:7d}",
@@ -339,7 +349,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(fn=cmd_regenerate)
 
     b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
-    b.add_argument("what", help="derive or codegen")
+    b.add_argument("what", help="derive, codegen or sweep")
     b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json)")
     b.add_argument("--n", type=_positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
     b.set_defaults(fn=cmd_bench)

@@ -63,7 +63,7 @@ class SweepSpec:
     engine: str = "cyrk-dop853"
     early_stop: bool = True
     symmetry: bool = True
-    check_dt: float = 100.0
+    check_dt: float = 200.0
     chunk: int = 256  # points per block (about)
 
     def to_dict(self) -> dict:
