@@ -64,7 +64,7 @@ class SweepSpec:
     early_stop: bool = True
     symmetry: bool = True
     check_dt: float = 200.0
-    chunk: int = 256  # points per block (about)
+    chunk: int | None = None  # points per block (about); None: enough blocks to keep every worker busy
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -85,7 +85,7 @@ def prepare(spec: SweepSpec) -> tuple[Model, Grid]:
         value = getattr(spec, name)
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise AnalysisError(f"{name} must be a finite number > 0, got {value!r}")
-    if not (isinstance(spec.chunk, int) and spec.chunk >= 1):
+    if spec.chunk is not None and not (isinstance(spec.chunk, int) and spec.chunk >= 1):
         raise AnalysisError(f"chunk must be a whole number >= 1, got {spec.chunk!r}")
     model = _model(spec.model)
     grid = make_grid(model, spec.grid, parse_assignments(spec.set, "--set"), parse_assignments(spec.y0, "--y0"))
@@ -191,6 +191,12 @@ def chunk_shape(shape: tuple[int, ...], target: int, swap: Swap | None = None) -
                 sides = new
                 grown = True
     return tuple(sides)
+
+
+def auto_chunk(size: int, workers: int) -> int:
+    """Points per block: about 8 tasks per worker (load balance, fine-grained resume), 16 to 256 points
+    (each task a batch on the compiled path; Dask's overhead per task is a few milliseconds)."""
+    return int(min(256, max(16, size // (8 * max(workers, 1)))))
 
 
 def blocks(shape, chunks):
@@ -519,7 +525,8 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
         group = open_store(path, spec, model)
         chunks = tuple(group["done"].chunks)
     else:
-        chunks = chunk_shape(grid.shape, spec.chunk, swap)
+        target = spec.chunk or auto_chunk(grid.size, workers or default_workers())
+        chunks = chunk_shape(grid.shape, target, swap)
         create_store(path, spec, model, grid, chunks)
         group = open_store(path, spec, model)
     if swap is not None and chunks[swap.a] != chunks[swap.b]:

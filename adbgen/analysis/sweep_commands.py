@@ -57,7 +57,8 @@ def _add_sweep(p) -> None:
                    help="integrate both of each pair of ball-swapped grid points")
     p.add_argument("--check-dt", type=_finite_positive, default=200.0,
                    help="attractor: integration segment between early-stop checks (default 200)")
-    p.add_argument("--chunk", type=_positive_int, default=256, help="grid points per task/store chunk (about)")
+    p.add_argument("--chunk", type=_positive_int, default=None,
+                   help="grid points per task and store chunk (about; default: 16-256, 8 tasks per core)")
     p.add_argument("--no-figures", dest="figures", action="store_false", help="do not draw the figures")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout, no progress bar")
     p.set_defaults(fn=run_sweep_command)
