@@ -166,4 +166,4 @@ def write_trajectory(model, sim, out: Path) -> None:
     plt.close(fig)
 
 
-from . import sweep_commands  # noqa: E402,F401  (registers `adbgen sweep`)
+from . import reproduce, sweep_commands  # noqa: E402,F401  (register `adbgen reproduce`, `adbgen sweep`)

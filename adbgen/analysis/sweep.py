@@ -286,10 +286,12 @@ def _compute(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, thread
 
 def _stability(model: Model, P: np.ndarray) -> dict:
     """The steady state continued from START (Newton) at each point, its deflated spectrum."""
-    from .attractors import newton, spectrum
+    from .attractors import labels, name_steady_state, newton, spectrum
 
     n = len(P)
+    codes = {name: k for k, name in enumerate(labels(model))}
     value = np.full(n, -1, dtype=np.int8)
+    kind = np.full(n, -1, dtype=np.int8)
     abscissa = np.full(n, np.nan)
     neutral = np.zeros(n, dtype=np.int8)
     y_end = np.full((n, model.n_states), np.nan)
@@ -300,8 +302,9 @@ def _stability(model: Model, P: np.ndarray) -> dict:
             continue
         s = spectrum(model, y, p)
         value[k], abscissa[k], neutral[k], y_end[k] = s.unstable(), s.abscissa, s.neutral, y
-    return {"value": value, "abscissa": abscissa, "neutral": neutral, "y_end": y_end, "t_last": np.zeros(n),
-            "integrated": 0}
+        kind[k] = codes[name_steady_state(model, y, p)]
+    return {"value": value, "abscissa": abscissa, "neutral": neutral, "steady_state": kind, "y_end": y_end,
+            "t_last": np.zeros(n), "integrated": 0}
 
 
 def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, threads: int) -> dict:
@@ -374,7 +377,7 @@ def _variables(spec: SweepSpec, model: Model):
             "t_dec": ("t_dec", "float64", np.nan), "stability": ("stability", "int8", -1)}[spec.measure]
     out = [(*main, ()), ("y_end", "float64", np.nan, ("state",)), ("t_last", "float64", np.nan, ())]
     if spec.measure == "stability":
-        out += [("abscissa", "float64", np.nan, ()), ("neutral", "int8", -1, ())]
+        out += [("abscissa", "float64", np.nan, ()), ("neutral", "int8", -1, ()), ("steady_state", "int8", -1, ())]
     if spec.measure in ("r_max", "t_dec"):
         out += [("failed", "uint8", 0, ())]
     out.append(("done", "uint8", 0, ()))
@@ -405,9 +408,10 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
             "t_dec": "last time r >= threshold (NaN: not settled by t_end, or not computed)",
             "stability": "number of unstable eigenvalues of the steady state (deflated; -1: none found)"}
     ds[spec.measure].attrs["description"] = desc[spec.measure]
-    if spec.measure == "attractor":
+    if spec.measure in ("attractor", "stability"):
         names = labels(model)
-        ds["attractor"].attrs.update(flag_values=list(range(len(names))), flag_meanings=names)
+        var = "attractor" if spec.measure == "attractor" else "steady_state"
+        ds[var].attrs.update(flag_values=list(range(len(names))), flag_meanings=names)
     ds["y_end"].attrs["description"] = ("final state (attractor: where the trajectory stopped or ended; "
                                         "stability: the steady state)")
     ds["done"].attrs["description"] = "1 where the point's block is written (resumable sweeps)"
@@ -426,8 +430,11 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
                                 "distributed": distributed.__version__, "python": sys.version.split()[0]}),
         "reference": str(getattr(model.module, "REFERENCE", "")),
     })
-    if spec.measure == "attractor":
+    if spec.measure in ("attractor", "stability"):
         ds.attrs["labels"] = json.dumps(labels(model))
+    if spec.measure == "stability":
+        ds["steady_state"].attrs["description"] = ("which steady state Newton reached from START: index "
+                                                   "into the attribute `labels`")
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
     if tmp.exists():

@@ -46,14 +46,19 @@ def write_figures(store: Path) -> list[Path]:
         return []
     da = ds[measure].load()
     done = ds["done"].load().values.astype(bool)
-    fig, ax = plt.subplots(figsize=(6.0, 5.0), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(7.5, 5.0), constrained_layout=True)
     title = f"{ds.attrs['model']}: {measure.replace('_', ' ')}"
     if measure == "attractor":
         _categorical(fig, ax, da, done, json.loads(ds.attrs["labels"]), dims)
         title = f"{ds.attrs['model']}: basins of attraction"
     elif measure == "stability":
-        _stability(fig, ax, da, done, dims)
-        title = f"{ds.attrs['model']}: unstable eigenvalues of the steady state"
+        names = json.loads(ds.attrs["labels"])
+        kind = ds["steady_state"].load().values
+        start = _start_kind(ds, names)
+        other = done & (kind >= 0) & (kind != start)
+        _stability(fig, ax, da, done & ~other, dims, other)
+        title = (f"{ds.attrs['model']}: unstable eigenvalues of the steady state"
+                 + (f" ({names[start]}, continued from START)" if start >= 0 else ""))
     else:
         _continuous(fig, ax, da, done, dims, measure)
     ax.set_title(title + "\n" + _caption(ds, dims), fontsize=9)
@@ -111,11 +116,25 @@ def _categorical(fig, ax, da, done, names, dims):
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8, frameon=False)
 
 
-def _stability(fig, ax, da, done, dims):
+def _start_kind(ds, names) -> int:
+    """The label code of the model's START (the state the map continues), -1 if unknown."""
+    try:
+        from .attractors import name_steady_state
+        from .loading import load_model
+
+        model = load_model(json.loads(ds.attrs["adbgen_sweep"])["model"])
+        return names.index(name_steady_state(model, model.module.START, model.module.START_PARAMETERS))
+    except Exception:  # a store from a model no longer at hand: draw without the distinction
+        return -1
+
+
+def _stability(fig, ax, da, done, dims, other=None):
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
     z = np.where(done, da.values.astype(int), -2)
+    if other is not None:
+        z = np.where(other, -1, z)  # Newton reached another steady state: not the continued one
     top = max(int(z.max()), 1)
     greys = ["#ffffff", "#f4d6d6"] + [str(0.15 + 0.8 * k / (top + 1)) for k in range(top + 1)]
     # -2 not computed (white), -1 no steady state (pink), 0 stable (dark) ... more unstable: lighter
@@ -130,7 +149,7 @@ def _stability(fig, ax, da, done, dims):
     handles = [Patch(color=greys[k + 2], label="stable" if k == 0 else f"{k} unstable")
                for k in range(0, top + 1) if (z == k).any()]
     if (z == -1).any():
-        handles.append(Patch(color=greys[1], label="no steady state found"))
+        handles.append(Patch(color=greys[1], label="state not found (none, or another one)"))
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8, frameon=False)
 
 
