@@ -66,13 +66,26 @@ CASES = [
 ]
 
 
-def _run(case: Case, rtol: float, keep: bool = False):
+def _run(case: Case, rtol: float, keep: bool = False, threshold: float = 1e-3):
     from .simulate import simulate
 
     model = load_model(f"thesis_rotating_n{case.n}")
     y0 = model.state({f"phi_{i + 1}": v for i, v in enumerate(case.phi0)})
     return model, simulate(model, model.params(case.params), y0, t_end=T_END, rtol=rtol, atol=rtol * 1e-2,
-                           keep_trajectory=keep)
+                           keep_trajectory=keep, threshold=threshold)
+
+
+def _printed_half_unit(value: float) -> float:
+    """Half a unit in the last digit the thesis prints (0.0007 -> 5e-5, 1330.20 -> 5e-3)."""
+    text = repr(float(value))
+    decimals = len(text.split(".")[1]) if "." in text and "e" not in text else 0
+    return 0.5 * 10.0 ** (-decimals)
+
+
+def threshold_study(case: Case) -> dict:
+    """t_dec with the threshold moved by 1 % either way (rtol 1e-12): how sharply the last crossing
+    of r = 1e-3 is defined for this transient."""
+    return {h: _run(case, RTOLS[-1], threshold=h)[1].t_dec for h in (0.99e-3, 1.01e-3)}
 
 
 def _wrap(a: float) -> float:
@@ -147,7 +160,7 @@ def _document(results, figures, root: Path) -> list[str]:
             mark = ""
             if rel is None or abs(rel) > 0.01:
                 mark = " **>1 %**"
-                flagged.append((case, q, conv, rel))
+                flagged.append((case, q, conv, rel, vals, sims))
             L.append(f"{head} {q} | {case.published[q]:g} | {_fmt(conv, 6)} | "
                      f"{'—' if rel is None else f'{100 * rel:+.2f} %'}{mark} | "
                      + " | ".join(_fmt(v, 6) for v in vals) + " |")
@@ -156,7 +169,7 @@ def _document(results, figures, root: Path) -> list[str]:
             L.append(f"{head} attractor | {case.published['attractor']} | {res['label']} | "
                      f"{'same' if ok else '**differs**'} | | | | |")
             if not ok:
-                flagged.append((case, "attractor", res["label"], None))
+                flagged.append((case, "attractor", res["label"], None, None, sims))
         model = res["model"]
         for name, pub in case.published.get("state", {}).items():
             v = float(sims[RTOLS[-1]].y_end[model.index(name)])
@@ -166,9 +179,10 @@ def _document(results, figures, root: Path) -> list[str]:
                 rel = (v - pub_w) / abs(pub_w)
             else:
                 rel = (v - pub) / abs(pub)
-            mark = " **>1 %**" if abs(rel) > 0.01 else ""
-            if mark:
-                flagged.append((case, name, v, rel))
+            within = abs(v - (pub_w if name.startswith("phi") else pub)) <= _printed_half_unit(pub)
+            mark = " (within the printed digits)" if within else (" **>1 %**" if abs(rel) > 0.01 else "")
+            if "**" in mark:
+                flagged.append((case, name, v, rel, None, sims))
             vals = [float(sims[r].y_end[model.index(name)]) for r in RTOLS]
             if name.startswith("phi"):
                 vals = [_wrap(x) for x in vals]
@@ -177,14 +191,34 @@ def _document(results, figures, root: Path) -> list[str]:
     L += ["", "Published values: thesis text of section 5.1.2 (Fig. 5.4, 5.6, 5.8 and p. 48 for the "
           "coincident and in-line runs) and section 5.2.2 (Fig. 5.15-5.17).  The thesis prints the final "
           "state of the (0, 0, pi) run as phi_1 = phi_2 = -3.16 and phi_3 = -0.0184 (two or three "
-          "digits), so differences of that size are the print's rounding.", ""]
+          "digits), so differences of that size are the print's rounding; a final angle is compared "
+          "wrapped to (-pi, pi], so -3.16 is 3.1232.", ""]
     L += ["### Differences above 1 %", ""]
     if not flagged:
         L.append("None.")
-    for case, q, v, rel in flagged:
-        L.append(f"* Fig. {case.figure}, {q}: ours {_fmt(v, 6)}"
-                 + ("" if rel is None else f" ({100 * rel:+.2f} %)") + ": converged in tolerance (the study "
-                 "above); the difference is not a tolerance effect.  See the note below the figures.")
+    for case, q, v, rel, vals, sims in flagged:
+        text = (f"* Fig. {case.figure}, {q}: ours {_fmt(v, 6)}" + ("" if rel is None else f" ({100 * rel:+.2f} %)")
+                + ", converged in tolerance (the study above).")
+        if q == "t_dec":
+            moved = threshold_study(case)
+            pub = case.published[q]
+            candidates = {"rtol 1e-6": vals[0], "rtol 1e-8": vals[1], "threshold 0.99e-3": moved[0.99e-3],
+                          "threshold 1.01e-3": moved[1.01e-3]}
+            name, best = min(candidates.items(), key=lambda kv: abs(kv[1] - pub))
+            text += ("  Study: " + ", ".join(f"{k}: {_fmt(v, 6)}" for k, v in candidates.items()) + ".  ")
+            if abs(best - pub) <= 0.005 * pub:
+                text += (f"The published value is within {100 * abs(best - pub) / pub:.2f} % of ours at {name}: "
+                         "consistent with a looser computation in the thesis (which states neither its "
+                         "tolerance nor how it located the crossing); the converged value is ours.")
+            else:
+                text += ("Neither a looser tolerance nor a 1 % change of the threshold reaches the published "
+                         f"value (closest: {name}, {100 * (best - pub) / pub:+.2f} %); the difference is not "
+                         "explained by this study and is left open")
+                if "r_max" in case.published:
+                    r_rel = _rel(sims[RTOLS[-1]].r_max, case.published["r_max"])
+                    text += f" (r_max of the same run agrees to {100 * abs(r_rel):.2f} %)"
+                text += "."
+        L.append(text)
     L += ["", "## Figures", ""]
     for title, path in figures:
         L.append(f"**{title}**")
