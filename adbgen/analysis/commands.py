@@ -47,11 +47,16 @@ def _load(args):
 
 
 def _finite_positive(text: str) -> float:
+    import argparse
+
     from .loading import parse_value
 
-    value = parse_value(text)
+    try:
+        value = parse_value(text)
+    except AnalysisError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
     if not value > 0:
-        raise AnalysisError(f"must be > 0, got {text}")
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
     return value
 
 
@@ -79,6 +84,7 @@ def _add_simulate(p) -> None:
                    help=f"integration engine (default {DEFAULT}); one of: {', '.join(ENGINES)}")
     p.add_argument("--threshold", type=_finite_positive, default=1e-3,
                    help="t_dec = last time r >= threshold (default 1e-3, the thesis')")
+    p.add_argument("--max-steps", type=int, default=10_000_000, help="step limit (default 10^7)")
     p.add_argument("--out", help="folder for the trajectory (trajectory.npz, trajectory.csv) and a plot")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.set_defaults(fn=run_simulate)
@@ -94,7 +100,8 @@ def run_simulate(args) -> int:
     p = model.params(params)
     y = model.state(y0)
     sim = simulate(model, p, y, t_end=args.t_end, rtol=args.rtol, atol=args.atol, engine=args.engine,
-                   threshold=args.threshold, keep_trajectory=args.out is not None, check=False)
+                   threshold=args.threshold, keep_trajectory=args.out is not None, max_steps=args.max_steps,
+                   check=False)
     if args.out is not None and sim.ok:
         write_trajectory(model, sim, Path(args.out))
     if args.json:
