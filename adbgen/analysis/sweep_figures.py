@@ -25,6 +25,8 @@ _GREEK = {"Omega": r"\Omega", "mu": r"\mu", "zeta": r"\zeta", "beta": r"\beta", 
 def _caption(ds, axes) -> str:
     params = json.loads(ds.attrs.get("parameters", "{}"))
     parts = [f"${_GREEK.get(k, k)}$ = {v:g}" for k, v in params.items() if k not in axes]
+    states = json.loads(ds.attrs.get("initial_state", "{}"))
+    parts += [f"{_symbol(k)} = {v:.4g}" for k, v in states.items() if k not in axes and v != 0.0]
     settings = json.loads(ds.attrs["adbgen_sweep"])
     if settings["measure"] != "stability":
         parts.append(f"$t_{{end}}$ = {settings['t_end']:g}, rtol {settings['rtol']:g}")
@@ -47,7 +49,7 @@ def write_figures(store: Path) -> list[Path]:
     da = ds[measure].load()
     done = ds["done"].load().values.astype(bool)
     fig, ax = plt.subplots(figsize=(7.5, 5.0), constrained_layout=True)
-    title = f"{ds.attrs['model']}: {measure.replace('_', ' ')}"
+    title = f"{ds.attrs['model']}: " + {"r_max": "$r_{max}$", "t_dec": "$t_{dec}$"}.get(measure, measure)
     if measure == "attractor":
         _categorical(fig, ax, da, done, json.loads(ds.attrs["labels"]), dims)
         title = f"{ds.attrs['model']}: basins of attraction"
