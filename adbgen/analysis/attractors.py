@@ -300,7 +300,6 @@ class Classifier:
 
     model: Model
     p: np.ndarray
-    early_stop: bool = True
     regions: list = field(default_factory=list)
     window: float = 200.0
 
@@ -366,10 +365,10 @@ class Classifier:
 
 
 @lru_cache(maxsize=64)
-def _classifier_cached(model: Model, p: tuple, early_stop: bool) -> Classifier:
-    return Classifier(model, np.array(p), early_stop)
+def _classifier_cached(model: Model, p: tuple) -> Classifier:
+    return Classifier(model, np.array(p))
 
 
-def classifier(model: Model, p, early_stop: bool = True) -> Classifier:
+def classifier(model: Model, p) -> Classifier:
     """The Classifier for parameters p (cached: the regions are computed once per parameter vector)."""
-    return _classifier_cached(model, tuple(float(v) for v in p), early_stop)
+    return _classifier_cached(model, tuple(float(v) for v in p))

@@ -259,11 +259,12 @@ def compute_points(spec: SweepSpec, flat: np.ndarray, threads: int = 1) -> dict:
         canonical = flat
     unique, inverse = np.unique(canonical, return_inverse=True)
     out = _compute(spec, model, grid, unique, threads)
-    res = {k: v[inverse] for k, v in out.items() if k != "integrated"}
+    res = {k: v[inverse] for k, v in out.items() if k not in ("integrated", "n_rhs")}
     if swap is not None:
         mirrored = flat != canonical
         res["y_end"][mirrored] = res["y_end"][mirrored][:, list(swap.perm)]
     res["integrated"] = out["integrated"]
+    res["n_rhs"] = out["n_rhs"]
     return res
 
 
@@ -281,7 +282,7 @@ def _compute(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, thread
     failed = np.array([s not in ("success", "stopped") for s in ens.status])
     value = np.where(failed, np.nan, value)
     return {"value": value, "y_end": ens.y_end, "t_last": ens.t_last, "failed": failed.astype(np.uint8),
-            "integrated": len(flat)}
+            "integrated": len(flat), "n_rhs": int(ens.n_rhs.sum())}
 
 
 def _stability(model: Model, P: np.ndarray) -> dict:
@@ -304,7 +305,7 @@ def _stability(model: Model, P: np.ndarray) -> dict:
         value[k], abscissa[k], neutral[k], y_end[k] = s.unstable(), s.abscissa, s.neutral, y
         kind[k] = codes[name_steady_state(model, y, p)]
     return {"value": value, "abscissa": abscissa, "neutral": neutral, "steady_state": kind, "y_end": y_end,
-            "t_last": np.zeros(n), "integrated": 0}
+            "t_last": np.zeros(n), "integrated": 0, "n_rhs": 0}
 
 
 def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, threads: int) -> dict:
@@ -316,14 +317,16 @@ def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, th
     y_end = np.array(Y0, float)
     t_last = np.zeros(n)
     keys, groups = np.unique(P, axis=0, return_inverse=True)
+    n_rhs = 0
     for g, p in enumerate(keys):
         rows = np.flatnonzero(groups.ravel() == g)
         clf = classifier(model, p)
-        status, stop = _segmented(spec, model, clf, p, Y0[rows], y_end, t_last, rows, threads)
+        status, stop, evals = _segmented(spec, model, clf, p, Y0[rows], y_end, t_last, rows, threads)
+        n_rhs += evals
         for k, row in enumerate(rows):
             name = clf.label(status[k], y_end[row], stop[k], engine=spec.engine, rtol=spec.rtol, atol=spec.atol)
             value[row] = clf.code(name)
-    return {"value": value, "y_end": y_end, "t_last": t_last, "integrated": n}
+    return {"value": value, "y_end": y_end, "t_last": t_last, "integrated": n, "n_rhs": n_rhs}
 
 
 def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
@@ -337,12 +340,14 @@ def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
     Y = np.array(Y0, float)
     t = 0.0
     active = np.arange(n)
+    evals = 0
     regions = bool(spec.early_stop and clf.regions)
     while active.size and t < spec.t_end:
         dt = min(spec.check_dt, spec.t_end - t)
         ens = simulate_many(model, p[None], Y[active], t_end=dt, rtol=spec.rtol, atol=spec.atol, engine=spec.engine,
                             threshold=spec.threshold, threads=threads)
         Y[active] = ens.y_end
+        evals += int(ens.n_rhs.sum())
         t_reached = t + ens.t_last
         t_last[rows[active]] = t_reached
         bad = np.array([s != "success" for s in ens.status])
@@ -357,7 +362,7 @@ def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
             keep &= inside < 0
         active = active[keep]
     y_end[rows] = Y
-    return status, stop
+    return status, stop, evals
 
 
 # ----------------------------------------------------------------------------------------- storage
@@ -371,8 +376,6 @@ def settings(spec: SweepSpec, model: Model) -> dict:
 
 def _variables(spec: SweepSpec, model: Model):
     """(name, dtype, fill, extra dims) of the stored variables."""
-    from .attractors import labels  # noqa: F401  (names in the attributes)
-
     main = {"attractor": ("attractor", "int8", -1), "r_max": ("r_max", "float64", np.nan),
             "t_dec": ("t_dec", "float64", np.nan), "stability": ("stability", "int8", -1)}[spec.measure]
     out = [(*main, ()), ("y_end", "float64", np.nan, ("state",)), ("t_last", "float64", np.nan, ())]
@@ -435,7 +438,10 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
     if spec.measure == "stability":
         ds["steady_state"].attrs["description"] = ("which steady state Newton reached from START: index "
                                                    "into the attribute `labels`")
-    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise AnalysisError(f"--out {path.parent}: {exc.strerror}") from None
     tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
     if tmp.exists():
         shutil.rmtree(tmp)
@@ -545,11 +551,12 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
             pending.append(task)
     computed = sum(int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
                    for t in pending for b in t)
-    integrated = 0
+    integrated = n_rhs = 0
     if pending:
-        integrated = _run_tasks(spec, model, grid, group, chunks, pending, scheduler, workers, progress)
+        integrated, n_rhs = _run_tasks(spec, model, grid, group, chunks, pending, scheduler, workers, progress)
     summary = {"points": grid.size, "computed": computed, "reused": grid.size - computed,
-               "wall_s": None, "store": str(path), "integrated": integrated, "figures": []}
+               "wall_s": None, "store": str(path), "integrated": integrated, "rhs_evaluations": n_rhs,
+               "figures": []}
     if figures:
         from .sweep_figures import write_figures
 
@@ -574,7 +581,7 @@ def _run_tasks(spec, model, grid, group, chunks, pending, scheduler, workers, pr
         # Python contention to speak of and starts in a fraction of a second
         cluster = LocalCluster(n_workers=1, threads_per_worker=n, processes=False, dashboard_address=None)
         client = Client(cluster)
-    integrated = 0
+    integrated = n_rhs = 0
     try:
         spec_dict = spec.to_dict()
         futures = {}
@@ -587,6 +594,7 @@ def _run_tasks(spec, model, grid, group, chunks, pending, scheduler, workers, pr
         for fut in as_completed(futures):
             res = fut.result()
             integrated += int(res["integrated"])
+            n_rhs += int(res["n_rhs"])
             task = futures.pop(fut)
             offset = 0
             for b in task:
@@ -599,4 +607,4 @@ def _run_tasks(spec, model, grid, group, chunks, pending, scheduler, workers, pr
         client.close()
         if cluster is not None:
             cluster.close()
-    return integrated
+    return integrated, n_rhs

@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import shutil
 import signal
 import socket
 import subprocess
@@ -163,15 +162,16 @@ def _free_port() -> int:
 def test_external_scheduler_runs_the_sweep(tmp_path):
     port = _free_port()
     address = f"tcp://127.0.0.1:{port}"
-    dask_bin = [sys.executable, "-m", "distributed.cli"]
-    procs = [subprocess.Popen([*dask_bin[:2], "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port",
-                               str(port), "--dashboard-address", ":0"], env=_env(), stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL)]
+    def start(*args):
+        return subprocess.Popen([sys.executable, "-m", *args], env=_env(), stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
+
+    procs = [start("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", str(port),
+                   "--dashboard-address", ":0")]
     try:
         time.sleep(1.0)
-        procs.append(subprocess.Popen([*dask_bin[:2], "distributed.cli.dask_worker", address, "--nthreads", "1",
-                                       "--nworkers", "1", "--no-dashboard"], env=_env(), stdout=subprocess.DEVNULL,
-                                      stderr=subprocess.DEVNULL))
+        procs.append(start("distributed.cli.dask_worker", address, "--nthreads", "1", "--nworkers", "1",
+                           "--no-dashboard"))
         from distributed import Client
 
         with Client(address, timeout=30) as client:
