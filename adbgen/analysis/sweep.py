@@ -534,26 +534,32 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
     out = Path(out)
     path = out / STORE
     swap = find_swap(model, grid) if spec.symmetry and spec.measure != "stability" else None
-    if path.exists():
+    fresh = not path.exists()
+    if fresh:
+        chunks = chunk_shape(grid.shape, spec.chunk or auto_chunk(grid.size, workers or default_workers()), swap)
+        done = np.zeros(grid.shape, dtype=bool)
+    else:
         group = open_store(path, spec, model)
         chunks = tuple(group["done"].chunks)
-    else:
-        target = spec.chunk or auto_chunk(grid.size, workers or default_workers())
-        chunks = chunk_shape(grid.shape, target, swap)
-        create_store(path, spec, model, grid, chunks)
-        group = open_store(path, spec, model)
+        done = np.asarray(group["done"][...], dtype=bool)
     if swap is not None and chunks[swap.a] != chunks[swap.b]:
         swap = None  # a store written without the shortcut's block shape: compute every point
-    done = np.asarray(group["done"][...], dtype=bool)
-    pending = []
-    for task in tasks_for(grid.shape, chunks, swap):
-        if not all(done[block_slices(b, chunks, grid.shape)].all() for b in task):
-            pending.append(task)
+    pending = [task for task in tasks_for(grid.shape, chunks, swap)
+               if not all(done[block_slices(b, chunks, grid.shape)].all() for b in task)]
     computed = sum(int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
                    for t in pending for b in t)
     integrated = n_rhs = 0
     if pending:
-        integrated, n_rhs = _run_tasks(spec, model, grid, group, chunks, pending, scheduler, workers, progress)
+        client, cluster = _connect(scheduler, workers)  # before anything is written: a bad address writes nothing
+        try:
+            if fresh:
+                create_store(path, spec, model, grid, chunks)
+                group = open_store(path, spec, model)
+            integrated, n_rhs = _run_tasks(client, spec, model, grid, group, chunks, pending, progress)
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
     summary = {"points": grid.size, "computed": computed, "reused": grid.size - computed,
                "wall_s": None, "store": str(path), "integrated": integrated, "rhs_evaluations": n_rhs,
                "figures": []}
@@ -565,46 +571,46 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
     return summary
 
 
-def _run_tasks(spec, model, grid, group, chunks, pending, scheduler, workers, progress) -> int:
-    from distributed import Client, LocalCluster, as_completed
-    from tqdm import tqdm
+def _connect(scheduler: str | None, workers: int | None):
+    """(client, cluster): the scheduler at `scheduler`, or a new local cluster (cluster None otherwise)."""
+    from distributed import Client, LocalCluster
 
-    cluster = None
     if scheduler:
         try:
-            client = Client(scheduler, timeout=10)
+            return Client(scheduler, timeout=10), None
         except (OSError, TimeoutError) as exc:
             raise AnalysisError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
-    else:
-        n = workers or default_workers()
-        # threads: the compiled path releases the GIL, so one process with a thread per core has no
-        # Python contention to speak of and starts in a fraction of a second
-        cluster = LocalCluster(n_workers=1, threads_per_worker=n, processes=False, dashboard_address=None)
-        client = Client(cluster)
+    n = workers or default_workers()
+    # threads: the compiled path releases the GIL, so one process with a thread per core has no Python
+    # contention to speak of and starts in a fraction of a second
+    cluster = LocalCluster(n_workers=1, threads_per_worker=n, processes=False, dashboard_address=":0")
+    return Client(cluster), cluster
+
+
+def _run_tasks(client, spec, model, grid, group, chunks, pending, progress) -> tuple[int, int]:
+    """Submit the pending tasks; write each block as its task finishes; (trajectories, rhs evaluations)."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
     integrated = n_rhs = 0
-    try:
-        spec_dict = spec.to_dict()
-        futures = {}
-        for task in pending:
-            flat = np.concatenate([block_flat(b, chunks, grid.shape) for b in task])
-            fut = client.submit(_task, spec_dict, flat, pure=False)
-            futures[fut] = task
-        bar = tqdm(total=len(pending), disable=not progress, file=sys.stderr, unit="task",
-                   desc=f"sweep {model.name}")
-        for fut in as_completed(futures):
-            res = fut.result()
-            integrated += int(res["integrated"])
-            n_rhs += int(res["n_rhs"])
-            task = futures.pop(fut)
-            offset = 0
-            for b in task:
-                size = int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
-                write_block(group, spec, model, grid, b, chunks, res, slice(offset, offset + size))
-                offset += size
-            bar.update(1)
-        bar.close()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    spec_dict = spec.to_dict()
+    futures = {}
+    for task in pending:
+        flat = np.concatenate([block_flat(b, chunks, grid.shape) for b in task])
+        fut = client.submit(_task, spec_dict, flat, pure=False)
+        futures[fut] = task
+    bar = tqdm(total=len(pending), disable=not progress, file=sys.stderr, unit="task",
+               desc=f"sweep {model.name}")
+    for fut in as_completed(futures):
+        res = fut.result()
+        integrated += int(res["integrated"])
+        n_rhs += int(res["n_rhs"])
+        task = futures.pop(fut)
+        offset = 0
+        for b in task:
+            size = int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
+            write_block(group, spec, model, grid, b, chunks, res, slice(offset, offset + size))
+            offset += size
+        bar.update(1)
+    bar.close()
     return integrated, n_rhs

@@ -123,7 +123,7 @@ def test_stop_region_is_forward_invariant_and_labels_balanced():
 
 def test_resume_after_sigkill_equals_uninterrupted_run(tmp_path):
     args = ["sweep", "thesis_rotating_n2", "--grid", "phi_1=0:2*pi*7/8:8", "--grid", "Omega=3:4:8", "--measure",
-            "r_max", "--t-end", "150", "--chunk", "2", "--workers", "1", "--no-figures"]
+            "r_max", "--t-end", "1000", "--chunk", "2", "--workers", "1", "--no-figures"]
     ref = tmp_path / "ref"
     assert _cli(*args, "--out", str(ref), "--json").returncode == 0
     out = tmp_path / "killed"
