@@ -8,7 +8,7 @@ further window) and the final state compared with the published one.
 
 Covered: thesis ch. 5, Fig. 5.4 (n = 2), Fig. 5.6 (n = 3), Fig. 5.8 (n = 4), the (pi, pi, pi) coincident
 and (0, 0, pi) in-line runs (text of Fig. 5.7), the n = 2 limit cycle from (pi/4, -pi/4), and the damping runs of
-section 5.2.2 (Fig. 5.15-5.17); ch. 4, the zeta and beta limits the text states for n = 3, 4 and the
+section 5.2.2 (Fig. 5.15-5.17), the basin maps of Fig. 5.18; ch. 4, the zeta and beta limits the text states for n = 3, 4 and the
 (Omega, mu), (zeta, beta) stability maps for n = 2, 3, 4.  Not yet: the two-plane paper.
 """
 
@@ -175,6 +175,44 @@ def _maps(fig_dir: Path) -> list[tuple[str, Path]]:
     return out
 
 
+BASIN_ZETAS = (0.01, 0.1, 0.2, 0.25)  # thesis Fig. 5.18(a)-(d): Omega = 4, beta = delta = 0.01, mu = 0.05
+
+
+def _basins(fig_dir: Path, size: int = 40) -> list[dict]:
+    """Fig. 5.18: basin maps of n = 2 over (phi_1(0), phi_2(0)) for the four zeta of the figure."""
+    import json
+    import shutil
+    import tempfile
+
+    import xarray as xr
+
+    from .sweep import SweepSpec, run_sweep
+
+    out = []
+    tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-basins-"))
+    try:
+        for k, zeta in enumerate(BASIN_ZETAS):
+            grid = [f"phi_1=0:2*pi*{size - 1}/{size}:{size}", f"phi_2=0:2*pi*{size - 1}/{size}:{size}"]
+            spec = SweepSpec(model="thesis_rotating_n2", grid=grid, measure="attractor", set=[f"zeta={zeta}"],
+                             t_end=2000.0)
+            run_sweep(spec, tmp / str(k), progress=False)
+            ds = xr.open_zarr(tmp / str(k) / "sweep.zarr", consolidated=False)
+            names = json.loads(ds.attrs["labels"])
+            codes = ds["attractor"].values
+            target = fig_dir / f"fig5_18{'abcd'[k]}.png"
+            shutil.copyfile(tmp / str(k) / "attractor.png", target)
+            counts = {names[c]: int((codes == c).sum()) for c in np.unique(codes)}
+            p1, p2 = np.meshgrid(ds["phi_1"].values, ds["phi_2"].values, indexing="ij")
+            near_inline = np.abs(_wrap_array(p2 - p1 - PI)) < PI / 3  # about phi_2 = phi_1 +- pi
+            balanced = codes == names.index("balanced 1")
+            out.append({"zeta": zeta, "panel": "abcd"[k], "counts": counts, "figure": target,
+                        "balanced": counts.get("balanced 1", 0) / codes.size,
+                        "inline_share": float(near_inline[balanced].mean()) if balanced.any() else None})
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return out
+
+
 def _run(case: Case, rtol: float, keep: bool = False, threshold: float = 1e-3):
     from .simulate import simulate
 
@@ -199,6 +237,10 @@ def threshold_study(case: Case) -> dict:
 
 def _wrap(a: float) -> float:
     return (a + PI) % (2 * PI) - PI
+
+
+def _wrap_array(a: np.ndarray) -> np.ndarray:
+    return np.remainder(a + PI, 2 * PI) - PI
 
 
 def study(case: Case) -> dict:
@@ -239,7 +281,11 @@ def build(out_md: Path, fig_dir: Path, progress=print) -> Path:
         for st, v in statements:
             progress(f"{st.source:22s} n = {st.n}: {st.kind} published {st.published:g}, ours {_fmt(v, 4)}")
     maps = _maps(fig_dir)
-    lines = _document(results, figures, out_md.parent, statements, maps)
+    basins = _basins(fig_dir)
+    if progress:
+        for b in basins:
+            progress(f"Fig. 5.18({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
+    lines = _document(results, figures, out_md.parent, statements, maps, basins)
     out_md.parent.mkdir(parents=True, exist_ok=True)
     tmp = out_md.with_suffix(".md.tmp")
     tmp.write_text("\n".join(lines) + "\n")
@@ -285,7 +331,41 @@ def _chapter4(statements, maps, root: Path) -> list[str]:
     return L
 
 
-def _document(results, figures, root: Path, statements=(), maps=()) -> list[str]:
+def _basin_section(basins, root: Path) -> list[str]:
+    if not basins:
+        return []
+    L = ["## Thesis, Fig. 5.18: basins of attraction of the balanced state, n = 2", "",
+         "`adbgen sweep thesis_rotating_n2 --grid phi_1=0:2*pi*39/40:40 --grid phi_2=0:2*pi*39/40:40 --set "
+         "zeta=Z --measure attractor --t-end 2000` (Omega = 4, beta = delta = 0.01, mu = 0.05).  The thesis "
+         "describes the figure in words; its statements and ours:", "",
+         "| panel | zeta | balanced 1 | other attractors (grid points of 1600) |", "|---|---|---|---|"]
+    for b in basins:
+        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if k != "balanced 1") or "none"
+        L.append(f"| 5.18({b['panel']}) | {b['zeta']:g} | {100 * b['balanced']:.1f} % | {others} |")
+    shrink = all(basins[i]["balanced"] >= basins[i + 1]["balanced"] for i in range(2))
+    L += ["",
+          "* Thesis (a), zeta = 0.01: \"the basin of attraction of the balanced state is accessible from most "
+          "initial ball positions.  Exceptions being when the balls are launched from the same position, "
+          "phi_1(0) = phi_2(0), or from a small number of positions about this line, and others few positions "
+          "around phi_1,2(0) = 0.5, phi_2,1(0) = 5.\"  Ours: the diagonal ends at the coincident state 2- (the "
+          "balls start together and, with the exact exchange symmetry of the generated code, stay together), "
+          "and the two patches of limit cycles lie about (0.5-1, 5-5.5) and its mirror image; "
+          f"{100 * basins[0]['balanced']:.1f} % of the grid balances.",
+          "* Thesis (b)-(d): \"As the external damping ratio zeta is increased ... the basin of attraction "
+          "decreases\", (c) and (d) \"very similar\".  Ours: the balanced fraction "
+          + ("decreases" if shrink else "does not decrease monotonically")
+          + " from (a) to (c): " + ", ".join(f"{100 * b['balanced']:.1f} %" for b in basins) + ".",
+          "* Thesis (c)-(d): \"these shaded regions for zeta = 0.2 and zeta = 0.25 correspond with points around "
+          "the lines phi_2(0) = phi_1(0) + pi and phi_2(0) = phi_1(0) - pi\" (a tear-drop shaped basin).  Ours: "
+          + ", ".join(f"({b['panel']}) {100 * b['inline_share']:.0f} %" for b in basins[2:] if b["inline_share"] is not None)
+          + " of the balancing points lie within pi/3 of those lines (a third of the grid does).", ""]
+    for b in basins:
+        title = f"Fig. 5.18({b['panel']}), zeta = {b['zeta']:g}"
+        L += [f"**{title}**", "", f"![{title}]({b['figure'].relative_to(root).as_posix()})", ""]
+    return L
+
+
+def _document(results, figures, root: Path, statements=(), maps=(), basins=()) -> list[str]:
     L = ["# Reproduction of the published results", "",
          "Generated by `adbgen reproduce` (do not edit by hand).  Models: `generated/thesis_rotating_n{2,3,4}`; "
          "engine: the default compiled DOP853 (`cyrk-dop853`), atol = rtol/100, t in [0, 3000]; parameters "
@@ -377,6 +457,7 @@ def _document(results, figures, root: Path, statements=(), maps=()) -> list[str]
         L.append("")
         L.append(f"![{title}]({path.relative_to(root).as_posix()})")
         L.append("")
+    L += _basin_section(basins, root)
     L += _chapter4(statements, maps, root)
     L += ["## Not reproduced yet", "",
           "The two-plane paper's B/C3 stability exchange (section 3.2.3), its Figure 12(a) brute-force "

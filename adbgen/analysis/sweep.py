@@ -5,7 +5,8 @@
     run_sweep(spec, "out/basins")        -> {"points", "computed", "reused", "wall_s", "store"}
 
 Work is cut into blocks of the grid (the store's chunks).  A block is one Dask task that runs all its
-trajectories in one call of the compiled ensemble path (`simulate_many`, no Python per trajectory);
+trajectories together on the compiled ensemble path (`simulate_many`, no Python per trajectory: one call,
+or for `attractor` one call per segment of `check_dt`);
 the client writes each block's results into the Zarr store as it arrives, data first and its `done`
 flags last, so a killed run (SIGKILL included) loses only the blocks in flight and the next run with
 the same settings computes only the blocks not done.  Zarr's local store writes every chunk file
