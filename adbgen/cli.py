@@ -7,6 +7,7 @@
     adbgen bench derive|codegen|sweep [--out FILE] [--n ...]
     adbgen bench simulate [--out FILE] [--repeats N] [--engines E ...] [--no-peers]
     adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/analysis/commands.py)
+    adbgen notebooks [--check | --run] [--only NN ...]                 the derivation notebooks of derive/
 
 Every family in `families.REGISTRY` adds its own subcommands (`Family.register_commands`); other
 command groups are listed once in `COMMAND_GROUPS` as "module:function", each function taking the
@@ -30,6 +31,7 @@ COMMAND_GROUPS: list[str] = [
     "adbgen.codegen.commands:register",  # regenerate
     "adbgen.bench_commands:register",  # bench
     "adbgen.analysis.commands:register",  # simulate (the analysis layer over generated code)
+    "adbgen.notebooks:register",  # notebooks (execute and render derive/)
 ]
 
 

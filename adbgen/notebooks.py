@@ -1,0 +1,248 @@
+"""The derivation notebooks of derive/: executed, rendered beside their sources, checked for staleness.
+
+    adbgen notebooks                  execute every derive/NN_*.py (jupytext percent script) from a clean
+                                      kernel and write the executed notebook beside it (NN_*.ipynb)
+    adbgen notebooks --check          exit 1 naming each rendered notebook that is missing or older than
+                                      its source (no execution: compares the source's SHA-256, stored
+                                      in the rendered notebook's metadata, with the source)
+    adbgen notebooks --run            execute without writing (what CI does through the tests)
+    adbgen notebooks --only 03 ...    a subset, by number or name prefix
+
+The percent scripts are the source of truth (reviewable diffs); the executed .ipynb files are for
+readers (GitHub renders their LaTeX and figures).  Outputs with figures and timings are not byte-
+reproducible, so staleness is decided by the source hash, never by comparing outputs; execution
+counts, cell ids and kernel metadata are normalised so that re-rendering an unchanged notebook changes
+as little as possible.  A failed assertion or error in any cell fails the command (exit 1, the cell named).
+
+Also the helpers the notebooks use to show equations: `latex` (SymPy's printer with the references'
+notation: dots for rates, epsilon for the eccentricity) and `show`/`compare` (rendered mathematics
+next to the reference's printed form and its equation number).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from .errors import AdbgenError
+
+KERNEL = "python3"
+METADATA_KEY = "adbgen"
+
+
+class NotebookError(AdbgenError):
+    """A notebook failed, or derive/ is missing."""
+
+
+# --- showing equations ------------------------------------------------------------------------------
+
+_GREEK_NAMES = {"eps": r"\epsilon", "tau0": r"\tau_0", "omega_n": r"\omega_n"}
+
+
+def _symbol_names(expr) -> dict:
+    import sympy as sp
+
+    names = {}
+    for s in getattr(expr, "free_symbols", ()):
+        name = s.name
+        for suffix, accent in (("_ddot", r"\ddot"), ("_dot", r"\dot")):
+            if name.endswith(suffix):
+                base = name[: -len(suffix)]
+                head, _, index = base.partition("_")
+                core = _GREEK_NAMES.get(head, sp.latex(sp.Symbol(head)))
+                names[s] = accent + "{" + core + "}" + (f"_{{{index}}}" if index else "")
+                break
+        else:
+            if name in _GREEK_NAMES:
+                names[s] = _GREEK_NAMES[name]
+    return names
+
+
+def latex(expr, **options) -> str:
+    """SymPy's LaTeX with rates as dots (phi_1_dot -> \\dot{\\phi}_{1}) and eps as epsilon."""
+    import sympy as sp
+
+    expr = sp.sympify(expr)
+    atoms = expr.atoms(sp.Symbol) if hasattr(expr, "atoms") else set()
+    names = _symbol_names(sp.Tuple(*atoms)) if atoms else {}
+    return sp.latex(expr, symbol_names=names, **options)
+
+
+def _display(markdown: str, text: str) -> None:
+    try:
+        from IPython import get_ipython
+        from IPython.display import Markdown, display
+    except ImportError:  # pragma: no cover - run as a plain script
+        print(text)
+        return
+    if get_ipython() is None:
+        print(text)
+    else:
+        display(Markdown(markdown))
+
+
+def show(label: str, expr, reference: str = "", lhs: str | None = None) -> None:
+    """One equation, rendered: `label` [reference]: lhs = expr (or expr = 0 without lhs)."""
+    body = latex(expr)
+    eq = f"{lhs} = {body}" if lhs is not None else f"{body} = 0"
+    ref = f" &nbsp; *{reference}*" if reference else ""
+    _display(f"**{label}**{ref}\n\n$${eq}$$", f"{label} [{reference}]: {lhs + ' = ' if lhs else ''}{expr}")
+
+
+def compare(label: str, derived, printed, reference: str, identical: bool = True) -> None:
+    """Derived and printed side by side, then assert `identical` (exact, via is_identity) holds."""
+    from .core import is_identity
+
+    same = is_identity(derived, printed)
+    verdict = "identical (exact)" if same else "differ"
+    _display(f"**{label}** &nbsp; *{reference}*\n\nderived: $${latex(derived)} = 0$$\n\n"
+             f"printed: $${latex(printed)} = 0$$\n\n&rarr; {verdict}",
+             f"{label} [{reference}]: {verdict}")
+    assert same == identical, f"{label}: derived and printed {reference} {verdict}, expected the opposite"
+
+
+def check(result) -> None:
+    """Show a library check (a CheckResult) as one line and assert it passed."""
+    print(f"{'ok  ' if result.passed else 'FAIL'} {result.name} [{result.reference}]: {result.detail}")
+    assert result.passed, f"{result.name}: {result.detail}"
+
+
+# --- rendering --------------------------------------------------------------------------------------
+
+def derive_dir() -> Path:
+    folder = Path(__file__).resolve().parents[1] / "derive"
+    if not folder.is_dir():
+        raise NotebookError(f"no derive/ folder at {folder.parent} (the notebooks live in a source checkout)")
+    return folder
+
+
+def sources(only: list[str] | None = None) -> list[Path]:
+    found = sorted(derive_dir().glob("[0-9][0-9]_*.py"))
+    if only:
+        unknown = [o for o in only if not any(p.stem.startswith(o) for p in found)]
+        if unknown:
+            raise NotebookError(f"no notebook named {', '.join(unknown)}; have {', '.join(p.stem for p in found)}")
+        found = [p for p in found if any(p.stem.startswith(o) for o in only)]
+    return found
+
+
+def source_digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def rendered_path(source: Path) -> Path:
+    return source.with_suffix(".ipynb")
+
+
+def stale(paths: list[Path]) -> list[str]:
+    """Sources whose rendered notebook is missing or was rendered from another version."""
+    import nbformat
+
+    out = []
+    for src in paths:
+        target = rendered_path(src)
+        if not target.is_file():
+            out.append(f"{target.name}: missing")
+            continue
+        stored = nbformat.read(target, as_version=4).metadata.get(METADATA_KEY, {}).get("source_sha256")
+        if stored != source_digest(src):
+            out.append(f"{target.name}: stale (rendered from another version of {src.name})")
+    return out
+
+
+def _normalise(nb, source: Path) -> None:
+    """Drop what changes from run to run without meaning (timings, kernel versions); cell ids stable."""
+    nb.metadata.pop("language_info", None)
+    nb.metadata.pop("widgets", None)
+    nb.metadata["kernelspec"] = {"name": KERNEL, "display_name": "Python 3", "language": "python"}
+    nb.metadata.setdefault("jupytext", {}).pop("text_representation", None)
+    nb.metadata[METADATA_KEY] = {"source": source.name, "source_sha256": source_digest(source),
+                                 "rendered_by": "adbgen notebooks"}
+    for k, cell in enumerate(nb.cells):
+        cell["id"] = f"{source.stem[:2]}-{k:03d}"
+        cell.metadata.pop("execution", None)
+        for output in cell.get("outputs", []):
+            output.get("metadata", {}).pop("execution", None)
+
+
+def execute(source: Path, timeout: int = 600):
+    """Run one percent script as a notebook from a clean kernel in derive/; the executed notebook."""
+    import jupytext
+    from nbclient import NotebookClient
+    from nbclient.exceptions import CellExecutionError
+
+    nb = jupytext.read(source)
+    nb.metadata["kernelspec"] = {"name": KERNEL, "display_name": "Python 3", "language": "python"}
+    env_path = os.pathsep.join(filter(None, [str(source.parents[1]), os.environ.get("PYTHONPATH", "")]))
+    os.environ["PYTHONPATH"] = env_path  # the kernel imports this checkout's adbgen, as the caller does
+    client = NotebookClient(nb, timeout=timeout, kernel_name=KERNEL, record_timing=False,
+                            resources={"metadata": {"path": str(source.parent)}})
+    try:
+        client.execute()
+    except CellExecutionError as exc:
+        first = str(exc).strip().splitlines()
+        raise NotebookError(f"{source.name} failed: {_last_error_line(first)}") from None
+    _normalise(nb, source)
+    return nb
+
+
+def _last_error_line(lines: list[str]) -> str:
+    import re
+
+    lines = [re.sub(r"\x1b\[[0-9;]*m", "", ln) for ln in lines]
+    errors = [ln for ln in lines if "Error" in ln or "assert" in ln]
+    return (errors[-1] if errors else lines[-1] if lines else "error").strip()[:300]
+
+
+def write(nb, target: Path) -> None:
+    import nbformat
+
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+    os.close(fd)
+    try:
+        nbformat.write(nb, tmp)
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def cmd_notebooks(args) -> int:
+    paths = sources(args.only)
+    if args.check:
+        bad = stale(paths)
+        for line in bad:
+            print(line)
+        if bad:
+            print("re-render with: adbgen notebooks", file=sys.stderr)
+        return 1 if bad else 0
+    total = time.perf_counter()
+    failed = []
+    for src in paths:
+        t0 = time.perf_counter()
+        try:
+            nb = execute(src, timeout=args.timeout)
+        except NotebookError as exc:
+            failed.append(str(exc))
+            print(f"FAIL {src.name}: {exc}", file=sys.stderr)
+            continue
+        if not args.run:
+            write(nb, rendered_path(src))
+        print(f"ok   {src.name} ({time.perf_counter() - t0:.1f} s){'' if args.run else ' -> ' + rendered_path(src).name}")
+    print(f"{len(paths) - len(failed)}/{len(paths)} notebooks in {time.perf_counter() - total:.1f} s")
+    return 1 if failed else 0
+
+
+def register(sub) -> None:
+    p = sub.add_parser("notebooks", help="execute the derivation notebooks of derive/ and render them beside their sources")
+    mode = p.add_mutually_exclusive_group()
+    mode.add_argument("--check", action="store_true",
+                      help="write nothing; exit 1 naming each rendered notebook missing or stale against its source")
+    mode.add_argument("--run", action="store_true", help="execute from a clean kernel, write nothing")
+    p.add_argument("--only", nargs="+", metavar="NAME", help="notebooks whose name starts with NAME (e.g. 03)")
+    p.add_argument("--timeout", type=int, default=600, help="seconds per cell (default 600)")
+    p.set_defaults(fn=cmd_notebooks)
