@@ -7,6 +7,7 @@
                                       in the rendered notebook's metadata, with the source)
     adbgen notebooks --run            execute without writing (what CI does through the tests)
     adbgen notebooks --only 03 ...    a subset, by number or name prefix
+    adbgen notebooks --jobs N         N kernels at once (default 2: this machine's cores)
 
 The percent scripts are the source of truth (reviewable diffs); the executed .ipynb files are for
 readers (GitHub renders their LaTeX and figures).  Outputs with figures and timings are not byte-
@@ -28,6 +29,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from .cli_types import positive_int
 from .errors import AdbgenError
 
 KERNEL = "python3"
@@ -177,8 +179,9 @@ def execute(source: Path, timeout: int = 600):
 
     nb = jupytext.read(source)
     nb.metadata["kernelspec"] = {"name": KERNEL, "display_name": "Python 3", "language": "python"}
-    env_path = os.pathsep.join(filter(None, [str(source.parents[1]), os.environ.get("PYTHONPATH", "")]))
-    os.environ["PYTHONPATH"] = env_path  # the kernel imports this checkout's adbgen, as the caller does
+    root, paths = str(source.parents[1]), [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    if root not in paths:  # the kernel imports this checkout's adbgen (and generated/), as the caller does
+        os.environ["PYTHONPATH"] = os.pathsep.join([root] + paths)
     client = NotebookClient(nb, timeout=timeout, kernel_name=KERNEL, record_timing=False,
                             resources={"metadata": {"path": str(source.parent)}})
     try:
@@ -205,6 +208,7 @@ def write(nb, target: Path) -> None:
     os.close(fd)
     try:
         nbformat.write(nb, tmp)
+        os.chmod(tmp, 0o644)  # mkstemp's 0600 is for secrets; a rendered notebook is for readers
         os.replace(tmp, target)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -222,19 +226,32 @@ def cmd_notebooks(args) -> int:
         return 1 if bad else 0
     total = time.perf_counter()
     failed = []
-    for src in paths:
-        t0 = time.perf_counter()
-        try:
-            nb = execute(src, timeout=args.timeout)
-        except NotebookError as exc:
-            failed.append(str(exc))
-            print(f"FAIL {src.name}: {exc}", file=sys.stderr)
+    for src, result, seconds in run_all(paths, timeout=args.timeout, jobs=args.jobs):
+        if isinstance(result, NotebookError):
+            failed.append(src.name)
+            print(f"FAIL {src.name} ({seconds:.1f} s): {result}", file=sys.stderr)
             continue
         if not args.run:
-            write(nb, rendered_path(src))
-        print(f"ok   {src.name} ({time.perf_counter() - t0:.1f} s){'' if args.run else ' -> ' + rendered_path(src).name}")
-    print(f"{len(paths) - len(failed)}/{len(paths)} notebooks in {time.perf_counter() - total:.1f} s")
+            write(result, rendered_path(src))
+        print(f"ok   {src.name} ({seconds:.1f} s){'' if args.run else ' -> ' + rendered_path(src).name}")
+    print(f"{len(paths) - len(failed)}/{len(paths)} notebooks in {time.perf_counter() - total:.1f} s (jobs={args.jobs})")
     return 1 if failed else 0
+
+
+def run_all(paths: list[Path], timeout: int = 600, jobs: int = 2):
+    """Execute each notebook (a clean kernel each, `jobs` at a time); yields (source, notebook or
+    NotebookError, seconds) in the order of `paths`."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def one(src):
+        t0 = time.perf_counter()
+        try:
+            return src, execute(src, timeout=timeout), time.perf_counter() - t0
+        except NotebookError as exc:
+            return src, exc, time.perf_counter() - t0
+
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        yield from pool.map(one, paths)
 
 
 def register(sub) -> None:
@@ -245,4 +262,5 @@ def register(sub) -> None:
     mode.add_argument("--run", action="store_true", help="execute from a clean kernel, write nothing")
     p.add_argument("--only", nargs="+", metavar="NAME", help="notebooks whose name starts with NAME (e.g. 03)")
     p.add_argument("--timeout", type=int, default=600, help="seconds per cell (default 600)")
+    p.add_argument("--jobs", type=positive_int, default=2, help="notebooks executed at once, each in its own kernel (default 2)")
     p.set_defaults(fn=cmd_notebooks)

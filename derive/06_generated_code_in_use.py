@@ -19,7 +19,9 @@
 # AUTO-07p on the emitted files.
 
 # %%
+import contextlib
 import ctypes
+import io
 import subprocess
 import tempfile
 from pathlib import Path
@@ -141,11 +143,12 @@ assert all(source_hash(ir) in text for text in files.values())
 work = Path(tempfile.mkdtemp(prefix="adbgen-nb06-"))
 scene_file = work / "five_balls.toml"
 scene_file.write_text('n = 5\nball_mass = [0.05, 0.045, 0.04, 0.035, 0.03]\n')
-assert adbgen(["regenerate", "--scene", str(scene_file), "--name", "five_balls", "--out", str(work / "gen"), "--quiet"]) == 0
+with contextlib.redirect_stdout(io.StringIO()):  # its summary names the temporary folder
+    assert adbgen(["regenerate", "--scene", str(scene_file), "--name", "five_balls", "--out", str(work / "gen"), "--quiet"]) == 0
 print(sorted(f.name for f in (work / "gen" / "five_balls").iterdir() if f.is_file()))
 model = load_model(work / "gen" / "five_balls")
 print(model.name, "| states:", model.state_names)
-print("parameters:", dict(zip(model.param_names, model.params())))
+print("parameters:", {k: float(v) for k, v in zip(model.param_names, model.params())})
 print("reference:", model.module.REFERENCE)
 
 # %% [markdown]
@@ -191,7 +194,9 @@ plt.show()
 # %%
 state = steady.refine(model, model.params(), run.y_end)
 print(f"classification: {state.classification}, family dimension {state.to_json()['family_dimension']}")
-print("transverse eigenvalues:", np.round(state.eigenvalues, 4))
+print("neutral eigenvalues (along the family):", np.array2string(state.neutral, precision=1))
+print("transverse eigenvalues:", np.array2string(state.transverse, precision=4))
+assert len(state.neutral) == 3 and np.max(np.abs(state.neutral)) < 1e-6 and np.all(state.transverse.real < 0)
 assert state.classification == "stable" and state.to_json()["family_dimension"] == 3
 # It balances the rotor: x = y = 0 and sum m_i R e^{i phi_i} = -M eps (the mass-weighted (3.6)).
 par = dict(zip(model.param_names, model.params()))
