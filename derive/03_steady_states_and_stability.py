@@ -75,11 +75,11 @@ for ax, m, fig_no, state in ((axes[0], 3, "3.1", "2±"), (axes[1], 2, "3.2", "3(
     exists = [ss.inline_exists(3, m, pars["mu_"], w, pars["zeta_"], pars["delta_"]) for w in Om]
     assert not any(e for w, e in zip(Om, exists) if c1 + 1e-6 < w < c2 - 1e-6) and all(e for w, e in zip(Om, exists) if w < c1 - 1e-6 or w > c2 + 1e-6)
     ax.plot(Om, K2, "k-", label="$K^2$")
-    ax.plot(Om, rhs, "k--", label=rf"$(2\Omega\zeta)^2(({2 * m - 3 if m != 3 else 'n'}\mu/\delta)^2 - 1)$")
+    ax.plot(Om, rhs, "k--", label=r"$(2\Omega\zeta)^2(((2m-n)\mu/\delta)^2 - 1)$")
     ax.axvspan(c1, c2, color="0.85", label=f"{state} do not exist")
     for c in (c1, c2):
         ax.axvline(c, color="0.4", lw=0.6)
-    ax.set_ylim(0, 0.02)
+    ax.set_ylim(0, 1.2 * rhs.max())
     ax.set_xlabel(r"$\Omega$")
     ax.set_title(f"Fig. {fig_no}: n = 3, m = {m}; $\\Omega_{{c1}}$ = {c1:.4f}, $\\Omega_{{c2}}$ = {c2:.4f}", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
