@@ -169,6 +169,20 @@ def _normalise(nb, source: Path) -> None:
         cell.metadata.pop("execution", None)
         for output in cell.get("outputs", []):
             output.get("metadata", {}).pop("execution", None)
+        if "outputs" in cell:
+            cell["outputs"] = _coalesce_streams(cell["outputs"])
+
+
+def _coalesce_streams(outputs: list) -> list:
+    """One stream output per run of prints: how the kernel chunks them depends on timing."""
+    merged = []
+    for out in outputs:
+        if (out.get("output_type") == "stream" and merged and merged[-1].get("output_type") == "stream"
+                and merged[-1].get("name") == out.get("name")):
+            merged[-1]["text"] = "".join(merged[-1]["text"]) + "".join(out["text"])
+        else:
+            merged.append(out)
+    return merged
 
 
 def execute(source: Path, timeout: int = 600):
@@ -189,6 +203,11 @@ def execute(source: Path, timeout: int = 600):
     except CellExecutionError as exc:
         first = str(exc).strip().splitlines()
         raise NotebookError(f"{source.name} failed: {_last_error_line(first)}") from None
+    except (RuntimeError, OSError, TimeoutError) as exc:  # no kernel (jupyter_client's NoSuchKernel is a
+        # KeyError), or it died or timed out
+        raise NotebookError(f"{source.name}: the {KERNEL} kernel did not run it: {exc}") from None
+    except KeyError as exc:
+        raise NotebookError(f"{source.name}: no Jupyter kernel {KERNEL!r} (pip install ipykernel): {exc}") from None
     _normalise(nb, source)
     return nb
 

@@ -27,7 +27,7 @@ import sympy as sp
 from adbgen.core import is_identity
 from adbgen.families.two_plane import critical_speeds as cs
 from adbgen.families.two_plane import verify
-from adbgen.families.two_plane.model import lagrangian
+from adbgen.families.two_plane.model import lagrangian, rotations
 from adbgen.families.two_plane.reductions import rotating_complex_rows, rotating_frame
 from adbgen.families.two_plane.scene import TwoPlaneScene
 from adbgen.families.two_plane.symbols import TwoPlaneSymbols
@@ -47,6 +47,9 @@ from adbgen.references import two_plane_2011 as paper
 scene = TwoPlaneScene()  # the paper's (10): two races of two balls, isotropic bearings
 lag = lagrangian(scene)
 s = lag.symbols
+R1, R2, R3 = rotations(*(sp.Symbol(name, real=True) for name in ("phi_X", "phi_Y", "theta_0")))
+for name, matrix in (("R_1", R1), ("R_2", R2), ("R_3", R3)):
+    show(f"rotation {name} (xi = R_3 R_2 R_1 X')", matrix, "paper section 2.1", lhs=name)
 print("coordinates:", [c.name for c in lag.coordinates], "| driven:", [c.name for c in lag.driven])
 show("dropped from T of ball 1", lag.dropped_ball_terms[0], "section 2.2 (not in the paper's M, G)", lhs=r"\Delta T_1")
 assert all(d != 0 and d.has(s.R[k]) for k, d in enumerate(lag.dropped_ball_terms))
