@@ -58,3 +58,18 @@ def test_every_notebook_executes_from_a_clean_kernel():
     failures = [f"{src.name}: {result}" for src, result, _ in notebooks.run_all(SOURCES, timeout=600, jobs=2)
                 if isinstance(result, notebooks.NotebookError)]
     assert not failures, "\n".join(failures)
+
+
+def test_consecutive_prints_become_one_output():
+    """The kernel chunks a cell's prints by timing; the rendered copy holds them as one stream output."""
+    import nbformat
+
+    outs = [nbformat.v4.new_output("stream", name="stdout", text="a\n"),
+            nbformat.v4.new_output("stream", name="stdout", text="b\n"),
+            nbformat.v4.new_output("stream", name="stderr", text="w\n"),
+            nbformat.v4.new_output("display_data", data={"text/plain": "x"}),
+            nbformat.v4.new_output("stream", name="stdout", text="c\n")]
+    merged = notebooks._coalesce_streams(outs)
+    assert [(o.output_type, o.get("name"), o.get("text")) for o in merged] == [
+        ("stream", "stdout", "a\nb\n"), ("stream", "stderr", "w\n"), ("display_data", None, None),
+        ("stream", "stdout", "c\n")]
