@@ -27,11 +27,9 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from adbgen.core import is_identity
 from adbgen.families.single_plane import verify
 from adbgen.families.single_plane.model import derive, lagrangian
-from adbgen.families.single_plane.scene import Scene
-from adbgen.families.single_plane.symbols import DimensionalSymbols, t
+from adbgen.families.single_plane.symbols import DimensionalSymbols
 from adbgen.notebooks import check, compare, show
 from adbgen.references import thesis
 

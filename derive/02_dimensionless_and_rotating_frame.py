@@ -23,7 +23,6 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from adbgen.core import is_identity
 from adbgen.core.numeric import NumericFirstOrder
 from adbgen.families.single_plane import verify
 from adbgen.families.single_plane.jacobi import rotating_lagrangian

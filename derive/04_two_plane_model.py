@@ -24,14 +24,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 import sympy as sp
 
-from adbgen.core import is_identity
 from adbgen.families.two_plane import critical_speeds as cs
 from adbgen.families.two_plane import verify
 from adbgen.families.two_plane.model import lagrangian, rotations
 from adbgen.families.two_plane.reductions import rotating_complex_rows, rotating_frame
 from adbgen.families.two_plane.scene import TwoPlaneScene
-from adbgen.families.two_plane.symbols import TwoPlaneSymbols
-from adbgen.notebooks import check, compare, latex, show
+from adbgen.notebooks import check, compare, show
 from adbgen.references import two_plane_2011 as paper
 
 # %% [markdown]
@@ -57,12 +55,13 @@ assert all(d != 0 and d.has(s.R[k]) for k, d in enumerate(lag.dropped_ball_terms
 # %% [markdown]
 # ## The complex form (2)-(4) and its errata
 # With q = (X + iY, phi_Y - i phi_X), the paper writes the rotor rows as
-# M q'' + (C_m - i theta_0' G) q' + K_m q + C_d conj(q') + K_d conj(q) = forcing (2), with the matrices
-# of (1):
+# M q'' + (C_m - i theta_0' G) q' + K_m q + C_d conj(q') + K_d conj(q) = forcing (2) (corrected: the
+# paper prints C_d q'), with the mean and deviatoric parts of (1), K_m = (K_X + K_Y)/2, K_d = (K_X - K_Y)/2
+# and the same for C (here K_d = C_d = 0: the paper's (10) is isotropic):
 
 # %%
 mx = paper.matrices(s, scene.n)
-for name in ("M", "G", "K_m", "C_m"):
+for name in ("M", "G", "K_m", "K_d", "C_m", "C_d"):
     show(name, mx[name], "paper (1)-(2)", lhs=name)
 show("modified polar inertia, as printed", paper.modified_polar_inertia(s, printed=True), "paper (3), printed",
      lhs=r"\tilde{J}_p")

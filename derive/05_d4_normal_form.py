@@ -28,7 +28,8 @@ from adbgen.families.two_plane import normal_form as nf
 from adbgen.families.two_plane import verify
 from adbgen.families.two_plane.branches import FullSteadyStates
 from adbgen.families.two_plane.scene import TwoPlaneScene
-from adbgen.families.two_plane.symbols import R, k, l, m, z
+from adbgen.families.two_plane.symbols import R, k, l, z
+from adbgen.families.two_plane.symmetry import GAMMAS
 from adbgen.notebooks import check, compare, show
 from adbgen.references import two_plane_2011 as paper
 
@@ -39,6 +40,8 @@ from adbgen.references import two_plane_2011 as paper
 # breaks gamma_r (the races then carry unequal imbalance), leaving D2.  Exact, on the derived equations:
 
 # %%
+for gamma, action in GAMMAS.items():
+    print(f"{gamma}: " + ", ".join(f"{a} -> {'-' if sign < 0 else ''}{b}" for a, (b, sign) in action.items()))
 check(verify.equivariance())
 
 # %% [markdown]

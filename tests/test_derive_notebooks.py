@@ -3,8 +3,6 @@ and the rendered copy committed beside each source is current (`adbgen notebooks
 
 import shutil
 
-import pytest
-
 from adbgen import notebooks
 from adbgen.cli import main
 
