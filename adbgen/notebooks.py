@@ -193,13 +193,14 @@ def execute(source: Path, timeout: int = 600):
 
     nb = jupytext.read(source)
     nb.metadata["kernelspec"] = {"name": KERNEL, "display_name": "Python 3", "language": "python"}
+    # The kernel imports this checkout's adbgen (and generated/), as the caller does; only the kernel's
+    # environment is changed, never this process's (later subprocesses must not inherit it).
     root, paths = str(source.parents[1]), [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
-    if root not in paths:  # the kernel imports this checkout's adbgen (and generated/), as the caller does
-        os.environ["PYTHONPATH"] = os.pathsep.join([root] + paths)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([root] + [p for p in paths if p != root])}
     client = NotebookClient(nb, timeout=timeout, kernel_name=KERNEL, record_timing=False,
                             resources={"metadata": {"path": str(source.parent)}})
     try:
-        client.execute()
+        client.execute(env=env)
     except CellExecutionError as exc:
         first = str(exc).strip().splitlines()
         raise NotebookError(f"{source.name} failed: {_last_error_line(first)}") from None

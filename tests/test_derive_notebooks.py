@@ -1,6 +1,7 @@
 """The derivation notebooks of derive/: each executes from a clean kernel (its asserts are the checks),
 and the rendered copy committed beside each source is current (`adbgen notebooks --check`)."""
 
+import os
 import shutil
 
 from adbgen import notebooks
@@ -71,3 +72,15 @@ def test_consecutive_prints_become_one_output():
     assert [(o.output_type, o.get("name"), o.get("text")) for o in merged] == [
         ("stream", "stdout", "a\nb\n"), ("stream", "stderr", "w\n"), ("display_data", None, None),
         ("stream", "stdout", "c\n")]
+
+
+def test_running_a_notebook_leaves_this_process_environment_alone(tmp_path, monkeypatch):
+    """The kernel gets the checkout on its PYTHONPATH; the caller's environment (inherited by later
+    subprocesses, e.g. the install test's venv) is unchanged, and the kernel runs in derive/."""
+    (tmp_path / "01_env.py").write_text("# %%\nimport os, sys\nprint(os.getcwd())\nprint(sys.path[:3])\n")
+    monkeypatch.setattr(notebooks, "derive_dir", lambda: tmp_path)
+    before = dict(os.environ)
+    [(src, nb, _)] = list(notebooks.run_all(notebooks.sources(), jobs=1))
+    assert dict(os.environ) == before
+    out = nb.cells[0].outputs[0]["text"]
+    assert str(tmp_path) in out.splitlines()[0] and str(tmp_path.parent) in out.splitlines()[1]
