@@ -281,6 +281,6 @@ def register(sub) -> None:
                       help="write nothing; exit 1 naming each rendered notebook missing or stale against its source")
     mode.add_argument("--run", action="store_true", help="execute from a clean kernel, write nothing")
     p.add_argument("--only", nargs="+", metavar="NAME", help="notebooks whose name starts with NAME (e.g. 03)")
-    p.add_argument("--timeout", type=int, default=600, help="seconds per cell (default 600)")
+    p.add_argument("--timeout", type=positive_int, default=600, help="seconds per cell (default 600)")
     p.add_argument("--jobs", type=positive_int, default=2, help="notebooks executed at once, each in its own kernel (default 2)")
     p.set_defaults(fn=cmd_notebooks)
