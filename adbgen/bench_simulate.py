@@ -260,12 +260,13 @@ def reference(model, problem: Problem, y0: dict | None = None) -> dict:
 
 # ---------------------------------------------------------------------------------------- floor
 
-def floor_pathways(model, y, p, folder: Path, target: float = 0.02) -> list[Pathway]:
+def floor_pathways(model, y, p, folder: Path, target: float = 0.01, inner: int = 5) -> list[Pathway]:
     """ns per call of the generated rhs as pathways (timed in the round-robin with the integrations).
 
     "floor:c": the C rhs in a C loop (gcc -O2, as the engines are built; a separate timing program,
-    `bench_codegen._C_MAIN`); "floor:numba": rhs_inplace in a jitted loop.  Each run times about
-    `target` seconds of calls; `wall_s` holds seconds per call."""
+    `bench_codegen._C_MAIN`); "floor:numba": rhs_inplace in a jitted loop.  Each run times `inner`
+    bursts of about `target` seconds of calls and keeps the fastest (short bursts find the quiet
+    moments of a shared machine, as the integrations' best-of-N does); `wall_s` holds seconds per call."""
     from .bench_codegen import _calibrate, _numba_loop, build_c_timer, run_c_timer
 
     y = np.ascontiguousarray(y, dtype=float)
@@ -279,7 +280,7 @@ def floor_pathways(model, y, p, folder: Path, target: float = 0.02) -> list[Path
         exe, _ = build_c_timer(folder, model.name, y, p, cc=cc)
 
         def run_c():
-            return {"wall_s": 1e-9 * run_c_timer(exe, target, 1, False)["rhs"]["min_ns"], "status": "success"}
+            return {"wall_s": 1e-9 * run_c_timer(exe, target, inner, False)["rhs"]["min_ns"], "status": "success"}
 
         out.append(Pathway("floor:c", "floor", "C rhs, gcc -O2, in a C loop", 0.0, run_c))
     buf = np.empty(model.n_states)
@@ -288,9 +289,12 @@ def floor_pathways(model, y, p, folder: Path, target: float = 0.02) -> list[Path
     calls = _calibrate(lambda k: loop(y, p, buf, k), target)
 
     def run_numba():
-        start = time.perf_counter()
-        loop(y, p, buf, calls)
-        return {"wall_s": (time.perf_counter() - start) / calls, "status": "success"}
+        best = math.inf
+        for _ in range(inner):
+            start = time.perf_counter()
+            loop(y, p, buf, calls)
+            best = min(best, (time.perf_counter() - start) / calls)
+        return {"wall_s": best, "status": "success"}
 
     out.append(Pathway("floor:numba", "floor", "numba rhs_inplace in a jitted loop", 0.0, run_numba))
     return out
@@ -697,7 +701,7 @@ def equal_error(default: Pathway, sweep: list[Pathway], peers: list[Pathway]) ->
 
 def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEATS, engines=None,
                    peers: bool = True, sweep_tols=SWEEP_TOLS, many_n: int = MANY_N, many_repeats: int = 5,
-                   slow_s: float = SLOW_S, floor_target: float = 0.03, baseline: bool = True,
+                   slow_s: float = SLOW_S, floor_target: float = 0.01, baseline: bool = True,
                    progress=None) -> dict:
     """Run the whole benchmark; returns the JSON-ready result (see the module docstring)."""
     from .analysis.engines import DEFAULT, ENGINES
