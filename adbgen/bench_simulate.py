@@ -395,6 +395,9 @@ def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int 
         if 1 in control_runs and len(threads) > 1:
             out["control"]["speedup"] = {str(k): round(min(control_runs[1]) / min(control_runs[k]), 3)
                                          for k in threads if k != 1}
+            if "speedup" in out:  # the engine's speed-up as a share of what the machine gave
+                out["speedup_over_control"] = {k: round(v / out["control"]["speedup"][k], 3)
+                                               for k, v in out["speedup"].items()}
     return out
 
 
