@@ -3,7 +3,7 @@
 Issue: code generation, "operation count of the emitted rhs and jac for n = 1..32 (linear), and ns
 per rhs call of numba and C against sympy.lambdify, written to a committed results file".
 
-Two parts, both for the two model families of `adbgen.codegen.models`:
+Two parts, both for the model kinds indexed by n of the registered families (`adbgen.families.kinds`):
 
 - ``ops``: SymPy's ``count_ops`` of the intermediate form's ``rhs`` and ``jac`` programs (the exact
   statements every target prints), the number of statements and the build time (derivation and
@@ -44,11 +44,11 @@ import numpy as np
 import sympy as sp
 
 from .bench import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
-from .codegen import models
+from . import families
 from .codegen.scratch import import_numba, render_into
-from .single_plane.model import derive
+from .families.single_plane.model import derive
 
-FAMILIES = models.FAMILIES
+FAMILIES = families.kinds()  # {kind: n -> ModelSpec}: thesis_rotating, single_plane_fixed
 OPS_NS = (1, 2, 4, 8, 16, 32)
 SPEED_NS = (2, 4, 8, 16)
 JAC_NS = (2, 4, 8)

@@ -3,6 +3,10 @@
     adbgen simulate MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-end T]
                     [--rtol R] [--atol A] [--engine E] [--threshold H] [--out DIR] [--json]
 
+    adbgen stability ..., adbgen continue ...   (stability_commands.py)
+    adbgen sweep ...                             (sweep_commands.py)
+    adbgen reproduce ...                         (reproduce.py)
+
 Each command prints one JSON object on stdout with --json.  Bad input: one line on stderr, exit 2;
 a failed integration: one line naming where it failed, exit 1.
 """
@@ -10,57 +14,21 @@ a failed integration: one line naming where it failed, exit 1.
 from __future__ import annotations
 
 import json
-import math
 import sys
 from pathlib import Path
 
-from .loading import AnalysisError, load_model, parse_assignments
-
-# (name, add_arguments, run) of every command here; `register` adds them all
-COMMANDS: list = []
-
-
-def command(name: str, help: str):
-    def wrap(add):
-        COMMANDS.append((name, help, add))
-        return add
-    return wrap
+from .command_registry import COMMANDS, _emit_json, _finite_positive, _json_number, _load, _model_arguments, command
+from .loading import parse_assignments
 
 
 def register(sub, parser_class) -> None:
     """Add this layer's commands to the `adbgen` subparsers."""
+    # the command modules register themselves in COMMANDS when imported
+    from . import reproduce, stability_commands, sweep_commands  # noqa: F401
+
     for name, help_, add in COMMANDS:
         p = sub.add_parser(name, help=help_, description=help_)
         add(p)
-
-
-def _model_arguments(p) -> None:
-    p.add_argument("model", nargs="?", help="a generated model's name (e.g. thesis_rotating_n3) or a folder "
-                                            "written by `adbgen regenerate --out`")
-    p.add_argument("--scene", help="scene file (TOML): its smallest exact model, generated once into a cache")
-    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                   help="a parameter by name (repeatable); VALUE a number or an expression in pi")
-
-
-def _load(args):
-    return load_model(args.model, scene=args.scene)
-
-
-def _finite_positive(text: str) -> float:
-    from .loading import parse_value
-
-    value = parse_value(text)
-    if not value > 0:
-        raise AnalysisError(f"must be > 0, got {text}")
-    return value
-
-
-def _json_number(v):
-    return None if v is None or (isinstance(v, float) and not math.isfinite(v)) else v
-
-
-def _emit_json(obj) -> None:
-    print(json.dumps(obj, allow_nan=False, default=_json_number))
 
 
 # --------------------------------------------------------------------------------------- simulate
@@ -79,6 +47,7 @@ def _add_simulate(p) -> None:
                    help=f"integration engine (default {DEFAULT}); one of: {', '.join(ENGINES)}")
     p.add_argument("--threshold", type=_finite_positive, default=1e-3,
                    help="t_dec = last time r >= threshold (default 1e-3, the thesis')")
+    p.add_argument("--max-steps", type=int, default=10_000_000, help="step limit (default 10^7)")
     p.add_argument("--out", help="folder for the trajectory (trajectory.npz, trajectory.csv) and a plot")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.set_defaults(fn=run_simulate)
@@ -94,7 +63,8 @@ def run_simulate(args) -> int:
     p = model.params(params)
     y = model.state(y0)
     sim = simulate(model, p, y, t_end=args.t_end, rtol=args.rtol, atol=args.atol, engine=args.engine,
-                   threshold=args.threshold, keep_trajectory=args.out is not None, check=False)
+                   threshold=args.threshold, keep_trajectory=args.out is not None, max_steps=args.max_steps,
+                   check=False)
     if args.out is not None and sim.ok:
         write_trajectory(model, sim, Path(args.out))
     if args.json:
@@ -164,3 +134,4 @@ def write_trajectory(model, sim, out: Path) -> None:
     a2.legend(loc="best", fontsize=8)
     fig.savefig(out / "trajectory.png", dpi=120)
     plt.close(fig)
+

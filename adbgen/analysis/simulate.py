@@ -21,7 +21,9 @@ from .results import Ensemble, Simulation
 MAX_STEPS = 10_000_000
 
 
-def _settings(t_end, rtol, atol, threshold):
+def _settings(t_end, rtol, atol, threshold, max_steps=1):
+    if not isinstance(max_steps, int) or max_steps < 1:
+        raise AnalysisError(f"max_steps must be a whole number >= 1, got {max_steps!r}")
     for name, value in (("t_end", t_end), ("rtol", rtol), ("atol", atol), ("threshold", threshold)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise AnalysisError(f"{name} must be a finite number > 0, got {value!r}")
@@ -41,7 +43,7 @@ def simulate(model: Model, params=None, y0=None, *, t_end: float = 1000.0, rtol:
     """One trajectory of `model` from `y0` (dict by name, states not given are 0, or a full vector).
 
     t_dec = sup{t <= t_end : r(t) >= threshold} on the continuous solution (None if r(t_end) >= it)."""
-    _settings(t_end, rtol, atol, threshold)
+    _settings(t_end, rtol, atol, threshold, max_steps)
     eng = get_engine(engine)
     p = _vector(model, params, "parameter")
     y = _vector(model, y0, "state")
@@ -66,7 +68,7 @@ def simulate_many(model: Model, P, Y0, *, t_end: float = 1000.0, rtol: float = 1
     Runs on `threads` cores inside the compiled library (no Python per trajectory).  Early stop
     (sweeps): every `check_dt` a trajectory inside a target region (centre, weights) stops there with
     status "stopped" and `target` its index.  Failures are reported per trajectory in `status`."""
-    _settings(t_end, rtol, atol, threshold)
+    _settings(t_end, rtol, atol, threshold, max_steps)
     eng = get_engine(engine)
     Y0 = np.atleast_2d(np.asarray(Y0, float))
     P = np.atleast_2d(np.asarray(P, float))

@@ -21,6 +21,11 @@ METHODS = {"dop853": "DOP853", "rk45": "RK45", "radau": "Radau", "lsoda": "LSODA
 _IMPLICIT = {"Radau", "LSODA", "BDF"}
 
 
+class _NonFinite(Exception):
+    def __init__(self, t):
+        self.t = float(t)
+
+
 class ScipyEngine:
     native_events = True
     symmetric = False
@@ -39,7 +44,10 @@ class ScipyEngine:
 
         def f(t, y):
             count[0] += 1
-            return mod.rhs(t, y, p)
+            out = mod.rhs(t, y, p)
+            if not np.all(np.isfinite(out)):  # solve_ivp would shrink the step for ever on NaN
+                raise _NonFinite(t)
+            return out
 
         def crossing(t, y):
             return y[ix] * y[ix] + y[iy] * y[iy] - threshold * threshold
@@ -49,10 +57,15 @@ class ScipyEngine:
 
         kwargs = {"jac": (lambda t, y: mod.jac(t, y, p))} if self.use_jac else {}
         start = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            sol = solve_ivp(f, (0.0, t_end), np.asarray(y0, float), method=self.method, rtol=rtol, atol=atol,
-                            dense_output=True, events=(crossing, extremum), **kwargs)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                sol = solve_ivp(f, (0.0, t_end), np.asarray(y0, float), method=self.method, rtol=rtol, atol=atol,
+                                dense_output=True, events=(crossing, extremum), **kwargs)
+        except _NonFinite as exc:
+            return {"status": "nonfinite", "t": np.zeros(0), "y": np.zeros((len(y0), 0)), "r_max": float("nan"),
+                    "t_dec": float("nan"), "y_end": np.full(len(y0), np.nan), "n_rhs": count[0], "n_steps": 0,
+                    "t_fail": exc.t, "wall_s": time.perf_counter() - start, "message": "non-finite derivative"}
         wall = time.perf_counter() - start
         y_end = sol.y[:, -1]
         t_last = float(sol.t[-1])

@@ -1,0 +1,80 @@
+"""Model loading and values by name (adbgen/analysis/loading.py)."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from adbgen.analysis.loading import AnalysisError, load_model, parse_assignments, parse_value
+
+
+@pytest.mark.parametrize("text, value", [("0.05", 0.05), ("pi", math.pi), ("3*pi/4", 3 * math.pi / 4),
+                                         ("-pi/2", -math.pi / 2), ("2*pi/3 + 0.1", 2 * math.pi / 3 + 0.1),
+                                         ("1e-3", 1e-3), ("(1+2)**2", 9.0)])
+def test_values(text, value):
+    assert parse_value(text) == pytest.approx(value, rel=1e-15)
+
+
+@pytest.mark.parametrize("text", ["nan", "inf", "1e400", "", "pi*", "__import__('os')", "x", "2**1000",
+                                  "1/0", "True"])
+def test_bad_values(text):
+    with pytest.raises(AnalysisError):
+        parse_value(text)
+
+
+def test_assignments():
+    assert parse_assignments(["mu=0.1", "Omega = 2*pi"], "--set") == {"mu": 0.1, "Omega": 2 * math.pi}
+    for bad in (["mu"], ["=1"], ["mu=1", "mu=2"]):
+        with pytest.raises(AnalysisError):
+            parse_assignments(bad, "--set")
+
+
+def test_by_name(thesis):
+    m = thesis[3]
+    assert m.name == "thesis_rotating_n3" and m.n_states == 10
+    p = m.params({"Omega": 2.5})
+    assert p[m.param_names.index("Omega")] == 2.5 and p[m.param_names.index("mu")] == 0.05
+    y = m.state({"phi_2": 1.0})
+    assert y[m.index("phi_2")] == 1.0 and np.count_nonzero(y) == 1
+    assert m.amplitude_indices == (0, 1, 5, 6)
+    assert [m.state_names[i] for i in m.angle_indices] == ["phi_1", "phi_2", "phi_3"]
+    for bad in (lambda: m.params({"Omeg": 1.0}), lambda: m.state({"psi": 1.0}),
+                lambda: m.params({"mu": float("nan")}), lambda: m.state({"x": float("inf")}),
+                lambda: m.check_vector(np.zeros(3), "state"), lambda: load_model("nosuch"),
+                lambda: load_model("not a name"), lambda: load_model("/nonexistent/dir"),
+                lambda: load_model(None)):
+        with pytest.raises(AnalysisError):
+            bad()
+
+
+def test_scene_and_folder(tmp_path, monkeypatch):
+    """A scene file gets its smallest exact model generated once into the cache; the folder loads too."""
+    monkeypatch.setenv("ADBGEN_CACHE", str(tmp_path / "cache"))
+    scene = tmp_path / "rotor.toml"
+    scene.write_text('n = 2\nball_mass = 0.05\n[speed]\nlaw = "constant"\nomega = 400.0\n')
+    m = load_model(scene=scene)
+    assert m.name.startswith("scene_") and m.module.N_BALLS == 2 and m.autonomous
+    again = load_model(scene=scene)
+    assert again.folder == m.folder
+    assert load_model(str(m.folder.parent)).name == m.name  # the --out folder holding one model
+    bad = tmp_path / "bad.toml"
+    bad.write_text("n = 0\n")
+    with pytest.raises(AnalysisError, match="scene.n"):
+        load_model(scene=bad)
+    assert not (tmp_path / "cache" / "scenes").joinpath("x").exists()
+    with pytest.raises(AnalysisError, match="not both"):
+        load_model("thesis_rotating_n2", scene=scene)
+
+
+def test_no_sympy_in_the_analysis_layer():
+    """The analysis layer runs on generated code only: importing and simulating never imports SymPy."""
+    code = ("import sys, math; from adbgen.analysis.loading import load_model; "
+            "from adbgen.analysis.simulate import simulate; import adbgen.analysis.commands; "
+            "m = load_model('thesis_rotating_n2'); simulate(m, None, {'phi_1': 1.0}, t_end=10.0); "
+            "print('sympy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
