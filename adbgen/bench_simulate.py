@@ -13,8 +13,8 @@ Measured in one run (compare ratios, not absolute times across runs: the machine
 - ``reference``: CyRK's Verner 8(7) (compiled; not the default engine's method) at rtol 1e-13,
   atol 1e-15, checked against SciPy's DOP853 on the numba rhs at the same tolerances: their
   difference bounds the reference's own error and must be far below every error it measures;
-- ``peers``: JiTCODE (``dop853`` backend) and heyoka (Taylor), fed the same equations (the rhs
-  program of the intermediate form, `adbgen.bench_peers`), their setup (translation, compilation)
+- ``peers``: JiTCODE (``dop853`` backend) and heyoka (Taylor), fed the same equations (the generated
+  module's rhs statements in their order, `adbgen.bench_peers`), their setup (translation, compilation)
   timed apart from the integration; with the default engine, at the tolerances `SWEEP_TOLS` so that
   times can be compared at equal error (log-log interpolation of time against error);
 - ``baselines``: the issue's starting points, the numba rhs as a Python callback of SciPy's
@@ -502,15 +502,10 @@ def peer_pathways(model, problem: Problem, tols, setup: dict, progress=None) -> 
 
     p, y = problem.vectors(model)
     pathways = []
-    try:
-        ir = bench_peers.model_ir(model.name)
-    except Exception as exc:
-        setup["error"] = f"no intermediate form for {model.name}: {exc}"
-        return []
     ratio = problem.atol / problem.rtol
     for name, cls in bench_peers.PEERS.items():
         try:
-            peer = cls(ir)
+            peer = cls(model.module)
         except bench_peers.PeerUnavailable as exc:
             setup[name] = {"skipped": str(exc)}
             continue
