@@ -889,9 +889,13 @@ def chart(result: dict, path: str | Path) -> Path:
                 color=colours["default"], fontsize=7, va="center")
     p = result["problem"]
     ax.set_xlabel("wall time of the integration [ms] (best of the repeats, log scale)")
+    load = result.get("load_average_before_timing") or [None]
+    when = f"{result.get('date', '')[:16].replace('T', ' ')} UTC" + (f", load average {load[0]:.1f} on "
+                                                                       f"{result['machine'].get('cpus')} cores"
+                                                                       if load[0] is not None else "")
     ax.set_title(f"Problem {p['label']}: {p['model']}, t in [0, {p['t_end']:g}], rtol {p['rtol']:g}, "
-                 f"atol {p['atol']:g}\nred: default engine; blue: compiled engines; grey: solve_ivp; green: peers",
-                 fontsize=9)
+                 f"atol {p['atol']:g}\n{when}\nred: default engine, blue: compiled engines, grey: solve_ivp, "
+                 "green: peers", fontsize=9)
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
