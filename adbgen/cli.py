@@ -5,6 +5,7 @@
     adbgen two-plane verify|derive|steady      the two-plane family's commands
     adbgen regenerate [--check] [--scene F] [--n N ...] [--family F ...] [--out DIR] [--targets ...]
     adbgen bench derive|codegen [--out FILE] [--n ...]
+    adbgen bench simulate [--out FILE] [--repeats N] [--engines E ...] [--no-peers]
     adbgen simulate ...                        transients on the generated code (adbgen/analysis/commands.py)
 
 Every family in `families.REGISTRY` adds its own subcommands (`Family.register_commands`); other

@@ -3,6 +3,8 @@
     adbgen simulate MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-end T]
                     [--rtol R] [--atol A] [--engine E] [--threshold H] [--out DIR] [--json]
 
+    adbgen stability ..., adbgen continue ...   (stability_commands.py)
+
 Each command prints one JSON object on stdout with --json.  Bad input: one line on stderr, exit 2;
 a failed integration: one line naming where it failed, exit 1.
 """
@@ -171,3 +173,7 @@ def write_trajectory(model, sim, out: Path) -> None:
     a2.legend(loc="best", fontsize=8)
     fig.savefig(out / "trajectory.png", dpi=120)
     plt.close(fig)
+
+
+# stability and continue register themselves here (adbgen/analysis/stability_commands.py)
+from . import stability_commands  # noqa: E402,F401

@@ -33,11 +33,9 @@ from __future__ import annotations
 import dataclasses
 
 import ctypes
-import os
 import re
 import shutil
 import subprocess
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -52,7 +50,7 @@ from adbgen.families.single_plane.steady_states import critical_speeds
 
 # helpers of this folder (conftest.py puts it on sys.path)
 from autorun import (AUTO_DIR, Point, auto_header, auto_toolchain, build_and_run, fortran_number, read_fort7,  # noqa: F401
-                     run_auto, unlabelled_stability_changes)
+                     read_fort8, read_multipliers, run_auto, unlabelled_stability_changes)
 from toolchain import require_tool  # noqa: F401
 
 
@@ -234,47 +232,6 @@ def test_func_dfdu_dfdp_stpnt_pvls_equal_the_numba_module(auto_toolchain, genera
 # --- periodically forced models: periodic orbits of the oscillator extension (IPS = 2) -------------
 
 FORCED = "single_plane_fixed_n2"
-
-
-@dataclass(frozen=True)
-class Orbit:
-    """One labelled solution of fort.8: AUTO's scaled time t in [0, 1], u (NTPL x NDIM), PAR(1..NPAR)."""
-
-    label: int
-    ty: int
-    t: np.ndarray
-    u: np.ndarray
-    par: np.ndarray
-
-
-def read_fort8(path: Path) -> list[Orbit]:
-    """fort.8: per solution a header line of integers (IBR NTOT ITP LAB NFPR ISW NTPL NAR NROWPR NTST
-    NCOL NPARX, AUTO-07p 0.9 adds NDIM IPS IPRIV ...) and NROWPR lines: NTPL points (t, U(1..NDIM)),
-    each wrapped over several lines, then the NFPR free parameter indices, their NFPR derivatives, the
-    direction vector at the NTPL points (U only, no t) and the NPARX parameters, all read here as one
-    stream of numbers."""
-    lines = path.read_text().splitlines()
-    orbits, i = [], 0
-    while i < len(lines):
-        if not lines[i].strip():
-            i += 1
-            continue
-        head = [int(v) for v in lines[i].split()]
-        _, _, itp, lab, nfpr, _, ntpl, nar, nrowpr, _, _, npar = head[:12]
-        tokens = " ".join(lines[i + 1: i + 1 + nrowpr]).split()
-        assert len(tokens) == ntpl * nar + 2 * nfpr + ntpl * (nar - 1) + npar, (lab, len(tokens))
-        points = np.array([fortran_number(v) for v in tokens[: ntpl * nar]]).reshape(ntpl, nar)
-        par = np.array([fortran_number(v) for v in tokens[-npar:]])
-        orbits.append(Orbit(lab, itp, points[:, 0], points[:, 1:], par))
-        i += 1 + nrowpr
-    return orbits
-
-
-def read_multipliers(path: Path, ndim: int) -> np.ndarray:
-    """The Floquet multipliers fort.9 printed last (ISP = 2): ndim complex numbers."""
-    rows = re.findall(r"^\s*-?\d+\s+-?\d+\s+Multiplier\s+\d+\s+(\S+)\s+(\S+)\s+Abs\. Val\.", path.read_text(), re.M)
-    assert len(rows) >= ndim, f"no multipliers in {path}"
-    return np.array([complex(fortran_number(a), fortran_number(b)) for a, b in rows[-ndim:]])
 
 
 def forced_auto_files(ir) -> dict[str, str]:
