@@ -12,21 +12,13 @@ a failed integration: one line naming where it failed, exit 1.
 from __future__ import annotations
 
 import json
-import math
 import sys
 from pathlib import Path
 
-from .loading import AnalysisError, load_model, parse_assignments
+from .loading import parse_assignments
 
-# (name, add_arguments, run) of every command here; `register` adds them all
-COMMANDS: list = []
-
-
-def command(name: str, help: str):
-    def wrap(add):
-        COMMANDS.append((name, help, add))
-        return add
-    return wrap
+from .command_support import (COMMANDS, _emit_json, _finite_positive, _json_number, _load,  # noqa: F401
+                              _model_arguments, command)
 
 
 def register(sub, parser_class) -> None:
@@ -34,40 +26,6 @@ def register(sub, parser_class) -> None:
     for name, help_, add in COMMANDS:
         p = sub.add_parser(name, help=help_, description=help_)
         add(p)
-
-
-def _model_arguments(p) -> None:
-    p.add_argument("model", nargs="?", help="a generated model's name (e.g. thesis_rotating_n3) or a folder "
-                                            "written by `adbgen regenerate --out`")
-    p.add_argument("--scene", help="scene file (TOML): its smallest exact model, generated once into a cache")
-    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                   help="a parameter by name (repeatable); VALUE a number or an expression in pi")
-
-
-def _load(args):
-    return load_model(args.model, scene=args.scene)
-
-
-def _finite_positive(text: str) -> float:
-    import argparse
-
-    from .loading import parse_value
-
-    try:
-        value = parse_value(text)
-    except AnalysisError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
-    return value
-
-
-def _json_number(v):
-    return None if v is None or (isinstance(v, float) and not math.isfinite(v)) else v
-
-
-def _emit_json(obj) -> None:
-    print(json.dumps(obj, allow_nan=False, default=_json_number))
 
 
 # --------------------------------------------------------------------------------------- simulate
@@ -175,5 +133,5 @@ def write_trajectory(model, sim, out: Path) -> None:
     plt.close(fig)
 
 
-# stability and continue register themselves here (adbgen/analysis/stability_commands.py)
+# stability and continue register themselves into COMMANDS (adbgen/analysis/stability_commands.py)
 from . import stability_commands  # noqa: E402,F401
