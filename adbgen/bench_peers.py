@@ -60,14 +60,15 @@ def peer_versions() -> dict:
 
 @lru_cache(maxsize=None)
 def model_ir(name: str):
-    """The intermediate form of a model of the default families, by its generated name."""
-    from .codegen import models
+    """The intermediate form of a model kind indexed by n (`families.kinds()`), by its generated name."""
+    from . import families
 
-    for family, make in models.FAMILIES.items():
-        prefix = family + "_n"
+    kinds = families.kinds()
+    for kind, make in kinds.items():
+        prefix = kind + "_n"
         if name.startswith(prefix) and name[len(prefix):].isdigit():
             return make(int(name[len(prefix):])).build()
-    raise ValueError(f"{name!r} is not a model of the default families ({', '.join(models.FAMILIES)})")
+    raise ValueError(f"{name!r} is not a model of the default families ({', '.join(kinds)})")
 
 
 def _time_symbol(ir):
