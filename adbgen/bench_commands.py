@@ -1,4 +1,4 @@
-"""`adbgen bench derive|codegen|simulate [--out FILE] [--n ...]`: benchmarks, results written to a committed file."""
+"""`adbgen bench derive|codegen|simulate|sweep [--out FILE] [--n ...]`: benchmarks, results written to a committed file."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from .cli_types import UsageError, positive_int
 from pathlib import Path
 
 _BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json",
-              "simulate": "benchmarks/simulate.json"}
+              "simulate": "benchmarks/simulate.json", "sweep": "benchmarks/sweep.json"}
 
 
 def cmd_bench(args) -> int:
@@ -18,6 +18,14 @@ def cmd_bench(args) -> int:
     out = args.out if args.out is not None else _BENCH_OUT[args.what]
     if args.what == "simulate":
         return _bench_simulate(args, out)
+    if args.what == "sweep":
+        from . import bench_sweep
+
+        result = bench_sweep.bench_sweep(progress=lambda line: print(line, flush=True))
+        path = bench.write(result, out)
+        print(f"wrote {path} (shortcuts {result['runs']['shortcuts']['wall_s']} s, full "
+              f"{result['runs']['full']['wall_s']} s, labels identical: {result['labels_identical']})")
+        return 0
     if args.what == "codegen":
         from . import bench_codegen
 
@@ -59,7 +67,7 @@ def _bench_simulate(args, out) -> int:
 
 def register(sub) -> None:
     b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
-    b.add_argument("what", help="derive, codegen or simulate")
+    b.add_argument("what", help="derive, codegen, simulate or sweep")
     b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json; simulate also writes "
                    "its chart next to it, <out>.png)")
     b.add_argument("--n", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])

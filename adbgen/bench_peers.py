@@ -60,7 +60,7 @@ def peer_versions() -> dict:
 
 @lru_cache(maxsize=None)
 def model_ir(name: str):
-    """The intermediate form of a model kind indexed by n (`families.kinds()`), by its generated name."""
+    """The intermediate form of a model of the default families, by its generated name."""
     from . import families
 
     kinds = families.kinds()

@@ -4,6 +4,8 @@
                     [--rtol R] [--atol A] [--engine E] [--threshold H] [--out DIR] [--json]
 
     adbgen stability ..., adbgen continue ...   (stability_commands.py)
+    adbgen sweep ...                             (sweep_commands.py)
+    adbgen reproduce ...                         (reproduce.py)
 
 Each command prints one JSON object on stdout with --json.  Bad input: one line on stderr, exit 2;
 a failed integration: one line naming where it failed, exit 1.
@@ -15,14 +17,15 @@ import json
 import sys
 from pathlib import Path
 
+from .command_registry import COMMANDS, _emit_json, _finite_positive, _json_number, _load, _model_arguments, command
 from .loading import parse_assignments
-
-from .command_support import (COMMANDS, _emit_json, _finite_positive, _json_number, _load,  # noqa: F401
-                              _model_arguments, command)
 
 
 def register(sub, parser_class) -> None:
     """Add this layer's commands to the `adbgen` subparsers."""
+    # the command modules register themselves in COMMANDS when imported
+    from . import reproduce, stability_commands, sweep_commands  # noqa: F401
+
     for name, help_, add in COMMANDS:
         p = sub.add_parser(name, help=help_, description=help_)
         add(p)
@@ -132,6 +135,3 @@ def write_trajectory(model, sim, out: Path) -> None:
     fig.savefig(out / "trajectory.png", dpi=120)
     plt.close(fig)
 
-
-# stability and continue register themselves into COMMANDS (adbgen/analysis/stability_commands.py)
-from . import stability_commands  # noqa: E402,F401

@@ -1,6 +1,9 @@
-"""What the analysis layer's command modules share: the command list they register into, the model
-arguments and loading, number parsing, JSON output.  Its own module so that `commands` (which
-registers them all) and `stability_commands` do not import each other."""
+"""The registry of the analysis layer's commands and what they share (model arguments, JSON output).
+
+Each command module (commands.py: simulate; stability_commands.py: stability, continue; ...)
+decorates its argument builder with `@command(name, help)`; `commands.register` adds them all to
+`adbgen`'s parser.
+"""
 
 from __future__ import annotations
 
@@ -52,3 +55,5 @@ def _json_number(v):
 
 def _emit_json(obj) -> None:
     print(json.dumps(obj, allow_nan=False, default=_json_number))
+
+
