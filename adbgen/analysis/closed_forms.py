@@ -1,6 +1,6 @@
 """The thesis' closed-form steady states (ch. 3), evaluated with numpy for `--state LABEL`.
 
-The symbolic forms live in `adbgen.single_plane.steady_states` (SymPy, shown there to be exact
+The symbolic forms live in `adbgen.families.single_plane.steady_states` (SymPy, shown there to be exact
 zeros of the derived equations); this layer never imports SymPy, so the same formulas are written
 here once more in numpy and the tests show both agree and are zeros of the generated `rhs`.
 

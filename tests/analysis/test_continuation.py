@@ -66,7 +66,7 @@ def test_n3_n4_hopf_points_and_stable_intervals(balanced_scan, thesis, n, count)
 
 def test_coincident_state_folds_at_the_critical_speeds(thesis):
     """n = 2, state 2- from Omega = 0.5 upwards: the saddle-node at Omega_c1 of (3.16)."""
-    from adbgen.single_plane.steady_states import critical_speeds
+    from adbgen.families.single_plane.steady_states import critical_speeds
 
     m = thesis[2]
     p = m.params({"Omega": 0.5, **CH4})

@@ -159,8 +159,8 @@ def test_closed_form_states_are_zeros_of_the_generated_rhs(thesis, n):
 
 
 def test_closed_forms_equal_the_symbolic_ones():
-    """The numpy transcription equals adbgen.single_plane.steady_states (SymPy), n = 3."""
-    from adbgen.single_plane import steady_states as ss
+    """The numpy transcription equals adbgen.families.single_plane.steady_states (SymPy), n = 3."""
+    from adbgen.families.single_plane import steady_states as ss
 
     m = load_model("thesis_rotating_n3")
     values = {"Omega": 1.5, **CH4}
