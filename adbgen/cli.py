@@ -4,8 +4,9 @@
     adbgen derive | steady | demo              the single-plane family's commands
     adbgen two-plane verify|derive|steady      the two-plane family's commands
     adbgen regenerate [--check] [--scene F] [--n N ...] [--family F ...] [--out DIR] [--targets ...]
-    adbgen bench derive|codegen [--out FILE] [--n ...]
-    adbgen simulate ...                        transients on the generated code (adbgen/analysis/commands.py)
+    adbgen bench derive|codegen|sweep [--out FILE] [--n ...]
+    adbgen bench simulate [--out FILE] [--repeats N] [--engines E ...] [--no-peers]
+    adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/analysis/commands.py)
 
 Every family in `families.REGISTRY` adds its own subcommands (`Family.register_commands`); other
 command groups are listed once in `COMMAND_GROUPS` as "module:function", each function taking the

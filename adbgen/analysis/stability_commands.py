@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .commands import _emit_json, _load, _model_arguments, command
+from .command_registry import _emit_json, _load, _model_arguments, command
 from .loading import AnalysisError, parse_assignments, parse_value
 
 

@@ -1,0 +1,133 @@
+"""A sweep's grid: axes over parameters or initial states, read from ``--grid NAME=FROM:TO:COUNT``.
+
+FROM and TO are both included (numpy.linspace) and may be expressions in pi (``7*pi/4``).  An axis
+is a parameter of the model or one of its states (an initial value); everything not on an axis is
+fixed by ``--set`` (parameters, default DEFAULTS) and ``--y0`` (states, default 0).  Grid points are
+numbered in C order over the axes as given, so axis k is dimension k of the stored arrays.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .loading import AnalysisError, Model, parse_value
+
+MAX_POINTS = 100_000_000
+
+
+@dataclass(frozen=True)
+class Axis:
+    name: str
+    start: float
+    stop: float
+    count: int
+    kind: str  # "parameter" or "state"
+
+    @property
+    def values(self) -> np.ndarray:
+        return np.linspace(self.start, self.stop, self.count)
+
+    def to_json(self) -> list:
+        return [self.name, self.start, self.stop, self.count]
+
+
+def parse_axis(text: str, model: Model) -> Axis:
+    """``NAME=FROM:TO:COUNT`` -> Axis; one clear line for every bad form."""
+    name, sep, rest = str(text).partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise AnalysisError(f"--grid {text!r}: expected NAME=FROM:TO:COUNT")
+    parts = rest.split(":")
+    if len(parts) != 3:
+        raise AnalysisError(f"--grid {text!r}: expected NAME=FROM:TO:COUNT (three fields after '=')")
+    if name in model.param_names:
+        kind = "parameter"
+    elif name in model.state_names:
+        kind = "state"
+    else:
+        raise AnalysisError(f"--grid {name}: unknown name for {model.name}; parameters: "
+                            f"{', '.join(model.param_names)}; states: {', '.join(model.state_names)}")
+    start = parse_value(parts[0], f"--grid {name} FROM")
+    stop = parse_value(parts[1], f"--grid {name} TO")
+    try:
+        count = int(parts[2].strip())
+    except ValueError:
+        raise AnalysisError(f"--grid {name}: COUNT must be a whole number, got {parts[2]!r}") from None
+    if count < 1:
+        raise AnalysisError(f"--grid {name}: COUNT must be at least 1, got {count} (an empty grid)")
+    if stop < start:
+        raise AnalysisError(f"--grid {name}: reversed range, FROM {start:g} > TO {stop:g}")
+    if count > 1 and stop == start:
+        raise AnalysisError(f"--grid {name}: empty range, FROM = TO = {start:g} with COUNT {count} (use COUNT 1 "
+                            f"or --set/--y0)")
+    return Axis(name, start, stop, count, kind)
+
+
+@dataclass(frozen=True)
+class Grid:
+    axes: tuple[Axis, ...]
+    base_params: np.ndarray  # DEFAULTS with --set
+    base_state: np.ndarray  # zeros with --y0
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(a.count for a in self.axes)
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(a.name for a in self.axes)
+
+    def points(self, model: Model, flat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(P, Y0) rows for the grid points with C-order indices `flat`."""
+        flat = np.asarray(flat, dtype=np.int64)
+        idx = np.unravel_index(flat, self.shape)
+        P = np.repeat(self.base_params[None], len(flat), axis=0)
+        Y0 = np.repeat(self.base_state[None], len(flat), axis=0)
+        for axis, i in zip(self.axes, idx):
+            column = axis.values[i]
+            if axis.kind == "parameter":
+                P[:, model.param_names.index(axis.name)] = column
+            else:
+                Y0[:, model.index(axis.name)] = column
+        return P, Y0
+
+
+def make_grid(model: Model, grid: list[str], params: dict[str, float], y0: dict[str, float]) -> Grid:
+    """The grid of `--grid` items with the fixed values of --set and --y0 (a name in both is refused)."""
+    if not grid:
+        raise AnalysisError("no grid: give at least one --grid NAME=FROM:TO:COUNT")
+    axes = tuple(parse_axis(item, model) for item in grid)
+    seen: set[str] = set()
+    for a in axes:
+        if a.name in seen:
+            raise AnalysisError(f"--grid {a.name} given twice")
+        seen.add(a.name)
+        if a.name in params or a.name in y0:
+            raise AnalysisError(f"{a.name} is both a grid axis and fixed by --set/--y0")
+    size = math.prod(a.count for a in axes)
+    if size > MAX_POINTS:
+        raise AnalysisError(f"the grid has {size} points; at most {MAX_POINTS} per sweep")
+    return Grid(axes, model.params(params), model.state(y0))
+
+
+def axis_symbol(name: str) -> str:
+    """The symbol of a grid axis for figure labels: a parameter, or an initial state '(0)'."""
+    greek = {"Omega": r"\Omega", "mu": r"\mu", "zeta": r"\zeta", "beta": r"\beta", "delta": r"\delta",
+             "omega": r"\omega", "eps": r"\varepsilon"}
+    if name.startswith("phi_"):
+        base = name[4:]
+        if base.endswith("_dot"):
+            return rf"$\dot\phi_{{{base[:-4]}}}(0)$"
+        return rf"$\phi_{{{base}}}(0)$"
+    if name.endswith("_dot"):
+        return rf"$\dot {name[:-4]}(0)$"
+    if name in ("x", "y", "X", "Y"):
+        return rf"${name}(0)$"
+    return f"${greek.get(name, name)}$"

@@ -1,0 +1,602 @@
+"""Sweeps over parameters and initial states: many trajectories (or steady states) on a grid, on Dask.
+
+    spec = SweepSpec(model="thesis_rotating_n2", grid=["phi_1=0:2*pi:32", "phi_2=0:2*pi:32"],
+                     measure="attractor", t_end=2000)
+    run_sweep(spec, "out/basins")        -> {"points", "computed", "reused", "wall_s", "store"}
+
+Work is cut into blocks of the grid (the store's chunks).  A block is one Dask task that runs all its
+trajectories together on the compiled ensemble path (`simulate_many`, no Python per trajectory: one call,
+or for `attractor` one call per segment of `check_dt`);
+the client writes each block's results into the Zarr store as it arrives, data first and its `done`
+flags last, so a killed run (SIGKILL included) loses only the blocks in flight and the next run with
+the same settings computes only the blocks not done.  Zarr's local store writes every chunk file
+atomically (temporary file and rename), and the store itself is created in a temporary folder and
+renamed into place, so no state of the folder is half written.
+
+Shortcuts (each switchable; tests show they give the labels of the full integration):
+
+* early stop (measure `attractor`): every `check_dt` the trajectories inside the provable basin region
+  of a stable steady state (`attractors.stop_region`) stop there with its label.  The reference run
+  without the shortcut integrates in the same segments, so both see bit-identical trajectories until
+  the stop.
+* exchange symmetry: if two grid axes are the angles of two balls the model treats identically (checked
+  numerically: rhs(s y) = s rhs(y) for the swap s) over the same values, and their other states are
+  equal, a point and its ball-swapped image share an answer (the final state swapped).  A block and
+  its mirror image are one task; only one point of each pair is integrated.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from .grid import Grid, axis_symbol, make_grid
+from .loading import AnalysisError, Model, load_model, parse_assignments
+
+MEASURES = ("attractor", "r_max", "t_dec", "stability")
+STORE = "sweep.zarr"
+SETTINGS_ATTR = "adbgen_sweep"
+
+
+@dataclass
+class SweepSpec:
+    """Everything that defines a sweep's results (stored in the store's attributes and compared on resume)."""
+
+    model: str  # a generated model's name or a model folder (absolute)
+    grid: list[str]
+    measure: str
+    set: list[str] = field(default_factory=list)
+    y0: list[str] = field(default_factory=list)
+    t_end: float = 1000.0
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    threshold: float = 1e-3
+    engine: str = "cyrk-dop853"
+    early_stop: bool = True
+    symmetry: bool = True
+    check_dt: float = 200.0
+    chunk: int | None = None  # points per block (about); None: enough blocks to keep every worker busy
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+# --------------------------------------------------------------------------------------------- setup
+
+@lru_cache(maxsize=16)
+def _model(spec: str) -> Model:
+    return load_model(spec)
+
+
+def prepare(spec: SweepSpec) -> tuple[Model, Grid]:
+    """The model and grid of a spec; every bad input raises AnalysisError with one line."""
+    if spec.measure not in MEASURES:
+        raise AnalysisError(f"unknown measure {spec.measure!r}; measures: {', '.join(MEASURES)}")
+    for name in ("t_end", "rtol", "atol", "threshold", "check_dt"):
+        value = getattr(spec, name)
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise AnalysisError(f"{name} must be a finite number > 0, got {value!r}")
+    if spec.chunk is not None and not (isinstance(spec.chunk, int) and spec.chunk >= 1):
+        raise AnalysisError(f"chunk must be a whole number >= 1, got {spec.chunk!r}")
+    model = _model(spec.model)
+    grid = make_grid(model, spec.grid, parse_assignments(spec.set, "--set"), parse_assignments(spec.y0, "--y0"))
+    if spec.measure == "stability":
+        states = [a.name for a in grid.axes if a.kind == "state"]
+        if states:
+            raise AnalysisError(f"--measure stability needs parameter axes (a steady state has no initial "
+                                f"state); {', '.join(states)} is a state")
+        if not model.autonomous:
+            raise AnalysisError(f"{model.name} is not autonomous: it has no steady states (use r_max or t_dec)")
+    elif spec.measure == "attractor" and not model.autonomous:
+        raise AnalysisError(f"{model.name} is not autonomous: --measure attractor classifies steady states "
+                            f"and limit cycles of autonomous models (use r_max or t_dec)")
+    from .engines import engine
+
+    engine(spec.engine)
+    return model, grid
+
+
+# -------------------------------------------------------------------------------------- symmetry
+
+@dataclass(frozen=True)
+class Swap:
+    """Exchange of two identical balls that swaps grid axes a and b; `perm` acts on state vectors."""
+
+    a: int
+    b: int
+    perm: tuple[int, ...]
+
+
+def _ball_states(model: Model, angle: str) -> list[int]:
+    names = [angle, angle + "_dot"]
+    return [model.index(n) for n in names if n in model.state_names]
+
+
+def find_swap(model: Model, grid: Grid) -> Swap | None:
+    """The ball exchange that maps the grid onto itself, if any (see the module docstring)."""
+    leaves = set(model.leaves)
+    axes = grid.axes
+    for a in range(len(axes)):
+        for b in range(a + 1, len(axes)):
+            A, B = axes[a], axes[b]
+            if not (A.name in leaves and B.name in leaves and (A.start, A.stop, A.count) == (B.start, B.stop, B.count)):
+                continue
+            sa, sb = _ball_states(model, A.name), _ball_states(model, B.name)
+            if len(sa) != len(sb):
+                continue
+            grid_states = {model.index(x.name) for x in axes if x.kind == "state"}
+            rates_a, rates_b = sa[1:], sb[1:]
+            if any(i in grid_states for i in rates_a + rates_b):
+                continue
+            if not np.array_equal(grid.base_state[rates_a], grid.base_state[rates_b]):
+                continue
+            perm = list(range(model.n_states))
+            for i, j in zip(sa, sb):
+                perm[i], perm[j] = j, i
+            if _equivariant(model, grid, perm):
+                return Swap(a, b, tuple(perm))
+    return None
+
+
+def _equivariant(model: Model, grid: Grid, perm: list[int]) -> bool:
+    """rhs(s y) = s rhs(y) at random states, at the base parameters and each parameter axis' ends."""
+    rng = np.random.default_rng(1)
+    params = [grid.base_params]
+    for axis in grid.axes:
+        if axis.kind == "parameter":
+            for v in (axis.start, axis.stop):
+                p = grid.base_params.copy()
+                p[model.param_names.index(axis.name)] = v
+                params.append(p)
+    for p in params:
+        for _ in range(4):
+            y = rng.uniform(-1, 1, model.n_states) * 0.1
+            y[list(model.angle_indices)] = rng.uniform(-math.pi, math.pi, len(model.angle_indices))
+            f = model.module.rhs(0.0, y, p)
+            g = model.module.rhs(0.0, y[perm], p)
+            if not np.allclose(g, f[perm], rtol=1e-12, atol=1e-14 * max(1.0, np.max(np.abs(f)))):
+                return False
+    return True
+
+
+# ---------------------------------------------------------------------------------------- blocks
+
+def chunk_shape(shape: tuple[int, ...], target: int, swap: Swap | None = None) -> tuple[int, ...]:
+    """Block sides: grown round-robin (doubling, last axis first) while the block holds <= target points;
+    the two swapped axes grow together, so a block's mirror image is a block."""
+    sides = [1] * len(shape)
+    order = list(range(len(shape)))[::-1]
+    grown = True
+    while grown:
+        grown = False
+        for d in order:
+            group = [d]
+            if swap is not None and d in (swap.a, swap.b):
+                if d == swap.a:
+                    continue  # grown with swap.b
+                group = [swap.a, swap.b]
+            new = list(sides)
+            for g in group:
+                new[g] = min(shape[g], sides[g] * 2)
+            if new != sides and math.prod(new) <= max(target, 1):
+                sides = new
+                grown = True
+    return tuple(sides)
+
+
+def auto_chunk(size: int, workers: int) -> int:
+    """Points per block: about 8 tasks per worker (load balance, fine-grained resume), 16 to 256 points
+    (each task a batch on the compiled path; Dask's overhead per task is a few milliseconds)."""
+    return int(min(256, max(16, size // (8 * max(workers, 1)))))
+
+
+def blocks(shape, chunks):
+    """Block coordinates in C order."""
+    counts = [math.ceil(n / c) for n, c in zip(shape, chunks)]
+    return [tuple(int(i) for i in idx) for idx in np.ndindex(*counts)]
+
+
+def block_slices(block, chunks, shape) -> tuple[slice, ...]:
+    return tuple(slice(b * c, min((b + 1) * c, n)) for b, c, n in zip(block, chunks, shape))
+
+
+def block_flat(block, chunks, shape) -> np.ndarray:
+    """C-order flat indices of a block's points (in the block's own C order)."""
+    ranges = [np.arange(s.start, s.stop) for s in block_slices(block, chunks, shape)]
+    mesh = np.meshgrid(*ranges, indexing="ij")
+    return np.ravel_multi_index([m.ravel() for m in mesh], shape)
+
+
+def mirror_block(block, swap: Swap | None):
+    if swap is None:
+        return block
+    b = list(block)
+    b[swap.a], b[swap.b] = b[swap.b], b[swap.a]
+    return tuple(b)
+
+
+def mirror_flat(flat: np.ndarray, shape, swap: Swap) -> np.ndarray:
+    idx = list(np.unravel_index(flat, shape))
+    idx[swap.a], idx[swap.b] = idx[swap.b], idx[swap.a]
+    return np.ravel_multi_index(idx, shape)
+
+
+def tasks_for(shape, chunks, swap: Swap | None) -> list[tuple[tuple[int, ...], ...]]:
+    """Each task: one block, or a block and its mirror image (computed together)."""
+    out, seen = [], set()
+    for b in blocks(shape, chunks):
+        if b in seen:
+            continue
+        m = mirror_block(b, swap)
+        seen.update({b, m})
+        out.append((b,) if m == b else (b, m))
+    return out
+
+
+# ---------------------------------------------------------------------------------------- compute
+
+def compute_points(spec: SweepSpec, flat: np.ndarray, threads: int = 1) -> dict:
+    """Results at the grid points `flat` (C-order indices): {"value", "y_end", "t_last", ...}.
+
+    With the symmetry shortcut only one point of each ball-swapped pair is computed; its partner gets
+    the same value and the swapped final state."""
+    model, grid = prepare(spec)
+    flat = np.asarray(flat, dtype=np.int64)
+    swap = find_swap(model, grid) if spec.symmetry and spec.measure != "stability" else None
+    if swap is not None:
+        partner = mirror_flat(flat, grid.shape, swap)
+        canonical = np.minimum(flat, partner)
+    else:
+        canonical = flat
+    unique, inverse = np.unique(canonical, return_inverse=True)
+    out = _compute(spec, model, grid, unique, threads)
+    res = {k: v[inverse] for k, v in out.items() if k not in ("integrated", "n_rhs")}
+    if swap is not None:
+        mirrored = flat != canonical
+        res["y_end"][mirrored] = res["y_end"][mirrored][:, list(swap.perm)]
+    res["integrated"] = out["integrated"]
+    res["n_rhs"] = out["n_rhs"]
+    return res
+
+
+def _compute(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, threads: int) -> dict:
+    P, Y0 = grid.points(model, flat)
+    if spec.measure == "stability":
+        return _stability(model, P)
+    if spec.measure == "attractor":
+        return _attractors(spec, model, P, Y0, threads)
+    from .simulate import simulate_many
+
+    ens = simulate_many(model, P, Y0, t_end=spec.t_end, rtol=spec.rtol, atol=spec.atol, engine=spec.engine,
+                        threshold=spec.threshold, threads=threads)
+    value = ens.r_max if spec.measure == "r_max" else ens.t_dec
+    failed = np.array([s not in ("success", "stopped") for s in ens.status])
+    value = np.where(failed, np.nan, value)
+    return {"value": value, "y_end": ens.y_end, "t_last": ens.t_last, "failed": failed.astype(np.uint8),
+            "integrated": len(flat), "n_rhs": int(ens.n_rhs.sum())}
+
+
+def _stability(model: Model, P: np.ndarray) -> dict:
+    """The steady state continued from START (Newton) at each point, its deflated spectrum."""
+    from .attractors import labels, name_steady_state, newton, spectrum
+
+    n = len(P)
+    codes = {name: k for k, name in enumerate(labels(model))}
+    value = np.full(n, -1, dtype=np.int8)
+    kind = np.full(n, -1, dtype=np.int8)
+    abscissa = np.full(n, np.nan)
+    neutral = np.zeros(n, dtype=np.int8)
+    y_end = np.full((n, model.n_states), np.nan)
+    seed = np.array(model.module.START, float)
+    for k, p in enumerate(P):
+        y = newton(model, seed, p)
+        if y is None:
+            continue
+        s = spectrum(model, y, p)
+        value[k], abscissa[k], neutral[k], y_end[k] = s.unstable(), s.abscissa, s.neutral, y
+        kind[k] = codes[name_steady_state(model, y, p)]
+    return {"value": value, "abscissa": abscissa, "neutral": neutral, "steady_state": kind, "y_end": y_end,
+            "t_last": np.zeros(n), "integrated": 0, "n_rhs": 0}
+
+
+def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, threads: int) -> dict:
+    """Labels (codes into attractors.labels(model)) by segmented integration with optional early stop."""
+    from .attractors import classifier
+
+    n = len(P)
+    value = np.full(n, -1, dtype=np.int8)
+    y_end = np.array(Y0, float)
+    t_last = np.zeros(n)
+    keys, groups = np.unique(P, axis=0, return_inverse=True)
+    n_rhs = 0
+    for g, p in enumerate(keys):
+        rows = np.flatnonzero(groups.ravel() == g)
+        clf = classifier(model, p)
+        status, stop, evals = _segmented(spec, model, clf, p, Y0[rows], y_end, t_last, rows, threads)
+        n_rhs += evals
+        for k, row in enumerate(rows):
+            name = clf.label(status[k], y_end[row], stop[k], engine=spec.engine, rtol=spec.rtol, atol=spec.atol)
+            value[row] = clf.code(name)
+    return {"value": value, "y_end": y_end, "t_last": t_last, "integrated": n, "n_rhs": n_rhs}
+
+
+def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
+    """Integrate in segments of check_dt (autonomous model: each segment restarts at t = 0); with the
+    early stop, a trajectory inside a stop region after a segment stops there."""
+    from .simulate import simulate_many
+
+    n = len(Y0)
+    status = np.array(["success"] * n, dtype=object)
+    stop = np.full(n, -1)
+    Y = np.array(Y0, float)
+    t = 0.0
+    active = np.arange(n)
+    evals = 0
+    regions = bool(spec.early_stop and clf.regions)
+    while active.size and t < spec.t_end:
+        dt = min(spec.check_dt, spec.t_end - t)
+        ens = simulate_many(model, p[None], Y[active], t_end=dt, rtol=spec.rtol, atol=spec.atol, engine=spec.engine,
+                            threshold=spec.threshold, threads=threads)
+        Y[active] = ens.y_end
+        evals += int(ens.n_rhs.sum())
+        t_reached = t + ens.t_last
+        t_last[rows[active]] = t_reached
+        bad = np.array([s != "success" for s in ens.status])
+        status[active[bad]] = ens.status[bad]
+        keep = ~bad
+        t += dt
+        if regions and t < spec.t_end:
+            inside = clf.inside(Y[active])
+            hit = keep & (inside >= 0)
+            status[active[hit]] = "stopped"
+            stop[active[hit]] = inside[hit]
+            keep &= inside < 0
+        active = active[keep]
+    y_end[rows] = Y
+    return status, stop, evals
+
+
+# ----------------------------------------------------------------------------------------- storage
+
+def settings(spec: SweepSpec, model: Model) -> dict:
+    s = spec.to_dict()
+    s["model"] = model.name
+    s["source_hash"] = model.source_hash
+    return s
+
+
+def _variables(spec: SweepSpec, model: Model):
+    """(name, dtype, fill, extra dims) of the stored variables."""
+    main = {"attractor": ("attractor", "int8", -1), "r_max": ("r_max", "float64", np.nan),
+            "t_dec": ("t_dec", "float64", np.nan), "stability": ("stability", "int8", -1)}[spec.measure]
+    out = [(*main, ()), ("y_end", "float64", np.nan, ("state",)), ("t_last", "float64", np.nan, ())]
+    if spec.measure == "stability":
+        out += [("abscissa", "float64", np.nan, ()), ("neutral", "int8", -1, ()), ("steady_state", "int8", -1, ())]
+    if spec.measure in ("r_max", "t_dec"):
+        out += [("failed", "uint8", 0, ())]
+    out.append(("done", "uint8", 0, ()))
+    return out
+
+
+def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) -> None:
+    """An empty store (metadata and coordinates only) built in a temporary folder, renamed into place."""
+    import dask.array as da
+    import xarray as xr
+
+    from .attractors import labels
+
+    dims = grid.names
+    coords = {a.name: a.values for a in grid.axes}
+    coords["state"] = np.array(model.state_names, dtype=object)  # variable-length strings (zarr v3 "string")
+    data, encoding = {}, {}
+    for name, dtype, fill, extra in _variables(spec, model):
+        shape = grid.shape + tuple(model.n_states for _ in extra)
+        ch = tuple(chunks) + tuple(model.n_states for _ in extra)
+        data[name] = (dims + extra, da.full(shape, fill, dtype=dtype, chunks=ch))
+        encoding[name] = {"chunks": ch, "fill_value": fill}
+    ds = xr.Dataset(data, coords=coords)
+    for a in grid.axes:
+        ds[a.name].attrs.update(kind=a.kind, long_name=axis_symbol(a.name))
+    desc = {"attractor": "label code: index into the attribute `labels` (-1: not computed)",
+            "r_max": "largest rotor amplitude r = sqrt(x^2 + y^2) over [0, t_end]",
+            "t_dec": "last time r >= threshold (NaN: not settled by t_end, or not computed)",
+            "stability": "number of unstable eigenvalues of the steady state (deflated; -1: none found)"}
+    ds[spec.measure].attrs["description"] = desc[spec.measure]
+    if spec.measure in ("attractor", "stability"):
+        names = labels(model)
+        var = "attractor" if spec.measure == "attractor" else "steady_state"
+        ds[var].attrs.update(flag_values=list(range(len(names))), flag_meanings=names)
+    ds["y_end"].attrs["description"] = ("final state (attractor: where the trajectory stopped or ended; "
+                                        "stability: the steady state)")
+    ds["done"].attrs["description"] = "1 where the point's block is written (resumable sweeps)"
+    import dask
+    import distributed
+    import xarray
+    import zarr
+
+    ds.attrs.update({
+        "model": model.name, "SOURCE_HASH": model.source_hash, "measure": spec.measure,
+        SETTINGS_ATTR: json.dumps(settings(spec, model), sort_keys=True),
+        "parameters": json.dumps(dict(zip(model.param_names, map(float, grid.base_params)))),
+        "initial_state": json.dumps(dict(zip(model.state_names, map(float, grid.base_state)))),
+        "versions": json.dumps({"adbgen": __version__, "numpy": np.__version__, "xarray": xarray.__version__,
+                                "zarr": zarr.__version__, "dask": dask.__version__,
+                                "distributed": distributed.__version__, "python": sys.version.split()[0]}),
+        "reference": str(getattr(model.module, "REFERENCE", "")),
+    })
+    if spec.measure in ("attractor", "stability"):
+        ds.attrs["labels"] = json.dumps(labels(model))
+    if spec.measure == "stability":
+        ds["steady_state"].attrs["description"] = ("which steady state Newton reached from START: index "
+                                                   "into the attribute `labels`")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise AnalysisError(f"--out {path.parent}: {exc.strerror}") from None
+    tmp = path.parent / f".{path.name}.tmp-{os.getpid()}"
+    if tmp.exists():
+        shutil.rmtree(tmp)
+    ds.to_zarr(tmp, mode="w", encoding=encoding, compute=False, zarr_format=3, consolidated=False)
+    os.replace(tmp, path)
+
+
+def open_store(path: Path, spec: SweepSpec, model: Model):
+    """The existing store's zarr group if it holds this sweep; a clear error if it holds another."""
+    import zarr
+
+    try:
+        group = zarr.open_group(str(path), mode="r+")
+        stored = group.attrs.get(SETTINGS_ATTR)
+    except Exception:  # not a zarr group at all
+        stored = None
+        group = None
+    if stored is None:
+        raise AnalysisError(f"{path} exists and is not an adbgen sweep store; choose another --out or remove it")
+    ours = settings(spec, model)
+    theirs = json.loads(stored)
+    diff = [k for k in sorted(set(ours) | set(theirs)) if k not in ("chunk",) and ours.get(k) != theirs.get(k)]
+    if diff:
+        k = diff[0]
+        raise AnalysisError(f"{path} holds a sweep with other settings ({k}: stored {theirs.get(k)!r}, "
+                            f"asked {ours.get(k)!r}); use another --out or remove it")
+    return group
+
+
+def write_block(group, spec: SweepSpec, model: Model, grid: Grid, block, chunks, res: dict, rows) -> None:
+    """One block's results: the data arrays first, the `done` flags last."""
+    sl = block_slices(block, chunks, grid.shape)
+    shape = tuple(s.stop - s.start for s in sl)
+    for name, _, _, extra in _variables(spec, model):
+        if name == "done":
+            continue
+        key = "value" if name == spec.measure else name
+        values = res[key][rows]
+        group[name][sl + tuple(slice(None) for _ in extra)] = values.reshape(shape + values.shape[1:])
+    group["done"][sl] = np.ones(shape, dtype=np.uint8)
+
+
+# ------------------------------------------------------------------------------------------ driver
+
+def _task(spec_dict: dict, flat: np.ndarray) -> dict:
+    """A Dask task: one block (or a block and its mirror) on one core."""
+    _single_threaded()
+    return compute_points(SweepSpec(**spec_dict), flat, threads=1)
+
+
+def _single_threaded() -> None:
+    """One core per task: Dask runs one task per worker thread; OpenMP and numba must not add threads."""
+    os.environ["OMP_NUM_THREADS"] = "1"
+    try:
+        import numba
+
+        numba.set_num_threads(1)
+    except Exception:  # numba's threading layer may be unavailable; nothing then to limit
+        pass
+
+
+def default_workers() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: int | None = None,
+              progress: bool = True, figures: bool = True) -> dict:
+    """Run (or resume) a sweep into out/sweep.zarr; returns the --json summary."""
+    start = time.perf_counter()
+    model, grid = prepare(spec)
+    spec.model = str(model.folder) if os.sep in spec.model else model.name
+    out = Path(out)
+    path = out / STORE
+    swap = find_swap(model, grid) if spec.symmetry and spec.measure != "stability" else None
+    fresh = not path.exists()
+    if fresh:
+        chunks = chunk_shape(grid.shape, spec.chunk or auto_chunk(grid.size, workers or default_workers()), swap)
+        done = np.zeros(grid.shape, dtype=bool)
+    else:
+        group = open_store(path, spec, model)
+        chunks = tuple(group["done"].chunks)
+        done = np.asarray(group["done"][...], dtype=bool)
+    if swap is not None and chunks[swap.a] != chunks[swap.b]:
+        swap = None  # a store written without the shortcut's block shape: compute every point
+    pending = [task for task in tasks_for(grid.shape, chunks, swap)
+               if not all(done[block_slices(b, chunks, grid.shape)].all() for b in task)]
+    computed = sum(int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
+                   for t in pending for b in t)
+    integrated = n_rhs = 0
+    if pending:
+        client, cluster = _connect(scheduler, workers)  # before anything is written: a bad address writes nothing
+        try:
+            if fresh:
+                create_store(path, spec, model, grid, chunks)
+                group = open_store(path, spec, model)
+            integrated, n_rhs = _run_tasks(client, spec, model, grid, group, chunks, pending, progress)
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    summary = {"points": grid.size, "computed": computed, "reused": grid.size - computed,
+               "wall_s": None, "store": str(path), "integrated": integrated, "rhs_evaluations": n_rhs,
+               "figures": []}
+    if figures:
+        from .sweep_figures import write_figures
+
+        summary["figures"] = [str(p) for p in write_figures(path)]
+    summary["wall_s"] = time.perf_counter() - start
+    return summary
+
+
+def _connect(scheduler: str | None, workers: int | None):
+    """(client, cluster): the scheduler at `scheduler`, or a new local cluster (cluster None otherwise)."""
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            return Client(scheduler, timeout=10), None
+        except (OSError, TimeoutError) as exc:
+            raise AnalysisError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
+    n = workers or default_workers()
+    # threads: the compiled path releases the GIL, so one process with a thread per core has no Python
+    # contention to speak of and starts in a fraction of a second
+    cluster = LocalCluster(n_workers=1, threads_per_worker=n, processes=False, dashboard_address=":0")
+    return Client(cluster), cluster
+
+
+def _run_tasks(client, spec, model, grid, group, chunks, pending, progress) -> tuple[int, int]:
+    """Submit the pending tasks; write each block as its task finishes; (trajectories, rhs evaluations)."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    integrated = n_rhs = 0
+    spec_dict = spec.to_dict()
+    futures = {}
+    for task in pending:
+        flat = np.concatenate([block_flat(b, chunks, grid.shape) for b in task])
+        fut = client.submit(_task, spec_dict, flat, pure=False)
+        futures[fut] = task
+    bar = tqdm(total=len(pending), disable=not progress, file=sys.stderr, unit="task",
+               desc=f"sweep {model.name}")
+    for fut in as_completed(futures):
+        res = fut.result()
+        integrated += int(res["integrated"])
+        n_rhs += int(res["n_rhs"])
+        task = futures.pop(fut)
+        offset = 0
+        for b in task:
+            size = int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
+            write_block(group, spec, model, grid, b, chunks, res, slice(offset, offset + size))
+            offset += size
+        bar.update(1)
+    bar.close()
+    return integrated, n_rhs

@@ -1,0 +1,171 @@
+"""Figures of a sweep store, PNG and PDF beside it, in the style of the thesis' ch. 4-5 maps.
+
+    basins (attractor)   each grid point coloured by where its trajectory ends (balanced 1 dark, as the
+                         thesis shades the balanced state's basin in Fig. 5.18-5.20)
+    r_max, t_dec         colour maps (t_dec: grey where r has not settled by t_end)
+    stability            regions by the number of unstable eigenvalues (0: stable, shaded dark as the
+                         thesis' Fig. 4.1, 4.5, 4.10)
+
+Axes carry the symbols (phi_1(0), Omega, ...), the title the model and the fixed parameter values.
+Two-dimensional grids give maps, one-dimensional grids curves; larger grids are not drawn.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .grid import axis_symbol
+
+_GREEK = {"Omega": r"\Omega", "mu": r"\mu", "zeta": r"\zeta", "beta": r"\beta", "delta": r"\delta"}
+
+
+def _caption(ds, axes) -> str:
+    params = json.loads(ds.attrs.get("parameters", "{}"))
+    parts = [f"${_GREEK.get(k, k)}$ = {v:g}" for k, v in params.items() if k not in axes]
+    states = json.loads(ds.attrs.get("initial_state", "{}"))
+    parts += [f"{axis_symbol(k)} = {v:.4g}" for k, v in states.items() if k not in axes and v != 0.0]
+    settings = json.loads(ds.attrs["adbgen_sweep"])
+    if settings["measure"] != "stability":
+        parts.append(f"$t_{{end}}$ = {settings['t_end']:g}, rtol {settings['rtol']:g}")
+    return ", ".join(parts)
+
+
+def write_figures(store: Path) -> list[Path]:
+    """Draw the store's measure; returns the files written (none if the grid is not 1-D or 2-D)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import xarray as xr
+
+    ds = xr.open_zarr(store, consolidated=False)
+    measure = ds.attrs["measure"]
+    dims = [d for d in ds[measure].dims]
+    if len(dims) not in (1, 2):
+        return []
+    da = ds[measure].load()
+    done = ds["done"].load().values.astype(bool)
+    fig, ax = plt.subplots(figsize=(7.5, 5.0), constrained_layout=True)
+    title = f"{ds.attrs['model']}: " + {"r_max": "$r_{max}$", "t_dec": "$t_{dec}$"}.get(measure, measure)
+    if measure == "attractor":
+        _categorical(fig, ax, da, done, json.loads(ds.attrs["labels"]), dims)
+        title = f"{ds.attrs['model']}: basins of attraction"
+    elif measure == "stability":
+        names = json.loads(ds.attrs["labels"])
+        kind = ds["steady_state"].load().values
+        start = _start_kind(ds, names)
+        other = done & (kind >= 0) & (kind != start)
+        _stability(fig, ax, da, done & ~other, dims, other)
+        title = (f"{ds.attrs['model']}: unstable eigenvalues of the steady state"
+                 + (f" ({names[start]}, continued from START)" if start >= 0 else ""))
+    else:
+        _continuous(fig, ax, da, done, dims, measure)
+    ax.set_title(title + "\n" + _caption(ds, dims), fontsize=9)
+    out = []
+    for ext in ("png", "pdf"):
+        path = store.parent / f"{measure}.{ext}"
+        fig.savefig(path, dpi=150)
+        out.append(path)
+    plt.close(fig)
+    return out
+
+
+def _edges(values: np.ndarray) -> np.ndarray:
+    if len(values) == 1:
+        return np.array([values[0] - 0.5, values[0] + 0.5])
+    mid = 0.5 * (values[1:] + values[:-1])
+    return np.concatenate([[2 * values[0] - mid[0]], mid, [2 * values[-1] - mid[-1]]])
+
+
+def _map(ax, da, dims, z, **kw):
+    x, y = da[dims[0]].values, da[dims[1]].values
+    m = ax.pcolormesh(_edges(x), _edges(y), np.asarray(z).T, **kw)
+    ax.set_xlabel(axis_symbol(dims[0]))
+    ax.set_ylabel(axis_symbol(dims[1]))
+    ax.set_aspect("equal" if dims[0].startswith("phi") and dims[1].startswith("phi") else "auto")
+    return m
+
+
+def _categorical(fig, ax, da, done, names, dims):
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    codes = np.where(done, da.values, -1)
+    present = sorted(int(c) for c in np.unique(codes) if c >= 0)
+    palette = {"balanced 1": "#1b2a49", "limit cycle": "#e8a33d", "unsettled": "#c44e52", "failed": "#000000"}
+    others = iter(["#7fb3d5", "#76b7a0", "#b07aa1", "#9c755f", "#bab0ac", "#59a14f", "#edc948", "#ff9da7"])
+    colours = {c: palette.get(names[c]) or next(others, "#888888") for c in present}
+    if len(dims) == 1:
+        x = da[dims[0]].values
+        for c in present:
+            sel = codes == c
+            ax.plot(x[sel], np.full(sel.sum(), c), "s", color=colours[c], label=names[c])
+        ax.set_xlabel(axis_symbol(dims[0]))
+        ax.set_yticks(present, [names[c] for c in present])
+        return
+    lut = ["#ffffff"] + [colours[c] for c in present]
+    index = np.zeros(codes.shape, dtype=int)
+    for k, c in enumerate(present, start=1):
+        index[codes == c] = k
+    cmap = ListedColormap(lut)
+    _map(ax, da, dims, index, cmap=cmap, norm=BoundaryNorm(np.arange(len(lut) + 1) - 0.5, len(lut)))
+    handles = [Patch(color=colours[c], label=f"{names[c]} ({int((codes == c).sum())})") for c in present]
+    if (~done).any():
+        handles.append(Patch(facecolor="#ffffff", edgecolor="0.5", label="not computed"))
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8, frameon=False)
+
+
+def _start_kind(ds, names) -> int:
+    """The label code of the model's START (the state the map continues), -1 if unknown."""
+    try:
+        from .attractors import name_steady_state
+        from .loading import load_model
+
+        model = load_model(json.loads(ds.attrs["adbgen_sweep"])["model"])
+        return names.index(name_steady_state(model, model.module.START, model.module.START_PARAMETERS))
+    except Exception:  # a store from a model no longer at hand: draw without the distinction
+        return -1
+
+
+def _stability(fig, ax, da, done, dims, other=None):
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    z = np.where(done, da.values.astype(int), -2)
+    if other is not None:
+        z = np.where(other, -1, z)  # Newton reached another steady state: not the continued one
+    top = max(int(z.max()), 1)
+    greys = ["#ffffff", "#f4d6d6"] + [str(0.15 + 0.8 * k / (top + 1)) for k in range(top + 1)]
+    # -2 not computed (white), -1 no steady state (pink), 0 stable (dark) ... more unstable: lighter
+    cmap = ListedColormap(greys[: top + 3])
+    norm = BoundaryNorm(np.arange(-2, top + 2) - 0.5, top + 3)
+    if len(dims) == 1:
+        ax.step(da[dims[0]].values, z, where="mid")
+        ax.set_xlabel(axis_symbol(dims[0]))
+        ax.set_ylabel("unstable eigenvalues")
+        return
+    _map(ax, da, dims, z, cmap=cmap, norm=norm)
+    handles = [Patch(color=greys[k + 2], label="stable" if k == 0 else f"{k} unstable")
+               for k in range(0, top + 1) if (z == k).any()]
+    if (z == -1).any():
+        handles.append(Patch(color=greys[1], label="state not found (none, or another one)"))
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8, frameon=False)
+
+
+def _continuous(fig, ax, da, done, dims, measure):
+    z = np.where(done, da.values, np.nan)
+    label = {"r_max": "$r_{max}$", "t_dec": "$t_{dec}$"}[measure]
+    if len(dims) == 1:
+        ax.plot(da[dims[0]].values, z, ".-")
+        ax.set_xlabel(axis_symbol(dims[0]))
+        ax.set_ylabel(label)
+        return
+    import matplotlib
+
+    cmap = matplotlib.colormaps["viridis"].copy()
+    cmap.set_bad("0.8")  # t_dec: not settled by t_end (or not computed)
+    m = _map(ax, da, dims, np.ma.masked_invalid(z), cmap=cmap)
+    fig.colorbar(m, ax=ax, label=label + (" (grey: not settled)" if measure == "t_dec" else ""))

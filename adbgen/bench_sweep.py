@@ -1,0 +1,97 @@
+"""`adbgen bench sweep`: the basin map of the thesis' n = 2 model, with and without the shortcuts.
+
+The 100 x 100 map over (phi_1(0), phi_2(0)) in [0, 2 pi)^2 at the parameters (5.1) (Omega = 4,
+zeta = beta = delta = 0.01, mu = 0.05), t_end = 2000, rtol 1e-8 (the issue's benchmark), run twice on
+the local Dask cluster of this machine: with the shortcuts (early stop in a provable basin region,
+ball-exchange symmetry) and without.  Reported: wall time of each (cluster start included), the CPU
+time of the process (the local cluster's workers are threads in it, so this is the cores' time),
+trajectories integrated, trajectories per second per core, the rhs evaluations (deterministic: the
+work itself, whatever the machine's load), the labels' counts and whether the two label maps are
+identical, and the machine's load average.  The machine is shared, so the configurations alternate
+`repeats` times and each keeps its fastest run (all runs are listed).
+"""
+
+from __future__ import annotations
+
+import collections
+import json
+import os
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+GRID = ["phi_1=0:2*pi*99/100:100", "phi_2=0:2*pi*99/100:100"]
+
+
+def _one(spec, out: Path, workers: int) -> dict:
+    from .analysis.sweep import run_sweep
+
+    load = os.getloadavg()[0]
+    cpu0 = time.process_time()
+    wall0 = time.perf_counter()
+    summary = run_sweep(spec, out, workers=workers, progress=False, figures=True)
+    wall = time.perf_counter() - wall0
+    cpu = time.process_time() - cpu0
+    return {"wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "load_average_before": round(load, 2),
+            "integrated": summary["integrated"], "points": summary["points"],
+            "rhs_evaluations": summary["rhs_evaluations"],
+            "ns_per_rhs_cpu": round(1e9 * cpu / summary["rhs_evaluations"], 1) if summary["rhs_evaluations"] else None,
+            "trajectories_per_s_per_core": round(summary["integrated"] / (wall * workers), 2),
+            "points_per_s_per_core": round(summary["points"] / (wall * workers), 2),
+            "trajectories_per_cpu_s": round(summary["integrated"] / cpu, 2) if cpu > 0 else None}
+
+
+def bench_sweep(workers: int | None = None, grid=GRID, t_end: float = 2000.0, progress=print,
+                figure: str | Path | None = "benchmarks/sweep_basins.png", repeats: int = 2) -> dict:
+    import xarray as xr
+
+    from .analysis.sweep import SweepSpec, default_workers
+
+    workers = workers or default_workers()
+    base = dict(model="thesis_rotating_n2", grid=list(grid), measure="attractor", t_end=t_end, rtol=1e-8,
+                atol=1e-10)
+    tmp = Path(tempfile.mkdtemp(prefix="adbgen-bench-sweep-"))
+    try:
+        runs, maps, every = {}, {}, []
+        # alternate the two configurations and keep each one's best: the machine is shared
+        for rep in range(repeats):
+            for name, kw in (("shortcuts", dict(early_stop=True, symmetry=True)),
+                             ("full", dict(early_stop=False, symmetry=False))):
+                out = tmp / f"{name}-{rep}"
+                run = _one(SweepSpec(**base, **kw), out, workers)
+                ds = xr.open_zarr(out / "sweep.zarr", consolidated=False)
+                codes = ds["attractor"].values
+                if name in maps and not np.array_equal(maps[name], codes):
+                    raise RuntimeError(f"{name}: two repeats gave different labels")
+                maps[name] = codes
+                labels = json.loads(ds.attrs["labels"])
+                t_last = ds["t_last"].values
+                run["labels"] = {labels[c]: int(n) for c, n in sorted(collections.Counter(codes.ravel().tolist()).items())}
+                balanced = t_last[codes == 0]
+                run["median_t_last_balanced"] = float(np.median(balanced)) if balanced.size else None
+                every.append({"run": name, **{k: run[k] for k in ("wall_s", "cpu_s", "load_average_before")}})
+                if name not in runs or run["wall_s"] < runs[name]["wall_s"]:
+                    runs[name] = run
+                if figure is not None and name == "shortcuts" and rep == 0:
+                    Path(figure).parent.mkdir(parents=True, exist_ok=True)
+                    shutil.copyfile(out / "attractor.png", figure)
+                if progress:
+                    progress(f"{name:10s} wall {run['wall_s']:8.2f} s  cpu {run['cpu_s']:8.2f} s  "
+                             f"integrated {run['integrated']:6d}  rhs {run['rhs_evaluations']:.3e}  {run['labels']}")
+        differ = int(np.sum(maps["shortcuts"] != maps["full"]))
+        return {
+            "benchmark": "thesis_rotating_n2 basin map over (phi_1(0), phi_2(0)), parameters (5.1)",
+            "grid": list(grid), "t_end": t_end, "rtol": 1e-8, "atol": 1e-10, "engine": "cyrk-dop853",
+            "workers": workers, "cores": os.cpu_count(), "repeats": repeats, "runs": runs, "every_run": every,
+            "rhs_ratio": round(runs["full"]["rhs_evaluations"] / runs["shortcuts"]["rhs_evaluations"], 3),
+            "labels_identical": differ == 0, "labels_differing": differ,
+            "speedup_wall": round(runs["full"]["wall_s"] / runs["shortcuts"]["wall_s"], 3),
+            "speedup_cpu": round(runs["full"]["cpu_s"] / runs["shortcuts"]["cpu_s"], 3),
+            "target": "under 20 s wall on this 2-core machine with the shortcuts, labels identical",
+            "target_met": bool(runs["shortcuts"]["wall_s"] < 20.0 and differ == 0),
+        }
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)

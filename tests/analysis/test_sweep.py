@@ -1,0 +1,279 @@
+"""adbgen sweep: equals the points run one by one, shortcuts give the full integration's labels,
+resumes after SIGKILL, runs on an external Dask scheduler, refuses bad grids and foreign stores."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from adbgen.analysis import attractors
+from adbgen.analysis.loading import load_model
+from adbgen.analysis.simulate import simulate
+from adbgen.analysis.sweep import SweepSpec, prepare, run_sweep
+
+zarr = pytest.importorskip("zarr")
+xr = pytest.importorskip("xarray")
+
+REPO = Path(__file__).resolve().parents[2]
+GRID8 = ["phi_1=0:2*pi*7/8:8", "phi_2=0:2*pi*7/8:8"]
+DAMPED = ["zeta=0.1", "beta=0.1"]  # fast transients (thesis Fig. 5.15): short tests, early stops happen
+
+
+def _open(out):
+    return xr.open_zarr(Path(out) / "sweep.zarr", consolidated=False).load()
+
+
+def _env():
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(REPO) + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
+def _cli(*args, timeout=300):
+    return subprocess.run([sys.executable, "-m", "adbgen.cli", *args], capture_output=True, text=True, env=_env(),
+                          timeout=timeout, cwd=REPO)
+
+
+def test_attractor_sweep_equals_points_one_by_one(tmp_path):
+    spec = SweepSpec(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=300.0, chunk=16)
+    summary = run_sweep(spec, tmp_path, progress=False)
+    assert summary["points"] == 64 and summary["computed"] == 64 and summary["reused"] == 0
+    assert {Path(f).name for f in summary["figures"]} == {"attractor.png", "attractor.pdf"}
+    ds = _open(tmp_path)
+    assert ds["attractor"].dims == ("phi_1", "phi_2")
+    assert ds.attrs["model"] == "thesis_rotating_n2" and ds.attrs["SOURCE_HASH"]
+    names = json.loads(ds.attrs["labels"])
+    model, grid = prepare(spec)
+    p = grid.base_params
+    clf = attractors.classifier(model, p)
+    for i, a in enumerate(ds.phi_1.values):
+        for j, b in enumerate(ds.phi_2.values):
+            sim = simulate(model, p, model.state({"phi_1": a, "phi_2": b}), t_end=300.0, keep_trajectory=False,
+                           check=False)
+            alone = clf.label(sim.status, sim.y_end, -1)
+            assert names[int(ds.attractor.values[i, j])] == alone, (a, b)
+    got = {names[c] for c in np.unique(ds.attractor.values)}
+    assert "balanced 1" in got and "coincident 2-" in got  # the diagonal: balls together stay together
+
+
+def test_r_max_sweep_equals_points_one_by_one(tmp_path):
+    spec = SweepSpec(model="thesis_rotating_n2", grid=["phi_1=0:3*pi/2:4", "Omega=2:4:3"], measure="r_max",
+                     t_end=100.0, chunk=4)
+    run_sweep(spec, tmp_path, progress=False, figures=False)
+    ds = _open(tmp_path)
+    model = load_model("thesis_rotating_n2")
+    for i, a in enumerate(ds.phi_1.values):
+        for j, om in enumerate(ds.Omega.values):
+            sim = simulate(model, model.params({"Omega": om}), model.state({"phi_1": a}), t_end=100.0,
+                           keep_trajectory=False)
+            assert ds.r_max.values[i, j] == pytest.approx(sim.r_max, rel=1e-12)
+            np.testing.assert_allclose(ds.y_end.values[i, j], sim.y_end, rtol=1e-12, atol=1e-14)
+
+
+@pytest.mark.parametrize("early_stop, symmetry", [(True, False), (False, True), (True, True)])
+def test_shortcuts_give_the_full_integrations_labels(tmp_path, early_stop, symmetry):
+    def labels(out, **kw):
+        spec = SweepSpec(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=400.0,
+                         chunk=16, **kw)
+        s = run_sweep(spec, out, progress=False, figures=False)
+        return _open(out), s
+
+    full, s_full = labels(tmp_path / "full", early_stop=False, symmetry=False)
+    fast, s_fast = labels(tmp_path / "fast", early_stop=early_stop, symmetry=symmetry)
+    np.testing.assert_array_equal(fast.attractor.values, full.attractor.values)
+    if symmetry:
+        assert s_fast["integrated"] == 36 < s_full["integrated"] == 64  # 8 on the diagonal + 28 pairs
+    if early_stop:
+        stopped = fast.t_last.values < 400.0
+        assert stopped.sum() > 20  # the shortcut is taken ...
+        same = ~stopped  # ... and where it is not, the final states are bit for bit the full run's
+        np.testing.assert_array_equal(fast.y_end.values[same], full.y_end.values[same])
+    else:
+        # the mirrored final states are the integrated ones to the tolerance (not bit for bit: the step
+        # size control sums its error norm over the components in state order)
+        np.testing.assert_allclose(fast.y_end.values, full.y_end.values, rtol=1e-6, atol=1e-8)
+
+
+def test_stop_region_is_forward_invariant_and_labels_balanced():
+    model = load_model("thesis_rotating_n2")
+    p = model.params()
+    clf = attractors.classifier(model, p)
+    region = next(r for r in clf.regions if r.label == "balanced 1")
+    # a point on the region's boundary converges: V decreases along its trajectory
+    rng = np.random.default_rng(5)
+    e = rng.standard_normal(model.n_states)
+    e *= math.sqrt(region.c / (e @ region.P @ e)) * 0.999
+    sim = simulate(model, p, region.centre + e, t_end=200.0)
+    V = [attractors.state_difference(model, y, region.centre) for y in sim.y.T]
+    V = np.array([v @ region.P @ v for v in V])
+    assert V.max() <= region.c * 1.0000001 and V[-1] < 0.5 * V[0]
+    # the unstable coincident state 2- (one unstable eigenvalue at (5.1)) gets no region
+    assert {r.label for r in clf.regions} == {"balanced 1"}
+
+
+def test_resume_after_sigkill_equals_uninterrupted_run(tmp_path):
+    args = ["sweep", "thesis_rotating_n2", "--grid", "phi_1=0:2*pi*7/8:8", "--grid", "Omega=3:4:8", "--measure",
+            "r_max", "--t-end", "1000", "--chunk", "2", "--workers", "1", "--no-figures"]
+    ref = tmp_path / "ref"
+    assert _cli(*args, "--out", str(ref), "--json").returncode == 0
+    out = tmp_path / "killed"
+    proc = subprocess.Popen([sys.executable, "-m", "adbgen.cli", *args, "--out", str(out), "--json"],
+                            env=_env(), cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    store = out / "sweep.zarr"
+    deadline = time.time() + 120
+    n_done = 0
+    while time.time() < deadline and proc.poll() is None:
+        if (store / "done" / "zarr.json").exists():
+            n_done = int(np.asarray(zarr.open_group(str(store), mode="r")["done"][...]).sum())
+            if n_done >= 4:
+                break
+        time.sleep(0.05)
+    assert proc.poll() is None, "the sweep finished before it could be killed; make it longer"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    partial = int(np.asarray(zarr.open_group(str(store), mode="r")["done"][...]).sum())
+    assert 0 < partial < 64
+    res = _cli(*args, "--out", str(out), "--json")
+    assert res.returncode == 0, res.stderr
+    summary = json.loads(res.stdout)
+    assert summary["reused"] >= partial and summary["computed"] == 64 - summary["reused"]
+    a, b = _open(ref), _open(out)
+    for name in ("r_max", "y_end", "t_last", "done"):
+        np.testing.assert_array_equal(a[name].values, b[name].values)
+    assert a.attrs == b.attrs
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_external_scheduler_runs_the_sweep(tmp_path):
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    def start(*args):
+        return subprocess.Popen([sys.executable, "-m", *args], env=_env(), stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
+
+    procs = [start("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", str(port),
+                   "--dashboard-address", ":0")]
+    try:
+        time.sleep(1.0)
+        procs.append(start("distributed.cli.dask_worker", address, "--nthreads", "1", "--nworkers", "1",
+                           "--no-dashboard"))
+        from distributed import Client
+
+        with Client(address, timeout=30) as client:
+            client.wait_for_workers(1, timeout=60)
+        common = ["sweep", "thesis_rotating_n2", "--grid", "phi_1=0:2*pi*3/4:4", "--grid", "phi_2=0:2*pi*3/4:4",
+                  "--measure", "t_dec", "--t-end", "200", "--chunk", "4", "--no-figures", "--json"]
+        res = _cli(*common, "--scheduler", address, "--out", str(tmp_path / "remote"))
+        assert res.returncode == 0, res.stderr
+        assert json.loads(res.stdout)["computed"] == 16
+        run_sweep(SweepSpec(model="thesis_rotating_n2", grid=["phi_1=0:2*pi*3/4:4", "phi_2=0:2*pi*3/4:4"],
+                            measure="t_dec", t_end=200.0, chunk=4), tmp_path / "local", progress=False, figures=False)
+        a, b = _open(tmp_path / "remote"), _open(tmp_path / "local")
+        np.testing.assert_array_equal(a.t_dec.values, b.t_dec.values)
+        np.testing.assert_array_equal(a.y_end.values, b.y_end.values)
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+            p.wait(timeout=30)
+
+
+def test_stability_map_n2_window_and_hopf_point(tmp_path):
+    """mu = 0.05, zeta = beta = delta = 0.01: the balanced state of n = 2 is stable in (1.02969, 1.09363)
+    and beyond H1 = 1.88224 (README, ch. 4), unstable elsewhere; n = 3 reports its neutral zero."""
+    spec = SweepSpec(model="thesis_rotating_n2", grid=["Omega=1.0:2.2:13"], measure="stability", chunk=4)
+    run_sweep(spec, tmp_path / "n2", progress=False)
+    ds = _open(tmp_path / "n2")
+    om = ds.Omega.values
+    stable = ds.stability.values == 0
+    expect = ((om > 1.02969) & (om < 1.09363)) | (om > 1.88224)
+    np.testing.assert_array_equal(stable, expect)
+    assert (tmp_path / "n2" / "stability.png").is_file() and (tmp_path / "n2" / "stability.pdf").is_file()
+    spec3 = SweepSpec(model="thesis_rotating_n3", grid=["Omega=1.8:2.0:3"], measure="stability", chunk=4)
+    run_sweep(spec3, tmp_path / "n3", progress=False, figures=False)
+    ds3 = _open(tmp_path / "n3")
+    np.testing.assert_array_equal(ds3.neutral.values, [1, 1, 1])
+    np.testing.assert_array_equal(ds3.stability.values == 0, ds3.Omega.values > 1.87537)
+
+
+@pytest.mark.parametrize("grid, message", [
+    ([], "no grid"),
+    (["phi_1=1:1:5"], "empty range"),
+    (["phi_1=2:1:5"], "reversed range"),
+    (["phi_1=0:1:0"], "at least 1"),
+    (["phi_9=0:1:4"], "unknown name"),
+    (["Omega=0:1"], "NAME=FROM:TO:COUNT"),
+    (["Omega=a:1:3"], "cannot read"),
+])
+def test_bad_grids_are_refused_with_one_line(tmp_path, grid, message):
+    args = ["sweep", "thesis_rotating_n2", "--measure", "r_max", "--out", str(tmp_path / "o")]
+    for g in grid:
+        args += ["--grid", g]
+    from adbgen.cli import main
+
+    import contextlib
+    import io
+
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(args)
+    assert code == 2
+    lines = err.getvalue().strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("adbgen: error:") and message in lines[0], lines
+    assert not (tmp_path / "o").exists()
+
+
+def test_foreign_store_and_other_settings_are_refused(tmp_path):
+    from adbgen.cli import main
+
+    foreign = tmp_path / "foreign" / "sweep.zarr"
+    foreign.mkdir(parents=True)
+    (foreign / "notes.txt").write_text("mine")
+    base = ["sweep", "thesis_rotating_n2", "--grid", "phi_1=0:1:2", "--measure", "r_max", "--t-end", "10",
+            "--no-figures", "--json"]
+    assert main([*base, "--out", str(foreign.parent)]) == 2
+    assert sorted(p.name for p in foreign.iterdir()) == ["notes.txt"]
+    out = tmp_path / "ours"
+    assert main([*base, "--out", str(out)]) == 0
+    before = {p: p.read_bytes() for p in (out / "sweep.zarr").rglob("*") if p.is_file()}
+    import contextlib
+    import io
+
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        assert main([*base, "--rtol", "1e-6", "--out", str(out)]) == 2
+    assert "other settings (rtol" in err.getvalue()
+    after = {p: p.read_bytes() for p in (out / "sweep.zarr").rglob("*") if p.is_file()}
+    assert before == after
+
+
+def test_reproduce_cases_fig_5_4a_and_coincident_run():
+    """Two rows of docs/reproduction.md (adbgen reproduce): Fig. 5.4(a) within 0.5 % of the thesis and
+    converged in tolerance; (pi, pi, pi) ends at the coincident state 2- printed in the text of Fig. 5.7."""
+    from adbgen.analysis import reproduce
+
+    fig = next(c for c in reproduce.CASES if c.figure == "5.4(a)")
+    res = reproduce.study(fig)
+    best = res["sims"][1e-12]
+    assert best.r_max == pytest.approx(0.0483, rel=5e-3) and best.t_dec == pytest.approx(462.42, rel=5e-3)
+    assert res["sims"][1e-10].t_dec == pytest.approx(best.t_dec, rel=1e-7)
+    assert res["label"] == "balanced 1"
+    run = next(c for c in reproduce.CASES if c.figure == "5.7 text, 2-")
+    res = reproduce.study(run)
+    assert res["label"] == "coincident 2-"
+    y = res["sims"][1e-12].y_end
+    assert y[0] == pytest.approx(0.1285, abs=5e-5) and y[1] == pytest.approx(-0.0083, abs=5e-5)
