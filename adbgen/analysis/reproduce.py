@@ -7,9 +7,10 @@ balance, the attractor is named by `attractors.Classifier` (steady state by Newt
 further window) and the final state compared with the published one.
 
 Covered: thesis ch. 5, Fig. 5.4 (n = 2), Fig. 5.6 (n = 3), Fig. 5.8 (n = 4), the (pi, pi, pi) coincident
-and (0, 0, pi) in-line runs (text of Fig. 5.7), the n = 2 limit cycle from (pi/4, -pi/4), and the damping runs of
-section 5.2.2 (Fig. 5.15-5.17), the basin maps of Fig. 5.18; ch. 4, the zeta and beta limits the text states for n = 3, 4 and the
-(Omega, mu), (zeta, beta) stability maps for n = 2, 3, 4.  Not yet: the two-plane paper.
+and (0, 0, pi) in-line runs (text of Fig. 5.7), the n = 2 limit cycle from (pi/4, -pi/4), the damping runs
+of section 5.2.2 (Fig. 5.15-5.17), the basin maps of Fig. 5.18; ch. 4, the zeta and beta limits the text
+states for n = 3, 4 and the (Omega, mu), (zeta, beta) stability maps for n = 2, 3, 4.  Not yet: the
+two-plane paper.
 """
 
 from __future__ import annotations
@@ -235,6 +236,26 @@ def threshold_study(case: Case) -> dict:
     return {h: _run(case, RTOLS[-1], threshold=h)[1].t_dec for h in (0.99e-3, 1.01e-3)}
 
 
+# loose settings a 2005 computation may have used: DOP853 at rtol 1e-4, 1e-5, and the Dormand-Prince 4(5)
+# pair at MATLAB ode45's default tolerances (RelTol 1e-3, AbsTol 1e-6) and at 1e-4
+LOOSE = (("DOP853 rtol 1e-4", "cyrk-dop853", 1e-4, 1e-6), ("DOP853 rtol 1e-5", "cyrk-dop853", 1e-5, 1e-7),
+         ("RK45 rtol 1e-3 (ode45 defaults)", "cyrk-rk45", 1e-3, 1e-6), ("RK45 rtol 1e-4", "cyrk-rk45", 1e-4, 1e-7))
+
+
+def loose_study(case: Case) -> dict:
+    """(t_dec, r_max) under the LOOSE settings."""
+    from .simulate import simulate
+
+    model = load_model(f"thesis_rotating_n{case.n}")
+    y0 = model.state({f"phi_{i + 1}": v for i, v in enumerate(case.phi0)})
+    out = {}
+    for name, engine, rtol, atol in LOOSE:
+        sim = simulate(model, model.params(case.params), y0, t_end=T_END, rtol=rtol, atol=atol, engine=engine,
+                       keep_trajectory=False, check=False)
+        out[name] = (sim.t_dec, sim.r_max)
+    return out
+
+
 def _wrap(a: float) -> float:
     return (a + PI) % (2 * PI) - PI
 
@@ -357,7 +378,8 @@ def _basin_section(basins, root: Path) -> list[str]:
           + " from (a) to (c): " + ", ".join(f"{100 * b['balanced']:.1f} %" for b in basins) + ".",
           "* Thesis (c)-(d): \"these shaded regions for zeta = 0.2 and zeta = 0.25 correspond with points around "
           "the lines phi_2(0) = phi_1(0) + pi and phi_2(0) = phi_1(0) - pi\" (a tear-drop shaped basin).  Ours: "
-          + ", ".join(f"({b['panel']}) {100 * b['inline_share']:.0f} %" for b in basins[2:] if b["inline_share"] is not None)
+          + ", ".join(f"({b['panel']}) {100 * b['inline_share']:.0f} %" for b in basins[2:]
+                      if b["inline_share"] is not None)
           + " of the balancing points lie within pi/3 of those lines (a third of the grid does).", ""]
     for b in basins:
         title = f"Fig. 5.18({b['panel']}), zeta = {b['zeta']:g}"
@@ -434,18 +456,28 @@ def _document(results, figures, root: Path, statements=(), maps=(), basins=()) -
         if q == "t_dec":
             moved = threshold_study(case)
             pub = case.published[q]
+            loose = loose_study(case)
             candidates = {"rtol 1e-6": vals[0], "rtol 1e-8": vals[1], "threshold 0.99e-3": moved[0.99e-3],
-                          "threshold 1.01e-3": moved[1.01e-3]}
-            name, best = min(candidates.items(), key=lambda kv: abs(kv[1] - pub))
+                          "threshold 1.01e-3": moved[1.01e-3], **{k: v[0] for k, v in loose.items()}}
+            name, best = min(((k, v) for k, v in candidates.items() if v is not None),
+                             key=lambda kv: abs(kv[1] - pub))
             text += ("  Study: " + ", ".join(f"{k}: {_fmt(v, 6)}" for k, v in candidates.items()) + ".  ")
-            if abs(best - pub) <= 0.005 * pub:
-                text += (f"The published value is within {100 * abs(best - pub) / pub:.2f} % of ours at {name}: "
-                         "consistent with a looser computation in the thesis (which states neither its "
-                         "tolerance nor how it located the crossing); the converged value is ours.")
+            spread = [v for k, v in candidates.items() if v is not None and not k.startswith("threshold")]
+            r_loose = [v[1] for v in loose.values()] + [sims[r].r_max for r in RTOLS]
+            text += (f"Over these tolerances t_dec spans {_fmt(min(spread), 6)}-{_fmt(max(spread), 6)} "
+                     f"({100 * (max(spread) - min(spread)) / conv:.1f} % of ours; the last crossing of r = 1e-3 "
+                     "shifts by whole oscillations of the slowly decaying envelope) while r_max spans "
+                     f"{100 * (max(r_loose) - min(r_loose)) / min(r_loose):.2f} %.  ")
+            if 0.995 * min(spread) <= pub <= 1.005 * max(spread):  # the span, or within 0.5 % of its ends
+                text += (f"The published value lies in that span (closest: {name}, "
+                         f"{100 * (best - pub) / pub:+.2f} %): the difference is of the size a loose tolerance "
+                         "makes (the thesis states neither its tolerance nor how it located the crossing); the "
+                         "converged value is ours.")
             else:
-                text += ("Neither a looser tolerance nor a 1 % change of the threshold reaches the published "
-                         f"value (closest: {name}, {100 * (best - pub) / pub:+.2f} %); the difference is not "
-                         "explained by this study and is left open")
+                text += ("The published value lies outside (by more than 0.5 %) the span a looser tolerance or "
+                         f"a 1 % change of the threshold produce (closest: {name}, "
+                         f"{100 * (best - pub) / pub:+.2f} %); the difference is not explained by this study and "
+                         "is left open")
                 if "r_max" in case.published:
                     r_rel = _rel(sims[RTOLS[-1]].r_max, case.published["r_max"])
                     text += f" (r_max of the same run agrees to {100 * abs(r_rel):.2f} %)"
