@@ -14,10 +14,10 @@ from pathlib import Path
 
 import sympy as sp
 
-from .single_plane.model import derive
-from .single_plane.reductions import first_order, nondimensionalise, rotating_frame
-from .single_plane.verify import general_scene
-from .scene import Scene
+from .families.single_plane.model import derive
+from .families.single_plane.reductions import first_order, nondimensionalise, rotating_frame
+from .families.single_plane.verify import general_scene
+from .families.single_plane.scene import Scene
 
 
 def _derive_general(n: int):

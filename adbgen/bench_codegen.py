@@ -3,7 +3,7 @@
 Issue: code generation, "operation count of the emitted rhs and jac for n = 1..32 (linear), and ns
 per rhs call of numba and C against sympy.lambdify, written to a committed results file".
 
-Two parts, both for the two model families of `adbgen.codegen.models`:
+Two parts, both for the model kinds indexed by n of the registered families (`adbgen.families.kinds`):
 
 - ``ops``: SymPy's ``count_ops`` of the intermediate form's ``rhs`` and ``jac`` programs (the exact
   statements every target prints), the number of statements and the build time (derivation and
@@ -44,11 +44,11 @@ import numpy as np
 import sympy as sp
 
 from .bench import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
-from .codegen import models
+from . import families
 from .codegen.scratch import import_numba, render_into
-from .single_plane.model import derive
+from .families.single_plane.model import derive
 
-FAMILIES = models.FAMILIES
+FAMILIES = families.kinds()  # {kind: n -> ModelSpec}: thesis_rotating, single_plane_fixed
 OPS_NS = (1, 2, 4, 8, 16, 32)
 SPEED_NS = (2, 4, 8, 16)
 JAC_NS = (2, 4, 8)
@@ -216,18 +216,23 @@ def _c_literal(values) -> str:
     return ", ".join(repr(float(v)) for v in values)
 
 
-def _time_c(folder: Path, name: str, y0, p, target: float, repeats: int, jac: bool,
-            cc: str = "gcc", flags=("-O2",), suffix: str = "") -> dict:
+def build_c_timer(folder: Path, name: str, y0, p, cc: str = "gcc", flags=("-O2",),
+                  suffix: str = "") -> tuple[Path, float]:
+    """Compile the timing program of `_C_MAIN` for the model's C library in `folder`: (exe, seconds)."""
     main = folder / f"bench_{name}_main.c"
     main.write_text(_C_MAIN.format(name=name, upper=name.upper(), y0=_c_literal(y0), p=_c_literal(p)))
     exe = folder / f"bench_{name}{suffix}"
     start = time.perf_counter()
     subprocess.run([cc, "-std=c99", *flags, "-o", str(exe), str(main), str(folder / f"{name}.c"), "-lm"],
                    check=True, capture_output=True, text=True)
-    compile_seconds = time.perf_counter() - start
+    return exe, time.perf_counter() - start
+
+
+def run_c_timer(exe: Path, target: float, repeats: int, jac: bool) -> dict:
+    """Run a timing program: {"rhs": {calls, repeats_ns, ns, min_ns}, "jac": ... (if jac)}."""
     res = subprocess.run([str(exe), repr(target), str(repeats), "1" if jac else "0"],
                          check=True, capture_output=True, text=True)
-    out: dict = {"compile_seconds": round(compile_seconds, 3)}
+    out: dict = {}
     for line in res.stdout.splitlines():
         label, key, value = line.split()
         if key == "ns":
@@ -239,6 +244,12 @@ def _time_c(folder: Path, name: str, y0, p, target: float, repeats: int, jac: bo
             out[label]["ns"] = round(median(out[label]["repeats_ns"]), 2)
             out[label]["min_ns"] = min(out[label]["repeats_ns"])
     return out
+
+
+def _time_c(folder: Path, name: str, y0, p, target: float, repeats: int, jac: bool,
+            cc: str = "gcc", flags=("-O2",), suffix: str = "") -> dict:
+    exe, compile_seconds = build_c_timer(folder, name, y0, p, cc, flags, suffix)
+    return {"compile_seconds": round(compile_seconds, 3), **run_c_timer(exe, target, repeats, jac)}
 
 
 def _numba_loop(fn):

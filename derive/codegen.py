@@ -12,7 +12,7 @@
 import numpy as np
 import sympy as sp
 
-from adbgen.codegen import models
+from adbgen.families.single_plane import models
 from adbgen.codegen.interpret import compile_program
 from adbgen.codegen.render import render_model, source_hash
 

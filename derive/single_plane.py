@@ -11,13 +11,13 @@
 # %%
 import sympy as sp
 
-from adbgen.mechanics import is_identity
+from adbgen.core import is_identity
 from adbgen.references import thesis
-from adbgen.scene import Scene
-from adbgen.single_plane import steady_states as ss
-from adbgen.single_plane.model import derive, lagrangian
-from adbgen.single_plane.reductions import first_order, nondimensionalise, rotating_frame
-from adbgen.single_plane.symbols import DimensionalSymbols, Omega, beta, delta, mu, t, zeta
+from adbgen.families.single_plane.scene import Scene
+from adbgen.families.single_plane import steady_states as ss
+from adbgen.families.single_plane.model import derive, lagrangian
+from adbgen.families.single_plane.reductions import first_order, nondimensionalise, rotating_frame
+from adbgen.families.single_plane.symbols import DimensionalSymbols, Omega, beta, delta, mu, t, zeta
 
 # %% [markdown]
 # ## 1. The scene and the Lagrangian

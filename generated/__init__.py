@@ -12,4 +12,9 @@ MODELS = {
     'single_plane_fixed_n2': 'Single-plane balancer with 2 balls, fixed frame, anisotropic support, gravity',
     'single_plane_fixed_n3': 'Single-plane balancer with 3 balls, fixed frame, anisotropic support, gravity',
     'single_plane_fixed_n4': 'Single-plane balancer with 4 balls, fixed frame, anisotropic support, gravity',
+    'two_plane_rotating': 'Two-plane balancer, symmetric set-up (10), 2 + 2 balls, rotating frame (7)-(8)',
+    'two_plane_fixed': 'Two-plane balancer, anisotropic bearings (43), 2 + 2 balls, fixed frame, constant speed',
+    'two_plane_ramp': 'Two-plane balancer (10), 2 + 2 balls, run-up at constant acceleration (section 6)',
+    'two_plane_hill': 'Two-plane balancer (10), 2 + 2 balls, Hill run-up (45)',
+    'two_plane_torque': 'Two-plane balancer (10), 2 + 2 balls, torque drive with the torsional equation (3)',
 }

@@ -3,6 +3,10 @@
     adbgen simulate MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-end T]
                     [--rtol R] [--atol A] [--engine E] [--threshold H] [--out DIR] [--json]
 
+    adbgen stability ..., adbgen continue ...   (stability_commands.py)
+    adbgen sweep ...                             (sweep_commands.py)
+    adbgen reproduce ...                         (reproduce.py)
+
 Each command prints one JSON object on stdout with --json.  Bad input: one line on stderr, exit 2;
 a failed integration: one line naming where it failed, exit 1.
 """
@@ -10,62 +14,21 @@ a failed integration: one line naming where it failed, exit 1.
 from __future__ import annotations
 
 import json
-import math
 import sys
 from pathlib import Path
 
-from .loading import AnalysisError, load_model, parse_assignments
-
-# (name, add_arguments, run) of every command here; `register` adds them all
-COMMANDS: list = []
-
-
-def command(name: str, help: str):
-    def wrap(add):
-        COMMANDS.append((name, help, add))
-        return add
-    return wrap
+from .command_registry import COMMANDS, _emit_json, _finite_positive, _json_number, _load, _model_arguments, command
+from .loading import parse_assignments
 
 
 def register(sub, parser_class) -> None:
     """Add this layer's commands to the `adbgen` subparsers."""
+    # the command modules register themselves in COMMANDS when imported
+    from . import reproduce, stability_commands, sweep_commands  # noqa: F401
+
     for name, help_, add in COMMANDS:
         p = sub.add_parser(name, help=help_, description=help_)
         add(p)
-
-
-def _model_arguments(p) -> None:
-    p.add_argument("model", nargs="?", help="a generated model's name (e.g. thesis_rotating_n3) or a folder "
-                                            "written by `adbgen regenerate --out`")
-    p.add_argument("--scene", help="scene file (TOML): its smallest exact model, generated once into a cache")
-    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                   help="a parameter by name (repeatable); VALUE a number or an expression in pi")
-
-
-def _load(args):
-    return load_model(args.model, scene=args.scene)
-
-
-def _finite_positive(text: str) -> float:
-    import argparse
-
-    from .loading import parse_value
-
-    try:
-        value = parse_value(text)
-    except AnalysisError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
-    return value
-
-
-def _json_number(v):
-    return None if v is None or (isinstance(v, float) and not math.isfinite(v)) else v
-
-
-def _emit_json(obj) -> None:
-    print(json.dumps(obj, allow_nan=False, default=_json_number))
 
 
 # --------------------------------------------------------------------------------------- simulate
@@ -172,5 +135,3 @@ def write_trajectory(model, sim, out: Path) -> None:
     fig.savefig(out / "trajectory.png", dpi=120)
     plt.close(fig)
 
-
-from . import reproduce, sweep_commands  # noqa: E402,F401  (register `adbgen reproduce`, `adbgen sweep`)

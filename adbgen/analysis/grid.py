@@ -115,3 +115,19 @@ def make_grid(model: Model, grid: list[str], params: dict[str, float], y0: dict[
     if size > MAX_POINTS:
         raise AnalysisError(f"the grid has {size} points; at most {MAX_POINTS} per sweep")
     return Grid(axes, model.params(params), model.state(y0))
+
+
+def axis_symbol(name: str) -> str:
+    """The symbol of a grid axis for figure labels: a parameter, or an initial state '(0)'."""
+    greek = {"Omega": r"\Omega", "mu": r"\mu", "zeta": r"\zeta", "beta": r"\beta", "delta": r"\delta",
+             "omega": r"\omega", "eps": r"\varepsilon"}
+    if name.startswith("phi_"):
+        base = name[4:]
+        if base.endswith("_dot"):
+            return rf"$\dot\phi_{{{base[:-4]}}}(0)$"
+        return rf"$\phi_{{{base}}}(0)$"
+    if name.endswith("_dot"):
+        return rf"$\dot {name[:-4]}(0)$"
+    if name in ("x", "y", "X", "Y"):
+        return rf"${name}(0)$"
+    return f"${greek.get(name, name)}$"

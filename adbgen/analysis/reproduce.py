@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .commands import command
+from .command_registry import command
 from .loading import load_model
 
 PI = math.pi

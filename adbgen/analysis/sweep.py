@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from .grid import Grid, make_grid
+from .grid import Grid, axis_symbol, make_grid
 from .loading import AnalysisError, Model, load_model, parse_assignments
 
 MEASURES = ("attractor", "r_max", "t_dec", "stability")
@@ -406,7 +406,7 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
         encoding[name] = {"chunks": ch, "fill_value": fill}
     ds = xr.Dataset(data, coords=coords)
     for a in grid.axes:
-        ds[a.name].attrs.update(kind=a.kind, long_name=_symbol(a.name))
+        ds[a.name].attrs.update(kind=a.kind, long_name=axis_symbol(a.name))
     desc = {"attractor": "label code: index into the attribute `labels` (-1: not computed)",
             "r_max": "largest rotor amplitude r = sqrt(x^2 + y^2) over [0, t_end]",
             "t_dec": "last time r >= threshold (NaN: not settled by t_end, or not computed)",
@@ -448,21 +448,6 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
         shutil.rmtree(tmp)
     ds.to_zarr(tmp, mode="w", encoding=encoding, compute=False, zarr_format=3, consolidated=False)
     os.replace(tmp, path)
-
-
-def _symbol(name: str) -> str:
-    greek = {"Omega": r"\Omega", "mu": r"\mu", "zeta": r"\zeta", "beta": r"\beta", "delta": r"\delta",
-             "omega": r"\omega", "eps": r"\varepsilon"}
-    if name.startswith("phi_"):
-        base = name[4:]
-        if base.endswith("_dot"):
-            return rf"$\dot\phi_{{{base[:-4]}}}(0)$"
-        return rf"$\phi_{{{base}}}(0)$"
-    if name.endswith("_dot"):
-        return rf"$\dot {name[:-4]}(0)$"
-    if name in ("x", "y", "X", "Y"):
-        return rf"${name}(0)$"
-    return f"${greek.get(name, name)}$"
 
 
 def open_store(path: Path, spec: SweepSpec, model: Model):

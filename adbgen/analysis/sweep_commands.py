@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 
-from .commands import _emit_json, _finite_positive, command
+from .command_registry import _emit_json, _finite_positive, command
 from .loading import AnalysisError
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .sweep import _symbol
+from .grid import axis_symbol
 
 _GREEK = {"Omega": r"\Omega", "mu": r"\mu", "zeta": r"\zeta", "beta": r"\beta", "delta": r"\delta"}
 
@@ -26,7 +26,7 @@ def _caption(ds, axes) -> str:
     params = json.loads(ds.attrs.get("parameters", "{}"))
     parts = [f"${_GREEK.get(k, k)}$ = {v:g}" for k, v in params.items() if k not in axes]
     states = json.loads(ds.attrs.get("initial_state", "{}"))
-    parts += [f"{_symbol(k)} = {v:.4g}" for k, v in states.items() if k not in axes and v != 0.0]
+    parts += [f"{axis_symbol(k)} = {v:.4g}" for k, v in states.items() if k not in axes and v != 0.0]
     settings = json.loads(ds.attrs["adbgen_sweep"])
     if settings["measure"] != "stability":
         parts.append(f"$t_{{end}}$ = {settings['t_end']:g}, rtol {settings['rtol']:g}")
@@ -83,8 +83,8 @@ def _edges(values: np.ndarray) -> np.ndarray:
 def _map(ax, da, dims, z, **kw):
     x, y = da[dims[0]].values, da[dims[1]].values
     m = ax.pcolormesh(_edges(x), _edges(y), np.asarray(z).T, **kw)
-    ax.set_xlabel(_symbol(dims[0]))
-    ax.set_ylabel(_symbol(dims[1]))
+    ax.set_xlabel(axis_symbol(dims[0]))
+    ax.set_ylabel(axis_symbol(dims[1]))
     ax.set_aspect("equal" if dims[0].startswith("phi") and dims[1].startswith("phi") else "auto")
     return m
 
@@ -103,7 +103,7 @@ def _categorical(fig, ax, da, done, names, dims):
         for c in present:
             sel = codes == c
             ax.plot(x[sel], np.full(sel.sum(), c), "s", color=colours[c], label=names[c])
-        ax.set_xlabel(_symbol(dims[0]))
+        ax.set_xlabel(axis_symbol(dims[0]))
         ax.set_yticks(present, [names[c] for c in present])
         return
     lut = ["#ffffff"] + [colours[c] for c in present]
@@ -144,7 +144,7 @@ def _stability(fig, ax, da, done, dims, other=None):
     norm = BoundaryNorm(np.arange(-2, top + 2) - 0.5, top + 3)
     if len(dims) == 1:
         ax.step(da[dims[0]].values, z, where="mid")
-        ax.set_xlabel(_symbol(dims[0]))
+        ax.set_xlabel(axis_symbol(dims[0]))
         ax.set_ylabel("unstable eigenvalues")
         return
     _map(ax, da, dims, z, cmap=cmap, norm=norm)
@@ -160,7 +160,7 @@ def _continuous(fig, ax, da, done, dims, measure):
     label = {"r_max": "$r_{max}$", "t_dec": "$t_{dec}$"}[measure]
     if len(dims) == 1:
         ax.plot(da[dims[0]].values, z, ".-")
-        ax.set_xlabel(_symbol(dims[0]))
+        ax.set_xlabel(axis_symbol(dims[0]))
         ax.set_ylabel(label)
         return
     import matplotlib

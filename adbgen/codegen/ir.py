@@ -1,39 +1,18 @@
-"""The intermediate form: one per model, everything a template needs and nothing of SymPy's API.
+"""The intermediate form: data only, one per model; everything a template needs and nothing of SymPy's API.
 
-A model's first-order system y' = F(t, y; p) (y = positions, then rates) is lowered to straight-line
-*programs*: ordered assignments ``name = expression`` followed by stores into an output array.  Every
-target (numba, C, CVODE, AUTO-07p) prints the same programs, so each equation exists once.
-
-Structure (thesis Appendix A, generalised in `adbgen.mechanics.structure`): the mass matrix is
-M = [[A, B], [C, D]] over core (rotor) and leaf (ball) coordinates with D diagonal.  The programs
-never form M^-1: per ball they evaluate B_i, C_i, D_i, f_i (O(1) each, after common-subexpression
-elimination), accumulate the r x r Schur complement S = A - sum_i B_i C_i / D_i and its right-hand
-side, solve S a = g by an unrolled LU factorisation (no pivoting: S is the Schur complement of a
-row-scaled symmetric positive definite matrix, so its leading minors are positive), and back-
-substitute a_i = (f_i - C_i . a) / D_i.  The rhs program therefore grows linearly in n.
-
-Jacobian.  Differentiating M(q) q'' = f(q, q') at fixed accelerations gives
-M d(q'')/dy_j = d(f - M q'')/dy_j =: dR/dy_j.  The derivatives dR/dy_j are sparse (a ball's row
-depends on the core and its own angle only: O(n) entries in all), and each column is solved with the
-*same* factorised Schur complement.  The Jacobian is dense (every acceleration depends on every
-angle through the rotor), so its O(n^2) entries cost O(n^2) multiply-adds; the expressions that are
-differentiated stay O(n).  Parameter derivatives (for AUTO-07p's dfdp) use the same construction.
+A model's first-order system y' = F(t, y; p) (y = positions, then rates) is lowered (`lowering`) to
+straight-line *programs*: ordered assignments ``name = expression`` followed by stores into an output
+array.  Every target (`targets/`) prints the same programs, so each equation exists once.
 """
 
 from __future__ import annotations
 
 import hashlib
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import sympy as sp
 
-from ..mechanics import Parameter
-from ..single_plane.reductions import FirstOrderSystem
-
-# Names the programs create; chosen so they cannot collide with a model's parameter names
-# (M, m, D, k, c, eps, ...; `build` checks it).
-_TEMP_PREFIX = "w_"
+from ..core import Parameter
 
 
 @dataclass(frozen=True)
@@ -61,6 +40,25 @@ class State:
 
 
 @dataclass(frozen=True)
+class Continuation:
+    """What AUTO-07p follows from a model's start point: decided by the family, printed by the AUTO target.
+
+    Steady states (autonomous models) are continued in `parameter` in the `direction` (+1 up, -1
+    down), until it leaves `stop` (UZSTOP) if given.  Periodic orbits of an oscillator extension go in
+    two stages: in `parameter` from the start orbit to its default, then in `second` (the forcing
+    frequency).  `continuum`: the start lies on a continuum of steady states (free ball angles), so
+    the continuation is singular there and the files say so.
+    """
+
+    parameter: str
+    direction: int = -1
+    stop: tuple[float, float] | None = None
+    second: str = ""
+    continuum: bool = False
+    note: str = ""  # a remark for the constants file's header (lines)
+
+
+@dataclass(frozen=True)
 class ModelIR:
     """Everything the templates render for one model."""
 
@@ -84,6 +82,7 @@ class ModelIR:
     start_parameters: tuple[float, ...] | None = None  # the defaults unless the start needs others
     forcing_frequency: str = ""  # set on an oscillator extension: the frequency it replaces time by
     autonomous_extension: "ModelIR | None" = None  # of a periodically forced model (for AUTO-07p)
+    continuation: Continuation | None = None  # what AUTO-07p continues from the start (None: no AUTO files)
     extras: dict = field(default_factory=dict)
 
     @property
@@ -108,7 +107,7 @@ class ModelIR:
         for item in (self.name, self.title, self.reference, self.n_balls, self.autonomous,
                      self.state_names, [(p.name, p.description, p.unit, repr(p.default)) for p in self.parameters],
                      self.core, self.leaves, self.mass_pattern, self.start, self.start_label, self.start_parameters,
-                     self.forcing_frequency):
+                     self.forcing_frequency, self.continuation):
             h.update(repr(item).encode())
         for prog in (self.rhs, self.jac, self.jac_p, self.mass, self.forcing):
             h.update(repr(prog.shape).encode())
@@ -119,342 +118,3 @@ class ModelIR:
         if self.autonomous_extension is not None:
             h.update(self.autonomous_extension.fingerprint().encode())
         return h.hexdigest()
-
-
-@dataclass(frozen=True)
-class Oscillator:
-    """The autonomous extension of a periodically forced model (paper (40), two-plane 2011):
-
-        s' = s + w c - s (s^2 + c^2),    c' = c - w s - c (s^2 + c^2),
-
-    whose attracting limit cycle is s = sin(w t + theta), c = cos(w t + theta).  Every sin(w t + b),
-    cos(w t + b) of the model is replaced by s cos b + c sin b, c cos b - s sin b, so the extended
-    system is autonomous and equals the forced one on the cycle (theta = 0).  AUTO-07p continues its
-    periodic orbits.
-    """
-
-    sin: sp.Symbol
-    cos: sp.Symbol
-    frequency: sp.Expr
-
-    @classmethod
-    def detect(cls, exprs: Sequence[sp.Expr], t: sp.Symbol) -> "Oscillator":
-        freqs = set()
-        for e in exprs:
-            for atom in sp.sympify(e).atoms(sp.sin, sp.cos):
-                if t in atom.free_symbols:
-                    w = sp.diff(atom.args[0], t)
-                    if t in w.free_symbols:
-                        raise ValueError(f"{atom} is not forcing at a constant frequency")
-                    freqs.add(w)
-        if len(freqs) != 1:
-            raise ValueError(f"the explicit time enters at {len(freqs)} frequencies; one is needed")
-        return cls(sp.Symbol("osc_sin", real=True), sp.Symbol("osc_cos", real=True), freqs.pop())
-
-    def substitute(self, expr: sp.Expr, t: sp.Symbol) -> sp.Expr:
-        expr = sp.sympify(expr)
-        table = {}
-        for atom in expr.atoms(sp.sin, sp.cos):
-            if t in atom.free_symbols:
-                phase = sp.expand(atom.args[0] - self.frequency * t)
-                if t in phase.free_symbols:
-                    raise ValueError(f"{atom} is not at the frequency {self.frequency}")
-                s, c = self.sin, self.cos
-                table[atom] = (s * sp.cos(phase) + c * sp.sin(phase)) if atom.func is sp.sin \
-                    else (c * sp.cos(phase) - s * sp.sin(phase))
-        out = sp.expand(expr.xreplace(table))
-        if t in out.free_symbols:
-            raise ValueError("explicit time is left after the oscillator substitution")
-        return out
-
-    def rates(self) -> tuple[sp.Expr, sp.Expr]:
-        s, c, w = self.sin, self.cos, self.frequency
-        r2 = s**2 + c**2
-        return (s + w * c - s * r2, c - w * s - c * r2)
-
-
-class _Names:
-    """Fresh, stable statement names."""
-
-    def __init__(self):
-        self.made: set[str] = set()
-
-    def __call__(self, name: str) -> sp.Symbol:
-        if name in self.made:
-            raise ValueError(f"statement name {name} used twice")
-        self.made.add(name)
-        return sp.Symbol(name, real=True)
-
-
-def _cse(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
-    """Common subexpressions of `exprs`, in a deterministic order with names prefix0, prefix1, ..."""
-    symbols = sp.numbered_symbols(prefix, real=True)
-    replacements, reduced = sp.cse(list(exprs), symbols=symbols, optimizations=None, order="canonical")
-    return list(replacements), list(reduced)
-
-
-@dataclass(frozen=True)
-class _Blocks:
-    """M and f after the speed law (and the oscillator), indexed for the structure; made once per build."""
-
-    coordinates: tuple
-    core: tuple[int, ...]
-    leaves: tuple[int, ...]
-    mass: dict  # {(row, col): entry}, nonzero entries only
-    f: tuple[sp.Expr, ...]
-
-    @property
-    def N(self) -> int:
-        return len(self.coordinates)
-
-
-def _blocks(system: FirstOrderSystem, oscillator: bool) -> tuple[_Blocks, Oscillator | None]:
-    solve = system.solve
-    eom = solve.eom
-    law = dict(eom.driven_law)
-    mass = {k: sp.sympify(v).xreplace(law) for k, v in eom.mass.items()}
-    f = [sp.sympify(e).xreplace(law) for e in eom.forcing]
-    osc = None
-    if oscillator:
-        osc = Oscillator.detect(list(mass.values()) + f, eom.time)
-        mass = {k: osc.substitute(v, eom.time) for k, v in mass.items()}
-        f = [osc.substitute(e, eom.time) for e in f]
-    return _Blocks(eom.coordinates, tuple(solve.core), tuple(solve.leaves), mass, tuple(f)), osc
-
-
-class _Builder:
-    """Emits the structured solve as statements (shared by rhs, jac and jac_p)."""
-
-    def __init__(self, blocks: _Blocks):
-        self.coordinates = blocks.coordinates
-        self.core = list(blocks.core)
-        self.leaves = list(blocks.leaves)
-        self.r = len(self.core)
-        self.N = blocks.N
-        self.names = _Names()
-        self.statements: list[tuple[sp.Symbol, sp.Expr]] = []
-        mass = blocks.mass
-        self.mass_entries = mass
-        self.A = [[mass.get((i, j), sp.S.Zero) for j in self.core] for i in self.core]
-        self.B = [[mass.get((a, i), sp.S.Zero) for a in self.core] for i in self.leaves]  # column of M
-        self.C = [[mass.get((i, a), sp.S.Zero) for a in self.core] for i in self.leaves]  # row of M
-        self.D = [mass[(i, i)] for i in self.leaves]
-        self.f = list(blocks.f)
-
-    def emit(self, name: str, expr: sp.Expr) -> sp.Expr:
-        """Assign expr to a named statement unless it is trivial (a number or a symbol)."""
-        expr = sp.sympify(expr)
-        if expr.is_Atom:
-            return expr
-        sym = self.names(name)
-        self.statements.append((sym, expr))
-        return sym
-
-    def base(self) -> dict:
-        """CSE the mass blocks and forcing together, emit them and return their handles.
-
-        Records the full expression behind every emitted name in ``self.known`` so that later
-        expressions (the Jacobian's derivatives) can reuse them instead of recomputing.
-        """
-        flat = [e for row in self.A for e in row] + [e for row in self.B for e in row] \
-            + [e for row in self.C for e in row] + list(self.D) + list(self.f)
-        repl, red = _cse(flat, _TEMP_PREFIX)
-        full: dict[sp.Symbol, sp.Expr] = {}
-        for sym, expr in repl:
-            self.names.made.add(sym.name)
-            self.statements.append((sym, expr))
-            full[sym] = expr.xreplace(full)
-        it = iter(zip(red, flat))
-
-        def handle(name):
-            reduced, original = next(it)
-            sym = self.emit(name, reduced)
-            if sym.is_Symbol and sym.name == name:
-                full[sym] = original
-            return sym
-
-        r, L = self.r, len(self.leaves)
-        A = [[handle(f"Mcc_{a}_{b}") for b in range(r)] for a in range(r)]
-        B = [[handle(f"Mcl_{i}_{a}") for a in range(r)] for i in range(L)]
-        C = [[handle(f"Mlc_{i}_{a}") for a in range(r)] for i in range(L)]
-        D = [handle(f"Mll_{i}") for i in range(L)]
-        f = [handle(f"f_{k}") for k in range(self.N)]
-        self.known = {expr: sym for sym, expr in full.items() if not expr.is_Atom}
-        return {"A": A, "B": B, "C": C, "D": D, "f": f}
-
-    def factor(self, h: dict) -> dict:
-        """Schur complement S and its unrolled LU factors (Doolittle, no pivoting)."""
-        r, L = self.r, len(self.leaves)
-        Dinv = [self.emit(f"Mllinv_{i}", 1 / h["D"][i]) for i in range(L)]
-        BD = [[self.emit(f"BD_{i}_{a}", h["B"][i][a] * Dinv[i]) for a in range(r)] for i in range(L)]
-        S = [[self.emit(f"S_{a}_{b}", h["A"][a][b] - sp.Add(*[BD[i][a] * h["C"][i][b] for i in range(L)]))
-              for b in range(r)] for a in range(r)]
-        U = [row[:] for row in S]
-        Lf = [[sp.S.Zero] * r for _ in range(r)]
-        for k in range(r):
-            for i in range(k + 1, r):
-                Lf[i][k] = self.emit(f"LU_{i}_{k}", U[i][k] / U[k][k])
-                for j in range(k + 1, r):
-                    U[i][j] = self.emit(f"LU_{i}_{j}_{k}", U[i][j] - Lf[i][k] * U[k][j])
-        Uinv = [self.emit(f"Uinv_{k}", 1 / U[k][k]) for k in range(r)]
-        return {**h, "Dinv": Dinv, "BD": BD, "L": Lf, "U": U, "Uinv": Uinv}
-
-    def solve(self, fac: dict, core_rhs: Sequence[sp.Expr], leaf_rhs: Sequence[sp.Expr], tag: str) -> list[sp.Expr]:
-        """M x = v by the structure, v = (core_rhs at core rows, leaf_rhs at leaf rows).
-
-        Returns x ordered as the coordinates.  Zero entries of v cost nothing (a ball whose row of
-        v is zero contributes neither to the reduced right-hand side nor to its own back-substitution
-        beyond C_i . x_core).
-        """
-        r, L = self.r, len(self.leaves)
-        g = [self.emit(f"gs{tag}_{a}", core_rhs[a] - sp.Add(*[fac["BD"][i][a] * leaf_rhs[i] for i in range(L)]))
-             for a in range(r)]
-        z = []
-        for a in range(r):
-            z.append(self.emit(f"zs{tag}_{a}", g[a] - sp.Add(*[fac["L"][a][b] * z[b] for b in range(a)])))
-        xc = [sp.S.Zero] * r
-        for a in reversed(range(r)):
-            xc[a] = self.emit(f"xs{tag}_{a}", (z[a] - sp.Add(*[fac["U"][a][b] * xc[b] for b in range(a + 1, r)]))
-                              * fac["Uinv"][a])
-        xl = [self.emit(f"xs{tag}_{r + i}", (leaf_rhs[i] - sp.Add(*[fac["C"][i][a] * xc[a] for a in range(r)]))
-                        * fac["Dinv"][i]) for i in range(L)]
-        x = [sp.S.Zero] * self.N
-        for a, k in enumerate(self.core):
-            x[k] = xc[a]
-        for i, k in enumerate(self.leaves):
-            x[k] = xl[i]
-        return x
-
-
-def _residual_rows(builder: _Builder) -> list[sp.Expr]:
-    """R_k = f_k - sum_j M_kj q''_j with the accelerations as symbols (after the speed law)."""
-    acc = [c.qdd for c in builder.coordinates]
-    rows = []
-    for k in range(builder.N):
-        row = builder.f[k]
-        for j in range(builder.N):
-            entry = builder.mass_entries.get((k, j))
-            if entry is not None:
-                row -= entry * acc[j]
-        rows.append(row)
-    return rows
-
-
-def _rhs_program(blocks: _Blocks, osc: Oscillator | None) -> Program:
-    b = _Builder(blocks)
-    h = b.base()
-    fac = b.factor(h)
-    x = b.solve(fac, [h["f"][k] for k in b.core], [h["f"][k] for k in b.leaves], "")
-    N = b.N
-    coords = blocks.coordinates
-    outputs = [(k, coords[k].qd) for k in range(N)] + [(N + k, x[k]) for k in range(N)]
-    extra = osc.rates() if osc is not None else ()
-    outputs += [(2 * N + r, rate) for r, rate in enumerate(extra)]
-    return Program(tuple(b.statements), tuple(outputs), (2 * N + len(extra),))
-
-
-def _derivative_program(blocks: _Blocks, wrt: Sequence[sp.Symbol], top: dict[tuple[int, int], sp.Expr],
-                        osc: Oscillator | None) -> Program:
-    """d(y')/dz for z in `wrt`: the rows of the accelerations by the structured solve per column
-    (and the oscillator's rows, if any, by plain differentiation)."""
-    b = _Builder(blocks)
-    N = b.N
-    rows = _residual_rows(b)
-    deriv = {}
-    for k, row in enumerate(rows):
-        free = row.free_symbols
-        for j, z in enumerate(wrt):
-            if z in free:
-                d = sp.diff(row, z)
-                if d != 0:
-                    deriv[(k, j)] = d
-    keys = sorted(deriv)
-    h = b.base()
-    fac = b.factor(h)
-    acc = b.solve(fac, [h["f"][k] for k in b.core], [h["f"][k] for k in b.leaves], "")
-    # the derivatives were taken at fixed accelerations: the solved ones go in, and the
-    # subexpressions already computed for the right-hand side are reused, not recomputed
-    accel_of = {c.qdd: acc[k] for k, c in enumerate(blocks.coordinates)}
-    exprs = [deriv[key].xreplace(accel_of).xreplace(b.known) for key in keys]
-    repl, red = _cse(exprs, "v_")
-    for sym, expr in repl:
-        b.names.made.add(sym.name)
-        b.statements.append((sym, expr))
-    dR = {key: b.emit(f"dR_{key[0]}_{key[1]}", e) for key, e in zip(keys, red)}
-    ncol = len(wrt)
-    outputs = [((i, j), v) for (i, j), v in top.items()]
-    for j in range(ncol):
-        core_v = [dR.get((k, j), sp.S.Zero) for k in b.core]
-        leaf_v = [dR.get((k, j), sp.S.Zero) for k in b.leaves]
-        if all(v == 0 for v in core_v + leaf_v):
-            continue
-        x = b.solve(fac, core_v, leaf_v, f"_{j}")
-        outputs += [((N + k, j), x[k]) for k in range(N) if x[k] != 0]
-    extra = osc.rates() if osc is not None else ()
-    for r, rate in enumerate(extra):
-        outputs += [((2 * N + r, j), d) for j, z in enumerate(wrt) if (d := sp.diff(rate, z)) != 0]
-    flat = sorted(((i * ncol + j), v) for (i, j), v in outputs)
-    return Program(tuple(b.statements), tuple(flat), (2 * N + len(extra), ncol))
-
-
-def _mass_forcing_programs(blocks: _Blocks) -> tuple[Program, Program]:
-    N = blocks.N
-    keys = sorted(blocks.mass)
-    repl, red = _cse([blocks.mass[k] for k in keys], _TEMP_PREFIX)
-    mass = Program(tuple(repl), tuple((i * N + j, e) for (i, j), e in zip(keys, red)), (N, N))
-    repl, red = _cse(blocks.f, _TEMP_PREFIX)
-    forcing = Program(tuple(repl), tuple((k, e) for k, e in enumerate(red) if e != 0), (N,))
-    return mass, forcing
-
-
-def _describe(name: str) -> str:
-    if name.endswith("_dot"):
-        return f"rate of {name[:-4]}"
-    return "angle of a ball from the rotor's eccentricity (rad)" if name.startswith("phi_") else "rotor coordinate"
-
-
-def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
-          start: Sequence[float] | None = None, start_label: str = "",
-          start_parameters: Sequence[float] | None = None, oscillator: bool = False,
-          autonomous_extension: "ModelIR | None" = None) -> ModelIR:
-    """Lower a first-order system to the intermediate form (pure: same input, same output).
-
-    With `oscillator`, the periodically forced system is lowered in its autonomous extension
-    (`Oscillator`): two more states, osc_sin and osc_cos, after the rates.
-    """
-    if not name.isidentifier():
-        raise ValueError(f"model name {name!r} is not an identifier")
-    eom = system.solve.eom
-    coords = system.coordinates
-    N = len(coords)
-    states = tuple(State(s.name, s, _describe(s.name)) for s in system.states)
-    params = tuple(system.parameters)
-    y_syms = list(system.states)
-    blocks, osc = _blocks(system, oscillator)
-    if osc is not None:
-        states += (State(osc.sin.name, osc.sin, f"sin({osc.frequency} t) on the oscillator's limit cycle (paper (40))"),
-                   State(osc.cos.name, osc.cos, f"cos({osc.frequency} t) on the oscillator's limit cycle (paper (40))"))
-        y_syms += [osc.sin, osc.cos]
-    rhs = _rhs_program(blocks, osc)
-    time_free = all(eom.time not in e.free_symbols for _, e in rhs.assignments) and \
-        all(eom.time not in e.free_symbols for _, e in rhs.outputs)
-    jac = _derivative_program(blocks, y_syms, {(k, N + k): sp.S.One for k in range(N)}, osc)
-    jac_p = _derivative_program(blocks, [p.symbol for p in params], {}, osc)
-    mass, forcing = _mass_forcing_programs(blocks)
-    taken = {s.name for s in states} | {p.name for p in params}
-    for prog in (rhs, jac, jac_p, mass, forcing):
-        clash = taken & {lhs.name for lhs, _ in prog.assignments}
-        if clash:
-            raise ValueError(f"statement names clash with model symbols: {sorted(clash)}")
-    return ModelIR(
-        name=name, title=title, reference=system.reference, n_balls=n_balls, autonomous=time_free,
-        states=states, parameters=params,
-        core=tuple(coords[k].name for k in blocks.core), leaves=tuple(coords[k].name for k in blocks.leaves),
-        mass_pattern=tuple(sorted(blocks.mass)), rhs=rhs, jac=jac, jac_p=jac_p, mass=mass,
-        forcing=forcing, start=tuple(float(v) for v in start) if start is not None else None,
-        start_label=start_label,
-        start_parameters=tuple(float(v) for v in (start_parameters if start_parameters is not None
-                                                 else [p.default for p in params])) if start is not None else None,
-        forcing_frequency=str(osc.frequency) if osc is not None else "",
-        autonomous_extension=autonomous_extension,
-    )

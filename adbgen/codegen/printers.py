@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import keyword
+import math
 import re
 
 import sympy as sp
@@ -109,9 +110,17 @@ class _Rules:
         saved = self._settings["order"]
         self._settings["order"] = "none"
         try:
-            return super()._print_Mul(sp.Mul(*self._order.ordered(expr.args), evaluate=False), **kwargs)
+            text = super()._print_Mul(sp.Mul(*self._order.ordered(expr.args), evaluate=False), **kwargs)
         finally:
             self._settings["order"] = saved
+        # SymPy prints a single denominator as "a/" + den; a power printed as a product (t*t) must then
+        # be parenthesised: a/(t*t), not a/t*t (first met with the ramp's 1/t_ramp^2)
+        dens = [f for f in expr.args if f.is_Pow and f.exp.is_Rational and f.exp.is_negative]
+        if len(dens) == 1 and dens[0].exp.is_Integer and 2 <= -int(dens[0].exp) <= _MAX_PRODUCT_POWER:
+            inner = self._print(sp.Pow(dens[0].base, -dens[0].exp))
+            if text.endswith("/" + inner):
+                text = text[: -len(inner)] + f"({inner})"
+        return text
 
     def _print_Symbol(self, expr):
         return self._names.get(expr, expr.name)
@@ -142,4 +151,10 @@ class PythonPrinter(_Rules, PythonCodePrinter):
 
 
 class CPrinter(_Rules, C99CodePrinter):
-    """C99 with <math.h>."""
+    """C99 with <math.h>; constants as literals (M_PI, M_E are POSIX, not C99)."""
+
+    def _print_Pi(self, expr):
+        return repr(math.pi)
+
+    def _print_Exp1(self, expr):
+        return repr(math.e)

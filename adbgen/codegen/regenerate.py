@@ -8,6 +8,7 @@ only land in the final moves, which take milliseconds; each move is atomic).
 
 from __future__ import annotations
 
+import difflib
 import os
 import shutil
 import tempfile
@@ -16,18 +17,18 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable
 
-from ..errors import AdbgenError
-from ..single_plane import verify
-from .models import ModelSpec, lowering_error
-from .render import TARGETS, render_index, render_model, skipped_targets
+from .checks import CheckFailed, check_lowering, check_start
+from .render import render_index, render_model, skipped_targets
+from .spec import Check, ModelSpec
 
-DEFAULT_OUT = Path(__file__).resolve().parents[2] / "generated"
+_ROOT = Path(__file__).resolve().parents[2]
+# generated/ of the source checkout this package runs from; an installed package has none (give --out)
+DEFAULT_OUT = _ROOT / "generated"
+IN_SOURCE_CHECKOUT = (_ROOT / "pyproject.toml").is_file() and (_ROOT / "adbgen").is_dir()
 IGNORED_DIRS = {"__pycache__"}
-LOWERING_TOLERANCE = 1e-12
+DIFF_LINES = 40  # lines of unified diff shown per stale file by `regenerate --check`
 
-
-class CheckFailed(AdbgenError):
-    pass
+__all__ = ["CheckFailed", "DEFAULT_OUT", "IN_SOURCE_CHECKOUT", "Rendered", "diff", "render_all", "stale", "write"]
 
 
 @dataclass(frozen=True)
@@ -36,49 +37,29 @@ class Rendered:
     models: tuple[str, ...]
 
 
-def _checks_for(specs: Iterable[ModelSpec]) -> list[Callable[[], verify.CheckResult]]:
-    """The reduction checks behind the models: rotating frame, Appendix A and steady states for the
-    thesis models, the fixed-frame derivation for the fixed-frame ones (once per n)."""
-    checks, seen = [], set()
+def _checks_for(specs: Iterable[ModelSpec]) -> list[Check]:
+    """The reduction checks the model specs carry, each once (models of one family share them)."""
+    out, seen = [], set()
     for spec in specs:
-        family = spec.name.rsplit("_n", 1)[0]
-        kinds = {"thesis_rotating": (verify.rotating, verify.appendix_a, verify.steady_states),
-                 "single_plane_fixed": (verify.prescribed_speed,)}.get(family, ())
-        for fn in kinds:
-            if (fn, spec.n) not in seen:
-                seen.add((fn, spec.n))
-                checks.append(lambda fn=fn, n=spec.n: fn(n))
-    return checks
+        for check in spec.checks:
+            if check.key not in seen:
+                seen.add(check.key)
+                out.append(check)
+    return out
 
 
-def _check_start(ir) -> None:
-    """The start point is a steady state (an equilibrium; on an oscillator extension, a point of a
-    periodic orbit at rest apart from the oscillator) of the rendered rhs, to rounding: 1e-12 of the
-    rhs's size at the start with its angles turned by 0.1 rad."""
-    import numpy as np
-
-    from .interpret import compile_program
-
-    f = compile_program(ir, "rhs")
-    y, p = np.array(ir.start), np.array(ir.start_parameters)
-    rows = slice(0, 2 * ir.n_coordinates)  # not the oscillator's rows, if any
-    turned = y.copy()
-    for k, name in enumerate(ir.state_names[: ir.n_coordinates]):
-        if name.startswith("phi_"):
-            turned[k] += 0.1
-    scale = max(1.0, float(np.max(np.abs(f(0.0, turned, p)[rows]))))
-    residual = float(np.max(np.abs(f(0.0, y, p)[rows])))
-    if not residual <= 1e-12 * scale:
-        raise CheckFailed(f"{ir.name}: the start point ({ir.start_label}) is not at rest: |rhs| = {residual:.2e} "
-                          f"(scale {scale:.2e})")
-
-
-def render_all(specs: list[ModelSpec], targets=tuple(TARGETS), run_checks: bool = True,
+def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
                progress: Callable[[str], None] = lambda line: None) -> Rendered:
-    """Derive, check and render every model in memory; raises CheckFailed before anything is written."""
+    """Derive, check and render every model in memory; raises CheckFailed before anything is written.
+
+    `targets`: names of the targets to render (default: every registered one)."""
+    names = [spec.name for spec in specs]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise CheckFailed(f"two models named {', '.join(twice)}")
     if run_checks:
         for check in _checks_for(specs):
-            r = check()
+            r = check.run()
             progress(f"check  {'ok  ' if r.passed else 'FAIL'} {r.name} [{r.reference}] ({r.seconds:.1f} s)")
             if not r.passed:
                 raise CheckFailed(f"reduction check failed: {r.name} [{r.reference}]: {r.detail}")
@@ -87,21 +68,18 @@ def render_all(specs: list[ModelSpec], targets=tuple(TARGETS), run_checks: bool 
     for k, spec in enumerate(specs, 1):
         start = time.perf_counter()
         system = spec.system()
-        ir = spec.build()
-        err = lowering_error(ir, system)
-        if not err <= LOWERING_TOLERANCE:
-            raise CheckFailed(f"{spec.name}: the structured rhs differs from the closed form by {err:.2e} "
-                              f"(tolerance {LOWERING_TOLERANCE:g})")
+        ir = spec.build(system)
+        err = check_lowering(ir, system)
         for model in (ir, ir.autonomous_extension):
             if model is not None and model.start is not None:
-                _check_start(model)
+                check_start(model)
         model_files = render_model(ir, targets)
         files.update(model_files)
         index.append((ir.name, ir.title, ir.reference))
         progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, rhs {ir.rhs.count_ops()} ops, "
                  f"jac {ir.jac.count_ops()} ops, lowering error {err:.1e}, {len(model_files)} files "
                  f"({time.perf_counter() - start:.1f} s)"
-                 + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir).items() if t in targets))
+                 + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))
     files.update(render_index(index))
     return Rendered(files, tuple(name for name, _, _ in index))
 
@@ -131,6 +109,18 @@ def stale(rendered: Rendered, out: Path, extra: bool = True) -> dict[str, str]:
     for rel in sorted(set(have) - set(rendered.files)) if extra else ():
         report[rel] = "not generated"
     return report
+
+
+def diff(rendered: Rendered, out: Path, rel: str, lines: int = DIFF_LINES) -> str:
+    """Unified diff of one stale file (what is in `out` -> what would be written), at most `lines` lines."""
+    path = out / rel
+    old = path.read_text(errors="replace").splitlines(keepends=True) if path.is_file() else []
+    new = rendered.files.get(rel, "").splitlines(keepends=True)
+    text = list(difflib.unified_diff(old, new, f"{out.name}/{rel} (on disk)", f"{out.name}/{rel} (regenerated)", n=2))
+    shown = "".join(line if line.endswith("\n") else line + "\n" for line in text[:lines])
+    if len(text) > lines:
+        shown += f"... ({len(text) - lines} more diff lines)\n"
+    return shown
 
 
 def write(rendered: Rendered, out: Path, prune: bool = True) -> list[str]:

@@ -1,13 +1,15 @@
-"""Render a model's intermediate form through the jinja2 templates of every target.
+"""Render a model's intermediate form through the jinja2 templates of every registered target.
 
-Targets (files relative to the output folder)::
+Targets live in `targets/<name>/` (templates beside their configuration, shipped in the wheel) and are
+registered in `targets.REGISTRY`; the output index (generated/__init__.py, README.md) renders from
+`package_templates/`.  Files relative to the output folder, for the built-in targets::
 
-    <model>/__init__.py             numba module            templates/numba/module.py.j2
-    <model>/<model>.h, .c           C99 library             templates/c/
-    <model>/<model>_cvode.h, .c     SUNDIALS CVODE adaptor  templates/cvode/
-    <model>/<model>_cvode_main.c    CVODE driver program    templates/cvode/
-    <model>/auto/<model>.c          AUTO-07p user file      templates/auto/
-    <model>/auto/c.<model>          AUTO-07p constants      templates/auto/
+    <model>/__init__.py             numba module            targets/numba/
+    <model>/<model>.h, .c           C99 library             targets/c/
+    <model>/<model>_cvode.h, .c     SUNDIALS CVODE adaptor  targets/cvode/
+    <model>/<model>_cvode_main.c    CVODE driver program    targets/cvode/
+    <model>/auto/<model>.c          AUTO-07p user file      targets/auto/
+    <model>/auto/c.<model>          AUTO-07p constants      targets/auto/
     <model>/auto/c.<model>.2        its second stage (forced models: continuation in omega)
 
 Rendering is pure: the same intermediate form and templates give the same bytes (sorted symbols,
@@ -26,10 +28,11 @@ import sympy as sp
 
 from .. import __version__
 from ..errors import AdbgenError
+from . import targets
 from .ir import ModelIR, Program
 from .printers import CPrinter, PythonPrinter, identifiers
 
-TEMPLATES = Path(__file__).resolve().parents[2] / "templates"
+PACKAGE_TEMPLATES = Path(__file__).resolve().parent / "package_templates"
 
 
 def _pytuple(values) -> str:
@@ -44,21 +47,40 @@ def _pylist(values) -> str:
     return "[" + ", ".join(repr(float(v)) for v in values) + "]"
 
 
-@lru_cache(maxsize=1)
 def environment() -> jinja2.Environment:
-    if not TEMPLATES.is_dir():
-        raise AdbgenError(f"templates folder not found at {TEMPLATES}")
-    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATES)), undefined=jinja2.StrictUndefined,
-                             keep_trailing_newline=True, autoescape=False)
-    env.filters.update(pyrepr=repr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float)
-    return env
+    return _environment(targets.generation())
 
 
 def template_digest() -> str:
-    """sha256 of every template file (names and bytes, sorted)."""
+    return _template_digest(targets.generation())
+
+
+@lru_cache(maxsize=4)
+def _environment(generation: int) -> jinja2.Environment:
+    """One environment over every registered target's templates, each under its target's name
+    ("c/model.c.j2" is targets/c/templates/model.c.j2), and the output index's ("package/...")."""
+    folders = {"package": PACKAGE_TEMPLATES} | {t.name: t.templates for t in targets.all_targets()}
+    for name, folder in folders.items():
+        if not folder.is_dir():
+            raise AdbgenError(f"templates of {name!r} not found at {folder} (a broken installation?)")
+    loader = jinja2.PrefixLoader({name: jinja2.FileSystemLoader(str(folder)) for name, folder in folders.items()})
+    env = jinja2.Environment(loader=loader, undefined=jinja2.StrictUndefined,
+                             keep_trailing_newline=True, autoescape=False)
+    env.filters.update(pyrepr=repr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float)
+    for target in targets.all_targets():
+        env.filters.update(target.filters)
+    return env
+
+
+@lru_cache(maxsize=4)
+def _template_digest(generation: int) -> str:
+    """sha256 of every registered target's templates (names as the templates see them, and bytes, sorted)."""
     h = hashlib.sha256()
-    for path in sorted(TEMPLATES.rglob("*.j2")):
-        h.update(path.relative_to(TEMPLATES).as_posix().encode())
+    files = sorted((f"{t.name}/{p.relative_to(t.templates).as_posix()}", p)
+                   for t in targets.all_targets() for p in t.templates.rglob("*.j2"))
+    files += sorted((f"package/{p.relative_to(PACKAGE_TEMPLATES).as_posix()}", p) for p in PACKAGE_TEMPLATES.rglob("*.j2"))
+    for name, path in sorted(files):
+        h.update(name.encode())
         h.update(path.read_bytes())
     return h.hexdigest()
 
@@ -100,49 +122,55 @@ def _c_float(value: float) -> str:
     return text if any(c in text for c in ".eEn") else text + ".0"
 
 
-def context(ir: ModelIR) -> dict:
+_PRINTERS = {"py": PythonPrinter, "c": CPrinter}
+
+
+def _base_context(ir: ModelIR) -> dict:
+    return {"ir": ir, "source_hash": source_hash(ir), "P": ir.name.upper(),
+            "units": [p.unit for p in ir.parameters], "defaults": [p.default for p in ir.parameters],
+            "coordinates": [s.name for s in ir.states[: ir.n_coordinates]], "version": __version__}
+
+
+def _programs(ir: ModelIR, language: str) -> dict:
     names = identifiers(ir)
-    out = {"ir": ir, "source_hash": source_hash(ir), "P": ir.name.upper(),
-           "units": [p.unit for p in ir.parameters], "defaults": [p.default for p in ir.parameters],
-           "coordinates": [s.name for s in ir.states[: ir.n_coordinates]], "version": __version__}
-    for lang, printer in (("py", PythonPrinter(names)), ("c", CPrinter(names))):
-        out[f"programs_{lang}"] = {key: _program_context(getattr(ir, key), ir, printer, names)
-                                   for key in ("rhs", "jac", "jac_p", "mass", "forcing")}
+    printer = _PRINTERS[language](names)
+    return {key: _program_context(getattr(ir, key), ir, printer, names) for key in ("rhs", "jac", "jac_p", "mass", "forcing")}
+
+
+def context(ir: ModelIR, target: "targets.Target", _memo: dict | None = None) -> dict:
+    """Everything one target's templates see for one model: the common data, the programs printed in
+    the target's language, and the target's own decisions (under the target's name).  `_memo` shares
+    the common parts between the targets of one model."""
+    memo = _memo if _memo is not None else {}
+    if ("base", id(ir)) not in memo:
+        memo[("base", id(ir))] = _base_context(ir)
+    if (target.language, id(ir)) not in memo:
+        memo[(target.language, id(ir))] = _programs(ir, target.language)
+    return {**memo[("base", id(ir))], "programs": memo[(target.language, id(ir))], target.name: target.context(ir)}
+
+
+def skipped_targets(ir: ModelIR, names=None) -> dict[str, str]:
+    """Targets a model does not get, and why."""
+    out = {}
+    for target in targets.all_targets():
+        if names is None or target.name in names:
+            why = target.skip_reason(ir)
+            if why:
+                out[target.name] = why
     return out
 
 
-# (template, output path) per target; {name} is the model's name
-TARGETS = {
-    "numba": [("numba/module.py.j2", "{name}/__init__.py", "py")],
-    "c": [("c/model.h.j2", "{name}/{name}.h", "c"), ("c/model.c.j2", "{name}/{name}.c", "c")],
-    "cvode": [("cvode/adaptor.h.j2", "{name}/{name}_cvode.h", "c"), ("cvode/adaptor.c.j2", "{name}/{name}_cvode.c", "c"),
-              ("cvode/driver.c.j2", "{name}/{name}_cvode_main.c", "c")],
-    "auto": [("auto/user.c.j2", "{name}/auto/{name}.c", "c"), ("auto/constants.j2", "{name}/auto/c.{name}", "c"),
-             # second continuation stage: forced models only (the template is empty otherwise)
-             ("auto/constants_stage2.j2", "{name}/auto/c.{name}.2", "c")],
-}
-
-
-def skipped_targets(ir: ModelIR) -> dict[str, str]:
-    """Targets a model does not get, and why."""
-    if ir.autonomous or ir.autonomous_extension is not None:
-        return {}
-    return {"auto": "explicit time and no autonomous extension with a known start orbit "
-                     "(AUTO-07p continues autonomous systems only)"}
-
-
-def render_model(ir: ModelIR, targets=tuple(TARGETS)) -> dict[str, str]:
-    """{relative path: text} of every target's files for one model."""
+def render_model(ir: ModelIR, names=None) -> dict[str, str]:
+    """{relative path: text} of the files of the given targets (default: every registered one) for one model."""
     env = environment()
-    ctx = context(ir)
-    files = {}
-    for target in targets:
-        if target in skipped_targets(ir):
+    files, memo = {}, {}
+    for target in targets.all_targets():
+        if (names is not None and target.name not in names) or target.skip_reason(ir):
             continue
-        # AUTO-07p gets a periodically forced model as its autonomous extension (oscillator)
-        tctx = context(ir.autonomous_extension) if target == "auto" and not ir.autonomous else ctx
-        for template, path, lang in TARGETS[target]:
-            text = env.get_template(template).render(**tctx, programs=tctx[f"programs_{lang}"])
+        model = target.model_for(ir)
+        ctx = context(model, target, memo)
+        for template, path in target.files:
+            text = env.get_template(template).render(**ctx)
             if text.strip():
                 files[path.format(name=ir.name)] = text
     return files

@@ -12,10 +12,10 @@ import sys
 from pathlib import Path
 
 from .ir import ModelIR
-from .render import TARGETS, render_model
+from .render import render_model
 
 
-def render_into(ir: ModelIR, root: Path, targets=tuple(TARGETS)) -> Path:
+def render_into(ir: ModelIR, root: Path, targets=None) -> Path:
     """Write the model's files under `root`; returns the model's folder, root/<name>."""
     for rel, text in render_model(ir, targets).items():
         path = root / rel

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..mechanics import Coordinate
+from ..core import Coordinate
 
 sin, cos = sp.sin, sp.cos
 

@@ -1,7 +1,7 @@
 """The printed equations of Rodrigues, Champneys, Friswell & Wilson (2011), transcribed for comparison only.
 
 Source: ../shared/references/two-plane-balancing-2011.txt ("Two-plane automatic balancing: a symmetry
-breaking analysis", Int. J. Non-Linear Mech. 46(9)).  Nothing in `adbgen.two_plane` is built from this
+breaking analysis", Int. J. Non-Linear Mech. 46(9)).  Nothing in `adbgen.families.two_plane` is built from this
 module: the model is derived from the kinematics, and the tests show it equals these equations as exact
 identities (each complex equation split into real and imaginary parts).
 
@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..mechanics import Coordinate
+from ..core import Coordinate
 
 I = sp.I
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from adbgen.codegen import models
+from adbgen import families
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.scratch import import_numba, render_into
 
@@ -29,7 +29,7 @@ def generated_model(tmp_path_factory):
     def get(family: str, n: int):
         key = (family, n)
         if key not in _cache:
-            spec = models.FAMILIES[family](n)
+            spec = families.kinds()[family](n)
             system = spec.system()
             folder = DEFAULT_OUT / spec.name
             if folder.is_dir():

@@ -30,144 +30,32 @@ Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
 
 from __future__ import annotations
 
+import dataclasses
+
 import ctypes
-import os
 import re
 import shutil
 import subprocess
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from adbgen.codegen import models
+from adbgen.families.single_plane import models
 from adbgen.codegen.regenerate import DEFAULT_OUT
-from adbgen.codegen.render import render_model
-from adbgen.single_plane.steady_states import critical_speeds
+from adbgen.codegen.ir import Continuation
+from adbgen.codegen.render import render_model, skipped_targets
+from adbgen.families.single_plane.steady_states import critical_speeds
 
 # helpers of this folder (conftest.py puts it on sys.path)
-from toolchain import require_tool
+from autorun import (AUTO_DIR, Point, auto_header, auto_toolchain, build_and_run, fortran_number, read_fort7,  # noqa: F401
+                     read_fort8, read_multipliers, run_auto, unlabelled_stability_changes)
+from toolchain import require_tool  # noqa: F401
 
 
-AUTO_DIR = Path(os.environ.get("AUTO_DIR", "/usr/lib/auto-07p"))
 MU, ZETA, BETA, DELTA = 0.05, 0.01, 0.01, 0.01
 TOL = 1e-5
-BIFURCATIONS = {1: "BP", 2: "LP", 3: "HB"}  # |TY| in fort.7; 4 regular/UZ, 9 end points
-
-
-def _auto_header() -> Path | None:
-    for folder in (AUTO_DIR / "include", Path("/usr/include")):
-        if (folder / "auto_f2c.h").is_file():
-            return folder
-    return None
-
-
-@pytest.fixture(scope="module")
-def auto_toolchain():
-    missing = [what for what, ok in (
-        ("auto-07p (cmds/cmds.make)", (AUTO_DIR / "cmds" / "cmds.make").is_file()),
-        ("auto-07p (lib/libauto_c.a)", (AUTO_DIR / "lib" / "libauto_c.a").is_file()),
-        ("auto-07p (auto_f2c.h)", _auto_header() is not None),
-        ("gfortran", shutil.which("gfortran") is not None),
-        ("gcc", shutil.which("gcc") is not None),
-        ("make", shutil.which("make") is not None),
-    ) if not ok]
-    require_tool(not missing, ", ".join(missing) + " (Debian packages auto-07p gfortran)")
-    return AUTO_DIR
-
-
-# --- fort.7 ---------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class Point:
-    branch: int
-    pt: int  # negative: stable
-    ty: int  # 1 BP, 2 LP, 3 HB, 4 regular output (-4 UZ), 9 / -9 end points, 0 not printed to fort.8
-    label: int
-    values: dict  # column title of fort.7 (PAR(1), L2-NORM, U(1), ..., PAR(6)) -> value
-
-    @property
-    def stable(self) -> bool:
-        return self.pt < 0
-
-    @property
-    def kind(self) -> str | None:
-        return BIFURCATIONS.get(abs(self.ty))
-
-
-def _number(text: str) -> float:
-    """Fortran E format; an exponent of three digits may lose its E ('1.7976+308')."""
-    if not re.search(r"[eEdD]", text):
-        text = re.sub(r"(?<=[0-9.])([+-]\d+)$", r"E\1", text)
-    return float(text.replace("D", "E").replace("d", "e"))
-
-
-def _titles(fields: list[str]) -> list[str]:
-    """fort.7 column titles; periodic orbits (IPS = 2) print 'MAX U(1)', two words, joined here as 'MAX U(1)'."""
-    out = []
-    for field in fields:
-        if out and out[-1] in ("MAX", "MIN"):
-            out[-1] += " " + field
-        else:
-            out.append(field)
-    return out
-
-
-def read_fort7(path: Path) -> list[Point]:
-    """Every continuation step of fort.7: lines starting with BR = 0 are headers (the last header
-    before the data names its columns: 0 PT TY LAB PAR(1) L2-NORM U(1) ..., or MAX U(1) ... PERIOD
-    for periodic orbits); the others are
-    BR PT TY LAB followed by those columns."""
-    points, titles = [], None
-    for line in path.read_text().splitlines():
-        fields = line.split()
-        if not fields:
-            continue
-        if fields[0] == "0":
-            if len(fields) > 4 and fields[1:4] == ["PT", "TY", "LAB"]:
-                titles = _titles(fields[4:])
-            continue
-        assert titles is not None, f"fort.7 data before its column titles: {line!r}"
-        br, pt, ty, lab = (int(v) for v in fields[:4])
-        values = [_number(v) for v in fields[4:]]
-        assert len(values) == len(titles), line
-        points.append(Point(br, pt, ty, lab, dict(zip(titles, values))))
-    return points
-
-
-def unlabelled_stability_changes(points: list[Point]) -> list[tuple[Point, Point]]:
-    """Consecutive steps whose stability differs without a labelled bifurcation at either of them."""
-    return [(a, b) for a, b in zip(points, points[1:])
-            if a.branch == b.branch and a.stable != b.stable and not (a.kind or b.kind)]
-
-
-# --- building and running -------------------------------------------------------------------------
-
-def build_and_run(files: dict[str, str], name: str, workdir: Path, constants_file: str | None = None) -> str:
-    """Write the user and constants files, build and run them with AUTO's make runner (reading the
-    constants c.<name>, or `constants_file`); its output."""
-    workdir.mkdir(parents=True, exist_ok=True)
-    for filename, text in files.items():
-        (workdir / filename).write_text(text)
-    env = dict(os.environ, AUTO_DIR=str(AUTO_DIR))
-    with open(workdir / (constants_file or f"c.{name}")) as constants:
-        r = subprocess.run(["make", "-f", str(AUTO_DIR / "cmds" / "cmds.make"), f"EQUATION_NAME={name}"],
-                           stdin=constants, cwd=workdir, env=env, capture_output=True, text=True, timeout=120)
-    return f"--- stdout\n{r.stdout[-4000:]}\n--- stderr\n{r.stderr[-4000:]}"
-
-
-def run_auto(files: dict[str, str], name: str, workdir: Path) -> list[Point]:
-    """Build and run with AUTO's make runner, read fort.7."""
-    log = build_and_run(files, name, workdir)
-    # cmds.make is .IGNORE: a failed compile or run does not change make's exit status
-    assert (workdir / f"{name}.exe").is_file(), f"AUTO build failed\n{log}"
-    assert (workdir / "fort.7").is_file(), f"AUTO did not run\n{log}"
-    assert "Unknown AUTO constant" not in log, log
-    points = read_fort7(workdir / "fort.7")
-    assert points, f"empty fort.7\n{log}"
-    return points
 
 
 def rendered_auto(ir) -> dict[str, str]:
@@ -264,7 +152,8 @@ def test_coincident_states_fold_at_the_critical_speeds(auto_toolchain, generated
     module, _, _ = generated_model("thesis_rotating", 2)
     spec = models.ModelSpec(f"coincident_n2_{which}", "thesis n = 2 from the coincident state 2+", 2,
                             models.thesis_rotating(2).system,
-                            lambda s: models.balanced_start(s, 2, "coincident", Omega=omega0))
+                            lambda s: models.balanced_start(s, 2, "coincident", Omega=omega0),
+                            continuation=models.steady_continuation("Omega", stop=(0.5, 6.0)))
     ir = spec.build()
     assert "coincident" in ir.start_label and ir.start_parameters[0] == omega0
     points = run_auto(rendered_auto(ir), spec.name, tmp_path)
@@ -304,7 +193,7 @@ def _harness(user_file: str, name: str, ndim: int, tmp_path: Path):
     (tmp_path / "harness.c").write_text(HARNESS.format(name=name, ndim=ndim))
     lib = tmp_path / "harness.so"
     r = subprocess.run(["gcc", "-std=gnu99", "-O1", "-Wall", "-Wextra", "-Werror", "-fPIC", "-shared",
-                        "-I", str(_auto_header()), "-o", str(lib), "harness.c", "-lm"],
+                        "-I", str(auto_header()), "-o", str(lib), "harness.c", "-lm"],
                        cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     return ctypes.CDLL(str(lib))
@@ -345,64 +234,15 @@ def test_func_dfdu_dfdp_stpnt_pvls_equal_the_numba_module(auto_toolchain, genera
 FORCED = "single_plane_fixed_n2"
 
 
-@dataclass(frozen=True)
-class Orbit:
-    """One labelled solution of fort.8: AUTO's scaled time t in [0, 1], u (NTPL x NDIM), PAR(1..NPAR)."""
-
-    label: int
-    ty: int
-    t: np.ndarray
-    u: np.ndarray
-    par: np.ndarray
-
-
-def read_fort8(path: Path) -> list[Orbit]:
-    """fort.8: per solution a header line of integers (IBR NTOT ITP LAB NFPR ISW NTPL NAR NROWPR NTST
-    NCOL NPARX, AUTO-07p 0.9 adds NDIM IPS IPRIV ...) and NROWPR lines: NTPL points (t, U(1..NDIM)),
-    each wrapped over several lines, then the NFPR free parameter indices, their NFPR derivatives, the
-    direction vector at the NTPL points (U only, no t) and the NPARX parameters, all read here as one
-    stream of numbers."""
-    lines = path.read_text().splitlines()
-    orbits, i = [], 0
-    while i < len(lines):
-        if not lines[i].strip():
-            i += 1
-            continue
-        head = [int(v) for v in lines[i].split()]
-        _, _, itp, lab, nfpr, _, ntpl, nar, nrowpr, _, _, npar = head[:12]
-        tokens = " ".join(lines[i + 1: i + 1 + nrowpr]).split()
-        assert len(tokens) == ntpl * nar + 2 * nfpr + ntpl * (nar - 1) + npar, (lab, len(tokens))
-        points = np.array([_number(v) for v in tokens[: ntpl * nar]]).reshape(ntpl, nar)
-        par = np.array([_number(v) for v in tokens[-npar:]])
-        orbits.append(Orbit(lab, itp, points[:, 0], points[:, 1:], par))
-        i += 1 + nrowpr
-    return orbits
-
-
-def read_multipliers(path: Path, ndim: int) -> np.ndarray:
-    """The Floquet multipliers fort.9 printed last (ISP = 2): ndim complex numbers."""
-    rows = re.findall(r"^\s*-?\d+\s+-?\d+\s+Multiplier\s+\d+\s+(\S+)\s+(\S+)\s+Abs\. Val\.", path.read_text(), re.M)
-    assert len(rows) >= ndim, f"no multipliers in {path}"
-    return np.array([complex(_number(a), _number(b)) for a, b in rows[-ndim:]])
-
-
 def forced_auto_files(ir) -> dict[str, str]:
     """c.<model>, <model>.c and c.<model>.2 of a forced model: the committed generated/ files if
-    present, else rendered now (c.<model>.2 from templates/auto/constants_stage2.j2 while it is not a
-    rendered target)."""
-    from adbgen.codegen.render import context, environment
-
+    present, else rendered now."""
     name = ir.name
     folder = DEFAULT_OUT / name / "auto"
     names = (f"{name}.c", f"c.{name}", f"c.{name}.2")
     if all((folder / f).is_file() for f in names):
         return {f: (folder / f).read_text() for f in names}
-    files = rendered_auto(ir)
-    if f"c.{name}.2" not in files:
-        ctx = context(ir.autonomous_extension)
-        files[f"c.{name}.2"] = environment().get_template("auto/constants_stage2.j2").render(
-            **ctx, programs=ctx["programs_c"])
-    return files
+    return rendered_auto(ir)
 
 
 @pytest.fixture(scope="module")
@@ -456,10 +296,12 @@ def test_forced_model_renders_a_periodic_orbit_problem():
     assert re.search(rf"^ICP = \[{omega}, 11, 16\]$", c2, re.M) and re.search(rf"^UZSTOP = \{{{omega}: \[300\.0, 500\.0\]\}}$", c2, re.M)
     assert "u[8] = sin(6.283185307179586 * t);" in user and "par[10] = 6.283185307179586 / par[14];" in user
     # autonomous models have one stage: the stage-2 template renders nothing for them
+    from adbgen.codegen import targets
     from adbgen.codegen.render import context, environment
     thesis = models.thesis_rotating(2).build()
-    ctx = context(thesis)
-    assert environment().get_template("auto/constants_stage2.j2").render(**ctx, programs=ctx["programs_c"]) == ""
+    ctx = context(thesis, targets.get("auto"))
+    assert environment().get_template("auto/constants_stage2.j2").render(**ctx) == ""
+    assert "thesis_rotating_n2/auto/c.thesis_rotating_n2.2" not in render_model(thesis, ("auto",))
 
 
 def test_forced_func_and_stpnt_equal_the_forced_numba_model_on_the_cycle(auto_toolchain, generated_model, tmp_path):
@@ -594,11 +436,15 @@ def test_forced_stage2_restarts_and_continues_in_omega(forced):
 def test_more_than_ten_parameters_skip_autos_own_par_slots(auto_toolchain, tmp_path):
     """Unequal balls keep the dimensional rotating-frame model (12 parameters for n = 3):
     parameters 10 and 11 go to PAR(15), PAR(16); PAR(11)-PAR(14) stay AUTO's; it builds."""
-    from adbgen.scene import Scene
+    from adbgen.families.single_plane.scene import Scene
 
     spec = models.for_scene(Scene.from_mapping({"n": 3, "ball_mass": [0.05, 0.04, 0.03]}), "unequal_n3")
     ir = spec.build()
     assert ir.autonomous and len(ir.parameters) == 12
+    assert ir.start is None and "auto" in skipped_targets(ir)  # no steady state known: no AUTO files
+    # the PAR layout does not depend on the start: give it one (not a steady state) to render the files
+    ir = dataclasses.replace(ir, start=(0.0,) * ir.n_states, start_label="U = 0 (not a steady state)",
+                             start_parameters=tuple(p.default for p in ir.parameters), continuation=Continuation("omega"))
     files = rendered_auto(ir)
     user = files["unequal_n3.c"]
     name10, name11 = ir.parameter_names[10], ir.parameter_names[11]

@@ -8,13 +8,14 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from adbgen.codegen import ir as I
-from adbgen.codegen import models
+from adbgen.codegen import lowering as I
+from adbgen.codegen.checks import lowering_error
+from adbgen.families.single_plane import models
 from adbgen.codegen.interpret import compile_program
-from adbgen.codegen.regenerate import CheckFailed, _check_start
-from adbgen.scene import Scene
-from adbgen.single_plane.model import derive
-from adbgen.single_plane.reductions import first_order
+from adbgen.codegen.checks import CheckFailed, check_start as _check_start
+from adbgen.families.single_plane.scene import Scene
+from adbgen.families.single_plane.model import derive
+from adbgen.families.single_plane.reductions import first_order
 
 
 @pytest.fixture(scope="module")
@@ -43,12 +44,12 @@ def test_structure_is_recorded_and_the_ball_block_is_diagonal():
 def test_the_lowering_check_catches_a_wrong_program():
     spec = models.thesis_rotating(2)
     system, ir = spec.system(), spec.build()
-    assert models.lowering_error(ir, system) < 1e-12
+    assert lowering_error(ir, system) < 1e-12
     outputs = list(ir.rhs.outputs)
     k, e = outputs[5]
     outputs[5] = (k, e * (1 + sp.Rational(1, 10**6)))
     broken = dataclasses.replace(ir, rhs=dataclasses.replace(ir.rhs, outputs=tuple(outputs)))
-    assert models.lowering_error(broken, system) > 1e-8
+    assert lowering_error(broken, system) > 1e-8
 
 
 def test_the_start_check_catches_a_point_that_is_not_at_rest():
@@ -118,10 +119,10 @@ def test_statement_names_cannot_shadow_model_symbols():
 def test_a_four_by_four_core_lowers_too():
     """The two-plane rotor's rotating frame (x, y, phi_x, phi_y core; paper (7)-(8), preset (10), four
     balls): the unrolled LU of the 4x4 Schur complement equals a dense solve of the whole system."""
-    from adbgen.two_plane import reductions
-    from adbgen.two_plane.scene import TwoPlaneScene
+    from adbgen.families.two_plane import reductions
+    from adbgen.families.two_plane.scene import TwoPlaneScene
 
     system = reductions.first_order(reductions.rotating_frame(TwoPlaneScene.from_mapping({"preset": "paper-10"})))
     ir = I.build("two_plane_rotating", system, title="two-plane", n_balls=4)
     assert ir.autonomous and ir.core == ("x", "y", "phi_x", "phi_y") and len(ir.leaves) == 4
-    assert models.lowering_error(ir, system, samples=50) < 1e-12
+    assert lowering_error(ir, system, samples=50) < 1e-12

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from adbgen.codegen import models
+from adbgen import families
 from adbgen.codegen.regenerate import DEFAULT_OUT, render_all, stale
 
 ADBGEN = [sys.executable, "-m", "adbgen.cli"]
@@ -38,7 +38,7 @@ def small_tree(tmp_path_factory) -> Path:
 
 def test_committed_generated_folder_is_current():
     """What `adbgen regenerate --check` does in CI (there with the reduction checks too)."""
-    rendered = render_all(models.default_set(), run_checks=False)
+    rendered = render_all([spec for family in families.all_families() for spec in family.models()], run_checks=False)
     assert stale(rendered, DEFAULT_OUT) == {}
 
 
@@ -59,10 +59,17 @@ def test_check_names_stale_missing_and_foreign_files(small_tree, tmp_path):
     c_file.write_text(c_file.read_text() + "/* edited by hand */\n")
     (out / "single_plane_fixed_n1" / "single_plane_fixed_n1.h").unlink()
     (out / "thesis_rotating_n1" / "notes.txt").write_text("mine")
+    (out / "thesis_rotating_n1" / "thesis_rotating_n1_cvode_main.c").write_text("")
     r = run("regenerate", "--n", "1", "--out", str(out), "--check", "--skip-checks", "--quiet")
     assert r.returncode == 1
     assert f"stale: {c_file} (differs)" in r.stdout
     assert "single_plane_fixed_n1.h (missing)" in r.stdout and "notes.txt (not generated)" in r.stdout
+    # each stale file's unified diff, on disk -> regenerated
+    assert f"--- {out.name}/thesis_rotating_n1/thesis_rotating_n1.c (on disk)" in r.stdout
+    assert "\n-/* edited by hand */\n" in r.stdout and "\n@@ " in r.stdout
+    # a missing file's diff is all additions; a long one is truncated to DIFF_LINES lines
+    assert f"+++ {out.name}/single_plane_fixed_n1/single_plane_fixed_n1.h (regenerated)" in r.stdout
+    assert r.stdout.count("more diff lines)") == 1
     r = run("regenerate", "--n", "1", "--out", str(out), "--skip-checks", "--quiet")
     assert r.returncode == 0 and snapshot(out) == snapshot(small_tree) | {"thesis_rotating_n1/notes.txt": b"mine"}
 
@@ -107,7 +114,7 @@ def test_bad_scene_exits_with_one_line_and_writes_nothing(small_tree, tmp_path, 
     (["--n", "2"], "give --out DIR"),
     (["--frobnicate"], "unrecognized arguments"),
     (["--targets", "fortran"], "invalid choice"),
-    (["--scene", "s.toml", "--name", "1bad", "--out", "x"], "not an identifier"),
+    (["--scene", "s.toml", "--name", "1bad", "--out", "x"], "not a C identifier"),
 ])
 def test_bad_options_exit_with_one_line(args, message):
     r = run("regenerate", *args)
@@ -124,3 +131,32 @@ def test_a_scene_gets_its_smallest_model(tmp_path):
     assert "STATE_NAMES = ('x', 'y', 'phi_1', 'phi_2', 'phi_3'," in text  # rotating frame: autonomous
     assert "AUTONOMOUS = True" in text and "'m_3'" in text
     assert sorted(p.name for p in (out / "unequal_n3").iterdir()) == ["__init__.py", "unequal_n3.c", "unequal_n3.h"]
+
+
+@pytest.mark.parametrize("name, why", [
+    ("class", "Python keyword"), ("match", "Python keyword"), ("int", "C keyword"), ("len", "Python builtin"), ("os", "standard-library"),
+    ("json", "standard-library"), ("generated", "reserved"), ("double", "C keyword"), ("1bad", "C identifier"),
+    ("a-b", "C identifier"), ("mod\u00e8le", "C identifier"), ("__init__", "dunder"), ("__x", "dunder"),
+])
+def test_model_names_that_cannot_be_a_module_and_a_c_prefix_are_refused(name, why):
+    from adbgen.codegen.names import ModelNameError, name_problem, validate_name
+
+    assert why in name_problem(name)
+    with pytest.raises(ModelNameError, match="model name"):
+        validate_name(name)
+
+
+def test_good_model_names_pass():
+    from adbgen.codegen.names import name_problem
+
+    for name in ("thesis_rotating_n2", "two_plane_hill", "rig_A", "_private"):
+        assert name_problem(name) is None, name
+
+
+@pytest.mark.parametrize("name", ["class", "int", "generated", "os"])
+def test_a_bad_name_on_the_command_line_is_one_line_and_writes_nothing(tmp_path, name):
+    scene = tmp_path / "s.toml"
+    scene.write_text("n = 2\n")
+    r = run("regenerate", "--scene", str(scene), "--name", name, "--out", str(tmp_path / "gen"))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and f"'{name}'" in r.stderr, r.stderr
+    assert not (tmp_path / "gen").exists()

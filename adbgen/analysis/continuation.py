@@ -1,0 +1,317 @@
+"""Follow a steady state in one parameter and locate where its stability changes (thesis ch. 4).
+
+    scan(model, p, y0, "Omega", 4.0, 0.5)   -> Scan: the branch, Hopf points and folds, stable intervals
+
+Pseudo-arclength continuation on the generated rhs, jac and jac_p: unknowns z = (y, lambda); each
+step predicts along the unit tangent and corrects by Newton on
+
+    rhs(y, lambda) = 0,   T^T (y - y_pred) = 0,   t . (z - z_pred) = 0,
+
+where T is the tangent space of the balanced family (3.6) when the state lies on it (n >= 3: the
+pins keep Newton from drifting along the family; T is N x 0 otherwise).  Stability along the branch
+is that of the transverse spectrum (`steady.transverse_spectrum`: the family's zero eigenvalues
+removed exactly).  Where the number of eigenvalues with positive real part changes between two
+steps, the point is located by root finding (brentq) on the segment, parameterised by the distance
+along the chord so that folds are crossed too:
+
+* a Hopf point: a complex pair crosses; the root of the (m+1)-th largest real part (m = the smaller
+  of the two counts); frequency = |Im| of that pair there;
+* a fold (saddle-node): the branch turns back in lambda; the root of d lambda/ds of the tangent;
+* a real eigenvalue crossing zero where the branch does not turn is a branch point (pitchfork),
+  reported apart from `points`.
+
+Direction: "stabilising" when the count of unstable eigenvalues drops in the direction of the scan
+(from FROM to TO), "destabilising" when it grows, null for a fold where it does not change (the
+balanced branch turning at mu_c into its mirror copy phi_1 <-> phi_2, the thesis' pitchfork PF1,2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .loading import AnalysisError, Model
+from .steady import (SteadyStateError, _require_autonomous, classify, family_tangent, jacobian, refine, residual,
+                     transverse_spectrum)
+
+NEWTON_TOL = 1e-12
+LOCATE_TOL = 1e-12
+
+
+@dataclass
+class BranchPoint:
+    lam: float
+    y: np.ndarray
+    tangent: np.ndarray  # unit tangent (dy, dlambda) of the branch
+    spectrum: np.ndarray  # transverse spectrum
+    n_unstable: int
+    classification: str
+
+
+@dataclass
+class Bifurcation:
+    kind: str  # "hopf", "fold" or "branch"
+    value: float
+    frequency: float | None
+    direction: str | None  # "stabilising" | "destabilising" along the scan; None: no change (a fold only)
+    y: np.ndarray
+    n_unstable_before: int
+    n_unstable_after: int
+    bracket: tuple[float, float] | None = None  # set when root finding failed: the step it lies in
+
+    def to_json(self, name: str) -> dict:
+        out = {"kind": self.kind, name: self.value, "frequency": self.frequency, "direction": self.direction,
+               "n_unstable_before": self.n_unstable_before, "n_unstable_after": self.n_unstable_after}
+        if self.bracket is not None:
+            out["bracket"] = list(self.bracket)
+        return out
+
+
+@dataclass
+class Scan:
+    model: Model
+    name: str
+    start: float
+    stop: float
+    branch: list[BranchPoint]
+    bifurcations: list[Bifurcation]
+    stable_intervals: list[tuple[float, float]]
+    end_reason: str
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def points(self) -> list[Bifurcation]:
+        """Hopf points and folds, in the order met along the branch."""
+        return [b for b in self.bifurcations if b.kind in ("hopf", "fold")]
+
+    @property
+    def branch_points(self) -> list[Bifurcation]:
+        return [b for b in self.bifurcations if b.kind == "branch"]
+
+    def to_json(self) -> dict:
+        return {"model": self.model.name, "parameter": self.name, "from": self.start, "to": self.stop,
+                "points": [b.to_json(self.name) for b in self.points],
+                "branch_points": [b.to_json(self.name) for b in self.branch_points],
+                "stable_intervals": [list(iv) for iv in self.stable_intervals],
+                "steps": len(self.branch), "end": self.end_reason,
+                "range": [float(min(b.lam for b in self.branch)), float(max(b.lam for b in self.branch))]}
+
+
+class _Problem:
+    """rhs, jac and d rhs/d lambda of the model with parameter `k` free."""
+
+    def __init__(self, model: Model, p: np.ndarray, k: int):
+        self.model, self.p, self.k = model, np.array(p, float), k
+
+    def at(self, lam: float) -> np.ndarray:
+        p = self.p.copy()
+        p[self.k] = lam
+        return p
+
+    def f(self, y, lam):
+        return residual(self.model, y, self.at(lam))
+
+    def jacs(self, y, lam):
+        p = self.at(lam)
+        return jacobian(self.model, y, p), np.asarray(self.model.module.jac_p(0.0, y, p))[:, self.k]
+
+    def family(self, y, lam) -> np.ndarray:
+        return family_tangent(self.model, y, self.at(lam))
+
+    def tangent(self, y, lam, previous: np.ndarray | None) -> np.ndarray:
+        """Unit null vector of [[J, F_lambda], [T^T, 0]], oriented along `previous`."""
+        J, fl = self.jacs(y, lam)
+        T = self.family(y, lam)
+        A = np.vstack([np.hstack([J, fl[:, None]]), np.hstack([T.T, np.zeros((T.shape[1], 1))])])
+        t = np.linalg.svd(A)[2][-1]
+        if previous is not None and np.dot(t, previous) < 0:
+            t = -t
+        return t
+
+    def correct(self, z_pred: np.ndarray, direction: np.ndarray, offset: float = 0.0,
+                anchor: np.ndarray | None = None, max_iter: int = 15) -> np.ndarray:
+        """Newton on rhs = 0, family pins, direction . (z - anchor) = offset (anchor defaults to z_pred)."""
+        anchor = z_pred if anchor is None else anchor
+        z = z_pred.copy()
+        N = z.size - 1
+        T = self.family(z_pred[:N], z_pred[N])
+        for _ in range(max_iter):
+            y, lam = z[:N], z[N]
+            f = self.f(y, lam)
+            g = np.r_[f, T.T @ (y - z_pred[:N]), np.dot(direction, z - anchor) - offset]
+            if not np.all(np.isfinite(g)):
+                break
+            if np.max(np.abs(g)) <= NEWTON_TOL:
+                return z
+            J, fl = self.jacs(y, lam)
+            A = np.vstack([np.hstack([J, fl[:, None]]), np.hstack([T.T, np.zeros((T.shape[1], 1))]), direction[None, :]])
+            z = z + np.linalg.lstsq(A, -g, rcond=1e-13)[0]
+        raise SteadyStateError("continuation: Newton failed")
+
+    def point(self, z: np.ndarray, previous_tangent) -> BranchPoint:
+        N = z.size - 1
+        y, lam = z[:N], float(z[N])
+        J, _ = self.jacs(y, lam)
+        spectrum = transverse_spectrum(J, self.family(y, lam))
+        kind, unstable, _ = classify(spectrum)
+        return BranchPoint(lam, y, self.tangent(y, lam, previous_tangent), spectrum, unstable, kind)
+
+
+def _sorted_real(spectrum: np.ndarray) -> np.ndarray:
+    return np.sort(spectrum.real)[::-1]
+
+
+def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float,
+           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000):
+    """The branch through the steady state near y0 at name = start, continued towards `stop` (pseudo-
+    arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop)."""
+    _require_autonomous(model)
+    if name not in model.param_names:
+        raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
+    if not start != stop:
+        raise AnalysisError(f"empty scan range {name}={start}:{stop}")
+    k = model.param_names.index(name)
+    prob = _Problem(model, p, k)
+    first = refine(model, prob.at(start), y0)
+    lo, hi = min(start, stop), max(start, stop)
+    sign = 1.0 if stop > start else -1.0
+    t0 = prob.tangent(first.y, start, None)
+    if t0[-1] * sign < 0:
+        t0 = -t0
+    if abs(t0[-1]) < 1e-8:
+        raise AnalysisError(f"the start state is a fold in {name}: move {name} a little")
+    branch = [prob.point(np.r_[first.y, start], t0)]
+    branch[0].tangent = t0
+    h, reason = ds, "steps"
+    for _ in range(max_steps):
+        a = branch[-1]
+        za = np.r_[a.y, a.lam]
+        try:
+            z = prob.correct(za + h * a.tangent, a.tangent, offset=h, anchor=za)
+            if np.linalg.norm(z - za) > 2 * h:
+                raise SteadyStateError("jumped")
+        except SteadyStateError:
+            h /= 2
+            if h < ds_min:
+                reason = "step size underflow"
+                break
+            continue
+        b = prob.point(z, a.tangent)
+        branch.append(b)
+        if not lo - 1e-12 <= b.lam <= hi + 1e-12:
+            reason = "left the range"
+            break
+        h = min(ds_max, h * 1.3)
+    return prob, branch, reason
+
+
+def _segment(prob: _Problem, a: BranchPoint, b: BranchPoint):
+    """z(s) on the branch between a and b, s in [0, |z_b - z_a|], corrected at a fixed chord coordinate."""
+    za, zb = np.r_[a.y, a.lam], np.r_[b.y, b.lam]
+    d = (zb - za) / np.linalg.norm(zb - za)
+    cache = {}
+
+    def z_at(s):
+        if s not in cache:
+            frac = s / np.linalg.norm(zb - za)
+            cache[s] = prob.correct(za + frac * (zb - za), d, offset=s, anchor=za)
+        return cache[s]
+    return z_at, float(np.linalg.norm(zb - za)), d
+
+
+def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
+    """The stability change between consecutive branch points a and b; where root finding fails
+    (no sign change of the test function on the chord, Newton failing), the step it lies in."""
+    try:
+        return _locate_exactly(prob, a, b)
+    except (ValueError, SteadyStateError):
+        turned = a.tangent[-1] * b.tangent[-1] < 0
+        kind = "fold" if turned else ("hopf" if abs(a.n_unstable - b.n_unstable) == 2 else "branch")
+        near = b.spectrum[np.argsort(np.abs(b.spectrum.real))[:2]]
+        direction = ("stabilising" if b.n_unstable < a.n_unstable else
+                     "destabilising" if b.n_unstable > a.n_unstable else None)
+        return [Bifurcation(kind, 0.5 * (a.lam + b.lam), float(np.max(np.abs(near.imag))) if kind == "hopf" else None,
+                            direction, 0.5 * (a.y + b.y), a.n_unstable, b.n_unstable, (a.lam, b.lam))]
+
+
+def _locate_exactly(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
+    N = a.y.size
+    z_at, length, d = _segment(prob, a, b)
+    direction = ("stabilising" if b.n_unstable < a.n_unstable else
+                 "destabilising" if b.n_unstable > a.n_unstable else None)  # None: a fold that keeps stability
+    out = []
+    if a.tangent[-1] * b.tangent[-1] < 0:  # the branch turns back: a fold
+        def g(s):
+            z = z_at(s)
+            return prob.tangent(z[:N], z[N], d)[-1]
+        s = brentq(g, 0.0, length, xtol=LOCATE_TOL, rtol=4 * np.finfo(float).eps)
+        z = z_at(s)
+        out.append(Bifurcation("fold", float(z[N]), None, direction, z[:N], a.n_unstable, b.n_unstable))
+        return out
+    m = min(a.n_unstable, b.n_unstable)
+
+    def spectrum(s):
+        z = z_at(s)
+        J, _ = prob.jacs(z[:N], z[N])
+        return transverse_spectrum(J, prob.family(z[:N], z[N]))
+
+    def g(s):
+        return _sorted_real(spectrum(s))[m]
+    s = brentq(g, 0.0, length, xtol=LOCATE_TOL, rtol=4 * np.finfo(float).eps)
+    z = z_at(s)
+    ev = spectrum(s)
+    # the eigenvalue(s) nearest the axis decide: a complex pair is a Hopf point, a real one a branch point
+    near = ev[np.argsort(np.abs(ev.real))[:2]]
+    freq = float(np.max(np.abs(near.imag)))
+    tol = 1e-7 * max(1.0, float(np.max(np.abs(ev))))
+    kind = "hopf" if freq > tol and abs(abs(a.n_unstable - b.n_unstable) - 2) == 0 else "branch"
+    out.append(Bifurcation(kind, float(z[N]), freq if kind == "hopf" else None, direction, z[:N],
+                           a.n_unstable, b.n_unstable))
+    return out
+
+
+def _stable_intervals(branch: list[BranchPoint], bifurcations: list[tuple[int, Bifurcation]],
+                      lo: float, hi: float) -> list[tuple[float, float]]:
+    """Parameter intervals (ascending, overlapping ones merged) where the followed state is stable:
+    runs of stable steps, extended to the located bifurcations that bound them (a fold inside a run,
+    e.g. the turn of the balanced branch at mu_c into its mirror copy, keeps the run going)."""
+    after: dict[int, list[float]] = {}
+    for i, bif in bifurcations:  # located between steps i and i + 1
+        after.setdefault(i, []).append(bif.value)
+    runs, current = [], None
+    for i, b in enumerate(branch):
+        if b.classification == "stable":
+            if current is None:
+                current = list(after.get(i - 1, []))[-1:]
+            current.append(b.lam)
+            current += after.get(i, [])
+        elif current is not None:
+            runs.append(current)
+            current = None
+    if current is not None:
+        runs.append(current)
+    spans = sorted((min(max(min(r), lo), hi), min(max(max(r), lo), hi)) for r in runs)
+    merged: list[list[float]] = []
+    for a, b in spans:
+        if merged and a <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], b)
+        else:
+            merged.append([a, b])
+    return [(float(a), float(b)) for a, b in merged]
+
+
+def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float, **options) -> Scan:
+    """Follow the steady state near y0 from name = start to stop; Hopf points, folds, stable intervals."""
+    prob, branch, reason = follow(model, p, y0, name, start, stop, **options)
+    lo, hi = min(start, stop), max(start, stop)
+    found: list[tuple[int, Bifurcation]] = []
+    for i, (a, b) in enumerate(zip(branch, branch[1:])):
+        turned = a.tangent[-1] * b.tangent[-1] < 0
+        if a.n_unstable != b.n_unstable or turned:
+            for bif in _locate(prob, a, b):
+                if lo <= bif.value <= hi:
+                    found.append((i, bif))
+    return Scan(model, name, start, stop, branch, [b for _, b in found],
+                _stable_intervals(branch, found, lo, hi), reason)

@@ -1,0 +1,42 @@
+"""Argument types and the usage error shared by every command group of the command line."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from .errors import AdbgenError
+
+
+class UsageError(AdbgenError):
+    """Bad command-line use: reported as one line, exit status 2."""
+
+
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"n must be at least 1, got {value}")
+    return value
+
+
+def finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
+    return value
+
+
+def model_name(text: str) -> str:
+    """A model name usable as a Python module, a C prefix and a folder (`codegen.names`)."""
+    from .codegen.names import name_problem
+
+    problem = name_problem(text)
+    if problem:
+        raise argparse.ArgumentTypeError(f"{text!r}: {problem}")
+    return text

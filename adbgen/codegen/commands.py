@@ -1,0 +1,124 @@
+"""`adbgen regenerate`: derive, check and emit every registered target for the models the families offer.
+
+    adbgen regenerate [--check] [--n N ...] [--scene F [--name NAME]] [--family F ...] [--out DIR]
+                      [--targets numba c cvode auto] [--skip-checks] [--quiet]
+
+Without --n/--scene: every family's default set into the repository's generated/.  --n: each chosen
+family's model kinds for those n; --scene: the smallest exact model of the scene, from the family
+whose scene format the file is (or --family).  --check writes nothing and exits 1, printing a
+unified diff (truncated) of every stale file.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from .. import families
+from ..cli_types import UsageError, model_name, positive_int
+from ..errors import AdbgenError
+from . import targets
+
+
+def _family_for_scene(path: str, chosen: tuple[str, ...] | None):
+    """(family, scene): the chosen family's, or the one family whose scene format accepts the file."""
+    candidates = [families.get(n) for n in chosen] if chosen else list(families.all_families())
+    accepted, errors = [], []
+    for family in candidates:
+        try:
+            accepted.append((family, family.load_scene(path)))
+        except AdbgenError as exc:
+            errors.append((family, exc))
+    if len(accepted) == 1:
+        return accepted[0]
+    if not accepted:
+        if len(errors) == 1:
+            raise errors[0][1]
+        raise UsageError(f"{path}: not a scene of any family: "
+                         + "; ".join(f"{f.name}: {exc}" for f, exc in errors))
+    raise UsageError(f"{path}: a scene of several families ({', '.join(f.name for f, _ in accepted)}): "
+                     "choose one with --family")
+
+
+def _resize(family, scene, n: int):
+    """The scene with n balls (single-plane scenes; others refuse)."""
+    import dataclasses
+
+    from ..errors import SceneError
+
+    if not any(f.name == "n" for f in dataclasses.fields(scene)):
+        raise UsageError(f"--n cannot resize a {family.name} scene")
+    data = {f.name: getattr(scene, f.name) for f in dataclasses.fields(scene)}
+    for key in ("ball_mass", "ball_damping"):
+        if isinstance(data.get(key), tuple):
+            raise SceneError("n", f"--n cannot resize a scene with per-ball {key}")
+    return type(scene).from_mapping({**data, "n": n})
+
+
+def specs_for(args) -> list:
+    chosen = tuple(args.family) if args.family else None
+    if args.scene is not None:
+        family, scene = _family_for_scene(args.scene, chosen)
+        if args.n is not None:
+            if len(args.n) != 1:
+                raise UsageError("--scene takes one --n")
+            scene = _resize(family, scene, args.n[0])
+        return [family.model_for_scene(scene, args.name)]
+    picked = [families.get(n) for n in chosen] if chosen else list(families.all_families())
+    if args.n is not None:
+        specs = [kind(n) for n in args.n for family in picked for kind in family.kinds().values()]
+        if not specs:
+            raise UsageError(f"no model of {', '.join(f.name for f in picked)} is offered by number of balls")
+        return specs
+    return [spec for family in picked for spec in family.models()]
+
+
+def cmd_regenerate(args) -> int:
+    from .names import validate_name
+    from .regenerate import DEFAULT_OUT, IN_SOURCE_CHECKOUT, diff, render_all, stale, write
+
+    custom = args.scene is not None or args.n is not None or bool(args.family)
+    if custom and args.out is None:
+        raise UsageError("--scene/--n/--family generate models outside the default set: give --out DIR "
+                         "(generated/ holds the default set only)")
+    if args.out is None and not IN_SOURCE_CHECKOUT:
+        raise UsageError("adbgen is installed, not run from its source checkout: give --out DIR")
+    if args.name is not None and args.scene is None:
+        raise UsageError("--name names the model of --scene")
+    out = Path(args.out) if args.out is not None else DEFAULT_OUT
+    specs = specs_for(args)
+    for spec in specs:
+        validate_name(spec.name)
+    all_targets = set(args.targets) == set(targets.names())
+    log = (lambda line: None) if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
+    rendered = render_all(specs, tuple(args.targets), run_checks=not args.skip_checks, progress=log)
+    if args.check:
+        report = stale(rendered, out, extra=all_targets)
+        for rel, status in report.items():
+            print(f"stale: {out / rel} ({status})")
+            if status in ("differs", "missing"):
+                sys.stdout.write(diff(rendered, out, rel))
+        if report:
+            print(f"{len(report)} file(s) out of date: run `adbgen regenerate`", file=sys.stderr)
+            return 1
+        print(f"{out}: {len(rendered.files)} files up to date")
+        return 0
+    changed = write(rendered, out, prune=all_targets and not custom)
+    print(f"{out}: {len(rendered.files)} files, {len(changed)} changed")
+    return 0
+
+
+def register(sub) -> None:
+    r = sub.add_parser("regenerate", help="derive, check and emit the generated code (" + ", ".join(targets.names()) + ")")
+    r.add_argument("--check", action="store_true",
+                   help="write nothing; exit 1 naming the files that are out of date, with a diff of each")
+    r.add_argument("--scene", help="scene file (TOML): its smallest exact model (needs --out)")
+    r.add_argument("--n", type=positive_int, nargs="+", help="the families' model kinds for these n (needs --out)")
+    r.add_argument("--family", nargs="+", choices=families.names(),
+                   help="only these families (default: every one; for --scene: the one that reads the file)")
+    r.add_argument("--name", type=model_name, help="model name for --scene")
+    r.add_argument("--out", help="output folder (default: the repository's generated/)")
+    r.add_argument("--targets", nargs="+", choices=targets.names(), default=list(targets.names()))
+    r.add_argument("--skip-checks", action="store_true", help="skip the reduction checks (the lowering check stays)")
+    r.add_argument("--quiet", action="store_true", help="no progress lines")
+    r.set_defaults(fn=cmd_regenerate)

@@ -1,0 +1,72 @@
+"""The AUTO-07p target: a user file (func with dfdu and dfdp, stpnt, pvls) and constants files.
+
+Its decisions are made here, from the model's `Continuation` (which the family sets), and handed to
+the templates as data: which parameter is continued (PAR index), in which direction and until where,
+whether there is a second stage (periodic orbits of an oscillator extension: first in the parameter
+the start moved, then in the forcing frequency), whether the start lies on a continuum, which states
+give the amplitude printed by pvls.  The templates only print.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ....core.oscillator import OSC_COS, OSC_SIN
+from .. import Target
+
+
+def apar(k: int) -> int:
+    """0-based index into AUTO's PAR of model parameter k: PAR(11)-PAR(14) are AUTO's own."""
+    return k if k < 10 else k + 4
+
+
+class AutoTarget(Target):
+    def skip_reason(self, ir):
+        if not ir.autonomous and ir.autonomous_extension is None:
+            return ("explicit time and no autonomous extension with a known start orbit "
+                    "(AUTO-07p continues autonomous systems only)")
+        model = self.model_for(ir)
+        if model.start is None or model.continuation is None:
+            return "no start point (a steady state or an exact periodic orbit) to continue from"
+        return None
+
+    def model_for(self, ir):
+        return ir if ir.autonomous else ir.autonomous_extension
+
+    def context(self, ir) -> dict:
+        cont = ir.continuation
+        names = ir.parameter_names
+        k1 = names.index(cont.parameter)
+        out = {
+            "forced": bool(ir.forcing_frequency),
+            "icp": k1,  # 0-based model parameter continued (stage 1)
+            "start_value": ir.start_parameters[k1],
+            "down": cont.direction < 0,
+            "stop": cont.stop,
+            "continuum": cont.continuum,
+            "note": cont.note.splitlines(),
+            "amplitude": tuple(ir.state_names.index(c) for c in ir.core[:2]) if len(ir.core) >= 2 else None,
+            "npar_amp": apar(len(ir.parameters)),
+        }
+        if ir.forcing_frequency:
+            # periodic orbits: either in the parameter the start moved, then (stage 2) in the forcing
+            # frequency; or, from an orbit at the defaults, in the forcing frequency at once
+            stages = 2 if cont.second else 1
+            frequency = cont.second or cont.parameter
+            if frequency != ir.forcing_frequency:
+                raise ValueError(f"{ir.name}: the continuation in {frequency!r} is not in the forcing frequency "
+                                 f"{ir.forcing_frequency!r}")
+            out.update(stages=stages, stage2=names.index(ir.forcing_frequency),
+                       osc=(ir.state_names.index(OSC_SIN.name), ir.state_names.index(OSC_COS.name)))
+        return out
+
+
+TARGET = AutoTarget(
+    name="auto",
+    files=(("auto/user.c.j2", "{name}/auto/{name}.c"), ("auto/constants.j2", "{name}/auto/c.{name}"),
+           # second continuation stage: forced models only (the template renders blank otherwise)
+           ("auto/constants_stage2.j2", "{name}/auto/c.{name}.2")),
+    language="c",
+    templates=Path(__file__).parent / "templates",
+    description="AUTO-07p user file and constants: continuation of steady states or periodic orbits",
+)

@@ -1,0 +1,57 @@
+"""Validation of scene fields shared by every family: numbers, per-ball lists, X/Y pairs, the speed law.
+
+Each helper returns the value or raises SceneError naming the field, so a bad scene gives one line.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+from ..errors import SceneError
+
+
+def number(name: str, value: Any, *, positive: bool = False, nonnegative: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(name, f"must be a number, got {value!r}")
+    try:
+        value = float(value)
+    except OverflowError:
+        raise SceneError(name, "must be finite, got an integer too large for a float") from None
+    if not math.isfinite(value):
+        raise SceneError(name, f"must be finite, got {value!r}")
+    if positive and value <= 0:
+        raise SceneError(name, f"must be positive, got {value!r}")
+    if nonnegative and value < 0:
+        raise SceneError(name, f"must be non-negative, got {value!r}")
+    return value
+
+
+def per_ball(name: str, value: Any, n: int, **kw) -> tuple[float, ...] | float:
+    """A scalar (the same for every ball) or a list of exactly n values."""
+    if isinstance(value, (list, tuple)):
+        if len(value) != n:
+            raise SceneError(name, f"needs one value or n = {n} values, got {len(value)}")
+        return tuple(number(f"{name}[{i}]", v, **kw) for i, v in enumerate(value))
+    return number(name, value, **kw)
+
+
+def xy(name: str, value: Any, **kw) -> tuple[float, float] | float:
+    """A scalar (isotropic) or a pair (X, Y)."""
+    if isinstance(value, (list, tuple)):
+        if len(value) != 2:
+            raise SceneError(name, f"needs one value or two values [X, Y], got {len(value)}")
+        return (number(f"{name}[0]", value[0], **kw), number(f"{name}[1]", value[1], **kw))
+    return number(name, value, **kw)
+
+
+def speed_law_name(data: Any, fields: Mapping[str, set]) -> str:
+    """The 'law' of a [speed] table, checked against ``fields`` {law: allowed keys}."""
+    if not isinstance(data, Mapping):
+        raise SceneError("speed", f"must be a table with a 'law', got {data!r}")
+    law = data.get("law", "constant")
+    if not isinstance(law, str) or law not in fields:
+        raise SceneError("speed.law", f"unknown speed law {law!r}; choose one of {', '.join(fields)}")
+    for key in sorted(set(map(str, data)) - fields[law]):
+        raise SceneError(f"speed.{key}", f"unknown option for law {law!r}")
+    return law

@@ -1,0 +1,51 @@
+"""What a model family offers the rest of adbgen (the `Family` protocol)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Callable, Protocol, Sequence, runtime_checkable
+
+if TYPE_CHECKING:
+    import argparse
+    from pathlib import Path
+
+    from ..codegen.spec import ModelSpec
+    from ..core.checks import CheckResult
+
+
+@runtime_checkable
+class Family(Protocol):
+    """A model family: a kind of machine (single-plane rotor, two-plane rotor, ...) from scene to models.
+
+    ``name`` is its key in the registry and on the command line (``adbgen verify --model NAME``,
+    ``adbgen regenerate --family NAME``).
+    """
+
+    name: str
+    title: str
+    reference: str  # the source its equations are checked against
+    scene_type: type
+
+    def load_scene(self, path: "str | Path") -> Any:
+        """A validated scene from a TOML file (SceneError naming the field otherwise)."""
+
+    def derive(self, scene: Any) -> Any:
+        """The equations of motion of a scene by Lagrange's equations (an EquationsOfMotion)."""
+
+    def forms(self) -> dict[str, Callable[[Any], Any]]:
+        """The named forms of a scene's model, e.g. {"fixed": ..., "rotating": ..., "first-order": ...}."""
+
+    def verify(self, progress: Callable[["CheckResult"], None], ns: Sequence[int] = ()) -> list["CheckResult"]:
+        """Every check of the family (``adbgen verify``); ``ns``: numbers of balls where it matters."""
+
+    def models(self) -> list["ModelSpec"]:
+        """The models of the default set in generated/, each with start points and checks."""
+
+    def kinds(self) -> dict[str, Callable[[int], "ModelSpec"]]:
+        """The family's model kinds indexed by the number of balls, {kind: n -> ModelSpec}
+        (``adbgen regenerate --n``, the code-generation benchmark); {} if it offers none."""
+
+    def model_for_scene(self, scene: Any, name: str | None = None) -> "ModelSpec":
+        """The smallest exact model of a scene, with the family's checks (``regenerate --scene``)."""
+
+    def register_commands(self, subparsers: "argparse._SubParsersAction") -> None:
+        """Add the family's command-line subcommands."""

@@ -1,0 +1,113 @@
+"""The single-plane n-ball balancer by Lagrange's equations: thesis (2.2)-(2.13).
+
+Kinematics (2.3)-(2.4) give positions; velocities (2.5)-(2.6) come from the chain-rule time
+derivative; the energies (2.7)-(2.8), the Rayleigh function and the torque (2.9) go to the
+term-by-term Lagrange engine.  Nothing of (2.10)-(2.13) is transcribed here: those printed equations
+live in `adbgen.references.thesis` and are compared with the result in the tests.
+
+Note on (2.7): for T = I_z psi'^2/2 + M |r_OG'|^2/2 to be the kinetic energy of the disc, I_z is the
+moment of inertia about the centre of mass W (the text says "about C"); the derivation follows (2.7)
+as printed, so the equation for psi carries I_z + M eps^2, as (2.12) does.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import sympy as sp
+
+from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, time_derivative
+from ...errors import SceneError
+from .scene import Scene, profile_expression
+from .symbols import DimensionalSymbols, t
+
+
+@dataclass(frozen=True)
+class SinglePlaneLagrangian:
+    """Everything Lagrange's equations need, before they are formed."""
+
+    scene: Scene
+    symbols: DimensionalSymbols
+    coordinates: tuple[Coordinate, ...]  # X, Y, [psi], phi_1..phi_n
+    driven: tuple[Coordinate, ...]  # (psi,) when the speed is prescribed
+    terms: tuple[EnergyTerm, ...]  # rotor, ball_1..ball_n
+    forces: dict[str, sp.Expr]
+    positions: dict[str, tuple[sp.Expr, sp.Expr]]  # body -> (x, y) in the fixed frame
+
+    @property
+    def all_coordinates(self) -> tuple[Coordinate, ...]:
+        return self.coordinates + self.driven
+
+    def lagrangian(self) -> sp.Expr:
+        return sum((term.T - term.V for term in self.terms), sp.S.Zero)
+
+    def rayleigh(self) -> sp.Expr:
+        return sum((term.F for term in self.terms), sp.S.Zero)
+
+
+def lagrangian(scene: Scene) -> SinglePlaneLagrangian:
+    """Coordinates (2.2), positions (2.3)-(2.4), energies (2.7)-(2.8), dissipation and torque (2.9)."""
+    s = DimensionalSymbols.for_scene(scene)
+    X, Y, psi = Coordinate.make("X"), Coordinate.make("Y"), Coordinate.make("psi")
+    phis = tuple(Coordinate.make(f"phi_{i + 1}") for i in range(scene.n))
+    spin_is_free = scene.speed.law == "torque"
+    coordinates = (X, Y) + ((psi,) if spin_is_free else ()) + phis
+    driven = () if spin_is_free else (psi,)
+    everything = coordinates + driven
+
+    def kinetic(mass, x, y):
+        vx, vy = (time_derivative(e, everything, t) for e in (x, y))  # (2.5), (2.6)
+        return mass * (vx**2 + vy**2) / 2
+
+    positions = {"rotor": (X.q + s.eps * sp.cos(psi.q), Y.q + s.eps * sp.sin(psi.q))}  # (2.3)
+    rotor = EnergyTerm(
+        "rotor",
+        T=s.I_z * psi.qd**2 / 2 + kinetic(s.M, *positions["rotor"]),
+        V=s.kX * X.q**2 / 2 + s.kY * Y.q**2 / 2 + s.M * s.g * positions["rotor"][1],
+        F=s.cX * X.qd**2 / 2 + s.cY * Y.qd**2 / 2,
+    )
+    terms = [rotor]
+    for i, phi in enumerate(phis):
+        pos = (X.q + s.R * sp.cos(psi.q + phi.q), Y.q + s.R * sp.sin(psi.q + phi.q))  # (2.4)
+        positions[f"ball_{i + 1}"] = pos
+        terms.append(EnergyTerm(f"ball_{i + 1}", T=kinetic(s.m[i], *pos), V=s.m[i] * s.g * pos[1],
+                                F=s.D[i] * phi.qd**2 / 2))
+    forces = {"psi": s.tau0 - s.kappa * psi.qd} if spin_is_free else {}
+    return SinglePlaneLagrangian(scene, s, coordinates, driven, tuple(terms), forces, positions)
+
+
+def speed_law_substitution(scene: Scene, symbols: DimensionalSymbols) -> dict[sp.Symbol, sp.Expr]:
+    """psi, psi', psi'' as functions of t for a prescribed speed (2.14), or {} for torque drive."""
+    psi = Coordinate.make("psi")
+    law = scene.speed.law
+    if law == "constant":
+        return {psi.q: symbols.omega * t, psi.qd: symbols.omega, psi.qdd: sp.S.Zero}
+    if law == "profile":
+        Om = profile_expression(str(scene.speed.omega))
+        tau = sp.Dummy("tau", real=True)
+        angle = sp.integrate(Om.subs(t, tau), (tau, 0, t))
+        if angle.has(sp.Integral):
+            raise SceneError("speed.omega", "the profile has no closed-form angle; give a simpler Omega(t)")
+        return {psi.q: angle, psi.qd: Om, psi.qdd: sp.diff(Om, t)}
+    return {}
+
+
+@lru_cache(maxsize=64)
+def derive(scene: Scene) -> EquationsOfMotion:
+    """Fixed-frame equations of motion M q'' = f of the scene, thesis (2.10)-(2.13).
+
+    With a constant speed the spin is substituted (psi = omega t), giving explicitly time-dependent
+    equations for X, Y, phi_i.  With a profile the spin psi, psi', psi'' stay as input symbols and
+    ``driven_law`` gives them as functions of t.  With a torque the spin is a coordinate.
+    """
+    lag = lagrangian(scene)
+    reference = "thesis (2.10)-(2.13)" if scene.speed.law == "torque" else "thesis (2.10), (2.11), (2.13)"
+    eom = lagrange_equations(lag.coordinates, lag.terms, t, forces=lag.forces, driven=lag.driven,
+                             parameters=lag.symbols.parameters, reference=reference)
+    law = speed_law_substitution(scene, lag.symbols)
+    if scene.speed.law == "constant":
+        eom = replace(eom.map(lambda e: sp.expand(e.xreplace(law))), driven=())
+    elif scene.speed.law == "profile":
+        eom = replace(eom, driven_law=law)
+    return eom

@@ -1,0 +1,158 @@
+"""The single-plane models offered for generation: the default set of `generated/`, a model for any n,
+and the smallest exact model of any scene; with their start points (AUTO-07p) and reduction checks.
+
+The default set (issue: code generation, item 3):
+
+- ``thesis_rotating_n{2,3,4}``: the thesis' autonomous rotating-frame system (2.25)-(2.27) in first-
+  order form (Appendix A), dimensionless parameters mu, Omega, zeta, beta, delta; AUTO starts from
+  the balanced state (3.6) at the defaults (5.1) and continues it in Omega;
+- ``single_plane_fixed_n{2,3,4}``: the fixed-frame equations (2.10), (2.11), (2.13) of a rotor on an
+  anisotropic support (k_Y = 1.2 k_X, c_Y = 1.2 c_X) with gravity at constant speed, dimensional
+  parameters; periodically forced, so it keeps explicit time (AUTO gets it autonomous through the
+  oscillator (40), from an exact orbit at g = 0, in g and then in omega).
+
+A scene given on the command line gets the smallest model that is exact for it (`smallest_model`),
+with the checks of the family for its number of balls.
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+from ...codegen.ir import Continuation
+from ...codegen.spec import Check, ModelSpec
+from ...core.first_order import FirstOrderSystem
+from . import steady_states as ss
+from . import verify
+from .model import derive
+from .reductions import first_order, thesis_chain
+from .scene import Scene
+from .selection import smallest_model
+
+FAMILY = "single-plane"
+
+
+def checks(*kinds: str, n: int) -> tuple[Check, ...]:
+    """The family's reduction checks by name (functions of `verify` taking n), for n balls."""
+    return tuple(Check((FAMILY, kind, n), lambda fn=getattr(verify, kind): fn(n)) for kind in kinds)
+
+
+def balanced_start(system: FirstOrderSystem, n: int, state: str = "balanced",
+                   **overrides: float) -> tuple[tuple[float, ...] | None, str, dict]:
+    """The balanced state (3.6) (phi_3.. = pi, as in the thesis' ch. 4) at the defaults or `overrides`.
+
+    For n = 1 no balanced state exists unless mu = delta: the coincident state 2+ (3.9) is used, as it
+    is when `state` = "coincident".  `regenerate` checks that the start is a steady state of the
+    generated right-hand side.
+    """
+    values = {p.name: p.default for p in system.parameters} | overrides
+    numeric = None
+    if state == "balanced" and n >= 2 and ss.balanced_exists(n, values["mu"], values["delta"]):
+        # the thesis puts phi_3.. at pi; where that leaves phi_1,2 no solution (odd n), alternate pi, 0
+        for free, how in (([sp.pi] * (n - 2), "phi_3.. = pi"),
+                          ([sp.pi if k % 2 == 0 else sp.S.Zero for k in range(n - 2)], "phi_3.. = pi, 0, pi, ...")):
+            try:
+                numeric = ss.evaluate(ss.balanced(n, free), values)
+                label = f"balanced state 1 (3.6), {how}" if n > 2 else "balanced state 1 (3.6)"
+                break
+            except ValueError:
+                continue
+    if numeric is None:
+        try:
+            numeric, label = ss.evaluate(ss.coincident(n, 1), values), "coincident state 2+ (3.9)"
+        except ValueError:
+            return None, "", {}
+    positions = [numeric[s.name] for s in system.states[: len(system.coordinates)]]
+    start = tuple(float(v) for v in positions) + (0.0,) * len(positions)
+    if not all(math.isfinite(v) for v in start):
+        return None, "", {}
+    where = ", ".join(f"{k} = {v!r}" for k, v in sorted(overrides.items()))
+    return start, f"{label} at the defaults" + (f" but {where}" if where else ""), overrides
+
+
+def steady_continuation(parameter: str | tuple[str, ...], stop: tuple[float, float] | None = None):
+    """Continue the start's steady state in `parameter` (the first of them the model has: the spin
+    speed is Omega in the thesis' dimensionless form, omega in the dimensional one) towards 1 (the
+    thesis' critical speeds lie below the defaults), flagging a start on the continuum of balanced
+    states (n >= 3)."""
+    def decide(system: FirstOrderSystem, start: tuple) -> Continuation:
+        state, label, values = start
+        names = [p.name for p in system.parameters]
+        name = next(p for p in ((parameter,) if isinstance(parameter, str) else parameter) if p in names)
+        value = values[names.index(name)]
+        n = sum(1 for c in system.coordinates if c.name.startswith("phi_"))
+        return Continuation(name, direction=-1 if value > 1 else 1, stop=stop,
+                            continuum=n >= 3 and label.startswith("balanced"))
+    return decide
+
+
+def thesis_rotating(n: int) -> ModelSpec:
+    return ModelSpec(
+        f"thesis_rotating_n{n}",
+        f"Single-plane balancer with {n} ball{'s' if n > 1 else ''}, rotating frame, dimensionless (thesis)",
+        n, lambda: thesis_chain(n)["first_order"], lambda system: balanced_start(system, n), family=FAMILY,
+        checks=checks("rotating", "appendix_a", "steady_states", n=n),
+        continuation=steady_continuation("Omega", stop=(0.5, 6.0)))
+
+
+def fixed_scene(n: int) -> Scene:
+    return Scene.from_mapping({"n": n, "stiffness": [1.0e4, 1.2e4], "damping": [2.0, 2.4], "gravity": True})
+
+
+def balanced_orbit_start(system: FirstOrderSystem, n: int) -> tuple:
+    """A point of an exact periodic orbit of the fixed-frame model, for its oscillator extension.
+
+    Without gravity, with the balls in a balanced state ((3.6) with delta/mu = M eps/(m R)) the
+    rotor's centre stays at rest: no support force acts, anisotropic or not, and each ball keeps its
+    place, so X = Y = 0, phi_i constant, all rates zero, osc = (sin, cos)(omega t) is a solution.
+    AUTO-07p starts there (g = 0) and continues in g to the scene's value.
+    """
+    values = {p.name: p.default for p in system.parameters}
+    ratio = {"mu": values["m"] / values["M"], "delta": values["eps"] / values["R"]}
+    if n < 2 or not ss.balanced_exists(n, ratio["mu"], ratio["delta"]):
+        return None, "", {}
+    free = [sp.pi if k % 2 == 0 else sp.S.Zero for k in range(n - 2)]
+    angles = ss.evaluate(ss.balanced(n, free), ratio)
+    positions = [0.0 if s.name in ("X", "Y") else angles[s.name] for s in system.states[: len(system.coordinates)]]
+    start = tuple(float(v) for v in positions) + (0.0,) * len(positions) + (0.0, 1.0)
+    how = "" if n == 2 else ", phi_3.. = pi, 0, ..."
+    return start, f"balanced periodic orbit (3.6){how} at g = 0, t = 0 (exact: rotor centre at rest)", {"g": 0.0}
+
+
+def _supercritical_note(scene: Scene) -> str:
+    kx, ky = scene.stiffness if isinstance(scene.stiffness, tuple) else (scene.stiffness,) * 2
+    return (f"The rotor's natural frequencies sqrt(k_X/M) = {math.sqrt(kx / scene.rotor_mass):.1f}, "
+            f"sqrt(k_Y/M) = {math.sqrt(ky / scene.rotor_mass):.1f} rad/s lie below that range:\n"
+            "the rotor runs supercritical, as at the thesis' Omega = 4.")
+
+
+def single_plane_fixed(n: int) -> ModelSpec:
+    scene = fixed_scene(n)
+    return ModelSpec(
+        f"single_plane_fixed_n{n}",
+        f"Single-plane balancer with {n} ball{'s' if n > 1 else ''}, fixed frame, anisotropic support, gravity",
+        n, lambda: first_order(derive(scene)), orbit_start=lambda system: balanced_orbit_start(system, n),
+        family=FAMILY, checks=checks("prescribed_speed", n=n),
+        orbit_continuation=Continuation("g", second="omega", continuum=n >= 3, note=_supercritical_note(scene)))
+
+
+# the model kinds of the family, by n (`adbgen regenerate --n`) and the default set of generated/
+KINDS = {"thesis_rotating": thesis_rotating, "single_plane_fixed": single_plane_fixed}
+
+
+def default_set() -> list[ModelSpec]:
+    return [kind(n) for kind in KINDS.values() for n in (2, 3, 4)]
+
+
+def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
+    """The smallest exact model of a scene (`adbgen regenerate --scene`)."""
+    selected = smallest_model(scene)
+    name = name or f"scene_{selected.kind.replace('-', '_')}_n{scene.n}"
+    rotating = selected.kind == "rotating-frame"
+    start = (lambda system: balanced_start(system, scene.n)) if rotating else (lambda system: (None, ""))
+    kinds = ("fixed_frame", "prescribed_speed") + (("rotating", "appendix_a") if rotating else ())
+    return ModelSpec(name, f"Single-plane balancer with {scene.n} balls: {selected.reason}", scene.n,
+                     lambda: selected.system, start, family=FAMILY, checks=checks(*kinds, n=scene.n),
+                     continuation=steady_continuation(("Omega", "omega")) if rotating else None)

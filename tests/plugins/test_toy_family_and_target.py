@@ -1,0 +1,153 @@
+"""Adding a family or a target touches its own folder plus one registry line (issue 8).
+
+A toy family (a pendulum on a sprung cart: the cart is the Schur core, the pendulum the one "ball")
+and a toy target (a JSON listing of a model's states, parameters and rhs program) are defined here,
+registered with one call each, and regenerated through the ordinary command line with everything
+else; nothing in the package names them.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from adbgen import families
+from adbgen.cli import main
+from adbgen.codegen import targets
+from adbgen.codegen.ir import Continuation
+from adbgen.codegen.spec import Check, ModelSpec
+from adbgen.core import Coordinate, EnergyTerm, Parameter, lagrange_equations
+from adbgen.core.checks import CheckResult
+from adbgen.core.first_order import first_order
+from adbgen.core.symbols import positive, t
+
+def pendulum_on_cart():
+    """T = (M + m) X'^2/2 + m l X' phi' cos phi + m l^2 phi'^2/2, V = k X^2/2 - m g l cos phi, F = c phi'^2/2."""
+    M, m, l, k, g, c = (positive(s) for s in ("M_cart", "m_bob", "l_rod", "k_spring", "g_acc", "c_pivot"))
+    X, phi = Coordinate.make("X"), Coordinate.make("phi")
+    terms = [EnergyTerm("cart", T=M * X.qd**2 / 2, V=k * X.q**2 / 2),
+             EnergyTerm("bob", T=m * ((X.qd + l * phi.qd * sp.cos(phi.q))**2 + (l * phi.qd * sp.sin(phi.q))**2) / 2,
+                        V=-m * g * l * sp.cos(phi.q), F=c * phi.qd**2 / 2)]
+    params = tuple(sorted((Parameter(M, "cart mass", "kg", 2.0), Parameter(m, "bob mass", "kg", 0.5),
+                           Parameter(l, "rod length", "m", 1.0), Parameter(k, "spring", "N/m", 10.0),
+                           Parameter(g, "gravity", "m/s^2", 9.81), Parameter(c, "pivot damping", "N m s", 0.1)),
+                          key=lambda p: p.name))
+    return lagrange_equations((X, phi), terms, t, parameters=params, reference="toy: pendulum on a sprung cart")
+
+
+def energy_check() -> CheckResult:
+    """The bob row at rest is m g l sin phi (an identity: the check can fail)."""
+    eom = pendulum_on_cart()
+    rest = {c.qd: 0 for c in eom.coordinates}
+    row = sp.simplify(eom.forcing[1].xreplace(rest))
+    syms = {p.name: p.symbol for p in eom.parameters}
+    ok = sp.simplify(row + syms["m_bob"] * syms["g_acc"] * syms["l_rod"] * sp.sin(eom.coordinates[1].q)) == 0
+    return CheckResult("pendulum row at rest", "toy", ok, "identity" if ok else f"row {row}", 0.0)
+
+
+@dataclass(frozen=True)
+class Pendulum:
+    name: str = "toy-pendulum"
+    title: str = "pendulum on a sprung cart"
+    reference: str = "toy"
+    scene_type: type = dict
+    calls: list = None
+
+    def load_scene(self, path):
+        from adbgen.errors import SceneError
+
+        raise SceneError("toy", "the toy family has no scene files")
+
+    def derive(self, scene):
+        return pendulum_on_cart()
+
+    def forms(self):
+        return {"fixed": self.derive}
+
+    def verify(self, progress, ns=()):
+        r = energy_check()
+        progress(r)
+        return [r]
+
+    def models(self):
+        return [ModelSpec("toy_pendulum", "Pendulum on a sprung cart", 1, lambda: first_order(pendulum_on_cart(), ("X",)),
+                          start=lambda system: ((0.0, 0.0, 0.0, 0.0), "hanging at rest"), family=self.name,
+                          checks=(Check(("toy", "row"), energy_check),), continuation=Continuation("k_spring", direction=1))]
+
+    def kinds(self):
+        return {}
+
+    def model_for_scene(self, scene, name=None):
+        return self.models()[0]
+
+    def register_commands(self, subparsers):
+        p = subparsers.add_parser("toy-pendulum", help="the toy family's command")
+        p.set_defaults(fn=lambda args: print("pendulum period", round(2 * math.pi * math.sqrt(1.0 / 9.81), 6)) or 0)
+
+
+class Listing(targets.Target):
+    def skip_reason(self, ir):
+        return None if ir.autonomous else "the listing is for autonomous models only"
+
+    def context(self, ir):
+        return {"rhs_outputs": len(ir.rhs.outputs)}
+
+
+@pytest.fixture
+def toy(tmp_path):
+    templates = tmp_path / "listing_templates"  # the target's folder: its templates beside its config
+    templates.mkdir()
+    (templates / "listing.json.j2").write_text(
+        '{"name": {{ ir.name | tojson }}, "states": {{ ir.state_names | list | tojson }}, '
+        '"parameters": {{ ir.parameter_names | list | tojson }}, "outputs": {{ listing.rhs_outputs }}, '
+        '"rhs": [{% for i, e in programs.rhs.outputs %}{{ e | tojson }}{{ ", " if not loop.last }}{% endfor %}], '
+        '"hash": {{ source_hash | tojson }}}\n')
+    families.register(Pendulum())
+    targets.register(Listing(name="listing", files=(("listing/listing.json.j2", "{name}/{name}.json"),),
+                             language="py", templates=templates))
+    yield
+    families.unregister("toy-pendulum")
+    targets.unregister("listing")
+
+
+def test_a_registered_family_and_target_regenerate_with_the_others(toy, tmp_path, capsys):
+    out = tmp_path / "gen"
+    code = main(["regenerate", "--family", "toy-pendulum", "single-plane", "--n", "1", "--out", str(out), "--quiet"])
+    assert code == 0, capsys.readouterr().err
+    # the toy family got every target, the toy target rendered every autonomous model
+    files = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
+    assert "thesis_rotating_n1/thesis_rotating_n1.json" in files and "thesis_rotating_n1/thesis_rotating_n1.c" in files
+    assert "single_plane_fixed_n1/single_plane_fixed_n1.json" not in files  # forced: the listing skips it
+    code = main(["regenerate", "--family", "toy-pendulum", "--out", str(out / "toy"), "--quiet"])
+    assert code == 0, capsys.readouterr().err
+    toy_files = {p.relative_to(out / "toy").as_posix() for p in (out / "toy").rglob("*") if p.is_file()}
+    assert {"toy_pendulum/__init__.py", "toy_pendulum/toy_pendulum.c", "toy_pendulum/toy_pendulum_cvode_main.c",
+            "toy_pendulum/auto/toy_pendulum.c", "toy_pendulum/auto/c.toy_pendulum", "toy_pendulum/toy_pendulum.json"} <= toy_files
+    listing = json.loads((out / "toy" / "toy_pendulum" / "toy_pendulum.json").read_text())
+    assert listing["states"] == ["X", "phi", "X_dot", "phi_dot"] and listing["outputs"] == 4
+    assert "k_spring" in (out / "toy" / "toy_pendulum" / "auto" / "c.toy_pendulum").read_text()
+
+    # the generated numba module is the pendulum: from rest at X = 0 (no spring force) the cart recoils,
+    # phi'' = -(M + m) g sin(phi) / (l (M + m sin^2 phi)), X'' = m l sin(phi) cos(phi) g / (l (M + m sin^2 phi))
+    from adbgen.codegen.scratch import import_numba
+
+    module = import_numba(out / "toy" / "toy_pendulum", "_adbgen_toy_pendulum")
+    phi = 0.3
+    f = module.rhs(0.0, np.array([0.0, phi, 0.0, 0.0]), module.params())
+    den = 2.0 + 0.5 * math.sin(phi) ** 2
+    assert f[3] == pytest.approx(-2.5 * 9.81 * math.sin(phi) / den, rel=1e-13)
+    assert f[2] == pytest.approx(0.5 * 9.81 * math.sin(phi) * math.cos(phi) / den, rel=1e-13)
+
+    # and its command and its checks are on the command line
+    assert main(["toy-pendulum"]) == 0 and "pendulum period 2.006067" in capsys.readouterr().out
+    assert main(["verify", "--model", "toy-pendulum"]) == 0 and "1 passed, 0 failed" in capsys.readouterr().out
+
+
+def test_unregistered_after_the_test():
+    assert "toy-pendulum" not in families.names() and "listing" not in targets.names()
+    assert families.names() == ("single-plane", "two-plane") and targets.names() == ("numba", "c", "cvode", "auto")
