@@ -253,7 +253,8 @@ def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
                         "balanced": float(balanced.mean()), "diagonal": float(balanced[diagonal].mean()),
                         "off_diagonal_balanced": int(off.sum()),
                         "off_diagonal_near_centres": int((off & near).sum()),
-                        "near_share_of_grid": float(near[~diagonal].mean())})
+                        "near_share_of_grid": float(near[~diagonal].mean()),
+                        "off_diagonal_on_shifted": int((off & (np.abs(_wrap_array(p2 - p1 - PI)) < 1e-9)).sum())})
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return out
@@ -282,7 +283,10 @@ def _basin_n4_section(basins, root: Path) -> list[str]:
           "phi_2(0), and to four small regions around phi_1,2 = pi/2 and phi_1,2 = 3pi/2\".  Ours: "
           f"{100 * c['diagonal']:.0f} % of the diagonal balances; of the {c['off_diagonal_balanced']} balancing "
           f"points off it, {c['off_diagonal_near_centres']} lie within 0.6 rad of (pi/2 or 3pi/2, pi/2 or "
-          f"3pi/2), discs that hold {100 * c['near_share_of_grid']:.0f} % of the off-diagonal grid.", ""]
+          f"3pi/2), discs that hold {100 * c['near_share_of_grid']:.0f} % of the off-diagonal grid; "
+          f"{c['off_diagonal_on_shifted']} (some of them in those discs too) lie on the line phi_2(0) = "
+          "phi_1(0) + pi, where with the ties ball 3 starts with ball 2 and ball 4 with ball 1: the diagonal "
+          "again, the balls renamed.", ""]
     for b in basins:
         title = f"Fig. 5.19({b['panel']}), zeta = {b['zeta']:g}"
         L += [f"**{title}**", "", f"![{title}]({b['figure'].relative_to(root).as_posix()})", ""]
