@@ -99,25 +99,35 @@ def _relative(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.abs(a - b)) / max(1e-300, float(np.max(np.abs(b)))))
 
 
+def errors_of(functions: dict[str, Callable], ref: Reference, n_states: int, n_coordinates: int,
+              samples: int = 12, seed: int = 0) -> dict[str, float]:
+    """{name: largest norm-wise relative difference from the independent evaluation} for the given
+    functions (t, y, p) -> array of 'rhs', 'mass', 'forcing', 'jac', 'jac_p' (any subset; flat or
+    shaped, row-major) at random non-equilibrium points: rhs against the dense solve, mass and forcing
+    against the symbolic M and f, jac (d rhs/dy) and jac_p (d rhs/dp) against central differences of
+    the dense solve.  Used on the lowered programs here and on every target's code in the tests."""
+    N, S, P = ref.N, n_states, ref.defaults.size
+    errors = dict.fromkeys(functions, 0.0)
+    for k, (t, y, p) in enumerate(ref.points(S, n_coordinates, samples, seed)):
+        def worse(name, reference, shape):
+            if name in functions:
+                got = np.asarray(functions[name](t, y, p), dtype=float).reshape(shape)
+                errors[name] = max(errors[name], _relative(got, reference() if callable(reference) else reference))
+        worse("rhs", ref.rhs(t, y, p), (S,))
+        worse("mass", ref.M(t, y, p), (N, N))
+        worse("forcing", ref.f(t, y, p), (N,))
+        if k < 3:  # the derivatives cost 24 (S + P) dense solves a point
+            worse("jac", lambda: central_difference(lambda z: ref.rhs(t, z, p), y), (S, S))
+            worse("jac_p", lambda: central_difference(lambda q: ref.rhs(t, y, q), p), (S, P))
+    return errors
+
+
 def program_errors(ir: ModelIR, system: FirstOrderSystem, samples: int = 12, seed: int = 0,
                    reference: Reference | None = None) -> dict[str, float]:
-    """{program: largest norm-wise relative difference from its independent evaluation} at random
-    non-equilibrium points: rhs against the dense solve, mass_matrix and forcing against the symbolic
-    M and f, jac (d rhs/dy) and jac_p (d rhs/dp) against central differences of the dense solve."""
+    """`errors_of` the intermediate form's five programs (run in Python, `interpret`)."""
     ref = reference or Reference.of(system)
-    prog = {name: compile_program(ir, name) for name in PROGRAMS}
-    N, S, P = ref.N, ir.n_states, len(ir.parameters)
-    errors = dict.fromkeys(PROGRAMS, 0.0)
-    for k, (t, y, p) in enumerate(ref.points(S, ir.n_coordinates, samples, seed)):
-        errors["rhs"] = max(errors["rhs"], _relative(prog["rhs"](t, y, p), ref.rhs(t, y, p)))
-        errors["mass"] = max(errors["mass"], _relative(prog["mass"](t, y, p).reshape(N, N), ref.M(t, y, p)))
-        errors["forcing"] = max(errors["forcing"], _relative(prog["forcing"](t, y, p), ref.f(t, y, p)))
-        if k < 3:  # the derivatives cost 24 (S + P) dense solves a point
-            jac = central_difference(lambda z: ref.rhs(t, z, p), y)
-            jac_p = central_difference(lambda q: ref.rhs(t, y, q), p)
-            errors["jac"] = max(errors["jac"], _relative(prog["jac"](t, y, p).reshape(S, S), jac))
-            errors["jac_p"] = max(errors["jac_p"], _relative(prog["jac_p"](t, y, p).reshape(S, P), jac_p))
-    return errors
+    return errors_of({name: compile_program(ir, name) for name in PROGRAMS}, ref, ir.n_states, ir.n_coordinates,
+                     samples, seed)
 
 
 def extension_errors(ext: ModelIR, system: FirstOrderSystem, samples: int = 4, seed: int = 1,
