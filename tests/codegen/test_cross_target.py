@@ -28,7 +28,6 @@ from adbgen import families
 from adbgen.codegen import targets
 from adbgen.codegen.checks import DERIVATIVE_TOLERANCE, Reference, errors_of
 from adbgen.codegen.regenerate import DEFAULT_OUT
-from adbgen.codegen.render import render_model
 from adbgen.codegen.scratch import import_numba, render_into
 
 from autorun import auto_header, auto_toolchain  # noqa: F401 - fixture

@@ -12,7 +12,7 @@ from typing import Callable
 import sympy as sp
 
 from ...core import is_identity
-from ...core.checks import (CONSISTENCY, DERIVED, FORMULA, NOT_REPRODUCED, CheckResult, Registered, flip_term,
+from ...core.checks import (DERIVED, FORMULA, CheckResult, Registered, flip_term,
                              moved, printed_tolerance, timed as _timed)
 from ...core.structure import cramer
 from ...references import thesis

@@ -17,7 +17,7 @@ from ...references import two_plane_2011 as paper
 from ..single_plane.scene import Scene
 from ..single_plane.model import derive as derive_single_plane
 from ..single_plane.symbols import DimensionalSymbols
-from ...core.checks import (CONSISTENCY, DERIVED, FORMULA, NOT_REPRODUCED, CheckResult, Registered, flip_term,
+from ...core.checks import (CONSISTENCY, DERIVED, NOT_REPRODUCED, CheckResult, Registered, flip_term,
                              moved, printed_tolerance, timed as _timed)
 from . import critical_speeds as cs
 from . import normal_form as nf
