@@ -1,21 +1,24 @@
 """Peers for the benchmarks: JiTCODE and heyoka fed the same equations as adbgen's generated code.
 
 Only benchmarks import this module (`adbgen bench simulate`, and the work-precision charts that
-follow it); the peers are the optional extra ``pip install 'adbgen[peers]'``.  SymPy is used here,
-never in the analysis layer.
+follow it); the peers are the optional extra ``pip install 'adbgen[peers]'``.  No SymPy here,
+nor in the analysis layer: the peers read the generated module.
 
-"The same equations" means the rhs program of the model's intermediate form (`adbgen.codegen.ir`):
-the straight-line code every target prints (per-ball blocks, the Schur complement of the ball block,
-its unrolled LU solve, the back-substitution; thesis Appendix A).  Each peer gets it in its own
-input language:
+"The same equations" means the generated code itself: the statements of the model's numba
+``rhs_inplace``, read from its source (`generated_program`) in their order, with their operands in
+their printed, ball-invariant order (`codegen/printers.py`), so that a peer evaluates every ball by the
+same floating-point operations as the generated code does.  (Feeding the intermediate form's SymPy
+expressions instead loses that order, and with it the exchange symmetry: measured, heyoka then splits
+the balls that start together.)  Each peer gets the statements in its own input language:
 
-- JiTCODE 1.7 (`jitcode.jitcode`): every statement as a *helper* (JiTCODE's named intermediate),
-  the outputs as f; the parameters as control parameters (runtime values, as the generated C takes
-  them).  Its ``dop853`` backend is SciPy's ``ode('dop853')`` (Hairer's Fortran DOP853) calling the
-  compiled C function through Python for every evaluation.
-- heyoka 7 (`heyoka.taylor_adaptive`): each statement converted by ``heyoka.from_sympy`` with the
-  earlier statements substituted as heyoka expressions (heyoka eliminates the common subexpressions
-  itself); parameters as ``heyoka.par[i]``; an LLVM-compiled adaptive Taylor integrator.
+- JiTCODE 1.7 (`jitcode.jitcode`): every computed statement as a *helper* (JiTCODE's named
+  intermediate), the outputs as f; the parameters as control parameters (runtime values, as the
+  generated C takes them).  SymEngine, which JiTCODE builds on, re-orders the terms of each
+  expression by its own canonical order.  Its ``dop853`` backend is SciPy's ``ode('dop853')``
+  (Hairer's Fortran DOP853) calling the compiled C function through Python for every evaluation.
+- heyoka 7 (`heyoka.taylor_adaptive`): the statements evaluated on heyoka expressions (heyoka
+  eliminates the common subexpressions itself); parameters as ``heyoka.par[i]``; an LLVM-compiled
+  adaptive Taylor integrator.
 
 `check_equations` compares each peer's rhs with the generated module's at random states: the peers
 must integrate the generated code's equations, not a lookalike.
@@ -23,15 +26,17 @@ must integrate the generated code's equations, not a lookalike.
 
 from __future__ import annotations
 
+import ast
 import importlib
+import inspect
 import os
 import tempfile
+import textwrap
 import time
 from contextlib import contextmanager
-from functools import lru_cache
+from types import SimpleNamespace
 
 import numpy as np
-import sympy as sp
 
 
 class PeerUnavailable(RuntimeError):
@@ -58,68 +63,68 @@ def peer_versions() -> dict:
     return out
 
 
-@lru_cache(maxsize=None)
-def model_ir(name: str):
-    """The intermediate form of a model of the default families, by its generated name."""
-    from . import families
+def generated_program(module) -> tuple[list, dict]:
+    """The statements of a generated module's ``rhs_inplace``: ([(name, ast expr)], {index: ast expr}).
 
-    kinds = families.kinds()
-    for kind, make in kinds.items():
-        prefix = kind + "_n"
-        if name.startswith(prefix) and name[len(prefix):].isdigit():
-            return make(int(name[len(prefix):])).build()
-    raise ValueError(f"{name!r} is not a model of the default families ({', '.join(kinds)})")
+    The function is straight-line code (``name = expr`` and ``out[i] = expr``, a docstring first);
+    anything else is refused, so a template change cannot slip a different program past the peers."""
+    source = textwrap.dedent(inspect.getsource(module.rhs_inplace.py_func))
+    fn = ast.parse(source).body[0]
+    statements, outputs = [], {}
+    for node in fn.body:
+        if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
+            continue
+        if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
+            raise ValueError(f"unexpected statement in {module.__name__}.rhs_inplace: {ast.unparse(node)}")
+        target = node.targets[0]
+        if isinstance(target, ast.Name):
+            statements.append((target.id, node.value))
+        elif isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name) and target.value.id == "out":
+            outputs[int(ast.literal_eval(target.slice))] = node.value
+        else:
+            raise ValueError(f"unexpected assignment in {module.__name__}.rhs_inplace: {ast.unparse(node)}")
+    if sorted(outputs) != list(range(len(module.STATE_NAMES))):
+        raise ValueError(f"{module.__name__}.rhs_inplace does not write every output")
+    return statements, outputs
 
 
-def _time_symbol(ir):
-    """The free symbol of time in the rhs program (None for an autonomous model)."""
-    known = {s.symbol for s in ir.states} | {p.symbol for p in ir.parameters} | {lhs for lhs, _ in ir.rhs.assignments}
-    free = set()
-    for _, e in list(ir.rhs.assignments) + list(ir.rhs.outputs):
-        free |= sp.sympify(e).free_symbols - known
-    if not free:
-        return None
-    if len(free) == 1 and next(iter(free)).name == "t":
-        return next(iter(free))
-    raise ValueError(f"unexpected free symbols in the rhs program: {sorted(map(str, free))}")
+def _translate(module, functions, states, params, time, bind=lambda name, value: value):
+    """The outputs of the generated rhs evaluated on a peer's symbols, statement by statement.
+
+    functions: the peer's sin, cos, ... (the generated code's ``math.*``); bind(name, value) is what
+    later statements see for a computed statement (the value itself, or a named helper)."""
+    statements, outputs = generated_program(module)
+    scope = {"math": SimpleNamespace(**functions), "__builtins__": {}}
+    env = {"y": list(states), "p": list(params), "t": time}
+    for name, expr in statements:
+        value = eval(compile(ast.Expression(expr), "<rhs_inplace>", "eval"), scope, env)  # noqa: S307
+        is_read = isinstance(expr, ast.Subscript) and isinstance(expr.value, ast.Name) and expr.value.id in ("y", "p")
+        env[name] = value if is_read else bind(name, value)
+    return [eval(compile(ast.Expression(outputs[i]), "<rhs_inplace>", "eval"), scope, env)  # noqa: S307
+            for i in range(len(outputs))]
 
 
-def _translate(ir, convert, states, params, time, bind=lambda lhs, value: value):
-    """The rhs program's outputs in a peer's expressions.
-
-    convert(expr, env) turns one SymPy expression into the peer's, env mapping its free symbols;
-    bind(lhs, value) is what later statements see for a statement (the value itself, or a name)."""
-    env = {s.symbol: v for s, v in zip(ir.states, states)}
-    env.update({p.symbol: v for p, v in zip(ir.parameters, params)})
-    t = _time_symbol(ir)
-    if t is not None:
-        env[t] = time
-    for lhs, expr in ir.rhs.assignments:
-        env[lhs] = bind(lhs, convert(expr, {k: env[k] for k in sp.sympify(expr).free_symbols}))
-    outputs = [None] * ir.rhs.shape[0]
-    for index, expr in ir.rhs.outputs:
-        outputs[index] = convert(expr, {k: env[k] for k in sp.sympify(expr).free_symbols})
-    return outputs
+def _functions(lib, names=("sin", "cos", "tan", "exp", "log", "sqrt", "atan")) -> dict:
+    return {n: getattr(lib, n) for n in names if hasattr(lib, n)}
 
 
 # -------------------------------------------------------------------------------------- heyoka
 
 class Heyoka:
-    """heyoka's adaptive Taylor integrator on the model's rhs program (one per tolerance)."""
+    """heyoka's adaptive Taylor integrator on the generated rhs (one integrator per tolerance)."""
 
     name = "heyoka"
 
-    def __init__(self, ir):
+    def __init__(self, module):
         try:
             import heyoka as hy
         except ImportError as exc:
             raise PeerUnavailable(f"heyoka is not installed ({exc}); pip install 'adbgen[peers]'") from None
         self.hy = hy
-        self.ir = ir
-        self.vars = [hy.make_vars(s.name) for s in ir.states]
+        self.vars = [hy.make_vars(name) for name in module.STATE_NAMES]
         start = time.perf_counter()
-        outputs = _translate(ir, lambda e, env: hy.from_sympy(sp.sympify(e), s_dict=env), self.vars,
-                                [hy.par[i] for i in range(len(ir.parameters))], hy.time)
+        outputs = _translate(module, _functions(hy), self.vars, [hy.par[i] for i in range(len(module.PARAM_NAMES))],
+                             hy.time)
         self.translate_s = time.perf_counter() - start
         self.system = list(zip(self.vars, outputs))
         self.outputs = outputs
@@ -189,26 +194,22 @@ class JiTCODE:
 
     name = "jitcode"
 
-    def __init__(self, ir):
+    def __init__(self, module):
         try:
             import symengine as se
             from jitcode import jitcode, t as jt, y as jy
         except ImportError as exc:
             raise PeerUnavailable(f"jitcode is not installed ({exc}); pip install 'adbgen[peers]'") from None
-        self.ir = ir
-        n = len(ir.states)
-        self.pars = [se.Symbol("par_" + p.name) for p in ir.parameters]
+        n = len(module.STATE_NAMES)
+        self.pars = [se.Symbol("par_" + name) for name in module.PARAM_NAMES]
         helpers = []
 
-        def convert(expr, env):
-            return se.sympify(expr).subs({se.Symbol(k.name): v for k, v in env.items()})
-
-        def bind(lhs, value):  # each statement becomes a helper, named like the generated code's
-            helpers.append((se.Symbol("h_" + lhs.name), value))
+        def bind(name, value):  # each computed statement becomes a helper, named like the generated code's
+            helpers.append((se.Symbol("h_" + name), value))
             return helpers[-1][0]
 
         start = time.perf_counter()
-        outputs = _translate(ir, convert, [jy(i) for i in range(n)], self.pars, jt, bind)
+        outputs = _translate(module, _functions(se), [jy(i) for i in range(n)], self.pars, jt, bind)
         self.translate_s = time.perf_counter() - start
         start = time.perf_counter()
         with _scratch_cwd():
@@ -270,4 +271,4 @@ def check_equations(peer, module, p, samples: int = 50, seed: int = 0) -> float:
     return worst
 
 
-__all__ = ["Heyoka", "JiTCODE", "PEERS", "PeerUnavailable", "check_equations", "model_ir", "peer_versions"]
+__all__ = ["Heyoka", "JiTCODE", "PEERS", "PeerUnavailable", "check_equations", "generated_program", "peer_versions"]

@@ -69,7 +69,8 @@ def bench_sweep(workers: int | None = None, grid=GRID, t_end: float = 2000.0, pr
                 maps[name] = codes
                 labels = json.loads(ds.attrs["labels"])
                 t_last = ds["t_last"].values
-                run["labels"] = {labels[c]: int(n) for c, n in sorted(collections.Counter(codes.ravel().tolist()).items())}
+                counts = collections.Counter(codes.ravel().tolist())
+                run["labels"] = {labels[c]: int(n) for c, n in sorted(counts.items())}
                 balanced = t_last[codes == 0]
                 run["median_t_last_balanced"] = float(np.median(balanced)) if balanced.size else None
                 every.append({"run": name, **{k: run[k] for k in ("wall_s", "cpu_s", "load_average_before")}})

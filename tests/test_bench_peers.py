@@ -22,20 +22,28 @@ MODEL = "thesis_rotating_n2"
 @pytest.fixture(scope="module")
 def setting():
     model = load_model(MODEL)
-    return model, bench_peers.model_ir(MODEL), model.params()
+    return model, model.module, model.params()
 
 
-def test_model_ir_by_name():
-    with pytest.raises(ValueError, match="default families"):
-        bench_peers.model_ir("no_such_model_n2")
-    ir = bench_peers.model_ir(MODEL)
-    assert ir.name == MODEL and ir.n_states == 8
+def test_generated_program_is_the_modules_statements():
+    model = load_model(MODEL)
+    statements, outputs = bench_peers.generated_program(model.module)
+    assert sorted(outputs) == list(range(model.n_states))
+    names = [name for name, _ in statements]
+    assert len(names) == len(set(names)) and names[:2] == ["x", "y_"]  # state reads first, in order
+    # evaluated on floats, the program is the generated rhs itself (same operations: bitwise)
+    import math
+
+    y = np.linspace(-0.3, 0.4, model.n_states)
+    p = model.params()
+    got = bench_peers._translate(model.module, {"sin": math.sin, "cos": math.cos}, y, p, 0.0)
+    assert np.array_equal(np.array(got, float), model.module.rhs(0.0, y, p))
 
 
 def test_heyoka_same_equations_and_run(setting):
     require_module("heyoka", "the 'peers' extra: pip install -e '.[peers]'")
-    model, ir, p = setting
-    peer = bench_peers.Heyoka(ir)
+    model, module, p = setting
+    peer = bench_peers.Heyoka(module)
     assert bench_peers.check_equations(peer, model.module, p, samples=20) < 1e-13
     y0 = model.state({"phi_1": math.pi / 2, "phi_2": -math.pi / 2})
     out = peer.run(y0, p, 5.0, 1e-10)
@@ -48,9 +56,9 @@ def test_heyoka_same_equations_and_run(setting):
 
 def test_jitcode_same_equations_and_run(setting, tmp_path, monkeypatch):
     require_module("jitcode", "the 'peers' extra: pip install -e '.[peers]'")
-    model, ir, p = setting
+    model, module, p = setting
     monkeypatch.chdir(tmp_path)
-    peer = bench_peers.JiTCODE(ir)
+    peer = bench_peers.JiTCODE(module)
     assert list(tmp_path.iterdir()) == []  # built in a scratch folder, not the working directory
     assert bench_peers.check_equations(peer, model.module, p, samples=20) < 1e-13
     y0 = model.state({"phi_1": math.pi / 2, "phi_2": -math.pi / 2})

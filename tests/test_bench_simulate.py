@@ -71,6 +71,9 @@ def test_floor_symmetry_many_and_targets(tiny_result):
     assert floor["basis"] == "C" and floor["c_rhs_loop"]["min_ns"] > 0 and floor["numba_rhs_loop"]["min_ns"] > 0
     for key in ("cyrk-dop853", "scipy-dop853"):
         assert floor["ratio"][key] > 0 and floor["floor_s"][key] > 0
+    # paired ratios for the fast Runge-Kutta engines only (not SciPy's)
+    assert set(floor["paired"]) == {"cyrk-dop853", "cyrk-rk45"}
+    assert all(len(v["ratios"]) == 2 and v["median"] > 0 for v in floor["paired"].values())
     # the generated rhs evaluates every ball alike; the compiled default keeps identical balls together
     assert r["symmetry"]["rhs_symmetric_fraction"]["generated numba rhs"] == 1.0
     assert r["symmetry"]["runs"]["cyrk-dop853"]["bitwise_equal"] is True

@@ -7,8 +7,8 @@
                                     provably converges to it (Lyapunov; early stop of sweeps)
     Classifier(model, p).label(...) balanced 1, coincident 2+-, in-line 3(n-m)+-, limit cycle, unsettled
 
-These are the small pieces the sweeps need; the general steady-state and continuation tools live in
-the stability layer (a Newton refinement and a deflated spectrum there are the same mathematics).
+Newton and the transverse spectrum are those of `steady` (the stability layer); this module adds
+what the sweeps need on top: names, provable basin regions, and the classification of final states.
 
 The steady states and their names follow the thesis: balanced 1 (3.6) with x = y = 0; coincident 2+-
 (3.9) with all balls together; in-line 3(n-m)+- (3.10) with m balls together and n - m opposite.  The
@@ -25,7 +25,8 @@ from functools import lru_cache
 import numpy as np
 import scipy.linalg
 
-from .loading import Model
+from . import closed_forms, steady
+from .loading import AnalysisError, Model
 
 TWO_PI = 2.0 * math.pi
 
@@ -44,26 +45,15 @@ def state_difference(model: Model, a, b) -> np.ndarray:
 
 # ------------------------------------------------------------------------------------- steady states
 
-def newton(model: Model, y, p, *, tol: float = 1e-11, max_iter: int = 40) -> np.ndarray | None:
-    """A zero of rhs(0, ., p) near y (least-squares steps: the balanced family of n >= 3 is a continuum,
-    so the Jacobian is singular along it); None if it does not converge."""
+def newton(model: Model, y, p) -> np.ndarray | None:
+    """A zero of rhs(0, ., p) near y (`steady.newton`: minimum-norm steps, so it also converges onto the
+    balanced family of n >= 3 balls); None if it does not converge or the model is not autonomous."""
     if not model.autonomous:
         return None
-    m = model.module
-    y = np.array(y, dtype=float)
-    p = np.asarray(p, dtype=float)
-    for _ in range(max_iter):
-        f = m.rhs(0.0, y, p)
-        if not np.all(np.isfinite(f)):
-            return None
-        if np.max(np.abs(f)) < tol:
-            return y
-        step = np.linalg.lstsq(m.jac(0.0, y, p), -f, rcond=None)[0]
-        y = y + step
-        if not np.all(np.isfinite(y)):
-            return None
-    f = m.rhs(0.0, y, p)
-    return y if np.max(np.abs(f)) < 100 * tol else None
+    try:
+        return steady.newton(model, np.asarray(p, float), np.asarray(y, float))[0]
+    except steady.SteadyStateError:
+        return None
 
 
 def amplitude_of(model: Model, y) -> float:
@@ -71,35 +61,14 @@ def amplitude_of(model: Model, y) -> float:
     return float(math.hypot(y[ix], y[iy]))
 
 
-def family_tangent(model: Model, y, p) -> np.ndarray | None:
-    """Tangent space (columns, orthonormal) of the balanced family (3.6) through y, for n >= 3 balls.
-
-    Along the family x = y = 0, the rates are 0 and sum cos(phi_i), sum sin(phi_i) are fixed, so its
-    tangent vectors v (angle components only) satisfy sum sin(phi_i) v_i = sum cos(phi_i) v_i = 0: an
-    (n - 2)-dimensional space, in the kernel of the Jacobian (checked here, else None)."""
-    angles = list(model.angle_indices)
-    n = len(angles)
-    if n < 3 or amplitude_of(model, y) > 1e-9:
-        return None
-    phi = np.asarray(y)[angles]
-    null = scipy.linalg.null_space(np.vstack([np.sin(phi), np.cos(phi)]))
-    if null.shape[1] != n - 2:
-        return None
-    T = np.zeros((model.n_states, n - 2))
-    T[angles] = null
-    J = model.module.jac(0.0, np.asarray(y, float), np.asarray(p, float))
-    if np.linalg.norm(J @ T) > 1e-8 * max(1.0, np.linalg.norm(J)):
-        return None
-    return T
-
-
 @dataclass
 class Spectrum:
-    eigenvalues: np.ndarray  # the deflated spectrum (neutral family directions removed)
+    eigenvalues: np.ndarray  # the transverse spectrum (the balanced family's neutral directions removed)
     neutral: int  # number of exact zeros removed (n - 2 on the balanced family of n >= 3 balls)
 
-    def unstable(self, tol: float = 1e-9) -> int:
-        return int(np.sum(self.eigenvalues.real > tol))
+    def unstable(self) -> int:
+        """Eigenvalues with positive real part (`steady.classify`'s tolerance for the imaginary axis)."""
+        return steady.classify(self.eigenvalues)[1]
 
     @property
     def abscissa(self) -> float:
@@ -107,23 +76,15 @@ class Spectrum:
 
 
 def spectrum(model: Model, y, p) -> Spectrum:
-    """Eigenvalues of the Jacobian at a steady state; on the balanced family of n >= 3 balls, the
-    spectrum transverse to it: with V = [T, W] orthonormal (T the family's tangent, J T = 0),
-    V' J V = [[0, T'JW], [0, W'JW]] is block triangular, so spec J = {0}^(n-2) + spec(W'JW) exactly."""
-    J = model.module.jac(0.0, np.asarray(y, float), np.asarray(p, float))
-    T = family_tangent(model, y, p)
-    if T is None:
-        return Spectrum(np.linalg.eigvals(J), 0)
-    W = scipy.linalg.null_space(T.T)
-    return Spectrum(np.linalg.eigvals(W.T @ J @ W), T.shape[1])
+    """Eigenvalues of the Jacobian at a steady state; on the balanced family of n >= 3 balls those
+    transverse to it (`steady.transverse_spectrum`: spec J = {0}^(n-2) + spec(S'JS) exactly)."""
+    y, p = np.asarray(y, float), np.asarray(p, float)
+    J = steady.jacobian(model, y, p)
+    T = steady.family_tangent(model, y, p, J)
+    return Spectrum(steady.transverse_spectrum(J, T), T.shape[1])
 
 
 # --------------------------------------------------------------------------------------------- names
-
-def _thesis_like(model: Model) -> bool:
-    return (model.autonomous and tuple(model.module.CORE) == ("x", "y")
-            and {"Omega", "delta", "mu", "zeta"} <= set(model.param_names))
-
 
 def labels(model: Model) -> list[str]:
     """Every label a sweep of `model` can give, in a fixed order (the stored codes index this list)."""
@@ -140,21 +101,14 @@ def labels(model: Model) -> list[str]:
     return out
 
 
-def _closed_form_angles(model: Model, p, n_net: int) -> tuple[float, float] | None:
-    """phi_1 of (3.9)/(3.10) for the signs -, + (n_net = 2m - n balls net on phi_1's side)."""
-    if not _thesis_like(model):
+def _closed_form_angles(model: Model, p, m: int) -> tuple[float, float] | None:
+    """phi_1 of (3.9)/(3.10) (m balls at phi_1, n - m opposite) for the signs -, + (`closed_forms.inline`)."""
+    if not closed_forms.is_thesis_model(model):
         return None
-    par = dict(zip(model.param_names, np.asarray(p, float)))
+    v = dict(zip(model.param_names, np.asarray(p, float)))
     n = len(model.angle_indices)
-    Om, mu, zeta, delta = par["Omega"], par["mu"], par["zeta"], par["delta"]
-    K = 1.0 - Om**2 * (1.0 + n * mu)
-    if zeta <= 0:
-        return None
-    arg = -2.0 * n_net * mu * zeta * Om / math.sqrt((2 * Om * zeta * delta) ** 2 + (K * delta) ** 2)
-    if abs(arg) > 1:
-        return None
-    shift = math.atan(-K / (2.0 * Om * zeta))
-    return -math.acos(arg) - shift, math.acos(arg) - shift
+    out = [closed_forms.inline(n, m, sign, v["Omega"], v["delta"], v["mu"], v["zeta"]) for sign in (-1, 1)]
+    return None if any(c is None for c in out) else (float(out[0][2]), float(out[1][2]))
 
 
 def name_steady_state(model: Model, y, p, tol: float = 1e-6) -> str:
@@ -174,7 +128,7 @@ def name_steady_state(model: Model, y, p, tol: float = 1e-6) -> str:
     kind = "coincident 2" if m == n else f"in-line 3({n}-{m})"
     if 2 * m == n:
         return kind
-    closed = _closed_form_angles(model, p, 2 * m - n)
+    closed = _closed_form_angles(model, p, m)
     if closed is None:
         return kind
     for sign, phi in zip("-+", closed):
@@ -236,7 +190,7 @@ def stop_region(model: Model, y, p, *, samples: int = 256, seed: int = 0,
     y = np.asarray(y, float)
     p = np.asarray(p, float)
     J = m.jac(0.0, y, p)
-    if not np.all(np.isfinite(J)) or family_tangent(model, y, p) is not None:
+    if not np.all(np.isfinite(J)) or steady.family_tangent(model, y, p, J).shape[1]:
         return None
     if np.max(np.linalg.eigvals(J).real) >= -1e-9:
         return None
@@ -269,7 +223,7 @@ def stop_region(model: Model, y, p, *, samples: int = 256, seed: int = 0,
 def seeds(model: Model, p) -> list[np.ndarray]:
     """Starting points for the steady states: START with its balls permuted (identical balls: each
     permutation is a steady state too, physically the same, in state space another point), and for
-    the thesis' models the closed forms of the coincident (3.9) and in-line (3.10) states."""
+    the thesis' models the closed forms of ch. 3 (`closed_forms`: (3.6), (3.9), (3.10))."""
     import itertools
 
     start = np.array(model.module.START, dtype=float)
@@ -280,16 +234,11 @@ def seeds(model: Model, p) -> list[np.ndarray]:
         y[angles] = start[[angles[k] for k in perm]]
         if not any(np.array_equal(y, o) for o in out):
             out.append(y)
-    n = len(model.angle_indices)
-    ix, iy, _, _ = model.amplitude_indices
-    for m in range(n, (n - 1) // 2, -1):
-        closed = _closed_form_angles(model, p, 2 * m - n)
-        for phi in closed or ():
-            y = np.zeros(model.n_states)
-            for k, i in enumerate(model.angle_indices):
-                y[i] = phi if k < m else phi + math.pi
-            y[ix] = y[iy] = 0.0  # Newton finds x, y (linear in them)
-            out.append(y)
+    for label in closed_forms.labels(model):
+        try:
+            out.append(closed_forms.state(model, label, p))
+        except AnalysisError:  # that state does not exist at these parameters
+            pass
     return out
 
 

@@ -67,10 +67,37 @@ def parse_axis(text: str, model: Model) -> Axis:
 
 
 @dataclass(frozen=True)
+class Tie:
+    """An initial state that follows a grid axis: state = axis value + offset (``--tie phi_3=phi_1+pi``)."""
+
+    state: str
+    axis: str
+    offset: float
+
+
+def parse_tie(text: str, model: Model, axes: tuple[Axis, ...]) -> Tie:
+    """``NAME=AXIS``, ``NAME=AXIS+OFFSET`` or ``NAME=AXIS-OFFSET`` (OFFSET a number or an expression in pi)."""
+    name, sep, rest = str(text).partition("=")
+    name, rest = name.strip(), rest.strip()
+    if not sep or not name or not rest:
+        raise AnalysisError(f"--tie {text!r}: expected NAME=AXIS+OFFSET, e.g. phi_3=phi_1+pi")
+    model.index(name)  # a state of the model, or one clear line
+    axis = next((a for a in axes if rest == a.name or rest.startswith(a.name + "+") or rest.startswith(a.name + "-")),
+                None)
+    if axis is None or axis.kind != "state":
+        raise AnalysisError(f"--tie {name}: {rest!r} does not start with a state axis of the grid "
+                            f"({', '.join(a.name for a in axes if a.kind == 'state') or 'none'})")
+    tail = rest[len(axis.name):]
+    offset = parse_value(tail, f"--tie {name} offset") if tail else 0.0
+    return Tie(name, axis.name, offset)
+
+
+@dataclass(frozen=True)
 class Grid:
     axes: tuple[Axis, ...]
     base_params: np.ndarray  # DEFAULTS with --set
     base_state: np.ndarray  # zeros with --y0
+    ties: tuple[Tie, ...] = ()
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -96,11 +123,15 @@ class Grid:
                 P[:, model.param_names.index(axis.name)] = column
             else:
                 Y0[:, model.index(axis.name)] = column
+        for tie in self.ties:
+            Y0[:, model.index(tie.state)] = Y0[:, model.index(tie.axis)] + tie.offset
         return P, Y0
 
 
-def make_grid(model: Model, grid: list[str], params: dict[str, float], y0: dict[str, float]) -> Grid:
-    """The grid of `--grid` items with the fixed values of --set and --y0 (a name in both is refused)."""
+def make_grid(model: Model, grid: list[str], params: dict[str, float], y0: dict[str, float],
+              ties: list[str] = ()) -> Grid:
+    """The grid of `--grid` items with the fixed values of --set and --y0 and the `--tie`d states (a name
+    given twice, in two of these, or tied to itself is refused)."""
     if not grid:
         raise AnalysisError("no grid: give at least one --grid NAME=FROM:TO:COUNT")
     axes = tuple(parse_axis(item, model) for item in grid)
@@ -111,10 +142,15 @@ def make_grid(model: Model, grid: list[str], params: dict[str, float], y0: dict[
         seen.add(a.name)
         if a.name in params or a.name in y0:
             raise AnalysisError(f"{a.name} is both a grid axis and fixed by --set/--y0")
+    tied = tuple(parse_tie(item, model, axes) for item in ties or ())
+    for t in tied:
+        if t.state in seen or t.state in y0:
+            raise AnalysisError(f"--tie {t.state}: already a grid axis, fixed by --y0 or tied")
+        seen.add(t.state)
     size = math.prod(a.count for a in axes)
     if size > MAX_POINTS:
         raise AnalysisError(f"the grid has {size} points; at most {MAX_POINTS} per sweep")
-    return Grid(axes, model.params(params), model.state(y0))
+    return Grid(axes, model.params(params), model.state(y0), tied)
 
 
 def axis_symbol(name: str) -> str:

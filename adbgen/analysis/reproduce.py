@@ -7,9 +7,10 @@ balance, the attractor is named by `attractors.Classifier` (steady state by Newt
 further window) and the final state compared with the published one.
 
 Covered: thesis ch. 5, Fig. 5.4 (n = 2), Fig. 5.6 (n = 3), Fig. 5.8 (n = 4), the (pi, pi, pi) coincident
-and (0, 0, pi) in-line runs (text of Fig. 5.7), the n = 2 limit cycle from (pi/4, -pi/4), and the damping runs of
-section 5.2.2 (Fig. 5.15-5.17), the basin maps of Fig. 5.18; ch. 4, the zeta and beta limits the text states for n = 3, 4 and the
-(Omega, mu), (zeta, beta) stability maps for n = 2, 3, 4.  Not yet: the two-plane paper.
+and (0, 0, pi) in-line runs (text of Fig. 5.7), the n = 2 limit cycle from (pi/4, -pi/4), the damping runs
+of section 5.2.2 (Fig. 5.15-5.17), the basin maps of Fig. 5.18 and 5.19 (a), (c); ch. 4, the zeta and
+beta limits the text states for n = 3, 4 and the (Omega, mu), (zeta, beta) stability maps for n = 2, 3,
+4.  Not yet: the two-plane paper.
 """
 
 from __future__ import annotations
@@ -213,6 +214,85 @@ def _basins(fig_dir: Path, size: int = 40) -> list[dict]:
     return out
 
 
+FIG5_19_ZETAS = (0.01, 0.2)  # thesis Fig. 5.19(a), (c): n = 4, phi_3 = phi_1 + pi, phi_4 = phi_2 + pi
+
+
+def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
+    """Fig. 5.19 (a), (c): basin maps of n = 4 with the third and fourth balls opposite the first two."""
+    import json
+    import shutil
+    import tempfile
+
+    import xarray as xr
+
+    from .sweep import SweepSpec, run_sweep
+
+    out = []
+    tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-n4-"))
+    try:
+        for zeta, panel in zip(FIG5_19_ZETAS, "ac"):
+            grid = [f"phi_1=0:2*pi*{size - 1}/{size}:{size}", f"phi_2=0:2*pi*{size - 1}/{size}:{size}"]
+            spec = SweepSpec(model="thesis_rotating_n4", grid=grid, measure="attractor", set=[f"zeta={zeta}"],
+                             tie=["phi_3=phi_1+pi", "phi_4=phi_2+pi"], t_end=3000.0)
+            run_sweep(spec, tmp / panel, progress=False)
+            ds = xr.open_zarr(tmp / panel / "sweep.zarr", consolidated=False)
+            names = json.loads(ds.attrs["labels"])
+            codes = ds["attractor"].values
+            target = fig_dir / f"fig5_19{panel}.png"
+            shutil.copyfile(tmp / panel / "attractor.png", target)
+            balanced = codes == names.index("balanced 1")
+            diagonal = np.eye(size, dtype=bool)
+            p1, p2 = np.meshgrid(ds["phi_1"].values, ds["phi_2"].values, indexing="ij")
+            centres = [(a, b) for a in (PI / 2, 3 * PI / 2) for b in (PI / 2, 3 * PI / 2)]
+            near = np.zeros_like(balanced)
+            for a, b in centres:
+                near |= np.hypot(_wrap_array(p1 - a), _wrap_array(p2 - b)) < 0.6
+            off = balanced & ~diagonal
+            out.append({"zeta": zeta, "panel": panel, "figure": target, "size": size,
+                        "counts": {names[c]: int((codes == c).sum()) for c in np.unique(codes)},
+                        "balanced": float(balanced.mean()), "diagonal": float(balanced[diagonal].mean()),
+                        "off_diagonal_balanced": int(off.sum()),
+                        "off_diagonal_near_centres": int((off & near).sum()),
+                        "near_share_of_grid": float(near[~diagonal].mean()),
+                        "off_diagonal_on_shifted": int((off & (np.abs(_wrap_array(p2 - p1 - PI)) < 1e-9)).sum())})
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return out
+
+
+def _basin_n4_section(basins, root: Path) -> list[str]:
+    if not basins:
+        return []
+    size = basins[0]["size"]
+    L = ["## Thesis, Fig. 5.19: basins of attraction of the balanced state, n = 4", "",
+         f"`adbgen sweep thesis_rotating_n4 --grid phi_1=0:2*pi*{size - 1}/{size}:{size} --grid "
+         f"phi_2=0:2*pi*{size - 1}/{size}:{size} --tie phi_3=phi_1+pi --tie phi_4=phi_2+pi --set zeta=Z "
+         "--measure attractor --t-end 3000` (Omega = 4, beta = delta = 0.01, mu = 0.05).", "",
+         f"| panel | zeta | balanced 1 | on the diagonal | other attractors (of {size * size}) |",
+         "|---|---|---|---|---|"]
+    for b in basins:
+        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if k != "balanced 1") or "none"
+        L.append(f"| 5.19({b['panel']}) | {b['zeta']:g} | {100 * b['balanced']:.1f} % | "
+                 f"{100 * b['diagonal']:.0f} % | {others} |")
+    a, c = basins[0], basins[-1]
+    L += ["",
+          "* Thesis (a), zeta = 0.01: \"the system reaches the balance from all the initial positions of the "
+          f"balls, including phi_1(0) = phi_2(0)\".  Ours: {100 * a['balanced']:.1f} % of the grid, "
+          f"{100 * a['diagonal']:.0f} % of the diagonal.",
+          "* Thesis (c), zeta = 0.2: \"the stability of the balanced state is reduced to the line phi_1(0) = "
+          "phi_2(0), and to four small regions around phi_1,2 = pi/2 and phi_1,2 = 3pi/2\".  Ours: "
+          f"{100 * c['diagonal']:.0f} % of the diagonal balances; of the {c['off_diagonal_balanced']} balancing "
+          f"points off it, {c['off_diagonal_near_centres']} lie within 0.6 rad of (pi/2 or 3pi/2, pi/2 or "
+          f"3pi/2), discs that hold {100 * c['near_share_of_grid']:.0f} % of the off-diagonal grid; "
+          f"{c['off_diagonal_on_shifted']} (some of them in those discs too) lie on the line phi_2(0) = "
+          "phi_1(0) + pi, where with the ties ball 3 starts with ball 2 and ball 4 with ball 1: the diagonal "
+          "again, the balls renamed.", ""]
+    for b in basins:
+        title = f"Fig. 5.19({b['panel']}), zeta = {b['zeta']:g}"
+        L += [f"**{title}**", "", f"![{title}]({b['figure'].relative_to(root).as_posix()})", ""]
+    return L
+
+
 def _run(case: Case, rtol: float, keep: bool = False, threshold: float = 1e-3):
     from .simulate import simulate
 
@@ -233,6 +313,26 @@ def threshold_study(case: Case) -> dict:
     """t_dec with the threshold moved by 1 % either way (rtol 1e-12): how sharply the last crossing
     of r = 1e-3 is defined for this transient."""
     return {h: _run(case, RTOLS[-1], threshold=h)[1].t_dec for h in (0.99e-3, 1.01e-3)}
+
+
+# loose settings a 2005 computation may have used: DOP853 at rtol 1e-4, 1e-5, and the Dormand-Prince 4(5)
+# pair at MATLAB ode45's default tolerances (RelTol 1e-3, AbsTol 1e-6) and at 1e-4
+LOOSE = (("DOP853 rtol 1e-4", "cyrk-dop853", 1e-4, 1e-6), ("DOP853 rtol 1e-5", "cyrk-dop853", 1e-5, 1e-7),
+         ("RK45 rtol 1e-3 (ode45 defaults)", "cyrk-rk45", 1e-3, 1e-6), ("RK45 rtol 1e-4", "cyrk-rk45", 1e-4, 1e-7))
+
+
+def loose_study(case: Case) -> dict:
+    """(t_dec, r_max) under the LOOSE settings."""
+    from .simulate import simulate
+
+    model = load_model(f"thesis_rotating_n{case.n}")
+    y0 = model.state({f"phi_{i + 1}": v for i, v in enumerate(case.phi0)})
+    out = {}
+    for name, engine, rtol, atol in LOOSE:
+        sim = simulate(model, model.params(case.params), y0, t_end=T_END, rtol=rtol, atol=atol, engine=engine,
+                       keep_trajectory=False, check=False)
+        out[name] = (sim.t_dec, sim.r_max)
+    return out
 
 
 def _wrap(a: float) -> float:
@@ -282,10 +382,13 @@ def build(out_md: Path, fig_dir: Path, progress=print) -> Path:
             progress(f"{st.source:22s} n = {st.n}: {st.kind} published {st.published:g}, ours {_fmt(v, 4)}")
     maps = _maps(fig_dir)
     basins = _basins(fig_dir)
+    basins_n4 = _basins_n4(fig_dir)
     if progress:
         for b in basins:
             progress(f"Fig. 5.18({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
-    lines = _document(results, figures, out_md.parent, statements, maps, basins)
+        for b in basins_n4:
+            progress(f"Fig. 5.19({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
+    lines = _document(results, figures, out_md.parent, statements, maps, basins, basins_n4)
     out_md.parent.mkdir(parents=True, exist_ok=True)
     tmp = out_md.with_suffix(".md.tmp")
     tmp.write_text("\n".join(lines) + "\n")
@@ -357,7 +460,8 @@ def _basin_section(basins, root: Path) -> list[str]:
           + " from (a) to (c): " + ", ".join(f"{100 * b['balanced']:.1f} %" for b in basins) + ".",
           "* Thesis (c)-(d): \"these shaded regions for zeta = 0.2 and zeta = 0.25 correspond with points around "
           "the lines phi_2(0) = phi_1(0) + pi and phi_2(0) = phi_1(0) - pi\" (a tear-drop shaped basin).  Ours: "
-          + ", ".join(f"({b['panel']}) {100 * b['inline_share']:.0f} %" for b in basins[2:] if b["inline_share"] is not None)
+          + ", ".join(f"({b['panel']}) {100 * b['inline_share']:.0f} %" for b in basins[2:]
+                      if b["inline_share"] is not None)
           + " of the balancing points lie within pi/3 of those lines (a third of the grid does).", ""]
     for b in basins:
         title = f"Fig. 5.18({b['panel']}), zeta = {b['zeta']:g}"
@@ -365,7 +469,7 @@ def _basin_section(basins, root: Path) -> list[str]:
     return L
 
 
-def _document(results, figures, root: Path, statements=(), maps=(), basins=()) -> list[str]:
+def _document(results, figures, root: Path, statements=(), maps=(), basins=(), basins_n4=()) -> list[str]:
     L = ["# Reproduction of the published results", "",
          "Generated by `adbgen reproduce` (do not edit by hand).  Models: `generated/thesis_rotating_n{2,3,4}`; "
          "engine: the default compiled DOP853 (`cyrk-dop853`), atol = rtol/100, t in [0, 3000]; parameters "
@@ -434,18 +538,28 @@ def _document(results, figures, root: Path, statements=(), maps=(), basins=()) -
         if q == "t_dec":
             moved = threshold_study(case)
             pub = case.published[q]
+            loose = loose_study(case)
             candidates = {"rtol 1e-6": vals[0], "rtol 1e-8": vals[1], "threshold 0.99e-3": moved[0.99e-3],
-                          "threshold 1.01e-3": moved[1.01e-3]}
-            name, best = min(candidates.items(), key=lambda kv: abs(kv[1] - pub))
+                          "threshold 1.01e-3": moved[1.01e-3], **{k: v[0] for k, v in loose.items()}}
+            name, best = min(((k, v) for k, v in candidates.items() if v is not None),
+                             key=lambda kv: abs(kv[1] - pub))
             text += ("  Study: " + ", ".join(f"{k}: {_fmt(v, 6)}" for k, v in candidates.items()) + ".  ")
-            if abs(best - pub) <= 0.005 * pub:
-                text += (f"The published value is within {100 * abs(best - pub) / pub:.2f} % of ours at {name}: "
-                         "consistent with a looser computation in the thesis (which states neither its "
-                         "tolerance nor how it located the crossing); the converged value is ours.")
+            spread = [v for k, v in candidates.items() if v is not None and not k.startswith("threshold")]
+            r_loose = [v[1] for v in loose.values()] + [sims[r].r_max for r in RTOLS]
+            text += (f"Over these tolerances t_dec spans {_fmt(min(spread), 6)}-{_fmt(max(spread), 6)} "
+                     f"({100 * (max(spread) - min(spread)) / conv:.1f} % of ours; the last crossing of r = 1e-3 "
+                     "shifts by whole oscillations of the slowly decaying envelope) while r_max spans "
+                     f"{100 * (max(r_loose) - min(r_loose)) / min(r_loose):.2f} %.  ")
+            if 0.995 * min(spread) <= pub <= 1.005 * max(spread):  # the span, or within 0.5 % of its ends
+                text += (f"The published value lies in that span (closest: {name}, "
+                         f"{100 * (best - pub) / pub:+.2f} %): the difference is of the size a loose tolerance "
+                         "makes (the thesis states neither its tolerance nor how it located the crossing); the "
+                         "converged value is ours.")
             else:
-                text += ("Neither a looser tolerance nor a 1 % change of the threshold reaches the published "
-                         f"value (closest: {name}, {100 * (best - pub) / pub:+.2f} %); the difference is not "
-                         "explained by this study and is left open")
+                text += ("The published value lies outside (by more than 0.5 %) the span a looser tolerance or "
+                         f"a 1 % change of the threshold produce (closest: {name}, "
+                         f"{100 * (best - pub) / pub:+.2f} %); the difference is not explained by this study and "
+                         "is left open")
                 if "r_max" in case.published:
                     r_rel = _rel(sims[RTOLS[-1]].r_max, case.published["r_max"])
                     text += f" (r_max of the same run agrees to {100 * abs(r_rel):.2f} %)"
@@ -458,6 +572,7 @@ def _document(results, figures, root: Path, statements=(), maps=(), basins=()) -
         L.append(f"![{title}]({path.relative_to(root).as_posix()})")
         L.append("")
     L += _basin_section(basins, root)
+    L += _basin_n4_section(basins_n4, root)
     L += _chapter4(statements, maps, root)
     L += ["## Not reproduced yet", "",
           "The two-plane paper's B/C3 stability exchange (section 3.2.3), its Figure 12(a) brute-force "

@@ -57,6 +57,7 @@ class SweepSpec:
     measure: str
     set: list[str] = field(default_factory=list)
     y0: list[str] = field(default_factory=list)
+    tie: list[str] = field(default_factory=list)  # initial states that follow a grid axis (phi_3=phi_1+pi)
     t_end: float = 1000.0
     rtol: float = 1e-8
     atol: float = 1e-10
@@ -89,7 +90,8 @@ def prepare(spec: SweepSpec) -> tuple[Model, Grid]:
     if spec.chunk is not None and not (isinstance(spec.chunk, int) and spec.chunk >= 1):
         raise AnalysisError(f"chunk must be a whole number >= 1, got {spec.chunk!r}")
     model = _model(spec.model)
-    grid = make_grid(model, spec.grid, parse_assignments(spec.set, "--set"), parse_assignments(spec.y0, "--y0"))
+    grid = make_grid(model, spec.grid, parse_assignments(spec.set, "--set"), parse_assignments(spec.y0, "--y0"),
+                     spec.tie)
     if spec.measure == "stability":
         states = [a.name for a in grid.axes if a.kind == "state"]
         if states:
@@ -123,27 +125,43 @@ def _ball_states(model: Model, angle: str) -> list[int]:
 
 
 def find_swap(model: Model, grid: Grid) -> Swap | None:
-    """The ball exchange that maps the grid onto itself, if any (see the module docstring)."""
+    """The ball exchange that maps the grid onto itself, if any (see the module docstring).
+
+    Two angle axes over the same values swap their balls; balls `--tie`d to them with equal offsets swap
+    with them (phi_3 = phi_1 + pi and phi_4 = phi_2 + pi: the exchange (1 2)(3 4)).  Every swapped ball's
+    other states must be fixed and equal to its partner's."""
     leaves = set(model.leaves)
     axes = grid.axes
+    grid_states = {x.name for x in axes if x.kind == "state"} | {t.state for t in grid.ties}
     for a in range(len(axes)):
         for b in range(a + 1, len(axes)):
             A, B = axes[a], axes[b]
             if not (A.name in leaves and B.name in leaves and (A.start, A.stop, A.count) == (B.start, B.stop, B.count)):
                 continue
-            sa, sb = _ball_states(model, A.name), _ball_states(model, B.name)
-            if len(sa) != len(sb):
+            pairs = [(A.name, B.name)]
+            tied_a = sorted((t.offset, t.state) for t in grid.ties if t.axis == A.name)
+            tied_b = sorted((t.offset, t.state) for t in grid.ties if t.axis == B.name)
+            if [o for o, _ in tied_a] != [o for o, _ in tied_b]:
                 continue
-            grid_states = {model.index(x.name) for x in axes if x.kind == "state"}
-            rates_a, rates_b = sa[1:], sb[1:]
-            if any(i in grid_states for i in rates_a + rates_b):
-                continue
-            if not np.array_equal(grid.base_state[rates_a], grid.base_state[rates_b]):
+            pairs += [(ka, kb) for (_, ka), (_, kb) in zip(tied_a, tied_b)]
+            if any(t.axis not in (A.name, B.name) and t.state in {x for pr in pairs for x in pr} for t in grid.ties):
                 continue
             perm = list(range(model.n_states))
-            for i, j in zip(sa, sb):
-                perm[i], perm[j] = j, i
-            if _equivariant(model, grid, perm):
+            ok = True
+            for i_name, j_name in pairs:
+                if i_name not in leaves or j_name not in leaves:
+                    ok = False
+                    break
+                si, sj = _ball_states(model, i_name), _ball_states(model, j_name)
+                rates_i, rates_j = si[1:], sj[1:]
+                names = [model.state_names[k] for k in rates_i + rates_j]
+                if (len(si) != len(sj) or any(n in grid_states for n in names)
+                        or not np.array_equal(grid.base_state[rates_i], grid.base_state[rates_j])):
+                    ok = False
+                    break
+                for i, j in zip(si, sj):
+                    perm[i], perm[j] = j, i
+            if ok and _equivariant(model, grid, perm):
                 return Swap(a, b, tuple(perm))
     return None
 
@@ -429,6 +447,7 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
         SETTINGS_ATTR: json.dumps(settings(spec, model), sort_keys=True),
         "parameters": json.dumps(dict(zip(model.param_names, map(float, grid.base_params)))),
         "initial_state": json.dumps(dict(zip(model.state_names, map(float, grid.base_state)))),
+        "ties": json.dumps([[t.state, t.axis, t.offset] for t in grid.ties]),
         "versions": json.dumps({"adbgen": __version__, "numpy": np.__version__, "xarray": xarray.__version__,
                                 "zarr": zarr.__version__, "dask": dask.__version__,
                                 "distributed": distributed.__version__, "python": sys.version.split()[0]}),

@@ -37,6 +37,8 @@ def _add_sweep(p) -> None:
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="a fixed parameter")
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
                    help="a fixed initial state (states not given are 0)")
+    p.add_argument("--tie", action="append", default=[], metavar="NAME=AXIS+OFFSET",
+                   help="an initial state that follows a state axis, e.g. phi_3=phi_1+pi (thesis Fig. 5.19)")
     p.add_argument("--measure", required=True, choices=MEASURES,
                    help="attractor (where each trajectory ends), r_max, t_dec, or stability (spectrum of "
                         "the steady state continued from the model's START; no integration)")
@@ -73,9 +75,9 @@ def run_sweep_command(args: argparse.Namespace) -> int:
     if os.sep in model or os.path.isdir(model):
         model = os.path.abspath(model)  # workers load it by path
     spec = SweepSpec(model=model, grid=list(args.grid), measure=args.measure, set=list(args.set),
-                     y0=list(args.y0), t_end=args.t_end, rtol=args.rtol, atol=args.atol, threshold=args.threshold,
-                     engine=args.engine, early_stop=args.early_stop, symmetry=args.symmetry,
-                     check_dt=args.check_dt, chunk=args.chunk)
+                     y0=list(args.y0), tie=list(args.tie), t_end=args.t_end, rtol=args.rtol, atol=args.atol,
+                     threshold=args.threshold, engine=args.engine, early_stop=args.early_stop,
+                     symmetry=args.symmetry, check_dt=args.check_dt, chunk=args.chunk)
     summary = run_sweep(spec, args.out, scheduler=args.scheduler, workers=args.workers, progress=not args.json,
                         figures=args.figures)
     if args.json:

@@ -26,7 +26,10 @@ def _caption(ds, axes) -> str:
     params = json.loads(ds.attrs.get("parameters", "{}"))
     parts = [f"${_GREEK.get(k, k)}$ = {v:g}" for k, v in params.items() if k not in axes]
     states = json.loads(ds.attrs.get("initial_state", "{}"))
-    parts += [f"{axis_symbol(k)} = {v:.4g}" for k, v in states.items() if k not in axes and v != 0.0]
+    ties = {state: (axis, offset) for state, axis, offset in json.loads(ds.attrs.get("ties", "[]"))}
+    parts += [f"{axis_symbol(k)} = {v:.4g}" for k, v in states.items() if k not in axes and k not in ties and v != 0.0]
+    parts += [f"{axis_symbol(k)} = {axis_symbol(a)} {'+' if o >= 0 else '-'} {abs(o):.4g}"
+              for k, (a, o) in ties.items()]
     settings = json.loads(ds.attrs["adbgen_sweep"])
     if settings["measure"] != "stability":
         parts.append(f"$t_{{end}}$ = {settings['t_end']:g}, rtol {settings['rtol']:g}")

@@ -16,12 +16,14 @@ from pathlib import Path
 
 from .. import families
 from ..cli_types import UsageError, model_name, positive_int
-from ..errors import AdbgenError
+from ..errors import AdbgenError, SceneError
 from . import targets
 
 
 def _family_for_scene(path: str, chosen: tuple[str, ...] | None):
     """(family, scene): the chosen family's, or the one family whose scene format accepts the file."""
+    if not Path(path).is_file():
+        raise SceneError("<file>", f"no scene file at {path}")
     candidates = [families.get(n) for n in chosen] if chosen else list(families.all_families())
     accepted, errors = [], []
     for family in candidates:
@@ -43,8 +45,6 @@ def _family_for_scene(path: str, chosen: tuple[str, ...] | None):
 def _resize(family, scene, n: int):
     """The scene with n balls (single-plane scenes; others refuse)."""
     import dataclasses
-
-    from ..errors import SceneError
 
     if not any(f.name == "n" for f in dataclasses.fields(scene)):
         raise UsageError(f"--n cannot resize a {family.name} scene")

@@ -230,3 +230,18 @@ def test_n3_in_mu_the_balanced_branch_turns_at_mu_c(auto_ok, thesis):
     hb = [pt.values["PAR(4)"] for pt in run.points if pt.kind == "HB"]
     assert lp and all(abs(v - fold.value) < TOL for v in lp)
     assert hb and all(abs(v - scan.points[0].value) < TOL for v in hb)
+
+
+def test_two_plane_rotor_hopf_point_from_the_scan_and_auto(auto_ok):
+    """The same layer on the two-plane rotating model (16 states, 4 balls on two races): the state B
+    of its START loses stability at a Hopf point going down from Omega = 3; scan and AUTO-07p agree."""
+    from adbgen.analysis.loading import load_model
+
+    m = load_model("two_plane_rotating")
+    p = np.array(m.module.START_PARAMETERS)
+    scan = continuation.scan(m, p, m.module.START, "Omega", 3.0, 2.5)
+    assert [(b.kind, b.direction) for b in scan.points] == [("hopf", "destabilising")]
+    run = auto.continue_one(m, "Omega", to=2.5)
+    hb = [pt.values[run.column()] for pt in run.points if pt.kind == "HB"]
+    assert len(hb) == 1 and abs(hb[0] - scan.points[0].value) < TOL
+    assert abs(scan.points[0].value - 2.731992) < 1e-6

@@ -278,3 +278,40 @@ def test_reproduce_cases_fig_5_4a_and_coincident_run():
     assert res["label"] == "coincident 2-"
     y = res["sims"][1e-12].y_end
     assert y[0] == pytest.approx(0.1285, abs=5e-5) and y[1] == pytest.approx(-0.0083, abs=5e-5)
+
+
+def test_tied_states_and_their_exchange_symmetry(tmp_path):
+    """--tie phi_3=phi_1+pi --tie phi_4=phi_2+pi (thesis Fig. 5.19): the tied states follow their axes,
+    and the exchange (1 2)(3 4) maps the grid onto itself, giving the full computation's results."""
+    grid = ["phi_1=0:3*pi/2:4", "phi_2=0:3*pi/2:4"]
+    ties = ["phi_3=phi_1+pi", "phi_4=phi_2+pi"]
+
+    def run(out, symmetry):
+        spec = SweepSpec(model="thesis_rotating_n4", grid=grid, tie=ties, measure="r_max", t_end=100.0, chunk=4,
+                         symmetry=symmetry)
+        return run_sweep(spec, tmp_path / out, progress=False, figures=False), _open(tmp_path / out)
+
+    s_sym, sym = run("sym", True)
+    s_full, full = run("full", False)
+    assert s_sym["integrated"] == 10 and s_full["integrated"] == 16  # 4 on the diagonal + 6 pairs
+    np.testing.assert_allclose(sym.r_max.values, full.r_max.values, rtol=1e-6)
+    model = load_model("thesis_rotating_n4")
+    a, b = full.phi_1.values[1], full.phi_2.values[2]
+    sim = simulate(model, model.params(), model.state({"phi_1": a, "phi_2": b, "phi_3": a + math.pi,
+                                                       "phi_4": b + math.pi}), t_end=100.0, keep_trajectory=False)
+    assert full.r_max.values[1, 2] == pytest.approx(sim.r_max, rel=1e-12)
+    assert json.loads(full.attrs["ties"]) == [["phi_3", "phi_1", math.pi], ["phi_4", "phi_2", math.pi]]
+
+
+@pytest.mark.parametrize("tie, message", [
+    ("phi_3", "expected NAME=AXIS+OFFSET"),
+    ("phi_3=phi_9+pi", "does not start with a state axis"),
+    ("phi_1=phi_2+pi", "already a grid axis"),
+    ("phi_3=phi_1+x", "cannot read"),
+])
+def test_bad_ties_are_refused(tmp_path, tie, message):
+    from adbgen.analysis.loading import AnalysisError
+
+    spec = SweepSpec(model="thesis_rotating_n4", grid=["phi_1=0:1:2", "phi_2=0:1:2"], tie=[tie], measure="r_max")
+    with pytest.raises(AnalysisError, match=message.replace("+", r"\+")):
+        prepare(spec)

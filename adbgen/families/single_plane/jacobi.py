@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ...core import EnergyTerm, EquationsOfMotion, canonical_trig, lagrange_equations
+from ...core import EnergyTerm, canonical_trig, lagrange_equations
 from ...core.frames import rotating_substitution
 from ...core.jacobi import RotatingLagrangian
 from .scene import Scene

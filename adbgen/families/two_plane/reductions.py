@@ -152,7 +152,7 @@ def single_plane_limit(eom: EquationsOfMotion) -> dict[str, sp.Expr]:
     Returns rows keyed by the single-plane names: X, Y, phi_i and, with the torque drive, psi.  The
     single-plane coordinates are the spin psi and the relative angles phi_i = theta_i - psi, so the
     psi row is the theta_0 row plus the ball rows (chain rule).  Symbols are still the two-plane ones;
-    `adbgen.two_plane.verify` maps them.
+    `adbgen.families.two_plane.verify` maps them.
     """
     zero = {sym: 0 for c in eom.coordinates if c.name in ("phi_X", "phi_Y") for sym in (c.q, c.qd, c.qdd)}
     E = {c.name: sp.expand(eom.residual(k).xreplace(zero)) for k, c in enumerate(eom.coordinates)}
