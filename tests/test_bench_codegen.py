@@ -38,7 +38,6 @@ def test_polyfit_is_exact_on_a_line():
 
 
 def test_speed_row_structure(tmp_path):
-    pytest.importorskip("numba")
     row = bc.bench_speed_one("thesis_rotating", 1, tmp_path, target=0.002, repeats=2)
     assert (row["family"], row["n"], row["n_states"]) == ("thesis_rotating", 1, 6)
     keys = ["numba_rhs_loop", "numba_rhs_python", "numba_jac_loop", "numba_jac_python",

@@ -1,7 +1,7 @@
-"""The benchmark's peers integrate the generated code's equations (skipped without the 'peers' extra).
+"""The benchmark's peers integrate the generated code's equations.
 
-CI installs adbgen without the optional extra ``peers`` (JiTCODE, heyoka), so these skip there; they
-guard the translation of the intermediate form into each peer's language on developer machines.
+CI installs the optional extra ``peers`` (JiTCODE, heyoka; README's test command), so there a missing
+peer is a failure; on a developer machine without it these skip with the reason (`require_module`).
 """
 
 from __future__ import annotations
@@ -10,6 +10,8 @@ import math
 
 import numpy as np
 import pytest
+
+from toolchain import require_module
 
 from adbgen import bench_peers
 from adbgen.analysis.loading import load_model
@@ -39,7 +41,7 @@ def test_generated_program_is_the_modules_statements():
 
 
 def test_heyoka_same_equations_and_run(setting):
-    pytest.importorskip("heyoka")
+    require_module("heyoka", "the 'peers' extra: pip install -e '.[peers]'")
     model, module, p = setting
     peer = bench_peers.Heyoka(module)
     assert bench_peers.check_equations(peer, model.module, p, samples=20) < 1e-13
@@ -53,7 +55,7 @@ def test_heyoka_same_equations_and_run(setting):
 
 
 def test_jitcode_same_equations_and_run(setting, tmp_path, monkeypatch):
-    pytest.importorskip("jitcode")
+    require_module("jitcode", "the 'peers' extra: pip install -e '.[peers]'")
     model, module, p = setting
     monkeypatch.chdir(tmp_path)
     peer = bench_peers.JiTCODE(module)

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import shutil
 
 import pytest
+
+from toolchain import require_tool
 
 from adbgen import bench_simulate as bs
 from adbgen.cli import main
@@ -16,10 +17,7 @@ TINY = bs.Problem("tiny", "thesis_rotating_n3", {}, dict(bs.PROBLEM_A.y0), t_end
 
 
 def _require_gcc():
-    if not (shutil.which("gcc") or shutil.which("cc")):
-        if os.environ.get("CI") == "true":
-            pytest.fail("gcc is required in CI but missing")
-        pytest.skip("no C compiler (the compiled engines need gcc)")
+    require_tool(bool(shutil.which("gcc") or shutil.which("cc")), "a C compiler (the compiled engines need gcc)")
 
 
 @pytest.fixture(scope="module")

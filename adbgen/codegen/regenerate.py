@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable
 
-from .checks import CheckFailed, check_lowering, check_start
+from .checks import CheckFailed, check_programs, check_start
 from .render import render_index, render_model, skipped_targets
 from .spec import Check, ModelSpec
 
@@ -69,7 +69,7 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
         start = time.perf_counter()
         system = spec.system()
         ir = spec.build(system)
-        err = check_lowering(ir, system)
+        errors = check_programs(ir, system)
         for model in (ir, ir.autonomous_extension):
             if model is not None and model.start is not None:
                 check_start(model)
@@ -77,7 +77,8 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
         files.update(model_files)
         index.append((ir.name, ir.title, ir.reference))
         progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, rhs {ir.rhs.count_ops()} ops, "
-                 f"jac {ir.jac.count_ops()} ops, lowering error {err:.1e}, {len(model_files)} files "
+                 f"jac {ir.jac.count_ops()} ops, lowering error {errors['rhs']:.1e} (jac {errors['jac']:.1e}), "
+                 f"{len(model_files)} files "
                  f"({time.perf_counter() - start:.1f} s)"
                  + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))
     files.update(render_index(index))

@@ -9,7 +9,7 @@ if TYPE_CHECKING:
     from pathlib import Path
 
     from ..codegen.spec import ModelSpec
-    from ..core.checks import CheckResult
+    from ..core.checks import CheckResult, Registered
 
 
 @runtime_checkable
@@ -36,6 +36,10 @@ class Family(Protocol):
 
     def verify(self, progress: Callable[["CheckResult"], None], ns: Sequence[int] = ()) -> list["CheckResult"]:
         """Every check of the family (``adbgen verify``); ``ns``: numbers of balls where it matters."""
+
+    def checks(self, ns: Sequence[int] = ()) -> list["Registered"]:
+        """The registered checks behind ``verify``: each with its kind (what it compares) and a
+        deliberately wrong variant it must reject (tests/families/test_negative_controls.py)."""
 
     def models(self) -> list["ModelSpec"]:
         """The models of the default set in generated/, each with start points and checks."""

@@ -40,13 +40,13 @@ def pendulum_on_cart():
     return lagrange_equations((X, phi), terms, t, parameters=params, reference="toy: pendulum on a sprung cart")
 
 
-def energy_check() -> CheckResult:
-    """The bob row at rest is m g l sin phi (an identity: the check can fail)."""
+def energy_check(wrong: bool = False) -> CheckResult:
+    """The bob row at rest is m g l sin phi (an identity: the check can fail; wrong: -sin phi's sign flipped)."""
     eom = pendulum_on_cart()
     rest = {c.qd: 0 for c in eom.coordinates}
     row = sp.simplify(eom.forcing[1].xreplace(rest))
     syms = {p.name: p.symbol for p in eom.parameters}
-    ok = sp.simplify(row + syms["m_bob"] * syms["g_acc"] * syms["l_rod"] * sp.sin(eom.coordinates[1].q)) == 0
+    ok = sp.simplify(row + (-1 if wrong else 1) * syms["m_bob"] * syms["g_acc"] * syms["l_rod"] * sp.sin(eom.coordinates[1].q)) == 0
     return CheckResult("pendulum row at rest", "toy", ok, "identity" if ok else f"row {row}", 0.0)
 
 
@@ -73,6 +73,11 @@ class Pendulum:
         r = energy_check()
         progress(r)
         return [r]
+
+    def checks(self, ns=()):
+        from adbgen.core.checks import DERIVED, Registered
+
+        return [Registered("pendulum row at rest", DERIVED, energy_check, "the gravity term's sign flipped")]
 
     def models(self):
         return [ModelSpec("toy_pendulum", "Pendulum on a sprung cart", 1, lambda: first_order(pendulum_on_cart(), ("X",)),
@@ -146,6 +151,7 @@ def test_a_registered_family_and_target_regenerate_with_the_others(toy, tmp_path
     # and its command and its checks are on the command line
     assert main(["toy-pendulum"]) == 0 and "pendulum period 2.006067" in capsys.readouterr().out
     assert main(["verify", "--model", "toy-pendulum"]) == 0 and "1 passed, 0 failed" in capsys.readouterr().out
+    assert [r.passed for c in Pendulum().checks() for r in c.results(wrong=True)] == [False]
 
 
 def test_unregistered_after_the_test():

@@ -40,6 +40,11 @@ class SinglePlane:
 
         return run_all(tuple(ns), progress=progress)
 
+    def checks(self, ns=(1, 2, 3, 4, 6)) -> list:
+        from .verify import registered
+
+        return registered(tuple(ns))
+
     def models(self) -> list:
         from .models import default_set
 

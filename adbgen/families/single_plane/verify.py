@@ -12,7 +12,8 @@ from typing import Callable
 import sympy as sp
 
 from ...core import is_identity
-from ...core.checks import CheckResult, timed as _timed
+from ...core.checks import (DERIVED, FORMULA, CheckResult, Registered, flip_term,
+                             moved, printed_tolerance, timed as _timed)
 from ...core.structure import cramer
 from ...references import thesis
 from .scene import Scene
@@ -23,7 +24,11 @@ from .reductions import first_order, nondimensionalise, rotating_frame
 from .symbols import DimensionalSymbols, G, Omega, beta, delta, mu, t, zeta
 
 
-def _compare(eom, reference: dict[str, sp.Expr], scale: Callable[[str], sp.Expr] = lambda name: 1):
+def _compare(eom, reference: dict[str, sp.Expr], scale: Callable[[str], sp.Expr] = lambda name: 1, wrong: bool = False):
+    """Every row of `reference` identical to the derived residual; `wrong`: the first row with a flipped term."""
+    if wrong:
+        first = next(iter(reference))
+        reference = {**reference, first: flip_term(reference[first])}
     bad = [name for name, r in reference.items() if not is_identity(eom.residual(eom.index(name)), scale(name) * r)]
     return not bad, ("all rows identical" if not bad else f"rows differ: {', '.join(bad)}")
 
@@ -36,30 +41,32 @@ def general_scene(n: int, law: str = "torque") -> Scene:
         "stiffness": [1.0e4, 1.3e4], "damping": [2.0, 3.0], "gravity": True, "speed": speed})
 
 
-def fixed_frame(n: int) -> CheckResult:
+def fixed_frame(n: int, wrong: bool = False) -> CheckResult:
     def run():
         scene = general_scene(n)
         eom = derive(scene)
         s = DimensionalSymbols.for_scene(scene)
         psi = eom.coordinates[eom.index("psi")]
-        return _compare(eom, thesis.fixed_frame(s, n, torque=s.tau0 - s.kappa * psi.qd))
+        return _compare(eom, thesis.fixed_frame(s, n, torque=s.tau0 - s.kappa * psi.qd), wrong=wrong)
     return _timed(f"fixed frame, n={n}", "thesis (2.10)-(2.13)", run)
 
 
-def prescribed_speed(n: int) -> CheckResult:
+def prescribed_speed(n: int, wrong: bool = False) -> CheckResult:
     """Constant speed psi = omega t: the X, Y, phi rows of the torque model with psi substituted."""
     def run():
         scene = general_scene(n, law="constant")
         eom = derive(scene)
         s = DimensionalSymbols.for_scene(scene)
-        return _compare(eom, thesis.fixed_frame(s, n, spin=(s.omega * t, s.omega, 0)))
+        return _compare(eom, thesis.fixed_frame(s, n, spin=(s.omega * t, s.omega, 0)), wrong=wrong)
     return _timed(f"prescribed speed, n={n}", "thesis (2.10), (2.11), (2.13) with (2.14)", run)
 
 
-def nondimensional(n: int, gravity: bool = True) -> CheckResult:
+def nondimensional(n: int, gravity: bool = True, wrong: bool = False) -> CheckResult:
+    """wrong: the misprinted (2.21) taken as the reference."""
     def run():
         eom = nondimensionalise(Scene(n=n, gravity=gravity))
-        ok, detail = _compare(eom, thesis.nondimensional(n, mu, Omega, zeta, beta, delta, G if gravity else 0, t))
+        ok, detail = _compare(eom, thesis.nondimensional(n, mu, Omega, zeta, beta, delta, G if gravity else 0, t,
+                                                         printed=wrong))
         if ok and gravity:
             printed_ok, _ = _compare(eom, thesis.nondimensional(n, mu, Omega, zeta, beta, delta, G, t, printed=True))
             if printed_ok:
@@ -69,29 +76,31 @@ def nondimensional(n: int, gravity: bool = True) -> CheckResult:
     return _timed(f"non-dimensional, n={n}", "thesis (2.20)-(2.22), (2.21) corrected", run)
 
 
-def rotating(n: int) -> CheckResult:
+def rotating(n: int, wrong: bool = False) -> CheckResult:
     def run():
         eom = rotating_frame(Scene(n=n))
-        return _compare(eom, thesis.rotating_frame(n, mu, Omega, zeta, beta, delta))
+        return _compare(eom, thesis.rotating_frame(n, mu, Omega, zeta, beta, delta), wrong=wrong)
     return _timed(f"rotating frame, n={n}", "thesis (2.25)-(2.27)", run)
 
 
-def two_routes(n: int) -> CheckResult:
-    """Transforming the equations and transforming the Lagrangian give the same rotating-frame system."""
+def two_routes(n: int, wrong: bool = False) -> CheckResult:
+    """Transforming the equations and transforming the Lagrangian give the same rotating-frame system
+    (wrong: the ball rows' factor mu dropped)."""
     def run():
         scene = Scene(n=n)
         by_equations = rotating_frame(scene)
         by_lagrangian = rotating_lagrangian(scene).eom
         bad = [c.name for k, c in enumerate(by_equations.coordinates)
-               if not is_identity(by_lagrangian.residual(k), (1 if k < 2 else mu) * by_equations.residual(k))]
+               if not is_identity(by_lagrangian.residual(k), (1 if k < 2 or wrong else mu) * by_equations.residual(k))]
         return not bad, "identical (ball rows up to the factor mu)" if not bad else f"rows differ: {bad}"
     return _timed(f"reductions commute with Lagrange, n={n}", "thesis (2.1), (2.15)-(2.24)", run)
 
 
-def appendix_a(n: int, full_solve_up_to: int = 2) -> CheckResult:
+def appendix_a(n: int, full_solve_up_to: int = 2, wrong: bool = False) -> CheckResult:
+    """wrong: the literal line-by-line reading of (A.12)-(A.13) taken as the reference."""
     def run():
         fo = first_order(rotating_frame(Scene(n=n)))
-        ref = thesis.appendix_a(n, mu, Omega, zeta, beta, delta)
+        ref = thesis.appendix_a(n, mu, Omega, zeta, beta, delta, printed=wrong)
         S, rhs = fo.solve.schur, fo.solve.rhs
         pairs = {"a (A.9)": (S[0, 0], ref["a"]), "b (A.10)": (S[0, 1], ref["b"]), "b' (A.10)": (S[1, 0], ref["b"]),
                  "c (A.11)": (S[1, 1], ref["c"]), "f (A.12)": (rhs[0], ref["f"]), "g (A.13)": (rhs[1], ref["g"])}
@@ -118,7 +127,8 @@ def appendix_a(n: int, full_solve_up_to: int = 2) -> CheckResult:
     return _timed(f"first-order form, n={n}", "thesis (A.1)-(A.14), (A.12)-(A.13) as corrected", run)
 
 
-def steady_states(n: int) -> CheckResult:
+def steady_states(n: int, wrong: bool = False) -> CheckResult:
+    """wrong: every state with its first angle turned by 1/10 rad."""
     def run():
         eom = rotating_frame(Scene(n=n))
         states = {"2+": ss.coincident(n, 1), "2-": ss.coincident(n, -1)}
@@ -127,56 +137,68 @@ def steady_states(n: int) -> CheckResult:
                 states[f"3({n}-{m}){'+' if sign > 0 else '-'}"] = ss.inline(n, m, sign)
         if n >= 2:
             states["1"] = ss.balanced(n)
+        if wrong:
+            states = {k_: {**st, next(iter(st)): st[next(iter(st))] + sp.Rational(1, 10)} for k_, st in states.items()}
         bad = [name for name, st in states.items() if not ss.is_steady_state(eom, st)]
         return not bad, (f"{len(states)} states are exact zeros" if not bad else f"not steady: {bad}")
     return _timed(f"steady states, n={n}", "thesis (3.6), (3.9), (3.10)", run)
 
 
-def jacobi(n: int) -> CheckResult:
+def jacobi(n: int, wrong: bool = False) -> CheckResult:
+    """wrong: the Rayleigh power dropped from the rate (h claimed conserved with damping)."""
     def run():
         rl = rotating_lagrangian(Scene(n=n))
         first, rate = rl.jacobi_rate_identities()
+        if wrong:
+            rate = sp.expand(rate - sum((c.qd * sp.diff(rl.F, c.qd) for c in rl.eom.coordinates), sp.S.Zero))
         ok = all(is_identity(f) for f in first) and is_identity(rate) and is_identity(undamped(rate))
         return ok, "dh/dt = -q'.dF/dq' identically; conserved for zeta = beta = 0" if ok else "identity fails"
     return _timed(f"Jacobi integral, n={n}", "rotating frame (2.25)-(2.27), zeta = beta = 0", run)
 
 
-# Numbers printed in the thesis: (expected, tolerance, computed by).
-def thesis_numbers() -> list[CheckResult]:
+# Numbers printed in the thesis, compared at their printed precision (half a unit in the last digit).
+def thesis_numbers(wrong: bool = False) -> list[CheckResult]:
+    """wrong: every printed value moved by 3 units of its last digit."""
     p = dict(mu=0.05, delta=0.01, zeta=0.01)
     rows = []
 
-    def num(name, ref, expected, tol, compute):
+    def num(name, ref, printed, compute, kind=DERIVED):
+        printed = moved(printed) if wrong else printed
+        expected, tol = float(printed), printed_tolerance(printed)
+
         def run():
             got = compute()
-            return abs(got - expected) <= tol, f"{got:.10g} vs printed {expected} (tol {tol:g})"
-        rows.append(_timed(name, ref, run))
+            return abs(got - expected) <= tol, f"{got:.15g} vs printed {printed} (tol {tol:g}, half a unit)"
+        rows.append(_timed(name, ref, run, kind))
 
+    # (3.16), (3.18): the thesis' closed forms for the critical speeds, re-evaluated
     c1, c2 = ss.critical_speeds(3, 3, p["mu"], p["zeta"], p["delta"])
-    num("Omega_c1, 2+-, n=3", "thesis (3.16), Fig. 3.1", 0.8114, 5e-5, lambda: c1)
-    num("Omega_c2, 2+-, n=3", "thesis (3.16), Fig. 3.1", 1.0717, 5e-5, lambda: c2)
+    num("Omega_c1, 2+-, n=3", "thesis (3.16), Fig. 3.1", "0.8114", lambda: c1, FORMULA)
+    num("Omega_c2, 2+-, n=3", "thesis (3.16), Fig. 3.1", "1.0717", lambda: c2, FORMULA)
     d1, d2 = ss.critical_speeds(3, 2, p["mu"], p["zeta"], p["delta"])
-    num("Omega_c1, 3(3-2)+-", "thesis (3.18), Fig. 3.2", 0.8909, 5e-5, lambda: d1)
-    num("Omega_c2, 3(3-2)+-", "thesis (3.18), Fig. 3.2", 0.9761, 5e-5, lambda: d2)
-    num("wedge tip, n=2", "thesis (4.1)", 0.9950372, 5e-8, lambda: ss.wedge_tip(2, 2, 0.01)[1])
-    num("wedge tip, n=3", "thesis (4.2)", 0.9950372, 5e-8, lambda: ss.wedge_tip(3, 3, 0.01)[1])
-    num("wedge tip 3+-, n=3", "thesis (4.3)", 0.9853293, 5e-8, lambda: ss.wedge_tip(3, 2, 0.01)[1])
-    num("wedge tip 3B+-, n=4", "thesis (4.4)", 0.9901, 5e-5, lambda: ss.wedge_tip(4, 3, 0.01)[1])
+    num("Omega_c1, 3(3-2)+-", "thesis (3.18), Fig. 3.2", "0.8909", lambda: d1, FORMULA)
+    num("Omega_c2, 3(3-2)+-", "thesis (3.18), Fig. 3.2", "0.9761", lambda: d2, FORMULA)
+    num("wedge tip, n=2", "thesis (4.1)", "0.9950372", lambda: ss.wedge_tip(2, 2, 0.01)[1], FORMULA)
+    num("wedge tip, n=3", "thesis (4.2)", "0.9950372", lambda: ss.wedge_tip(3, 3, 0.01)[1], FORMULA)
+    num("wedge tip 3+-, n=3", "thesis (4.3)", "0.9853293", lambda: ss.wedge_tip(3, 2, 0.01)[1], FORMULA)
+    num("wedge tip 3B+-, n=4", "thesis (4.4)", "0.9901", lambda: ss.wedge_tip(4, 3, 0.01)[1], FORMULA)
+    # the balanced states (3.6), proven exact zeros of the derived equations (`steady_states`)
     vals = dict(mu=0.05, delta=0.01)
-    num("balanced phi_1, n=2", "thesis (5.2) (sign corrected)", 1.67096374795646, 1e-13,
+    num("balanced phi_1, n=2", "thesis (5.2) (sign corrected)", "1.67096374795646",
         lambda: ss.evaluate(ss.balanced(2, branch=-1), vals)["phi_1"])
-    num("balanced phi_1, n=3, phi_3=0", "thesis ch. 5.1.2", 2.21429743558818, 1e-13,
+    num("balanced phi_1, n=3, phi_3=0", "thesis ch. 5.1.2", "2.21429743558818",
         lambda: ss.evaluate(ss.balanced(3, [0], branch=-1), vals)["phi_1"])
-    num("balanced phi_1, n=3, phi_3=pi", "thesis ch. 5.1.2", 1.15927948072741, 1e-13,
+    num("balanced phi_1, n=3, phi_3=pi", "thesis ch. 5.1.2", "1.15927948072741",
         lambda: ss.evaluate(ss.balanced(3, [sp.pi]), vals)["phi_1"])
-    num("balanced phi_1, n=4, phi_3=phi_4=pi", "thesis ch. 5.1.2", 0.45102681179626, 1e-13,
+    num("balanced phi_1, n=4, phi_3=phi_4=pi", "thesis ch. 5.1.2", "0.45102681179626",
         lambda: ss.evaluate(ss.balanced(4, [sp.pi, sp.pi]), vals)["phi_1"])
 
     def printed_5_2():
-        printed = math.acos(0.01 / (2 * 0.05))  # arccos(delta / (2 mu)) as printed
+        # wrong: the corrected sign, which is balanced, claimed to be the misprint
+        printed = math.acos((-0.01 if wrong else 0.01) / (2 * 0.05))  # arccos(delta / (2 mu)) as printed
         miss = abs(2 * math.cos(printed) + 0.01 / 0.05)  # (3.6): sum cos phi_i = -delta/mu
         return miss > 0.1, f"printed formula gives {printed:.6f}, off the balance (3.6) by {miss:.3f}"
-    rows.append(_timed("(5.2) as printed is not balanced", "thesis (5.2) erratum", printed_5_2))
+    rows.append(_timed("(5.2) as printed is not balanced", "thesis (5.2) erratum", printed_5_2, FORMULA))
     return rows
 
 
@@ -194,8 +216,16 @@ def _critical(lin, q, parameter: str, grid, **fixed) -> list[float]:
             for i in range(len(grid) - 1) if stable[i] != stable[i + 1]]
 
 
-def chapter4_numbers() -> list[CheckResult]:
-    """Stability results of thesis ch. 4, from the exact linearisation of the derived equations."""
+# Hopf points of the balanced state at mu = 0.05 located by a second route: AUTO-07p's HB labels on the
+# generated files (README "Stability" table; tests/codegen/test_auto.py re-locates n = 2's).
+AUTO_HOPF = {2: (1.0296942, 1.0936343, 1.8822394), 3: (1.8753675,)}
+
+
+def chapter4_numbers(wrong: bool = False) -> list[CheckResult]:
+    """Stability results of thesis ch. 4, from the exact linearisation of the derived equations.
+
+    wrong: the printed values moved by 3 units of their last digit, AUTO's Hopf points by 1e-3, the
+    zeta limit asked in [0.1, 0.11], the zeta limit's growth in beta claimed quadratic."""
     import numpy as np
 
     from ...core.linearisation import Linearisation, hopf_crossing
@@ -206,21 +236,27 @@ def chapter4_numbers() -> list[CheckResult]:
         def run(n=n, lin=lin):
             q = np.array([0.0, 0.0] + [math.pi] * n)  # at mu = mu_c the balanced and coincident states meet
             om = hopf_crossing(lin, lambda v: q, "Omega", (1.2, 1.5), fixed={"mu": 0.01 / n})
-            return abs(om - 1.338096) <= 1e-6, f"Omega = {om:.7f} vs printed 1.338096 (tol 1e-6)"
+            printed = moved("1.338096") if wrong else "1.338096"
+            tol = printed_tolerance(printed)
+            return abs(om - float(printed)) <= tol, f"Omega = {om:.8f} vs printed {printed} (tol {tol:g}, half a unit)"
         rows.append(_timed(f"pitchfork-Hopf point, n={n}", "thesis ch. 4.1-4.2, (mu_c, 1.338096)", run))
 
     def windows():
         grid = np.linspace(0.3, 5.0, 471)
         found = {n: _critical(lins[n], _balanced_coordinates(lins[n], n), "Omega", grid) for n in (2, 3)}
-        ok = len(found[2]) == 3 and len(found[3]) == 1
-        text = "; ".join(f"n={n}: stability changes at Omega = {', '.join(f'{v:.5f}' for v in vals)}"
+        shift = 1e-3 if wrong else 0.0
+        ok = all(len(found[n]) == len(AUTO_HOPF[n]) and
+                 all(abs(a - b - shift) <= 1e-6 for a, b in zip(sorted(found[n]), AUTO_HOPF[n])) for n in (2, 3))
+        text = "; ".join(f"n={n}: stability changes at Omega = {', '.join(f'{v:.7f}' for v in vals)}"
                          for n, vals in found.items())
-        return ok, text + " (n=2: a window near Omega = 1 and Omega > H1; n=3: only Omega > H1)"
-    rows.append(_timed("balanced state 1 stability windows, mu=0.05", "thesis Fig. 4.2(a), 4.6(a)", windows))
+        return ok, text + (" = AUTO-07p's HB labels to 1e-6 (n=2: a window near Omega = 1 and Omega > H1; "
+                           "n=3: only Omega > H1)")
+    rows.append(_timed("balanced state 1 stability windows, mu=0.05", "thesis Fig. 4.2(a), 4.6(a); AUTO-07p", windows))
 
     def zeta_limit():
         crit = _critical(lins[4], _balanced_coordinates(lins[4], 4), "zeta", np.linspace(0.001, 0.5, 101), Omega=3.0)
-        return len(crit) == 1 and 0.09 <= crit[0] <= 0.1, f"n=4, Omega=3: stable for zeta < {crit[0]:.4f} (thesis: < 0.1)"
+        lo, hi = (0.1, 0.11) if wrong else (0.09, 0.1)
+        return len(crit) == 1 and lo <= crit[0] <= hi, f"n=4, Omega=3: stable for zeta < {crit[0]:.4f} (thesis: < 0.1)"
     rows.append(_timed("zeta limit of state 1, n=4", "thesis Fig. 4.13(b) text", zeta_limit))
 
     def beta_effect():
@@ -228,27 +264,40 @@ def chapter4_numbers() -> list[CheckResult]:
         q4, q3 = _balanced_coordinates(lins[4], 4), _balanced_coordinates(lins[3], 3)
         all4 = not _critical(lins[4], q4, "zeta", grid, Omega=4.0, beta=0.05)
         z3 = [_critical(lins[3], q3, "zeta", grid, Omega=4.0, beta=b)[0] for b in (0.05, 0.1)]
-        linear = abs(z3[1] / z3[0] - 2) < 0.1
+        linear = abs(z3[1] / z3[0] - (4 if wrong else 2)) < 0.1  # wrong: claimed quadratic
         return all4 and linear, (f"n=4, beta=0.05: stable for all zeta < 0.5 ({all4}); n=3: zeta limit "
                                  f"{z3[0]:.4f} at beta=0.05, {z3[1]:.4f} at beta=0.1 (grows linearly)")
     rows.append(_timed("ball damping widens stability", "thesis Fig. 4.9(a), 4.14(a)", beta_effect))
     return rows
 
 
-SYMBOLIC_CHECKS = (fixed_frame, prescribed_speed, nondimensional, rotating, two_routes, appendix_a,
-                   steady_states, jacobi)
+def _per_n(fn, ns):
+    return lambda wrong: [fn(n, wrong=wrong) for n in ns]
+
+
+def registered(ns=(1, 2, 3, 4, 6)) -> list[Registered]:
+    """Every check of the family with what it compares and its deliberately wrong variant."""
+    ns = tuple(ns)
+    return [
+        Registered("fixed frame", DERIVED, _per_n(fixed_frame, ns), "first row of (2.10)-(2.13) with a flipped term"),
+        Registered("prescribed speed", DERIVED, _per_n(prescribed_speed, ns), "first row with a flipped term"),
+        Registered("non-dimensional", DERIVED, _per_n(nondimensional, ns), "the misprinted (2.21)"),
+        Registered("rotating frame", DERIVED, _per_n(rotating, ns), "first row of (2.25)-(2.27) with a flipped term"),
+        Registered("two routes", DERIVED, _per_n(two_routes, ns), "the ball rows' factor mu dropped"),
+        Registered("first-order form", DERIVED, _per_n(appendix_a, ns), "the literal reading of (A.12)-(A.13)"),
+        Registered("steady states", DERIVED, _per_n(steady_states, ns), "each state's first coordinate moved by 1/10"),
+        Registered("Jacobi integral", DERIVED, _per_n(jacobi, ns), "the Rayleigh power dropped"),
+        Registered("thesis numbers", FORMULA, thesis_numbers, "printed values moved by 3 units of the last digit"),
+        Registered("chapter 4 stability", DERIVED, chapter4_numbers,
+                   "printed values moved, AUTO's Hopf points moved by 1e-3, zeta window [0.1, 0.11], the beta effect claimed quadratic"),
+    ]
 
 
 def run_all(ns=(1, 2, 3, 4, 6), progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
     results = []
-    for n in ns:
-        for check in SYMBOLIC_CHECKS:
-            r = check(n)
+    for check in registered(ns):
+        for r in check.results():
             results.append(r)
             if progress:
                 progress(r)
-    for r in thesis_numbers() + chapter4_numbers():
-        results.append(r)
-        if progress:
-            progress(r)
     return results

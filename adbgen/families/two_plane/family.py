@@ -40,6 +40,11 @@ class TwoPlane:
 
         return run_all(progress=progress)
 
+    def checks(self, ns=()) -> list:
+        from .verify import registered
+
+        return registered(tuple(ns))
+
     def models(self) -> list:
         from .models import default_set
 

@@ -17,7 +17,8 @@ from ...references import two_plane_2011 as paper
 from ..single_plane.scene import Scene
 from ..single_plane.model import derive as derive_single_plane
 from ..single_plane.symbols import DimensionalSymbols
-from ...core.checks import CheckResult, timed as _timed
+from ...core.checks import (CONSISTENCY, DERIVED, NOT_REPRODUCED, CheckResult, Registered, flip_term,
+                             moved, printed_tolerance, timed as _timed)
 from . import critical_speeds as cs
 from . import normal_form as nf
 from .model import derive
@@ -46,8 +47,10 @@ def _split_identity(mine: sp.Expr, theirs: sp.Expr) -> bool:
     return is_identity(sp.re(d)) and is_identity(sp.im(d))
 
 
-def _compare_fixed(eom, s, n, printed: bool, spin=None) -> list[str]:
+def _compare_fixed(eom, s, n, printed: bool, spin=None, flip: bool = False) -> list[str]:
     ref = paper.fixed_frame(s, n, spin=spin, printed=printed)
+    if flip:
+        ref = {**ref, "q1": flip_term(ref["q1"])}
     r1, r2 = complex_rows(eom)
     bad = [name for name, mine in (("q1", r1), ("q2", r2)) if not _split_identity(mine, ref[name])]
     bad += [c.name for k_, c in enumerate(eom.coordinates) if c.name.startswith("theta_")
@@ -55,11 +58,12 @@ def _compare_fixed(eom, s, n, printed: bool, spin=None) -> list[str]:
     return bad
 
 
-def fixed_frame() -> CheckResult:
+def fixed_frame(wrong: bool = False) -> CheckResult:
+    """wrong: the printed C_d q' and J_p + J_t chi^2 taken as the reference."""
     def run():
         scene = general_scene()
         eom, s = derive(scene), TwoPlaneSymbols.for_scene(scene)
-        bad = _compare_fixed(eom, s, scene.n, printed=False)
+        bad = _compare_fixed(eom, s, scene.n, printed=wrong)
         if bad:
             return False, f"rows differ from (2)-(4): {bad}"
         printed_bad = _compare_fixed(eom, s, scene.n, printed=True)
@@ -70,13 +74,13 @@ def fixed_frame() -> CheckResult:
     return _timed("fixed frame, torque drive", "paper (2)-(4), C_d conj(q'), tilde J_p corrected", run)
 
 
-def prescribed_speed(law: str = "ramp") -> CheckResult:
+def prescribed_speed(law: str = "ramp", wrong: bool = False) -> CheckResult:
     """The run-up model: rows (2), (4) of the torque model with theta_0 prescribed, and its speed law."""
     def run():
         scene = general_scene(law)
         eom, s = derive(scene), TwoPlaneSymbols.for_scene(scene)
         th0 = Coordinate.make("theta_0")
-        bad = _compare_fixed(eom, s, scene.n, printed=False, spin=(th0.q, th0.qd, th0.qdd))
+        bad = _compare_fixed(eom, s, scene.n, printed=False, spin=(th0.q, th0.qd, th0.qdd), flip=wrong)
         # The law at the scene's values, on a grid through the run-up (the Hill angle has logs and
         # arctangents that simplify does not always cancel): theta_0(0) = 0 and the rates by differentiation.
         values = {p.symbol: p.default for p in eom.parameters}
@@ -92,12 +96,14 @@ def prescribed_speed(law: str = "ramp") -> CheckResult:
     return _timed(f"prescribed run-up ({law})", "paper (2), (4), section 6, (45)", run)
 
 
-def rotating() -> CheckResult:
+def rotating(wrong: bool = False) -> CheckResult:
     def run():
         scene = replace(general_scene("constant"), bearing_1=TwoPlaneScene.preset("paper-42").bearing_1,
                         bearing_2=TwoPlaneScene().bearing_2)
         eom, s = rotating_frame(scene), TwoPlaneSymbols.for_scene(scene)
         ref = paper.rotating_frame(s, scene.n)
+        if wrong:
+            ref = {**ref, "r1": flip_term(ref["r1"])}
         r1, r2 = rotating_complex_rows(eom)
         bad = [n for n, mine in (("r1", r1), ("r2", r2)) if not _split_identity(mine, ref[n])]
         bad += [c.name for k_, c in enumerate(eom.coordinates[4:], 4) if not is_identity(eom.residual(k_), ref[c.name])]
@@ -105,8 +111,8 @@ def rotating() -> CheckResult:
     return _timed("rotating frame", "paper (5)-(8)", run)
 
 
-def balanced_condition() -> CheckResult:
-    """At rest with r = 0 the rotor rows are -Omega^2 (9) and the ball rows vanish; B of section 3.2.2 solves (9)."""
+def balanced_condition(wrong: bool = False) -> CheckResult:
+    """At rest with r = 0 the rotor rows are -Omega^2 (9) and the ball rows vanish (wrong: Omega^2 dropped)."""
     def run():
         scene = TwoPlaneScene()
         eom, s = rotating_frame(scene), TwoPlaneSymbols.for_scene(scene)
@@ -114,21 +120,32 @@ def balanced_condition() -> CheckResult:
                         at_rest(eom, {sp.Symbol(n, real=True): 0 for n in ("x", "y", "phi_x", "phi_y")})))
         nine = paper.balanced_condition(s, scene.n)
         # f of M q'' = f at rest is minus the residual (7) there: +Omega^2 times (9).
-        ok = (_split_identity(rows["x"] + sp.I * rows["y"], s.Omega**2 * nine[0])
-              and _split_identity(rows["phi_y"] - sp.I * rows["phi_x"], s.Omega**2 * nine[1])
+        W2 = 1 if wrong else s.Omega**2
+        ok = (_split_identity(rows["x"] + sp.I * rows["y"], W2 * nine[0])
+              and _split_identity(rows["phi_y"] - sp.I * rows["phi_x"], W2 * nine[1])
               and all(rows[f"alpha_{i + 1}"] == 0 for i in range(scene.n)))
+        return ok, "rotor rows = Omega^2 (9), ball rows 0" if ok else "rows differ from Omega^2 (9)"
+    return _timed("balanced condition", "paper (9)", run)
+
+
+def balanced_state_b(wrong: bool = False) -> CheckResult:
+    """The paper's B of section 3.2.2 solves the paper's (9) (wrong: arccos(M eps/(2 m R)), a factor 2 dropped)."""
+    def run():
+        scene = TwoPlaneScene()
+        s = TwoPlaneSymbols.for_scene(scene)
+        nine = paper.balanced_condition(s, scene.n)
         sub = symmetric_substitution(s) | {s.chi: 0, s.beta: 0}
-        a = sp.acos(s.M * s.eps / (4 * m * R))
+        a = sp.acos(s.M * s.eps / ((2 if wrong else 4) * m * R))
         B = {sp.Symbol(f"alpha_{i + 1}", real=True): sp.pi + (a if i % 2 == 0 else -a) for i in range(4)}
         solved = all(is_identity(sp.expand(e.xreplace(sub).xreplace(B))) for e in
                      [sp.re(sp.expand(x)) for x in nine] + [sp.im(sp.expand(x)) for x in nine])
-        return ok and solved, ("rotor rows = Omega^2 (9), ball rows 0; alpha = pi +- arccos(M eps/(4 m R)) solves (9)"
-                               if ok and solved else f"rows: {ok}, B solves (9): {solved}")
-    return _timed("balanced condition", "paper (9), section 3.2.2", run)
+        return solved, "alpha = pi +- arccos(M eps/(4 m R)) solves (9)" if solved else "B does not solve (9)"
+    return _timed("B solves (9)", "paper (9), section 3.2.2", run, CONSISTENCY)
 
 
-def single_plane(law: str = "torque") -> CheckResult:
-    """No tilt, one race: the two-plane equations are the single-plane model's (thesis (2.10)-(2.13))."""
+def single_plane(law: str = "torque", wrong: bool = False) -> CheckResult:
+    """No tilt, one race: the two-plane equations are the single-plane model's (thesis (2.10)-(2.13));
+    wrong: the second bearing's stiffness k_X dropped from the single-plane k_X."""
     def run():
         masses = (0.02, 0.03)
         speed2 = {"law": "torque", "tau0": 0.4, "motor_slope": 0.01} if law == "torque" else {"law": "constant", "omega": 5.0}
@@ -142,7 +159,7 @@ def single_plane(law: str = "torque") -> CheckResult:
                                   "speed": {"law": "torque", "tau0": 0.4, "motor_slope": 0.01} if law == "torque"
                                   else {"law": "constant", "omega": 5.0}})
         s2, s1 = TwoPlaneSymbols.for_scene(two), DimensionalSymbols.for_scene(one)
-        to_two = {s1.M: s2.M, s1.eps: s2.eps, s1.R: s2.R[0], s1.kX: s2.k[(1, "X")] + s2.k[(2, "X")],
+        to_two = {s1.M: s2.M, s1.eps: s2.eps, s1.R: s2.R[0], s1.kX: s2.k[(1, "X")] + (0 if wrong else s2.k[(2, "X")]),
                   s1.kY: s2.k[(1, "Y")] + s2.k[(2, "Y")], s1.cX: s2.c[(1, "X")] + s2.c[(2, "X")],
                   s1.cY: s2.c[(1, "Y")] + s2.c[(2, "Y")], s1.I_z: s2.Jp, s1.tau0: s2.tau0, s1.kappa: s2.kappa,
                   s1.omega: s2.Omega}
@@ -174,13 +191,14 @@ def single_plane(law: str = "torque") -> CheckResult:
     return _timed(f"single-plane limit ({law})", "paper below (4); thesis (2.10)-(2.13)", run)
 
 
-def critical_speeds_symbolic() -> CheckResult:
-    """The derived critical-speed polynomial has double roots exactly at (32)'s speeds (and (11)'s for m = 0)."""
+def critical_speeds_symbolic(wrong: bool = False) -> CheckResult:
+    """The derived critical-speed polynomial has double roots exactly at (32)'s speeds (and (11)'s for m = 0);
+    wrong: (32) with the balls' mass dropped (i.e. (11) claimed for m != 0)."""
     def run():
         scene = TwoPlaneScene()
         s = TwoPlaneSymbols.for_scene(scene)
         poly, w = cs.critical_speed_polynomial(scene, symmetric_substitution(s))
-        cyl, con = paper.critical_speeds_32(s.M, s.Jt, s.Jp, k, l, m, z)
+        cyl, con = paper.critical_speeds_32(s.M, s.Jt, s.Jp, k, l, 0 if wrong else m, z)
         cyl0, con0 = paper.critical_speeds_11(s.M, s.Jt, s.Jp, k, l)
         P, dP = poly.as_expr(), sp.diff(poly.as_expr(), w)
         ok = all(is_identity(e.xreplace({w: r**2})) for r in (cyl, con) for e in (P, dP)) and poly.degree() == 4
@@ -190,31 +208,58 @@ def critical_speeds_symbolic() -> CheckResult:
     return _timed("critical speeds, symbolic", "paper (11), (32)", run)
 
 
-def critical_speed_numbers() -> list[CheckResult]:
+# Printed critical speeds of (43) the model does not give at the printed precision, by either
+# definition; the model's values (6 decimals) are documented in the README's errata with what was tried.
+NOT_REPRODUCED_43 = {("Omega_con,X (43)", "det"): 1.659235, ("Omega_con,X (43)", "peak"): 1.659649,
+                     ("Omega_con,Y (43)", "det"): 3.776920, ("Omega_con,Y (43)", "peak"): 3.783836}
+STUDY_43 = ("tried: undamped critical speeds (double roots of the derived frozen-ball determinant) and the "
+            "damped rotor's imbalance-response peaks (static and couple imbalance, c of (43)); neither gives "
+            "the printed value; see README errata")
+
+
+def critical_speed_numbers(wrong: bool = False) -> list[CheckResult]:
+    """Critical speeds of (10), (42), (43) from the derived model, against the printed values at their
+    printed precision (half a unit in the last digit).  Where the model does not give the printed value
+    (NOT_REPRODUCED_43) the row says so and checks the model's own documented value instead.
+    wrong: printed values (documented values) moved by 3 units of their last digit."""
     rows = []
 
-    def num(name, preset, index, expected, tol, how="det"):
+    def num(name, preset, index, printed, how="det"):
+        documented = NOT_REPRODUCED_43.get((name, how))
+
         def run():
             scene = TwoPlaneScene.preset(preset)
             if how == "det":
                 got = cs.critical_speeds(scene, with_balls=False)[index]
             else:
                 got = sorted(cs.response_peaks(scene, "static") + cs.response_peaks(scene, "couple"))[index]
-            return abs(got - expected) <= tol, f"{got:.6f} vs printed {expected} (tol {tol:g})"
-        rows.append(_timed(name, f"paper {preset.split('-')[1]} ({how})", run))
+            tol = printed_tolerance(printed)
+            if documented is None:
+                shown = moved(printed) if wrong else printed
+                return abs(got - float(shown)) <= tol, f"{got:.6f} vs printed {shown} (tol {tol:g}, half a unit)"
+            value = moved(f"{documented:.6f}") if wrong else f"{documented:.6f}"
+            reproduced = abs(got - float(printed)) <= tol
+            ok = not reproduced and abs(got - float(value)) <= 5e-7
+            return ok, (f"{got:.6f}, printed {printed}: off by {abs(got - float(printed)):.4f} > {tol:g} "
+                        f"(model value {value} as documented; {STUDY_43})" if not reproduced else
+                        f"{got:.6f} now reproduces printed {printed}: update the errata")
+        label = f"paper {preset.split('-')[1]} ({how})"
+        rows.append(_timed(name + (", undamped" if how == "det" else ", response peak"), label, run, DERIVED,
+                           NOT_REPRODUCED if documented is not None else ""))
 
-    num("Omega_cyl (11)", "paper-10", 0, 1.0, 1e-12)
-    num("Omega_con (11)", "paper-10", 1, 1.81, 5e-3)
-    num("Omega_cyl (42)", "paper-42", 0, 0.89, 5e-3)
-    num("Omega_con (42)", "paper-42", 1, 4.07, 5e-3)
-    for i, (name, value) in enumerate((("Omega_cyl,X (43)", 1.0), ("Omega_con,X (43)", 1.65),
-                                       ("Omega_cyl,Y (43)", 2.24), ("Omega_con,Y (43)", 3.79))):
-        num(name + ", undamped", "paper-43", i, value, 1.5e-2)
-        num(name + ", response peak", "paper-43", i, value, 1e-2, how="peak")
+    num("Omega_cyl (11)", "paper-10", 0, "1")
+    num("Omega_con (11)", "paper-10", 1, "1.81")
+    num("Omega_cyl (42)", "paper-42", 0, "0.89")
+    num("Omega_con (42)", "paper-42", 1, "4.07")
+    for i, (name, value) in enumerate((("Omega_cyl,X (43)", "1"), ("Omega_con,X (43)", "1.65"),
+                                       ("Omega_cyl,Y (43)", "2.24"), ("Omega_con,Y (43)", "3.79"))):
+        num(name, "paper-43", i, value)
+        num(name, "paper-43", i, value, how="peak")
     return rows
 
 
-def normal_form_symbolic() -> CheckResult:
+def normal_form_symbolic(wrong: bool = False) -> CheckResult:
+    """a1, a2 of the derived branches against (23), (33), (34) (wrong: the factor 8 of a1 - a2 dropped)."""
     def run():
         co = nf.coefficients()
         s = nf.symmetric_model().s
@@ -224,23 +269,34 @@ def normal_form_symbolic() -> CheckResult:
             "a1 + a2 = (23)": is_identity(co["a1+a2"], paper.a_sum_23(s.M, s.eps, R)),
             "a1 = (33)": is_identity(co["a1"], A1),
             "a2 = (34)": is_identity(co["a2"], A2),
+            "a1 - a2 = M eps kappa/(8R)": is_identity(co["a1"] - co["a2"], s.M * s.eps * kap / ((1 if wrong else 8) * R)),
+        }
+        bad = [k_ for k_, v in checks.items() if not v]
+        return not bad, "a1, a2 from the derived B and C3 branches equal (23), (33), (34)" if not bad else f"fail: {bad}"
+    return _timed("D4 normal form coefficients", "paper (23), (33), (34)", run)
+
+
+def normal_form_consistency(wrong: bool = False) -> CheckResult:
+    """The paper against itself: kappa (32) in its two printed forms, the normal form (20) against its
+    Jacobians (36)-(38) and the eigenvalues of (38) (wrong: (38)'s second eigenvalue with a1 + a2 for a1 - a2)."""
+    def run():
+        s = nf.symmetric_model().s
+        checks = {
             "kappa (32) two forms": is_identity(paper.kappa_32(s.M, s.Jt, s.Jp, k, l, m, z, s.Omega),
                                                 paper.kappa_32(s.M, s.Jt, s.Jp, k, l, m, z, s.Omega, True)),
-            "a1 - a2 = M eps kappa/(8R)": is_identity(co["a1"] - co["a2"], s.M * s.eps * kap / (8 * R)),
             "(36)": nf.jacobian() == paper.jacobian_36(nf.mu, nf.a1, nf.a2, nf.v1, nf.v2),
             "(37)": all(is_identity(a, b) for a, b in zip(nf.jacobian_at("C3"), paper.jacobian_37(nf.mu, nf.a1, nf.a2))),
             "(38)": all(is_identity(a, b) for a, b in zip(nf.jacobian_at("B"), paper.jacobian_38(nf.mu, nf.a1, nf.a2))),
         }
         ev = nf.jacobian_at("B").eigenvals()
-        expected = {-2 * nf.mu, -2 * nf.mu * (nf.a1 - nf.a2) / (nf.a1 + nf.a2)}
+        expected = {-2 * nf.mu, -2 * nf.mu * (nf.a1 + (1 if wrong else -1) * nf.a2) / (nf.a1 + nf.a2)}
         checks["eigenvalues of (38)"] = all(any(is_identity(e, x) for x in expected) for e in ev) and len(ev) == 2
         bad = [k_ for k_, v in checks.items() if not v]
-        return not bad, "a1, a2 from the derived B and C3 branches equal (23), (33), (34); (32), (36)-(38) hold" \
-            if not bad else f"fail: {bad}"
-    return _timed("D4 normal form coefficients", "paper (23)-(38)", run)
+        return not bad, "kappa (32) two forms agree; (20) gives (36)-(38) and (38)'s eigenvalues" if not bad else f"fail: {bad}"
+    return _timed("normal form (20) vs (32), (36)-(38)", "paper (20), (32), (36)-(38)", run, CONSISTENCY)
 
 
-def steady_state_28() -> CheckResult:
+def steady_state_28(wrong: bool = False) -> CheckResult:
     """The derived steady-state equations of the symmetric set-up are (28) (row 4 corrected)."""
     def run():
         sm = nf.symmetric_model()
@@ -253,18 +309,18 @@ def steady_state_28() -> CheckResult:
         args = (s.M, s.Jt, s.Jp, k, l, c, m, z, R, s.eps, s.Omega, [x, py, y, -px], b12, h12, b34, h34)
         corrected = [is_identity(a, b) for a, b in zip(mine, paper.steady_state_28(*args, printed=False))]
         printed = [is_identity(a, b) for a, b in zip(mine, paper.steady_state_28(*args, printed=True))]
-        ok = all(corrected) and printed == [True, True, True, False]
+        ok = all(printed if wrong else corrected) and printed == [True, True, True, False]
         return ok, ("rows 1-4 identical with row 4 corrected; the printed row 4 differs (erratum)" if ok
                     else f"corrected: {corrected}, printed: {printed}")
     return _timed("steady states of the symmetric set-up", "paper (27)-(28), row 4 corrected", run)
 
 
-def c3_relation_31() -> CheckResult:
-    """The derived C3 branch E(m, alpha_hat) = 0 is (31) with kappa(m) of (32)."""
+def c3_relation_31(wrong: bool = False) -> CheckResult:
+    """The derived C3 branch E(m, alpha_hat) = 0 is (31) with kappa(m) of (32) (wrong: kappa doubled)."""
     def run():
         s = nf.symmetric_model().s
         E = nf.c3_branch()[1]
-        kap = paper.kappa_32(s.M, s.Jt, s.Jp, k, l, m, z, s.Omega)
+        kap = (2 if wrong else 1) * paper.kappa_32(s.M, s.Jt, s.Jp, k, l, m, z, s.Omega)
         Q = sp.numer(sp.together(m * R - paper.mR_31(s.M, s.eps, kap, nf.a_hat)))
         ratio = sp.cancel(sp.expand(E) / sp.expand(Q))
         ok = not (ratio.free_symbols & {m, nf.a_hat}) and ratio != 0
@@ -272,7 +328,7 @@ def c3_relation_31() -> CheckResult:
     return _timed("C3 branch relation", "paper (24)-(31)", run)
 
 
-def criticality_35() -> CheckResult:
+def criticality_35(wrong: bool = False) -> CheckResult:
     """(35): a1 > a2 outside the critical speeds, a2 > a1 between, for Omega_con > Omega_cyl (10) and a disc-like
     rotor with Omega_cyl > Omega_con."""
     def run():
@@ -287,16 +343,19 @@ def criticality_35() -> CheckResult:
             lo, hi = sorted((cyl, con))
             diff = sp.lambdify(s.Omega, (co["a1"] - co["a2"]).xreplace(base))
             grid = [g for g in np.linspace(0.05, 6.0, 1191) if min(abs(g - lo), abs(g - hi)) > 1e-6]
-            wrong = [g for g in grid if (diff(g) > 0) != (g < lo or g > hi)]
-            ok &= not wrong
-            msgs.append(f"{label}: Omega_1 = {lo:.6f}, Omega_2 = {hi:.6f}, {len(wrong)} violations on {len(grid)} speeds")
+            # wrong: the exchange claimed the other way round (a1 > a2 between the critical speeds)
+            bad = [g for g in grid if (diff(g) > 0) != ((g < lo or g > hi) != wrong)]
+            ok &= not bad
+            msgs.append(f"{label}: Omega_1 = {lo:.6f}, Omega_2 = {hi:.6f}, {len(bad)} violations on {len(grid)} speeds")
         return ok, "; ".join(msgs)
     return _timed("stability exchange (35)", "paper (32), (35), Figure 7", run)
 
 
-def figure_9(tolerance: float = 5e-3) -> list[CheckResult]:
+def figure_9(tolerance: float = 5e-3, wrong: bool = False) -> list[CheckResult]:
     """Full model against the normal form at (10), eps = 0.01, Omega = 3 (and 0.8, 1.4): slopes of
-    m - m_c against alpha_hat^2, stability of B and C3, and the unfolding (39) with chi = 0.001."""
+    m - m_c against alpha_hat^2, stability of B and C3, and the unfolding (39) with chi = 0.001.
+    wrong: the normal form's slopes and unfolding masses taken 2 % too large."""
+    off = 1.02 if wrong else 1.0
     from .branches import FullSteadyStates
 
     s = nf.symmetric_model().s
@@ -306,7 +365,7 @@ def figure_9(tolerance: float = 5e-3) -> list[CheckResult]:
     m_c = float(nf.critical_mass().xreplace(base))
     for Om in (3.0, 0.8, 1.4):
         vals = base | {s.Omega: Om}
-        a_1, a_sum = float(co["a1"].xreplace(vals)), float(co["a1+a2"].xreplace(vals))
+        a_1, a_sum = off * float(co["a1"].xreplace(vals)), off * float(co["a1+a2"].xreplace(vals))
         fs = FullSteadyStates(TwoPlaneScene(), epsilon=0.01, Omega=Om)
         for kind, target in (("B", a_sum), ("Ct3", a_1)):
             def run(kind=kind, target=target, fs=fs, Om=Om):
@@ -328,7 +387,7 @@ def figure_9(tolerance: float = 5e-3) -> list[CheckResult]:
     def unfolding():
         chi = 1e-3
         vals = base | {s.Omega: 3.0, s.chi: chi}
-        masses = nf.unfolding_masses(vals)
+        masses = {k_: off * v for k_, v in nf.unfolding_masses(vals).items()}
         slopes = nf.unfolded_slopes(vals)
         a_1 = float(co["a1"].xreplace(vals))
         fs = FullSteadyStates(TwoPlaneScene(), epsilon=0.01, Omega=3.0, chi=chi)
@@ -346,7 +405,8 @@ def figure_9(tolerance: float = 5e-3) -> list[CheckResult]:
     return rows
 
 
-def equivariance() -> CheckResult:
+def equivariance(wrong: bool = False) -> CheckResult:
+    """wrong: gamma_r claimed to hold with the couple imbalance chi too."""
     def run():
         scene = TwoPlaneScene()
         s = TwoPlaneSymbols.for_scene(scene)
@@ -354,18 +414,21 @@ def equivariance() -> CheckResult:
         static = eom.map(lambda e: e.xreplace({s.chi: 0}))
         holds = {g: is_equivariant(static, g) for g in GAMMAS}
         broken = {g: is_equivariant(eom, g) for g in GAMMAS}
-        ok = all(holds.values()) and broken == {"gamma_12": True, "gamma_34": True, "gamma_r": False}
+        ok = all(holds.values()) and broken == {"gamma_12": True, "gamma_34": True, "gamma_r": wrong}
         return ok, ("(13)-(14) hold for gamma_12, gamma_34, gamma_r (chi = 0, any beta); gamma_r fails for chi != 0"
                     if ok else f"chi = 0: {holds}; chi != 0: {broken}")
     return _timed("D4 equivariance", "paper (13)-(16)", run)
 
 
-def oscillator() -> CheckResult:
+def oscillator(wrong: bool = False) -> CheckResult:
+    """wrong: the cycle with sin and cos exchanged."""
     def run():
         scene = TwoPlaneScene.preset("paper-43")
         ext = autonomous_extension(scene)
         Om = TwoPlaneSymbols.for_scene(scene).Omega
         on_cycle = {osc_s: sp.sin(Om * t), osc_c: sp.cos(Om * t)}
+        if wrong:
+            on_cycle = {osc_s: sp.cos(Om * t), osc_c: sp.sin(Om * t)}
         solves = all(is_identity(f.xreplace(on_cycle), sp.diff(x, t))
                      for f, x in zip(ext.oscillator, (sp.sin(Om * t), sp.cos(Om * t))))
         same = all(is_identity(a.xreplace(on_cycle), b) for a, b in zip(ext.eom.forcing, derive(scene).forcing))
@@ -374,7 +437,8 @@ def oscillator() -> CheckResult:
     return _timed("autonomous extension", "paper (40)", run)
 
 
-def jacobi_identity() -> CheckResult:
+def jacobi_identity(wrong: bool = False) -> CheckResult:
+    """wrong: the Rayleigh power dropped from the rate."""
     from .jacobi import rotating_lagrangian
 
     def run():
@@ -383,23 +447,47 @@ def jacobi_identity() -> CheckResult:
         rot = rotating_frame(scene)
         routes = all(is_identity(rl.eom.residual(i), rot.residual(i)) for i in range(rot.size))
         first, rate = rl.jacobi_rate_identities()
+        if wrong:
+            rate = sp.expand(rate - sum((c.qd * sp.diff(rl.F, c.qd) for c in rl.eom.coordinates), sp.S.Zero))
         ok = routes and all(is_identity(f) for f in first) and is_identity(rate)
         return ok, ("Lagrangian route = equation route; dh/dt = -q'.dF/dq' identically" if ok
                     else f"routes agree: {routes}; rate identity fails")
     return _timed("Jacobi integral, rotating frame", "paper (7)-(8), c = c_b = 0", run)
 
 
-SYMBOLIC_CHECKS: tuple[Callable[[], CheckResult], ...] = (
-    fixed_frame, prescribed_speed, lambda: prescribed_speed("hill"), rotating, balanced_condition, single_plane,
-    lambda: single_plane("constant"), critical_speeds_symbolic, normal_form_symbolic, steady_state_28,
-    c3_relation_31, criticality_35, equivariance, oscillator, jacobi_identity)
+def registered(ns=()) -> list[Registered]:
+    """Every check of the family with what it compares and its deliberately wrong variant."""
+    def one(fn, *args):
+        return lambda wrong: fn(*args, wrong=wrong)
+    return [
+        Registered("fixed frame", DERIVED, one(fixed_frame), "the printed C_d q' and J_p + J_t chi^2"),
+        Registered("prescribed run-up (ramp)", DERIVED, one(prescribed_speed, "ramp"), "q1 row with a flipped term"),
+        Registered("prescribed run-up (hill)", DERIVED, one(prescribed_speed, "hill"), "q1 row with a flipped term"),
+        Registered("rotating frame", DERIVED, one(rotating), "r1 row with a flipped term"),
+        Registered("balanced condition", DERIVED, one(balanced_condition), "the factor Omega^2 dropped"),
+        Registered("B solves (9)", CONSISTENCY, one(balanced_state_b), "arccos(M eps/(2 m R)): a factor 2 dropped"),
+        Registered("single-plane limit (torque)", DERIVED, one(single_plane, "torque"), "a bearing's k_X dropped"),
+        Registered("single-plane limit (constant)", DERIVED, one(single_plane, "constant"), "a bearing's k_X dropped"),
+        Registered("critical speeds, symbolic", DERIVED, one(critical_speeds_symbolic), "(32) with m = 0"),
+        Registered("normal form coefficients", DERIVED, one(normal_form_symbolic), "a1 - a2 without the factor 1/8"),
+        Registered("normal form (20) vs (32), (36)-(38)", CONSISTENCY, one(normal_form_consistency),
+                   "(38)'s eigenvalue with a1 + a2 for a1 - a2"),
+        Registered("steady states (28)", DERIVED, one(steady_state_28), "the misprinted row 4 of (28)"),
+        Registered("C3 relation (31)", DERIVED, one(c3_relation_31), "kappa doubled"),
+        Registered("stability exchange (35)", DERIVED, one(criticality_35), "the exchange the other way round"),
+        Registered("D4 equivariance", DERIVED, one(equivariance), "gamma_r claimed with chi != 0"),
+        Registered("autonomous extension (40)", DERIVED, one(oscillator), "sin and cos exchanged on the cycle"),
+        Registered("Jacobi integral", DERIVED, one(jacobi_identity), "the Rayleigh power dropped"),
+        Registered("critical speed numbers", DERIVED, lambda wrong: critical_speed_numbers(wrong),
+                   "printed (documented) values moved by 3 units of the last digit"),
+        Registered("Figure 9", DERIVED, lambda wrong: figure_9(wrong=wrong), "normal-form slopes and masses 2 % too large"),
+    ]
 
 
 def run_all(progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
     results = []
-    for item in list(SYMBOLIC_CHECKS) + [critical_speed_numbers, figure_9]:
-        out = item()
-        for r in out if isinstance(out, list) else [out]:
+    for check in registered():
+        for r in check.results():
             results.append(r)
             if progress:
                 progress(r)

@@ -25,6 +25,8 @@ def test_derive_first_order_picks_the_rotating_frame_when_autonomous(capsys):
 def test_steady_reports_normal_form(capsys):
     code, out, _ = run(capsys, "two-plane", "steady", "--m", "0.003")
     assert code == 0
+    # regression value: a_1 of the derived normal form at (10), Omega = 3 (README; the paper prints no
+    # number; (33) is checked as an identity by verify's normal-form check)
     assert "a_1 = 0.00188043" in out and "B stable (38)" in out and "full model: stable" in out
 
 

@@ -10,8 +10,8 @@ from adbgen.families.two_plane import normal_form as nf
 from adbgen.families.two_plane import verify
 
 
-@pytest.mark.parametrize("check", [verify.normal_form_symbolic, verify.steady_state_28, verify.c3_relation_31,
-                                   verify.criticality_35], ids=["23-38", "28", "31", "35"])
+@pytest.mark.parametrize("check", [verify.normal_form_symbolic, verify.normal_form_consistency, verify.steady_state_28,
+                                   verify.c3_relation_31, verify.criticality_35], ids=["23-34", "20-32-36-38", "28", "31", "35"])
 def test_normal_form_identities(check):
     result = check()
     assert result.passed, result.detail

@@ -15,9 +15,9 @@ from adbgen.families.two_plane.transient import fixed_frame_rhs, simulate
 from adbgen.core.numeric import NumericFirstOrder
 
 
-@pytest.mark.parametrize("check", [verify.rotating, verify.balanced_condition, verify.single_plane,
+@pytest.mark.parametrize("check", [verify.rotating, verify.balanced_condition, verify.balanced_state_b, verify.single_plane,
                                    lambda: verify.single_plane("constant"), verify.oscillator],
-                         ids=["7-8", "9", "single-plane-torque", "single-plane-constant", "40"])
+                         ids=["7-8", "9", "B-9", "single-plane-torque", "single-plane-constant", "40"])
 def test_reduction_matches_paper(check):
     result = check()
     assert result.passed, result.detail

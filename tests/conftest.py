@@ -1,0 +1,48 @@
+"""Suite-wide: the toolchain helper on sys.path, and every skip of the run recorded: for
+tests/test_no_skips.py, which runs last and fails under CI if any test was skipped, and (with
+pytest-xdist, where that test sees only its worker's skips) for the controller, which lists them
+and fails the run under CI."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+# pytest runs with --import-mode=importlib (no test folder on sys.path): the one helper that turns a
+# missing tool or package into a failure under CI lives in tests/codegen/toolchain.py
+sys.path.insert(0, str(Path(__file__).parent / "codegen"))
+
+import toolchain  # noqa: E402
+
+FINAL_TEST = "test_no_test_was_skipped_under_ci"
+
+
+def pytest_runtest_logreport(report):
+    if report.skipped and not hasattr(report, "wasxfail"):
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        toolchain.SKIPS_SEEN.append((report.nodeid, reason))
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """The skip check goes last, so that it sees every other test's outcome."""
+    last = [item for item in items if item.name == FINAL_TEST]
+    items[:] = [item for item in items if item.name != FINAL_TEST] + last
+
+
+def _controller(config) -> bool:
+    return not hasattr(config, "workerinput")
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    if _controller(config) and toolchain.SKIPS_SEEN:
+        terminalreporter.section(f"{len(toolchain.SKIPS_SEEN)} skipped" + (" under CI: the run fails" if toolchain.in_ci() else ""))
+        for node, reason in toolchain.SKIPS_SEEN:
+            terminalreporter.line(f"{node}: {reason}")
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """Under CI a run with a skip fails, also when the skips happened on xdist workers."""
+    if _controller(session.config) and toolchain.in_ci() and toolchain.SKIPS_SEEN and exitstatus == 0:
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
