@@ -1,13 +1,16 @@
-"""`adbgen bench derive|codegen|simulate|sweep [--out FILE] [--n ...]`: benchmarks, results written to a committed file."""
+"""`adbgen bench derive|codegen|simulate|sweep|precision [--out FILE] [--n ...]`: benchmarks, results written to a committed file."""
 
 from __future__ import annotations
+
+import argparse
 
 from .cli_types import UsageError, positive_int
 
 from pathlib import Path
 
 _BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json",
-              "simulate": "benchmarks/simulate.json", "sweep": "benchmarks/sweep.json"}
+              "simulate": "benchmarks/simulate.json", "sweep": "benchmarks/sweep.json",
+              "precision": "benchmarks/precision.json"}
 
 
 def cmd_bench(args) -> int:
@@ -18,6 +21,8 @@ def cmd_bench(args) -> int:
     out = args.out if args.out is not None else _BENCH_OUT[args.what]
     if args.what == "simulate":
         return _bench_simulate(args, out)
+    if args.what == "precision":
+        return _bench_precision(args, out)
     if args.what == "sweep":
         from . import bench_sweep
 
@@ -65,13 +70,65 @@ def _bench_simulate(args, out) -> int:
     return 0
 
 
+def _bench_precision(args, out) -> int:
+    from . import bench, bench_precision
+
+    problems = args.problems or list(bench_precision.PROBLEMS)
+    unknown = [p for p in problems if p not in bench_precision.PROBLEMS]
+    if unknown:
+        raise UsageError(f"unknown problem {unknown[0]!r}; choose from {', '.join(bench_precision.PROBLEMS)}")
+    if args.repeats is not None and args.repeats < 1:
+        raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
+    for name, value in (("--max-run", args.max_run), ("--budget", args.budget), ("--t-end", args.t_end)):
+        if value is not None and not (value > 0):
+            raise UsageError(f"{name} must be > 0, got {value}")
+    if args.engines:
+        from .analysis.engines import engine
+
+        for name in args.engines:
+            engine(name)  # an unknown name: one line naming the engines, exit 2
+    result = bench_precision.bench_precision(
+        tuple(problems), quick=args.quick, engines=args.engines, peers=not args.no_peers, repeats=args.repeats,
+        max_run_s=args.max_run, budget_s=args.budget, t_end=args.t_end, percall=not args.no_percall,
+        percall_ns=tuple(args.n) if args.n_given else None, progress=lambda line: print(line, flush=True))
+    path = bench.write(result, out)
+    stem = Path(out).with_suffix("")
+    charts = [bench_precision.chart(result, label, f"{stem}_{label}.png") for label in result["problems"]]
+    if "A" in result["problems"]:
+        charts.append(bench_precision.chart_reliable(result, f"{stem}_A_reliable.png"))
+    if result.get("percall"):
+        charts.append(bench_precision.chart_percall(result, f"{stem}_percall.png"))
+    for line in bench_precision.describe_targets(result):
+        print(line)
+    print(f"wrote {path} and {', '.join(map(str, charts))} ({result['seconds']} s)")
+    return 0
+
+
+class _NGiven(argparse.Action):
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, values)
+        namespace.n_given = True
+
+
 def register(sub) -> None:
     b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
-    b.add_argument("what", help="derive, codegen, simulate or sweep")
+    b.add_argument("what", help="derive, codegen, simulate, sweep or precision")
     b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json; simulate also writes "
                    "its chart next to it, <out>.png)")
-    b.add_argument("--n", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
+    b.add_argument("--n", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32], action=_NGiven,
+                   help="derive/codegen: ball counts; precision: the per-call part's (default 2 4 8 16 32)")
     b.add_argument("--repeats", type=int, default=None, help="simulate: best of N (default 7)")
-    b.add_argument("--engines", nargs="+", default=None, help="simulate: only these engines (default: all)")
-    b.add_argument("--no-peers", action="store_true", help="simulate: skip JiTCODE and heyoka")
+    b.add_argument("--engines", nargs="+", default=None, help="simulate, precision: only these engines (default: all)")
+    b.add_argument("--no-peers", action="store_true", help="simulate, precision: skip JiTCODE and heyoka")
+    b.add_argument("--problems", nargs="+", default=None, help="precision: problems (default A B C)")
+    b.add_argument("--quick", action="store_true", help="precision: 2 tolerances, 1/10 of the horizon, n = 2 4 "
+                   "(about a minute)")
+    b.add_argument("--max-run", type=float, default=None, help="precision: skip a pathway's tighter tolerances once "
+                   "a run is predicted to take longer than this [s] (default 20; quick 0.5)")
+    b.add_argument("--budget", type=float, default=None, help="precision: time budget of the work-precision part "
+                   "[s], shared by the problems (default 480; quick 40)")
+    b.add_argument("--t-end", type=float, default=None, help="precision: integrate every problem to this time "
+                   "(default: each problem's)")
+    b.add_argument("--no-percall", action="store_true", help="precision: skip the per-call part")
+    b.set_defaults(n_given=False)
     b.set_defaults(fn=cmd_bench)

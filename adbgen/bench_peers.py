@@ -94,7 +94,12 @@ def _translate(module, functions, states, params, time, bind=lambda name, value:
     functions: the peer's sin, cos, ... (the generated code's ``math.*``); bind(name, value) is what
     later statements see for a computed statement (the value itself, or a named helper)."""
     statements, outputs = generated_program(module)
-    scope = {"math": SimpleNamespace(**functions), "__builtins__": {}}
+    import math
+
+    scope = {"math": SimpleNamespace(pi=math.pi, **functions), "__builtins__": {}, "__select__": functions["select"],
+             "__less__": functions["less"]}
+    statements = [(name, ast.fix_missing_locations(_Conditionals().visit(expr))) for name, expr in statements]
+    outputs = {i: ast.fix_missing_locations(_Conditionals().visit(expr)) for i, expr in outputs.items()}
     env = {"y": list(states), "p": list(params), "t": time}
     for name, expr in statements:
         value = eval(compile(ast.Expression(expr), "<rhs_inplace>", "eval"), scope, env)  # noqa: S307
@@ -104,8 +109,37 @@ def _translate(module, functions, states, params, time, bind=lambda name, value:
             for i in range(len(outputs))]
 
 
+class _Conditionals(ast.NodeTransformer):
+    """``a if l < r else b`` (a piecewise law in t, e.g. the Hill run-up's angle (45)) as
+    ``__select__(__less__(l, r), a, b)``: the peer's own conditional, not Python's truth test."""
+
+    def visit_IfExp(self, node):
+        self.generic_visit(node)
+        return ast.Call(ast.Name("__select__", ast.Load()), [node.test, node.body, node.orelse], [])
+
+    def visit_Compare(self, node):
+        self.generic_visit(node)
+        if len(node.ops) != 1 or not isinstance(node.ops[0], (ast.Lt, ast.Gt)):
+            raise ValueError(f"unsupported comparison in the generated rhs: {ast.unparse(node)}")
+        left, right = (node.left, node.comparators[0]) if isinstance(node.ops[0], ast.Lt) else \
+            (node.comparators[0], node.left)
+        return ast.Call(ast.Name("__less__", ast.Load()), [left, right], [])
+
+
+def _numeric(fn, name):
+    """fn, or Python's math on plain numbers (a peer's sqrt may refuse a float: ``sqrt(3.0)``)."""
+    import math
+
+    exact = getattr(math, name)
+
+    def call(*args):
+        return exact(*args) if all(isinstance(a, (int, float)) for a in args) else fn(*args)
+
+    return call
+
+
 def _functions(lib, names=("sin", "cos", "tan", "exp", "log", "sqrt", "atan")) -> dict:
-    return {n: getattr(lib, n) for n in names if hasattr(lib, n)}
+    return {n: _numeric(getattr(lib, n), n) for n in names if hasattr(lib, n)}
 
 
 # -------------------------------------------------------------------------------------- heyoka
@@ -123,7 +157,8 @@ class Heyoka:
         self.hy = hy
         self.vars = [hy.make_vars(name) for name in module.STATE_NAMES]
         start = time.perf_counter()
-        outputs = _translate(module, _functions(hy), self.vars, [hy.par[i] for i in range(len(module.PARAM_NAMES))],
+        functions = {**_functions(hy), "select": hy.select, "less": hy.lt}
+        outputs = _translate(module, functions, self.vars, [hy.par[i] for i in range(len(module.PARAM_NAMES))],
                              hy.time)
         self.translate_s = time.perf_counter() - start
         self.system = list(zip(self.vars, outputs))
@@ -131,19 +166,21 @@ class Heyoka:
         self._integrators: dict[float, object] = {}
         self.compile_s: dict[float, float] = {}
 
-    def integrator(self, tol: float, y0, p):
-        """The compiled integrator for `tol`; its build is timed cold in compile_s[tol].
+    def integrator(self, tol: float, y0, p, cold: bool = True):
+        """The compiled integrator for `tol`; its build is timed in compile_s[tol] (cold by default).
 
-        heyoka keeps compiled code in a memory cache and an on-disk cache (~/.cache/heyoka): both are
-        bypassed for the build (the disk cache switched off meanwhile, nothing deleted from it), so
-        compile_s is what a first use costs."""
+        heyoka keeps compiled code in a memory cache and an on-disk cache (~/.cache/heyoka): with
+        `cold` both are bypassed for the build (the disk cache switched off meanwhile, nothing deleted
+        from it), so compile_s is what a first use costs; cold=False lets heyoka use its caches (the
+        work-precision benchmark builds one integrator per tolerance and problem and times only runs)."""
         if tol not in self._integrators:
             state = self.hy.llvm_state
-            disk = getattr(state, "get_diskcache_enabled", lambda: None)()
+            disk = cold and getattr(state, "get_diskcache_enabled", lambda: None)()
             try:
                 if disk:
                     state.set_diskcache_enabled(False)
-                state.clear_memcache()
+                if cold:
+                    state.clear_memcache()
                 start = time.perf_counter()
                 ta = self.hy.taylor_adaptive(self.system, list(map(float, y0)), tol=float(tol),
                                              pars=list(map(float, p)))
@@ -209,7 +246,8 @@ class JiTCODE:
             return helpers[-1][0]
 
         start = time.perf_counter()
-        outputs = _translate(module, _functions(se), [jy(i) for i in range(n)], self.pars, jt, bind)
+        functions = {**_functions(se), "select": lambda c, a, b: se.Piecewise((a, c), (b, True)), "less": se.Lt}
+        outputs = _translate(module, functions, [jy(i) for i in range(n)], self.pars, jt, bind)
         self.translate_s = time.perf_counter() - start
         start = time.perf_counter()
         with _scratch_cwd():
