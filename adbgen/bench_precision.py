@@ -50,9 +50,10 @@ Cost control: before the sweep each pathway runs once at the loosest tolerance o
 (`PROBE_FRACTION` of t_end); if that predicts more than `max_run_s` for the full run, the pathway is
 skipped (recorded with the measured probe time and the reason).  Tolerances then go from loose to
 tight; a pathway stops when its next run is predicted to exceed `max_run_s` (its last time times the
-growth between its last two runs) or when the problem's share of the time budget is spent; the
-skipped tolerances are recorded with the last measured time and the reason.  Runs faster than
-`SLOW_S` are repeated (best of `repeats`, round-robin over the pathways at one tolerance).
+growth between its last two runs) or, if its last run took more than `CHEAP_S`, when the problem's
+share of the time budget is spent; the skipped tolerances are recorded with the last measured time
+and the reason.  Runs faster than `SLOW_S` are repeated (best of `repeats`, round-robin over the
+pathways at one tolerance).
 
 Problem A also gives, per pathway, the loosest tolerance from which on every tighter tolerance
 reaches the reference's attractor (final ball angles within `ATTRACTOR_TOL` rad, rotor amplitude
@@ -91,6 +92,7 @@ QUICK_MAX_RUN_S = 0.5
 BUDGET_S = 480.0
 QUICK_BUDGET_S = 40.0
 PROBE_FRACTION = 0.05
+CHEAP_S = 0.2  # runs faster than this go on after the time budget is spent
 ATTRACTOR_TOL = 1e-2
 TDEC_REL = 0.01
 TDEC_DT = 0.25
@@ -486,8 +488,8 @@ def sweep(model, pp: PrecisionProblem, cs: list[Curve], tols, *, t_end: float, r
                 reason = f"failed at tol {tol:g}: {pw.last.get('status')}"
             elif last * growth > max_run_s:
                 reason = f"next run predicted {last * growth:.3g} s (last {last:.3g} s x growth {growth:.2g}) > {max_run_s:g} s"
-            elif over_budget:
-                reason = f"problem time budget {budget_s:g} s spent"
+            elif over_budget and last > CHEAP_S:
+                reason = f"problem time budget {budget_s:g} s spent (runs under {CHEAP_S:g} s go on)"
             if reason and rest:
                 c.skipped += [{"tol": t, "reason": reason, "last_measured_s": last} for t in rest]
             elif not reason:

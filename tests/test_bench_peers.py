@@ -68,3 +68,17 @@ def test_jitcode_same_equations_and_run(setting, tmp_path, monkeypatch):
 
     ref = solve_ivp(model.module.rhs, (0, 5.0), y0, args=(p,), method="DOP853", rtol=1e-12, atol=1e-14).y[:, -1]
     assert np.max(np.abs(out["y_end"] - ref)) < 1e-8
+
+
+def test_peers_follow_a_piecewise_law_of_time():
+    """The Hill run-up's angle (45) is piecewise in t (a series below the switch, the closed form above):
+    each peer gets its own conditional and equals the generated rhs on both sides of the switch."""
+    model = load_model("two_plane_hill")
+    p = model.params()
+    y = np.random.default_rng(3).uniform(-0.1, 0.1, model.n_states)
+    for name in ("heyoka", "jitcode"):
+        require_module(name, "pip install 'adbgen[peers]'")
+        peer = bench_peers.PEERS[name](model.module)
+        for t in (20.0, 60.0, 400.0):
+            ref = np.asarray(model.module.rhs(t, y, p))
+            assert np.max(np.abs(peer.rhs(y, p, t) - ref)) <= 1e-12 * np.max(np.abs(ref)), (name, t)

@@ -1,0 +1,127 @@
+"""`adbgen bench precision`'s machinery on tiny inputs (no timed assertions)."""
+
+from __future__ import annotations
+
+import importlib
+import json
+import math
+import shutil
+
+import numpy as np
+import pytest
+
+from toolchain import require_tool
+
+from adbgen import bench_baseline, bench_precision as bp
+from adbgen.analysis.loading import load_model
+from adbgen.bench_simulate import Problem
+from adbgen.cli import main
+
+
+def _require_gcc():
+    require_tool(bool(shutil.which("gcc") or shutil.which("cc")), "a C compiler (the compiled engines need gcc)")
+
+
+@pytest.mark.parametrize("n", [2, 3, 4])
+def test_hand_written_baseline_equals_the_generated_rhs(n):
+    """thesis Appendix A by hand = the generated rhs at random states and parameters (round-off)."""
+    module = importlib.import_module(f"generated.thesis_rotating_n{n}")
+    assert bench_baseline.max_difference(module, samples=100, seed=n) < 1e-13
+
+
+def test_hand_written_baseline_refuses_another_layout():
+    with pytest.raises(ValueError, match="hand-written baseline needs"):
+        bench_baseline.check_layout(importlib.import_module("generated.two_plane_hill"))
+
+
+def test_t_dec_from_samples_and_loosest_reliable():
+    t = np.linspace(0.0, 20.0, 2001)
+    r = 1e-3 * np.exp(-(t - 7.0))  # crosses 1e-3 downwards at t = 7
+    assert bp._t_dec_grid(t, r) == pytest.approx(7.0, abs=1e-9)
+    assert bp._t_dec_grid(t, np.full_like(t, 1.0)) is None
+    assert bp._t_dec_grid(t, np.zeros_like(t)) == 0.0
+    rec = {"points": [{"tol": 1e-3, "reliable": False}, {"tol": 1e-4, "reliable": True},
+                      {"tol": 1e-5, "reliable": False}, {"tol": 1e-6, "reliable": True}]}
+    assert bp.loosest_reliable(rec)["tol"] == 1e-6  # 1e-5 fails, so 1e-4 does not count
+    rec["points"][2]["reliable"] = True
+    assert bp.loosest_reliable(rec)["tol"] == 1e-4
+
+
+def test_errors_against_a_known_solution(tmp_path):
+    """mu = delta = 0: the rotor stays at rest and each ball obeys phi'' = -beta phi', so
+    phi(t) = phi(0) + phi'(0) (1 - exp(-beta t)) / beta: the reference and each pathway's error agree with it."""
+    _require_gcc()
+    beta, t_end = 0.5, 10.0
+    pp = bp.PrecisionProblem(Problem("K", "thesis_rotating_n3", {"mu": 0.0, "delta": 0.0, "beta": beta},
+                                     {"phi_1": 0.3, "phi_1_dot": 1.0, "phi_2_dot": -0.5}, t_end), 1e-2, "known")
+    model = load_model(pp.problem.model)
+    exact = model.state({"phi_1": 0.3 + (1 - math.exp(-beta * t_end)) / beta,
+                         "phi_2": -0.5 * (1 - math.exp(-beta * t_end)) / beta,
+                         "phi_1_dot": math.exp(-beta * t_end), "phi_2_dot": -0.5 * math.exp(-beta * t_end)})
+    ref = bp.reference(model, pp, t_end)
+    assert np.max(np.abs(ref["y_end"] - exact)) < 1e-12
+    assert ref["check_difference"] < 1e-12
+    cs = [c for c in bp.curves(model, pp, tmp_path, engines=["cyrk-rk23"], peers=False, lambdify=False)
+          if c.name in ("cyrk-rk23", "ivp:handwritten-dop853", "cvode-main")]
+    assert len(cs) == 3
+    for c in cs:
+        pw = c.make(1e-3, t_end)
+        out = pw.last = pw.run()
+        c.points = [pw]
+        rec = bp.curve_record(c, ref["y_end"], ref["check_difference"])
+        err = rec["points"][0]["error"]
+        assert err == pytest.approx(float(np.max(np.abs(out["y_end"] - exact))), rel=1e-3, abs=1e-12)
+        assert 0 < err < 1e-2
+
+
+@pytest.fixture(scope="module")
+def quick_result():
+    _require_gcc()
+    return bp.bench_precision(("A",), quick=True, tols=(1e-4, 1e-7), engines=["cyrk-dop853", "cvode-bdf"],
+                              peers=False, lambdify=False, t_end=20.0, percall=False)
+
+
+def test_quick_run_records_curves_reference_and_targets(quick_result, tmp_path):
+    r = quick_result
+    for key in ("benchmark", "date", "machine", "versions", "settings", "problems", "targets", "seconds"):
+        assert key in r, key
+    json.dumps(r)
+    a = r["problems"]["A"]
+    assert a["problem"]["t_end"] == 20.0 and a["reference"]["check_difference"] < 1e-10
+    names = {c["name"] for c in a["curves"]}
+    assert {"cyrk-dop853", "cvode-bdf", "ivp:numba-dop853", "ivp:handwritten-dop853", "cvode-main"} <= names
+    for c in a["curves"]:
+        run = [q for q in c["points"] if q["status"] == "success"]
+        assert run or c["skipped"], c
+        if len(run) == 2:  # tighter tolerance, smaller error
+            assert run[1]["tol"] < run[0]["tol"] and run[1]["error"] < run[0]["error"], c["name"]
+        for q in run:
+            assert q["wall_s"] == min(q["runs_s"]) and 0 < q["error"] < 1e-2
+            assert "reliable" in q and q["t_dec_how"] != "not available", (c["name"], q)
+    assert set(a["loosest_reliable"]) == names
+    assert [t["target"] for t in r["targets"]][0].startswith("A, error 1e-8")
+    for label in ("A",):
+        assert bp.chart(r, label, tmp_path / f"p_{label}.png").stat().st_size > 1000
+    assert bp.chart_reliable(r, tmp_path / "rel.png").stat().st_size > 1000
+
+
+def test_sweep_skips_a_pathway_predicted_too_slow():
+    """The probe predicts the full run; over the cap, every tolerance is recorded as skipped with the reason."""
+    from adbgen.bench_simulate import Pathway
+
+    def make(tol, t_end):
+        return Pathway(f"slow@{tol:g}", "ivp", "slow", tol, lambda: {"wall_s": t_end * 1e-3, "y_end": None,
+                                                                     "status": "success"})
+
+    c = bp.Curve("slow", "ivp", "", make, False)
+    bp.sweep(None, None, [c], (1e-3, 1e-4), t_end=100.0, repeats=1, max_run_s=0.05, budget_s=10.0)
+    assert not c.points and [s["tol"] for s in c.skipped] == [1e-3, 1e-4]
+    assert "predicted" in c.skipped[0]["reason"] and c.skipped[0]["last_measured_s"] == pytest.approx(0.005)
+
+
+def test_cli_bench_precision_rejects_bad_input(tmp_path, capsys):
+    out = tmp_path / "p.json"
+    assert main(["bench", "precision", "--out", str(out), "--problems", "Z"]) == 2
+    assert "unknown problem 'Z'" in capsys.readouterr().err
+    assert main(["bench", "precision", "--out", str(out), "--max-run", "0"]) == 2
+    assert not out.exists()
