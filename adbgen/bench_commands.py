@@ -1,4 +1,5 @@
-"""`adbgen bench derive|codegen|simulate|sweep|precision [--out FILE] [--n ...]`: benchmarks, results written to a committed file."""
+"""`adbgen bench derive|codegen|simulate|sweep|precision [--out FILE] [--n ...]`: benchmarks, results written to a
+committed file."""
 
 from __future__ import annotations
 

@@ -96,10 +96,13 @@ def _translate(module, functions, states, params, time, bind=lambda name, value:
     statements, outputs = generated_program(module)
     import math
 
-    scope = {"math": SimpleNamespace(pi=math.pi, **functions), "__builtins__": {}, "__select__": functions["select"],
-             "__less__": functions["less"]}
-    statements = [(name, ast.fix_missing_locations(_Conditionals().visit(expr))) for name, expr in statements]
-    outputs = {i: ast.fix_missing_locations(_Conditionals().visit(expr)) for i, expr in outputs.items()}
+    scope = {"math": SimpleNamespace(pi=math.pi, **functions), "__builtins__": {},
+             "__select__": functions.get("select"), "__less__": functions.get("less")}
+    if "power" in functions:  # the peer's own integer power (heyoka: products, see `_power_by_products`)
+        scope["__power__"] = functions["power"]
+    rewrite = _Conditionals(integer_powers="power" in functions)
+    statements = [(name, ast.fix_missing_locations(rewrite.visit(expr))) for name, expr in statements]
+    outputs = {i: ast.fix_missing_locations(rewrite.visit(expr)) for i, expr in outputs.items()}
     env = {"y": list(states), "p": list(params), "t": time}
     for name, expr in statements:
         value = eval(compile(ast.Expression(expr), "<rhs_inplace>", "eval"), scope, env)  # noqa: S307
@@ -111,7 +114,19 @@ def _translate(module, functions, states, params, time, bind=lambda name, value:
 
 class _Conditionals(ast.NodeTransformer):
     """``a if l < r else b`` (a piecewise law in t, e.g. the Hill run-up's angle (45)) as
-    ``__select__(__less__(l, r), a, b)``: the peer's own conditional, not Python's truth test."""
+    ``__select__(__less__(l, r), a, b)``: the peer's own conditional, not Python's truth test; with
+    `integer_powers`, ``a ** k`` for a whole number k as ``__power__(a, k)``."""
+
+    def __init__(self, integer_powers: bool = False):
+        self.integer_powers = integer_powers
+
+    def visit_BinOp(self, node):
+        self.generic_visit(node)
+        k = node.right.value if isinstance(node.right, ast.Constant) else None
+        if self.integer_powers and isinstance(node.op, ast.Pow) and isinstance(k, (int, float)) and k == int(k) \
+                and k >= 1:
+            return ast.Call(ast.Name("__power__", ast.Load()), [node.left, ast.Constant(int(k))], [])
+        return node
 
     def visit_IfExp(self, node):
         self.generic_visit(node)
@@ -124,6 +139,22 @@ class _Conditionals(ast.NodeTransformer):
         left, right = (node.left, node.comparators[0]) if isinstance(node.ops[0], ast.Lt) else \
             (node.comparators[0], node.left)
         return ast.Call(ast.Name("__less__", ast.Load()), [left, right], [])
+
+
+def _power_by_products(base, k: int):
+    """base ** k by squaring and products.  heyoka's Taylor recurrence for a power divides by the base,
+    which is NaN where the base is 0 (the Hill run-up's series in t (45) at t = 0: measured,
+    taylor_outcome.err_nf_state on the first step); products have no such division."""
+    if isinstance(base, (int, float)):
+        return base ** k
+    result, square = None, base
+    while k:
+        if k & 1:
+            result = square if result is None else result * square
+        k >>= 1
+        if k:
+            square = square * square
+    return result
 
 
 def _numeric(fn, name):
@@ -149,7 +180,8 @@ class Heyoka:
 
     name = "heyoka"
 
-    def __init__(self, module):
+    def __init__(self, module, compact_mode: bool = False):
+        self.compact_mode = compact_mode  # heyoka's compact mode: fast builds of large systems, slower steps
         try:
             import heyoka as hy
         except ImportError as exc:
@@ -157,7 +189,7 @@ class Heyoka:
         self.hy = hy
         self.vars = [hy.make_vars(name) for name in module.STATE_NAMES]
         start = time.perf_counter()
-        functions = {**_functions(hy), "select": hy.select, "less": hy.lt}
+        functions = {**_functions(hy), "select": hy.select, "less": hy.lt, "power": _power_by_products}
         outputs = _translate(module, functions, self.vars, [hy.par[i] for i in range(len(module.PARAM_NAMES))],
                              hy.time)
         self.translate_s = time.perf_counter() - start
@@ -183,7 +215,7 @@ class Heyoka:
                     state.clear_memcache()
                 start = time.perf_counter()
                 ta = self.hy.taylor_adaptive(self.system, list(map(float, y0)), tol=float(tol),
-                                             pars=list(map(float, p)))
+                                             pars=list(map(float, p)), compact_mode=self.compact_mode)
                 self.compile_s[tol] = time.perf_counter() - start
             finally:
                 if disk:

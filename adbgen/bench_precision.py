@@ -80,7 +80,7 @@ from typing import Callable
 import numpy as np
 
 from .bench import write  # noqa: F401  (re-exported: `adbgen bench precision` writes with it)
-from .bench_simulate import Pathway, Problem, _target, engine_pathway, error, measure, time_at_error
+from .bench_simulate import Pathway, Problem, _load, _target, engine_pathway, error, measure, time_at_error
 
 TOLS = tuple(10.0 ** -k for k in range(3, 13))
 QUICK_TOLS = (1e-4, 1e-7)
@@ -91,8 +91,11 @@ MAX_RUN_S = 20.0
 QUICK_MAX_RUN_S = 0.5
 BUDGET_S = 480.0
 QUICK_BUDGET_S = 40.0
-PROBE_FRACTION = 0.05
-CHEAP_S = 0.2  # runs faster than this go on after the time budget is spent
+PROBE_FRACTION = 0.01
+CHEAP_S = 0.5  # runs faster than this go on after the time budget is spent
+# heyoka's default mode compiles a large rhs (the Hill run-up's series) for minutes at high order (measured
+# 71 s at tol 1e-15 for B, 240 statements); above this many it runs in compact mode (2-3 s per tolerance)
+HEYOKA_COMPACT_ABOVE = 150
 ATTRACTOR_TOL = 1e-2
 TDEC_REL = 0.01
 TDEC_DT = 0.25
@@ -330,12 +333,18 @@ def curves(model, pp: PrecisionProblem, folder: Path, *, engines=None, peers: bo
             res = cv.run(y0, p, problem.t_end, tol, tol * pp.atol_ratio, n_out=int(problem.t_end / TDEC_DT))
             return _t_dec_grid(res["t"], np.hypot(res["y"][ix], res["y"][iy])) if res["y_end"] is not None else None
 
-        out.append(Curve("cvode-main", "cvode-main", "emitted <model>_cvode_main.c (CVODE BDF, Newton, dense, generated "
-                         "Jacobian), gcc -O2, run as a process (start-up included)", make_cv, adbgen=True,
+        out.append(Curve("cvode-main", "cvode-main", "emitted <model>_cvode_main.c (CVODE BDF, Newton, dense, "
+                         "generated Jacobian), gcc -O2, run as a process (start-up included)", make_cv, adbgen=True,
                          t_dec_of=t_dec_cv if want_t_dec else None, setup={"compile_s": round(cv.compile_s, 3)}))
     if peers:
         out += _peer_curves(model, pp, want_t_dec, say)
     return out
+
+
+def heyoka_compact(model) -> bool:
+    from .bench_peers import generated_program
+
+    return len(generated_program(model.module)[0]) > HEYOKA_COMPACT_ABOVE
 
 
 def _peer_curves(model, pp: PrecisionProblem, want_t_dec: bool, say) -> list[Curve]:
@@ -346,9 +355,10 @@ def _peer_curves(model, pp: PrecisionProblem, want_t_dec: bool, say) -> list[Cur
     ix, iy = model.amplitude_indices[:2]
     grid = np.arange(0.0, problem.t_end + TDEC_DT / 2, TDEC_DT)
     out = []
+    compact = heyoka_compact(model)
     for name, cls in bench_peers.PEERS.items():
         try:
-            peer = cls(model.module)
+            peer = cls(model.module, compact_mode=compact) if name == "heyoka" else cls(model.module)
         except Exception as exc:  # not installed or failed to build: recorded, not fatal
             say(f"peer {name} unavailable: {exc}")
             continue
@@ -373,6 +383,7 @@ def _peer_curves(model, pp: PrecisionProblem, want_t_dec: bool, say) -> list[Cur
                              t_dec_of=t_dec_of if want_t_dec else None, setup=setup))
         else:
             setup["compile_s"] = {}
+            setup["compact_mode"] = compact
 
             def make(tol, t_end, peer=peer, setup=setup):
                 if tol not in peer._integrators:
@@ -415,7 +426,7 @@ def reference(model, pp: PrecisionProblem, t_end: float, ref_tol: float = REF_TO
     try:
         from . import bench_peers
 
-        peer = bench_peers.Heyoka(model.module)
+        peer = bench_peers.Heyoka(model.module, compact_mode=heyoka_compact(model))
         peer.integrator(check_tol, y0, p, cold=False)
         res = peer.run(y0, p, t_end, check_tol)
         if res["status"] != "success":
@@ -461,8 +472,9 @@ def sweep(model, pp: PrecisionProblem, cs: list[Curve], tols, *, t_end: float, r
         predicted = res["wall_s"] / PROBE_FRACTION
         c.probe = {"t_end": horizon, "wall_s": round(res["wall_s"], 6), "predicted_full_s": round(predicted, 3)}
         if predicted > max_run_s:
-            c.skipped += [{"tol": t, "reason": f"probe over [0, {horizon:g}] took {res['wall_s']:.3g} s: predicted "
-                                               f"{predicted:.3g} s for the full run at tol {tols[0]:g} > {max_run_s:g} s",
+            why = (f"probe over [0, {horizon:g}] took {res['wall_s']:.3g} s: predicted {predicted:.3g} s for the "
+                   f"full run at tol {tols[0]:g} > {max_run_s:g} s")
+            c.skipped += [{"tol": t, "reason": why,
                            "last_measured_s": round(res["wall_s"], 6)} for t in tols]
             say(f"  skip {c.name}: predicted {predicted:.3g} s")
         else:
@@ -487,7 +499,8 @@ def sweep(model, pp: PrecisionProblem, cs: list[Curve], tols, *, t_end: float, r
             if not ok:
                 reason = f"failed at tol {tol:g}: {pw.last.get('status')}"
             elif last * growth > max_run_s:
-                reason = f"next run predicted {last * growth:.3g} s (last {last:.3g} s x growth {growth:.2g}) > {max_run_s:g} s"
+                reason = (f"next run predicted {last * growth:.3g} s (last {last:.3g} s x growth {growth:.2g}) "
+                          f"> {max_run_s:g} s")
             elif over_budget and last > CHEAP_S:
                 reason = f"problem time budget {budget_s:g} s spent (runs under {CHEAP_S:g} s go on)"
             if reason and rest:
@@ -633,10 +646,6 @@ def precision_targets(prob: dict, default: str) -> list[dict]:
 
 # ----------------------------------------------------------------------------------------- run
 
-def _load():
-    return [round(v, 2) for v in os.getloadavg()] if hasattr(os, "getloadavg") else None
-
-
 NOTES = (
     "error: largest absolute difference of the final state from the reference (CyRK Vern8 at rtol 1e-14), "
     "whose resolution is reference.check_difference (heyoka Taylor at tol 1e-15); below_resolution: error < 10x "
@@ -663,7 +672,7 @@ def bench_precision(problems=("A", "B", "C"), *, quick: bool = False, tols=None,
     say = progress or (lambda line: None)
     started = time.perf_counter()
     tols = tuple(tols or (QUICK_TOLS if quick else TOLS))
-    repeats = repeats or (1 if quick else 3)
+    repeats = repeats or (1 if quick else 5)
     max_run_s = max_run_s or (QUICK_MAX_RUN_S if quick else MAX_RUN_S)
     budget_s = budget_s or (QUICK_BUDGET_S if quick else BUDGET_S)
     mach = machine()
@@ -731,15 +740,9 @@ _KIND_STYLE = {"engine": "-", "ivp": "--", "cvode-main": "-.", "peer": ":"}
 
 
 def _save(fig, path: Path) -> Path:
-    import matplotlib.pyplot as plt
+    from .bench_simulate import save_figure
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.stem + ".tmp" + path.suffix)
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    tmp.replace(path)
-    return path
+    return save_figure(fig, path, dpi=110)
 
 
 def chart(result: dict, label: str, path: str | Path) -> Path:
@@ -860,5 +863,6 @@ def describe_targets(result: dict) -> list[str]:
 
 
 __all__ = ["CvodeMain", "Curve", "PROBLEMS", "PrecisionProblem", "TOLS", "bench_precision", "chart", "chart_reliable",
-           "chart_percall", "curve_record", "curves", "describe_targets", "lambdify_rhs", "loosest_reliable", "precision_targets",
+           "chart_percall", "curve_record", "curves", "describe_targets", "lambdify_rhs", "loosest_reliable",
+           "precision_targets",
            "reference", "stiffness", "sweep", "write"]

@@ -898,10 +898,17 @@ def chart(result: dict, path: str | Path) -> Path:
                  f"atol {p['atol']:g}\n{when}\nred: default engine, blue: compiled engines, grey: solve_ivp, "
                  "green: peers", fontsize=9)
     fig.tight_layout()
+    return save_figure(fig, path, dpi=120)
+
+
+def save_figure(fig, path: str | Path, dpi: int = 120) -> Path:
+    """Write a matplotlib figure through a temporary file (a failed write leaves the old chart)."""
+    import matplotlib.pyplot as plt
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.stem + ".tmp" + path.suffix)
-    fig.savefig(tmp, dpi=120)
+    fig.savefig(tmp, dpi=dpi)
     plt.close(fig)
     tmp.replace(path)
     return path
@@ -918,5 +925,5 @@ def describe_targets(result: dict) -> list[str]:
 
 __all__ = ["PROBLEM_A", "ParallelControl", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart",
            "describe_targets", "engine_pathway", "equal_error", "error", "evaluate_targets", "floor_pathways",
-           "floor_record", "many", "measure", "paired_floor", "reference", "rhs_symmetry", "symmetric_y0",
-           "symmetry_record", "time_at_error", "write"]
+           "floor_record", "many", "measure", "paired_floor", "reference", "rhs_symmetry", "save_figure",
+           "symmetric_y0", "symmetry_record", "time_at_error", "write"]
