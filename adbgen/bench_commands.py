@@ -96,6 +96,7 @@ def _bench_precision(args, out) -> int:
     stem = Path(out).with_suffix("")
     charts = [bench_precision.chart(result, label, f"{stem}_{label}.png") for label in result["problems"]]
     if "A" in result["problems"]:
+        charts.append(bench_precision.chart(result, "A", f"{stem}_A_headline.png", only=bench_precision.HEADLINE))
         charts.append(bench_precision.chart_reliable(result, f"{stem}_A_reliable.png"))
     if result.get("percall"):
         charts.append(bench_precision.chart_percall(result, f"{stem}_percall.png"))

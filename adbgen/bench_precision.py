@@ -19,12 +19,13 @@ Problems (`PROBLEMS`):
   at rest, the balls of each race on opposite sides; t in [0, 1000] (past the resynchronisation near
   t = 800).  atol = 1e-5 rtol: the rotor's states are of order 1e-5.
 - C: stiff: the thesis model n = 3 with heavy ball damping beta = 1000 and light balls mu = 0.01,
-  else (5.1), phi(0) as A, t in [0, 2000].  The Jacobian's eigenvalues at the initial state (measured
-  by `stiffness`, recorded in the results) are about -1015, -1015, -1000 (the balls' damping, beta)
-  against a slowest nonzero decay rate of order 1e-5: a stiffness ratio of about 3e7.  An explicit
-  method's step is held to its stability interval (|h lambda| ~ 3 for DOP853, h ~ 3e-3), so its cost
-  does not fall with the tolerance (measured: about 3.8 million evaluations at every tolerance),
-  while BDF's steps follow the slow dynamics (thousands).
+  else (5.1), phi(0) as A, t in [0, 2000].  The real parts of the Jacobian's eigenvalues at the
+  initial state (`stiffness`, recorded in the results) run from -1014.8, -1014.8, -1000.0 (the balls'
+  damping, beta) to 3.4e-5 in magnitude: a stiffness ratio max |Re| / min |Re| of 3.0e7.  An explicit
+  method's step is held to its stability interval (measured: CyRK's DOP853 takes 3.82 million
+  evaluations, about 318000 steps of h = 6.3e-3, |h lambda| = 6.4, at every tolerance from 1e-3 to
+  1e-6: its cost does not fall with the tolerance), while BDF's steps follow the slow dynamics
+  (cvode-bdf: 20000-110000 evaluations).
 
 Pathways (`curves`), one definition each:
 
@@ -44,7 +45,9 @@ Pathways (`curves`), one definition each:
   (CVODE BDF, Newton, dense, the generated Jacobian); its wall time is the process' (start-up of a
   few ms included: `startup_s` records it);
 - ``peer:jitcode-dop853`` and ``peer:heyoka`` (`bench_peers`: the generated rhs' statements fed to
-  JiTCODE and heyoka; heyoka compiles one integrator per tolerance, outside the timings).
+  JiTCODE and heyoka; heyoka compiles one integrator per tolerance, outside the timings, in its compact
+  mode for a rhs of more than `HEYOKA_COMPACT_ABOVE` statements (B): the default mode took 71 s to
+  build B's integrator at tol 1e-15).
 
 Cost control: before the sweep each pathway runs once at the loosest tolerance over a short horizon
 (`PROBE_FRACTION` of t_end); if that predicts more than `max_run_s` for the full run, the pathway is
@@ -737,6 +740,7 @@ def bench_precision(problems=("A", "B", "C"), *, quick: bool = False, tols=None,
 # --------------------------------------------------------------------------------------- charts
 
 _KIND_STYLE = {"engine": "-", "ivp": "--", "cvode-main": "-.", "peer": ":"}
+_PEER_COLOURS = {"peer:jitcode-dop853": "#2ca02c", "peer:heyoka": "#9467bd"}
 
 
 def _save(fig, path: Path) -> Path:
@@ -745,8 +749,14 @@ def _save(fig, path: Path) -> Path:
     return save_figure(fig, path, dpi=110)
 
 
-def chart(result: dict, label: str, path: str | Path) -> Path:
-    """Work-precision chart of one problem: error (y) against wall time (x), log-log, a curve per pathway."""
+HEADLINE = ("cyrk-dop853", "cyrk-vern8", "cvode-bdf", "cvode-main", "scipy-dop853", "ivp:numba-dop853",
+            "ivp:handwritten-dop853", "ivp:lambdify-rk45", "ivp:lambdify-dop853", "peer:jitcode-dop853", "peer:heyoka")
+
+
+def chart(result: dict, label: str, path: str | Path, only=None) -> Path:
+    """Work-precision chart of one problem: error (y) against wall time (x), log-log, a curve per pathway
+    (`only`: just these pathways, e.g. `HEADLINE`).  Errors above 1 (a run that ended on another
+    attractor) are left off the scale."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -755,24 +765,26 @@ def chart(result: dict, label: str, path: str | Path) -> Path:
     prob = result["problems"][label]
     default = result["default_engine"]
     fig, ax = plt.subplots(figsize=(11, 7))
-    cmap = plt.get_cmap("tab20")
+    palette = [c for i, c in enumerate(plt.get_cmap("tab20").colors) if i not in (4, 5, 6, 7, 8, 9)]
+    # (greens and purples are the peers', red the default's)
     k = 0
     for rec in prob["curves"]:
-        pts = sorted(((q["wall_s"], q["error"], q["tol"]) for q in rec["points"] if q.get("wall_s") and q.get("error")),
-                     key=lambda v: -v[2])
+        if only is not None and rec["name"] not in only:
+            continue
+        pts = sorted(((q["wall_s"], q["error"], q["tol"]) for q in rec["points"] if q.get("wall_s") and q.get("error")
+                      and q["error"] <= 1.0), key=lambda v: -v[2])
         if not pts:
             continue
         xs, ys = [v[0] for v in pts], [v[1] for v in pts]
         if rec["name"] == default:
             ax.plot(xs, ys, "-o", color="#d62728", lw=3, ms=5, label=f"{rec['name']} (default)", zorder=5)
         else:
-            colour = "#2ca02c" if rec["kind"] == "peer" else cmap(k % 20)
+            colour = _PEER_COLOURS.get(rec["name"], "#2ca02c") if rec["kind"] == "peer" else \
+                palette[k % len(palette)]
             k += rec["kind"] != "peer"
             marker = "s" if rec["kind"] == "peer" else ("^" if rec["kind"] == "ivp" else ".")
             ax.plot(xs, ys, _KIND_STYLE.get(rec["kind"], "-"), marker=marker, color=colour,
                     lw=2.2 if rec["kind"] == "peer" else 1.1, ms=5, label=rec["name"])
-            if rec["name"] == "peer:heyoka":
-                ax.lines[-1].set_color("#9467bd")
     res = prob["reference"].get("check_difference")
     if res:
         ax.axhspan(1e-18, 10 * res, color="#cccccc", alpha=0.4, lw=0)
@@ -780,7 +792,8 @@ def chart(result: dict, label: str, path: str | Path) -> Path:
                 va="bottom", fontsize=7, color="#555555")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    errs = [q["error"] for r in prob["curves"] for q in r["points"] if q.get("error")]
+    errs = [q["error"] for r in prob["curves"] for q in r["points"] if q.get("error") and q["error"] <= 1.0
+            and (only is None or r["name"] in only)]
     if errs:
         ax.set_ylim(max(min(errs) / 3, 1e-16), max(errs) * 3)
     ax.set_xlabel("wall time of the integration [s] (log)")
@@ -862,7 +875,7 @@ def describe_targets(result: dict) -> list[str]:
     return describe(result)
 
 
-__all__ = ["CvodeMain", "Curve", "PROBLEMS", "PrecisionProblem", "TOLS", "bench_precision", "chart", "chart_reliable",
+__all__ = ["CvodeMain", "Curve", "HEADLINE", "PROBLEMS", "PrecisionProblem", "TOLS", "bench_precision", "chart", "chart_reliable",
            "chart_percall", "curve_record", "curves", "describe_targets", "lambdify_rhs", "loosest_reliable",
            "precision_targets",
            "reference", "stiffness", "sweep", "write"]
