@@ -97,6 +97,7 @@ def test_quick_run_records_curves_reference_and_targets(quick_result, tmp_path):
             assert run[1]["tol"] < run[0]["tol"] and run[1]["error"] < run[0]["error"], c["name"]
         for q in run:
             assert q["wall_s"] == min(q["runs_s"]) and 0 < q["error"] < 1e-2
+            assert q["cpu_s"] == min(q["runs_cpu_s"]) > 0
             assert "reliable" in q and q["t_dec_how"] != "not available", (c["name"], q)
     assert set(a["loosest_reliable"]) == names
     assert [t["target"] for t in r["targets"]][0].startswith("A, error 1e-8")
