@@ -1,0 +1,80 @@
+"""Brute-force vibration (Figure 12(a)) and run-ups (section 6) of analysis.two_plane_runs."""
+
+import math
+
+import numpy as np
+import pytest
+
+from adbgen.analysis import two_plane_runs as tr
+from adbgen.analysis.loading import load_model
+
+
+def test_vibration_is_the_mean_at_the_two_points_one_unit_from_the_midspan():
+    model = load_model("two_plane_fixed")
+    y = np.zeros((model.n_states, 2))
+    y[model.index("X"), 0] = 3e-4  # translation: both points move by 3e-4
+    y[model.index("phi_Y"), 1] = 2e-4  # tilt: the points move by -+2e-4
+    y[model.index("Y"), 1] = 1e-4
+    A = tr.vibration(model, y)
+    assert A[0] == pytest.approx(3e-4)
+    assert A[1] == pytest.approx(0.5 * (math.hypot(2e-4, 1e-4) + math.hypot(2e-4, 1e-4)))
+    assert A[1] != pytest.approx(math.hypot(1e-4, 0))  # centre only: wrong
+
+
+def test_settled_plain_rotor_is_the_linear_response():
+    """Plain rotor at Omega = 5, static imbalance (43): the orbit X = Re(eps W^2 e^{iWt}/(k_X - W^2 + i c_X W)),
+    Y = Re(-i eps W^2 e^{iWt}/(k_Y - W^2 + i c_Y W)); A_bar = its largest radius (64 samples a period: 1e-3)."""
+    model = load_model("two_plane_fixed")
+    values = {"epsilon": 1e-4, "chi": 0.0, "beta": 0.0, **tr._ball_values(tr.PLAIN_MASS, 0.01)}
+    o = tr.settled_vibration(model, values, 5.0, 2000.0)
+    w = 5.0
+    ph = np.exp(1j * np.linspace(0, 2 * np.pi, 100001))
+    X = (1e-4 * w**2 / (1.0 - w**2 + 0.02j * w) * ph).real
+    Y = (-1j * 1e-4 * w**2 / (5.0 - w**2 + 0.1j * w) * ph).real
+    assert o.A_bar == pytest.approx(np.hypot(X, Y).max(), rel=1e-3)
+    assert o.A_bar != pytest.approx(np.abs(X).max(), rel=1e-2)  # the X response alone
+
+
+def test_balls_balance_above_the_highest_critical_speed_and_not_at_4():
+    model = load_model("two_plane_fixed")
+    values = {"epsilon": 1e-4, "chi": 0.0, "beta": 0.0, **tr._ball_values(1e-4, 0.01)}
+    assert tr.settled_vibration(model, values, 4.5, 4000.0).A_bar < 1e-9
+    assert tr.settled_vibration(model, values, 4.0, 4000.0).A_bar > 1e-5
+
+
+def test_ramp_stalls_with_low_race_damping_and_resynchronises_with_high():
+    """Figure 15: c_b/m = 0.01 never synchronised by the end of the ramp, 0.1 synchronised."""
+    low, high = (tr.run_up("two_plane_ramp", r, 6000.0, samples=6001) for r in (0.01, 0.1))
+    assert tr.synchronised_from(low) is None
+    assert tr.synchronised_from(high) is not None
+    assert np.all(low.end_speeds < 0.995 * low.end_spin)  # behind the rotor at the end
+
+
+def test_hill_run_up_synchronises_sooner_with_high_race_damping():
+    """Figure 16: both synchronise with the Hill profile (45); 0.1 sooner than 0.01."""
+    low, high = (tr.run_up("two_plane_hill", r, 3000.0, samples=6001) for r in (0.01, 0.1))
+    t_low, t_high = tr.synchronised_from(low), tr.synchronised_from(high)
+    assert t_low is not None and t_high is not None and t_high < t_low
+
+
+@pytest.mark.parametrize("name", ["two_plane_hill", "two_plane_ramp"])
+def test_spin_law_is_the_generated_models_spin(name):
+    """Omega(t) of `spin_law` = the spin inside the generated rhs: with eps = chi = 0 and the balls in
+    opposite pairs at one speed s the rotor is not forced, and (4) gives theta_k'' = -c_b (s - Omega)/(m R^2)."""
+    model = load_model(name)
+    m, cb = 1e-4, 1e-5
+    p = model.params({"epsilon": 0.0, "chi": 0.0, **tr._ball_values(m, cb / m)})
+    t = np.array([50.0, 200.0, 700.0, 2500.0])
+    _, speed = tr.spin_law(model, p, t)
+    s = 0.7
+    y = model.state({"theta_2": math.pi, "theta_4": math.pi,
+                     **{f"theta_{k}_dot": s for k in range(1, 5)}})
+    k = model.index("theta_1_dot")
+    inside = [s + model.module.rhs(tk, y, p)[k] * m / cb for tk in t]
+    assert np.allclose(speed, inside, rtol=1e-9, atol=1e-12)
+    assert not np.allclose(speed * 1.001, inside, rtol=1e-9, atol=1e-12)
+
+
+def test_peaks_refines_a_parabola():
+    x = np.linspace(0, 2, 21)
+    assert tr.peaks(x, -(x - 1.234) ** 2) == pytest.approx([1.234])
