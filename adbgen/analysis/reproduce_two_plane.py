@@ -70,10 +70,6 @@ def exchange(fig_dir: Path) -> dict:
     return {"ex": ex, "figure": path, "even": dict(zip(w, even)), "odd": dict(zip(w, odd))}
 
 
-def _sign_changes(w, v):
-    return [float(0.5 * (w[i] + w[i + 1])) for i in range(len(w) - 1) if np.sign(v[i]) != np.sign(v[i + 1])]
-
-
 def figure_12a(fig_dir: Path) -> dict:
     from scipy.optimize import minimize_scalar
 
@@ -92,6 +88,8 @@ def figure_12a(fig_dir: Path) -> dict:
         refined.append((peak, float(r.x)))
     limit = tr.plain_limit()
     balanced = abb < 1e-3 * tr.FIG12_EPS
+    tight = tr.figure_12a(omegas, rtol=1e-11, with_plain=False)  # tolerance check of the balanced set
+    balanced_tight = np.array([o.A_bar for o in tight["abb"]]) < 1e-3 * tr.FIG12_EPS
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.4, 3.8), constrained_layout=True)
     ax.semilogy(omegas, plain, color="0.6", lw=1.5, label="plain rotor")
@@ -118,15 +116,56 @@ def figure_12a(fig_dir: Path) -> dict:
     return {"omegas": omegas, "abb": abb, "plain": plain, "peaks": refined, "limit": limit, "figure": path,
             "intervals": intervals, "wall": time.time() - t0,
             "worst_ratio": max(worse, key=lambda x: x[1]) if worse else None,
-            "drift": np.array([o.drift for o in res["abb"]])}
+            "drift": np.array([o.drift for o in res["abb"]]),
+            "tight_changed": [float(w) for w, a, b in zip(omegas, balanced, balanced_tight) if a != b]}
+
+
+RUN_RTOLS = (1e-7, 1e-9, 1e-11)
+PHASES = tuple(k * math.pi / 8 for k in range(8))  # where the opposite pairs start (Figure 16(d) study)  # tolerance study of the run-ups; the last is "converged"
+
+
+def runup_metrics(runs: dict) -> dict:
+    """The numbers the run-up table compares, from {(model, ratio): RunUp} (plain rotor: ratio None)."""
+    r15a, r15b = runs["two_plane_ramp", 0.01], runs["two_plane_ramp", 0.1]
+    r16a, r16b, plain = runs["two_plane_hill", 0.01], runs["two_plane_hill", 0.1], runs["two_plane_hill", None]
+    late = r16a.t > 300
+    crit = lambda r: r.A[r.t <= 300]  # noqa: E731  (the passage through the critical speeds)
+    return {"stall_15a": stall_speed(r15a), "stall_15b": stall_speed(r15b),
+            "sync_15a": tr.synchronised_from(r15a), "sync_15b": tr.synchronised_from(r15b),
+            "end_min_15a": float(np.min(r15a.end_speeds)), "end_A_15b": float(r15b.A[-1]),
+            "sync_16a": tr.synchronised_from(r16a), "sync_16b": tr.synchronised_from(r16b),
+            "end_A_16a": float(r16a.A[-1]), "end_A_16b": float(r16b.A[-1]),
+            "burst_16a": float(r16a.t[late][np.argmax(r16a.A[late])]),
+            "crit_16a": float(crit(r16a).max()), "crit_16b": float(crit(r16b).max()),
+            "crit_plain": float(crit(plain).max()),
+            "t_plain_peak": float(plain.t[plain.t <= 300][np.argmax(crit(plain))]),
+            "t_con": float(np.interp(PUBLISHED_11[1], r16a.spin, r16a.t))}
+
+
+def _all_runs(rtol: float) -> dict:
+    runs = {}
+    for _, name, t_end in RUNUPS:
+        for ratio in tr.RATIOS:
+            runs[name, ratio] = tr.run_up(name, ratio, t_end, rtol=rtol)
+        runs[name, None] = tr.run_up(name, tr.RATIOS[1], t_end, m=tr.PLAIN_MASS, rtol=rtol)
+    return runs
 
 
 def runups(fig_dir: Path) -> dict:
-    out = {}
+    study = {}
+    for rtol in RUN_RTOLS:
+        all_runs = _all_runs(rtol)
+        study[rtol] = runup_metrics(all_runs)
+    out = {"study": study, "after": {ratio: tr.after_ramp(ratio, rtol=RUN_RTOLS[-1]) for ratio in tr.RATIOS}}
+    # the paper does not say where on the race the opposite pairs start: Figure 16(d)'s ratio over phases
+    plain = all_runs["two_plane_hill", None]
+    peak = float(plain.A[plain.t <= 300].max())
+    out["phases"] = {ratio: [float(tr.run_up("two_plane_hill", ratio, 300.0, samples=3001, rtol=RUN_RTOLS[-1],
+                                             phase=ph).A.max() / peak) for ph in PHASES] for ratio in tr.RATIOS}
     plt = _plt()
     for fig_name, name, t_end in RUNUPS:
-        runs = {ratio: tr.run_up(name, ratio, t_end) for ratio in tr.RATIOS}
-        plain = tr.run_up(name, tr.RATIOS[1], t_end, m=tr.PLAIN_MASS)
+        runs = {ratio: all_runs[name, ratio] for ratio in tr.RATIOS}
+        plain = all_runs[name, None]
         out[name] = {"runs": runs, "plain": plain, "t_end": t_end, "figure_name": fig_name}
         if name == "two_plane_ramp":
             fig, axes = plt.subplots(1, 2, figsize=(8, 3.6), sharey=True, constrained_layout=True)
@@ -228,24 +267,30 @@ def section(res: dict, root: Path) -> list[str]:
          f"gives Omega_1 = {s1:.6f} ({_pct(_rel(s1, 1.0))}) and Omega_2 = {s2:.6f} ({_pct(_rel(s2, 1.81))}).", ""]
     even, odd = res["exchange"]["even"], res["exchange"]["odd"]
     w = np.array(list(even))
-    ch_even = _sign_changes(w, np.array(list(even.values())))
-    ch_odd = _sign_changes(w, np.array(list(odd.values())))
-    L += ["**The full damped model** (c = 0.01, c_b/m = 0.01, B at m = m_c (1 + 1e-3), lower panel): the Jacobian "
+    at = lambda d, x: d[min(d, key=lambda v: abs(v - x))]  # noqa: E731
+    L += ["**The full damped model** (c = 0.01, c_b/m = 0.01; lower panel at m = m_c (1 + 1e-3)): the Jacobian "
           "at B commutes with the race swap gamma_r (13)-(14), so its spectrum splits into the gamma_r-even part "
-          "(B's symmetric mode, the eigenvalue -2 mu of (38)) and the odd part (the mode (1, -1) towards C3, "
-          "-2 mu kappa).  The slowest eigenvalue of the odd part changes sign near "
-          + ", ".join(f"{v:.3f}" for v in ch_odd) + " (grid step 0.025), Omega_2: below it B is unstable towards "
-          "C3, above it stable, as the paper says (\"as Omega passes through Omega_con ... the stability of the "
-          "balanced state B is regained\").  The even part's slowest eigenvalue changes sign near "
-          + ", ".join(f"{v:.3f}" for v in ch_even) + ", Omega_1: below Omega_1 both slow modes of B are unstable in "
-          "the full model, not B stable as the normal form (38) with a_1 > a_2 says; the paper notes this "
-          "itself (\"when Omega < Omega_1, the trivial solution C1 of the pitchfork is unstable whereas the stable "
-          "branch is the corresponding C1 state with coincident balls on the heavy side\").  The ratio odd/even "
-          "of the two slow eigenvalues is kappa (at Omega = 0.6: "
-          f"{odd[min(w, key=lambda x: abs(x - 0.6))] / even[min(w, key=lambda x: abs(x - 0.6))]:.4f} against "
-          f"kappa {ex.curve[min(ex.curve, key=lambda x: abs(x - 0.6))]:.4f}), so the relative stability of B and C3 "
-          "changes at Omega_1 too.  B's other instabilities (Hopf, from the rotor modes) are beyond the normal "
-          "form, as the paper says.", "",
+          "(B's symmetric ball mode, the eigenvalue -2 mu of (38)) and the odd part (the mode (1, -1) towards C3, "
+          "-2 mu kappa).  Below Omega_1 both slow modes of B are unstable (real, positive); between Omega_1 and "
+          "Omega_2 only the mode towards C3 is; above Omega_2 neither.  So B regains its stability against C3 at "
+          "Omega_2, as the paper says (\"as Omega passes through Omega_con ... the stability of the balanced "
+          "state B is regained\"), and the relative stability of B and C3 changes at Omega_1: the ratio of the "
+          "two slow eigenvalues (odd/even) is kappa (at Omega = 0.6: "
+          f"{at(odd, 0.6) / at(even, 0.6):.4f}, kappa {at(ex.curve, 0.6):.4f}).  Below Omega_1 the full model "
+          "has B unstable in both directions where the normal form (38) with a_1 > a_2 has it stable; the paper "
+          "says so itself (\"when Omega < Omega_1, the trivial solution C1 of the pitchfork is unstable whereas "
+          "the stable branch is the corresponding C1 state with coincident balls on the heavy side\"), the "
+          "centre-manifold time runs backwards there.  At m > m_c a slow mode does not cross zero (B's static "
+          "stiffness matrix stays regular): it merges with a rotor mode near the critical speed into a complex "
+          "pair, which then crosses into the stable half-plane; so the sign change of the slowest eigenvalue "
+          "of each class is at the critical speed only as m -> m_c.  Study (grid step 0.0019 in Omega, "
+          "the last sign change in [0.9, 1.2] and [1.6, 2.0]):", "",
+          "| (m - m_c)/m_c | even (symmetric) mode | odd mode (towards C3) |", "|---|---|---|"]
+    for rel, (e, o) in ex.study.items():
+        L.append(f"| {rel:g} | {'—' if e is None else f'{e:.4f}'} | {'—' if o is None else f'{o:.4f}'} |")
+    L += [f"| (32), the limit m -> m_c | {cyl:.4f} | {con:.4f} |", "",
+          "B's other instabilities of the full model (Hopf points of the whirl modes, see README \"Stability\") "
+          "are beyond the normal form, as the paper says.", "",
           f"![B/C3 exchange]({res['exchange']['figure'].relative_to(root).as_posix()})", ""]
 
     f = res["fig12"]
@@ -258,7 +303,10 @@ def section(res: dict, root: Path) -> list[str]:
           f"`two_plane_fixed`, (43), eps/R = m/M = 1e-4, chi = 0, c_b/m = 0.01; Omega from {FIG12_GRID[0]:g} to "
           f"{FIG12_GRID[1]:g} in steps of 0.05 ({FIG12_GRID[2]} points; the paper does not state its grid); "
           "plain rotor: balls of mass 1e-10.  DOP853, rtol 1e-9 "
-          f"(all {2 * FIG12_GRID[2]} runs: {f['wall']:.0f} s).  The paper prints no number read off this "
+          f"(all {3 * FIG12_GRID[2]} runs: {f['wall']:.0f} s); the balancer again at rtol 1e-11: the set of "
+          "speeds where it balances (A_bar < 1e-3 eps/R) "
+          + ("is the same" if not f["tight_changed"] else "changes at Omega = "
+             + ", ".join(f"{w:.2f}" for w in f["tight_changed"])) + ".  The paper prints no number read off this "
           "figure other than the limit eps/R and the critical speeds of (43):", "",
           "| statement | published | ours | rel. diff. |", "|---|---|---|---|",
           f"| plain rotor, first peak (Omega_cyl,X) | 1 | {p1:.5f} (grid {p1g:.3f}) | {_pct(_rel(p1, 1.0))} |",
@@ -288,54 +336,88 @@ def section(res: dict, root: Path) -> list[str]:
 
     ru = res["runups"]
     ramp, hill = ru["two_plane_ramp"], ru["two_plane_hill"]
-    r15a, r15b = ramp["runs"][0.01], ramp["runs"][0.1]
-    r16a, r16b = hill["runs"][0.01], hill["runs"][0.1]
-    plain16 = hill["plain"]
-    s_a, s_b = stall_speed(r15a), stall_speed(r15b)
-    sy_a, sy_b = tr.synchronised_from(r15a), tr.synchronised_from(r15b)
-    h_a, h_b = tr.synchronised_from(r16a), tr.synchronised_from(r16b)
-    late = r16a.t > 300
-    t_burst = float(r16a.t[late][np.argmax(r16a.A[late])])
-    crit, crit_b, crit_p = r16a.t <= 300, r16b.t <= 300, plain16.t <= 300
-    peak_plain = float(plain16.A[crit_p].max())
-    t_plain_peak = float(plain16.t[crit_p][np.argmax(plain16.A[crit_p])])
-    t_con = float(np.interp(PUBLISHED_11[1], r16a.spin, r16a.t))  # Omega(t) reaches the printed 1.81
+    study = ru["study"]
+    M = study[RUN_RTOLS[-1]]
+    t = lambda v: "never" if v is None else f"{v:.0f}"  # noqa: E731
+    cols = lambda key, f: " | ".join(f(study[r][key]) for r in RUN_RTOLS)  # noqa: E731
+    g4 = lambda v: "never" if v is None else f"{v:.4g}"  # noqa: E731
     L += ["### Section 6: run-ups (Figures 15, 16)", "",
-          "Default engine (compiled DOP853), rtol 1e-9, atol 1e-14; set-up (10), dynamic imbalance eps/R = chi = "
-          "5e-5, beta = 1, m/M = 1e-4; the rotor at rest and undeflected, the balls at rest on opposite sides of "
-          f"each race.  Four run-ups and the two plain rotors took {res['runup_wall']:.1f} s.  A ball is "
-          "synchronised when |theta_k' - Omega| <= 1e-3 Omega; the stall speed is the median ball speed over the "
-          "time the balls lag by more than 5 %.", "",
-          "| figure | c_b/m | paper | ours | rel. diff. |", "|---|---|---|---|---|",
-          f"| 15(a) ramp | 0.01 | balls stall \"at a speed just below the rotor eigenfrequencies\" (Omega_cyl = 1) "
-          f"and do not resynchronise | stall at {s_a:.4f}; at the end (Omega = 3.6) ball speeds "
-          + ", ".join(f"{v:.3f}" for v in r15a.end_speeds)
-          + f", {'never synchronised' if sy_a is None else f'synchronised from t = {sy_a:.0f}'} | "
-          f"{_pct(_rel(s_a, 1.0))} (stall vs 1) |",
-          f"| 15(b) ramp | 0.1 | stall again \"as the rotor passes through the critical speeds\", then resynchronise "
-          f"and balance | stall at {s_b:.4f} (Omega_con of (11): 1.81); "
-          + ("not synchronised by the end" if sy_b is None else
-             f"synchronised from t = {sy_b:.0f} (Omega = {3.6 * sy_b / 6000:.3f}), final A = {r15b.A[-1]:.2g}")
-          + " | — |",
-          f"| 16 Hill | 0.01 | rotor through its critical speeds by t = 250 | Omega(t) = 1.81 (Omega_con) at t = "
-          f"{t_con:.1f}; plain rotor's last peak at t = {t_plain_peak:.1f} | — |",
-          f"| 16(a),(c),(e),(g) Hill | 0.01 | balls lag, then catch up and balance | "
-          + ("not synchronised by t = 3000" if h_a is None else f"synchronised from t = {h_a:.0f}, final A = "
-             f"{r16a.A[-1]:.2g}") + " | — |",
-          f"| 16(c) Hill | 0.01 | increased vibrations \"at around t = 800\" | largest A after t = 300 at t = "
-          f"{t_burst:.1f} | {_pct(_rel(t_burst, 800.0))} |",
-          f"| 16(d),(f),(h) Hill | 0.1 | \"the balls take less time to reach the speed of the rotor\" | "
-          + ("not synchronised" if h_b is None else f"synchronised from t = {h_b:.0f}") + " (0.01: "
-          + ("never" if h_a is None else f"{h_a:.0f}") + ") | — |",
-          f"| 16(d) Hill | 0.1 | at the critical speeds the ABB's vibration is higher than the plain rotor's | "
-          f"largest A for t <= 300: ABB {r16b.A[crit_b].max():.3g}, plain rotor {peak_plain:.3g} (0.01: "
-          f"{r16a.A[crit].max():.3g}) | {_pct(_rel(r16b.A[crit_b].max(), peak_plain))} (ABB vs plain) |", "",
-          "The paper prints one number here (t = 800, \"around\"); ours is within "
-          f"{abs(_rel(t_burst, 800.0)) * 100:.1f} %.  "
-          + ("The last row differs from the paper: over the passage through the critical speeds our ABB with "
-             "c_b/m = 0.1 stays below the plain rotor's peak; the paper shows it only in a plot, so the size of its excess cannot be "
-             "compared, and this difference is left open." if r16b.A[crit_b].max() <= peak_plain else
-             "The ABB with c_b/m = 0.1 exceeds the plain rotor at the critical speeds, as the paper says."), "",
+          f"Default engine (compiled DOP853), atol 1e-14; **converged** = rtol {RUN_RTOLS[-1]:g}, the study "
+          "beside it at rtol " + ", ".join(f"{r:g}" for r in RUN_RTOLS) + ".  Set-up (10), dynamic imbalance "
+          "eps/R = chi = 5e-5, beta = 1, m/M = 1e-4; the rotor at rest and undeflected, the balls at rest on "
+          "opposite sides of each race (theta = 0, pi).  The ramp reaches Omega = 3.6 at t = 6000 (Figure 15), the "
+          "Hill profile (45) has (Omega_max, t_1/2, n) = (3.6, 200, 3) (Figure 16, run to t = 3000).  A ball is "
+          "synchronised when |theta_k' - Omega| <= 1e-3 Omega from then on; the stall speed is the median ball "
+          "speed over the time the balls lag by more than 5 %.  All "
+          f"{6 * len(RUN_RTOLS)} runs took {res['runup_wall']:.1f} s.", "",
+          "| figure | c_b/m | paper | quantity | converged | rel. diff. | " + " | ".join(f"rtol {r:g}" for r in RUN_RTOLS)
+          + " |", "|---|---|---|---|---|---|" + "---|" * len(RUN_RTOLS),
+          "| 15(a) ramp | 0.01 | the balls \"stall and synchronize at a speed just below the rotor eigenfrequencies\" "
+          f"(Omega_cyl = 1 (11)) | stall speed | {M['stall_15a']:.4f} | {_pct(_rel(M['stall_15a'], 1.0))} | "
+          + cols("stall_15a", lambda v: f"{v:.4f}") + " |",
+          "| 15(a) ramp | 0.01 | the balls lag the rotor: no balance | synchronised from t | "
+          f"{t(M['sync_15a'])} | — | " + cols("sync_15a", t) + " |",
+          "| 15(a) ramp | 0.01 | | slowest ball at the end / Omega = 3.6 | "
+          f"{M['end_min_15a'] / 3.6:.4f} | — | " + cols("end_min_15a", lambda v: f"{v / 3.6:.4f}") + " |",
+          "| 15(b) ramp | 0.1 | stall \"as the rotor passes through the critical speeds\" (Omega_con = 1.81 (11)) | "
+          f"stall speed | {M['stall_15b']:.4f} | {_pct(_rel(M['stall_15b'], 1.81))} | "
+          + cols("stall_15b", lambda v: f"{v:.4f}") + " |",
+          "| 15(b) ramp | 0.1 | \"the balls resynchronize with the rotor and eventually this leads to balanced "
+          f"operation\" | synchronised from t | {t(M['sync_15b'])} | — | " + cols("sync_15b", t) + " |",
+          "| 15(b) ramp | 0.1 | | A at t = 6000 | "
+          f"{M['end_A_15b']:.3g} | — | " + cols("end_A_15b", lambda v: f"{v:.3g}") + " |",
+          "| 16 Hill | | \"the rotor passes through its critical speeds by t = 250\" | t of Omega(t) = 1.81; plain "
+          f"rotor's largest A | {M['t_con']:.1f}; {M['t_plain_peak']:.1f} | — | "
+          + cols("t_plain_peak", lambda v: f"{v:.1f}") + " |",
+          "| 16(e),(g) Hill | 0.01 | the balls lag, \"eventually catch up ... the ABB eventually achieves balanced "
+          f"operation\" | synchronised from t | {t(M['sync_16a'])} | — | " + cols("sync_16a", t) + " |",
+          "| 16(c) Hill | 0.01 | | A at t = 3000 | "
+          f"{M['end_A_16a']:.3g} | — | " + cols("end_A_16a", lambda v: f"{v:.3g}") + " |",
+          "| 16(c) Hill | 0.01 | \"the resulting vibrations at around t = 800\" | t of the largest A after t = 300 | "
+          f"{M['burst_16a']:.1f} | {_pct(_rel(M['burst_16a'], 800.0))} | " + cols("burst_16a", lambda v: f"{v:.1f}")
+          + " |",
+          "| 16(f),(h) Hill | 0.1 | \"the balls take less time to reach the speed of the rotor\" | synchronised from "
+          f"t | {t(M['sync_16b'])} | — | " + cols("sync_16b", t) + " |",
+          "| 16(d) Hill | 0.1 | \"the vibration levels at the critical speeds are higher than that of the plain "
+          "rotor\" | largest A for t <= 300, ABB / plain rotor | "
+          f"{M['crit_16b'] / M['crit_plain']:.3f} | — | "
+          + " | ".join(f"{study[r]['crit_16b'] / study[r]['crit_plain']:.3f}" for r in RUN_RTOLS) + " |",
+          "| 16(a) Hill | 0.01 | | largest A for t <= 300, ABB / plain rotor | "
+          f"{M['crit_16a'] / M['crit_plain']:.3f} | — | "
+          + " | ".join(f"{study[r]['crit_16a'] / study[r]['crit_plain']:.3f}" for r in RUN_RTOLS) + " |", ""]
+    after = ru["after"]
+    a1, a0 = after[0.1], after[0.01]
+    notes = ["The paper prints one number here, \"around t = 800\": ours "
+             f"{M['burst_16a']:.1f} ({_pct(_rel(M['burst_16a'], 800.0))}).  The stall speeds are compared with the "
+             "eigenfrequency they stall \"just below\" ((11): 1 and 1.81); the paper gives no number for them.", "",
+             "**Figure 15(b), balanced operation: a floating-point artefact, shown by a study.**  With c_b/m = 0.1 the "
+             "balls resynchronise, but A stays at "
+             f"{M['end_A_15b']:.3g}: the two balls of each race have met to the last bit at t = "
+             + ("—" if a1["coincident_from"] is None else f"{a1['coincident_from']:.0f} (Omega = "
+                f"{3.6 * a1['coincident_from'] / 6000:.3f}") + "), while the coincident state was attracting, and the "
+             "exactly exchange-symmetric equations keep them together from then on (as on the diagonal of the "
+             "thesis' Fig. 5.18).  Continued at the constant Omega = 3.6 in the rotating frame "
+             f"(`two_plane_rotating`, autonomous there) the run stays at A = {a1['as_is']['A_end']:.3g} after a further "
+             "6000, on a steady state (Newton moves it by "
+             + ("—" if a1["moved"] is None else f"{a1['moved']:.0e}") + ") with "
+             + (f"{a1['unstable']} unstable eigenvalues (" + ", ".join(f"{z.real:.4f}" for z in a1["leading"])
+                + ")" if a1["unstable"] is not None else "no Newton convergence") + ": unstable, held only by the "
+             f"exact symmetry.  Moving balls 1 and 3 by {a1['kick']:g} rad, it balances: A = "
+             f"{a1['kicked']['A_end']:.2g} after 6000.  So the paper's \"eventually this leads to balanced operation\" "
+             "holds for the physical system.  With c_b/m = 0.01 the balls never synchronise during the ramp "
+             "(the paper's stall), and at the constant speed after it they do and balance (A = "
+             f"{a0['as_is']['A_end']:.2g} after a further 6000)."]
+    ph = ru["phases"]
+    n_above = sum(v > 1 for v in ph[0.1])
+    notes += ["", "**Figure 16(d), ABB against the plain rotor at the critical speeds: depends on where the balls "
+              "start.**  The paper says the balls start \"on opposite sides of the race\" but not where; ours start "
+              "at theta = 0, pi.  Over the eight starting phases (0, pi/8, ..., 7pi/8) of the opposite pairs "
+              f"(t <= 300) the ratio ABB / plain rotor spans {min(ph[0.1]):.2f}-{max(ph[0.1]):.2f} for c_b/m = 0.1 "
+              f"(above 1, the paper's statement, for {n_above} of 8) and {min(ph[0.01]):.3f}-{max(ph[0.01]):.3f} "
+              "for 0.01.  Our default phase 0 gives "
+              f"{M['crit_16b'] / M['crit_plain']:.3f}: the difference is the unstated starting phase, not the model."]
+    L += notes + [""]
+    L += [
           f"![Figure 15]({ramp['figure'].relative_to(root).as_posix()})", "",
           f"![Figure 16]({hill['figure'].relative_to(root).as_posix()})", ""]
     return L

@@ -182,6 +182,17 @@ class Pitchfork:
         return out
 
 
+def slow_sign_changes(pf: Pitchfork, rel: float, part: str, lo: float, hi: float, count: int = 161) -> list[float]:
+    """Speeds (midpoints of a grid of `count` on [lo, hi]) where the real part of B's slowest eigenvalue of
+    the gamma_r class `part` changes sign, at m = m_c (1 + rel)."""
+    w = np.linspace(lo, hi, count)
+    v = np.array([pf.slow_spectrum(float(x), rel)[part].real for x in w])
+    return [float(0.5 * (w[i] + w[i + 1])) for i in range(count - 1) if np.sign(v[i]) != np.sign(v[i + 1])]
+
+
+SLOW_STUDY = (1e-2, 1e-3, 1e-4, 1e-5)  # (m - m_c)/m_c
+
+
 def _critical_from_blocks(pf: Pitchfork, lo: float, hi: float, count: int = 400) -> list[float]:
     """Isotropic rotor, c = 0: K_rotor is diagonal, translation k_eff I and tilt k_eff' I (tested), so
     det K_rotor = k_eff^2 k_eff'^2 touches zero without changing sign; each critical speed is a sign
@@ -211,6 +222,7 @@ class Exchange:
     small_eps: tuple  # (epsilon, Omega_1, Omega_2) at a smaller imbalance: the balls' share of (32)
     curve: dict  # Omega -> kappa
     slow: dict  # Omega -> slow_spectrum
+    study: dict  # rel -> (last sign change of the even slow mode, of the odd one)
 
 
 def compute(model: Model | None = None, omegas=None, small_epsilon: float = 1e-4) -> Exchange:
@@ -230,4 +242,9 @@ def compute(model: Model | None = None, omegas=None, small_epsilon: float = 1e-4
             curve[float(w)] = float("nan")  # at the pole itself
     damped = Pitchfork(model, {})
     slow = {float(w): damped.slow_spectrum(float(w)) for w in omegas}
-    return Exchange(pf.m_c, w1, w2, frozen_critical_speeds(pf), (small_epsilon, s1, s2), curve, slow)
+    study = {}
+    for rel in SLOW_STUDY:
+        even = slow_sign_changes(damped, rel, "even", 0.9, 1.2)
+        odd = slow_sign_changes(damped, rel, "odd", 1.6, 2.0)
+        study[rel] = (even[-1] if even else None, odd[-1] if odd else None)
+    return Exchange(pf.m_c, w1, w2, frozen_critical_speeds(pf), (small_epsilon, s1, s2), curve, slow, study)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .loading import Model, load_model
+from .loading import AnalysisError, Model, load_model
 from .simulate import simulate
 
 PLAIN_MASS = 1e-10  # "plain rotor": balls too light for the rotor to feel
@@ -69,14 +69,14 @@ def settled_vibration(model: Model, values: dict, Omega: float, t_transient: flo
     return Orbit(Omega, float(vibration(model, window.y).max()), float(np.abs(rates).max()))
 
 
-def figure_12a(omegas, t_transient: float = 4000.0, rtol: float = RTOL) -> dict:
-    """A_bar of the balancer and of the plain rotor over the Omega grid."""
+def figure_12a(omegas, t_transient: float = 4000.0, rtol: float = RTOL, with_plain: bool = True) -> dict:
+    """A_bar of the balancer and (with_plain) of the plain rotor over the Omega grid."""
     model = load_model("two_plane_fixed")
     common = {"epsilon": FIG12_EPS, "chi": 0.0, "beta": 0.0}
     abb = [settled_vibration(model, {**common, **_ball_values(FIG12_EPS, FIG12_RATIO)}, float(w), t_transient,
                              rtol=rtol) for w in omegas]
     plain = [settled_vibration(model, {**common, **_ball_values(PLAIN_MASS, FIG12_RATIO)}, float(w), t_transient,
-                               rtol=rtol) for w in omegas]
+                               rtol=rtol) for w in omegas] if with_plain else []
     return {"Omega": np.asarray(omegas, float), "abb": abb, "plain": plain, "model": model}
 
 
@@ -136,10 +136,11 @@ def spin_law(model: Model, p: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np
 
 
 def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples: int = 30001,
-           rtol: float = RTOL) -> RunUp:
+           rtol: float = RTOL, phase: float = 0.0) -> RunUp:
+    """The run-up from rest, the balls of each race at `phase` and `phase` + pi."""
     model = load_model(name)
     p = model.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(m, ratio)})
-    y0 = model.state({"theta_2": math.pi, "theta_4": math.pi})
+    y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi, "theta_3": phase, "theta_4": phase + math.pi})
     sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples)
     angle, spin = spin_law(model, p, sim.t)
     speeds = sim.y[[model.index(f"{a}_dot") for a in model.leaves]]
@@ -159,3 +160,70 @@ def synchronised_from(run: RunUp, tol: float = 1e-3) -> float | None:
     if bad[-1] == len(run.t) - 1:
         return None
     return float(run.t[bad[-1] + 1])
+
+
+# ------------------------------------------------------------------ after the ramp: constant speed
+
+def to_rotating(fixed: Model, y: np.ndarray, theta0: float, omega: float, rotating: Model) -> np.ndarray:
+    """A state of a fixed-frame run-up model (X, Y, phi_X, phi_Y, theta_k and rates) as a state of the
+    rotating-frame model at spin angle theta0 and speed omega: r = q e^{-i theta0} ((5)-(6)), alpha_k =
+    theta_k - theta0."""
+    v = dict(zip(fixed.state_names, y))
+    turn = np.exp(-1j * theta0)
+    q1, q1d = v["X"] + 1j * v["Y"], v["X_dot"] + 1j * v["Y_dot"]
+    q2, q2d = v["phi_Y"] - 1j * v["phi_X"], v["phi_Y_dot"] - 1j * v["phi_X_dot"]
+    r1, r2 = q1 * turn, q2 * turn
+    r1d, r2d = (q1d - 1j * omega * q1) * turn, (q2d - 1j * omega * q2) * turn
+    out = {"x": r1.real, "y": r1.imag, "phi_y": r2.real, "phi_x": -r2.imag,
+           "x_dot": r1d.real, "y_dot": r1d.imag, "phi_y_dot": r2d.real, "phi_x_dot": -r2d.imag}
+    for k, name in enumerate(fixed.leaves):
+        out[rotating.leaves[k]] = v[name] - theta0
+        out[rotating.leaves[k] + "_dot"] = v[name + "_dot"] - omega
+    return rotating.state(out)
+
+
+def coincident_from(run: RunUp) -> float | None:
+    """The time from which the two balls of each race have exactly the same angle (to the last bit)."""
+    same = (run.angles[0] == run.angles[1]) & (run.angles[2] == run.angles[3])
+    bad = np.nonzero(~same)[0]
+    if bad.size and bad[-1] == len(run.t) - 1:
+        return None
+    return float(run.t[bad[-1] + 1]) if bad.size else float(run.t[0])
+
+
+def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: float = RTOL) -> dict:
+    """The ramp of Figure 15 continued at the constant speed Omega_max in the rotating frame
+    (`two_plane_rotating`, autonomous there): the end state's steady state and spectrum (Newton), and the
+    run from it as it is, then from where that settled with balls 1 and 3 (one in each race) moved by
+    `kick` rad."""
+    from .steady import refine
+
+    fixed = load_model("two_plane_ramp")
+    rotating = load_model("two_plane_rotating")
+    run = run_up("two_plane_ramp", ratio, 6000.0, rtol=rtol)
+    theta0, _ = spin_law(fixed, fixed.params(), np.array([6000.0]))
+    omega = float(run.spin[-1])
+    values = {"Omega": omega, "epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(RUNUP_MASS, ratio)}
+    p = rotating.params(values)
+    y = to_rotating(fixed, _end_state(fixed, ratio, rtol), float(theta0[0]), omega, rotating)
+    out = {"coincident_from": coincident_from(run), "A_end_ramp": float(run.A[-1]), "kick": kick, "omega": omega}
+    sim = simulate(rotating, p, y, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
+    out["as_is"] = {"A_end": float(vibration(rotating, sim.y)[-1]), "t": sim.t, "A": vibration(rotating, sim.y)}
+    try:  # where the run settled: a steady state of the rotating frame?
+        st = refine(rotating, p, sim.y_end)
+        out.update(unstable=st.n_unstable, leading=[complex(z) for z in st.transverse[:2]],
+                   moved=float(np.abs(st.y - sim.y_end).max()))
+    except AnalysisError as exc:
+        out.update(unstable=None, leading=[], moved=None, newton=str(exc))
+    y1 = sim.y_end.copy()
+    y1[[rotating.index(rotating.leaves[0]), rotating.index(rotating.leaves[2])]] += kick  # one ball a race
+    sim = simulate(rotating, p, y1, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
+    A = vibration(rotating, sim.y)
+    out["kicked"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
+    return out
+
+
+def _end_state(fixed: Model, ratio: float, rtol: float) -> np.ndarray:
+    p = fixed.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(RUNUP_MASS, ratio)})
+    y0 = fixed.state({"theta_2": math.pi, "theta_4": math.pi})
+    return simulate(fixed, p, y0, t_end=6000.0, rtol=rtol, atol=ATOL, keep_trajectory=False).y_end
