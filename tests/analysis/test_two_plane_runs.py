@@ -78,3 +78,37 @@ def test_spin_law_is_the_generated_models_spin(name):
 def test_peaks_refines_a_parabola():
     x = np.linspace(0, 2, 21)
     assert tr.peaks(x, -(x - 1.234) ** 2) == pytest.approx([1.234])
+
+
+def test_to_rotating_is_the_familys_frame_change():
+    """(5)-(6) of the analysis layer = the family's `to_rotating` (SymPy side) at a random state; a frame
+    turned the wrong way differs."""
+    from adbgen.families.two_plane.transient import to_rotating as family
+
+    fixed, rotating = load_model("two_plane_ramp"), load_model("two_plane_rotating")
+    rng = np.random.default_rng(3)
+    y = rng.normal(size=fixed.n_states)
+    ours = tr.to_rotating(fixed, y, 0.7, 1.3, rotating)
+    ref = family(y, fixed.state_names, 0.7, 1.3)
+    assert np.allclose(ours, rotating.state(ref), rtol=0, atol=1e-14)
+    assert not np.allclose(tr.to_rotating(fixed, y, -0.7, 1.3, rotating), ours, atol=1e-6)
+
+
+def test_coincident_from_needs_exact_equality():
+    t = np.arange(5.0)
+    angles = np.zeros((4, 5))
+    angles[1, :2] = [1.0, 1e-300]
+    run = tr.RunUp("x", 0.1, t, t, angles, angles, t, np.zeros(4), 0.0)
+    assert tr.coincident_from(run) == 2.0
+    angles[3, -1] = 1e-300  # apart again at the end
+    assert tr.coincident_from(run) is None
+
+
+def test_after_the_ramp_the_coincident_balls_are_held_by_symmetry_only():
+    """Figure 15(b): the balls of each race meet exactly; the state they sit on is unstable, and a 1e-9 kick
+    of one ball in each race lets the balancer balance (the study of docs/reproduction.md)."""
+    o = tr.after_ramp(0.1, t_more=3000.0)
+    assert o["coincident_from"] is not None
+    assert o["unstable"] == 2 and all(z.real > 0.01 for z in o["leading"])
+    assert o["as_is"]["A_end"] > 1e-4
+    assert o["kicked"]["A_end"] < 1e-5
