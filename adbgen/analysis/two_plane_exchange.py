@@ -42,14 +42,14 @@ def _index(model: Model, names) -> list[int]:
 
 def race_swap(model: Model) -> np.ndarray:
     """gamma_r of (13)-(14) as a state permutation with signs (N x N): the races exchanged, the tilt
-    reversed (z_t = -z_b)."""
+    reversed (z_t = -z_b); rotating (phi_x, phi_y) or fixed (phi_X, phi_Y) frame."""
     names = model.state_names
     swap = {"alpha_1": "alpha_3", "alpha_2": "alpha_4", "alpha_3": "alpha_1", "alpha_4": "alpha_2"}
     P = np.zeros((len(names), len(names)))
     for i, name in enumerate(names):
         base = name.removesuffix("_dot")
         target = swap.get(base, base) + ("_dot" if name.endswith("_dot") else "")
-        P[names.index(target), i] = -1.0 if base in ("phi_x", "phi_y") else 1.0
+        P[names.index(target), i] = -1.0 if base.lower() in ("phi_x", "phi_y") else 1.0
     return P
 
 

@@ -87,6 +87,30 @@ def plain_limit(omegas=(10.0, 20.0, 40.0), t_transient: float = 2000.0) -> dict:
     return {float(w): settled_vibration(model, values, float(w), t_transient).A_bar for w in omegas}
 
 
+def balanced_orbit(model: Model, values: dict) -> np.ndarray:
+    """B of `two_plane_fixed` (static imbalance, two equal balls a race): the rotor at rest, the balls at
+    alpha = pi +- arccos(m_c/m), m_c = M eps/(4R) ((9)); a constant state, so a periodic orbit of the forced
+    system with any period (no support force acts)."""
+    p = model.params(values)
+    get = lambda name: p[model.param_names.index(name)]  # noqa: E731
+    a = math.acos(get("M") * get("epsilon") / (4 * get("R_t") * get("m_1")))
+    return model.state(dict(zip(model.leaves, (math.pi + a, math.pi - a, math.pi + a, math.pi - a))))
+
+
+def floquet(model: Model, values: dict, Omega: float, rtol: float = 1e-11) -> tuple[np.ndarray, np.ndarray]:
+    """Floquet multipliers and eigenvectors of B at constant speed Omega: the monodromy matrix over
+    T = 2 pi/Omega of Phi' = J(t) Phi, J the generated jac along the (constant) orbit (scipy DOP853)."""
+    from scipy.integrate import solve_ivp
+
+    p = model.params(dict(values, Omega=Omega))
+    y = balanced_orbit(model, values)
+    n = model.n_states
+    jac = model.module.jac
+    sol = solve_ivp(lambda t, z: (np.asarray(jac(t, y, p)) @ z.reshape(n, n)).ravel(), (0.0, 2 * math.pi / Omega),
+                    np.eye(n).ravel(), method="DOP853", rtol=rtol, atol=rtol * 1e-2)
+    return np.linalg.eig(sol.y[:, -1].reshape(n, n))
+
+
 def peaks(x: np.ndarray, y: np.ndarray) -> list[float]:
     """Local maxima of y(x), each refined by the parabola through it and its neighbours."""
     out = []

@@ -112,3 +112,26 @@ def test_after_the_ramp_the_coincident_balls_are_held_by_symmetry_only():
     assert o["unstable"] == 2 and all(z.real > 0.01 for z in o["leading"])
     assert o["as_is"]["A_end"] > 1e-4
     assert o["kicked"]["A_end"] < 1e-5
+
+
+def test_floquet_of_B_along_figure_12a():
+    """B of two_plane_fixed is a constant solution at every time; its Floquet multipliers: stable at
+    Omega = 5, unstable at 4.4 by a gamma_r-odd mode (the one the symmetric start of Figure 12(a) cannot
+    excite, the paper's explanation of its brute-force/Figure 11 discrepancy)."""
+    from adbgen.analysis.two_plane_exchange import race_swap
+
+    model = load_model("two_plane_fixed")
+    values = {"epsilon": 1e-4, "chi": 0.0, "beta": 0.0, **tr._ball_values(1e-4, 0.01)}
+    y = tr.balanced_orbit(model, values)
+    p = model.params(dict(values, Omega=4.4))
+    assert max(np.abs(model.module.rhs(t, y, p)).max() for t in (0.0, 0.3, 1.1)) < 1e-15
+    wrong = y.copy()
+    wrong[model.index("alpha_2")] += 0.01
+    assert np.abs(model.module.rhs(0.3, wrong, p)).max() > 1e-8
+    mu, _ = tr.floquet(model, values, 5.0)
+    assert np.abs(mu).max() < 1
+    mu, V = tr.floquet(model, values, 4.4)
+    k = int(np.argmax(np.abs(mu)))
+    assert abs(mu[k]) > 1
+    P = race_swap(model)
+    assert (np.vdot(V[:, k], P @ V[:, k]) / np.vdot(V[:, k], V[:, k])).real == pytest.approx(-1.0)
