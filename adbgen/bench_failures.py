@@ -226,6 +226,12 @@ def _merge_stats(t, sep) -> dict:
     return out
 
 
+def _pairs_equal(y, ia, ib) -> list:
+    """Per race: both the angles and the rates of its two balls the same double (merged for ever)."""
+    eq = np.asarray(y)[ia] == np.asarray(y)[ib]
+    return [bool(eq[2 * q] and eq[2 * q + 1]) for q in range(len(ia) // 2)]
+
+
 def _log_curve(t, sep, points: int = 300) -> dict:
     t = np.asarray(t)
     idx = np.unique(np.linspace(0, len(t) - 1, points).astype(int))
@@ -258,6 +264,7 @@ def merging_part(quick: bool, progress=None) -> dict:
             s = simulate(m, p, y0, t_end=t_end, rtol=1e-10, atol=1e-12, engine=eng, samples=20001, check=False)
             sep = bp.separation(s.y, a_ang, b_ang)
             case["pathways"][eng] = {"formulation": "original", "status": s.status, "pairs": _merge_stats(s.t, sep),
+                                     "final_bitwise_equal": _pairs_equal(s.y_end, ia, ib),
                                      "X_end": float(s.y_end[ix]), "wall_s": round(s.wall_s, 4),
                                      "points": int(len(s.t)), "curve": _log_curve(s.t, sep)}
         for label, fn, z0, pair in (
@@ -270,6 +277,9 @@ def merging_part(quick: bool, progress=None) -> dict:
             sep = bp.wrapped(2 * Y[b_ang]) if pair else bp.separation(Y, a_ang, b_ang)
             y_end = bp.from_pairs(Y[:, -1], ia, ib) if pair else Y[:, -1]
             case["pathways"][label] = {"formulation": "pair" if pair else "original", "status": r["status"],
+                                       "final_bitwise_equal": _pairs_equal(y_end, ia, ib) if not pair else
+                                       [bool(Y[ib[2 * q], -1] == 0 and Y[ib[2 * q + 1], -1] == 0)
+                                        for q in range(len(HILL_PAIRS))],
                                        "pairs": _merge_stats(r["t"], sep), "X_end": float(y_end[ix]),
                                        "wall_s": round(r["wall_s"], 4), "points": int(len(r["t"])),
                                        "curve": _log_curve(r["t"], sep)}
