@@ -12,7 +12,11 @@ of 0.05 kg, isotropic, no gravity, omega = 400 rad/s), generated three ways by `
   must treat as a prescribed run-up: the fixed-frame equations (2.10), (2.11), (2.13), forced at
   omega (explicit time);
 - ``torque``: the spin a degree of freedom (2.12) driven by tau0 - kappa psi' with tau0 = kappa omega,
-  so that the motor holds psi' at omega (stiffer for larger kappa): 3 + n coordinates.
+  so that the motor holds psi' at omega (stiffer for larger kappa): 3 + n coordinates;
+- ``two_plane``: the two-plane family's smallest model (rotating frame (7)-(8), tilt phi_x, phi_y
+  included) of a one-race rotor without tilt, the race in the plane of the centre of mass (the
+  second race empty, as the two-plane scene needs two), in parameters that make it (5.1): its x, y,
+  alpha_k are the thesis' x, y, phi_k.
 
 Measured: each model's states, emitted operations are not recomputed here (see bench codegen); ns per
 rhs call (numba, jitted loop), rhs evaluations, steps and wall time of the default engine over the
@@ -42,6 +46,37 @@ SCENES = {
     "rotating": 'n = 3\n[speed]\nlaw = "constant"\nomega = 400.0\n',
     "fixed": 'n = 3\n[speed]\nlaw = "profile"\nomega = "400.0 + 0*t"\n',
     "torque": 'n = 3\n[speed]\nlaw = "torque"\ntau0 = {tau0}\nmotor_slope = {kappa}\n',
+    # two-plane: one race of three balls at the centre plane z = 0, the other race empty, bearings at +-3
+    # alike (no tilt is excited: the race and the imbalance sit in the plane of the centre of mass);
+    # M = R = 1 and 2k = 1 (omega_n = 1), so mu = m, delta = eps, zeta = c_total / 2, beta = c_b / m and
+    # Omega = omega are (5.1) and the model's time is the thesis' t_nd
+    "two_plane": """rotor_mass = 1.0
+transverse_inertia = 3.25
+polar_inertia = 0.5
+eccentricity = 0.01
+misalignment = 0.0
+[[races]]
+z = 0.0
+radius = 1.0
+masses = [0.05, 0.05, 0.05]
+damping = 5.0e-4
+[[races]]
+z = -2.0
+radius = 1.0
+masses = []
+damping = 0.0
+[bearing_1]
+position = 3.0
+stiffness = 0.5
+damping = 0.01
+[bearing_2]
+position = 3.0
+stiffness = 0.5
+damping = 0.01
+[speed]
+law = "constant"
+omega = 4.0
+""",
 }
 KAPPAS = (1.0, 100.0)
 RTOL, ATOL = 1e-10, 1e-12
@@ -88,6 +123,17 @@ def to_rotating(t_si, Y, model) -> dict:
     return {"x": w.real, "y": w.imag, "phi": np.array([Y[model.index(f"phi_{k}")] for k in (1, 2, 3)])}
 
 
+def _start(model) -> dict:
+    """Problem A's start in the model's names: ball angles phi_k (alpha_k in the two-plane model),
+    the motor at omega (torque model)."""
+    y0 = dict(PROBLEM_A.y0)
+    if "alpha_1" in model.state_names:
+        y0 = {name.replace("phi_", "alpha_"): value for name, value in y0.items()}
+    if "psi_dot" in model.state_names:
+        y0["psi_dot"] = OMEGA
+    return y0
+
+
 def bench_smallest(quick: bool = False, progress=None) -> dict:
     from .analysis.loading import load_model
     from .analysis.simulate import simulate
@@ -114,6 +160,9 @@ def bench_smallest(quick: bool = False, progress=None) -> dict:
             start = time.perf_counter()
             models[kind] = (load_model(generate(folder, kind, SCENES[kind])), None)
             say(f"generated {kind} in {time.perf_counter() - start:.1f} s")
+        start = time.perf_counter()
+        models["two_plane"] = (load_model(generate(folder, "two_plane", SCENES["two_plane"])), None)
+        say(f"generated two_plane in {time.perf_counter() - start:.1f} s")
         for kappa in kappas:
             kind = f"torque_kappa{kappa:g}"
             models[kind] = (load_model(generate(folder, kind, SCENES["torque"].format(tau0=kappa * OMEGA,
@@ -121,12 +170,12 @@ def bench_smallest(quick: bool = False, progress=None) -> dict:
         runs = {}
         for kind, (model, kappa) in models.items():
             p = model.params()
-            y0 = model.state(PROBLEM_A.y0 | ({"psi_dot": OMEGA} if "psi_dot" in model.state_names else {}))
-            t_end = t_nd if kind == "rotating" else t_si
+            y0 = model.state(_start(model))
+            t_end = t_nd if kind in ("rotating", "two_plane") else t_si
             sims = [simulate(model, p, y0, t_end=t_end, rtol=RTOL, atol=ATOL, keep_trajectory=False)
                     for _ in range(1 if quick else 5)]
             best = min(sims, key=lambda s: s.wall_s)
-            t_eval = samples if kind == "rotating" else samples / OMEGA_N
+            t_eval = samples if kind in ("rotating", "two_plane") else samples / OMEGA_N
             traj = cyrk_solve(model.module.rhs_inplace, model.n_states, y0, p, t_end, RTOL, ATOL, t_eval=t_eval)
             runs[kind] = (model, traj)
             rec = {"model_kind": model.module.REFERENCE, "states": model.n_states, "autonomous": bool(model.autonomous),
@@ -149,7 +198,13 @@ def bench_smallest(quick: bool = False, progress=None) -> dict:
         for kind, (model, traj) in runs.items():
             if kind == "rotating":
                 continue
-            mapped = to_rotating(traj["t"], traj["y"], model)
+            if kind == "two_plane":
+                mapped = {"x": traj["y"][model.index("x")], "y": traj["y"][model.index("y")],
+                          "phi": np.array([traj["y"][model.index(f"alpha_{k}")] for k in (1, 2, 3)])}
+                result["models"][kind]["max_tilt"] = float(np.max(np.abs(traj["y"][[model.index("phi_x"),
+                                                                                     model.index("phi_y")]])))
+            else:
+                mapped = to_rotating(traj["t"], traj["y"], model)
             dxy = np.hypot(mapped["x"] - ref["x"], mapped["y"] - ref["y"])
             dphi = np.max(np.abs(mapped["phi"] - ref["phi"]), axis=0)
             result["agreement"][kind] = {"max_dxy_over_R": float(np.max(dxy)), "max_dphi": float(np.max(dphi)),
