@@ -139,23 +139,35 @@ def make_pair_rhs(model, pairs, compensate: bool = True):
     return rhs, rhs_inplace, pair_jac
 
 
+_CALLBACKS: dict = {}
+
+
+def _callback(rhs_inplace, n: int, n_p: int) -> int:
+    """Address of a C callback (numba cfunc) around rhs_inplace, compiled once per function and size."""
+    key = (id(rhs_inplace), n, n_p)
+    if key not in _CALLBACKS:
+        import numba as nb
+        from CyRK import nb_diffeq_addr
+
+        f = rhs_inplace
+
+        def diffeq(dy, t, y, args):
+            yy = nb.carray(y, (n,))
+            out = nb.carray(dy, (n,))
+            pp = nb.carray(args, (n_p,))
+            f(t, yy, pp, out)
+
+        _CALLBACKS[key] = (nb_diffeq_addr(diffeq), rhs_inplace)  # keep the function alive with its id
+    return _CALLBACKS[key][0]
+
+
 def cyrk_solve(rhs_inplace, n: int, y0, p, t_end: float, rtol: float, atol: float, method: str = "DOP853",
                t_eval=None) -> dict:
     """CyRK's C++ solver (the same one the cyrk-* engines call) on an njit rhs_inplace(t, y, p, out),
     through a numba C callback (`CyRK.nb_diffeq_addr`): no Python per step."""
-    import numba as nb
-    from CyRK import nb_diffeq_addr, nbsolve2_ivp
+    from CyRK import nbsolve2_ivp
 
-    n_p = len(p)
-    f = rhs_inplace
-
-    def diffeq(dy, t, y, args):
-        yy = nb.carray(y, (n,))
-        out = nb.carray(dy, (n,))
-        pp = nb.carray(args, (n_p,))
-        f(t, yy, pp, out)
-
-    addr = nb_diffeq_addr(diffeq)
+    addr = _callback(rhs_inplace, n, len(p))
     te = None if t_eval is None else np.ascontiguousarray(t_eval, float)
     start = time.perf_counter()
     res = nbsolve2_ivp(addr, (0.0, float(t_end)), np.ascontiguousarray(y0, float), method=method, t_eval=te,

@@ -9,6 +9,7 @@ import shutil
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
 
 from toolchain import require_tool
 
@@ -31,33 +32,35 @@ def hill():
     return m, bp.make_pair_rhs(m, HILL_PAIRS), bp.make_pair_rhs(m, HILL_PAIRS, compensate=False)
 
 
-def test_pair_coordinates_are_an_exact_change_of_variables(hill):
-    """z' = T f(T^-1 z) at random states: the pair rhs against the transformed generated rhs, and T^-1 T = 1."""
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.lists(st.floats(-10, 10), min_size=16, max_size=16), st.floats(0.0, 500.0),
+       st.floats(0.0, 1e-3), st.floats(0.0, 1e-3))
+def test_pair_coordinates_are_an_exact_change_of_variables(hill, state, t, c_bb, c_bt):
+    """z' = T f(T^-1 z) at any state, time and race damping: the pair rhs against the transformed
+    generated rhs, T^-1 T = 1, and the pair Jacobian T J T^-1 against central differences."""
     m, (rhs, _, jac), (rhs_nc, _, _) = hill
     ia, ib = bp.pair_indices(m, HILL_PAIRS)
-    rng = np.random.default_rng(7)
-    p = m.params({"c_bb": 3e-4, "c_bt": 3e-4})
-    for _ in range(20):
-        y = rng.normal(size=m.n_states) * 3
-        t = float(rng.uniform(0, 500))
-        z = bp.to_pairs(y, ia, ib)
-        assert np.allclose(bp.from_pairs(z, ia, ib), y, rtol=0, atol=1e-14)
-        expected = bp.to_pairs(m.module.rhs(t, bp.from_pairs(z, ia, ib), p), ia, ib)
-        scale = 1 + np.abs(expected)
-        assert np.max(np.abs(rhs(t, z, p) - expected) / scale) < 1e-14
-        assert np.max(np.abs(rhs_nc(t, z, p) - expected) / scale) < 1e-14
-        # the Jacobian in pair coordinates, T J T^-1, against central differences of the pair rhs
-        J = jac(t, z, p)
-        step = 1e-6
-        fd = np.column_stack([(rhs(t, z + step * e, p) - rhs(t, z - step * e, p)) / (2 * step)
-                              for e in np.eye(m.n_states)])
-        assert np.max(np.abs(J - fd)) < 1e-6 * (1 + np.max(np.abs(J)))
+    p = m.params({"c_bb": c_bb, "c_bt": c_bt})
+    y = np.array(state)
+    z = bp.to_pairs(y, ia, ib)
+    assert np.allclose(bp.from_pairs(z, ia, ib), y, rtol=0, atol=1e-14)
+    expected = bp.to_pairs(m.module.rhs(t, bp.from_pairs(z, ia, ib), p), ia, ib)
+    scale = 1 + np.abs(expected)
+    assert np.max(np.abs(rhs(t, z, p) - expected) / scale) < 1e-14
+    assert np.max(np.abs(rhs_nc(t, z, p) - expected) / scale) < 1e-14
+    # the Jacobian in pair coordinates, T J T^-1, against central differences of the pair rhs
+    J = jac(t, z, p)
+    step = 1e-6
+    fd = np.column_stack([(rhs(t, z + step * e, p) - rhs(t, z - step * e, p)) / (2 * step)
+                          for e in np.eye(m.n_states)])
+    assert np.max(np.abs(J - fd)) < 1e-6 * (1 + np.max(np.abs(J)))
 
 
 def test_separation_survives_below_round_off_only_in_pair_coordinates():
     """thesis n = 2 from phi = pi +- 1e-20: the original form starts (and stays) merged; the pair form
     with the rounding correction separates the balls (the coincident state is unstable); without the
     correction its d stays frozen at 1e-20 (d'' computes to 0)."""
+    _require_gcc()
     m = load_model("thesis_rotating_n2")
     pairs = (("phi_1", "phi_2"),)
     _, pin, _ = bp.make_pair_rhs(m, pairs)
@@ -67,8 +70,8 @@ def test_separation_survives_below_round_off_only_in_pair_coordinates():
     i1, i2 = m.index("phi_1"), m.index("phi_2")
     y0 = m.state({"phi_1": math.pi + d0, "phi_2": math.pi - d0})
     assert y0[i1] == y0[i2]  # not representable in the original variables
-    orig = bp.cyrk_solve(m.module.rhs_inplace, m.n_states, y0, p, t_end, 1e-10, 1e-12)
-    assert orig["y"][i1, -1] == orig["y"][i2, -1]
+    orig = simulate(m, p, y0, t_end=t_end, rtol=1e-10, atol=1e-12, engine="cyrk-dop853", keep_trajectory=False)
+    assert orig.y_end[i1] == orig.y_end[i2]
     z0 = m.state({"phi_1": math.pi, "phi_2": d0})
     pair = bp.cyrk_solve(pin, m.n_states, z0, p, t_end, 1e-10, 1e-12)
     frozen = bp.cyrk_solve(pnc, m.n_states, z0, p, t_end, 1e-10, 1e-12)
@@ -154,6 +157,8 @@ def test_rotating_and_fixed_frame_agree():
 def test_bench_failures_machinery_quick(tmp_path):
     from adbgen import bench_failures as bf
     from adbgen.bench import write
+
+    _require_gcc()
 
     r = bf.bench_failures(quick=True, parts=["fixed_step"])
     assert r["quick"] and r["machine"]["load_average_at_start"] is not None and r["date"]
