@@ -1,4 +1,4 @@
-"""`adbgen bench derive|codegen|simulate|sweep [--out FILE] [--n ...]`: benchmarks, results written to a committed file."""
+"""`adbgen bench derive|codegen|simulate|sweep|failures|smallest [--out FILE] [--n ...] [--quick]`: benchmarks, results written to a committed file."""
 
 from __future__ import annotations
 
@@ -7,7 +7,8 @@ from .cli_types import UsageError, positive_int
 from pathlib import Path
 
 _BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json",
-              "simulate": "benchmarks/simulate.json", "sweep": "benchmarks/sweep.json"}
+              "simulate": "benchmarks/simulate.json", "sweep": "benchmarks/sweep.json",
+              "failures": "benchmarks/failures.json", "smallest": "benchmarks/smallest.json"}
 
 
 def cmd_bench(args) -> int:
@@ -18,6 +19,22 @@ def cmd_bench(args) -> int:
     out = args.out if args.out is not None else _BENCH_OUT[args.what]
     if args.what == "simulate":
         return _bench_simulate(args, out)
+    if args.what == "failures":
+        from . import bench_failures
+
+        result = bench_failures.bench_failures(quick=args.quick, progress=lambda line: print(line, flush=True))
+        path = bench.write(result, out)
+        pngs = bench_failures.charts(result, Path(out))
+        print(f"wrote {path} and {', '.join(map(str, pngs))} ({result['seconds']} s)")
+        return 0
+    if args.what == "smallest":
+        from . import bench_smallest
+
+        result = bench_smallest.bench_smallest(quick=args.quick, progress=lambda line: print(line, flush=True))
+        path = bench.write(result, out)
+        png = bench_smallest.chart(result, Path(out).with_suffix(".png"))
+        print(f"wrote {path} and {png} ({result['seconds']} s)")
+        return 0
     if args.what == "sweep":
         from . import bench_sweep
 
@@ -67,11 +84,12 @@ def _bench_simulate(args, out) -> int:
 
 def register(sub) -> None:
     b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
-    b.add_argument("what", help="derive, codegen, simulate or sweep")
+    b.add_argument("what", help="derive, codegen, simulate, sweep, failures or smallest")
     b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json; simulate also writes "
                    "its chart next to it, <out>.png)")
     b.add_argument("--n", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32])
     b.add_argument("--repeats", type=int, default=None, help="simulate: best of N (default 7)")
     b.add_argument("--engines", nargs="+", default=None, help="simulate: only these engines (default: all)")
     b.add_argument("--no-peers", action="store_true", help="simulate: skip JiTCODE and heyoka")
+    b.add_argument("--quick", action="store_true", help="failures, smallest: short runs (checks the machinery)")
     b.set_defaults(fn=cmd_bench)
