@@ -30,6 +30,19 @@ def _plt():
     return plt
 
 
+def _save(fig, path: Path) -> Path:
+    fig.savefig(path, dpi=110)
+    _plt().close(fig)
+    return path
+
+
+def _axes_over_omega(ax, ylabel: str, title: str, legend_size: int) -> None:
+    ax.set_xlabel(r"$\Omega$")
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=legend_size)
+    ax.set_title(title, fontsize=8)
+
+
 def _rel(ours, pub):
     return (ours - pub) / pub
 
@@ -60,14 +73,9 @@ def exchange(fig_dir: Path) -> dict:
     b.plot(w, odd, "C1.-", ms=3, lw=0.6, label="mode (1, -1) of B towards C3 (gamma_r-odd)")
     b.axhline(0, color="0.6", lw=0.6)
     b.set_ylim(-0.012, 0.025)
-    b.set_xlabel(r"$\Omega$")
-    b.set_ylabel(r"Re $\lambda$ (slowest)")
-    b.legend(fontsize=7)
-    b.set_title(r"full damped model (10), B at $m = m_c(1 + 10^{-3})$, $\bar c_b$ = 0.01: slowest eigenvalue "
-                r"of each symmetry class", fontsize=8)
-    path = fig_dir / "two_plane_exchange.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _axes_over_omega(b, r"Re $\lambda$ (slowest)", r"full damped model (10), B at $m = m_c(1 + 10^{-3})$, "
+                     r"$\bar c_b$ = 0.01: slowest eigenvalue of each symmetry class", 7)
+    path = _save(fig, fig_dir / "two_plane_exchange.png")
     return {"ex": ex, "figure": path, "even": dict(zip(w, even)), "odd": dict(zip(w, odd))}
 
 
@@ -98,14 +106,9 @@ def figure_12a(fig_dir: Path) -> dict:
         ax.axvspan(a, b, color="C2", alpha=0.15, lw=0, label="B stable (Floquet)" if k == 0 else None)
     ax.semilogy(omegas, plain, color="0.6", lw=1.5, label="plain rotor")
     ax.semilogy(omegas, np.maximum(abb, 1e-14), "k.-", lw=0.8, ms=3, label="ABB")
-    ax.set_xlabel(r"$\Omega$")
-    ax.set_ylabel(r"$\bar A$")
-    ax.legend(fontsize=8)
-    ax.set_title(r"paper Fig. 12(a): supports (43), static imbalance $\epsilon/R = m/M = 10^{-4}$, $\chi$ = 0, "
-                 r"$\bar c_b$ = 0.01 (grid step 0.05)", fontsize=8)
-    path = fig_dir / "two_plane_fig12a.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _axes_over_omega(ax, r"$\bar A$", r"paper Fig. 12(a): supports (43), static imbalance $\epsilon/R = m/M = "
+                     r"10^{-4}$, $\chi$ = 0, $\bar c_b$ = 0.01 (grid step 0.05)", 8)
+    path = _save(fig, fig_dir / "two_plane_fig12a.png")
     intervals, start = [], None
     for w, ok in zip(omegas, balanced):
         if ok and start is None:
@@ -240,10 +243,7 @@ def runups(fig_dir: Path) -> dict:
                 ax.set_xlabel(r"$\bar t$")
             fig.suptitle(r"paper Fig. 16: Hill run-up (45), $(\Omega_{max}, \bar t_{1/2}, n)$ = (3.6, 200, 3), "
                          r"set-up (10), $\epsilon/R = \chi = 5\times10^{-5}$, $\beta$ = 1, $m/M = 10^{-4}$", fontsize=8)
-        path = fig_dir / f"two_plane_{fig_name.split()[1]}.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        out[name]["figure"] = path
+        out[name]["figure"] = _save(fig, fig_dir / f"two_plane_{fig_name.split()[1]}.png")
     return out
 
 
