@@ -64,7 +64,7 @@ def test_spin_law_is_the_generated_models_spin(name):
     model = load_model(name)
     m, cb = 1e-4, 1e-5
     p = model.params({"epsilon": 0.0, "chi": 0.0, **tr._ball_values(m, cb / m)})
-    t = np.array([50.0, 200.0, 700.0, 2500.0])
+    t = np.array([50.0, 200.0, 700.0, 2500.0, 7000.0])  # (the ramp holds Omega_max after t_ramp = 6000)
     _, speed = tr.spin_law(model, p, t)
     s = 0.7
     y = model.state({"theta_2": math.pi, "theta_4": math.pi,
