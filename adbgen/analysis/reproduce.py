@@ -643,7 +643,8 @@ def _figures(fig_dir: Path) -> list[tuple[str, Path]]:
 
 @command("reproduce", "recompute the published results (thesis ch. 4-5, two-plane paper) into docs/reproduction.md")
 def _add_reproduce(p) -> None:
-    p.add_argument("--out", default="docs/reproduction.md", help="the document (default docs/reproduction.md)")
+    p.add_argument("--out", default=None, help="the document (default docs/reproduction.md; with --only a part, "
+                                               "docs/reproduction-PART.md, so the whole document is kept)")
     p.add_argument("--figures", default=None, help="figure folder (default: docs/reproduction/ beside it)")
     p.add_argument("--only", nargs="+", choices=SECTIONS, default=list(SECTIONS), metavar="SECTION",
                    help="compute only these sections: thesis (ch. 4-5, about 3 min), two-plane (the 2011 paper, "
@@ -652,8 +653,9 @@ def _add_reproduce(p) -> None:
 
 
 def run_reproduce(args) -> int:
-    out = Path(args.out)
+    only = tuple(s for s in SECTIONS if s in args.only)
+    out = Path(args.out or ("docs/reproduction.md" if only == SECTIONS else f"docs/reproduction-{'-'.join(only)}.md"))
     figs = Path(args.figures) if args.figures else out.parent / "reproduction"
-    path = build(out, figs, only=tuple(args.only))
+    path = build(out, figs, only=only)
     print(f"wrote {path}")
     return 0

@@ -34,3 +34,17 @@ def test_synchronised_from_is_the_last_time_a_ball_lags():
 def test_only_refuses_an_unknown_section(capsys):
     assert main(["reproduce", "--only", "three-plane", "--out", "/nonexistent/r.md"]) == 2
     assert "three-plane" in capsys.readouterr().err
+
+
+def test_only_a_part_keeps_the_whole_document(monkeypatch, tmp_path):
+    """--only two-plane without --out writes docs/reproduction-two-plane.md, not docs/reproduction.md."""
+    from adbgen.analysis import reproduce
+
+    seen = {}
+    monkeypatch.setattr(reproduce, "build", lambda out, figs, only: seen.update(out=out, figs=figs, only=only) or out)
+    monkeypatch.chdir(tmp_path)
+    assert main(["reproduce", "--only", "two-plane"]) == 0
+    assert seen["out"].as_posix() == "docs/reproduction-two-plane.md" and seen["only"] == ("two-plane",)
+    assert seen["figs"].as_posix() == "docs/reproduction"
+    assert main(["reproduce"]) == 0
+    assert seen["out"].as_posix() == "docs/reproduction.md" and seen["only"] == ("thesis", "two-plane")
