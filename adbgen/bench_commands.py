@@ -1,5 +1,5 @@
-"""`adbgen bench derive|codegen|simulate|sweep|precision [--out FILE] [--n ...]`: benchmarks, results written to a
-committed file."""
+"""`adbgen bench derive|codegen|simulate|sweep|failures|smallest|precision [--out FILE] [--n ...] [--quick]`:
+benchmarks, results written to a committed file."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from pathlib import Path
 
 _BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen.json",
               "simulate": "benchmarks/simulate.json", "sweep": "benchmarks/sweep.json",
+              "failures": "benchmarks/failures.json", "smallest": "benchmarks/smallest.json",
               "precision": "benchmarks/precision.json"}
 
 
@@ -24,6 +25,22 @@ def cmd_bench(args) -> int:
         return _bench_simulate(args, out)
     if args.what == "precision":
         return _bench_precision(args, out)
+    if args.what == "failures":
+        from . import bench_failures
+
+        result = bench_failures.bench_failures(quick=args.quick, progress=lambda line: print(line, flush=True))
+        path = bench.write(result, out)
+        pngs = bench_failures.charts(result, Path(out))
+        print(f"wrote {path} and {', '.join(map(str, pngs))} ({result['seconds']} s)")
+        return 0
+    if args.what == "smallest":
+        from . import bench_smallest
+
+        result = bench_smallest.bench_smallest(quick=args.quick, progress=lambda line: print(line, flush=True))
+        path = bench.write(result, out)
+        png = bench_smallest.chart(result, Path(out).with_suffix(".png"))
+        print(f"wrote {path} and {png} ({result['seconds']} s)")
+        return 0
     if args.what == "sweep":
         from . import bench_sweep
 
@@ -114,7 +131,7 @@ class _NGiven(argparse.Action):
 
 def register(sub) -> None:
     b = sub.add_parser("bench", help="benchmarks (results to a committed file)")
-    b.add_argument("what", help="derive, codegen, simulate, sweep or precision")
+    b.add_argument("what", help="derive, codegen, simulate, sweep, failures, smallest or precision")
     b.add_argument("--out", default=None, help="results file (default benchmarks/<what>.json; simulate also writes "
                    "its chart next to it, <out>.png)")
     b.add_argument("--n", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32], action=_NGiven,
@@ -123,8 +140,8 @@ def register(sub) -> None:
     b.add_argument("--engines", nargs="+", default=None, help="simulate, precision: only these engines (default: all)")
     b.add_argument("--no-peers", action="store_true", help="simulate, precision: skip JiTCODE and heyoka")
     b.add_argument("--problems", nargs="+", default=None, help="precision: problems (default A B C)")
-    b.add_argument("--quick", action="store_true", help="precision: 2 tolerances, 1/10 of the horizon, n = 2 4 "
-                   "(about a minute)")
+    b.add_argument("--quick", action="store_true", help="failures, smallest: short runs (checks the machinery); "
+                   "precision: 2 tolerances, 1/10 of the horizon, n = 2 4 (about a minute)")
     b.add_argument("--max-run", type=float, default=None, help="precision: skip a pathway's tighter tolerances once "
                    "a run is predicted to take longer than this [s] (default 20; quick 0.5)")
     b.add_argument("--budget", type=float, default=None, help="precision: time budget of the work-precision part "

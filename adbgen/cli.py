@@ -6,6 +6,7 @@
     adbgen regenerate [--check] [--scene F] [--n N ...] [--family F ...] [--out DIR] [--targets ...]
     adbgen bench derive|codegen|sweep [--out FILE] [--n ...]
     adbgen bench simulate [--out FILE] [--repeats N] [--engines E ...] [--no-peers]
+    adbgen bench failures|smallest [--out FILE] [--quick]
     adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/analysis/commands.py)
     adbgen notebooks [--check | --run] [--only NN ...]                 the derivation notebooks of derive/
 
