@@ -2,11 +2,11 @@
 
 Work-precision: for each problem, every pathway integrates from t = 0 to t_end at the tolerances
 `TOLS` (rtol = tol, atol = tol x the problem's `atol_ratio`); its global error is the largest
-absolute difference of the final state from a reference, plotted against the wall time of the
-integration (one curve per pathway, `chart`).  The reference is CyRK's Verner 8(7) at rtol 1e-14
-(a method none of the default's family), checked by heyoka's Taylor method at tol 1e-15 (another
-method, another implementation): their difference is the reference's resolution, recorded, and
-errors below ten times it are marked as such.
+absolute difference of the final state from a reference, plotted against the CPU time of the
+integration (`TIME`; wall time recorded beside it; one curve per pathway, `chart`).  The reference
+is CyRK's Verner 8(7) at rtol 1e-14 (not the default's method), checked by heyoka's Taylor method at
+tol 1e-15 (another method, another implementation; CyRK's DOP853 where heyoka fails): their
+difference is the reference's resolution, recorded, and errors below ten times it are marked as such.
 
 Problems (`PROBLEMS`):
 
@@ -61,7 +61,7 @@ pathways at one tolerance).
 Problem A also gives, per pathway, the loosest tolerance from which on every tighter tolerance
 reaches the reference's attractor (final ball angles within `ATTRACTOR_TOL` rad, rotor amplitude
 below the threshold) and t_dec within 1 % (issue 14, item 3, first bullet), charted
-(`chart_reliable`).  t_dec is the engines' own (events on the continuous solution); for the other
+(`chart_reliable`).  t_dec is the engines' own (from their events); for the other
 pathways it is read from their dense output or, for the peers and cvode-main, from an untimed run on
 a grid (`TDEC_DT`), linearly interpolated.  The two differ at loose tolerances: events see a
 crossing of the threshold only where r - threshold changes sign between step ends, so an excursion
@@ -74,7 +74,6 @@ from __future__ import annotations
 
 import datetime
 import math
-import os
 import shutil
 import subprocess
 import tempfile
