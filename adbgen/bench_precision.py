@@ -913,7 +913,6 @@ def describe_targets(result: dict) -> list[str]:
     return describe(result)
 
 
-__all__ = ["CvodeMain", "Curve", "HEADLINE", "PROBLEMS", "PrecisionProblem", "TOLS", "bench_precision", "chart", "chart_reliable",
-           "chart_percall", "curve_record", "curves", "describe_targets", "lambdify_rhs", "loosest_reliable",
-           "precision_targets",
-           "reference", "stiffness", "sweep", "write"]
+__all__ = ["Curve", "CvodeMain", "HEADLINE", "PROBLEMS", "PrecisionProblem", "TOLS", "bench_precision", "chart",
+           "chart_percall", "chart_reliable", "curve_record", "curves", "describe_targets", "lambdify_rhs",
+           "loosest_reliable", "precision_targets", "reference", "stiffness", "sweep", "write"]
