@@ -606,7 +606,8 @@ def loosest_reliable(rec: dict) -> dict:
 # ------------------------------------------------------------------------------------- targets
 
 def _curve_points(rec: dict) -> list[tuple[float, float]]:
-    return [(p["error"], p[TIME]) for p in rec["points"] if p.get("error") and p.get(TIME)]
+    return [(p["error"], p[TIME]) for p in rec["points"] if p.get("error") and p.get(TIME)
+            and p.get("status") == "success"]
 
 
 def _interpolated(rec: dict, e: float) -> float | None:
@@ -792,8 +793,8 @@ HEADLINE = ("cyrk-dop853", "cyrk-vern8", "cvode-bdf", "cvode-main", "scipy-dop85
 
 def chart(result: dict, label: str, path: str | Path, only=None) -> Path:
     """Work-precision chart of one problem: error (y) against wall time (x), log-log, a curve per pathway
-    (`only`: just these pathways, e.g. `HEADLINE`).  Errors above 1 (a run that ended on another
-    attractor) are left off the scale."""
+    (`only`: just these pathways, e.g. `HEADLINE`).  Failed runs, and errors above 1 (a run that ended
+    on another attractor), are left off."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -809,7 +810,7 @@ def chart(result: dict, label: str, path: str | Path, only=None) -> Path:
         if only is not None and rec["name"] not in only:
             continue
         pts = sorted(((q[TIME], q["error"], q["tol"]) for q in rec["points"] if q.get(TIME) and q.get("error")
-                      and q["error"] <= 1.0), key=lambda v: -v[2])
+                      and q["error"] <= 1.0 and q.get("status") == "success"), key=lambda v: -v[2])
         if not pts:
             continue
         xs, ys = [v[0] for v in pts], [v[1] for v in pts]
