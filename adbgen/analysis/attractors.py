@@ -4,7 +4,9 @@
     spectrum(model, y, p)           eigenvalues; for the balanced family of n >= 3 balls the n - 2 exact
                                     zeros along the family removed (reported as neutral)
     stop_region(model, y, p)        a region around a stable steady state every trajectory entering it
-                                    provably converges to it (Lyapunov; early stop of sweeps)
+                                    provably converges to it (Lyapunov; early stop of sweeps): by the
+                                    nonlinear decrease condition (`basin_regions`, the default) or by
+                                    contraction (method="contraction", smaller)
     Classifier(model, p).label(...) balanced 1, coincident 2+-, in-line 3(n-m)+-, limit cycle, unsettled
 
 Newton and the transverse spectrum are those of `steady` (the stability layer); this module adds
@@ -19,6 +21,7 @@ models; for other models the names carry no sign.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -169,9 +172,16 @@ def _modal_metric(J: np.ndarray) -> np.ndarray | None:
     return P if np.min(np.linalg.eigvalsh(P)) > 0 else None
 
 
-def stop_region(model: Model, y, p, *, samples: int = 256, seed: int = 0,
+REGION_METHODS = ("lyapunov", "contraction")
+
+
+def stop_region(model: Model, y, p, *, method: str = "lyapunov", samples: int = 256, seed: int = 0,
                 keep: float = 0.2) -> StopRegion | None:
     """A provable basin region of the steady state y if it is stable and hyperbolic, else None.
+
+    method "lyapunov" (default): `basin_regions.lyapunov_region`, V = e'Pe with dV/dt < 0 checked on
+    the flow itself (the nonlinear decrease condition).  method "contraction", described here: the
+    symmetric part of P J(z) negative at every point z of the region, a much stronger condition.
 
     With the modal metric P (`_modal_metric`) and L its Cholesky factor, the decay rate of V = e'Pe at
     a point z is bounded by the largest eigenvalue of L^-1 (P J(z) + J(z)'P) L^-T; at the centre it is
@@ -186,9 +196,16 @@ def stop_region(model: Model, y, p, *, samples: int = 256, seed: int = 0,
     How large E_c can be is physics: the Jacobian may change by about the slowest decay rate a across
     it, so its size is about a / |d J / d y|.  At (5.1) (a = 0.005) the balls' angles must be within
     about 2e-3 rad of balance, which trajectories reach late (t ~ 1100-1600 of 2000; benchmarks/sweep.json)."""
+    if method not in REGION_METHODS:
+        raise AnalysisError(f"unknown stop-region method {method!r}; methods: {', '.join(REGION_METHODS)}")
     m = model.module
     y = np.asarray(y, float)
     p = np.asarray(p, float)
+    if method == "lyapunov":
+        from .basin_regions import lyapunov_region
+
+        found = lyapunov_region(model, y, p, seed=seed)
+        return None if found is None else StopRegion("", y.copy(), found[0], found[1])
     J = m.jac(0.0, y, p)
     if not np.all(np.isfinite(J)) or steady.family_tangent(model, y, p, J).shape[1]:
         return None
@@ -251,6 +268,7 @@ class Classifier:
     p: np.ndarray
     regions: list = field(default_factory=list)
     window: float = 200.0
+    method: str = "lyapunov"  # of the stop regions (`stop_region`)
 
     def __post_init__(self):
         self.codes = {name: k for k, name in enumerate(labels(self.model))}
@@ -260,7 +278,7 @@ class Classifier:
             if y is None or any(np.max(np.abs(state_difference(self.model, y, f))) < 1e-7 for f in found):
                 continue
             found.append(y)
-            region = stop_region(self.model, y, self.p)
+            region = stop_region(self.model, y, self.p, method=self.method)
             if region is not None:
                 region.label = name_steady_state(self.model, y, self.p)
                 self.regions.append(region)
@@ -314,10 +332,15 @@ class Classifier:
 
 
 @lru_cache(maxsize=64)
-def _classifier_cached(model: Model, p: tuple) -> Classifier:
-    return Classifier(model, np.array(p))
+def _classifier_cached(model: Model, p: tuple, method: str) -> Classifier:
+    return Classifier(model, np.array(p), method=method)
 
 
-def classifier(model: Model, p) -> Classifier:
-    """The Classifier for parameters p (cached: the regions are computed once per parameter vector)."""
-    return _classifier_cached(model, tuple(float(v) for v in p))
+_classifier_lock = threading.Lock()
+
+
+def classifier(model: Model, p, method: str = "lyapunov") -> Classifier:
+    """The Classifier for parameters p (cached: the regions are computed once per parameter vector and
+    method; a lock keeps a sweep's worker threads from computing the same one side by side)."""
+    with _classifier_lock:
+        return _classifier_cached(model, tuple(float(v) for v in p), method)

@@ -106,17 +106,22 @@ class _Compiled:
 
     @staticmethod
     def _targets(model, targets):
-        """(n, centres, weights, periodic) of early-stop regions (see driver_common.h)."""
+        """(n, centres, matrices, periodic) of early-stop regions e'We <= 1 (see driver_common.h); a target
+        is (centre, W) with W a matrix, or (centre, w) with w a vector of weights (W = diag(w^2))."""
         if not targets:
             return 0, None, None, None
         centres = np.ascontiguousarray([c for c, _ in targets], dtype=float)
-        weights = np.ascontiguousarray([w for _, w in targets], dtype=float)
+        weights = np.ascontiguousarray([np.diag(np.square(w)) if np.ndim(w) == 1 else w for _, w in targets],
+                                       dtype=float)
+        if weights.shape[1:] != (model.n_states, model.n_states) or centres.shape[1:] != (model.n_states,):
+            raise AnalysisError(f"a target region needs a centre of {model.n_states} states and a weight vector "
+                                f"or {model.n_states} x {model.n_states} matrix")
         periodic = np.zeros(model.n_states, dtype=np.uint8)
         periodic[list(model.angle_indices)] = 1
         return len(targets), centres, weights, periodic
 
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
-                 targets=()):
+                 targets=(), measures=True):
         lib = self.library(model)
         n = len(Y0)
         Y0 = np.ascontiguousarray(Y0, dtype=float)
@@ -132,7 +137,7 @@ class _Compiled:
         getattr(lib, self.prefix + "_integrate_many")(
             n, _ptr(Y0), _ptr(P), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
             self.method_id, ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
-            ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
+            1 if measures else 0, ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
             None if weights is None else _ptr(weights), None if periodic is None else _ptr(periodic, U8),
             int(threads or 0), _ptr(status, I), _ptr(target, I), _ptr(y_end), _ptr(stats), _ptr(counts, L))
         wall = time.perf_counter() - start
@@ -213,7 +218,7 @@ class CyRKEngine(_Compiled):
         code = lib.adb_cyrk_integrate(
             _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id,
             ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold), ctypes.c_double(0.0), 0, None,
-            None, None, 1 if keep_trajectory else 0, ctypes.byref(traj), ctypes.byref(target), _ptr(y_end),
+            None, None, 1 if keep_trajectory else 0, 1, ctypes.byref(traj), ctypes.byref(target), _ptr(y_end),
             _ptr(stats), _ptr(counts, L))
         wall = time.perf_counter() - start
         try:

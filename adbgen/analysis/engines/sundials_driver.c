@@ -326,10 +326,12 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
  * of P (N x ADB_NP).  Per trajectory the outputs of adb_integrate (no samples), in rows.  The result of
  * a trajectory does not depend on the thread that ran it. */
 void adb_sundials_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
-                        int method, long max_steps, const int *amp_idx, double threshold, double check_dt,
-                        int n_targets, const double *centres, const double *weights, const unsigned char *periodic,
-                        int threads, int *status, int *target, double *Y_end, double *stats, long *counts)
+                        int method, long max_steps, const int *amp_idx, double threshold, int measures,
+                        double check_dt, int n_targets, const double *centres, const double *weights,
+                        const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
+                        double *stats, long *counts)
 {
+    (void)measures; /* r_max and t_dec come from the root finding along the way: nothing to save */
 #ifdef _OPENMP
     if (threads < 1) threads = omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
