@@ -80,11 +80,12 @@ def test_r_max_sweep_equals_points_one_by_one(tmp_path):
             np.testing.assert_allclose(ds.y_end.values[i, j], sim.y_end, rtol=1e-12, atol=1e-14)
 
 
-@pytest.mark.parametrize("early_stop, symmetry", [(True, False), (False, True), (True, True)])
-def test_shortcuts_give_the_full_integrations_labels(tmp_path, early_stop, symmetry):
+@pytest.mark.parametrize("early_stop, symmetry, region", [(True, False, "lyapunov"), (False, True, "lyapunov"),
+                                                            (True, True, "lyapunov"), (True, False, "contraction")])
+def test_shortcuts_give_the_full_integrations_labels(tmp_path, early_stop, symmetry, region):
     def labels(out, **kw):
         spec = SweepSpec(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=400.0,
-                         chunk=16, **kw)
+                         chunk=16, stop_region=region, **kw)
         s = run_sweep(spec, out, progress=False, figures=False)
         return _open(out), s
 
@@ -102,6 +103,43 @@ def test_shortcuts_give_the_full_integrations_labels(tmp_path, early_stop, symme
         # the mirrored final states are the integrated ones to the tolerance (not bit for bit: the step
         # size control sums its error norm over the components in state order)
         np.testing.assert_allclose(fast.y_end.values, full.y_end.values, rtol=1e-6, atol=1e-8)
+
+
+def test_an_oversized_stop_region_is_caught_by_the_label_comparison(tmp_path, monkeypatch):
+    """Negative control: the comparison above fails when a stop region is not a basin region (here the
+    Lyapunov region blown up 1e4 times in V, so it swallows the diagonal's coincident runs)."""
+    real = attractors.stop_region
+
+    def oversized(*args, **kw):
+        r = real(*args, **kw)
+        if r is not None:
+            r.c *= 1e4
+        return r
+
+    spec = dict(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=400.0, chunk=16,
+                symmetry=False)
+    run_sweep(SweepSpec(**spec, early_stop=False), tmp_path / "full", progress=False, figures=False)
+    attractors._classifier_cached.cache_clear()
+    monkeypatch.setattr(attractors, "stop_region", oversized)
+    try:
+        run_sweep(SweepSpec(**spec), tmp_path / "fast", progress=False, figures=False)
+    finally:
+        attractors._classifier_cached.cache_clear()
+    full, fast = _open(tmp_path / "full"), _open(tmp_path / "fast")
+    assert np.sum(fast.attractor.values != full.attractor.values) > 0
+
+
+def test_symmetry_integrates_the_mirror_where_the_label_is_not_certain(tmp_path):
+    """At t_end = 5 no trajectory has reached a basin region: no label is certain, so both points of
+    every pair are integrated (near a basin boundary the full integration's own map need not be
+    symmetric: its equivariance holds to rounding only) and the labels are the full run's."""
+    spec = dict(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=5.0, chunk=16)
+    s_full = run_sweep(SweepSpec(**spec, early_stop=False, symmetry=False), tmp_path / "full", progress=False,
+                       figures=False)
+    s_sym = run_sweep(SweepSpec(**spec, early_stop=True, symmetry=True), tmp_path / "sym", progress=False,
+                      figures=False)
+    assert s_sym["integrated"] == s_full["integrated"] == 64  # the 8 diagonal points once, the 28 pairs twice
+    np.testing.assert_array_equal(_open(tmp_path / "sym").attractor.values, _open(tmp_path / "full").attractor.values)
 
 
 def test_stop_region_is_forward_invariant_and_labels_balanced():
