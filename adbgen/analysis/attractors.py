@@ -144,18 +144,33 @@ def name_steady_state(model: Model, y, p, tol: float = 1e-6) -> str:
 
 @dataclass
 class StopRegion:
-    """A stable steady state with an ellipsoid E = {e : e'Pe <= c} (e = y - centre, angles wrapped) on
-    which V = e'Pe decreases along every trajectory, so a trajectory inside E stays inside and converges
-    to the centre (see `stop_region`)."""
+    """A stable steady state with a region E = {e : e'Pe <= rho2, V(e) <= c} (e = y - centre, angles
+    wrapped; V = e'Pe, plus the cubic form T(e, e, e) when T is given) on which V decreases along every
+    trajectory, so a trajectory inside E stays inside and converges to the centre (see `stop_region`)."""
 
     label: str
     centre: np.ndarray
     P: np.ndarray
     c: float
+    T: np.ndarray | None = None
+    rho2: float = math.inf
+
+    def value(self, model: Model, y) -> tuple[np.ndarray, np.ndarray]:
+        """(e'Pe, V) at the rows of y."""
+        e = state_difference(model, np.atleast_2d(y), self.centre)
+        q = np.einsum("ki,ij,kj->k", e, self.P, e)
+        return q, q if self.T is None else q + np.einsum("ijk,ni,nj,nk->n", self.T, e, e, e, optimize=True)
 
     def contains(self, model: Model, y) -> np.ndarray:
-        e = state_difference(model, np.atleast_2d(y), self.centre)
-        return np.einsum("ki,ij,kj->k", e, self.P, e) <= self.c
+        q, v = self.value(model, y)
+        return (q <= self.rho2) & (v <= self.c)
+
+    def target(self) -> tuple:
+        """The compiled engines' target region (centre, W, K, level): e'We <= 1 and e'We + K(e) <= level."""
+        if self.T is None:
+            return self.centre, self.P / self.c
+        s = self.rho2
+        return self.centre, self.P / s, self.T / s, self.c / s
 
 
 def _modal_metric(J: np.ndarray) -> np.ndarray | None:
@@ -205,7 +220,7 @@ def stop_region(model: Model, y, p, *, method: str = "lyapunov", samples: int = 
         from .basin_regions import lyapunov_region
 
         found = lyapunov_region(model, y, p, seed=seed)
-        return None if found is None else StopRegion("", y.copy(), found[0], found[1])
+        return None if found is None else StopRegion("", y.copy(), found.P, found.c, found.T, found.rho2)
     J = m.jac(0.0, y, p)
     if not np.all(np.isfinite(J)) or steady.family_tangent(model, y, p, J).shape[1]:
         return None

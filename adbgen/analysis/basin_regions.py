@@ -33,6 +33,7 @@ sweep tests and the benchmark check the labels it gives against full integration
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -42,52 +43,103 @@ from .loading import Model
 
 
 @njit(cache=True)
-def _first_failures(rhs, y0, p, P, D, radii, rate):
-    """For each row d of D (d'Pd = 1): the smallest s on the grid `radii` (then refined by bisection
-    between it and the grid point before) where dV/dt(s d) > -2 rate V(s d); radii[-1] if none."""
+def _fails(rhs, y0, p, s, d, q, t, a, b, rate, y, f):
+    """Along the ray e = s d: V = s^2 q + s^3 t, grad V = 2 s a + 3 s^2 b (q = d'Pd, a = P d, b = T(d, d, .),
+    t = b . d); True where V <= 0 or dV/dt > -2 rate V."""
+    ny = y0.shape[0]
+    for i in range(ny):
+        y[i] = y0[i] + s * d[i]
+    rhs(0.0, y, p, f)
+    vdot = 0.0
+    for i in range(ny):
+        vdot += (2.0 * s * a[i] + 3.0 * s * s * b[i]) * f[i]
+    v = s * s * q + s * s * s * t
+    return v <= 0.0 or vdot > -2.0 * rate * v
+
+
+@njit(cache=True)
+def _first_failures(rhs, y0, p, P, T, cubic, D, radii, rate):
+    """For each row d of D: the smallest s on the grid `radii` (refined by bisection between it and the
+    grid point before) where V(s d) <= 0 or dV/dt(s d) > -2 rate V(s d); radii[-1] if none.  V = e'Pe,
+    plus T(e, e, e) if `cubic`."""
     n, ny = D.shape
     out = np.empty(n)
-    f = np.empty(ny)
     y = np.empty(ny)
-    Pd = np.empty(ny)
+    f = np.empty(ny)
+    a = np.empty(ny)
+    b = np.zeros(ny)
     for k in range(n):
+        d = D[k]
+        q = 0.0
+        t = 0.0
         for i in range(ny):
             acc = 0.0
             for j in range(ny):
-                acc += P[i, j] * D[k, j]
-            Pd[i] = acc
+                acc += P[i, j] * d[j]
+            a[i] = acc
+            q += acc * d[i]
+        if cubic:
+            for i in range(ny):
+                acc = 0.0
+                for j in range(ny):
+                    inner = 0.0
+                    for l in range(ny):
+                        inner += T[i, j, l] * d[l]
+                    acc += inner * d[j]
+                b[i] = acc
+                t += acc * d[i]
         lo = 0.0
         hi = -1.0
-        for g in range(radii.shape[0]):
-            s = radii[g]
-            for i in range(ny):
-                y[i] = y0[i] + s * D[k, i]
-            rhs(0.0, y, p, f)
-            v = 0.0
-            for i in range(ny):
-                v += Pd[i] * f[i]
-            # dV/dt = 2 s (Pd . f), V = s^2: fails when 2 s (Pd . f) > -2 rate s^2
-            if v > -rate * s:
-                hi = s
+        for j in range(radii.shape[0]):
+            if _fails(rhs, y0, p, radii[j], d, q, t, a, b, rate, y, f):
+                hi = radii[j]
                 break
-            lo = s
+            lo = radii[j]
         if hi < 0.0:
             out[k] = radii[-1]
             continue
-        for _ in range(30):
+        for _ in range(16):
             s = 0.5 * (lo + hi)
-            for i in range(ny):
-                y[i] = y0[i] + s * D[k, i]
-            rhs(0.0, y, p, f)
-            v = 0.0
-            for i in range(ny):
-                v += Pd[i] * f[i]
-            if v > -rate * s:
+            if _fails(rhs, y0, p, s, d, q, t, a, b, rate, y, f):
                 hi = s
             else:
                 lo = s
         out[k] = lo
     return out
+
+
+def _cubic_values(T: np.ndarray, U: np.ndarray) -> np.ndarray:
+    """T(u, u, u) for the rows u of U."""
+    n = T.shape[0]
+    return np.sum((U @ T.reshape(n, n * n)) * (U[:, :, None] * U[:, None, :]).reshape(len(U), n * n), axis=1)
+
+
+def hessian(model: Model, y, p, h: float = 1e-5) -> np.ndarray:
+    """H[i, j, k] = d^2 f_i / dy_j dy_k at y: central differences of the generated analytic Jacobian
+    (its accuracy only shapes the Lyapunov function; the check uses the exact rhs and gradient of V)."""
+    n = len(y)
+    H = np.zeros((n, n, n))
+    for k in range(n):
+        d = np.zeros(n)
+        d[k] = h
+        H[:, :, k] = (model.module.jac(0.0, y + d, p) - model.module.jac(0.0, y - d, p)) / (2.0 * h)
+    return 0.5 * (H + H.transpose(0, 2, 1))
+
+
+def cubic_correction(P: np.ndarray, H: np.ndarray, lam: np.ndarray, V: np.ndarray, Vi: np.ndarray) -> np.ndarray:
+    """The symmetric cubic form T that removes the cubic terms of dV/dt for V = e'Pe + T(e, e, e).
+
+    With f(e) = J e + g2(e) + O(|e|^3), g2_i = H_ijk e_j e_k / 2: dV/dt = e'(PJ + J'P)e + [e'P H(e, e) +
+    3 T(e, e, J e)] + O(|e|^4).  In the modal coordinates m = V^-1 e the operator T -> 3 T(e, e, J e)
+    multiplies the monomial m_a m_b m_c by lam_a + lam_b + lam_c (never 0: every Re lam < 0), so the
+    bracket vanishes for T_abc = -C_abc / (lam_a + lam_b + lam_c), C the modal coefficients of e'P H(e, e)
+    (the homological equation of normal-form theory)."""
+    C = np.einsum("li,ijk->ljk", P, H)
+    Cm = np.einsum("ljk,la,jb,kc->abc", C, V, V, V)
+    S = lam[:, None, None] + lam[None, :, None] + lam[None, None, :]
+    T = np.einsum("abc,al,bj,ck->ljk", -Cm / S, Vi, Vi, Vi).real
+    perms = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
+    return sum(T.transpose(q) for q in perms) / 6.0
 
 
 def modal_groups(lam: np.ndarray) -> list[np.ndarray]:
@@ -123,11 +175,21 @@ def _directions(P: np.ndarray, n: int, rng) -> np.ndarray:
     return np.ascontiguousarray(u @ np.linalg.inv(np.linalg.cholesky(P)))
 
 
+@dataclass
+class Region:
+    """{e : e'Pe <= rho2 and V(e) <= c}, V = e'Pe (+ T(e, e, e) when T is not None)."""
+
+    P: np.ndarray
+    T: np.ndarray | None
+    rho2: float
+    c: float
+    rate: float  # the decay rate of V at the centre (the slowest mode's)
+
+
 def lyapunov_region(model: Model, y, p, *, rays: int = 4096, keep: float = 0.2, shrink: float = 0.8,
-                    seed: int = 0, optimise: bool = True) -> tuple[np.ndarray, float, float] | None:
-    """(P, c, a) of a provable basin region {e'Pe <= c} of the stable hyperbolic steady state y (see the
-    module docstring), a its decay rate at the centre; None if y is not stable and hyperbolic, or its
-    eigenvectors are (nearly) defective."""
+                    seed: int = 0, optimise: bool = True, cubic: bool = True) -> Region | None:
+    """A provable basin region of the stable hyperbolic steady state y (see the module docstring); None
+    if y is not stable and hyperbolic, or its eigenvectors are (nearly) defective."""
     m = model.module
     y = np.asarray(y, float)
     p = np.asarray(p, float)
@@ -140,12 +202,14 @@ def lyapunov_region(model: Model, y, p, *, rays: int = 4096, keep: float = 0.2, 
     Vi = np.linalg.inv(V)
     groups = modal_groups(lam)
     rate = -float(np.max(lam.real))  # the slowest decay: V = e'Pe decays at >= 2 rate near the centre
-    radii = np.geomspace(1e-4, 10.0, 64)
+    radii = np.geomspace(1e-3, 10.0, 52)
     rhs = m.rhs_inplace
     rng = np.random.default_rng(seed)
 
-    def radius(P, D):
-        return _first_failures(rhs, y, p, P, D, radii, keep * rate)
+    T0 = np.zeros((len(y),) * 3)
+
+    def radius(P, D, T=None):
+        return _first_failures(rhs, y, p, P, T0 if T is None else T, T is not None, D, radii, keep * rate)
 
     logw = np.zeros(len(groups) - 1)
     if optimise and len(groups) > 1:
@@ -165,39 +229,65 @@ def lyapunov_region(model: Model, y, p, *, rays: int = 4096, keep: float = 0.2, 
             probe.bit_generator.state = state
             return objective(x)
 
-        best = minimize(fixed, logw, method="Nelder-Mead",
-                        options={"maxfev": 40, "xatol": 0.1, "fatol": 1e-6, "initial_simplex": None})
-        if -best.fun > -fixed(logw):
-            logw = np.clip(best.x, -6, 6)
+        # starts: equal weights, and each faster mode in turn weighted e^1.5 (the nonlinear terms mix the
+        # slowest mode with one or two others; giving those more weight is what lets the region grow)
+        starts = [logw] + [1.5 * np.eye(len(logw))[k] for k in range(len(logw))]
+        x0 = min(starts, key=fixed)
+        best = minimize(fixed, x0, method="Nelder-Mead", options={"maxfev": 60, "xatol": 0.05, "fatol": 1e-7})
+        logw = np.clip(best.x, -6, 6) if best.fun < fixed(x0) else x0
     P = weighted_metric(Vi, groups, logw)
     if np.min(np.linalg.eigvalsh(P)) <= 0:
         return None
+    T = cubic_correction(P, hessian(model, y, p), lam, V, Vi) if cubic else None
     D = _directions(P, rays, rng)
-    r = radius(P, D)
+    r = radius(P, D, T)
     # local search around the worst directions: random perturbations on the sphere, keep the worse
-    Li = np.linalg.inv(np.linalg.cholesky(P))
     L = np.linalg.cholesky(P)
+    Li = np.linalg.inv(L)
     worst = np.argsort(r)[:16]
     r_min = float(r.min())
     for k in worst:
         u = L.T @ D[k]
         best_r = r[k]
         step = 0.3
-        for _ in range(24):
+        for _ in range(16):
             cand = u + step * rng.standard_normal((8, len(u)))
             cand /= np.linalg.norm(cand, axis=1)[:, None]
-            rc = radius(P, np.ascontiguousarray(cand @ Li))
+            rc = radius(P, np.ascontiguousarray(cand @ Li), T)
             j = int(np.argmin(rc))
             if rc[j] < best_r:
                 best_r, u = rc[j], cand[j]
             else:
                 step *= 0.6
         r_min = min(r_min, float(best_r))
-    # keep the region inside one period of every angle: half-width sqrt(c (P^-1)_ii) <= pi/2
+    # keep the region inside one period of every angle: half-width rho sqrt((P^-1)_ii) <= pi/2
     Pi = np.linalg.inv(P)
     angles = list(model.angle_indices)
     half = math.sqrt(float(np.max(np.diag(Pi)[angles]))) if angles else 0.0
-    s = shrink * r_min
+    rho = shrink * r_min
     if half > 0:
-        s = min(s, 0.5 * math.pi / half)
-    return P, s * s, rate
+        rho = min(rho, 0.5 * math.pi / half)
+    if T is None:
+        return Region(P, None, rho * rho, rho * rho, rate)
+    # the level: below V's least value on the sphere e'Pe = rho^2 (sampled, then a local search), so a
+    # trajectory in {V <= c} never reaches the sphere while V decreases inside the ball
+    U = _directions(P, 4 * rays, rng)
+    tU = _cubic_values(T, U)
+    worst = U[np.argsort(tU)[:16]]
+    low = float(tU.min())
+    for d in worst:
+        u = L.T @ d
+        step = 0.3
+        for _ in range(30):
+            cand = u + step * rng.standard_normal((16, len(u)))
+            cand /= np.linalg.norm(cand, axis=1)[:, None]
+            tc = _cubic_values(T, cand @ Li)
+            j = int(np.argmin(tc))
+            if tc[j] < low:
+                low, u = float(tc[j]), cand[j]
+            else:
+                step *= 0.6
+    c = 0.9 * (rho * rho + rho ** 3 * min(low, 0.0))
+    if c <= 0:
+        return None
+    return Region(P, T, rho * rho, c, rate)

@@ -390,7 +390,7 @@ def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
     run, so both see bit-identical trajectories until the stop."""
     from .simulate import simulate_many
 
-    targets = [(r.centre, r.P / r.c) for r in clf.regions] if spec.early_stop else []
+    targets = [r.target() for r in clf.regions] if spec.early_stop else []
     ens = simulate_many(model, p[None], Y0, t_end=spec.t_end, rtol=spec.rtol, atol=spec.atol, engine=spec.engine,
                         threshold=spec.threshold, threads=threads, check_dt=spec.check_dt, targets=targets,
                         measures=False)

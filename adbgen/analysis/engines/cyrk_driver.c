@@ -220,8 +220,8 @@ static void measure(const Settings *s, Args *args, const double *t, const double
  * out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [rhs evaluations, steps]. */
 int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, int method,
                        long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
-                       const double *centres, const double *weights, const unsigned char *periodic, int keep,
-                       int measures, Trajectory *traj, int *target, double *y_end, double *out_stats,
+                       const double *centres, const double *weights, const double *cubics, const double *levels,
+                       const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target, double *y_end, double *out_stats,
                        long *out_counts)
 {
     Settings s = {method, rtol, atol, max_steps > 0 ? (size_t)max_steps : 0};
@@ -304,7 +304,7 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
             break;
         }
         if (segmented && t < t_end) {
-            int k = adb_in_target(Y + (K - 1) * ADB_NY, n_targets, centres, weights, periodic);
+            int k = adb_in_target(Y + (K - 1) * ADB_NY, n_targets, centres, weights, cubics, levels, periodic);
             if (k >= 0) {
                 if (target) *target = k;
                 status = ADB_STOPPED;
@@ -347,7 +347,7 @@ void adb_cyrk_release(Trajectory *traj)
 void adb_cyrk_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
                              int method, long max_steps, const int *amp_idx, double threshold, int measures,
                              double check_dt, int n_targets, const double *centres, const double *weights,
-                             const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
+                             const double *cubics, const double *levels, const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
                              double *stats, long *counts)
 {
 #ifdef _OPENMP
@@ -357,6 +357,6 @@ void adb_cyrk_integrate_many(int n, const double *Y0, const double *P, double t_
     for (int k = 0; k < n; ++k)
         status[k] = adb_cyrk_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, method,
                                        max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights,
-                                       periodic, 0, measures, NULL, target + k, Y_end + (size_t)k * ADB_NY,
+                                       cubics, levels, periodic, 0, measures, NULL, target + k, Y_end + (size_t)k * ADB_NY,
                                        stats + (size_t)k * 4, counts + (size_t)k * 2);
 }
