@@ -274,6 +274,28 @@ def seeds(model: Model, p) -> list[np.ndarray]:
     return out
 
 
+def ball_states(model: Model) -> list[list[int]]:
+    """Each ball's state indices (its angle, and its rate when the model has one), in ball order."""
+    out = []
+    for k in model.angle_indices:
+        name = model.state_names[k]
+        out.append([k] + ([model.index(name + "_dot")] if name + "_dot" in model.state_names else []))
+    return out
+
+
+def equivariant(model: Model, p, perm) -> bool:
+    """rhs(s y) = s rhs(y) at random states (the balls that s exchanges are identical)."""
+    rng = np.random.default_rng(1)
+    for _ in range(4):
+        y = rng.uniform(-1, 1, model.n_states) * 0.1
+        y[list(model.angle_indices)] = rng.uniform(-math.pi, math.pi, len(model.angle_indices))
+        f = model.module.rhs(0.0, y, p)
+        g = model.module.rhs(0.0, y[perm], p)
+        if not np.allclose(g, f[perm], rtol=1e-12, atol=1e-14 * max(1.0, np.max(np.abs(f)))):
+            return False
+    return True
+
+
 @dataclass
 class Classifier:
     """Labels final states for one parameter vector: stop regions of its stable steady states, then
@@ -293,10 +315,32 @@ class Classifier:
             if y is None or any(np.max(np.abs(state_difference(self.model, y, f))) < 1e-7 for f in found):
                 continue
             found.append(y)
-            region = stop_region(self.model, y, self.p, method=self.method)
+            region = self._mirrored(y)
+            if region is None:
+                region = stop_region(self.model, y, self.p, method=self.method)
             if region is not None:
                 region.label = name_steady_state(self.model, y, self.p)
                 self.regions.append(region)
+
+    def _mirrored(self, y) -> StopRegion | None:
+        """An earlier region carried over by a permutation of the balls that maps its centre onto y, when
+        the model is equivariant under it (identical balls): the regions of ball-swapped states are then
+        exact images of each other, so a point and its swapped image are inside together (the sweeps'
+        symmetry shortcut relies on it)."""
+        import itertools
+
+        balls = ball_states(self.model)
+        for region in self.regions:
+            for perm in itertools.islice(itertools.permutations(range(len(balls))), 1, 120):
+                s = list(range(self.model.n_states))
+                for k, j in enumerate(perm):
+                    for a, b in zip(balls[k], balls[j]):
+                        s[a] = b
+                if np.max(np.abs(state_difference(self.model, region.centre[s], y))) < 1e-7 and \
+                        equivariant(self.model, self.p, s):
+                    T = None if region.T is None else region.T[np.ix_(s, s, s)]
+                    return StopRegion("", y.copy(), region.P[np.ix_(s, s)], region.c, T, region.rho2)
+        return None
 
     def inside(self, Y) -> np.ndarray:
         """Index of the stop region each row of Y is in, -1 if none."""
