@@ -36,10 +36,16 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 
 from . import steady
 from .loading import Model
+
+
+# the generated rhs_inplace(t, y, p, out) as a first-class function: with this explicit type the kernel
+# compiles once and is cached on disk (typed by the dispatcher itself it recompiles in every process)
+_VEC = types.float64[::1]
+_RHS = types.FunctionType(types.void(types.float64, _VEC, _VEC, _VEC))
 
 
 @njit(cache=True)
@@ -57,7 +63,8 @@ def _fails(rhs, y0, p, s, d, q, t, a, b, rate, y, f):
     return v <= 0.0 or vdot > -2.0 * rate * v
 
 
-@njit(cache=True)
+@njit(_VEC(_RHS, _VEC, _VEC, types.float64[:, ::1], types.float64[:, :, ::1], types.boolean,
+           types.float64[:, ::1], _VEC, types.float64), cache=True)
 def _first_failures(rhs, y0, p, P, T, cubic, D, radii, rate):
     """For each row d of D: the smallest s on the grid `radii` (refined by bisection between it and the
     grid point before) where V(s d) <= 0 or dV/dt(s d) > -2 rate V(s d); radii[-1] if none.  V = e'Pe,
@@ -135,9 +142,9 @@ def cubic_correction(P: np.ndarray, H: np.ndarray, lam: np.ndarray, V: np.ndarra
     bracket vanishes for T_abc = -C_abc / (lam_a + lam_b + lam_c), C the modal coefficients of e'P H(e, e)
     (the homological equation of normal-form theory)."""
     C = np.einsum("li,ijk->ljk", P, H)
-    Cm = np.einsum("ljk,la,jb,kc->abc", C, V, V, V)
+    Cm = np.einsum("ljk,la,jb,kc->abc", C, V, V, V, optimize=True)
     S = lam[:, None, None] + lam[None, :, None] + lam[None, None, :]
-    T = np.einsum("abc,al,bj,ck->ljk", -Cm / S, Vi, Vi, Vi).real
+    T = np.einsum("abc,al,bj,ck->ljk", -Cm / S, Vi, Vi, Vi, optimize=True).real
     perms = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
     return sum(T.transpose(q) for q in perms) / 6.0
 
@@ -204,6 +211,7 @@ def lyapunov_region(model: Model, y, p, *, rays: int = 4096, keep: float = 0.2, 
     rate = -float(np.max(lam.real))  # the slowest decay: V = e'Pe decays at >= 2 rate near the centre
     radii = np.geomspace(1e-3, 10.0, 52)
     rhs = m.rhs_inplace
+    rhs.compile(_RHS.signature)
     rng = np.random.default_rng(seed)
 
     T0 = np.zeros((len(y),) * 3)
@@ -211,6 +219,7 @@ def lyapunov_region(model: Model, y, p, *, rays: int = 4096, keep: float = 0.2, 
     def radius(P, D, T=None):
         return _first_failures(rhs, y, p, P, T0 if T is None else T, T is not None, D, radii, keep * rate)
 
+    H = hessian(model, y, p) if cubic else None
     logw = np.zeros(len(groups) - 1)
     if optimise and len(groups) > 1:
         from scipy.optimize import minimize
@@ -219,8 +228,14 @@ def lyapunov_region(model: Model, y, p, *, rays: int = 4096, keep: float = 0.2, 
         n_probe = max(64, rays // 8)
 
         def objective(x):
+            """-(the region's level c) on the probe rays: its extent along the slowest mode is sqrt(c)."""
             P = weighted_metric(Vi, groups, np.clip(x, -6, 6))
-            return -float(radius(P, _directions(P, n_probe, probe)).min())
+            D = _directions(P, n_probe, probe)
+            if H is None:
+                return -float(radius(P, D).min()) ** 2
+            T = cubic_correction(P, H, lam, V, Vi)
+            r = float(radius(P, D, T).min())
+            return -(r * r + r ** 3 * min(float(_cubic_values(T, D).min()), 0.0))
 
         # the same probe directions (in the unit sphere's coordinates) for every weight vector
         state = probe.bit_generator.state
@@ -238,7 +253,7 @@ def lyapunov_region(model: Model, y, p, *, rays: int = 4096, keep: float = 0.2, 
     P = weighted_metric(Vi, groups, logw)
     if np.min(np.linalg.eigvalsh(P)) <= 0:
         return None
-    T = cubic_correction(P, hessian(model, y, p), lam, V, Vi) if cubic else None
+    T = cubic_correction(P, H, lam, V, Vi) if cubic else None
     D = _directions(P, rays, rng)
     r = radius(P, D, T)
     # local search around the worst directions: random perturbations on the sphere, keep the worse
