@@ -618,6 +618,8 @@ def _run_tasks(client, spec, model, grid, group, chunks, pending, progress) -> t
     integrated = n_rhs = 0
     cpu: dict[str, float] = {}
     write_s = 0.0
+    # the store's arrays opened once (each group[name] reads the array's metadata from disk again)
+    arrays = {name: group[name] for name, *_ in _variables(spec, model)}
     spec_dict = spec.to_dict()
     futures = {}
     for task in pending:
@@ -637,7 +639,7 @@ def _run_tasks(client, spec, model, grid, group, chunks, pending, progress) -> t
         w0 = time.perf_counter()
         for b in task:
             size = int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
-            write_block(group, spec, model, grid, b, chunks, res, slice(offset, offset + size))
+            write_block(arrays, spec, model, grid, b, chunks, res, slice(offset, offset + size))
             offset += size
         write_s += time.perf_counter() - w0
         bar.update(1)
