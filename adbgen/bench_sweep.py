@@ -30,7 +30,10 @@ GRID = ["phi_1=0:2*pi*99/100:100", "phi_2=0:2*pi*99/100:100"]
 
 
 def _one(spec, out: Path, workers: int) -> dict:
+    from .analysis.attractors import _classifier_cached
     from .analysis.sweep import run_sweep
+
+    _classifier_cached.cache_clear()  # every run computes its stop regions (a repeat would reuse them)
 
     load = os.getloadavg()[0]
     cpu0 = time.process_time()
@@ -44,6 +47,7 @@ def _one(spec, out: Path, workers: int) -> dict:
             "rhs_evaluations": summary["rhs_evaluations"],
             "ns_per_rhs_cpu": round(1e9 * cpu / summary["rhs_evaluations"], 1) if summary["rhs_evaluations"] else None,
             "trajectories_per_s_per_core": round(summary["integrated"] / (wall * workers), 2),
+            "effective_cores": round(cpu / wall, 2),  # the cores the run actually got (shared machine)
             "points_per_s_per_core": round(summary["points"] / (wall * workers), 2),
             "trajectories_per_cpu_s": round(summary["integrated"] / cpu, 2) if cpu > 0 else None}
 
@@ -117,6 +121,17 @@ def bench_sweep(workers: int | None = None, grid=GRID, t_end: float = 2000.0, pr
                 "speedup_cpu": round(runs["full"]["cpu_s"] / runs["shortcuts"]["cpu_s"], 3),
                 "target_met": bool(runs["shortcuts"]["wall_s"] < 20.0 and differ == 0),
             })
+            s = runs["shortcuts"]
+            if not out["target_met"] and differ == 0:
+                t = s["timing"].get("tasks_cpu_s", {})
+                out["target_miss"] = (
+                    f"wall {s['wall_s']} s against 20 s ({s['wall_s'] / 20.0:.2f}x) while the run got "
+                    f"{s['effective_cores']} of {workers} cores (load average {s['load_average_before']}-"
+                    f"{s['load_average_after']}, nice 5 among other work); its CPU time {s['cpu_s']} s is "
+                    f"{s['cpu_s'] / 40.0:.2f} of the 40 CPU-s of 20 s on 2 cores: integration "
+                    f"{t.get('integrate')} s, stop regions {t.get('regions')} s, classification "
+                    f"{t.get('classify')} s, store writes {s['timing'].get('store_writes_s')} s (wall), "
+                    f"figures {s['timing'].get('figures_s')} s (wall)")
         return out
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -5,8 +5,8 @@
     run_sweep(spec, "out/basins")        -> {"points", "computed", "reused", "wall_s", "store"}
 
 Work is cut into blocks of the grid (the store's chunks).  A block is one Dask task that runs all its
-trajectories together on the compiled ensemble path (`simulate_many`, no Python per trajectory: one call,
-or for `attractor` one call per segment of `check_dt`);
+trajectories together on the compiled ensemble path (`simulate_many`, one call, no Python per
+trajectory or per segment);
 the client writes each block's results into the Zarr store as it arrives, data first and its `done`
 flags last, so a killed run (SIGKILL included) loses only the blocks in flight and the next run with
 the same settings computes only the blocks not done.  Zarr's local store writes every chunk file
@@ -16,13 +16,15 @@ renamed into place, so no state of the folder is half written.
 Shortcuts (each switchable; tests show they give the labels of the full integration):
 
 * early stop (measure `attractor`): every `check_dt` the trajectories inside the provable basin region
-  of a stable steady state (`attractors.stop_region`) stop there with its label.  The reference run
-  without the shortcut integrates in the same segments, so both see bit-identical trajectories until
-  the stop.
+  of a stable steady state (`attractors.stop_region`: by default `basin_regions`, a cubic Lyapunov
+  function with the nonlinear decrease condition) stop there with its label, checked inside the
+  compiled driver.  The reference run without the shortcut integrates in the same segments, so both
+  see bit-identical trajectories until the stop.
 * exchange symmetry: if two grid axes are the angles of two balls the model treats identically (checked
   numerically: rhs(s y) = s rhs(y) for the swap s) over the same values, and their other states are
   equal, a point and its ball-swapped image share an answer (the final state swapped).  A block and
-  its mirror image are one task; only one point of each pair is integrated.
+  its mirror image are one task; only one point of each pair is integrated, except for `attractor`
+  labels that are not certain (no basin region reached), whose mirror is integrated too.
 """
 
 from __future__ import annotations
