@@ -244,9 +244,16 @@ def lyapunov_region(model: Model, y, p, *, rays: int = 4096, keep: float = 0.2, 
             probe.bit_generator.state = state
             return objective(x)
 
-        # starts: equal weights, and each faster mode in turn weighted e^1.5 (the nonlinear terms mix the
-        # slowest mode with one or two others; giving those more weight is what lets the region grow)
-        starts = [logw] + [1.5 * np.eye(len(logw))[k] for k in range(len(logw))]
+        # starts: equal weights and, for up to 3 weights, a grid of e^0 ... e^3 on each (the nonlinear terms
+        # mix the slowest mode with one or two others; giving those more weight lets the region grow: at
+        # (5.1) the best grid point doubles the level's root against equal weights); beyond, each faster
+        # mode in turn weighted e^1.5
+        if len(logw) <= 3:
+            import itertools
+
+            starts = [np.array(x, float) for x in itertools.product((0.0, 1.0, 2.0, 3.0), repeat=len(logw))]
+        else:
+            starts = [logw] + [1.5 * np.eye(len(logw))[k] for k in range(len(logw))]
         x0 = min(starts, key=fixed)
         best = minimize(fixed, x0, method="Nelder-Mead", options={"maxfev": 60, "xatol": 0.05, "fatol": 1e-7})
         logw = np.clip(best.x, -6, 6) if best.fun < fixed(x0) else x0
