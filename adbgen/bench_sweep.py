@@ -52,6 +52,30 @@ def _one(spec, out: Path, workers: int) -> dict:
             "trajectories_per_cpu_s": round(summary["integrated"] / cpu, 2) if cpu > 0 else None}
 
 
+def _regions(spec) -> list[dict]:
+    """The early stop's regions at the benchmark's parameters: their size, and what is proven and sampled."""
+    from .analysis.attractors import classifier
+    from .analysis.sweep import prepare
+
+    model, grid = prepare(spec)
+    out = []
+    for r in classifier(model, grid.base_params, spec.stop_region).regions:
+        half = np.sqrt(min(r.rho2, r.c if r.T is None else r.rho2) * np.diag(np.linalg.inv(r.P)))
+        out.append({"label": r.label, "centre": [round(float(v), 6) for v in r.centre],
+                    "rho2": None if not np.isfinite(r.rho2) else float(r.rho2), "c": float(r.c),
+                    "cubic": r.T is not None,
+                    "angle_half_width_of_ball": [round(float(half[k]), 4) for k in model.angle_indices]})
+    return out
+
+
+REGIONS_NOTE = ("lyapunov: V = e'Pe + T(e,e,e) (modal P with mode weights, T the cubic normal-form correction); "
+                "proven (Lyapunov): V > 0 and dV/dt < 0 on the ball e'Pe <= rho2 minus the centre and c below "
+                "V on its sphere make {e'Pe <= rho2, V <= c} forward invariant with every trajectory converging; "
+                "sampled (not interval arithmetic): dV/dt <= -0.4 a V and V > 0 along 4096 random rays (16 worst "
+                "searched locally), rho = 0.8 x the least failure radius, c = 0.9 x the least sampled V on the "
+                "sphere; validated: labels equal to the full integration's on this map")
+
+
 CONFIGS = {"shortcuts": dict(early_stop=True, symmetry=True), "full": dict(early_stop=False, symmetry=False)}
 
 
@@ -102,9 +126,10 @@ def bench_sweep(workers: int | None = None, grid=GRID, t_end: float = 2000.0, pr
                              f"integrated {run['integrated']:6d}  rhs {run['rhs_evaluations']:.3e}  {run['labels']}")
         spec = SweepSpec(**base)
         out = {
+            "stop_regions": _regions(spec),
             "benchmark": "thesis_rotating_n2 basin map over (phi_1(0), phi_2(0)), parameters (5.1)",
             "grid": list(grid), "t_end": t_end, "rtol": 1e-8, "atol": 1e-10, "engine": spec.engine,
-            "check_dt": spec.check_dt, "stop_region": spec.stop_region,
+            "check_dt": spec.check_dt, "stop_region": spec.stop_region, "stop_regions_note": REGIONS_NOTE,
             "workers": workers, "cores": os.cpu_count(), "repeats": repeats, "runs": runs, "every_run": every,
             "target": "under 20 s wall on this 2-core machine with the shortcuts, labels identical",
         }

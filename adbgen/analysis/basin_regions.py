@@ -1,32 +1,39 @@
-"""Large provable basin regions of a stable steady state: a quadratic Lyapunov function with the
-NONLINEAR decrease condition (the sweeps' early stop, `attractors.Classifier(method="lyapunov")`).
+"""Large provable basin regions of a stable steady state: a Lyapunov function with the NONLINEAR decrease
+condition (the sweeps' early stop, `attractors.stop_region(method="lyapunov")`, the default).
 
-    lyapunov_region(model, y, p)  -> (P, c, rate) or None: E = {e : e'Pe <= c} around the steady state y
+    lyapunov_region(model, y, p)  -> Region(P, T, rho2, c, rate) or None: around the steady state y,
+                                     E = {e : e'Pe <= rho2 and V(e) <= c},  V(e) = e'Pe + T(e, e, e)
 
-Lyapunov (direct method): if V(e) = e'Pe (P > 0) satisfies dV/dt = 2 e'P f(y + e) < 0 at every e != 0
-of the sublevel set E_c = {V <= c}, then E_c is forward invariant (V cannot grow past c) and every
-trajectory in it converges to y (V decreases strictly and the only point where it cannot is e = 0).
-This needs far less than the contraction condition of `attractors.stop_region` (the symmetric part
-of P J(z) negative at every z of the region, i.e. the linearisation dominating everywhere): here only
-the flow itself must point inwards, which for a lightly damped rotor allows regions about ten times
-larger across (at (5.1) the balls' angles within about 2e-2 rad of balance instead of 2e-3; every
-factor e of size saves 1 / (slowest decay rate) = 200 time units of each trajectory).
+Lyapunov (direct method): if V > 0 and dV/dt = grad V(e) . f(y + e) < 0 at every e != 0 of the ball
+B = {e'Pe <= rho2}, and c is below V's least value on the sphere e'Pe = rho2, then a trajectory in E
+never reaches the sphere (V cannot grow while it is in B), so it stays in E and converges to y (V
+decreases strictly and the only point where it cannot is e = 0).  This needs far less than the
+contraction condition of `attractors.stop_region(method="contraction")` (the symmetric part of P J(z)
+negative at every z of the region, i.e. the linearisation dominating everywhere): here only the flow
+itself must point inwards, which for a lightly damped rotor allows far larger regions: at (5.1) the
+balls' angles within 0.013 rad of balance for V = e'Pe alone (against 0.0023 by contraction) and 0.17
+rad with the cubic term; every factor e of size saves 1 / (slowest decay rate) = 200 time units of
+each trajectory.
 
-The metric is modal: P = Re(V^-H W V^-1) (V the eigenvectors of the Jacobian J, W > 0 diagonal,
+The quadratic part is modal: P = Re(V^-H W V^-1) (V the eigenvectors of the Jacobian J, W > 0 diagonal,
 equal on complex-conjugate pairs), so that e'Pe = sum_k w_k |m_k|^2 in the modal coordinates m and
-the linearisation decays at least at the slowest mode's rate a: dV/dt = -2 sum_k a_k w_k |m_k|^2 +
-O(|e|^3) <= -2 a V + O(|e|^3).  The weights W (one per mode, the slowest mode's fixed to 1) are chosen
-to maximise the certified size (a few Nelder-Mead steps on a small set of rays): the nonlinear terms
-feed some modes more than others, and giving those less weight lets the region grow.
+the linearisation decays at least at the slowest mode's rate a: d(e'Pe)/dt = -2 sum_k a_k w_k |m_k|^2
++ O(|e|^3).  The weights (the slowest mode's fixed to 1) are chosen to enlarge the region (a grid of
+starts and a few Nelder-Mead steps on a small set of rays): the nonlinear terms mix some modes more
+than others.  The cubic form T removes the O(|e|^3) terms of dV/dt (`cubic_correction`: the
+homological equation of normal-form theory, solvable because every Re lam < 0), leaving O(|e|^4)
+against the -2 a V of the damping: on a lightly damped rotor that is what lets the region grow by an
+order of magnitude.
 
 What is proven and what is sampled: near e = 0 the condition holds exactly (the linearisation's
--2 a V dominates the O(|e|^3) remainder).  Further out it is CHECKED, not proven: along `rays` random
-directions from the centre (uniform on the unit sphere of P), at radii on a geometric grid from 1e-4
-to the first failure (refined by bisection), dV/dt <= -2 a keep V is required (keep = 0.2: a margin of
-80 % of the decay is left for the points between samples); the worst directions are then searched
-locally (random perturbations) for a smaller failure radius.  The region is the smallest failure
-radius found, times `shrink` (0.8), squared.  The angles' half-widths are kept below pi/2, so the
-region lies inside one period of the balls' angles.  This is sampling (no interval arithmetic); the
+-2 a V dominates).  Further out it is CHECKED, not proven: along `rays` random directions from the
+centre (uniform on the unit sphere of P), at radii on a geometric grid from 1e-3 to the first
+failure (refined by bisection), V > 0 and dV/dt <= -2 a keep V are required (keep = 0.2: a margin of
+80 % of the decay is left for the points between samples); the 16 worst directions are then searched
+locally (random perturbations) for a smaller failure radius.  rho is the smallest failure radius
+found times `shrink` (0.8); c is 0.9 times the least V found on the sphere (4 x `rays` random
+points, the 16 lowest searched locally the same way).  The angles' half-widths in B are kept below
+pi/2, so the region lies inside one period of the balls' angles.  This is sampling (no interval arithmetic); the
 sweep tests and the benchmark check the labels it gives against full integrations.
 """
 
