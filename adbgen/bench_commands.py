@@ -44,10 +44,13 @@ def cmd_bench(args) -> int:
     if args.what == "sweep":
         from . import bench_sweep
 
-        result = bench_sweep.bench_sweep(progress=lambda line: print(line, flush=True))
+        if args.repeats is not None and args.repeats < 1:
+            raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
+        result = bench_sweep.bench_sweep(progress=lambda line: print(line, flush=True), repeats=args.repeats or 2,
+                                         only=args.only)
         path = bench.write(result, out)
-        print(f"wrote {path} (shortcuts {result['runs']['shortcuts']['wall_s']} s, full "
-              f"{result['runs']['full']['wall_s']} s, labels identical: {result['labels_identical']})")
+        runs = ", ".join(f"{k} {v['wall_s']} s wall / {v['cpu_s']} CPU-s" for k, v in result["runs"].items())
+        print(f"wrote {path} ({runs}; labels identical: {result.get('labels_identical', 'not compared')})")
         return 0
     if args.what == "codegen":
         from . import bench_codegen
@@ -136,7 +139,10 @@ def register(sub) -> None:
                    "its chart next to it, <out>.png)")
     b.add_argument("--n", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32], action=_NGiven,
                    help="derive/codegen: ball counts; precision: the per-call part's (default 2 4 8 16 32)")
-    b.add_argument("--repeats", type=int, default=None, help="simulate: best of N (default 7)")
+    b.add_argument("--repeats", type=int, default=None, help="simulate: best of N (default 7); sweep: each "
+                   "configuration N times, alternating (default 2)")
+    b.add_argument("--only", choices=("shortcuts", "full"), default=None,
+                   help="sweep: run only this configuration (no label comparison)")
     b.add_argument("--engines", nargs="+", default=None, help="simulate, precision: only these engines (default: all)")
     b.add_argument("--no-peers", action="store_true", help="simulate, precision: skip JiTCODE and heyoka")
     b.add_argument("--problems", nargs="+", default=None, help="precision: problems (default A B C)")

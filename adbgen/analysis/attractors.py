@@ -4,7 +4,9 @@
     spectrum(model, y, p)           eigenvalues; for the balanced family of n >= 3 balls the n - 2 exact
                                     zeros along the family removed (reported as neutral)
     stop_region(model, y, p)        a region around a stable steady state every trajectory entering it
-                                    provably converges to it (Lyapunov; early stop of sweeps)
+                                    provably converges to it (Lyapunov; early stop of sweeps): by the
+                                    nonlinear decrease condition (`basin_regions`, the default) or by
+                                    contraction (method="contraction", smaller)
     Classifier(model, p).label(...) balanced 1, coincident 2+-, in-line 3(n-m)+-, limit cycle, unsettled
 
 Newton and the transverse spectrum are those of `steady` (the stability layer); this module adds
@@ -19,6 +21,7 @@ models; for other models the names carry no sign.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -141,18 +144,33 @@ def name_steady_state(model: Model, y, p, tol: float = 1e-6) -> str:
 
 @dataclass
 class StopRegion:
-    """A stable steady state with an ellipsoid E = {e : e'Pe <= c} (e = y - centre, angles wrapped) on
-    which V = e'Pe decreases along every trajectory, so a trajectory inside E stays inside and converges
-    to the centre (see `stop_region`)."""
+    """A stable steady state with a region E = {e : e'Pe <= rho2, V(e) <= c} (e = y - centre, angles
+    wrapped; V = e'Pe, plus the cubic form T(e, e, e) when T is given) on which V decreases along every
+    trajectory, so a trajectory inside E stays inside and converges to the centre (see `stop_region`)."""
 
     label: str
     centre: np.ndarray
     P: np.ndarray
     c: float
+    T: np.ndarray | None = None
+    rho2: float = math.inf
+
+    def value(self, model: Model, y) -> tuple[np.ndarray, np.ndarray]:
+        """(e'Pe, V) at the rows of y."""
+        e = state_difference(model, np.atleast_2d(y), self.centre)
+        q = np.einsum("ki,ij,kj->k", e, self.P, e)
+        return q, q if self.T is None else q + np.einsum("ijk,ni,nj,nk->n", self.T, e, e, e, optimize=True)
 
     def contains(self, model: Model, y) -> np.ndarray:
-        e = state_difference(model, np.atleast_2d(y), self.centre)
-        return np.einsum("ki,ij,kj->k", e, self.P, e) <= self.c
+        q, v = self.value(model, y)
+        return (q <= self.rho2) & (v <= self.c)
+
+    def target(self) -> tuple:
+        """The compiled engines' target region (centre, W, K, level): e'We <= 1 and e'We + K(e) <= level."""
+        if self.T is None:
+            return self.centre, self.P / self.c
+        s = self.rho2
+        return self.centre, self.P / s, self.T / s, self.c / s
 
 
 def _modal_metric(J: np.ndarray) -> np.ndarray | None:
@@ -169,9 +187,16 @@ def _modal_metric(J: np.ndarray) -> np.ndarray | None:
     return P if np.min(np.linalg.eigvalsh(P)) > 0 else None
 
 
-def stop_region(model: Model, y, p, *, samples: int = 256, seed: int = 0,
+REGION_METHODS = ("lyapunov", "contraction")
+
+
+def stop_region(model: Model, y, p, *, method: str = "lyapunov", samples: int = 256, seed: int = 0,
                 keep: float = 0.2) -> StopRegion | None:
     """A provable basin region of the steady state y if it is stable and hyperbolic, else None.
+
+    method "lyapunov" (default): `basin_regions.lyapunov_region`, V = e'Pe with dV/dt < 0 checked on
+    the flow itself (the nonlinear decrease condition).  method "contraction", described here: the
+    symmetric part of P J(z) negative at every point z of the region, a much stronger condition.
 
     With the modal metric P (`_modal_metric`) and L its Cholesky factor, the decay rate of V = e'Pe at
     a point z is bounded by the largest eigenvalue of L^-1 (P J(z) + J(z)'P) L^-T; at the centre it is
@@ -186,9 +211,16 @@ def stop_region(model: Model, y, p, *, samples: int = 256, seed: int = 0,
     How large E_c can be is physics: the Jacobian may change by about the slowest decay rate a across
     it, so its size is about a / |d J / d y|.  At (5.1) (a = 0.005) the balls' angles must be within
     about 2e-3 rad of balance, which trajectories reach late (t ~ 1100-1600 of 2000; benchmarks/sweep.json)."""
+    if method not in REGION_METHODS:
+        raise AnalysisError(f"unknown stop-region method {method!r}; methods: {', '.join(REGION_METHODS)}")
     m = model.module
     y = np.asarray(y, float)
     p = np.asarray(p, float)
+    if method == "lyapunov":
+        from .basin_regions import lyapunov_region
+
+        found = lyapunov_region(model, y, p, seed=seed)
+        return None if found is None else StopRegion("", y.copy(), found.P, found.c, found.T, found.rho2)
     J = m.jac(0.0, y, p)
     if not np.all(np.isfinite(J)) or steady.family_tangent(model, y, p, J).shape[1]:
         return None
@@ -242,6 +274,28 @@ def seeds(model: Model, p) -> list[np.ndarray]:
     return out
 
 
+def ball_states(model: Model) -> list[list[int]]:
+    """Each ball's state indices (its angle, and its rate when the model has one), in ball order."""
+    out = []
+    for k in model.angle_indices:
+        name = model.state_names[k]
+        out.append([k] + ([model.index(name + "_dot")] if name + "_dot" in model.state_names else []))
+    return out
+
+
+def equivariant(model: Model, p, perm) -> bool:
+    """rhs(s y) = s rhs(y) at random states (the balls that s exchanges are identical)."""
+    rng = np.random.default_rng(1)
+    for _ in range(4):
+        y = rng.uniform(-1, 1, model.n_states) * 0.1
+        y[list(model.angle_indices)] = rng.uniform(-math.pi, math.pi, len(model.angle_indices))
+        f = model.module.rhs(0.0, y, p)
+        g = model.module.rhs(0.0, y[perm], p)
+        if not np.allclose(g, f[perm], rtol=1e-12, atol=1e-14 * max(1.0, np.max(np.abs(f)))):
+            return False
+    return True
+
+
 @dataclass
 class Classifier:
     """Labels final states for one parameter vector: stop regions of its stable steady states, then
@@ -251,6 +305,7 @@ class Classifier:
     p: np.ndarray
     regions: list = field(default_factory=list)
     window: float = 200.0
+    method: str = "lyapunov"  # of the stop regions (`stop_region`)
 
     def __post_init__(self):
         self.codes = {name: k for k, name in enumerate(labels(self.model))}
@@ -260,10 +315,32 @@ class Classifier:
             if y is None or any(np.max(np.abs(state_difference(self.model, y, f))) < 1e-7 for f in found):
                 continue
             found.append(y)
-            region = stop_region(self.model, y, self.p)
+            region = self._mirrored(y)
+            if region is None:
+                region = stop_region(self.model, y, self.p, method=self.method)
             if region is not None:
                 region.label = name_steady_state(self.model, y, self.p)
                 self.regions.append(region)
+
+    def _mirrored(self, y) -> StopRegion | None:
+        """An earlier region carried over by a permutation of the balls that maps its centre onto y, when
+        the model is equivariant under it (identical balls): the regions of ball-swapped states are then
+        exact images of each other, so a point and its swapped image are inside together (the sweeps'
+        symmetry shortcut relies on it)."""
+        import itertools
+
+        balls = ball_states(self.model)
+        for region in self.regions:
+            for perm in itertools.islice(itertools.permutations(range(len(balls))), 1, 120):
+                s = list(range(self.model.n_states))
+                for k, j in enumerate(perm):
+                    for a, b in zip(balls[k], balls[j]):
+                        s[a] = b
+                if np.max(np.abs(state_difference(self.model, region.centre[s], y))) < 1e-7 and \
+                        equivariant(self.model, self.p, s):
+                    T = None if region.T is None else region.T[np.ix_(s, s, s)]
+                    return StopRegion("", y.copy(), region.P[np.ix_(s, s)], region.c, T, region.rho2)
+        return None
 
     def inside(self, Y) -> np.ndarray:
         """Index of the stop region each row of Y is in, -1 if none."""
@@ -314,10 +391,15 @@ class Classifier:
 
 
 @lru_cache(maxsize=64)
-def _classifier_cached(model: Model, p: tuple) -> Classifier:
-    return Classifier(model, np.array(p))
+def _classifier_cached(model: Model, p: tuple, method: str) -> Classifier:
+    return Classifier(model, np.array(p), method=method)
 
 
-def classifier(model: Model, p) -> Classifier:
-    """The Classifier for parameters p (cached: the regions are computed once per parameter vector)."""
-    return _classifier_cached(model, tuple(float(v) for v in p))
+_classifier_lock = threading.Lock()
+
+
+def classifier(model: Model, p, method: str = "lyapunov") -> Classifier:
+    """The Classifier for parameters p (cached: the regions are computed once per parameter vector and
+    method; a lock keeps a sweep's worker threads from computing the same one side by side)."""
+    with _classifier_lock:
+        return _classifier_cached(model, tuple(float(v) for v in p), method)

@@ -62,12 +62,15 @@ def simulate(model: Model, params=None, y0=None, *, t_end: float = 1000.0, rtol:
 
 def simulate_many(model: Model, P, Y0, *, t_end: float = 1000.0, rtol: float = 1e-8, atol: float = 1e-10,
                   engine: str | None = None, threshold: float = 1e-3, threads: int | None = None,
-                  max_steps: int = MAX_STEPS, check_dt: float = 0.0, targets=()) -> Ensemble:
+                  max_steps: int = MAX_STEPS, check_dt: float = 0.0, targets=(), measures: bool = True) -> Ensemble:
     """Trajectory k from row k of Y0 (N x states) with row k of P (N x parameters, or one row for all).
 
     Runs on `threads` cores inside the compiled library (no Python per trajectory).  Early stop
-    (sweeps): every `check_dt` a trajectory inside a target region (centre, weights) stops there with
-    status "stopped" and `target` its index.  Failures are reported per trajectory in `status`."""
+    (sweeps): every `check_dt` a trajectory inside a target region (centre, W: e'We <= 1, or centre,
+    weights w: W = diag(w^2)) stops there with status "stopped" and `target` its index; the compiled
+    engines run in segments of `check_dt` with or without targets.  `measures=False`: r_max and t_dec
+    are not computed (NaN), which spares the CyRK engines their refinement and the stored steps.
+    Failures are reported per trajectory in `status`."""
     _settings(t_end, rtol, atol, threshold, max_steps)
     eng = get_engine(engine)
     Y0 = np.atleast_2d(np.asarray(Y0, float))
@@ -81,7 +84,7 @@ def simulate_many(model: Model, P, Y0, *, t_end: float = 1000.0, rtol: float = 1
     if len(P) != len(Y0):
         raise AnalysisError(f"{len(Y0)} initial states but {len(P)} parameter rows")
     out = eng.run_many(model, P, Y0, float(t_end), float(rtol), float(atol), float(threshold), int(max_steps),
-                       threads=threads, check_dt=float(check_dt), targets=tuple(targets))
+                       threads=threads, check_dt=float(check_dt), targets=tuple(targets), measures=bool(measures))
     return Ensemble(engine=eng.name, status=out["status"], r_max=np.asarray(out["r_max"], float),
                     t_dec=np.asarray(out["t_dec"], float), y_end=np.asarray(out["y_end"], float),
                     t_last=np.asarray(out["t_last"], float), target=np.asarray(out["target"]),

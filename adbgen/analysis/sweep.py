@@ -5,8 +5,8 @@
     run_sweep(spec, "out/basins")        -> {"points", "computed", "reused", "wall_s", "store"}
 
 Work is cut into blocks of the grid (the store's chunks).  A block is one Dask task that runs all its
-trajectories together on the compiled ensemble path (`simulate_many`, no Python per trajectory: one call,
-or for `attractor` one call per segment of `check_dt`);
+trajectories together on the compiled ensemble path (`simulate_many`, one call, no Python per
+trajectory or per segment);
 the client writes each block's results into the Zarr store as it arrives, data first and its `done`
 flags last, so a killed run (SIGKILL included) loses only the blocks in flight and the next run with
 the same settings computes only the blocks not done.  Zarr's local store writes every chunk file
@@ -16,13 +16,15 @@ renamed into place, so no state of the folder is half written.
 Shortcuts (each switchable; tests show they give the labels of the full integration):
 
 * early stop (measure `attractor`): every `check_dt` the trajectories inside the provable basin region
-  of a stable steady state (`attractors.stop_region`) stop there with its label.  The reference run
-  without the shortcut integrates in the same segments, so both see bit-identical trajectories until
-  the stop.
+  of a stable steady state (`attractors.stop_region`: by default `basin_regions`, a cubic Lyapunov
+  function with the nonlinear decrease condition) stop there with its label, checked inside the
+  compiled driver.  The reference run without the shortcut integrates in the same segments, so both
+  see bit-identical trajectories until the stop.
 * exchange symmetry: if two grid axes are the angles of two balls the model treats identically (checked
   numerically: rhs(s y) = s rhs(y) for the swap s) over the same values, and their other states are
   equal, a point and its ball-swapped image share an answer (the final state swapped).  A block and
-  its mirror image are one task; only one point of each pair is integrated.
+  its mirror image are one task; only one point of each pair is integrated, except for `attractor`
+  labels that are not certain (no basin region reached), whose mirror is integrated too.
 """
 
 from __future__ import annotations
@@ -65,7 +67,8 @@ class SweepSpec:
     engine: str = "cyrk-dop853"
     early_stop: bool = True
     symmetry: bool = True
-    check_dt: float = 200.0
+    check_dt: float = 10.0
+    stop_region: str = "lyapunov"  # attractors.REGION_METHODS
     chunk: int | None = None  # points per block (about); None: enough blocks to keep every worker busy
 
     def to_dict(self) -> dict:
@@ -87,6 +90,10 @@ def prepare(spec: SweepSpec) -> tuple[Model, Grid]:
         value = getattr(spec, name)
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise AnalysisError(f"{name} must be a finite number > 0, got {value!r}")
+    from .attractors import REGION_METHODS
+
+    if spec.stop_region not in REGION_METHODS:
+        raise AnalysisError(f"unknown stop region {spec.stop_region!r}; choose: {', '.join(REGION_METHODS)}")
     if spec.chunk is not None and not (isinstance(spec.chunk, int) and spec.chunk >= 1):
         raise AnalysisError(f"chunk must be a whole number >= 1, got {spec.chunk!r}")
     model = _model(spec.model)
@@ -168,7 +175,8 @@ def find_swap(model: Model, grid: Grid) -> Swap | None:
 
 def _equivariant(model: Model, grid: Grid, perm: list[int]) -> bool:
     """rhs(s y) = s rhs(y) at random states, at the base parameters and each parameter axis' ends."""
-    rng = np.random.default_rng(1)
+    from .attractors import equivariant
+
     params = [grid.base_params]
     for axis in grid.axes:
         if axis.kind == "parameter":
@@ -176,15 +184,7 @@ def _equivariant(model: Model, grid: Grid, perm: list[int]) -> bool:
                 p = grid.base_params.copy()
                 p[model.param_names.index(axis.name)] = v
                 params.append(p)
-    for p in params:
-        for _ in range(4):
-            y = rng.uniform(-1, 1, model.n_states) * 0.1
-            y[list(model.angle_indices)] = rng.uniform(-math.pi, math.pi, len(model.angle_indices))
-            f = model.module.rhs(0.0, y, p)
-            g = model.module.rhs(0.0, y[perm], p)
-            if not np.allclose(g, f[perm], rtol=1e-12, atol=1e-14 * max(1.0, np.max(np.abs(f)))):
-                return False
-    return True
+    return all(equivariant(model, p, perm) for p in params)
 
 
 # ---------------------------------------------------------------------------------------- blocks
@@ -267,7 +267,12 @@ def compute_points(spec: SweepSpec, flat: np.ndarray, threads: int = 1) -> dict:
     """Results at the grid points `flat` (C-order indices): {"value", "y_end", "t_last", ...}.
 
     With the symmetry shortcut only one point of each ball-swapped pair is computed; its partner gets
-    the same value and the swapped final state."""
+    the same value and the swapped final state.  For `attractor` only where the label is certain: the
+    trajectory stopped in (or ended inside) a provable basin region.  Elsewhere (limit cycles,
+    unsettled, states reached without a region) the partner is integrated too: the integration is
+    equivariant only up to rounding (the step-size control sums its error norm in state order, the
+    rhs its ball terms in ball order), and near a basin boundary rounding can decide the label, so the
+    full integration's own map need not be symmetric there (benchmarks/sweep.json)."""
     model, grid = prepare(spec)
     flat = np.asarray(flat, dtype=np.int64)
     swap = find_swap(model, grid) if spec.symmetry and spec.measure != "stability" else None
@@ -278,12 +283,25 @@ def compute_points(spec: SweepSpec, flat: np.ndarray, threads: int = 1) -> dict:
         canonical = flat
     unique, inverse = np.unique(canonical, return_inverse=True)
     out = _compute(spec, model, grid, unique, threads)
-    res = {k: v[inverse] for k, v in out.items() if k not in ("integrated", "n_rhs")}
+    integrated, n_rhs, cpu = out.pop("integrated"), out.pop("n_rhs"), out.pop("cpu_s", {})
+    res = {k: v[inverse] for k, v in out.items()}
     if swap is not None:
         mirrored = flat != canonical
         res["y_end"][mirrored] = res["y_end"][mirrored][:, list(swap.perm)]
-    res["integrated"] = out["integrated"]
-    res["n_rhs"] = out["n_rhs"]
+        if "certain" in res:
+            again = mirrored & ~res["certain"].astype(bool)
+            if again.any():
+                more = _compute(spec, model, grid, flat[again], threads)
+                integrated += more.pop("integrated")
+                n_rhs += more.pop("n_rhs")
+                for k, v in more.pop("cpu_s", {}).items():
+                    cpu[k] = cpu.get(k, 0.0) + v
+                for k, v in more.items():
+                    res[k][again] = v
+    res.pop("certain", None)
+    res["integrated"] = integrated
+    res["n_rhs"] = n_rhs
+    res["cpu_s"] = cpu
     return res
 
 
@@ -335,53 +353,45 @@ def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, th
     value = np.full(n, -1, dtype=np.int8)
     y_end = np.array(Y0, float)
     t_last = np.zeros(n)
+    certain = np.zeros(n, dtype=np.uint8)  # the label comes from a provable basin region
     keys, groups = np.unique(P, axis=0, return_inverse=True)
     n_rhs = 0
+    cpu = {"regions": 0.0, "integrate": 0.0, "classify": 0.0}  # this thread's CPU time by phase
     for g, p in enumerate(keys):
         rows = np.flatnonzero(groups.ravel() == g)
-        clf = classifier(model, p)
+        c0 = time.thread_time()
+        clf = classifier(model, p, spec.stop_region)
+        c1 = time.thread_time()
         status, stop, evals = _segmented(spec, model, clf, p, Y0[rows], y_end, t_last, rows, threads)
+        c2 = time.thread_time()
         n_rhs += evals
+        inside = clf.inside(y_end[rows])
         for k, row in enumerate(rows):
             name = clf.label(status[k], y_end[row], stop[k], engine=spec.engine, rtol=spec.rtol, atol=spec.atol)
             value[row] = clf.code(name)
-    return {"value": value, "y_end": y_end, "t_last": t_last, "integrated": n, "n_rhs": n_rhs}
+            certain[row] = status[k] == "stopped" or (status[k] == "success" and inside[k] >= 0)
+        c3 = time.thread_time()
+        cpu["regions"] += c1 - c0
+        cpu["integrate"] += c2 - c1
+        cpu["classify"] += c3 - c2
+    return {"value": value, "y_end": y_end, "t_last": t_last, "certain": certain, "integrated": n, "n_rhs": n_rhs,
+            "cpu_s": cpu}
 
 
 def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
-    """Integrate in segments of check_dt (autonomous model: each segment restarts at t = 0); with the
-    early stop, a trajectory inside a stop region after a segment stops there."""
+    """Integrate in segments of check_dt inside the compiled library (one call for all trajectories:
+    each segment a fresh solve from the previous end with the last step size); with the early stop, a
+    trajectory inside a stop region at a segment's end stops there.  Without it the same segments are
+    run, so both see bit-identical trajectories until the stop."""
     from .simulate import simulate_many
 
-    n = len(Y0)
-    status = np.array(["success"] * n, dtype=object)
-    stop = np.full(n, -1)
-    Y = np.array(Y0, float)
-    t = 0.0
-    active = np.arange(n)
-    evals = 0
-    regions = bool(spec.early_stop and clf.regions)
-    while active.size and t < spec.t_end:
-        dt = min(spec.check_dt, spec.t_end - t)
-        ens = simulate_many(model, p[None], Y[active], t_end=dt, rtol=spec.rtol, atol=spec.atol, engine=spec.engine,
-                            threshold=spec.threshold, threads=threads)
-        Y[active] = ens.y_end
-        evals += int(ens.n_rhs.sum())
-        t_reached = t + ens.t_last
-        t_last[rows[active]] = t_reached
-        bad = np.array([s != "success" for s in ens.status])
-        status[active[bad]] = ens.status[bad]
-        keep = ~bad
-        t += dt
-        if regions and t < spec.t_end:
-            inside = clf.inside(Y[active])
-            hit = keep & (inside >= 0)
-            status[active[hit]] = "stopped"
-            stop[active[hit]] = inside[hit]
-            keep &= inside < 0
-        active = active[keep]
-    y_end[rows] = Y
-    return status, stop, evals
+    targets = [r.target() for r in clf.regions] if spec.early_stop else []
+    ens = simulate_many(model, p[None], Y0, t_end=spec.t_end, rtol=spec.rtol, atol=spec.atol, engine=spec.engine,
+                        threshold=spec.threshold, threads=threads, check_dt=spec.check_dt, targets=targets,
+                        measures=False)
+    y_end[rows] = ens.y_end
+    t_last[rows] = ens.t_last
+    return ens.status, np.asarray(ens.target), int(ens.n_rhs.sum())
 
 
 # ----------------------------------------------------------------------------------------- storage
@@ -554,24 +564,34 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
     computed = sum(int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
                    for t in pending for b in t)
     integrated = n_rhs = 0
+    timing: dict = {}
     if pending:
+        t0 = time.perf_counter()
         client, cluster = _connect(scheduler, workers)  # before anything is written: a bad address writes nothing
+        timing["cluster_start_s"] = round(time.perf_counter() - t0, 3)
         try:
             if fresh:
                 create_store(path, spec, model, grid, chunks)
                 group = open_store(path, spec, model)
-            integrated, n_rhs = _run_tasks(client, spec, model, grid, group, chunks, pending, progress)
+            t0 = time.perf_counter()
+            integrated, n_rhs, more = _run_tasks(client, spec, model, grid, group, chunks, pending, progress)
+            timing["tasks_wall_s"] = round(time.perf_counter() - t0, 3)
+            timing.update(more)
         finally:
+            t0 = time.perf_counter()
             client.close()
             if cluster is not None:
                 cluster.close()
+            timing["cluster_close_s"] = round(time.perf_counter() - t0, 3)
     summary = {"points": grid.size, "computed": computed, "reused": grid.size - computed,
                "wall_s": None, "store": str(path), "integrated": integrated, "rhs_evaluations": n_rhs,
-               "figures": []}
+               "figures": [], "timing": timing}
     if figures:
         from .sweep_figures import write_figures
 
+        t0 = time.perf_counter()
         summary["figures"] = [str(p) for p in write_figures(path)]
+        timing["figures_s"] = round(time.perf_counter() - t0, 3)
     summary["wall_s"] = time.perf_counter() - start
     return summary
 
@@ -598,6 +618,10 @@ def _run_tasks(client, spec, model, grid, group, chunks, pending, progress) -> t
     from tqdm import tqdm
 
     integrated = n_rhs = 0
+    cpu: dict[str, float] = {}
+    write_s = 0.0
+    # the store's arrays opened once (each group[name] reads the array's metadata from disk again)
+    arrays = {name: group[name] for name, *_ in _variables(spec, model)}
     spec_dict = spec.to_dict()
     futures = {}
     for task in pending:
@@ -610,12 +634,16 @@ def _run_tasks(client, spec, model, grid, group, chunks, pending, progress) -> t
         res = fut.result()
         integrated += int(res["integrated"])
         n_rhs += int(res["n_rhs"])
+        for k, v in res.get("cpu_s", {}).items():
+            cpu[k] = cpu.get(k, 0.0) + v
         task = futures.pop(fut)
         offset = 0
+        w0 = time.perf_counter()
         for b in task:
             size = int(np.prod([s.stop - s.start for s in block_slices(b, chunks, grid.shape)]))
-            write_block(group, spec, model, grid, b, chunks, res, slice(offset, offset + size))
+            write_block(arrays, spec, model, grid, b, chunks, res, slice(offset, offset + size))
             offset += size
+        write_s += time.perf_counter() - w0
         bar.update(1)
     bar.close()
-    return integrated, n_rhs
+    return integrated, n_rhs, {"tasks_cpu_s": {k: round(v, 3) for k, v in cpu.items()}, "store_writes_s": round(write_s, 3)}

@@ -57,8 +57,11 @@ def _add_sweep(p) -> None:
                    help="integrate every trajectory to t_end (attractor: no stop in a provable basin region)")
     p.add_argument("--no-symmetry", dest="symmetry", action="store_false",
                    help="integrate both of each pair of ball-swapped grid points")
-    p.add_argument("--check-dt", type=_finite_positive, default=200.0,
-                   help="attractor: integration segment between early-stop checks (default 200)")
+    p.add_argument("--check-dt", type=_finite_positive, default=10.0,
+                   help="attractor: integration segment between early-stop checks (default 10)")
+    p.add_argument("--stop-region", choices=("lyapunov", "contraction"), default="lyapunov",
+                   help="attractor: provable basin regions for the early stop, by the nonlinear Lyapunov "
+                        "decrease condition (default, larger) or by contraction (smaller)")
     p.add_argument("--chunk", type=_positive_int, default=None,
                    help="grid points per task and store chunk (about; default: 16-256, 8 tasks per core)")
     p.add_argument("--no-figures", dest="figures", action="store_false", help="do not draw the figures")
@@ -77,7 +80,8 @@ def run_sweep_command(args: argparse.Namespace) -> int:
     spec = SweepSpec(model=model, grid=list(args.grid), measure=args.measure, set=list(args.set),
                      y0=list(args.y0), tie=list(args.tie), t_end=args.t_end, rtol=args.rtol, atol=args.atol,
                      threshold=args.threshold, engine=args.engine, early_stop=args.early_stop,
-                     symmetry=args.symmetry, check_dt=args.check_dt, chunk=args.chunk)
+                     symmetry=args.symmetry, check_dt=args.check_dt, stop_region=args.stop_region,
+                     chunk=args.chunk)
     summary = run_sweep(spec, args.out, scheduler=args.scheduler, workers=args.workers, progress=not args.json,
                         figures=args.figures)
     if args.json:

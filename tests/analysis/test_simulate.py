@@ -140,6 +140,26 @@ def test_early_stop_in_a_target_region(thesis):
     assert out.target[1] == -1 and out.t_last[1] == 500.0
 
 
+def test_segments_and_ellipsoid_targets(thesis):
+    """check_dt segments the run with or without targets (bit-identical trajectories until a stop); an
+    ellipsoid target e'We <= 1 stops; measures=False gives the same states with r_max and t_dec NaN."""
+    m = thesis[2]
+    start = np.array(m.module.START)
+    Y0 = np.array([start + 1e-4, m.state({"phi_1": 3.0, "phi_2": 3.0})])
+    plain = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0)
+    lean = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0, measures=False)
+    assert np.array_equal(plain.y_end, lean.y_end) and np.array_equal(plain.n_rhs, lean.n_rhs)
+    assert np.all(np.isnan(lean.r_max)) and np.all(np.isnan(lean.t_dec)) and not np.any(np.isnan(plain.r_max))
+    whole = simulate_many(m, m.params(), Y0, t_end=300.0)
+    assert not np.array_equal(whole.y_end, plain.y_end)  # the segments are real restarts
+    W = np.eye(m.n_states) * 1e4  # |y - start| <= 1e-2 (Euclidean)
+    stop = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0, targets=[(start, W)], measures=False)
+    assert list(stop.status) == ["stopped", "success"] and stop.t_last[0] == pytest.approx(10.0)
+    assert np.array_equal(stop.y_end[1], lean.y_end[1])
+    with pytest.raises(AnalysisError, match="target region"):
+        simulate_many(m, m.params(), Y0, t_end=10.0, check_dt=5.0, targets=[(start, np.eye(3))])
+
+
 def test_failures_name_the_time(thesis):
     m = thesis[2]
     y0 = {"phi_1": 1.0}

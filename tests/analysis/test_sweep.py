@@ -80,11 +80,12 @@ def test_r_max_sweep_equals_points_one_by_one(tmp_path):
             np.testing.assert_allclose(ds.y_end.values[i, j], sim.y_end, rtol=1e-12, atol=1e-14)
 
 
-@pytest.mark.parametrize("early_stop, symmetry", [(True, False), (False, True), (True, True)])
-def test_shortcuts_give_the_full_integrations_labels(tmp_path, early_stop, symmetry):
+@pytest.mark.parametrize("early_stop, symmetry, region", [(True, False, "lyapunov"), (False, True, "lyapunov"),
+                                                            (True, True, "lyapunov"), (True, False, "contraction")])
+def test_shortcuts_give_the_full_integrations_labels(tmp_path, early_stop, symmetry, region):
     def labels(out, **kw):
         spec = SweepSpec(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=400.0,
-                         chunk=16, **kw)
+                         chunk=16, stop_region=region, **kw)
         s = run_sweep(spec, out, progress=False, figures=False)
         return _open(out), s
 
@@ -104,6 +105,51 @@ def test_shortcuts_give_the_full_integrations_labels(tmp_path, early_stop, symme
         np.testing.assert_allclose(fast.y_end.values, full.y_end.values, rtol=1e-6, atol=1e-8)
 
 
+def test_an_oversized_stop_region_is_caught_by_the_label_comparison(tmp_path, monkeypatch):
+    """Negative control: the comparison above fails when a stop region is not a basin region (here the
+    Lyapunov region blown up 100 times across, so it swallows the diagonal's coincident runs)."""
+    real = attractors.stop_region
+
+    def oversized(*args, **kw):
+        r = real(*args, **kw)
+        if r is not None:
+            r.c *= 1e4
+            r.rho2 *= 1e4
+        return r
+
+    spec = dict(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=400.0, chunk=16,
+                symmetry=False)
+    run_sweep(SweepSpec(**spec, early_stop=False), tmp_path / "full", progress=False, figures=False)
+    attractors._classifier_cached.cache_clear()
+    monkeypatch.setattr(attractors, "stop_region", oversized)
+    try:
+        run_sweep(SweepSpec(**spec), tmp_path / "fast", progress=False, figures=False)
+    finally:
+        attractors._classifier_cached.cache_clear()
+    full, fast = _open(tmp_path / "full"), _open(tmp_path / "fast")
+    assert np.sum(fast.attractor.values != full.attractor.values) > 0
+
+
+def test_symmetry_integrates_the_mirror_where_the_label_is_not_certain(tmp_path):
+    """At t_end = 5 few trajectories have reached a basin region: the other labels are not certain, so
+    both points of those pairs are integrated (near a basin boundary the full integration's own map need not be
+    symmetric: its equivariance holds to rounding only) and the labels are the full run's."""
+    spec = dict(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=5.0, chunk=16)
+    s_full = run_sweep(SweepSpec(**spec, early_stop=False, symmetry=False), tmp_path / "full", progress=False,
+                       figures=False)
+    s_sym = run_sweep(SweepSpec(**spec, early_stop=True, symmetry=True), tmp_path / "sym", progress=False,
+                      figures=False)
+    full = _open(tmp_path / "full")
+    model, grid = prepare(SweepSpec(**spec))
+    clf = attractors.classifier(model, grid.base_params)
+    inside = clf.inside(full.y_end.values.reshape(-1, model.n_states)).reshape(8, 8) >= 0
+    certain_pairs = int(np.sum(np.triu(inside, 1)))  # canonical = the smaller flat index: i < j
+    assert certain_pairs < 10  # few have reached a region by t = 5 ...
+    # ... so nearly every pair is integrated twice (the 8 diagonal points once)
+    assert s_sym["integrated"] == s_full["integrated"] - certain_pairs == 64 - certain_pairs
+    np.testing.assert_array_equal(_open(tmp_path / "sym").attractor.values, full.attractor.values)
+
+
 def test_stop_region_is_forward_invariant_and_labels_balanced():
     model = load_model("thesis_rotating_n2")
     p = model.params()
@@ -112,10 +158,18 @@ def test_stop_region_is_forward_invariant_and_labels_balanced():
     # a point on the region's boundary converges: V decreases along its trajectory
     rng = np.random.default_rng(5)
     e = rng.standard_normal(model.n_states)
-    e *= math.sqrt(region.c / (e @ region.P @ e)) * 0.999
-    sim = simulate(model, p, region.centre + e, t_end=200.0)
-    V = [attractors.state_difference(model, y, region.centre) for y in sim.y.T]
-    V = np.array([v @ region.P @ v for v in V])
+    for _ in range(60):  # scale e onto the boundary V = c (bisection on the scale)
+        scale = math.sqrt(region.c / (e @ region.P @ e))
+        if region.value(model, region.centre + e * scale)[1][0] <= region.c:
+            break
+        e *= 0.9
+    lo, hi = 0.0, scale * 1.5
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        q, v = region.value(model, region.centre + mid * e)
+        lo, hi = (mid, hi) if (q[0] <= region.rho2 and v[0] <= region.c) else (lo, mid)
+    sim = simulate(model, p, region.centre + 0.999 * lo * e, t_end=200.0)
+    _, V = region.value(model, sim.y.T)
     assert V.max() <= region.c * 1.0000001 and V[-1] < 0.5 * V[0]
     # the unstable coincident state 2- (one unstable eigenvalue at (5.1)) gets no region
     assert {r.label for r in clf.regions} == {"balanced 1"}

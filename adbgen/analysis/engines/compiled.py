@@ -106,23 +106,36 @@ class _Compiled:
 
     @staticmethod
     def _targets(model, targets):
-        """(n, centres, weights, periodic) of early-stop regions (see driver_common.h)."""
+        """(n, centres, matrices, cubics, levels, periodic) of early-stop regions (see driver_common.h): a
+        target is (centre, W) or (centre, W, K, level): e'We <= 1 (and e'We + K(e, e, e) <= level), W a
+        matrix or a vector of weights w (W = diag(w^2))."""
         if not targets:
-            return 0, None, None, None
-        centres = np.ascontiguousarray([c for c, _ in targets], dtype=float)
-        weights = np.ascontiguousarray([w for _, w in targets], dtype=float)
-        periodic = np.zeros(model.n_states, dtype=np.uint8)
+            return 0, None, None, None, None, None
+        ny = model.n_states
+        centres = np.ascontiguousarray([t[0] for t in targets], dtype=float)
+        weights = np.ascontiguousarray([np.diag(np.square(t[1])) if np.ndim(t[1]) == 1 else t[1] for t in targets],
+                                       dtype=float)
+        if weights.shape[1:] != (ny, ny) or centres.shape[1:] != (ny,) or any(len(t) not in (2, 4) for t in targets):
+            raise AnalysisError(f"a target region needs a centre of {ny} states and a weight vector or {ny} x {ny} "
+                                f"matrix (and optionally a {ny} x {ny} x {ny} cubic form and a level)")
+        cubics = levels = None
+        if any(len(t) == 4 for t in targets):
+            cubics = np.ascontiguousarray([t[2] if len(t) == 4 else np.zeros((ny,) * 3) for t in targets], dtype=float)
+            levels = np.ascontiguousarray([t[3] if len(t) == 4 else 1.0 for t in targets], dtype=float)
+            if cubics.shape[1:] != (ny, ny, ny):
+                raise AnalysisError(f"a target region's cubic form must be {ny} x {ny} x {ny}")
+        periodic = np.zeros(ny, dtype=np.uint8)
         periodic[list(model.angle_indices)] = 1
-        return len(targets), centres, weights, periodic
+        return len(targets), centres, weights, cubics, levels, periodic
 
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
-                 targets=()):
+                 targets=(), measures=True):
         lib = self.library(model)
         n = len(Y0)
         Y0 = np.ascontiguousarray(Y0, dtype=float)
         P = np.ascontiguousarray(P, dtype=float)
         amp = self._common(model, threshold)
-        nt, centres, weights, periodic = self._targets(model, targets)
+        nt, centres, weights, cubics, levels, periodic = self._targets(model, targets)
         status = np.zeros(n, np.int32)
         target = np.full(n, -1, np.int32)
         y_end = np.zeros((n, model.n_states))
@@ -132,8 +145,9 @@ class _Compiled:
         getattr(lib, self.prefix + "_integrate_many")(
             n, _ptr(Y0), _ptr(P), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
             self.method_id, ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
-            ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
-            None if weights is None else _ptr(weights), None if periodic is None else _ptr(periodic, U8),
+            1 if measures else 0, ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
+            None if weights is None else _ptr(weights), None if cubics is None else _ptr(cubics),
+            None if levels is None else _ptr(levels), None if periodic is None else _ptr(periodic, U8),
             int(threads or 0), _ptr(status, I), _ptr(target, I), _ptr(y_end), _ptr(stats), _ptr(counts, L))
         wall = time.perf_counter() - start
         codes = np.array([STATUS[int(c)] for c in status])
@@ -213,7 +227,7 @@ class CyRKEngine(_Compiled):
         code = lib.adb_cyrk_integrate(
             _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id,
             ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold), ctypes.c_double(0.0), 0, None,
-            None, None, 1 if keep_trajectory else 0, ctypes.byref(traj), ctypes.byref(target), _ptr(y_end),
+            None, None, None, None, 1 if keep_trajectory else 0, 1, ctypes.byref(traj), ctypes.byref(target), _ptr(y_end),
             _ptr(stats), _ptr(counts, L))
         wall = time.perf_counter() - start
         try:
@@ -257,7 +271,7 @@ class SundialsEngine(_Compiled):
         code = lib.adb_sundials_integrate(
             _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id,
             ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold), n_s, _ptr(times), _ptr(out),
-            ctypes.c_double(0.0), 0, None, None, None, ctypes.byref(target), _ptr(y_end), _ptr(stats),
+            ctypes.c_double(0.0), 0, None, None, None, None, None, ctypes.byref(target), _ptr(y_end), _ptr(stats),
             _ptr(counts, L), msg)
         wall = time.perf_counter() - start
         reached = int(np.searchsorted(times, stats[2], side="right")) if n_s else 0

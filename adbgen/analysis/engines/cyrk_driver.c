@@ -210,14 +210,19 @@ static void measure(const Settings *s, Args *args, const double *t, const double
 
 /* One trajectory from t = 0 to t_end (see sundials_driver.c for the same contract).
  *
- * Early stop: with check_dt > 0 and targets, the run goes in segments of check_dt (each a fresh solve
- * from the previous end, first step = the last accepted step) and stops in the first target region.
+ * Segments: with check_dt > 0 the run goes in segments of check_dt (each a fresh solve from the previous
+ * end, first step = the last accepted step), with or without targets, so a run with early stop and one
+ * without see bit-identical trajectories until the stop; it stops in the first target region holding
+ * the state at a segment's end (early stop).
  * keep: 1 returns every accepted step in *traj (free with adb_cyrk_release), 0 only counts them.
+ * measures: 0 skips r_max and t_dec (NaN; sweeps' attractor labels need neither), and with keep = 0
+ * only the last state is kept instead of every accepted step.
  * out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [rhs evaluations, steps]. */
 int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, int method,
                        long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
-                       const double *centres, const double *weights, const unsigned char *periodic, int keep,
-                       Trajectory *traj, int *target, double *y_end, double *out_stats, long *out_counts)
+                       const double *centres, const double *weights, const double *cubics, const double *levels,
+                       const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target, double *y_end, double *out_stats,
+                       long *out_counts)
 {
     Settings s = {method, rtol, atol, max_steps > 0 ? (size_t)max_steps : 0};
     long count = 0;
@@ -239,7 +244,7 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
     int status = ADB_SUCCESS;
     long steps = 0;
     double t = 0.0, h = 0.0;
-    int segmented = check_dt > 0.0 && n_targets > 0;
+    int segmented = check_dt > 0.0, store = keep || measures;
     while (t < t_end) {
         double t1 = segmented ? fmin(t_end, t + check_dt) : t_end;
         double ystart[ADB_NY];
@@ -253,13 +258,26 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
         size_t n = cy.size(res);
         const double *rt = cy.t(res), *ry = cy.y(res);
         steps += (long)cy.steps(res);
+        if (!store && n >= 3) {
+            /* only the last two points (the state and the last step size): rows K-2, K-1 */
+            K = 1;
+            memcpy(Y, ry + (n - 3) * ADB_NY, sizeof(double) * ADB_NY);
+            T[0] = rt[n - 3];
+            for (size_t j = 1; j < n - 2; ++j)
+                if (!adb_all_finite(ry + j * ADB_NY, ADB_NY)) {
+                    status = ADB_NONFINITE;
+                    out_stats[3] = rt[j];
+                    break;
+                }
+            rt += n - 3, ry += (n - 3) * ADB_NY, n = 3;
+        }
         if (K + n > cap) {
             while (K + n > cap) cap *= 2;
             T = realloc(T, cap * sizeof(double));
             Y = realloc(Y, cap * ADB_NY * sizeof(double));
         }
         /* the solver's first stored point is its start: skip it */
-        for (size_t j = 1; j < n; ++j) {
+        for (size_t j = 1; j < n && status == ADB_SUCCESS; ++j) {
             if (!adb_all_finite(ry + j * ADB_NY, ADB_NY)) {
                 status = ADB_NONFINITE;
                 out_stats[3] = rt[j];
@@ -286,7 +304,7 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
             break;
         }
         if (segmented && t < t_end) {
-            int k = adb_in_target(Y + (K - 1) * ADB_NY, n_targets, centres, weights, periodic);
+            int k = adb_in_target(Y + (K - 1) * ADB_NY, n_targets, centres, weights, cubics, levels, periodic);
             if (k >= 0) {
                 if (target) *target = k;
                 status = ADB_STOPPED;
@@ -295,7 +313,9 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
         }
     }
     long evals = count;
-    if (status == ADB_SUCCESS)
+    if (!measures) {
+        /* r_max and t_dec not asked for: NaN */
+    } else if (status == ADB_SUCCESS)
         measure(&s, &args, T, Y, K, ix, iy, threshold, 8, &out_stats[0], &out_stats[1]);
     else {
         double best = 0.0;
@@ -325,9 +345,9 @@ void adb_cyrk_release(Trajectory *traj)
 
 /* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
 void adb_cyrk_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
-                             int method, long max_steps, const int *amp_idx, double threshold, double check_dt,
-                             int n_targets, const double *centres, const double *weights,
-                             const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
+                             int method, long max_steps, const int *amp_idx, double threshold, int measures,
+                             double check_dt, int n_targets, const double *centres, const double *weights,
+                             const double *cubics, const double *levels, const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
                              double *stats, long *counts)
 {
 #ifdef _OPENMP
@@ -337,6 +357,6 @@ void adb_cyrk_integrate_many(int n, const double *Y0, const double *P, double t_
     for (int k = 0; k < n; ++k)
         status[k] = adb_cyrk_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, method,
                                        max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights,
-                                       periodic, 0, NULL, target + k, Y_end + (size_t)k * ADB_NY,
+                                       cubics, levels, periodic, 0, measures, NULL, target + k, Y_end + (size_t)k * ADB_NY,
                                        stats + (size_t)k * 4, counts + (size_t)k * 2);
 }

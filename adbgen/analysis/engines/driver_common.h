@@ -29,21 +29,38 @@ static inline int adb_all_finite(const double *y, int n)
     return 1;
 }
 
-/* Index of the first target region holding y, or -1: region k is max_i |wrap_i(y_i - c_ki)| w_ki <= 1,
- * angles (periodic[i] != 0) wrapped to [-pi, pi]. */
+/* Index of the first target region holding y, or -1.  Region k: e'W_k e <= 1 and e'W_k e + K_k(e, e, e)
+ * <= level_k, e = y - c_k with the angles (periodic[i] != 0) wrapped to [-pi, pi]; W_k (ADB_NY x ADB_NY,
+ * row-major) is weights + k ADB_NY^2, K_k (ADB_NY^3) cubics + k ADB_NY^3 (NULL: no cubic terms), level_k
+ * levels[k] (NULL: 1).  Weights w_i give W = diag(w_i^2), the ball inscribed in the box |e_i| w_i <= 1.
+ * The sweeps' stop regions of stable steady states (attractors.StopRegion.target). */
 static int adb_in_target(const double *y, int n_targets, const double *centres, const double *weights,
-                         const unsigned char *periodic)
+                         const double *cubics, const double *levels, const unsigned char *periodic)
 {
     for (int k = 0; k < n_targets; ++k) {
-        const double *c = centres + (size_t)k * ADB_NY, *w = weights + (size_t)k * ADB_NY;
-        double worst = 0.0;
+        const double *c = centres + (size_t)k * ADB_NY, *W = weights + (size_t)k * ADB_NY * ADB_NY;
+        double e[ADB_NY], q = 0.0;
         for (int i = 0; i < ADB_NY; ++i) {
-            double e = y[i] - c[i];
-            if (periodic && periodic[i]) e = remainder(e, 2.0 * M_PI);
-            e = fabs(e) * w[i];
-            if (e > worst) worst = e;
+            e[i] = y[i] - c[i];
+            if (periodic && periodic[i]) e[i] = remainder(e[i], 2.0 * M_PI);
         }
-        if (worst <= 1.0) return k;
+        for (int i = 0; i < ADB_NY; ++i) {
+            double row = 0.0;
+            for (int j = 0; j < ADB_NY; ++j) row += W[(size_t)i * ADB_NY + j] * e[j];
+            q += e[i] * row;
+        }
+        if (q > 1.0) continue;
+        double v = q;
+        if (cubics) {
+            const double *K = cubics + (size_t)k * ADB_NY * ADB_NY * ADB_NY;
+            for (int i = 0; i < ADB_NY; ++i)
+                for (int j = 0; j < ADB_NY; ++j) {
+                    double inner = 0.0;
+                    for (int l = 0; l < ADB_NY; ++l) inner += K[((size_t)i * ADB_NY + j) * ADB_NY + l] * e[l];
+                    v += e[i] * e[j] * inner;
+                }
+        }
+        if (v <= (levels ? levels[k] : 1.0)) return k;
     }
     return -1;
 }

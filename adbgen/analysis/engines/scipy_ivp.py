@@ -91,7 +91,7 @@ class ScipyEngine:
                 "message": "" if status == SUCCESS else sol.message}
 
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
-                 targets=()):
+                 targets=(), measures=True):
         rows = [self.run(model, P[k], Y0[k], t_end, rtol, atol, threshold, max_steps, False) for k in range(len(Y0))]
         return {"status": np.array([r["status"] for r in rows]), "r_max": np.array([r["r_max"] for r in rows]),
                 "t_dec": np.array([r["t_dec"] for r in rows]), "y_end": np.array([r["y_end"] for r in rows]),

@@ -215,7 +215,7 @@ static void solver_stats(Solver *s, long *nfe, long *nsteps, double *hcur)
 int adb_sundials_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, int method,
                   long max_steps, const int *amp_idx, double threshold, int n_samples, const double *sample_times,
                   double *samples, double check_dt, int n_targets, const double *centres, const double *weights,
-                  const unsigned char *periodic, int *target, double *y_end, double *out_stats, long *out_counts,
+                  const double *cubics, const double *levels, const unsigned char *periodic, int *target, double *y_end, double *out_stats, long *out_counts,
                   char *message)
 {
     RunData d;
@@ -292,7 +292,7 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
             ++sample;
         }
         if (t >= next_check) {
-            int k = adb_in_target(yd, n_targets, centres, weights, periodic);
+            int k = adb_in_target(yd, n_targets, centres, weights, cubics, levels, periodic);
             if (k >= 0) {
                 if (target) *target = k;
                 status = ADB_STOPPED;
@@ -326,10 +326,12 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
  * of P (N x ADB_NP).  Per trajectory the outputs of adb_integrate (no samples), in rows.  The result of
  * a trajectory does not depend on the thread that ran it. */
 void adb_sundials_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
-                        int method, long max_steps, const int *amp_idx, double threshold, double check_dt,
-                        int n_targets, const double *centres, const double *weights, const unsigned char *periodic,
-                        int threads, int *status, int *target, double *Y_end, double *stats, long *counts)
+                        int method, long max_steps, const int *amp_idx, double threshold, int measures,
+                        double check_dt, int n_targets, const double *centres, const double *weights,
+                        const double *cubics, const double *levels, const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
+                        double *stats, long *counts)
 {
+    (void)measures; /* r_max and t_dec come from the root finding along the way: nothing to save */
 #ifdef _OPENMP
     if (threads < 1) threads = omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
@@ -337,7 +339,7 @@ void adb_sundials_integrate_many(int n, const double *Y0, const double *P, doubl
     for (int k = 0; k < n; ++k) {
         status[k] = adb_sundials_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, method,
                                   max_steps, amp_idx, threshold, 0, NULL, NULL, check_dt, n_targets, centres,
-                                  weights, periodic, target + k, Y_end + (size_t)k * ADB_NY, stats + (size_t)k * 4,
+                                  weights, cubics, levels, periodic, target + k, Y_end + (size_t)k * ADB_NY, stats + (size_t)k * 4,
                                   counts + (size_t)k * 2, NULL);
     }
 }
