@@ -76,8 +76,8 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
         model_files = render_model(ir, targets)
         files.update(model_files)
         index.append((ir.name, ir.title, ir.reference))
-        progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, rhs {ir.rhs.count_ops()} ops, "
-                 f"jac {ir.jac.count_ops()} ops, lowering error {errors['rhs']:.1e} (jac {errors['jac']:.1e}), "
+        progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, {ir.form}, rhs {ir.count_ops('rhs')} ops, "
+                 f"jac {ir.count_ops('jac')} ops, lowering error {errors['rhs']:.1e} (jac {errors['jac']:.1e}), "
                  f"{len(model_files)} files "
                  f"({time.perf_counter() - start:.1f} s)"
                  + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))
