@@ -166,6 +166,33 @@ def _shape_of(ops) -> str:
     return "".join(out)
 
 
+def _kernel(ops, shape, zero: bool, arrays=()) -> Kernel:
+    """A kernel without the per-ball arrays nothing reads back (and the stores into them)."""
+    fetched = set()
+
+    def scan(block):
+        for op in block:
+            if isinstance(op, (Balls, Columns)):
+                scan(op.ops)
+            elif isinstance(op, Fetch):
+                fetched.add(op.array)
+
+    def prune(block):
+        out = []
+        for op in block:
+            if isinstance(op, Balls):
+                op = Balls(prune(op.ops))
+            elif isinstance(op, Columns):
+                op = Columns(op.count, prune(op.ops), op.parameters)
+            elif isinstance(op, Save) and op.array not in fetched:
+                continue
+            out.append(op)
+        return tuple(out)
+
+    scan(ops)
+    return Kernel(prune(ops), tuple(shape), zero, tuple((a, w) for a, w in arrays if a in fetched))
+
+
 def _cse(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[Let], list[sp.Expr]]:
     symbols = sp.numbered_symbols(prefix, real=True)
     replacements, reduced = sp.cse(list(exprs), symbols=symbols, optimizations=None, order="canonical")
@@ -295,7 +322,7 @@ class _Kernels:
         acc_ops, acc = self.ball_accel(xc)
         ops.append(Balls(tuple([Put(self.ball_row(), None, self.s.qd)] + acc_ops + [Put(self.ball_row(N), None, acc)])))
         ops += [Put(Pos(2 * N + e), None, rate) for e, rate in enumerate(self.extra_rates)]
-        return Kernel(tuple(ops), (2 * N + len(self.extra_rates),), False, self.arrays(r))
+        return _kernel(ops, (2 * N + len(self.extra_rates),), False, self.arrays(r))
 
     def residuals(self):
         """R = f - M q'' at fixed accelerations: the core's part (r rows), the ball's share of the core
@@ -368,7 +395,7 @@ class _Kernels:
         body += [Put(row, col, e, add=not row.ball) for (row, col), e in zip(keys, red)]
         ops.append(Balls(tuple(body)))
         ops.append(self.column_solve(S, fac, False))
-        return Kernel(tuple(ops), (S, S), True, self.arrays(r))
+        return _kernel(ops, (S, S), True, self.arrays(r))
 
     def jac_p(self) -> Kernel:
         N, r = self.N, self.r
@@ -411,7 +438,7 @@ class _Kernels:
         body = acc_ops + lets + [Put(row, col, e, add=True) for (row, col), e in zip(keys, red)]
         ops.append(Balls(tuple(body)))
         ops.append(self.column_solve(P, fac, True))
-        return Kernel(tuple(ops), (S, P), True, self.arrays(r))
+        return _kernel(ops, (S, P), True, self.arrays(r))
 
     def mass(self) -> Kernel:
         s, r = self.s, self.r

@@ -1,0 +1,119 @@
+"""The loop form (issue 10): the per-ball block kept once and verified against every ball, kernels
+equal to the unrolled programs, and printed source whose size does not grow with n."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from adbgen.codegen.balls import NoBallStructure, split
+from adbgen.codegen.interpret import compile_program
+from adbgen.codegen.ir import KERNELS
+from adbgen.codegen.lowering import _blocks
+from adbgen.codegen.render import render_model
+from adbgen.families.single_plane import models
+from adbgen.families.single_plane.scene import Scene
+from adbgen.families.two_plane import models as two_plane
+
+
+def _both(spec):
+    system = spec.system()
+    return system, spec.build(system), spec.build(system, form="unrolled")
+
+
+CASES = {
+    "thesis_n3": lambda: models.thesis_rotating(3),
+    "unequal_balls": lambda: models.for_scene(Scene.from_mapping(
+        {"n": 3, "ball_mass": [0.05, 0.04, 0.03], "ball_damping": [1e-4, 2e-4, 3e-4]}), "unequal_n3"),
+    "two_plane_races": two_plane.two_plane_fixed,
+    "two_plane_symmetric": two_plane.two_plane_rotating,
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_the_loop_form_equals_the_unrolled_form(case):
+    """Every function of the loop form against the unrolled program, at random points (unequal balls and
+    the two-plane races read their own parameters through the slot tables)."""
+    system, loops, unrolled = _both(CASES[case]())
+    assert loops.form == "loops" and unrolled.form == "unrolled"
+    rng = np.random.default_rng(3)
+    p0 = np.array([p.default for p in system.parameters])
+    for which in KERNELS:
+        a, b = compile_program(loops, which), compile_program(unrolled, which)
+        for _ in range(5):
+            y = rng.uniform(-1, 1, loops.n_states) * 0.1
+            p = p0 * rng.uniform(0.5, 1.5, p0.size)
+            got, want = a(rng.uniform(0, 5), y, p), b(0.0, y, p) if loops.autonomous else None
+            if want is None:
+                t = rng.uniform(0, 5)
+                got, want = a(t, y, p), b(t, y, p)
+            assert np.max(np.abs(got - want)) <= 1e-11 * max(1.0, np.max(np.abs(want))), (case, which)
+
+
+def test_the_ball_block_is_verified_against_every_ball():
+    """A model whose third ball differs from the first (its forcing row scaled) has no loop form: the
+    check that the generic block is every ball's can fail, and the lowering falls back to unrolled."""
+    spec = models.thesis_rotating(3)
+    system = spec.system()
+    blocks, _ = _blocks(system, False)
+    ok = split(blocks.coordinates, blocks.core, blocks.leaves, blocks.mass, blocks.f, system.parameters)
+    assert ok.n == 3 and ok.first == 2
+    f = list(blocks.f)
+    f[blocks.leaves[2]] = f[blocks.leaves[2]] * sp.Rational(1001, 1000)
+    with pytest.raises(NoBallStructure, match="ball 3's block differs"):
+        split(blocks.coordinates, blocks.core, blocks.leaves, blocks.mass, f, system.parameters)
+    # a race parameter not declared as a ball's own: ball 3's block names R_b where ball 1's has R_t
+    sc = two_plane.scene("paper-43")
+    fixed = two_plane.two_plane_fixed()
+    sys2 = fixed.system()
+    b2, _ = _blocks(sys2, False)
+    with pytest.raises(NoBallStructure):
+        split(b2.coordinates, b2.core, b2.leaves, b2.mass, b2.f, sys2.parameters)
+    assert len(split(b2.coordinates, b2.core, b2.leaves, b2.mass, b2.f, sys2.parameters,
+                     two_plane.race_slots(sc)(sys2)).slots) == 4
+
+
+def test_a_term_coupling_two_balls_is_refused():
+    spec = models.thesis_rotating(2)
+    system = spec.system()
+    blocks, _ = _blocks(system, False)
+    c1, c2 = (blocks.coordinates[k] for k in blocks.leaves)
+    f = list(blocks.f)
+    f[blocks.core[0]] += sp.sin(c1.q - c2.q)
+    with pytest.raises(NoBallStructure, match="couples balls"):
+        split(blocks.coordinates, blocks.core, blocks.leaves, blocks.mass, f, system.parameters)
+
+
+def _sizes(n: int) -> dict[str, int]:
+    ir = models.thesis_rotating(n).build()
+    files = render_model(ir, ("numba", "c"))
+    name = ir.name
+    out = {}
+    for rel, text in files.items():
+        body = text[text.index("def rhs_inplace" if rel.endswith(".py") else f"void {name}_rhs"):]
+        out[rel.replace(name, "M")] = re.sub(r"\d+", "#", body.replace(name, "M"))
+    return out
+
+
+def test_the_source_does_not_grow_with_n():
+    """The functions of the numba module and the C file (everything after the metadata) are the same
+    same text for n = 2 and n = 12 but for the numbers (indices, counts, n as a coefficient)."""
+    small, large = _sizes(2), _sizes(12)
+    assert small.keys() == large.keys()
+    for rel in small:
+        assert small[rel] == large[rel], rel
+
+
+def test_balls_started_together_stay_equal_bit_for_bit():
+    """Ball i's loop body is ball j's: equal ball states give bitwise equal accelerations and rows."""
+    ir = models.thesis_rotating(4).build()
+    f, J = compile_program(ir, "rhs"), compile_program(ir, "jac")
+    y = np.array([0.01, -0.02, 1.0, 1.0, 2.5, 1.0, 0.3, -0.1, 0.2, 0.2, -0.4, 0.2])
+    p = np.array([q.default for q in ir.parameters])
+    a = f(0.0, y, p)
+    assert a[2] == a[3] == a[5] and a[7] == a[8] == a[10]
+    Jm = J(0.0, y, p).reshape(12, 12)
+    assert np.array_equal(Jm[7, [0, 1, 4, 5, 6, 9]], Jm[8, [0, 1, 4, 5, 6, 9]])
