@@ -45,6 +45,7 @@ import sympy as sp
 
 from .bench import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
 from . import families
+from .codegen.lowering import DEFAULT_FORM
 from .codegen.scratch import import_numba, render_into
 from .families.single_plane.model import derive
 
@@ -95,7 +96,7 @@ def bench_ops(ns=OPS_NS, families=tuple(FAMILIES), progress=None) -> dict:
         for n in ns:
             derive.cache_clear()
             start = time.perf_counter()
-            ir = FAMILIES[family](n).build()
+            ir = FAMILIES[family](n).build(form="unrolled")  # the straight-line programs' structure
             seconds = time.perf_counter() - start
             parts = jac_parts(ir.jac)
             row = {"family": family, "n": n, "build_seconds": round(seconds, 3),
@@ -305,21 +306,27 @@ def _sample_point(system, n_states: int, seed: int = 0):
 
 
 def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, repeats: int = 5,
-                    jac: bool = True, lambdify: bool = True, cc: str | None = None) -> dict:
-    """ns per call for one model: numba (jitted loop, from Python), C, sympy.lambdify."""
+                    jac: bool = True, lambdify: bool = True, cc: str | None = None, form: str = DEFAULT_FORM,
+                    native: bool = True) -> dict:
+    """ns per call for one model in one form (`lowering.FORMS`): numba (jitted loop, from Python), C,
+    sympy.lambdify; with the emitted source sizes and the first calls' (compilation) times."""
     spec = FAMILIES[family](n)
     derive.cache_clear()
     system = spec.system()
-    ir = spec.build()
-    folder = render_into(ir, workdir / f"{family}_n{n}", ("numba", "c"))
+    ir = spec.build(system, form=form)
+    folder = render_into(ir, workdir / f"{family}_n{n}_{form}", ("numba", "c"))
     y, p = _sample_point(system, ir.n_states)
-    row: dict = {"family": family, "n": n, "n_states": ir.n_states, "rhs_ops": ir.rhs.count_ops()}
+    row: dict = {"family": family, "n": n, "form": ir.form, "n_states": ir.n_states, "rhs_ops": ir.count_ops("rhs"),
+                 "jac_ops": ir.count_ops("jac"),
+                 "source_bytes": {"numba": len((folder / "__init__.py").read_bytes()),
+                                  "c": len((folder / f"{ir.name}.c").read_bytes())}}
 
     # numba
-    mod = import_numba(folder, f"_adbgen_bench_{ir.name}")
+    mod = import_numba(folder, f"_adbgen_bench_{ir.name}_{form}")
     out = np.empty(ir.n_states)
     start = time.perf_counter()
     mod.rhs_inplace(0.0, y, p, out)
+    row["numba_first_call_seconds_rhs"] = round(time.perf_counter() - start, 3)
     loop = _numba_loop(mod.rhs_inplace)
     loop(y, p, out, 1)
     row["numba_compile_seconds_rhs"] = round(time.perf_counter() - start, 3)
@@ -329,6 +336,8 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
     if jac:
         jout = np.empty((ir.n_states, ir.n_states))
         start = time.perf_counter()
+        mod.jac_inplace(0.0, y, p, jout)
+        row["numba_first_call_seconds_jac"] = round(time.perf_counter() - start, 3)
         jloop = _numba_loop(mod.jac_inplace)
         jloop(y, p, jout, 1)
         mod.jac(0.0, y, p)
@@ -345,15 +354,16 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
         if jac:
             row["c_jac_loop"] = c["jac"]
         # numba compiles for the host CPU (like -march=native): the same C built that way, for fairness
-        try:
-            c = _time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc, flags=("-O2", "-march=native"),
-                        suffix="_native")
-        except subprocess.CalledProcessError as exc:
-            row["c_native_rhs_loop"] = f"skipped: {exc.stderr.strip()[:200]}"
-        else:
-            row["c_native_rhs_loop"] = c["rhs"]
-            if jac:
-                row["c_native_jac_loop"] = c["jac"]
+        if native:
+            try:
+                c = _time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc, flags=("-O2", "-march=native"),
+                            suffix="_native")
+            except subprocess.CalledProcessError as exc:
+                row["c_native_rhs_loop"] = f"skipped: {exc.stderr.strip()[:200]}"
+            else:
+                row["c_native_rhs_loop"] = c["rhs"]
+                if jac:
+                    row["c_native_jac_loop"] = c["jac"]
     else:
         row["c_rhs_loop"] = "skipped: no C compiler"
 
@@ -423,6 +433,45 @@ def bench_speed(ns=SPEED_NS, families=tuple(FAMILIES), *, jac_ns=JAC_NS, lambdif
     return rows
 
 
+FORMS_NS = (1, 2, 4, 8, 16, 32, 64)
+UNROLLED_MAX_N = 16  # the unrolled form's jac takes minutes to compile in numba beyond (230 s at n = 32)
+UNROLLED_JAC_MAX_N = 8
+
+
+def bench_forms(ns=FORMS_NS, families=tuple(FAMILIES), *, unrolled_max_n: int = UNROLLED_MAX_N,
+                unrolled_jac_max_n: int = UNROLLED_JAC_MAX_N, target: float = 0.1, repeats: int = 5,
+                progress=None) -> dict:
+    """Issue 10: the loop form against the unrolled form, per family and n: emitted source size, first
+    calls of numba's rhs and jac (compilation), gcc -O2 time, ns per rhs and jac call (numba in a
+    jitted loop, C from a C loop), all in one run; the unrolled form up to `unrolled_max_n` (its jac up
+    to `unrolled_jac_max_n`)."""
+    rows, ratios = [], []
+    with tempfile.TemporaryDirectory(prefix="adbgen-bench-forms-") as tmp:
+        for family in families:
+            for n in ns:
+                pair = {}
+                for form in ("loops", "unrolled"):
+                    if form == "unrolled" and n > unrolled_max_n:
+                        continue
+                    jac = form == "loops" or n <= unrolled_jac_max_n
+                    row = bench_speed_one(family, n, Path(tmp), target=target, repeats=repeats, jac=jac,
+                                          lambdify=False, form=form, native=False)
+                    for key in ("lambdify_math", "lambdify_numpy", "numba_rhs_python", "numba_jac_python"):
+                        row.pop(key, None)
+                    rows.append(row)
+                    pair[form] = row
+                    if progress:
+                        progress(row)
+                if len(pair) == 2:
+                    ratio = {"family": family, "n": n}
+                    for key in ("numba_rhs_loop", "c_rhs_loop", "numba_jac_loop", "c_jac_loop"):
+                        a, b = pair["loops"].get(key), pair["unrolled"].get(key)
+                        if isinstance(a, dict) and isinstance(b, dict):
+                            ratio[f"{key} loops/unrolled"] = round(a["ns"] / b["ns"], 3)
+                    ratios.append(ratio)
+    return {"rows": rows, "ratios_loops_over_unrolled": ratios}
+
+
 def _compiler() -> str:
     cc = shutil.which("gcc") or shutil.which("cc")
     if not cc:
@@ -471,16 +520,24 @@ NOTES = (
 
 def bench_codegen(ops_ns=OPS_NS, speed_ns=SPEED_NS, *, families=tuple(FAMILIES), jac_ns=JAC_NS,
                   lambdify_max_n=LAMBDIFY_MAX_N, target: float = 0.1, repeats: int = 7,
-                  progress=None) -> dict:
+                  progress=None, forms_ns=FORMS_NS, parts=("ops", "speed", "forms")) -> dict:
     start = time.perf_counter()
-    ops = bench_ops(tuple(ops_ns), families, progress=progress)
-    speed = bench_speed(tuple(speed_ns), families, jac_ns=tuple(jac_ns), lambdify_max_n=lambdify_max_n,
-                        target=target, repeats=repeats, progress=progress)
-    return {"benchmark": "codegen", "machine": machine(), "notes": NOTES,
-            "settings": {"ops_n": list(ops_ns), "speed_n": list(speed_ns), "jac_speed_n": list(jac_ns),
-                         "lambdify_max_n": lambdify_max_n, "families": list(families),
-                         "repeat_target_seconds": target, "repeats": repeats},
-            "ops": ops, "speed": speed, "seconds": round(time.perf_counter() - start, 1)}
+    out = {"benchmark": "codegen", "machine": machine(), "notes": NOTES,
+           "settings": {"ops_n": list(ops_ns), "speed_n": list(speed_ns), "jac_speed_n": list(jac_ns),
+                        "lambdify_max_n": lambdify_max_n, "families": list(families), "forms_n": list(forms_ns),
+                        "unrolled_max_n": UNROLLED_MAX_N, "unrolled_jac_max_n": UNROLLED_JAC_MAX_N,
+                        "repeat_target_seconds": target, "repeats": repeats, "parts": list(parts)}}
+    if "ops" in parts:
+        out["ops"] = bench_ops(tuple(ops_ns), families, progress=progress)
+    if "speed" in parts:
+        out["speed"] = bench_speed(tuple(speed_ns), families, jac_ns=tuple(jac_ns), lambdify_max_n=lambdify_max_n,
+                                   target=target, repeats=repeats, progress=progress)
+    if "forms" in parts:
+        out["forms"] = bench_forms(tuple(forms_ns), families, target=target, repeats=min(repeats, 5),
+                                   progress=progress)
+    out["load_average_at_end"] = list(os.getloadavg())
+    out["seconds"] = round(time.perf_counter() - start, 1)
+    return out
 
 
 def describe(row: dict) -> str:
@@ -494,6 +551,12 @@ def describe(row: dict) -> str:
         v = row.get(key)
         return f"{v['ns']:.0f}" if isinstance(v, dict) else "-"
 
+    if "source_bytes" in row and "numba_rhs_python" not in row:
+        return (f"forms {row['family']:18s} n={row['n']:3d} {row['form']:8s} source {row['source_bytes']['numba']} B "
+                f"(C {row['source_bytes']['c']} B), first calls rhs {row['numba_first_call_seconds_rhs']:.2f} s, jac "
+                f"{row.get('numba_first_call_seconds_jac', float('nan')):.2f} s, gcc {row.get('c_compile_seconds', 0):.2f} s; "
+                f"ns rhs numba {ns('numba_rhs_loop')} C {ns('c_rhs_loop')}, jac numba {ns('numba_jac_loop')} "
+                f"C {ns('c_jac_loop')}")
     return (f"speed {row['family']:18s} n={row['n']:3d}  rhs ns: numba loop {ns('numba_rhs_loop')}, "
             f"numba python {ns('numba_rhs_python')}, C {ns('c_rhs_loop')} (native {ns('c_native_rhs_loop')}), "
             f"lambdify math "
@@ -501,5 +564,5 @@ def describe(row: dict) -> str:
             f"C {ns('c_jac_loop')}")
 
 
-__all__ = ["bench_codegen", "bench_ops", "bench_speed", "bench_speed_one", "describe", "jac_parts",
+__all__ = ["bench_codegen", "bench_forms", "bench_ops", "bench_speed", "bench_speed_one", "describe", "jac_parts",
            "machine", "polyfit", "write"]

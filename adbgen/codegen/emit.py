@@ -36,6 +36,9 @@ class Dialect:
     auto: bool = False
     auto_columns: bool = False  # the output's columns are parameters (AUTO's dfdp)
     indent: str = "    "
+    # a per-ball work array of `size` doubles (Python): the numba module puts it on the stack
+    # (its `_stack` intrinsic; np.empty would cost a heap allocation, ~100 ns, per call)
+    scratch: str = "np.empty({size})"
 
     def param(self, index: str) -> str:
         if self.auto:
@@ -158,7 +161,7 @@ class Emitter:
         n = self.split.n if self.split is not None else 0
         for name, width in self.k.arrays:
             if d.language == "py":
-                self.line(depth, f"{name} = np.empty({n * width})")
+                self.line(depth, f"{name} = {d.scratch.format(size=n * width)}")
             else:
                 self.line(depth, f"{'doublereal' if d.auto else 'double'} {name}[{n * width}];")
         if self.k.zero:
@@ -208,7 +211,7 @@ class Emitter:
             elif isinstance(op, Save):
                 self.stmt(depth, f"{op.array}[{self._slot(op.array, op.k, widths)}] = {self.sym(op.sym)}")
             elif isinstance(op, Fetch):
-                self.let(depth, op.sym, f"{op.array}[{self._slot(op.array, op.k, widths)}]")
+                self.let(depth, op.sym, f"{op.array}[{self._slot(op.array, op.k, widths, 'j' if op.column else 'i')}]")
             elif isinstance(op, Get):
                 self.let(depth, op.sym, d.entry(_pos(op.row), None if op.col is None else _pos(op.col)))
             elif isinstance(op, Put):
@@ -227,9 +230,9 @@ class Emitter:
                 raise TypeError(op)
 
     @staticmethod
-    def _slot(array: str, k: int, widths: dict) -> str:
+    def _slot(array: str, k: int, widths: dict, var: str = "i") -> str:
         w = widths[array]
-        index = "i" if w == 1 else f"i * {w}"
+        index = var if w == 1 else f"{var} * {w}"
         return index if k == 0 else f"{index} + {k}"
 
     def loop(self, depth: int, var: str, count: int) -> None:

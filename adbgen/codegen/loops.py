@@ -64,10 +64,11 @@ class Save:  # array[i * width + k] = sym, in a ball loop
 
 
 @dataclass(frozen=True)
-class Fetch:  # sym = array[i * width + k], in a ball loop
+class Fetch:  # sym = array[i * width + k], in a ball loop (array[j * width + k] with column: column j's ball)
     sym: sp.Symbol
     array: str
     k: int
+    column: bool = False
 
 
 @dataclass(frozen=True)
@@ -91,7 +92,7 @@ class Balls:
 
 
 @dataclass(frozen=True)
-class Columns:
+class Columns:  # for j in range(count): the columns base + j
     count: int
     ops: tuple
     parameters: bool = False  # the columns are parameters (AUTO-07p maps their index)
@@ -334,28 +335,53 @@ class _Kernels:
         rho = s.f - sp.Add(*[s.C[a] * qdd[a] for a in range(r)]) - s.D * s.qdd
         return R0, Rb, rho, qdd
 
-    def column_solve(self, count: int, fac: dict, parameters: bool) -> Columns:
-        """Solve every column in place: rows N.. of out hold dR/dz on entry, d(q'')/dz on exit."""
+    def column_solve(self, count: int, fac: dict, parameters: bool, base: int = 0) -> Columns:
+        """Solve the columns base..base+count-1 in place: rows N.. of out hold dR/dz on entry,
+        d(q'')/dz on exit (any column: every ball's row may be nonzero)."""
         N, r = self.N, self.r
+        col = Pos(base, column=True)
         ops: list = []
         g = [_sym(f"col_g_{a}") for a in range(r)]
         for a in range(r):
             v = _sym(f"col_v_{a}")
-            ops += [Get(v, self.core_row(a, N), Pos(column=True)), Var(g[a], v)]
+            ops += [Get(v, self.core_row(a, N), col), Var(g[a], v)]
         bd = [_sym(f"ball_bd_{a}") for a in range(r)]
         v = _sym("col_vb")
-        ops.append(Balls(tuple([Fetch(bd[a], "w_bd", a) for a in range(r)] + [Get(v, self.ball_row(N), Pos(column=True))]
+        ops.append(Balls(tuple([Fetch(bd[a], "w_bd", a) for a in range(r)] + [Get(v, self.ball_row(N), col)]
                                + [Inc(g[a], -bd[a] * v) for a in range(r)])))
         sol, x = self.core_solve(fac, g, "c")
         ops += sol
-        ops += [Put(self.core_row(a, N), Pos(column=True), x[a]) for a in range(r)]
+        ops += [Put(self.core_row(a, N), col, x[a]) for a in range(r)]
         cc = [_sym(f"ball_c_{a}") for a in range(r)]
         dinv, v2 = _sym("ball_dinv"), _sym("col_vl")
         ops.append(Balls(tuple([Fetch(cc[a], "w_c", a) for a in range(r)] + [Fetch(dinv, "w_dinv", 0),
-                               Get(v2, self.ball_row(N), Pos(column=True)),
-                               Put(self.ball_row(N), Pos(column=True),
-                                   (v2 - sp.Add(*[cc[a] * x[a] for a in range(r)])) * dinv)])))
+                               Get(v2, self.ball_row(N), col),
+                               Put(self.ball_row(N), col, (v2 - sp.Add(*[cc[a] * x[a] for a in range(r)])) * dinv)])))
         return Columns(count, tuple(ops), parameters)
+
+    def ball_column_solve(self, fac: dict, base: int) -> Columns:
+        """Solve the columns of ball j's own state (base + j) in place: dR/dz is nonzero in the core
+        rows and ball j's row only, so g = v_core - (b_j/d_j) v_j, and every other ball's row is
+        -(c_i . a) / d_i."""
+        N, r = self.N, self.r
+        col = Pos(base, column=True)
+        own = Pos(N + self.s.first, column=True)
+        g = [_sym(f"colb_g_{a}") for a in range(r)]
+        vj, dj = _sym("colb_vj"), _sym("colb_dinv")
+        bd = [_sym(f"colb_bd_{a}") for a in range(r)]
+        ops: list = [Get(vj, own, col)] + [Fetch(bd[a], "w_bd", a, column=True) for a in range(r)]
+        for a in range(r):
+            v = _sym(f"colb_v_{a}")
+            ops += [Get(v, self.core_row(a, N), col), Let(g[a], v - bd[a] * vj)]
+        sol, x = self.core_solve(fac, g, "b")
+        ops += sol
+        ops += [Put(self.core_row(a, N), col, x[a]) for a in range(r)]
+        cc = [_sym(f"ball_c_{a}") for a in range(r)]
+        dinv = _sym("ball_dinv")
+        ops.append(Balls(tuple([Fetch(cc[a], "w_c", a) for a in range(r)] + [Fetch(dinv, "w_dinv", 0),
+                               Put(self.ball_row(N), col, -sp.Add(*[cc[a] * x[a] for a in range(r)]) * dinv)])))
+        ops += [Fetch(dj, "w_dinv", 0, column=True), Put(own, col, vj * dj, add=True)]
+        return Columns(self.s.n, tuple(ops))
 
     def jac(self) -> Kernel:
         N, r = self.N, self.r
@@ -394,7 +420,11 @@ class _Kernels:
         body = [Put(self.ball_row(), Pos(N + self.s.first, ball=True), sp.S.One)] + acc_ops + lets
         body += [Put(row, col, e, add=not row.ball) for (row, col), e in zip(keys, red)]
         ops.append(Balls(tuple(body)))
-        ops.append(self.column_solve(S, fac, False))
+        first, n = self.s.first, self.s.n
+        for start, stop in ((0, first), (first + n, N + first), (N + first + n, S)):
+            if stop > start:
+                ops.append(self.column_solve(stop - start, fac, False, start))
+        ops += [self.ball_column_solve(fac, first), self.ball_column_solve(fac, N + first)]
         return _kernel(ops, (S, S), True, self.arrays(r))
 
     def jac_p(self) -> Kernel:

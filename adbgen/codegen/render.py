@@ -121,6 +121,7 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
 # numba's functions take (t, y, p, out), AUTO-07p's func (u, par) and writes f, dfdu, dfdp
 _ARRAYS = {"py": {}, "c": {"rhs": ("y", "p", "dydt")}, "auto": {}}
 _AUTO_OUT = {"rhs": "f", "jac": "dfdu", "jac_p": "dfdp"}
+NUMBA_SCRATCH = "carray(_stack({size}), {size})"  # targets/numba/templates/module.py.j2 defines _stack
 
 
 def _code(ir: ModelIR, which: str, kernel, dialect: str, printer, names: dict) -> str:
@@ -130,7 +131,7 @@ def _code(ir: ModelIR, which: str, kernel, dialect: str, printer, names: dict) -
                     indent="    ")
     else:
         y, p, out = _ARRAYS[dialect].get(which, ("y", "p", "out"))
-        d = Dialect(dialect, y, p, out, ncol)
+        d = Dialect(dialect, y, p, out, ncol, scratch=NUMBA_SCRATCH if dialect == "py" else "")
     split = ir.loops.split if ir.loops is not None else None
     return Emitter(kernel, d, printer, names, split, ir.n_coordinates, [s.symbol for s in ir.states],
                    [q.symbol for q in ir.parameters]).emit(2 if dialect == "auto" else 1)
