@@ -68,7 +68,7 @@ def generated_program(module) -> tuple[list, dict]:
     """The statements of a generated module's ``rhs_inplace``: ([(name, ast expr)], {index: ast expr}).
 
     The function is straight-line code or the loop form (issue 10): ``name = expr``, ``name += expr``,
-    ``out[i] = expr``, per-ball work arrays (``w = carray(...)``, ``w[k] = name``, ``w[k]``) and
+    ``out[i] = expr``, per-ball work arrays (``w = _scratch(size)``, ``w[k] = name``, ``w[k]``) and
     ``for i in range(K):`` loops, a docstring first.  Loops are unrolled here in their order, with every
     index folded to a number (the balls' parameter tables read from the module) and every re-assigned
     name given a fresh one (``g_0``, ``g_0__1``, ...), so each peer gets the very operations of the
@@ -143,7 +143,7 @@ def generated_program(module) -> tuple[list, dict]:
             target = node.targets[0]
             if isinstance(target, ast.Name):
                 value = node.value
-                if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id == "carray":
+                if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id == "_scratch":
                     arrays[target.id] = {}
                 else:
                     emit(target.id, fold(value, loop))

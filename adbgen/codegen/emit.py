@@ -37,7 +37,7 @@ class Dialect:
     auto_columns: bool = False  # the output's columns are parameters (AUTO's dfdp)
     indent: str = "    "
     # a per-ball work array of `size` doubles (Python): the numba module puts it on the stack
-    # (its `_stack` intrinsic; np.empty would cost a heap allocation, ~100 ns, per call)
+    # (its `_scratch`; np.empty would cost a heap allocation, ~100 ns, per call)
     scratch: str = "np.empty({size})"
 
     def param(self, index: str) -> str:

@@ -121,7 +121,7 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
 # numba's functions take (t, y, p, out), AUTO-07p's func (u, par) and writes f, dfdu, dfdp
 _ARRAYS = {"py": {}, "c": {"rhs": ("y", "p", "dydt")}, "auto": {}}
 _AUTO_OUT = {"rhs": "f", "jac": "dfdu", "jac_p": "dfdp"}
-NUMBA_SCRATCH = "carray(_stack({size}), {size})"  # targets/numba/templates/module.py.j2 defines _stack
+NUMBA_SCRATCH = "_scratch({size})"  # targets/numba/templates/module.py.j2 defines _scratch (on the stack)
 
 
 def _code(ir: ModelIR, which: str, kernel, dialect: str, printer, names: dict) -> str:
