@@ -383,15 +383,13 @@ class _Kernels:
         ops += [Fetch(dj, "w_dinv", 0, column=True), Put(own, col, vj * dj, add=True)]
         return Columns(self.s.n, tuple(ops))
 
-    def jac(self) -> Kernel:
+    def core_derivatives(self, ops: list, xc, wrt) -> tuple:
+        """Appends the oscillator's rows and the core part's entries d/dz, (z, column) in `wrt`, to
+        `ops`; returns the ball's residual shares, the accelerations to put in (the core's and, from
+        the ball loop's ops `acc_ops`, the ball's) and those ops."""
         N, r = self.N, self.r
-        ops, xc, fac = self.solve()
-        S = 2 * N + len(self.extra_rates)
-        core_z = [(self.coords[k].q, Pos(k)) for k in self.core] + [(self.coords[k].qd, Pos(N + k)) for k in self.core] \
-            + [(z, Pos(2 * N + e)) for e, z in enumerate(self.extra_states)]
-        ops += [Put(Pos(k), Pos(N + k), sp.S.One) for k in self.core]
         for e, rate in enumerate(self.extra_rates):
-            for z, col in core_z:
+            for z, col in wrt:
                 d = sp.diff(rate, z)
                 if d != 0:
                     ops.append(Put(Pos(2 * N + e), col, d))
@@ -399,7 +397,7 @@ class _Kernels:
         accel = dict(zip(qdd, xc))
         keys, exprs = [], []
         for a in range(r):
-            for z, col in core_z:
+            for z, col in wrt:
                 d = sp.diff(R0[a], z)
                 if d != 0:
                     keys.append((self.core_row(a, N), col))
@@ -407,7 +405,16 @@ class _Kernels:
         lets, red = _cse(exprs, "wd_")
         ops += lets + [Put(row, col, e) for (row, col), e in zip(keys, red)]
         acc_ops, acc = self.ball_accel(xc)
-        accel_b = {**accel, self.s.qdd: acc}
+        return Rb, rho, {**accel, self.s.qdd: acc}, acc_ops
+
+    def jac(self) -> Kernel:
+        N, r = self.N, self.r
+        ops, xc, fac = self.solve()
+        S = 2 * N + len(self.extra_rates)
+        core_z = [(self.coords[k].q, Pos(k)) for k in self.core] + [(self.coords[k].qd, Pos(N + k)) for k in self.core] \
+            + [(z, Pos(2 * N + e)) for e, z in enumerate(self.extra_states)]
+        ops += [Put(Pos(k), Pos(N + k), sp.S.One) for k in self.core]
+        Rb, rho, accel_b, acc_ops = self.core_derivatives(ops, xc, core_z)
         own = [(self.s.q, Pos(self.s.first, ball=True)), (self.s.qd, Pos(N + self.s.first, ball=True))]
         keys, exprs = [], []
         for row, R in [(self.core_row(a, N), Rb[a]) for a in range(r)] + [(self.ball_row(N), rho)]:
@@ -432,24 +439,7 @@ class _Kernels:
         ops, xc, fac = self.solve()
         S, P = 2 * N + len(self.extra_rates), len(self.params)
         shared = [(p.symbol, Pos(k)) for k, p in enumerate(self.params)]
-        for e, rate in enumerate(self.extra_rates):
-            for z, col in shared:
-                d = sp.diff(rate, z)
-                if d != 0:
-                    ops.append(Put(Pos(2 * N + e), col, d))
-        R0, Rb, rho, qdd = self.residuals()
-        accel = dict(zip(qdd, xc))
-        keys, exprs = [], []
-        for a in range(r):
-            for z, col in shared:
-                d = sp.diff(R0[a], z)
-                if d != 0:
-                    keys.append((self.core_row(a, N), col))
-                    exprs.append(d.xreplace(accel))
-        lets, red = _cse(exprs, "wd_")
-        ops += lets + [Put(row, col, e) for (row, col), e in zip(keys, red)]
-        acc_ops, acc = self.ball_accel(xc)
-        accel_b = {**accel, self.s.qdd: acc}
+        Rb, rho, accel_b, acc_ops = self.core_derivatives(ops, xc, shared)
         slots = [(sl.symbol, Pos(slot=sl.name), sl) for sl in self.s.slots]
         keys, exprs = [], []
         for row, R in [(self.core_row(a, N), Rb[a]) for a in range(r)] + [(self.ball_row(N), rho)]:
