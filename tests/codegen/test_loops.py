@@ -3,7 +3,9 @@ equal to the unrolled programs, and printed source whose size does not grow with
 
 from __future__ import annotations
 
+import dataclasses
 import re
+import subprocess
 
 import numpy as np
 import pytest
@@ -18,6 +20,9 @@ from adbgen.families.single_plane import models
 from adbgen.families.single_plane.scene import Scene
 from adbgen.families.two_plane import models as two_plane
 
+from toolchain import STRICT_CFLAGS, require_tool
+from toolchain import which as find_tool
+
 
 def _both(spec):
     system = spec.system()
@@ -29,7 +34,7 @@ CASES = {
     "unequal_balls": lambda: models.for_scene(Scene.from_mapping(
         {"n": 3, "ball_mass": [0.05, 0.04, 0.03], "ball_damping": [1e-4, 2e-4, 3e-4]}), "unequal_n3"),
     "two_plane_races": two_plane.two_plane_fixed,
-    "two_plane_symmetric": two_plane.two_plane_rotating,
+    "two_plane_rotating": two_plane.two_plane_rotating,
 }
 
 
@@ -120,3 +125,41 @@ def test_balls_started_together_stay_equal_bit_for_bit():
     Jm = J(0.0, y, p).reshape(12, 12)
     others = [0, 1, 4, 5, 6, 7, 10, 11]  # not balls 1 and 2's own columns
     assert np.array_equal(Jm[8, others], Jm[9, others]) and np.array_equal(Jm[2:6, 8:12], np.eye(4))
+
+
+def test_a_ball_parameter_with_a_coefficient_is_read_through_its_table(tmp_path):
+    """Ball 2's mass declared as 2 m_1 (a slot value c * p[k] with c != 1, as the symmetric two-plane
+    set-up's -z): the loop form reads it through the coefficient table and equals the unrolled form."""
+    from adbgen.codegen.lowering import build
+    from adbgen.core.first_order import first_order
+
+    system = models.for_scene(Scene.from_mapping({"n": 2, "ball_mass": [0.05, 0.04]}), "u2").system()
+    eom = system.solve.eom
+    names = {p.name: p.symbol for p in system.parameters}
+    tied = {names["m_2"]: 2 * names["m_1"]}
+    eom2 = dataclasses.replace(eom.map(lambda e: sp.sympify(e).xreplace(tied)),
+                               parameters=tuple(p for p in eom.parameters if p.name != "m_2"))
+    system2 = first_order(eom2, tuple(eom.coordinates[k].name for k in system.solve.core))
+    slots = [{"m": names["m_1"], "D": names["D_1"]}, {"m": 2 * names["m_1"], "D": names["D_2"]}]
+    loops = build("tied", system2, title="tied", n_balls=2, balls=slots)
+    unrolled = build("tied", system2, title="tied", n_balls=2, form="unrolled")
+    assert loops.form == "loops"
+    m = {sl.name: sl for sl in loops.loops.split.slots}["m"]
+    assert m.coefficients == (1.0, 2.0) and not m.unit_coefficients
+    rng = np.random.default_rng(8)
+    p0 = np.array([p.default for p in system2.parameters])
+    for which in KERNELS:
+        a, b = compile_program(loops, which), compile_program(unrolled, which)
+        for _ in range(3):
+            t, y, p = rng.uniform(0, 5), rng.uniform(-0.1, 0.1, loops.n_states), p0 * rng.uniform(0.5, 1.5, p0.size)
+            want = b(t, y, p)
+            assert np.max(np.abs(a(t, y, p) - want)) <= 1e-11 * max(1.0, np.max(np.abs(want))), which
+    files = render_model(loops, ("numba", "c"))
+    assert "ball_slot_m_coef = np.array([1.0, 2.0]" in files["tied/__init__.py"]
+    assert "static const double ball_slot_m_coef[2] = { 1.0, 2.0 };" in files["tied/tied.c"]
+    gcc = find_tool("gcc")
+    require_tool(gcc is not None, "gcc")
+    (tmp_path / "tied.c").write_text(files["tied/tied.c"])
+    (tmp_path / "tied.h").write_text(files["tied/tied.h"])
+    r = subprocess.run([gcc, *STRICT_CFLAGS, "-fsyntax-only", "tied.c"], cwd=tmp_path, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
