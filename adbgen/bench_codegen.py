@@ -3,7 +3,7 @@
 Issue: code generation, "operation count of the emitted rhs and jac for n = 1..32 (linear), and ns
 per rhs call of numba and C against sympy.lambdify, written to a committed results file".
 
-Two parts, both for the model kinds indexed by n of the registered families (`adbgen.families.kinds`):
+Three parts, all for the model kinds indexed by n of the registered families (`adbgen.families.kinds`):
 
 - ``ops``: SymPy's ``count_ops`` of the intermediate form's ``rhs`` and ``jac`` programs (the exact
   statements every target prints), the number of statements and the build time (derivation and
@@ -11,6 +11,7 @@ Two parts, both for the model kinds indexed by n of the registered families (`ad
   is split into its parts: the shared prefix (the rhs' statements it reuses), the derivative
   expressions (``v_*`` and ``dR_*``: O(n)), and the per-column structured solves and stores (one
   solve per column of the dense 2N x 2N Jacobian: O(n^2)); the whole is fitted by a + b n + c n^2.
+- ``forms`` (issue 10): the loop form against the unrolled form, see `bench_forms`.
 - ``speed``: ns per call of the rhs (and the jac) rendered from the templates into a temporary
   folder, all measured in one run so that the ratios are meaningful (absolute times are not
   comparable across machines or runs):
@@ -514,7 +515,14 @@ NOTES = (
     "solve_ivp would add an asarray). The closed form (Cramer's rule) grows faster than n^2 "
     "(closed_form_ops): at n = 16 only modules='math' is tried (lambdify alone takes ~10 s), and "
     "for the thesis model the generated source exceeds CPython's compiler recursion limit (recorded "
-    "as failed)."
+    "as failed). "
+    "ops: the unrolled form's programs (`--form unrolled`; the default form's loops print each ball's "
+    "block once, so its op counts do not grow with n). "
+    "forms (issue 10): per family and n, the loop form (the default) and the unrolled form (up to "
+    "unrolled_max_n, its jac up to unrolled_jac_max_n: beyond, its numba jac takes minutes to compile): "
+    "source bytes of the numba module and the C file, first calls of numba's rhs_inplace and jac_inplace "
+    "(compilation included, a fresh cache), gcc -O2 time of the timing program with the model's C file, "
+    "ns per call in a jitted loop (numba) and a C loop; ratios loops/unrolled from this run."
 )
 
 
