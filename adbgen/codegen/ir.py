@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import hashlib
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable
 
 import sympy as sp
 
@@ -91,6 +91,16 @@ class ModelIR:
     continuation: Continuation | None = None  # what AUTO-07p continues from the start (None: no AUTO files)
     extras: dict = field(default_factory=dict)
     loops: "LoopForm | None" = None  # the loop form (issue 10): kernels over the balls, size independent of n
+    # the same model lowered unrolled, made on demand (for targets that print programs one by one)
+    unrolled_form: Callable[[], "ModelIR"] | None = field(default=None, compare=False, repr=False)
+
+    def as_unrolled(self) -> "ModelIR":
+        """This model with the unrolled programs (rhs, jac, ... set): itself unless in the loop form."""
+        if self.loops is None:
+            return self
+        if self.unrolled_form is None:
+            raise ValueError(f"{self.name}: no unrolled form recorded")
+        return self.unrolled_form()
 
     def kernels(self) -> dict:
         """{function: kernel} of what the targets print: the loop form's, or the unrolled programs as

@@ -18,6 +18,7 @@ differentiated stay O(n).  Parameter derivatives (for AUTO-07p's dfdp) use the s
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -338,6 +339,13 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
     clash = taken & set(made)
     if clash:
         raise ValueError(f"statement names clash with model symbols: {sorted(clash)}")
+    unrolled = None
+    if loop_form is not None:
+        unrolled = functools.cache(lambda: build(
+            name, system, title=title, n_balls=n_balls, start=start, start_label=start_label,
+            start_parameters=start_parameters, oscillator=oscillator, continuation=continuation,
+            autonomous_extension=autonomous_extension.as_unrolled() if autonomous_extension is not None else None,
+            form="unrolled"))
     return ModelIR(
         name=name, title=title, reference=system.reference, n_balls=n_balls, autonomous=time_free,
         states=states, parameters=params,
@@ -349,4 +357,5 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
                                                  else [p.default for p in params])) if start is not None else None,
         forcing_frequency=str(osc.frequency) if osc is not None else "",
         autonomous_extension=autonomous_extension, continuation=continuation, loops=loop_form,
+        unrolled_form=unrolled,
     )

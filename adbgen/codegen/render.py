@@ -202,6 +202,9 @@ def render_model(ir: ModelIR, names=None) -> dict[str, str]:
         if (names is not None and target.name not in names) or target.skip_reason(ir):
             continue
         model = target.model_for(ir)
+        if not target.loops:
+            model = model.as_unrolled()
+        memo.setdefault(("model", id(model)), model)  # keeps it alive: the memo is keyed by id
         ctx = context(model, target, memo)
         for template, path in target.files:
             text = env.get_template(template).render(**ctx)
