@@ -227,7 +227,18 @@ class _Kernels:
         return Pos(offset + self.s.first, ball=True)
 
     # -- the structured solve shared by rhs and the Jacobians
-    def solve(self) -> tuple[list, list[sp.Symbol], dict]:
+    def accelerations(self) -> tuple[list[sp.Symbol], sp.Symbol]:
+        """The names `solve` gives the core's accelerations, and the ball's (`ball_accel`)."""
+        return [_sym(f"xa_{a}") for a in range(self.r)], _sym("ball_acc")
+
+    def solve(self, later: Sequence[sp.Expr] = ()) -> tuple:
+        """The structured solve's ops, the core accelerations' symbols and the LU factors.
+
+        `later`: per-ball expressions a second ball loop evaluates after the solve (a Jacobian's
+        entries, in the accelerations of `accelerations`); they are CSE'd with the ball's block, what
+        they share with it that does not need the accelerations (sin, cos of the ball's angle, ...) is
+        computed in the first loop and kept per ball (array w_keep).  Returns also the second loop's
+        prefix (fetches and the statements that need the accelerations) and `later` reduced."""
         s, r = self.s, self.r
         pre, red = _cse([e for row in s.A0 for e in row] + list(s.f0), "wc_")
         ops: list = list(pre)
@@ -239,7 +250,20 @@ class _Kernels:
         for a in range(r):
             ops.append(Var(G[a], red[r * r + a]))
         body_exprs = [e for row in s.A for e in row] + list(s.fc) + list(s.B) + list(s.C) + [s.D, s.f]
-        lets, red = _cse(body_exprs, "wb_")
+        lets, red = _cse(body_exprs + list(later), "wb_")
+        red, red_later = red[: len(body_exprs)], red[len(body_exprs):]
+        xa, acc = self.accelerations()
+        late_syms = set(xa) | {acc}
+        early, late = [], []
+        for let in lets:
+            if sp.sympify(let.expr).free_symbols & late_syms:
+                late_syms.add(let.sym)
+                late.append(let)
+            else:
+                early.append(let)
+        wanted = set().union(*(sp.sympify(e).free_symbols for e in [op.expr for op in late] + red_later))
+        keep = [let.sym for let in early if let.sym in wanted]
+        lets = early
         it = iter(red)
         A = [[next(it) for _ in range(r)] for _ in range(r)]
         fc = [next(it) for _ in range(r)]
@@ -259,12 +283,15 @@ class _Kernels:
             body.append(Inc(G[a], fc[a] - bd[a] * fl))
         body += [Save("w_bd", a, bd[a]) for a in range(r)] + [Save("w_c", a, cc[a]) for a in range(r)]
         body += [Save("w_dinv", 0, dinv), Save("w_f", 0, fl)]
+        body += [Save("w_keep", k, sym) for k, sym in enumerate(keep)]
         ops.append(Balls(tuple(body)))
         lu_ops, factors = self.factor(Sacc)
         ops += lu_ops
         sol_ops, xc = self.core_solve(factors, G, "a")
         ops += sol_ops
-        return ops, xc, factors
+        assert xc == xa
+        self.keep_width = len(keep)
+        return ops, xc, factors, [Fetch(sym, "w_keep", k) for k, sym in enumerate(keep)] + late, red_later
 
     def factor(self, S) -> tuple[list, dict]:
         """Unrolled LU (Doolittle, no pivoting) of the r x r Schur complement, as `lowering._Builder.factor`."""
@@ -309,14 +336,15 @@ class _Kernels:
         ops.append(Let(acc, (fl - sp.Add(*[cc[a] * xc[a] for a in range(r)])) * dinv))
         return ops, acc
 
-    @staticmethod
-    def arrays(r: int) -> tuple[tuple[str, int], ...]:
-        return (("w_bd", r), ("w_c", r), ("w_dinv", 1), ("w_f", 1))
+    def arrays(self, r: int) -> tuple[tuple[str, int], ...]:
+        return (("w_bd", r), ("w_c", r), ("w_dinv", 1), ("w_f", 1)) + \
+            ((("w_keep", self.keep_width),) if getattr(self, "keep_width", 0) else ())
 
     # -- the kernels
     def rhs(self) -> Kernel:
         N, r = self.N, self.r
-        ops, xc, _ = self.solve()
+        self.keep_width = 0
+        ops, xc, _, _, _ = self.solve()
         core_rates = [self.coords[k].qd for k in self.core]
         ops += [Put(Pos(k), None, rate) for k, rate in zip(self.core, core_rates)]
         ops += [Put(self.core_row(a, N), None, xc[a]) for a in range(r)]
@@ -383,18 +411,16 @@ class _Kernels:
         ops += [Fetch(dj, "w_dinv", 0, column=True), Put(own, col, vj * dj, add=True)]
         return Columns(self.s.n, tuple(ops))
 
-    def core_derivatives(self, ops: list, xc, wrt) -> tuple:
+    def core_derivatives(self, ops: list, xc, wrt, R0) -> list:
         """Appends the oscillator's rows and the core part's entries d/dz, (z, column) in `wrt`, to
-        `ops`; returns the ball's residual shares, the accelerations to put in (the core's and, from
-        the ball loop's ops `acc_ops`, the ball's) and those ops."""
+        `ops`; returns the ops that give a ball loop its acceleration (`ball_accel`)."""
         N, r = self.N, self.r
         for e, rate in enumerate(self.extra_rates):
             for z, col in wrt:
                 d = sp.diff(rate, z)
                 if d != 0:
                     ops.append(Put(Pos(2 * N + e), col, d))
-        R0, Rb, rho, qdd = self.residuals()
-        accel = dict(zip(qdd, xc))
+        accel = dict(zip([self.coords[k].qdd for k in self.core], xc))
         keys, exprs = [], []
         for a in range(r):
             for z, col in wrt:
@@ -404,27 +430,36 @@ class _Kernels:
                     exprs.append(d.xreplace(accel))
         lets, red = _cse(exprs, "wd_")
         ops += lets + [Put(row, col, e) for (row, col), e in zip(keys, red)]
-        acc_ops, acc = self.ball_accel(xc)
-        return Rb, rho, {**accel, self.s.qdd: acc}, acc_ops
+        acc_ops, _ = self.ball_accel(xc)
+        return acc_ops
 
-    def jac(self) -> Kernel:
+    def ball_derivatives(self, Rb, rho, qdd, columns) -> tuple[list, list]:
+        """A ball's entries d/dz of its share of the core rows and of its own row, (z, column,
+        factor) in `columns`, in the accelerations' symbols (`accelerations`)."""
         N, r = self.N, self.r
-        ops, xc, fac = self.solve()
-        S = 2 * N + len(self.extra_rates)
-        core_z = [(self.coords[k].q, Pos(k)) for k in self.core] + [(self.coords[k].qd, Pos(N + k)) for k in self.core] \
-            + [(z, Pos(2 * N + e)) for e, z in enumerate(self.extra_states)]
-        ops += [Put(Pos(k), Pos(N + k), sp.S.One) for k in self.core]
-        Rb, rho, accel_b, acc_ops = self.core_derivatives(ops, xc, core_z)
-        own = [(self.s.q, Pos(self.s.first, ball=True)), (self.s.qd, Pos(N + self.s.first, ball=True))]
+        xa, acc = self.accelerations()
+        accel = {**dict(zip(qdd, xa)), self.s.qdd: acc}
         keys, exprs = [], []
         for row, R in [(self.core_row(a, N), Rb[a]) for a in range(r)] + [(self.ball_row(N), rho)]:
-            for z, col in core_z + own:
+            for z, col, factor in columns:
                 d = sp.diff(R, z)
                 if d != 0:
                     keys.append((row, col))
-                    exprs.append(d.xreplace(accel_b))
-        lets, red = _cse(exprs, "we_")
-        body = [Put(self.ball_row(), Pos(N + self.s.first, ball=True), sp.S.One)] + acc_ops + lets
+                    exprs.append((factor * d).xreplace(accel))
+        return keys, exprs
+
+    def jac(self) -> Kernel:
+        N, r = self.N, self.r
+        S = 2 * N + len(self.extra_rates)
+        core_z = [(self.coords[k].q, Pos(k)) for k in self.core] + [(self.coords[k].qd, Pos(N + k)) for k in self.core] \
+            + [(z, Pos(2 * N + e)) for e, z in enumerate(self.extra_states)]
+        own = [(self.s.q, Pos(self.s.first, ball=True)), (self.s.qd, Pos(N + self.s.first, ball=True))]
+        R0, Rb, rho, qdd = self.residuals()
+        keys, exprs = self.ball_derivatives(Rb, rho, qdd, [(z, col, 1) for z, col in core_z + own])
+        ops, xc, fac, later, red = self.solve(exprs)
+        ops += [Put(Pos(k), Pos(N + k), sp.S.One) for k in self.core]
+        acc_ops = self.core_derivatives(ops, xc, core_z, R0)
+        body = [Put(self.ball_row(), Pos(N + self.s.first, ball=True), sp.S.One)] + acc_ops + later
         body += [Put(row, col, e, add=not row.ball) for (row, col), e in zip(keys, red)]
         ops.append(Balls(tuple(body)))
         first, n = self.s.first, self.s.n
@@ -436,26 +471,15 @@ class _Kernels:
 
     def jac_p(self) -> Kernel:
         N, r = self.N, self.r
-        ops, xc, fac = self.solve()
         S, P = 2 * N + len(self.extra_rates), len(self.params)
         shared = [(p.symbol, Pos(k)) for k, p in enumerate(self.params)]
-        Rb, rho, accel_b, acc_ops = self.core_derivatives(ops, xc, shared)
-        slots = [(sl.symbol, Pos(slot=sl.name), sl) for sl in self.s.slots]
-        keys, exprs = [], []
-        for row, R in [(self.core_row(a, N), Rb[a]) for a in range(r)] + [(self.ball_row(N), rho)]:
-            for z, col in shared:
-                d = sp.diff(R, z)
-                if d != 0:
-                    keys.append((row, col))
-                    exprs.append(d.xreplace(accel_b))
-            for z, col, sl in slots:
-                d = sp.diff(R, z)
-                if d != 0:
-                    keys.append((row, col))
-                    coef = 1 if sl.unit_coefficients else _sym(f"{z.name}_coef")
-                    exprs.append((coef * d).xreplace(accel_b))
-        lets, red = _cse(exprs, "we_")
-        body = acc_ops + lets + [Put(row, col, e, add=True) for (row, col), e in zip(keys, red)]
+        slots = [(sl.symbol, Pos(slot=sl.name), 1 if sl.unit_coefficients else _sym(f"{sl.symbol.name}_coef"))
+                 for sl in self.s.slots]
+        R0, Rb, rho, qdd = self.residuals()
+        keys, exprs = self.ball_derivatives(Rb, rho, qdd, [(z, col, 1) for z, col in shared] + slots)
+        ops, xc, fac, later, red = self.solve(exprs)
+        acc_ops = self.core_derivatives(ops, xc, shared, R0)
+        body = acc_ops + later + [Put(row, col, e, add=True) for (row, col), e in zip(keys, red)]
         ops.append(Balls(tuple(body)))
         ops.append(self.column_solve(P, fac, True))
         return _kernel(ops, (S, P), True, self.arrays(r))
