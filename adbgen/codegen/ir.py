@@ -2,7 +2,10 @@
 
 A model's first-order system y' = F(t, y; p) (y = positions, then rates) is lowered (`lowering`) to
 straight-line *programs*: ordered assignments ``name = expression`` followed by stores into an output
-array.  Every target (`targets/`) prints the same programs, so each equation exists once.
+array.  Every target (`targets/`) prints the same programs, so each equation exists once.  By
+default a balancer is lowered to the loop form instead (`loops.LoopForm`, issue 10): each ball's
+block kept once, and kernels that loop over the balls; `ModelIR.kernels()` gives either form as
+kernels, which `emit` prints for every target.
 """
 
 from __future__ import annotations

@@ -1,4 +1,6 @@
-"""The lowering: a first-order system to the intermediate form's straight-line programs (`ir`).
+"""The lowering: a first-order system to the intermediate form (`ir`): by default the loop form
+(`balls.split` verifies the per-ball block, `loops.build_loops` makes the kernels), or the
+straight-line programs below (`build(form="unrolled")`, and any model whose balls are not alike).
 
 Structure (thesis Appendix A, generalised in `adbgen.core.structure`): the mass matrix is
 M = [[A, B], [C, D]] over core (rotor) and leaf (ball) coordinates with D diagonal.  The programs
