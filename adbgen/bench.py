@@ -8,6 +8,7 @@ compare ratios from one run, not absolute times across runs (the machine is nois
 from __future__ import annotations
 
 import json
+import os
 import platform
 import time
 from pathlib import Path
@@ -32,7 +33,8 @@ def _derive_thesis(n: int):
     return rot, first_order(rot)
 
 
-def bench_derive(ns=(1, 2, 4, 8, 16, 32), progress=None) -> dict:
+def bench_derive(ns=(1, 2, 4, 8, 16, 32), progress=None, pipeline_ns=None, pipeline_progress=None) -> dict:
+    """The derivation's time and size for `ns`; with `pipeline_ns`, also `bench_pipeline` (issue 10)."""
     rows = []
     for n in ns:
         for label, fn in (("general fixed frame (torque)", _derive_general),
@@ -56,7 +58,61 @@ def bench_derive(ns=(1, 2, 4, 8, 16, 32), progress=None) -> dict:
             "ops_per_ball_last": last["first_order_ops"] / last["n"],
             "seconds_at_max_n": last["seconds"],
         }
+    if pipeline_ns:
+        out["load_average_at_start"] = list(os.getloadavg())
+        out["pipeline"] = bench_pipeline(tuple(pipeline_ns), progress=pipeline_progress)
+        out["load_average_at_end"] = list(os.getloadavg())
     return out
+
+
+PIPELINE_NS = (1, 2, 4, 8, 16, 32, 64)
+
+
+def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progress=None) -> dict:
+    """Issue 10: the stages of `adbgen regenerate --n N` per model kind and n, timed one by one:
+    derive (scene -> first-order system), checks (the kind's reduction checks, in their proportionate
+    form unless full_checks, and the pre-write checks of every program), lower (the intermediate form,
+    loop form) and emit (every target rendered), with the emitted sizes."""
+    from . import families
+    from .codegen.checks import check_programs, check_start
+    from .codegen.render import render_model
+
+    kinds = kinds or families.kinds()
+    rows = []
+    for n in ns:
+        for kind, make in kinds.items():
+            derive.cache_clear()
+            spec = make(n)
+            t0 = time.perf_counter()
+            system = spec.system()
+            t1 = time.perf_counter()
+            ran = []
+            for check in spec.checks:
+                scaled = check.scaled is not None and not full_checks
+                result = (check.scaled if scaled else check.run)()
+                if not result.passed:
+                    raise RuntimeError(f"check failed: {result.name}: {result.detail}")
+                ran.append({"name": result.name, "seconds": round(result.seconds, 3), "proportionate": scaled})
+            t2 = time.perf_counter()
+            ir = spec.build(system)
+            t3 = time.perf_counter()
+            errors = check_programs(ir, system)
+            for model in (ir, ir.autonomous_extension):
+                if model is not None and model.start is not None:
+                    check_start(model)
+            t4 = time.perf_counter()
+            files = render_model(ir)
+            t5 = time.perf_counter()
+            row = {"kind": kind, "n": n, "form": ir.form, "derive_seconds": round(t1 - t0, 3),
+                   "reduction_checks_seconds": round(t2 - t1, 3), "reduction_checks": ran,
+                   "lower_seconds": round(t3 - t2, 3), "program_checks_seconds": round(t4 - t3, 3),
+                   "emit_seconds": round(t5 - t4, 3), "total_seconds": round(t5 - t0, 3),
+                   "lowering_errors": {k: float(f"{v:.3g}") for k, v in errors.items()},
+                   "files": len(files), "bytes": sum(len(text.encode()) for text in files.values())}
+            rows.append(row)
+            if progress:
+                progress(row)
+    return {"rows": rows, "full_checks": full_checks, "ns": list(ns)}
 
 
 def write(result: dict, path: str | Path) -> Path:

@@ -3,7 +3,7 @@
 Issue: code generation, "operation count of the emitted rhs and jac for n = 1..32 (linear), and ns
 per rhs call of numba and C against sympy.lambdify, written to a committed results file".
 
-Two parts, both for the model kinds indexed by n of the registered families (`adbgen.families.kinds`):
+Three parts, all for the model kinds indexed by n of the registered families (`adbgen.families.kinds`):
 
 - ``ops``: SymPy's ``count_ops`` of the intermediate form's ``rhs`` and ``jac`` programs (the exact
   statements every target prints), the number of statements and the build time (derivation and
@@ -11,6 +11,7 @@ Two parts, both for the model kinds indexed by n of the registered families (`ad
   is split into its parts: the shared prefix (the rhs' statements it reuses), the derivative
   expressions (``v_*`` and ``dR_*``: O(n)), and the per-column structured solves and stores (one
   solve per column of the dense 2N x 2N Jacobian: O(n^2)); the whole is fitted by a + b n + c n^2.
+- ``forms`` (issue 10): the loop form against the unrolled form, see `bench_forms`.
 - ``speed``: ns per call of the rhs (and the jac) rendered from the templates into a temporary
   folder, all measured in one run so that the ratios are meaningful (absolute times are not
   comparable across machines or runs):
@@ -45,6 +46,7 @@ import sympy as sp
 
 from .bench import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
 from . import families
+from .codegen.lowering import DEFAULT_FORM
 from .codegen.scratch import import_numba, render_into
 from .families.single_plane.model import derive
 
@@ -95,7 +97,7 @@ def bench_ops(ns=OPS_NS, families=tuple(FAMILIES), progress=None) -> dict:
         for n in ns:
             derive.cache_clear()
             start = time.perf_counter()
-            ir = FAMILIES[family](n).build()
+            ir = FAMILIES[family](n).build(form="unrolled")  # the straight-line programs' structure
             seconds = time.perf_counter() - start
             parts = jac_parts(ir.jac)
             row = {"family": family, "n": n, "build_seconds": round(seconds, 3),
@@ -305,21 +307,27 @@ def _sample_point(system, n_states: int, seed: int = 0):
 
 
 def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, repeats: int = 5,
-                    jac: bool = True, lambdify: bool = True, cc: str | None = None) -> dict:
-    """ns per call for one model: numba (jitted loop, from Python), C, sympy.lambdify."""
+                    jac: bool = True, lambdify: bool = True, cc: str | None = None, form: str = DEFAULT_FORM,
+                    native: bool = True) -> dict:
+    """ns per call for one model in one form (`lowering.FORMS`): numba (jitted loop, from Python), C,
+    sympy.lambdify; with the emitted source sizes and the first calls' (compilation) times."""
     spec = FAMILIES[family](n)
     derive.cache_clear()
     system = spec.system()
-    ir = spec.build()
-    folder = render_into(ir, workdir / f"{family}_n{n}", ("numba", "c"))
+    ir = spec.build(system, form=form)
+    folder = render_into(ir, workdir / f"{family}_n{n}_{form}", ("numba", "c"))
     y, p = _sample_point(system, ir.n_states)
-    row: dict = {"family": family, "n": n, "n_states": ir.n_states, "rhs_ops": ir.rhs.count_ops()}
+    row: dict = {"family": family, "n": n, "form": ir.form, "n_states": ir.n_states, "rhs_ops": ir.count_ops("rhs"),
+                 "jac_ops": ir.count_ops("jac"),
+                 "source_bytes": {"numba": len((folder / "__init__.py").read_bytes()),
+                                  "c": len((folder / f"{ir.name}.c").read_bytes())}}
 
     # numba
-    mod = import_numba(folder, f"_adbgen_bench_{ir.name}")
+    mod = import_numba(folder, f"_adbgen_bench_{ir.name}_{form}")
     out = np.empty(ir.n_states)
     start = time.perf_counter()
     mod.rhs_inplace(0.0, y, p, out)
+    row["numba_first_call_seconds_rhs"] = round(time.perf_counter() - start, 3)
     loop = _numba_loop(mod.rhs_inplace)
     loop(y, p, out, 1)
     row["numba_compile_seconds_rhs"] = round(time.perf_counter() - start, 3)
@@ -329,6 +337,8 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
     if jac:
         jout = np.empty((ir.n_states, ir.n_states))
         start = time.perf_counter()
+        mod.jac_inplace(0.0, y, p, jout)
+        row["numba_first_call_seconds_jac"] = round(time.perf_counter() - start, 3)
         jloop = _numba_loop(mod.jac_inplace)
         jloop(y, p, jout, 1)
         mod.jac(0.0, y, p)
@@ -345,15 +355,16 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
         if jac:
             row["c_jac_loop"] = c["jac"]
         # numba compiles for the host CPU (like -march=native): the same C built that way, for fairness
-        try:
-            c = _time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc, flags=("-O2", "-march=native"),
-                        suffix="_native")
-        except subprocess.CalledProcessError as exc:
-            row["c_native_rhs_loop"] = f"skipped: {exc.stderr.strip()[:200]}"
-        else:
-            row["c_native_rhs_loop"] = c["rhs"]
-            if jac:
-                row["c_native_jac_loop"] = c["jac"]
+        if native:
+            try:
+                c = _time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc, flags=("-O2", "-march=native"),
+                            suffix="_native")
+            except subprocess.CalledProcessError as exc:
+                row["c_native_rhs_loop"] = f"skipped: {exc.stderr.strip()[:200]}"
+            else:
+                row["c_native_rhs_loop"] = c["rhs"]
+                if jac:
+                    row["c_native_jac_loop"] = c["jac"]
     else:
         row["c_rhs_loop"] = "skipped: no C compiler"
 
@@ -423,6 +434,45 @@ def bench_speed(ns=SPEED_NS, families=tuple(FAMILIES), *, jac_ns=JAC_NS, lambdif
     return rows
 
 
+FORMS_NS = (1, 2, 4, 8, 16, 32, 64)
+UNROLLED_MAX_N = 16  # the unrolled form's jac takes minutes to compile in numba beyond (230 s at n = 32)
+UNROLLED_JAC_MAX_N = 8
+
+
+def bench_forms(ns=FORMS_NS, families=tuple(FAMILIES), *, unrolled_max_n: int = UNROLLED_MAX_N,
+                unrolled_jac_max_n: int = UNROLLED_JAC_MAX_N, target: float = 0.1, repeats: int = 5,
+                progress=None) -> dict:
+    """Issue 10: the loop form against the unrolled form, per family and n: emitted source size, first
+    calls of numba's rhs and jac (compilation), gcc -O2 time, ns per rhs and jac call (numba in a
+    jitted loop, C from a C loop), all in one run; the unrolled form up to `unrolled_max_n` (its jac up
+    to `unrolled_jac_max_n`)."""
+    rows, ratios = [], []
+    with tempfile.TemporaryDirectory(prefix="adbgen-bench-forms-") as tmp:
+        for family in families:
+            for n in ns:
+                pair = {}
+                for form in ("loops", "unrolled"):
+                    if form == "unrolled" and n > unrolled_max_n:
+                        continue
+                    jac = form == "loops" or n <= unrolled_jac_max_n
+                    row = bench_speed_one(family, n, Path(tmp), target=target, repeats=repeats, jac=jac,
+                                          lambdify=False, form=form, native=False)
+                    for key in ("lambdify_math", "lambdify_numpy", "numba_rhs_python", "numba_jac_python"):
+                        row.pop(key, None)
+                    rows.append(row)
+                    pair[form] = row
+                    if progress:
+                        progress(row)
+                if len(pair) == 2:
+                    ratio = {"family": family, "n": n}
+                    for key in ("numba_rhs_loop", "c_rhs_loop", "numba_jac_loop", "c_jac_loop"):
+                        a, b = pair["loops"].get(key), pair["unrolled"].get(key)
+                        if isinstance(a, dict) and isinstance(b, dict):
+                            ratio[f"{key} loops/unrolled"] = round(a["ns"] / b["ns"], 3)
+                    ratios.append(ratio)
+    return {"rows": rows, "ratios_loops_over_unrolled": ratios}
+
+
 def _compiler() -> str:
     cc = shutil.which("gcc") or shutil.which("cc")
     if not cc:
@@ -465,22 +515,37 @@ NOTES = (
     "solve_ivp would add an asarray). The closed form (Cramer's rule) grows faster than n^2 "
     "(closed_form_ops): at n = 16 only modules='math' is tried (lambdify alone takes ~10 s), and "
     "for the thesis model the generated source exceeds CPython's compiler recursion limit (recorded "
-    "as failed)."
+    "as failed). "
+    "ops: the unrolled form's programs (`--form unrolled`; the default form's loops print each ball's "
+    "block once, so its op counts do not grow with n). "
+    "forms (issue 10): per family and n, the loop form (the default) and the unrolled form (up to "
+    "unrolled_max_n, its jac up to unrolled_jac_max_n: beyond, its numba jac takes minutes to compile): "
+    "source bytes of the numba module and the C file, first calls of numba's rhs_inplace and jac_inplace "
+    "(compilation included, a fresh cache), gcc -O2 time of the timing program with the model's C file, "
+    "ns per call in a jitted loop (numba) and a C loop; ratios loops/unrolled from this run."
 )
 
 
 def bench_codegen(ops_ns=OPS_NS, speed_ns=SPEED_NS, *, families=tuple(FAMILIES), jac_ns=JAC_NS,
                   lambdify_max_n=LAMBDIFY_MAX_N, target: float = 0.1, repeats: int = 7,
-                  progress=None) -> dict:
+                  progress=None, forms_ns=FORMS_NS, parts=("ops", "speed", "forms")) -> dict:
     start = time.perf_counter()
-    ops = bench_ops(tuple(ops_ns), families, progress=progress)
-    speed = bench_speed(tuple(speed_ns), families, jac_ns=tuple(jac_ns), lambdify_max_n=lambdify_max_n,
-                        target=target, repeats=repeats, progress=progress)
-    return {"benchmark": "codegen", "machine": machine(), "notes": NOTES,
-            "settings": {"ops_n": list(ops_ns), "speed_n": list(speed_ns), "jac_speed_n": list(jac_ns),
-                         "lambdify_max_n": lambdify_max_n, "families": list(families),
-                         "repeat_target_seconds": target, "repeats": repeats},
-            "ops": ops, "speed": speed, "seconds": round(time.perf_counter() - start, 1)}
+    out = {"benchmark": "codegen", "machine": machine(), "notes": NOTES,
+           "settings": {"ops_n": list(ops_ns), "speed_n": list(speed_ns), "jac_speed_n": list(jac_ns),
+                        "lambdify_max_n": lambdify_max_n, "families": list(families), "forms_n": list(forms_ns),
+                        "unrolled_max_n": UNROLLED_MAX_N, "unrolled_jac_max_n": UNROLLED_JAC_MAX_N,
+                        "repeat_target_seconds": target, "repeats": repeats, "parts": list(parts)}}
+    if "ops" in parts:
+        out["ops"] = bench_ops(tuple(ops_ns), families, progress=progress)
+    if "speed" in parts:
+        out["speed"] = bench_speed(tuple(speed_ns), families, jac_ns=tuple(jac_ns), lambdify_max_n=lambdify_max_n,
+                                   target=target, repeats=repeats, progress=progress)
+    if "forms" in parts:
+        out["forms"] = bench_forms(tuple(forms_ns), families, target=target, repeats=min(repeats, 5),
+                                   progress=progress)
+    out["load_average_at_end"] = list(os.getloadavg())
+    out["seconds"] = round(time.perf_counter() - start, 1)
+    return out
 
 
 def describe(row: dict) -> str:
@@ -494,6 +559,12 @@ def describe(row: dict) -> str:
         v = row.get(key)
         return f"{v['ns']:.0f}" if isinstance(v, dict) else "-"
 
+    if "source_bytes" in row and "numba_rhs_python" not in row:
+        return (f"forms {row['family']:18s} n={row['n']:3d} {row['form']:8s} source {row['source_bytes']['numba']} B "
+                f"(C {row['source_bytes']['c']} B), first calls rhs {row['numba_first_call_seconds_rhs']:.2f} s, jac "
+                f"{row.get('numba_first_call_seconds_jac', float('nan')):.2f} s, gcc {row.get('c_compile_seconds', 0):.2f} s; "
+                f"ns rhs numba {ns('numba_rhs_loop')} C {ns('c_rhs_loop')}, jac numba {ns('numba_jac_loop')} "
+                f"C {ns('c_jac_loop')}")
     return (f"speed {row['family']:18s} n={row['n']:3d}  rhs ns: numba loop {ns('numba_rhs_loop')}, "
             f"numba python {ns('numba_rhs_python')}, C {ns('c_rhs_loop')} (native {ns('c_native_rhs_loop')}), "
             f"lambdify math "
@@ -501,5 +572,5 @@ def describe(row: dict) -> str:
             f"C {ns('c_jac_loop')}")
 
 
-__all__ = ["bench_codegen", "bench_ops", "bench_speed", "bench_speed_one", "describe", "jac_parts",
+__all__ = ["bench_codegen", "bench_forms", "bench_ops", "bench_speed", "bench_speed_one", "describe", "jac_parts",
            "machine", "polyfit", "write"]

@@ -58,13 +58,18 @@ def cmd_bench(args) -> int:
         ns = tuple(args.n)  # op counts for every n; timings for n <= 16 (jac and lambdify up to 8)
         result = bench_codegen.bench_codegen(
             ns, tuple(n for n in ns if n <= max(bench_codegen.SPEED_NS)),
-            progress=lambda r: print(bench_codegen.describe(r), flush=True))
+            progress=lambda r: print(bench_codegen.describe(r), flush=True),
+            **({"forms_ns": tuple(args.forms_n)} if args.forms_n else {}),
+            **({"parts": tuple(args.parts)} if args.parts else {}))
         path = bench.write(result, out)
         print(f"wrote {path} ({result['seconds']} s)")
         return 0
     result = bench.bench_derive(tuple(args.n), progress=lambda r: print(
         f"{r['model']:30s} n={r['n']:3d}  {r['seconds']:8.3f} s  eom ops {r['eom_ops']:7d}  first-order ops {r['first_order_ops']:7d}",
-        flush=True))
+        flush=True), pipeline_ns=tuple(args.pipeline_n or bench.PIPELINE_NS), pipeline_progress=lambda r: print(
+        f"pipeline {r['kind']:20s} n={r['n']:3d}  derive {r['derive_seconds']:.1f} s, reduction checks "
+        f"{r['reduction_checks_seconds']:.1f} s, lower {r['lower_seconds']:.1f} s, program checks "
+        f"{r['program_checks_seconds']:.1f} s, emit {r['emit_seconds']:.1f} s ({r['bytes']} bytes)", flush=True))
     path = bench.write(result, out)
     print(f"wrote {path}")
     return 0
@@ -139,6 +144,12 @@ def register(sub) -> None:
                    "its chart next to it, <out>.png)")
     b.add_argument("--n", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32], action=_NGiven,
                    help="derive/codegen: ball counts; precision: the per-call part's (default 2 4 8 16 32)")
+    b.add_argument("--pipeline-n", type=positive_int, nargs="+", default=None,
+                   help="derive: n of the regenerate-stage timings (default 1 2 4 8 16 32 64)")
+    b.add_argument("--forms-n", type=positive_int, nargs="+", default=None,
+                   help="codegen: n of the loop-versus-unrolled comparison (default 1 2 4 8 16 32 64)")
+    b.add_argument("--parts", nargs="+", choices=("ops", "speed", "forms"), default=None,
+                   help="codegen: only these parts (default: all)")
     b.add_argument("--repeats", type=int, default=None, help="simulate: best of N (default 7); sweep: each "
                    "configuration N times, alternating (default 2)")
     b.add_argument("--only", choices=("shortcuts", "full"), default=None,

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import ast
 import importlib
+import copy
 import inspect
 import os
 import tempfile
@@ -66,23 +67,96 @@ def peer_versions() -> dict:
 def generated_program(module) -> tuple[list, dict]:
     """The statements of a generated module's ``rhs_inplace``: ([(name, ast expr)], {index: ast expr}).
 
-    The function is straight-line code (``name = expr`` and ``out[i] = expr``, a docstring first);
-    anything else is refused, so a template change cannot slip a different program past the peers."""
+    The function is straight-line code or the loop form (issue 10): ``name = expr``, ``name += expr``,
+    ``out[i] = expr``, per-ball work arrays (``w = _scratch(size)``, ``w[k] = name``, ``w[k]``) and
+    ``for i in range(K):`` loops, a docstring first.  Loops are unrolled here in their order, with every
+    index folded to a number (the balls' parameter tables read from the module) and every re-assigned
+    name given a fresh one (``g_0``, ``g_0__1``, ...), so each peer gets the very operations of the
+    generated code; anything else is refused, so a template change cannot slip a different program
+    past the peers."""
     source = textwrap.dedent(inspect.getsource(module.rhs_inplace.py_func))
     fn = ast.parse(source).body[0]
     statements, outputs = [], {}
-    for node in fn.body:
-        if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
-            continue
-        if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
-            raise ValueError(f"unexpected statement in {module.__name__}.rhs_inplace: {ast.unparse(node)}")
-        target = node.targets[0]
-        if isinstance(target, ast.Name):
-            statements.append((target.id, node.value))
-        elif isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name) and target.value.id == "out":
-            outputs[int(ast.literal_eval(target.slice))] = node.value
-        else:
-            raise ValueError(f"unexpected assignment in {module.__name__}.rhs_inplace: {ast.unparse(node)}")
+    current: dict[str, str] = {}  # name in the source -> its latest statement's name
+    arrays: dict[str, dict[int, ast.expr]] = {}
+    taken: dict[str, int] = {}
+    tables = {k: v for k, v in vars(module).items() if k.startswith("ball_slot_")}
+
+    def refuse(node, what="statement"):
+        raise ValueError(f"unexpected {what} in {module.__name__}.rhs_inplace: {ast.unparse(node)}")
+
+    def number(node, loop: dict):
+        return eval(compile(ast.Expression(node), "<index>", "eval"), {"__builtins__": {}}, {**tables, **loop})  # noqa: S307
+
+    class Fold(ast.NodeTransformer):
+        """Indices folded, names to their latest statements (on a copy: a loop body is visited once per ball)."""
+
+        def __init__(self, loop):
+            self.loop = loop
+
+
+        def visit_Name(self, node):
+            if node.id in self.loop:
+                return ast.Constant(self.loop[node.id])
+            if node.id in tables:
+                refuse(node, "use of a parameter table")
+            return ast.Name(current.get(node.id, node.id), ast.Load())
+
+        def visit_Subscript(self, node):
+            base = node.value.id if isinstance(node.value, ast.Name) else None
+            if base in ("y", "p"):
+                return ast.Subscript(ast.Name(base, ast.Load()), ast.Constant(int(number(node.slice, self.loop))), ast.Load())
+            if base in tables:
+                return ast.Constant(float(number(node, self.loop)))
+            if base in arrays:
+                return arrays[base][int(number(node.slice, self.loop))]
+            refuse(node, "subscript")
+
+    def fold(node, loop):
+        return Fold(loop).visit(copy.deepcopy(node))
+
+    def emit(name, value):
+        k = taken.get(name, 0)
+        taken[name] = k + 1
+        fresh = name if k == 0 else f"{name}__{k}"
+        statements.append((fresh, value))
+        current[name] = fresh
+
+    def run(body, loop):
+        for node in body:
+            if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
+                continue
+            if isinstance(node, ast.For):
+                call = node.iter
+                if not (isinstance(node.target, ast.Name) and isinstance(call, ast.Call)
+                        and isinstance(call.func, ast.Name) and call.func.id == "range" and len(call.args) == 1):
+                    refuse(node, "loop")
+                for k in range(int(number(call.args[0], loop))):
+                    run(node.body, {**loop, node.target.id: k})
+                continue
+            if isinstance(node, ast.AugAssign) and isinstance(node.op, ast.Add) and isinstance(node.target, ast.Name):
+                emit(node.target.id, ast.BinOp(ast.Name(current[node.target.id], ast.Load()), ast.Add(),
+                                               fold(node.value, loop)))
+                continue
+            if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
+                refuse(node)
+            target = node.targets[0]
+            if isinstance(target, ast.Name):
+                value = node.value
+                if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id == "_scratch":
+                    arrays[target.id] = {}
+                else:
+                    emit(target.id, fold(value, loop))
+            elif isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name) and target.value.id == "out":
+                outputs[int(number(target.slice, loop))] = fold(node.value, loop)
+            elif isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name) and target.value.id in arrays:
+                arrays[target.value.id][int(number(target.slice, loop))] = fold(node.value, loop)
+            else:
+                refuse(node, "assignment")
+
+    run(fn.body, {})
+    statements = [(name, ast.fix_missing_locations(value)) for name, value in statements]
+    outputs = {k: ast.fix_missing_locations(v) for k, v in outputs.items()}
     if sorted(outputs) != list(range(len(module.STATE_NAMES))):
         raise ValueError(f"{module.__name__}.rhs_inplace does not write every output")
     return statements, outputs

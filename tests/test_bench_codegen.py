@@ -69,3 +69,29 @@ def test_cli_bench_codegen_writes_json(tmp_path, capsys, monkeypatch):
     data = json.loads(out.read_text())
     assert data == {"benchmark": "codegen", "seconds": 0.0, "ops_n": [1, 2, 32]}
     assert str(out) in capsys.readouterr().out
+
+
+def test_forms_rows_and_ratios(tmp_path):
+    """Issue 10's comparison on a tiny run: both forms' rows, source sizes and first calls, and the
+    loops/unrolled ratios of this run."""
+    result = bc.bench_forms((2,), families=("thesis_rotating",), target=0.002, repeats=2)
+    rows = {r["form"]: r for r in result["rows"]}
+    assert set(rows) == {"loops", "unrolled"}
+    for row in rows.values():
+        assert row["source_bytes"]["numba"] > 0 and row["numba_first_call_seconds_rhs"] > 0
+        assert row["numba_rhs_loop"]["ns"] > 0 and row["numba_jac_loop"]["ns"] > 0
+    ratio = result["ratios_loops_over_unrolled"][0]
+    assert ratio["n"] == 2 and ratio["numba_rhs_loop loops/unrolled"] > 0
+    json.dumps(result)
+
+
+def test_pipeline_stages_are_timed():
+    from adbgen import bench
+
+    result = bench.bench_pipeline((1,))
+    kinds = {r["kind"] for r in result["rows"]}
+    assert kinds == {"thesis_rotating", "single_plane_fixed"}
+    for r in result["rows"]:
+        assert r["form"] == "loops" and r["files"] > 0 and r["bytes"] > 0
+        assert r["total_seconds"] >= r["derive_seconds"] + r["emit_seconds"]
+        assert r["lowering_errors"]["rhs"] < 1e-12 and all(not c["proportionate"] for c in r["reduction_checks"])

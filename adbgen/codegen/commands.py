@@ -1,7 +1,8 @@
 """`adbgen regenerate`: derive, check and emit every registered target for the models the families offer.
 
     adbgen regenerate [--check] [--n N ...] [--scene F [--name NAME]] [--family F ...] [--out DIR]
-                      [--targets numba c cvode auto] [--skip-checks] [--quiet]
+                      [--targets numba c cvode auto] [--skip-checks] [--full-checks]
+                      [--form loops|unrolled] [--quiet]
 
 Without --n/--scene: every family's default set into the repository's generated/.  --n: each chosen
 family's model kinds for those n; --scene: the smallest exact model of the scene, from the family
@@ -18,6 +19,7 @@ from .. import families
 from ..cli_types import UsageError, model_name, positive_int
 from ..errors import AdbgenError, SceneError
 from . import targets
+from .lowering import DEFAULT_FORM, FORMS
 
 
 def _family_for_scene(path: str, chosen: tuple[str, ...] | None):
@@ -91,7 +93,8 @@ def cmd_regenerate(args) -> int:
         validate_name(spec.name)
     all_targets = set(args.targets) == set(targets.names())
     log = (lambda line: None) if args.quiet else (lambda line: print(line, file=sys.stderr, flush=True))
-    rendered = render_all(specs, tuple(args.targets), run_checks=not args.skip_checks, progress=log)
+    rendered = render_all(specs, tuple(args.targets), run_checks=not args.skip_checks, progress=log,
+                          full_checks=args.full_checks, form=args.form)
     if args.check:
         report = stale(rendered, out, extra=all_targets)
         for rel, status in report.items():
@@ -120,5 +123,9 @@ def register(sub) -> None:
     r.add_argument("--out", help="output folder (default: the repository's generated/)")
     r.add_argument("--targets", nargs="+", choices=targets.names(), default=list(targets.names()))
     r.add_argument("--skip-checks", action="store_true", help="skip the reduction checks (the lowering check stays)")
+    r.add_argument("--full-checks", action="store_true",
+                   help="run every reduction check in its exact form (default: proportionate forms at large n)")
+    r.add_argument("--form", choices=FORMS, default=DEFAULT_FORM,
+                   help="the generated code's form: loops over the balls (default) or every ball unrolled")
     r.add_argument("--quiet", action="store_true", help="no progress lines")
     r.set_defaults(fn=cmd_regenerate)

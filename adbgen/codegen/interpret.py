@@ -1,8 +1,8 @@
-"""Run an intermediate-form program in plain Python (no numba, no C): checks of the lowering.
+"""Run an intermediate-form function in plain Python (no numba, no C): checks of the lowering.
 
-The program is printed with the same printer the numba template uses and executed as an ordinary
-Python function, so `regenerate` can check each model's structured solve against the closed form
-without compiling anything.
+The function is printed by the same emitter and printer the numba template uses (loops and all) and
+executed as an ordinary Python function, so `regenerate` can check each model's structured solve
+against the closed form without compiling anything.
 """
 
 from __future__ import annotations
@@ -11,23 +11,33 @@ import math
 
 import numpy as np
 
+from .emit import Dialect, Emitter, tables
 from .ir import ModelIR
 from .printers import PythonPrinter, identifiers
 
 
-def compile_program(ir: ModelIR, which: str):
-    """A Python function (t, y, p) -> flat output array of the program `which` ('rhs', 'jac', ...)."""
-    program = getattr(ir, which)
+def python_source(ir: ModelIR, which: str, fname: str = "_f") -> str:
+    """def fname(t, y, p, out): the body of function `which` as the numba target prints it."""
+    kernel = ir.kernels()[which]
     names = identifiers(ir)
-    printer = PythonPrinter(names)
-    printer.set_program(program.assignments)
-    lines = ["def _f(t, y, p):"]
-    lines += [f"    {names[s.symbol]} = y[{k}]" for k, s in enumerate(ir.states)]
-    lines += [f"    {names[q.symbol]} = p[{k}]" for k, q in enumerate(ir.parameters)]
-    lines += [f"    {printer.doprint(lhs)} = {printer.doprint(rhs)}" for lhs, rhs in program.assignments]
-    lines.append(f"    out = np.zeros({math.prod(program.shape)})")
-    lines += [f"    out[{i}] = {printer.doprint(e)}" for i, e in program.outputs]
-    lines.append("    return out")
+    dialect = Dialect("py", "y", "p", "out", kernel.shape[1] if len(kernel.shape) == 2 else 0)
+    split = ir.loops.split if ir.loops is not None else None
+    body = Emitter(kernel, dialect, PythonPrinter(names), names, split, ir.n_coordinates,
+                   [s.symbol for s in ir.states], [p.symbol for p in ir.parameters]).emit()
+    return f"def {fname}(t, y, p, out):\n{body}    return out\n"
+
+
+def compile_program(ir: ModelIR, which: str):
+    """A Python function (t, y, p) -> flat output array of the function `which` ('rhs', 'jac', ...)."""
+    kernel = ir.kernels()[which]
     scope = {"math": math, "np": np}
-    exec(compile("\n".join(lines), f"<{ir.name}.{which}>", "exec"), scope)  # noqa: S102 - our own printed code
-    return scope["_f"]
+    if ir.loops is not None:
+        scope.update({name: np.array(values, dtype=np.int64 if kind == "int" else float)
+                      for name, kind, values in tables(ir.loops.split)})
+    exec(compile(python_source(ir, which), f"<{ir.name}.{which}>", "exec"), scope)  # noqa: S102 - our own printed code
+    inner = scope["_f"]
+    shape = kernel.shape
+
+    def run(t, y, p):
+        return inner(t, np.asarray(y, dtype=float), np.asarray(p, dtype=float), np.empty(shape)).ravel()
+    return run

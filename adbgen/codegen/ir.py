@@ -2,17 +2,26 @@
 
 A model's first-order system y' = F(t, y; p) (y = positions, then rates) is lowered (`lowering`) to
 straight-line *programs*: ordered assignments ``name = expression`` followed by stores into an output
-array.  Every target (`targets/`) prints the same programs, so each equation exists once.
+array.  Every target (`targets/`) prints the same programs, so each equation exists once.  By
+default a balancer is lowered to the loop form instead (`loops.LoopForm`, issue 10): each ball's
+block kept once, and kernels that loop over the balls; `ModelIR.kernels()` gives either form as
+kernels, which `emit` prints for every target.
 """
 
 from __future__ import annotations
 
 import hashlib
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Callable
 
 import sympy as sp
 
 from ..core import Parameter
+
+if TYPE_CHECKING:
+    from .loops import LoopForm
+
+KERNELS = ("rhs", "jac", "jac_p", "mass", "forcing")
 
 
 @dataclass(frozen=True)
@@ -72,11 +81,11 @@ class ModelIR:
     core: tuple[str, ...]  # coordinate names of the Schur core (the rotor)
     leaves: tuple[str, ...]  # coordinate names of the diagonal block (the balls)
     mass_pattern: tuple[tuple[int, int], ...]  # nonzero entries of M, sorted
-    rhs: Program
-    jac: Program
-    jac_p: Program
-    mass: Program
-    forcing: Program
+    rhs: Program | None  # the unrolled form's programs (None in the loop form: `loops`)
+    jac: Program | None
+    jac_p: Program | None
+    mass: Program | None
+    forcing: Program | None
     start: tuple[float, ...] | None = None  # a steady state (AUTO's stpnt) at start_parameters
     start_label: str = ""
     start_parameters: tuple[float, ...] | None = None  # the defaults unless the start needs others
@@ -84,6 +93,34 @@ class ModelIR:
     autonomous_extension: "ModelIR | None" = None  # of a periodically forced model (for AUTO-07p)
     continuation: Continuation | None = None  # what AUTO-07p continues from the start (None: no AUTO files)
     extras: dict = field(default_factory=dict)
+    loops: "LoopForm | None" = None  # the loop form (issue 10): kernels over the balls, size independent of n
+    # the same model lowered unrolled, made on demand (for targets that print programs one by one)
+    unrolled_form: Callable[[], "ModelIR"] | None = field(default=None, compare=False, repr=False)
+
+    def as_unrolled(self) -> "ModelIR":
+        """This model with the unrolled programs (rhs, jac, ... set): itself unless in the loop form."""
+        if self.loops is None:
+            return self
+        if self.unrolled_form is None:
+            raise ValueError(f"{self.name}: no unrolled form recorded")
+        return self.unrolled_form()
+
+    def kernels(self) -> dict:
+        """{function: kernel} of what the targets print: the loop form's, or the unrolled programs as
+        straight-line kernels."""
+        if self.loops is not None:
+            return self.loops.kernels()
+        from .loops import straight_line
+
+        return {name: straight_line(getattr(self, name), zero=name != "rhs") for name in KERNELS}
+
+    @property
+    def form(self) -> str:
+        return "loops" if self.loops is not None else "unrolled"
+
+    def count_ops(self, which: str) -> int:
+        """Arithmetic operations of one function as printed (a loop body counted once)."""
+        return self.kernels()[which].count_ops()
 
     @property
     def n_states(self) -> int:
@@ -109,7 +146,9 @@ class ModelIR:
                      self.core, self.leaves, self.mass_pattern, self.start, self.start_label, self.start_parameters,
                      self.forcing_frequency, self.continuation):
             h.update(repr(item).encode())
-        for prog in (self.rhs, self.jac, self.jac_p, self.mass, self.forcing):
+        if self.loops is not None:
+            h.update(self.loops.fingerprint_text().encode())
+        for prog in (p for p in (self.rhs, self.jac, self.jac_p, self.mass, self.forcing) if p is not None):
             h.update(repr(prog.shape).encode())
             for lhs, rhs in prog.assignments:
                 h.update(f"{lhs}={sp.srepr(rhs)};".encode())

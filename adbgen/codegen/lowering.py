@@ -1,4 +1,6 @@
-"""The lowering: a first-order system to the intermediate form's straight-line programs (`ir`).
+"""The lowering: a first-order system to the intermediate form (`ir`): by default the loop form
+(`balls.split` verifies the per-ball block, `loops.build_loops` makes the kernels), or the
+straight-line programs below (`build(form="unrolled")`, and any model whose balls are not alike).
 
 Structure (thesis Appendix A, generalised in `adbgen.core.structure`): the mass matrix is
 M = [[A, B], [C, D]] over core (rotor) and leaf (ball) coordinates with D diagonal.  The programs
@@ -18,6 +20,7 @@ differentiated stay O(n).  Parameter derivatives (for AUTO-07p's dfdp) use the s
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -25,6 +28,8 @@ import sympy as sp
 
 from ..core.first_order import FirstOrderSystem
 from ..core.oscillator import Oscillator
+from .balls import BALL_PREFIX, NoBallStructure, split as split_balls
+from .loops import build_loops
 from .names import validate_name
 from .ir import Continuation, ModelIR, Program, State
 
@@ -273,15 +278,27 @@ def _describe(name: str, leaves: set[str]) -> str:
     return "angle of a ball (rad)" if name in leaves else "rotor coordinate"
 
 
+# The one switch between the two forms (issue 10): "loops" (the per-ball block once, loops over the
+# balls; the default) or "unrolled" (straight-line programs, every ball written out).  A model whose
+# balls are not alike (`balls.NoBallStructure`) gets the unrolled form whatever the switch says.
+FORMS = ("loops", "unrolled")
+DEFAULT_FORM = "loops"
+
+
 def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
           start: Sequence[float] | None = None, start_label: str = "",
           start_parameters: Sequence[float] | None = None, oscillator: bool = False,
-          autonomous_extension: "ModelIR | None" = None, continuation: Continuation | None = None) -> ModelIR:
+          autonomous_extension: "ModelIR | None" = None, continuation: Continuation | None = None,
+          balls: Sequence[dict] | None = None, form: str = DEFAULT_FORM) -> ModelIR:
     """Lower a first-order system to the intermediate form (pure: same input, same output).
 
     With `oscillator`, the periodically forced system is lowered in its autonomous extension
-    (`Oscillator`): two more states, osc_sin and osc_cos, after the rates.
+    (`Oscillator`): two more states, osc_sin and osc_cos, after the rates.  `balls`: each ball's own
+    parameters ({slot: c * parameter}, `balls.split`; default: those named <stem>_<i>).  `form`: see
+    `FORMS`.
     """
+    if form not in FORMS:
+        raise ValueError(f"form {form!r}: one of {', '.join(FORMS)}")
     validate_name(name)
     eom = system.solve.eom
     coords = system.coordinates
@@ -295,17 +312,42 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
         states += (State(osc.sin.name, osc.sin, f"sin({osc.frequency} t) on the oscillator's limit cycle (paper (40))"),
                    State(osc.cos.name, osc.cos, f"cos({osc.frequency} t) on the oscillator's limit cycle (paper (40))"))
         y_syms += [osc.sin, osc.cos]
-    rhs = _rhs_program(blocks, osc)
-    time_free = all(eom.time not in e.free_symbols for _, e in rhs.assignments) and \
-        all(eom.time not in e.free_symbols for _, e in rhs.outputs)
-    jac = _derivative_program(blocks, y_syms, {(k, N + k): sp.S.One for k in range(N)}, osc)
-    jac_p = _derivative_program(blocks, [p.symbol for p in params], {}, osc)
-    mass, forcing = _mass_forcing_programs(blocks)
     taken = {s.name for s in states} | {p.name for p in params}
-    for prog in (rhs, jac, jac_p, mass, forcing):
-        clash = taken & {lhs.name for lhs, _ in prog.assignments}
-        if clash:
-            raise ValueError(f"statement names clash with model symbols: {sorted(clash)}")
+    loop_form = None
+    if form == "loops":
+        try:
+            split = split_balls(coords, blocks.core, blocks.leaves, blocks.mass, blocks.f, params, balls)
+        except NoBallStructure:
+            split = None
+        if split is not None:
+            loop_form = build_loops(split, coords, blocks.core, params, osc.rates() if osc is not None else (),
+                                    [osc.sin, osc.cos] if osc is not None else ())
+    if loop_form is not None:
+        rhs = jac = jac_p = mass = forcing = None
+        kernels = loop_form.kernels().values()
+        made = [sym.name for k in kernels for sym, _ in k.definitions()]
+        time_free = all(eom.time not in sp.sympify(op.expr).free_symbols
+                        for op in loop_form.rhs.walk() if hasattr(op, "expr"))
+        if any(name.startswith(BALL_PREFIX) for name in taken):
+            raise ValueError(f"model symbols may not start with {BALL_PREFIX!r} (the loops' names)")
+    else:
+        rhs = _rhs_program(blocks, osc)
+        time_free = all(eom.time not in e.free_symbols for _, e in rhs.assignments) and \
+            all(eom.time not in e.free_symbols for _, e in rhs.outputs)
+        jac = _derivative_program(blocks, y_syms, {(k, N + k): sp.S.One for k in range(N)}, osc)
+        jac_p = _derivative_program(blocks, [p.symbol for p in params], {}, osc)
+        mass, forcing = _mass_forcing_programs(blocks)
+        made = [lhs.name for prog in (rhs, jac, jac_p, mass, forcing) for lhs, _ in prog.assignments]
+    clash = taken & set(made)
+    if clash:
+        raise ValueError(f"statement names clash with model symbols: {sorted(clash)}")
+    unrolled = None
+    if loop_form is not None:
+        unrolled = functools.cache(lambda: build(
+            name, system, title=title, n_balls=n_balls, start=start, start_label=start_label,
+            start_parameters=start_parameters, oscillator=oscillator, continuation=continuation,
+            autonomous_extension=autonomous_extension.as_unrolled() if autonomous_extension is not None else None,
+            form="unrolled"))
     return ModelIR(
         name=name, title=title, reference=system.reference, n_balls=n_balls, autonomous=time_free,
         states=states, parameters=params,
@@ -316,5 +358,6 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
         start_parameters=tuple(float(v) for v in (start_parameters if start_parameters is not None
                                                  else [p.default for p in params])) if start is not None else None,
         forcing_frequency=str(osc.frequency) if osc is not None else "",
-        autonomous_extension=autonomous_extension, continuation=continuation,
+        autonomous_extension=autonomous_extension, continuation=continuation, loops=loop_form,
+        unrolled_form=unrolled,
     )

@@ -27,6 +27,8 @@ RESERVED = frozenset({
     "if", "inline", "int", "long", "register", "restrict", "return", "short", "signed", "sizeof",
     "static", "struct", "switch", "typedef", "union", "unsigned", "void", "volatile", "while",
     "abs", "fabs", "min", "max", "integer", "doublereal",
+    # the loop form's loop indices and the numba module's helpers (codegen/emit.py)
+    "i", "j", "carray", "types", "cgutils", "intrinsic", "overload", "memset", "ARRAY2D", "APAR",
 }) | frozenset(keyword.kwlist)
 
 _MAX_PRODUCT_POWER = 4

@@ -19,6 +19,7 @@ from typing import Callable, Iterable
 
 from .checks import CheckFailed, check_programs, check_start
 from .render import render_index, render_model, skipped_targets
+from .lowering import DEFAULT_FORM
 from .spec import Check, ModelSpec
 
 _ROOT = Path(__file__).resolve().parents[2]
@@ -49,18 +50,23 @@ def _checks_for(specs: Iterable[ModelSpec]) -> list[Check]:
 
 
 def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
-               progress: Callable[[str], None] = lambda line: None) -> Rendered:
+               progress: Callable[[str], None] = lambda line: None, full_checks: bool = False,
+               form: str = DEFAULT_FORM) -> Rendered:
     """Derive, check and render every model in memory; raises CheckFailed before anything is written.
 
-    `targets`: names of the targets to render (default: every registered one)."""
+    `targets`: names of the targets to render (default: every registered one).  Checks with a
+    proportionate form (`Check.scaled`) run in that form unless `full_checks`; the progress lines
+    say which form ran.  `form`: the lowering's form (`lowering.FORMS`)."""
     names = [spec.name for spec in specs]
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise CheckFailed(f"two models named {', '.join(twice)}")
     if run_checks:
         for check in _checks_for(specs):
-            r = check.run()
-            progress(f"check  {'ok  ' if r.passed else 'FAIL'} {r.name} [{r.reference}] ({r.seconds:.1f} s)")
+            scaled = check.scaled is not None and not full_checks
+            r = (check.scaled if scaled else check.run)()
+            progress(f"check  {'ok  ' if r.passed else 'FAIL'} {r.name} [{r.reference}] ({r.seconds:.1f} s)"
+                     + (" (proportionate form; --full-checks runs the exact one)" if scaled else ""))
             if not r.passed:
                 raise CheckFailed(f"reduction check failed: {r.name} [{r.reference}]: {r.detail}")
     files: dict[str, str] = {}
@@ -68,7 +74,7 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
     for k, spec in enumerate(specs, 1):
         start = time.perf_counter()
         system = spec.system()
-        ir = spec.build(system)
+        ir = spec.build(system, form=form)
         errors = check_programs(ir, system)
         for model in (ir, ir.autonomous_extension):
             if model is not None and model.start is not None:
@@ -76,8 +82,8 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
         model_files = render_model(ir, targets)
         files.update(model_files)
         index.append((ir.name, ir.title, ir.reference))
-        progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, rhs {ir.rhs.count_ops()} ops, "
-                 f"jac {ir.jac.count_ops()} ops, lowering error {errors['rhs']:.1e} (jac {errors['jac']:.1e}), "
+        progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, {ir.form}, rhs {ir.count_ops('rhs')} ops, "
+                 f"jac {ir.count_ops('jac')} ops, lowering error {errors['rhs']:.1e} (jac {errors['jac']:.1e}), "
                  f"{len(model_files)} files "
                  f"({time.perf_counter() - start:.1f} s)"
                  + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))

@@ -29,7 +29,8 @@ import sympy as sp
 from .. import __version__
 from ..errors import AdbgenError
 from . import targets
-from .ir import ModelIR, Program
+from .emit import Dialect, Emitter, tables
+from .ir import KERNELS, ModelIR, Program
 from .printers import CPrinter, PythonPrinter, identifiers
 
 PACKAGE_TEMPLATES = Path(__file__).resolve().parent / "package_templates"
@@ -95,6 +96,7 @@ def source_hash(ir: ModelIR) -> str:
 
 
 def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dict:
+    """The unrolled program's statements and stores, printed (for targets that print them one by one)."""
     used: set = set()
     for _, e in program.assignments:
         used |= e.free_symbols
@@ -112,9 +114,27 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
         "assignments": [(printer.doprint(lhs), printer.doprint(rhs)) for lhs, rhs in program.assignments],
         "outputs": outputs,
         "outputs2": [(i // ncol, i % ncol, e) for i, e in outputs],
-        "shape": program.shape,
-        "size": math.prod(program.shape),
     }
+
+
+# (states, parameters, output) array names of each function, per dialect: the C library's and
+# numba's functions take (t, y, p, out), AUTO-07p's func (u, par) and writes f, dfdu, dfdp
+_ARRAYS = {"py": {}, "c": {"rhs": ("y", "p", "dydt")}, "auto": {}}
+_AUTO_OUT = {"rhs": "f", "jac": "dfdu", "jac_p": "dfdp"}
+NUMBA_SCRATCH = "_scratch({size})"  # targets/numba/templates/module.py.j2 defines _scratch (on the stack)
+
+
+def _code(ir: ModelIR, which: str, kernel, dialect: str, printer, names: dict) -> str:
+    ncol = kernel.shape[1] if len(kernel.shape) == 2 else 0
+    if dialect == "auto":
+        d = Dialect("c", "u", "par", _AUTO_OUT[which], ncol, auto=True, auto_columns=which == "jac_p",
+                    indent="    ")
+    else:
+        y, p, out = _ARRAYS[dialect].get(which, ("y", "p", "out"))
+        d = Dialect(dialect, y, p, out, ncol, scratch=NUMBA_SCRATCH if dialect == "py" else "")
+    split = ir.loops.split if ir.loops is not None else None
+    return Emitter(kernel, d, printer, names, split, ir.n_coordinates, [s.symbol for s in ir.states],
+                   [q.symbol for q in ir.parameters]).emit(2 if dialect == "auto" else 1)
 
 
 def _c_float(value: float) -> str:
@@ -134,7 +154,21 @@ def _base_context(ir: ModelIR) -> dict:
 def _programs(ir: ModelIR, language: str) -> dict:
     names = identifiers(ir)
     printer = _PRINTERS[language](names)
-    return {key: _program_context(getattr(ir, key), ir, printer, names) for key in ("rhs", "jac", "jac_p", "mass", "forcing")}
+    kernels = ir.kernels()
+    out = {}
+    for key in KERNELS:
+        kernel = kernels[key]
+        ctx = {"shape": kernel.shape, "size": math.prod(kernel.shape),
+               "code": _code(ir, key, kernel, language, printer, names)}
+        if language == "c" and key in _AUTO_OUT:
+            ctx["auto"] = _code(ir, key, kernel, "auto", printer, names)
+        program = getattr(ir, key)
+        if program is not None:
+            ctx.update(_program_context(program, ir, printer, names))
+        out[key] = ctx
+    out["tables"] = tables(ir.loops.split) if ir.loops is not None else []
+    out["form"] = ir.form
+    return out
 
 
 def context(ir: ModelIR, target: "targets.Target", _memo: dict | None = None) -> dict:
@@ -168,6 +202,9 @@ def render_model(ir: ModelIR, names=None) -> dict[str, str]:
         if (names is not None and target.name not in names) or target.skip_reason(ir):
             continue
         model = target.model_for(ir)
+        if not target.loops:
+            model = model.as_unrolled()
+        memo.setdefault(("model", id(model)), model)  # keeps it alive: the memo is keyed by id
         ctx = context(model, target, memo)
         for template, path in target.files:
             text = env.get_template(template).render(**ctx)

@@ -35,15 +35,20 @@ def test_structure_is_recorded_and_the_ball_block_is_diagonal():
     assert ir.core == ("x", "y") and ir.leaves == ("phi_1", "phi_2", "phi_3")
     balls = [ir.state_names.index(name) for name in ir.leaves]
     assert not [(i, j) for i, j in ir.mass_pattern if i in balls and j in balls and i != j]
-    # the rhs never divides by anything but the ball inertias and the LU pivots of the 2x2 core
-    divisions = {lhs.name for lhs, e in ir.rhs.assignments
+    # the rhs never divides by anything but the ball inertias and the LU pivots of the 2x2 core, in
+    # either form
+    divisions = {lhs.name for lhs, e in ir.kernels()["rhs"].definitions()
+                 if any(p.exp.is_negative for p in e.atoms(sp.Pow) if p.exp.is_number)}
+    assert ir.form == "loops" and divisions <= {"Uinv_0", "Uinv_1", "LU_1_0", "ball_dinv"}
+    unrolled = models.thesis_rotating(3).build(form="unrolled")
+    divisions = {lhs.name for lhs, e in unrolled.rhs.assignments
                  if any(p.exp.is_negative for p in e.atoms(sp.Pow) if p.exp.is_number)}
     assert divisions <= {"Uinv_0", "Uinv_1", "LU_1_0", "Mllinv_0", "Mllinv_1", "Mllinv_2"}
 
 
 def test_the_lowering_check_catches_a_wrong_program():
     spec = models.thesis_rotating(2)
-    system, ir = spec.system(), spec.build()
+    system, ir = spec.system(), spec.build(form="unrolled")
     assert lowering_error(ir, system) < 1e-12
     outputs = list(ir.rhs.outputs)
     k, e = outputs[5]

@@ -2,9 +2,10 @@
 lowered model against evaluations that do not go through the lowering (issue 13, item 1).
 
 The mutations are the issue's: `row -= entry*acc[j]` turned into `+=` in the Jacobian lowering
-(monkeypatched), and one-line changes of the programs themselves (a transposed M, a flipped forcing
-term, a dropped factor in jac_p).  Each must be refused with one line naming the program, before
-anything is written.
+(monkeypatched, in both forms: the unrolled programs and the loop form's kernels), and one-line
+changes of the functions themselves (a transposed M, a flipped forcing term, a dropped factor in
+jac_p: stores of the loop form's kernels).  Each must be refused with one line naming the program,
+before anything is written.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import pytest
 import sympy as sp
 
 from adbgen import cli
-from adbgen.codegen import lowering
+from adbgen.codegen import loops, lowering
 from adbgen.codegen.checks import CheckFailed, check_programs, program_errors
 from adbgen.families.single_plane import models
 
@@ -41,9 +42,38 @@ def thesis2():
     return spec, system, spec.build(system)
 
 
+def _loop_residuals_with_wrong_sign(self):
+    """The same mutation in the loop form: the acceleration terms of R0, the ball's share and its row."""
+    s, r = self.s, self.r
+    qdd = [self.coords[k].qdd for k in self.core]
+    R0 = [s.f0[a] + sp.Add(*[s.A0[a][b] * qdd[b] for b in range(r)]) for a in range(r)]
+    Rb = [s.fc[a] + sp.Add(*[s.A[a][b] * qdd[b] for b in range(r)]) + s.B[a] * s.qdd for a in range(r)]
+    rho = s.f + sp.Add(*[s.C[a] * qdd[a] for a in range(r)]) + s.D * s.qdd
+    return R0, Rb, rho, qdd
+
+
+def _map_puts(ops, change, counter):
+    out = []
+    for op in ops:
+        if isinstance(op, (loops.Balls, loops.Columns)):
+            op = dataclasses.replace(op, ops=_map_puts(op.ops, change, counter))
+        elif isinstance(op, loops.Put):
+            op = change(counter[0], op)
+            counter[0] += 1
+        out.append(op)
+    return tuple(out)
+
+
 def _replace_outputs(ir, which, change):
-    program = getattr(ir, which)
-    return dataclasses.replace(ir, **{which: dataclasses.replace(program, outputs=tuple(change(list(program.outputs))))})
+    """ir with change(k, put) applied to the k-th store of the loop form's kernel `which`."""
+    assert ir.loops is not None
+    kernel = getattr(ir.loops, which)
+    kernel = dataclasses.replace(kernel, ops=_map_puts(kernel.ops, change, [0]))
+    return dataclasses.replace(ir, loops=dataclasses.replace(ir.loops, **{which: kernel}))
+
+
+def _puts(ir, which) -> int:
+    return sum(isinstance(op, loops.Put) for op in getattr(ir.loops, which).walk())
 
 
 def test_the_committed_programs_pass(thesis2):
@@ -53,12 +83,15 @@ def test_the_committed_programs_pass(thesis2):
     assert errors["rhs"] < 1e-12 and errors["jac"] < 1e-7
 
 
+@pytest.mark.parametrize("form", lowering.FORMS)
 @pytest.mark.parametrize("make", [models.thesis_rotating, models.single_plane_fixed], ids=["thesis", "fixed"])
-def test_a_wrong_sign_in_the_jacobian_lowering_is_refused(make, monkeypatch):
+def test_a_wrong_sign_in_the_jacobian_lowering_is_refused(make, form, monkeypatch):
     spec = make(2)
     system = spec.system()
     monkeypatch.setattr(lowering, "_residual_rows", _residual_rows_with_wrong_sign)
-    ir = spec.build(system)
+    monkeypatch.setattr(loops._Kernels, "residuals", _loop_residuals_with_wrong_sign)
+    ir = spec.build(system, form=form)
+    assert ir.form == form
     errors = program_errors(ir, system)
     assert errors["rhs"] < 1e-12 and errors["jac"] > 1e-3  # rhs untouched, the Jacobians wrong
     with pytest.raises(CheckFailed, match=rf"^{spec.name}: program jac differs from central differences"):
@@ -66,7 +99,7 @@ def test_a_wrong_sign_in_the_jacobian_lowering_is_refused(make, monkeypatch):
 
 
 def test_regenerate_refuses_the_wrong_sign_before_writing(monkeypatch, tmp_path, capsys):
-    monkeypatch.setattr(lowering, "_residual_rows", _residual_rows_with_wrong_sign)
+    monkeypatch.setattr(loops._Kernels, "residuals", _loop_residuals_with_wrong_sign)
     out = tmp_path / "out"
     out.mkdir()
     (out / "keep.txt").write_text("untouched")
@@ -79,23 +112,23 @@ def test_regenerate_refuses_the_wrong_sign_before_writing(monkeypatch, tmp_path,
 
 def test_a_transposed_mass_matrix_is_refused(thesis2):
     spec, system, ir = thesis2
-    N = ir.n_coordinates
-    broken = _replace_outputs(ir, "mass", lambda outs: [((i % N) * N + i // N, e) for i, e in outs])
+    broken = _replace_outputs(ir, "mass", lambda k, put: dataclasses.replace(put, row=put.col, col=put.row))
     with pytest.raises(CheckFailed, match=rf"^{spec.name}: program mass differs from the symbolic M"):
         check_programs(broken, system)
 
 
 def test_a_flipped_forcing_term_is_refused(thesis2):
     spec, system, ir = thesis2
-    broken = _replace_outputs(ir, "forcing", lambda outs: [(i, -e if k == 0 else e) for k, (i, e) in enumerate(outs)])
+    broken = _replace_outputs(ir, "forcing", lambda k, put: dataclasses.replace(put, expr=-put.expr) if k == 0 else put)
     with pytest.raises(CheckFailed, match=rf"^{spec.name}: program forcing differs"):
         check_programs(broken, system)
 
 
 def test_a_dropped_factor_in_jac_p_is_refused(thesis2):
     spec, system, ir = thesis2
-    broken = _replace_outputs(ir, "jac_p", lambda outs: [(i, e * (1 + sp.Rational(1, 1000)) if k == len(outs) - 1 else e)
-                                                          for k, (i, e) in enumerate(outs)])
+    last = _puts(ir, "jac_p") - 3  # a store of the ball loop's derivatives (the last two: the column solve)
+    broken = _replace_outputs(ir, "jac_p", lambda k, put: dataclasses.replace(put, expr=put.expr * (1 + sp.Rational(1, 1000)))
+                              if k == last else put)
     with pytest.raises(CheckFailed, match=rf"^{spec.name}: program jac_p differs"):
         check_programs(broken, system)
 
@@ -104,7 +137,8 @@ def test_a_wrong_oscillator_extension_is_refused():
     spec = models.single_plane_fixed(2)
     system = spec.system()
     ir = spec.build(system)
+    middle = _puts(ir.autonomous_extension, "jac") // 2
     ext = _replace_outputs(ir.autonomous_extension, "jac",
-                           lambda outs: [(i, 2 * e if k == len(outs) // 2 else e) for k, (i, e) in enumerate(outs)])
+                           lambda k, put: dataclasses.replace(put, expr=2 * put.expr) if k == middle else put)
     with pytest.raises(CheckFailed, match=r"oscillator extension\): program jac differs"):
         check_programs(dataclasses.replace(ir, autonomous_extension=ext), system)

@@ -180,3 +180,31 @@ def test_a_scene_file_finds_its_family(tmp_path):
     assert "STATE_NAMES = ('X', 'Y', 'phi_X', 'phi_Y', 'alpha_1'," in text and "AUTONOMOUS = False" in text
     r = run("regenerate", "--scene", str(tmp_path / "missing.toml"), "--out", str(out))
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "no scene file at" in r.stderr
+
+
+@pytest.mark.parametrize("full", [False, True], ids=["proportionate", "full"])
+def test_regenerate_says_which_form_of_each_check_ran(tmp_path, monkeypatch, capsys, full):
+    """Above FULL_CHECKS_MAX_N the slow checks run in their proportionate form (issue 10), and the
+    progress line says so; --full-checks runs the exact ones (the limit lowered here to keep it fast)."""
+    from adbgen.cli import main
+    from adbgen.families.single_plane import verify
+
+    monkeypatch.setattr(verify, "FULL_CHECKS_MAX_N", 1)
+    out = tmp_path / "gen"
+    args = ["regenerate", "--n", "2", "--family", "single-plane", "--targets", "numba", "--out", str(out)]
+    assert main(args + (["--full-checks"] if full else [])) == 0
+    err = capsys.readouterr().err
+    numeric = "check  ok   steady states (numeric, 50 digits), n=2 [thesis (3.6), (3.9), (3.10)]"
+    assert (numeric in err) != full and ("check  ok   steady states, n=2 [" in err) == full, err
+    assert ("(proportionate form; --full-checks runs the exact one)" in err) != full
+    assert "thesis_rotating_n2: 8 states, loops," in err
+    assert "for i in range(2):" in (out / "thesis_rotating_n2" / "__init__.py").read_text()
+
+
+def test_the_unrolled_form_is_one_switch_away(tmp_path):
+    out = tmp_path / "gen"
+    r = run("regenerate", "--n", "2", "--family", "single-plane", "--targets", "numba", "--skip-checks",
+            "--form", "unrolled", "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    assert "thesis_rotating_n2: 8 states, unrolled," in r.stderr
+    assert "for i in range" not in (out / "thesis_rotating_n2" / "__init__.py").read_text()

@@ -39,7 +39,7 @@ class Target:
 
     ``files``: (template name, output path) pairs; the path may use {name} (the model's name).  A
     template that renders to blank text writes no file (an optional file).  ``language`` picks the
-    printer of the programs: "py" (numba, plain Python) or "c" (C99).
+    printer of the programs: "py" (numba, plain Python) or "c" (C99).  ``loops``: see the field.
     """
 
     name: str
@@ -48,6 +48,10 @@ class Target:
     templates: Path
     description: str = ""
     filters: dict = field(default_factory=dict)
+    # prints the functions' `code` (the loop form or the unrolled one, through codegen/emit.py); a
+    # target that prints the programs' statements one by one (programs.<fn>.assignments, ir.rhs)
+    # leaves it False and gets the unrolled form
+    loops: bool = False
 
     def skip_reason(self, ir: "ModelIR") -> str | None:
         """Why this target does not render the model (None: it does)."""

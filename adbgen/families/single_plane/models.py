@@ -34,9 +34,18 @@ from .selection import smallest_model
 FAMILY = "single-plane"
 
 
+# the proportionate forms of checks that scale badly in n (`Check.scaled`), above FULL_CHECKS_MAX_N
+SCALED = {"steady_states": "steady_states_numeric"}
+
+
 def checks(*kinds: str, n: int) -> tuple[Check, ...]:
-    """The family's reduction checks by name (functions of `verify` taking n), for n balls."""
-    return tuple(Check((FAMILY, kind, n), lambda fn=getattr(verify, kind): fn(n)) for kind in kinds)
+    """The family's reduction checks by name (functions of `verify` taking n), for n balls; above
+    `verify.FULL_CHECKS_MAX_N` balls with their proportionate forms (`SCALED`) for `regenerate`."""
+    def scaled(kind):
+        if n <= verify.FULL_CHECKS_MAX_N or kind not in SCALED:
+            return None
+        return lambda fn=getattr(verify, SCALED[kind]): fn(n)
+    return tuple(Check((FAMILY, kind, n), lambda fn=getattr(verify, kind): fn(n), scaled(kind)) for kind in kinds)
 
 
 def balanced_start(system: FirstOrderSystem, n: int, state: str = "balanced",

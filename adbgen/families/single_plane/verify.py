@@ -144,6 +144,65 @@ def steady_states(n: int, wrong: bool = False) -> CheckResult:
     return _timed(f"steady states, n={n}", "thesis (3.6), (3.9), (3.10)", run)
 
 
+# Above this n regenerate runs the proportionate form of the slow checks (`steady_states_numeric`);
+# the test suite and `regenerate --full-checks` run the exact ones.
+FULL_CHECKS_MAX_N = 6
+RESIDUAL_DIGITS = 50  # working precision of the numeric steady-state residuals
+
+
+def steady_states_numeric(n: int, wrong: bool = False, values: dict | None = None) -> CheckResult:
+    """The states of `steady_states` (2+-, 3(n-m)+-, balanced 1) checked numerically instead of
+    symbolically: the forcing at rest evaluated in 50-digit arithmetic (mpmath) at parameter values
+    (thesis (5.1) by default; complex where a state does not exist there) must vanish to 1e-35 of the
+    rows' size with the first angle turned by 0.1 rad.  Linear in n per state where the exact check
+    simplifies O(n)-term sums symbolically.  wrong: every state's first angle turned by 1/10 rad."""
+    import mpmath
+
+    def run():
+        eom = rotating_frame(Scene(n=n))
+        vals = {"mu": 0.05, "Omega": 4.0, "zeta": 0.01, "beta": 0.01, "delta": 0.01, **(values or {})}
+        rest = {c.qd: sp.S.Zero for c in eom.coordinates}
+        coords = [c.q for c in eom.coordinates]
+        params = [s_ for s_ in (mu, Omega, zeta, beta, delta)]
+        rows = sp.lambdify([coords, params], [f.xreplace(rest) for f in eom.forcing], modules="mpmath")
+        states = {"2+": ss.coincident(n, 1), "2-": ss.coincident(n, -1)}
+        for m in range(1, n):
+            for sign in (1, -1):
+                states[f"3({n}-{m}){'+' if sign > 0 else '-'}"] = ss.inline(n, m, sign)
+        if n >= 2:
+            states["1"] = ss.balanced(n, [sp.pi if k % 2 == 0 else sp.S.Zero for k in range(n - 2)])
+        subs = {s_: sp.Float(vals[s_.name], RESIDUAL_DIGITS) for s_ in params}
+
+        memo: dict = {}
+
+        def number(expr):
+            expr = sp.sympify(expr)
+            if expr not in memo:
+                memo[expr] = _number(expr)
+            return memo[expr]
+
+        def _number(expr):
+            re_, im_ = sp.N(sp.sympify(expr).xreplace(subs), RESIDUAL_DIGITS).as_real_imag()
+            return mpmath.mpc(str(sp.N(re_, RESIDUAL_DIGITS)), str(sp.N(im_, RESIDUAL_DIGITS)))
+        pv = [mpmath.mpf(vals[s_.name]) for s_ in params]
+        bad = []
+        with mpmath.workdps(RESIDUAL_DIGITS):
+            for name, st in states.items():
+                q = [number(st.get(c, sp.S.Zero)) for c in coords]
+                if wrong:
+                    q[coords.index(next(iter(st)))] += mpmath.mpf(1) / 10
+                k = coords.index(next(c for c in coords if c.name == "phi_1"))
+                turned = list(q)
+                turned[k] += mpmath.mpf(1) / 10
+                scale = max(1, max(abs(v) for v in rows(turned, pv)))
+                residual = max(abs(v) for v in rows(q, pv))
+                if not residual <= mpmath.mpf(10) ** -35 * scale:
+                    bad.append(name)
+        return not bad, (f"{len(states)} states: residuals below 1e-35 in {RESIDUAL_DIGITS}-digit arithmetic"
+                         if not bad else f"not steady: {bad}")
+    return _timed(f"steady states (numeric, {RESIDUAL_DIGITS} digits), n={n}", "thesis (3.6), (3.9), (3.10)", run)
+
+
 def jacobi(n: int, wrong: bool = False) -> CheckResult:
     """wrong: the Rayleigh power dropped from the rate (h claimed conserved with damping)."""
     def run():

@@ -26,6 +26,7 @@ from . import verify
 from .model import derive
 from .reductions import balls_relative_to_spin, first_order, rotating_frame
 from .scene import TwoPlaneScene
+from .symbols import RACE_TAGS
 
 FAMILY = "two-plane"
 BALL_MASS = 0.003
@@ -43,6 +44,24 @@ def scene(preset: str = "paper-10", speed: dict | None = None, m: float = BALL_M
     if speed is not None:
         data["speed"] = speed
     return TwoPlaneScene.from_mapping(data)
+
+
+def race_slots(sc: TwoPlaneScene):
+    """Each ball's own parameters for the loop form (`codegen.balls`): its mass and its race's radius,
+    plane and damping, by name (m_k or the symmetric m; R_t, z_t, c_bt for the balls of race t, or
+    the section-3 R, +-z, c_b of `symbols.symmetric_substitution`)."""
+    def slots(system) -> list[dict]:
+        names = {p.name: p.symbol for p in system.parameters}
+        out = []
+        for k, race in enumerate(sc.ball_race):
+            tag = RACE_TAGS[race]
+            ball = {"m": names.get(f"m_{k + 1}", names.get("m")), "R": names.get(f"R_{tag}", names.get("R")),
+                    "c_b": names.get(f"c_b{tag}", names.get("c_b"))}
+            ball["z"] = names[f"z_{tag}"] if f"z_{tag}" in names else \
+                (names["z"] if race == 0 else -names["z"]) if "z" in names else None
+            out.append({key: value for key, value in ball.items() if value is not None})
+        return out
+    return slots
 
 
 def balanced_angles(sc: TwoPlaneScene) -> list[float] | None:
@@ -91,7 +110,7 @@ def two_plane_rotating() -> ModelSpec:
     return ModelSpec(
         "two_plane_rotating", "Two-plane balancer, symmetric set-up (10), 2 + 2 balls, rotating frame (7)-(8)",
         sc.n, lambda: first_order(rotating_frame(sc)), rotating_start(sc), family=FAMILY,
-        checks=checks(("rotating",), ("balanced_condition",)),
+        checks=checks(("rotating",), ("balanced_condition",)), balls=race_slots(sc),
         continuation=Continuation("Omega", direction=-1, stop=(0.5, 6.0)))
 
 
@@ -100,7 +119,7 @@ def two_plane_fixed() -> ModelSpec:
     return ModelSpec(
         "two_plane_fixed", "Two-plane balancer, anisotropic bearings (43), 2 + 2 balls, fixed frame, constant speed",
         sc.n, lambda: first_order(balls_relative_to_spin(sc)), orbit_start=orbit_start(sc), family=FAMILY,
-        checks=checks(("fixed_frame",), ("oscillator",)),
+        checks=checks(("fixed_frame",), ("oscillator",)), balls=race_slots(sc),
         orbit_continuation=Continuation("Omega", direction=-1))
 
 
@@ -108,7 +127,7 @@ def two_plane_ramp() -> ModelSpec:
     sc = scene(speed={"law": "ramp", "omega_max": 3.6, "t_ramp": 6000.0})
     return ModelSpec("two_plane_ramp", "Two-plane balancer (10), 2 + 2 balls, run-up at constant acceleration (section 6)",
                      sc.n, lambda: first_order(derive(sc)), family=FAMILY,
-                     checks=checks(("fixed_frame",), ("prescribed_speed", "ramp")))
+                     checks=checks(("fixed_frame",), ("prescribed_speed", "ramp")), balls=race_slots(sc))
 
 
 def two_plane_hill_scene() -> TwoPlaneScene:
@@ -119,13 +138,14 @@ def two_plane_hill() -> ModelSpec:
     sc = two_plane_hill_scene()
     return ModelSpec("two_plane_hill", "Two-plane balancer (10), 2 + 2 balls, Hill run-up (45)",
                      sc.n, lambda: first_order(derive(sc)), family=FAMILY,
-                     checks=checks(("fixed_frame",), ("prescribed_speed", "hill")))
+                     checks=checks(("fixed_frame",), ("prescribed_speed", "hill")), balls=race_slots(sc))
 
 
 def two_plane_torque() -> ModelSpec:
     sc = scene(speed={"law": "torque", "tau0": 0.036, "motor_slope": 0.01, "torsion_damping": 0.0})
     return ModelSpec("two_plane_torque", "Two-plane balancer (10), 2 + 2 balls, torque drive with the torsional equation (3)",
-                     sc.n, lambda: first_order(derive(sc)), family=FAMILY, checks=checks(("fixed_frame",)))
+                     sc.n, lambda: first_order(derive(sc)), family=FAMILY, checks=checks(("fixed_frame",)),
+                     balls=race_slots(sc))
 
 
 KINDS = {"two_plane_rotating": two_plane_rotating, "two_plane_fixed": two_plane_fixed,
@@ -150,5 +170,5 @@ def for_scene(sc: TwoPlaneScene, name: str | None = None) -> ModelSpec:
         calls = (("fixed_frame",),) + ((("prescribed_speed", law),) if law in ("ramp", "hill") else ())
     start = rotating_start(sc) if kind == "rotating" else (lambda system: (None, ""))
     return ModelSpec(name or f"scene_two_plane_{kind}_n{sc.n}", f"Two-plane balancer with {sc.n} balls ({kind})",
-                     sc.n, system, start, family=FAMILY, checks=checks(*calls),
+                     sc.n, system, start, family=FAMILY, checks=checks(*calls), balls=race_slots(sc),
                      continuation=Continuation("Omega", direction=-1) if kind == "rotating" else None)

@@ -21,6 +21,25 @@ def test_every_closed_form_state_is_an_exact_zero(n):
     assert result.passed, result.detail
 
 
+@pytest.mark.parametrize("n", (2, 5))
+def test_the_proportionate_check_passes_and_can_fail(n):
+    """regenerate's numeric form of the check (issue 10, above FULL_CHECKS_MAX_N): the same states in
+    50-digit arithmetic; with the first angle turned by 1/10 rad every one of them is refused."""
+    result = verify.steady_states_numeric(n)
+    assert result.passed, result.detail
+    wrong = verify.steady_states_numeric(n, wrong=True)
+    assert not wrong.passed and wrong.detail.count("'") == 2 * (2 * (n - 1) + 3)
+
+
+def test_the_family_runs_the_proportionate_form_above_the_limit():
+    from adbgen.families.single_plane import models
+
+    small = {c.key[1]: c for c in models.thesis_rotating(verify.FULL_CHECKS_MAX_N).checks}
+    large = {c.key[1]: c for c in models.thesis_rotating(verify.FULL_CHECKS_MAX_N + 1).checks}
+    assert all(c.scaled is None for c in small.values())
+    assert large["steady_states"].scaled is not None and large["rotating"].scaled is None
+
+
 def test_a_perturbed_state_is_not_steady():
     eom = rotating_frame(Scene(n=3))
     state = ss.inline(3, 2, 1)

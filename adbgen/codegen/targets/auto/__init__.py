@@ -68,5 +68,6 @@ TARGET = AutoTarget(
            ("auto/constants_stage2.j2", "{name}/auto/c.{name}.2")),
     language="c",
     templates=Path(__file__).parent / "templates",
+    loops=True,
     description="AUTO-07p user file and constants: continuation of steady states or periodic orbits",
 )

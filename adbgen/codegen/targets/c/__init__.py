@@ -10,5 +10,6 @@ TARGET = Target(
     files=(("c/model.h.j2", "{name}/{name}.h"), ("c/model.c.j2", "{name}/{name}.c")),
     language="c",
     templates=Path(__file__).parent / "templates",
+    loops=True,
     description="C99 library: <model>_rhs, _jac, _jac_p, _mass, _forcing, names, defaults",
 )

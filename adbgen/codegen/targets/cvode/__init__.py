@@ -10,5 +10,6 @@ TARGET = Target(
            ("cvode/driver.c.j2", "{name}/{name}_cvode_main.c")),
     language="c",
     templates=Path(__file__).parent / "templates",
+    loops=True,
     description="SUNDIALS CVODE callbacks and a BDF driver over the C library",
 )

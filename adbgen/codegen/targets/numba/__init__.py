@@ -10,5 +10,6 @@ TARGET = Target(
     files=(("numba/module.py.j2", "{name}/__init__.py"),),
     language="py",
     templates=Path(__file__).parent / "templates",
+    loops=True,
     description="numba module: rhs, jac, jac_p, mass_matrix, forcing and metadata",
 )
