@@ -30,7 +30,7 @@ from .errors import AdbgenError
 # Command groups besides the families', in the order of `adbgen --help`; one line per group.
 COMMAND_GROUPS: list[str] = [
     "adbgen.codegen.commands:register",  # regenerate
-    "adbgen.bench_commands:register",  # bench
+    "adbgen.bench.commands:register",  # bench
     "adbgen.analysis.commands:register",  # simulate (the analysis layer over generated code)
     "adbgen.notebooks:register",  # notebooks (execute and render derive/)
 ]

@@ -4,14 +4,14 @@
 ``failures_<part>.png``.  Parts (each a key of the JSON):
 
 - ``fixed_step``: problem A (thesis n = 3, (5.1), phi(0) = (pi/3, -pi/3, pi), t in [0, 2000]) by fixed-
-  step explicit Runge-Kutta (classical RK4 and the RK45 / DOP853 tableaus, `bench_fixed_step`): error
+  step explicit Runge-Kutta (classical RK4 and the RK45 / DOP853 tableaus, `bench.fixed_step`): error
   of the final state against a tight reference for a range of steps, the blow-up step (grid, then
   bisection) and the Jacobian's spectral radius along the reference trajectory: h_blow |lambda|_max
   against the tableau's stability boundary along arg lambda (RK4: 2.785 on the real axis, 2.828 on
   the imaginary one);
 - ``jacobi``: |J(t) - J(0)| of the Jacobi integral (thesis model at zeta = beta = 0) over t = 1e5 for an
   explicit (cyrk-dop853), an implicit (cvode-bdf) and a structure-preserving method (implicit midpoint
-  by SUNDIALS ARKStep at a fixed step, `bench_jacobi`);
+  by SUNDIALS ARKStep at a fixed step, `bench.jacobi`);
 - ``stiff``: rhs evaluations, steps and wall time of explicit (cyrk-dop853, cyrk-rk45) and implicit
   (cvode-bdf, scipy-radau with the analytic Jacobian) engines as the ball damping beta grows (in the
   thesis' scaling (2.15)-(2.19) a ball's motion relative to the race decays at a rate ~ beta, so the
@@ -21,7 +21,7 @@
 - ``merging``: the converse failure: the two balls of a race that come within round-off merge for
   ever.  (a) the Hill run-up of the two-plane paper's section 6 (`two_plane_hill`, c_b/m = 0.1 and
   0.01, balls of a race on opposite sides, rotor at rest) on every pathway, and in pair coordinates
-  (mean, half-difference; `bench_pairs`) by the same CyRK solver; (b) the thesis model n = 2 started
+  (mean, half-difference; `bench.pairs`) by the same CyRK solver; (b) the thesis model n = 2 started
   with the balls a distance 2 d0 apart, d0 from 1e-20 (far below ulp(pi) = 4.4e-16) to 1e-10: the
   exact solution separates them (the coincident state is unstable), the original formulation cannot
   even represent the start.
@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .bench_simulate import PROBLEM_A, _jsonable, _load, _versions, symmetric_y0, symmetry_record
+from .simulate import PROBLEM_A, _jsonable, _load, _versions, symmetric_y0, symmetry_record
 
 REF_RTOL, REF_ATOL = 1e-13, 1e-15
 STIFF_BETAS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4)
@@ -55,9 +55,9 @@ def _say(progress, line):
 # ------------------------------------------------------------------------------------ fixed step
 
 def fixed_step_part(quick: bool, progress=None) -> dict:
-    from .analysis.loading import load_model
-    from .analysis.simulate import simulate
-    from . import bench_fixed_step as fs
+    from ..analysis.loading import load_model
+    from ..analysis.simulate import simulate
+    from . import fixed_step as fs
 
     model = load_model(PROBLEM_A.model)
     p, y0 = PROBLEM_A.vectors(model)
@@ -104,9 +104,9 @@ def fixed_step_part(quick: bool, progress=None) -> dict:
 # ---------------------------------------------------------------------------------------- Jacobi
 
 def jacobi_part(quick: bool, progress=None) -> dict:
-    from .analysis.loading import load_model
-    from .analysis.simulate import simulate
-    from . import bench_jacobi as bj
+    from ..analysis.loading import load_model
+    from ..analysis.simulate import simulate
+    from . import jacobi as bj
 
     model = load_model(PROBLEM_A.model)
     p = model.params({"zeta": 0.0, "beta": 0.0})
@@ -151,8 +151,8 @@ def jacobi_part(quick: bool, progress=None) -> dict:
 # ----------------------------------------------------------------------------------------- stiff
 
 def stiff_part(quick: bool, progress=None) -> dict:
-    from .analysis.loading import load_model
-    from .analysis.simulate import simulate
+    from ..analysis.loading import load_model
+    from ..analysis.simulate import simulate
 
     model = load_model(PROBLEM_A.model)
     t_end = 20.0 if quick else 200.0
@@ -186,9 +186,9 @@ def stiff_part(quick: bool, progress=None) -> dict:
 # -------------------------------------------------------------------------------------- symmetry
 
 def symmetry_part(quick: bool, progress=None) -> dict:
-    from .analysis.loading import load_model
-    from .bench_simulate import Problem, engine_pathway
-    from . import bench_fixed_step as fs
+    from ..analysis.loading import load_model
+    from .simulate import Problem, engine_pathway
+    from . import fixed_step as fs
 
     model = load_model(PROBLEM_A.model)
     t_end = 200.0 if quick else PROBLEM_A.t_end
@@ -239,9 +239,9 @@ def _log_curve(t, sep, points: int = 300) -> dict:
 
 
 def merging_part(quick: bool, progress=None) -> dict:
-    from .analysis.loading import load_model
-    from .analysis.simulate import simulate
-    from . import bench_pairs as bp
+    from ..analysis.loading import load_model
+    from ..analysis.simulate import simulate
+    from . import pairs as bp
 
     out: dict = {"hill": {}, "thesis_n2": {}}
     # (a) the section-6 Hill run-up
@@ -427,7 +427,7 @@ PARTS = {"fixed_step": fixed_step_part, "jacobi": jacobi_part, "stiff": stiff_pa
 
 
 def bench_failures(quick: bool = False, parts=None, progress=None) -> dict:
-    from .bench_codegen import machine
+    from .codegen import machine
 
     started = time.perf_counter()
     mach = machine()

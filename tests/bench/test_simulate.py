@@ -10,7 +10,7 @@ import pytest
 
 from toolchain import require_tool
 
-from adbgen import bench_simulate as bs
+from adbgen.bench import simulate as bs
 from adbgen.cli import main
 
 TINY = bs.Problem("tiny", "thesis_rotating_n3", {}, dict(bs.PROBLEM_A.y0), t_end=20.0, rtol=1e-6, atol=1e-8)

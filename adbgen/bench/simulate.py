@@ -14,7 +14,7 @@ Measured in one run (compare ratios, not absolute times across runs: the machine
   atol 1e-15, checked against SciPy's DOP853 on the numba rhs at the same tolerances: their
   difference bounds the reference's own error and must be far below every error it measures;
 - ``peers``: JiTCODE (``dop853`` backend) and heyoka (Taylor), fed the same equations (the generated
-  module's rhs statements in their order, `adbgen.bench_peers`), their setup (translation, compilation)
+  module's rhs statements in their order, `adbgen.bench.peers`), their setup (translation, compilation)
   timed apart from the integration; with the default engine, at the tolerances `SWEEP_TOLS` so that
   times can be compared at equal error (log-log interpolation of time against error);
 - ``baselines``: the issue's starting points, the numba rhs as a Python callback of SciPy's
@@ -53,7 +53,7 @@ from typing import Callable
 
 import numpy as np
 
-from .bench import write  # noqa: F401  (re-exported: `adbgen bench simulate` writes with it)
+from . import write  # noqa: F401  (re-exported: `adbgen bench simulate` writes with it)
 
 DEFAULT_REPEATS = 7
 SLOW_S = 1.0  # a pathway slower than this on its first run is run once
@@ -122,7 +122,7 @@ class Pathway:
 
 def engine_pathway(model, problem: Problem, engine: str, rtol: float | None = None, atol: float | None = None,
                    y0: dict | None = None, key: str | None = None) -> Pathway:
-    from .analysis.simulate import simulate
+    from ..analysis.simulate import simulate
 
     p, y = problem.vectors(model)
     if y0 is not None:
@@ -245,7 +245,7 @@ def reference(model, problem: Problem, y0: dict | None = None) -> dict:
     compiled), checked by SciPy's DOP853 on the numba rhs (another method and implementation)."""
     from scipy.integrate import solve_ivp
 
-    from .analysis.simulate import simulate
+    from ..analysis.simulate import simulate
 
     p, y = problem.vectors(model)
     if y0 is not None:
@@ -273,7 +273,7 @@ def floor_pathways(model, y, p, folder: Path, target: float = 0.01, inner: int =
     `bench_codegen._C_MAIN`); "floor:numba": rhs_inplace in a jitted loop.  Each run times `inner`
     bursts of about `target` seconds of calls and keeps the fastest (short bursts find the quiet
     moments of a shared machine, as the integrations' best-of-N does); `wall_s` holds seconds per call."""
-    from .bench_codegen import _calibrate, _numba_loop, build_c_timer, run_c_timer
+    from .codegen import _calibrate, _numba_loop, build_c_timer, run_c_timer
 
     y = np.ascontiguousarray(y, dtype=float)
     p = np.ascontiguousarray(p, dtype=float)
@@ -351,7 +351,7 @@ def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int 
 
     cpu_s (the process' CPU time over the call) beside wall_s shows whether the cores were free: on a
     loaded machine 2 threads get less than two cores and the speed-up says more about the load."""
-    from .analysis.simulate import simulate_many
+    from ..analysis.simulate import simulate_many
 
     p, y = problem.vectors(model)
     Y0 = np.repeat(y[None, :], n, axis=0)
@@ -499,7 +499,7 @@ def rhs_symmetry(model, fn, samples: int = 200, seed: int = 1) -> float:
 
 def peer_pathways(model, problem: Problem, tols, setup: dict, progress=None) -> list[Pathway]:
     """JiTCODE dop853 and heyoka at each tolerance; `setup` receives their build records."""
-    from . import bench_peers
+    from . import peers as bench_peers
 
     p, y = problem.vectors(model)
     pathways = []
@@ -643,7 +643,7 @@ def _versions() -> dict:
         for line in sundials.read_text().splitlines():
             if "SUNDIALS_VERSION " in line:
                 out["sundials"] = line.split()[-1].strip('"')
-    from .bench_peers import peer_versions
+    from .peers import peer_versions
 
     out.update(peer_versions())
     return out
@@ -651,7 +651,7 @@ def _versions() -> dict:
 
 def _cold_build(model, engine) -> float | None:
     """Seconds to compile a compiled engine's library for the model from scratch (a scratch cache)."""
-    from .analysis.engines import compiled
+    from ..analysis.engines import compiled
 
     if not hasattr(engine, "driver"):
         return None
@@ -729,9 +729,9 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
                    slow_s: float = SLOW_S, floor_target: float = 0.01, baseline: bool = True,
                    progress=None) -> dict:
     """Run the whole benchmark; returns the JSON-ready result (see the module docstring)."""
-    from .analysis.engines import DEFAULT, ENGINES
-    from .analysis.loading import load_model
-    from .bench_codegen import machine
+    from ..analysis.engines import DEFAULT, ENGINES
+    from ..analysis.loading import load_model
+    from .codegen import machine
 
     say = progress or (lambda line: None)
     started = time.perf_counter()

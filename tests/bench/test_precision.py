@@ -12,9 +12,9 @@ import pytest
 
 from toolchain import require_tool
 
-from adbgen import bench_baseline, bench_precision as bp
+from adbgen.bench import baseline as bench_baseline, bench_precision as bp
 from adbgen.analysis.loading import load_model
-from adbgen.bench_simulate import Problem
+from adbgen.bench.simulate import Problem
 from adbgen.cli import main
 
 
@@ -108,7 +108,7 @@ def test_quick_run_records_curves_reference_and_targets(quick_result, tmp_path):
 
 def test_sweep_skips_a_pathway_predicted_too_slow():
     """The probe predicts the full run; over the cap, every tolerance is recorded as skipped with the reason."""
-    from adbgen.bench_simulate import Pathway
+    from adbgen.bench.simulate import Pathway
 
     def make(tol, t_end):
         return Pathway(f"slow@{tol:g}", "ivp", "slow", tol, lambda: {"wall_s": t_end * 1e-3, "y_end": None,

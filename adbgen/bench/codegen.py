@@ -44,11 +44,11 @@ from statistics import median
 import numpy as np
 import sympy as sp
 
-from .bench import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
-from . import families
-from .codegen.lowering import DEFAULT_FORM
-from .codegen.scratch import import_numba, render_into
-from .families.single_plane.model import derive
+from . import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
+from .. import families
+from ..codegen.lowering import DEFAULT_FORM
+from ..codegen.scratch import import_numba, render_into
+from ..families.single_plane.model import derive
 
 FAMILIES = families.kinds()  # {kind: n -> ModelSpec}: thesis_rotating, single_plane_fixed
 OPS_NS = (1, 2, 4, 8, 16, 32)

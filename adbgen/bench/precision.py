@@ -35,7 +35,7 @@ Pathways (`curves`), one definition each:
   with the generated analytic Jacobian and, as ``-fdjac``, without), with the r_max/t_dec events;
 - ``ivp:numba-dop853``: the generated numba rhs in solve_ivp DOP853 without events (the like of the
   next two);
-- ``ivp:handwritten-dop853``: the hand-written numba rhs of thesis Appendix A (`bench_baseline`) in
+- ``ivp:handwritten-dop853``: the hand-written numba rhs of thesis Appendix A (`bench.baseline`) in
   solve_ivp DOP853 (problems A and C, the thesis model);
 - ``ivp:lambdify-rk45`` and ``ivp:lambdify-dop853``: ``sympy.lambdify(modules="math", cse=True)`` of
   the closed form (thesis model; the two-plane model's 4 x 4 core has no closed form in adbgen, so
@@ -44,7 +44,7 @@ Pathways (`curves`), one definition each:
 - ``cvode-main``: the emitted ``<model>_cvode_main.c`` compiled with gcc -O2 and run as a program
   (CVODE BDF, Newton, dense, the generated Jacobian); its wall time is the process' (start-up of a
   few ms included: `startup_s` records it);
-- ``peer:jitcode-dop853`` and ``peer:heyoka`` (`bench_peers`: the generated rhs' statements fed to
+- ``peer:jitcode-dop853`` and ``peer:heyoka`` (`bench.peers`: the generated rhs' statements fed to
   JiTCODE and heyoka; heyoka compiles one integrator per tolerance, outside the timings, in its compact
   mode for a rhs of more than `HEYOKA_COMPACT_ABOVE` statements (B): the default mode took 71 s to
   build B's integrator at tol 1e-15).
@@ -85,8 +85,8 @@ from typing import Callable
 
 import numpy as np
 
-from .bench import write  # noqa: F401  (re-exported: `adbgen bench precision` writes with it)
-from .bench_simulate import Pathway, Problem, _load, _target, engine_pathway, error, measure, time_at_error
+from . import write  # noqa: F401  (re-exported: `adbgen bench precision` writes with it)
+from .simulate import Pathway, Problem, _load, _target, engine_pathway, error, measure, time_at_error
 
 TOLS = tuple(10.0 ** -k for k in range(3, 13))
 QUICK_TOLS = (1e-4, 1e-7)
@@ -210,7 +210,7 @@ def lambdify_rhs(model_name: str) -> tuple[Callable, dict]:
     otherwise the mass matrix and forcing lambdified and solved by numpy.linalg.solve per call."""
     import sympy as sp
 
-    from . import families
+    from .. import families
 
     start = time.perf_counter()
     spec = next((s for f in families.all_families() for s in f.models() if s.name == model_name), None)
@@ -292,8 +292,8 @@ class CvodeMain:
 def curves(model, pp: PrecisionProblem, folder: Path, *, engines=None, peers: bool = True, lambdify: bool = True,
            want_t_dec: bool = False, progress=None) -> list[Curve]:
     """Every pathway of the benchmark for one problem (set up, compiled and warmed, not yet timed)."""
-    from . import bench_baseline
-    from .analysis.engines import DEFAULT, ENGINES
+    from . import baseline as bench_baseline
+    from ..analysis.engines import DEFAULT, ENGINES
 
     say = progress or (lambda line: None)
     problem = pp.problem
@@ -315,7 +315,7 @@ def curves(model, pp: PrecisionProblem, folder: Path, *, engines=None, peers: bo
         bench_baseline.check_layout(model.module)
         setup = {"max_relative_difference_to_generated": bench_baseline.max_difference(model.module, samples=50)}
         out.append(_ivp_curve(model, pp, "ivp:handwritten-dop853",
-                              "hand-written numba rhs of thesis Appendix A (bench_baseline), solve_ivp DOP853",
+                              "hand-written numba rhs of thesis Appendix A (bench.baseline), solve_ivp DOP853",
                               bench_baseline.rhs, "DOP853", setup, False, want_t_dec))
     if lambdify:
         try:
@@ -352,13 +352,13 @@ def curves(model, pp: PrecisionProblem, folder: Path, *, engines=None, peers: bo
 
 
 def heyoka_compact(model) -> bool:
-    from .bench_peers import generated_program
+    from .peers import generated_program
 
     return len(generated_program(model.module)[0]) > HEYOKA_COMPACT_ABOVE
 
 
 def _peer_curves(model, pp: PrecisionProblem, want_t_dec: bool, say) -> list[Curve]:
-    from . import bench_peers
+    from . import peers as bench_peers
 
     problem = pp.problem
     p, y0 = problem.vectors(model)
@@ -423,7 +423,7 @@ def reference(model, pp: PrecisionProblem, t_end: float, ref_tol: float = REF_TO
               check_tol: float = CHECK_TOL) -> dict:
     """Final state by CyRK Vern8 at rtol ref_tol, checked by heyoka's Taylor method at check_tol (or, if
     heyoka is missing, CyRK DOP853 at ref_tol): their difference is the reference's resolution."""
-    from .analysis.simulate import simulate
+    from ..analysis.simulate import simulate
 
     p, y0 = pp.problem.vectors(model)
     start = time.perf_counter()
@@ -434,7 +434,7 @@ def reference(model, pp: PrecisionProblem, t_end: float, ref_tol: float = REF_TO
            "t_dec": ref.t_dec, "r_max": ref.r_max}
     start = time.perf_counter()
     try:
-        from . import bench_peers
+        from . import peers as bench_peers
 
         peer = bench_peers.Heyoka(model.module, compact_mode=heyoka_compact(model))
         peer.integrator(check_tol, y0, p, cold=False)
@@ -704,11 +704,11 @@ def bench_precision(problems=("A", "B", "C"), *, quick: bool = False, tols=None,
                     budget_s: float | None = None, t_end: float | None = None, percall: bool = True,
                     percall_ns=None, progress=None) -> dict:
     """The whole benchmark (module docstring); returns the JSON-ready result."""
-    from . import bench_percall
-    from .analysis.engines import DEFAULT
-    from .analysis.loading import load_model
-    from .bench_codegen import machine
-    from .bench_simulate import _jsonable, _versions
+    from . import percall as bench_percall
+    from ..analysis.engines import DEFAULT
+    from ..analysis.loading import load_model
+    from .codegen import machine
+    from .simulate import _jsonable, _versions
 
     say = progress or (lambda line: None)
     started = time.perf_counter()
@@ -782,7 +782,7 @@ _PEER_COLOURS = {"peer:jitcode-dop853": "#2ca02c", "peer:heyoka": "#9467bd"}
 
 
 def _save(fig, path: Path) -> Path:
-    from .bench_simulate import save_figure
+    from .simulate import save_figure
 
     return save_figure(fig, path, dpi=110)
 
@@ -909,7 +909,7 @@ def chart_percall(result: dict, path: str | Path) -> Path:
 
 
 def describe_targets(result: dict) -> list[str]:
-    from .bench_simulate import describe_targets as describe
+    from .simulate import describe_targets as describe
 
     return describe(result)
 

@@ -9,7 +9,7 @@ import shutil
 import pytest
 
 from adbgen import bench
-from adbgen.bench_sweep import bench_sweep
+from adbgen.bench.sweep import bench_sweep
 
 
 def test_bench_sweep_tiny_grid(tmp_path):

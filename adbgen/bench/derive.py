@@ -7,18 +7,16 @@ compare ratios from one run, not absolute times across runs (the machine is nois
 
 from __future__ import annotations
 
-import json
 import os
 import platform
 import time
-from pathlib import Path
 
 import sympy as sp
 
-from .families.single_plane.model import derive
-from .families.single_plane.reductions import first_order, nondimensionalise, rotating_frame
-from .families.single_plane.verify import general_scene
-from .families.single_plane.scene import Scene
+from ..families.single_plane.model import derive
+from ..families.single_plane.reductions import first_order, nondimensionalise, rotating_frame
+from ..families.single_plane.verify import general_scene
+from ..families.single_plane.scene import Scene
 
 
 def _derive_general(n: int):
@@ -73,9 +71,9 @@ def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progre
     derive (scene -> first-order system), checks (the kind's reduction checks, in their proportionate
     form unless full_checks, and the pre-write checks of every program), lower (the intermediate form,
     loop form) and emit (every target rendered), with the emitted sizes."""
-    from . import families
-    from .codegen.checks import check_programs, check_start
-    from .codegen.render import render_model
+    from .. import families
+    from ..codegen.checks import check_programs, check_start
+    from ..codegen.render import render_model
 
     kinds = kinds or families.kinds()
     rows = []
@@ -113,12 +111,3 @@ def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progre
             if progress:
                 progress(row)
     return {"rows": rows, "full_checks": full_checks, "ns": list(ns)}
-
-
-def write(result: dict, path: str | Path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
-    tmp.replace(path)
-    return path

@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .bench_simulate import PROBLEM_A, _jsonable, _load, _versions
+from .simulate import PROBLEM_A, _jsonable, _load, _versions
 
 OMEGA = 400.0
 OMEGA_N = 100.0  # sqrt(k / M)
@@ -96,7 +96,7 @@ def generate(folder: Path, kind: str, text: str) -> Path:
 
 
 def ns_per_rhs(model, y, p, target: float = 0.05) -> float:
-    from .bench_codegen import _calibrate, _numba_loop
+    from .codegen import _calibrate, _numba_loop
 
     y = np.ascontiguousarray(y, float)
     p = np.ascontiguousarray(p, float)
@@ -135,10 +135,10 @@ def _start(model) -> dict:
 
 
 def bench_smallest(quick: bool = False, progress=None) -> dict:
-    from .analysis.loading import load_model
-    from .analysis.simulate import simulate
-    from .bench_codegen import machine
-    from .bench_pairs import cyrk_solve
+    from ..analysis.loading import load_model
+    from ..analysis.simulate import simulate
+    from .codegen import machine
+    from .pairs import cyrk_solve
 
     say = progress or (lambda line: None)
     started = time.perf_counter()

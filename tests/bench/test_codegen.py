@@ -7,7 +7,7 @@ import shutil
 
 import pytest
 
-from adbgen import bench_codegen as bc
+from adbgen.bench import codegen as bc
 from adbgen.cli import main
 
 

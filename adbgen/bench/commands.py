@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from .cli_types import UsageError, positive_int
+from ..cli_types import UsageError, positive_int
 
 from pathlib import Path
 
@@ -16,7 +16,8 @@ _BENCH_OUT = {"derive": "benchmarks/derive.json", "codegen": "benchmarks/codegen
 
 
 def cmd_bench(args) -> int:
-    from . import bench
+    from .. import bench
+    from . import derive
 
     if args.what not in _BENCH_OUT:
         raise UsageError(f"unknown benchmark {args.what!r}; choose: {', '.join(_BENCH_OUT)}")
@@ -26,7 +27,7 @@ def cmd_bench(args) -> int:
     if args.what == "precision":
         return _bench_precision(args, out)
     if args.what == "failures":
-        from . import bench_failures
+        from . import failures as bench_failures
 
         result = bench_failures.bench_failures(quick=args.quick, progress=lambda line: print(line, flush=True))
         path = bench.write(result, out)
@@ -34,7 +35,7 @@ def cmd_bench(args) -> int:
         print(f"wrote {path} and {', '.join(map(str, pngs))} ({result['seconds']} s)")
         return 0
     if args.what == "smallest":
-        from . import bench_smallest
+        from . import smallest as bench_smallest
 
         result = bench_smallest.bench_smallest(quick=args.quick, progress=lambda line: print(line, flush=True))
         path = bench.write(result, out)
@@ -42,7 +43,7 @@ def cmd_bench(args) -> int:
         print(f"wrote {path} and {png} ({result['seconds']} s)")
         return 0
     if args.what == "sweep":
-        from . import bench_sweep
+        from . import sweep as bench_sweep
 
         if args.repeats is not None and args.repeats < 1:
             raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
@@ -53,7 +54,7 @@ def cmd_bench(args) -> int:
         print(f"wrote {path} ({runs}; labels identical: {result.get('labels_identical', 'not compared')})")
         return 0
     if args.what == "codegen":
-        from . import bench_codegen
+        from . import codegen as bench_codegen
 
         ns = tuple(args.n)  # op counts for every n; timings for n <= 16 (jac and lambdify up to 8)
         result = bench_codegen.bench_codegen(
@@ -64,9 +65,9 @@ def cmd_bench(args) -> int:
         path = bench.write(result, out)
         print(f"wrote {path} ({result['seconds']} s)")
         return 0
-    result = bench.bench_derive(tuple(args.n), progress=lambda r: print(
+    result = derive.bench_derive(tuple(args.n), progress=lambda r: print(
         f"{r['model']:30s} n={r['n']:3d}  {r['seconds']:8.3f} s  eom ops {r['eom_ops']:7d}  first-order ops {r['first_order_ops']:7d}",
-        flush=True), pipeline_ns=tuple(args.pipeline_n or bench.PIPELINE_NS), pipeline_progress=lambda r: print(
+        flush=True), pipeline_ns=tuple(args.pipeline_n or derive.PIPELINE_NS), pipeline_progress=lambda r: print(
         f"pipeline {r['kind']:20s} n={r['n']:3d}  derive {r['derive_seconds']:.1f} s, reduction checks "
         f"{r['reduction_checks_seconds']:.1f} s, lower {r['lower_seconds']:.1f} s, program checks "
         f"{r['program_checks_seconds']:.1f} s, emit {r['emit_seconds']:.1f} s ({r['bytes']} bytes)", flush=True))
@@ -76,12 +77,13 @@ def cmd_bench(args) -> int:
 
 
 def _bench_simulate(args, out) -> int:
-    from . import bench, bench_simulate
+    from . import simulate as bench_simulate
+    from .. import bench
 
     if args.repeats is not None and args.repeats < 1:
         raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
     if args.engines:
-        from .analysis.engines import engine
+        from ..analysis.engines import engine
 
         for name in args.engines:
             engine(name)  # an unknown name: one line naming the engines, exit 2
@@ -97,7 +99,8 @@ def _bench_simulate(args, out) -> int:
 
 
 def _bench_precision(args, out) -> int:
-    from . import bench, bench_precision
+    from . import precision as bench_precision
+    from .. import bench
 
     problems = args.problems or list(bench_precision.PROBLEMS)
     unknown = [p for p in problems if p not in bench_precision.PROBLEMS]
@@ -109,7 +112,7 @@ def _bench_precision(args, out) -> int:
         if value is not None and not (value > 0):
             raise UsageError(f"{name} must be > 0, got {value}")
     if args.engines:
-        from .analysis.engines import engine
+        from ..analysis.engines import engine
 
         for name in args.engines:
             engine(name)  # an unknown name: one line naming the engines, exit 2

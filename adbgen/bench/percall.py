@@ -4,7 +4,7 @@ Part of `adbgen bench precision`.  For the thesis model (`thesis_rotating`, n ba
 the intermediate form into a temporary folder (as `adbgen bench codegen` does), all in one run:
 
 - ``numba_rhs_loop`` / ``handwritten_rhs_loop``: the generated ``rhs_inplace`` and the hand-written
-  baseline of thesis Appendix A (`bench_baseline`), each in a jitted loop (`bench_codegen._numba_loop`:
+  baseline of thesis Appendix A (`bench.baseline`), each in a jitted loop (`bench_codegen._numba_loop`:
   y[0] fed back from the output so that calls cannot be hoisted), their repeats interleaved so that
   the machine's load hits both alike;
 - ``numba_jac_loop``: the generated ``jac_inplace`` in the same loop;
@@ -38,7 +38,7 @@ FAMILY = "thesis_rotating"
 
 def paired_loops(loops: dict, target: float, repeats: int) -> dict:
     """ns per call of several loop(calls) functions, their repeats interleaved."""
-    from .bench_codegen import _calibrate
+    from .codegen import _calibrate
 
     calls = {k: _calibrate(fn, target) for k, fn in loops.items()}
     times: dict = {k: [] for k in loops}
@@ -63,10 +63,10 @@ def percall_one(n: int, workdir: Path, *, target: float = 0.05, repeats: int = 5
                 lambdify_modules=("math", "numpy"), lambdify_jac: bool = False, progress=None) -> dict:
     import sympy as sp
 
-    from . import bench_baseline
-    from .bench_codegen import FAMILIES, _numba_loop, _sample_point, _time_c, _time_python
-    from .codegen.scratch import import_numba, render_into
-    from .families.single_plane.model import derive
+    from . import baseline as bench_baseline
+    from .codegen import FAMILIES, _numba_loop, _sample_point, _time_c, _time_python
+    from ..codegen.scratch import import_numba, render_into
+    from ..families.single_plane.model import derive
 
     derive.cache_clear()
     spec = FAMILIES[FAMILY](n)
@@ -191,11 +191,11 @@ def bench_percall(ns=NS, *, quick: bool = False, target: float | None = None, re
     return {"family": FAMILY, "target_seconds": target, "repeats": repeats, "rows": rows,
             "notes": "ns per call, median of the repeats; loops are jitted (numba) or C (gcc -O2); lambdify and "
                      "numba_rhs_python are Python calls. The hand-written baseline (thesis Appendix A, "
-                     "bench_baseline) has no jac: the thesis gives none."}
+                     "bench.baseline) has no jac: the thesis gives none."}
 
 
 def targets(percall: dict) -> list[dict]:
-    from .bench_simulate import _target
+    from .simulate import _target
 
     rows = percall["rows"]
     hand = [(r["n"], _ns(r, "handwritten_rhs_loop") / _ns(r, "numba_rhs_loop")) for r in rows
