@@ -116,6 +116,21 @@ def _bench_precision(args, out) -> int:
 
         for name in args.engines:
             engine(name)  # an unknown name: one line naming the engines, exit 2
+    if args.only_percall:
+        import json
+
+        previous = json.loads(Path(out).read_text()) if Path(out).exists() else None
+        try:
+            result = bench_precision.rerun_percall(previous, tuple(args.n) if args.n_given else None,
+                                                   progress=lambda line: print(line, flush=True))
+        except ValueError as exc:
+            raise UsageError(f"{out}: {exc}") from None
+        path = bench.write(result, out)
+        chart = bench_precision.chart_percall(result, f"{Path(out).with_suffix('')}_percall.png")
+        for line in bench_precision.describe_targets(result):
+            print(line)
+        print(f"wrote {path} (per-call part replaced) and {chart}")
+        return 0
     result = bench_precision.bench_precision(
         tuple(problems), quick=args.quick, engines=args.engines, peers=not args.no_peers, repeats=args.repeats,
         max_run_s=args.max_run, budget_s=args.budget, t_end=args.t_end, percall=not args.no_percall,
@@ -169,5 +184,7 @@ def register(sub) -> None:
     b.add_argument("--t-end", type=float, default=None, help="precision: integrate every problem to this time "
                    "(default: each problem's)")
     b.add_argument("--no-percall", action="store_true", help="precision: skip the per-call part")
+    b.add_argument("--only-percall", action="store_true", help="precision: run the per-call part alone and put it "
+                   "into the results file in place of its per-call part (the work-precision part is kept)")
     b.set_defaults(n_given=False)
     b.set_defaults(fn=cmd_bench)

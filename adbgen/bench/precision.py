@@ -775,6 +775,32 @@ def bench_precision(problems=("A", "B", "C"), *, quick: bool = False, tols=None,
     return _jsonable(result)
 
 
+def rerun_percall(previous: dict | None, ns=None, progress=None) -> dict:
+    """The per-call part alone, measured again and put into a previous result (its work-precision part kept
+    as it was, with its own date): for a change that moves the generated code's cost per call but not the
+    integrations' conclusions.  The per-call targets are replaced, the others kept; `percall_date` and
+    `percall_commit` say when and on what the per-call part ran."""
+    import subprocess
+
+    from . import percall as bench_percall
+    from .simulate import _jsonable
+
+    if previous is not None and previous.get("benchmark") != "precision":
+        raise ValueError("the results file holds no `adbgen bench precision` result")
+    result = dict(previous or {"benchmark": "precision", "problems": {}, "targets": []})
+    result["load_average_before_percall"] = _load()
+    result["percall"] = bench_percall.bench_percall(tuple(ns or bench_percall.NS), quick=False, progress=progress)
+    kept = [t for t in result.get("targets", []) if not str(t.get("target", t.get("name", ""))).startswith("per call")]
+    result["targets"] = bench_percall.targets(result["percall"]) + kept
+    result["percall_date"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    try:
+        result["percall_commit"] = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
+                                                  cwd=Path(__file__).parent, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        result["percall_commit"] = None
+    return _jsonable(result)
+
+
 # --------------------------------------------------------------------------------------- charts
 
 _KIND_STYLE = {"engine": "-", "ivp": "--", "cvode-main": "-.", "peer": ":"}
@@ -914,6 +940,6 @@ def describe_targets(result: dict) -> list[str]:
     return describe(result)
 
 
-__all__ = ["Curve", "CvodeMain", "HEADLINE", "PROBLEMS", "PrecisionProblem", "TOLS", "bench_precision", "chart",
+__all__ = ["rerun_percall", "Curve", "CvodeMain", "HEADLINE", "PROBLEMS", "PrecisionProblem", "TOLS", "bench_precision", "chart",
            "chart_percall", "chart_reliable", "curve_record", "curves", "describe_targets", "lambdify_rhs",
            "loosest_reliable", "precision_targets", "reference", "stiffness", "sweep", "write"]
