@@ -86,9 +86,9 @@ def test_forms_rows_and_ratios(tmp_path):
 
 
 def test_pipeline_stages_are_timed():
-    from adbgen import bench
+    from adbgen.bench import derive
 
-    result = bench.bench_pipeline((1,))
+    result = derive.bench_pipeline((1,))
     kinds = {r["kind"] for r in result["rows"]}
     assert kinds == {"thesis_rotating", "single_plane_fixed"}
     for r in result["rows"]:

@@ -12,7 +12,7 @@ import pytest
 
 from toolchain import require_tool
 
-from adbgen.bench import baseline as bench_baseline, bench_precision as bp
+from adbgen.bench import baseline as bench_baseline, precision as bp
 from adbgen.analysis.loading import load_model
 from adbgen.bench.simulate import Problem
 from adbgen.cli import main
@@ -127,3 +127,29 @@ def test_cli_bench_precision_rejects_bad_input(tmp_path, capsys):
     assert "unknown problem 'Z'" in capsys.readouterr().err
     assert main(["bench", "precision", "--out", str(out), "--max-run", "0"]) == 2
     assert not out.exists()
+
+
+def test_only_percall_replaces_the_percall_part_and_keeps_the_rest(tmp_path, monkeypatch):
+    """`--only-percall` swaps in a new per-call part (and its targets) and keeps the work-precision part."""
+    from adbgen.bench import percall as bench_percall
+
+    row = {"n": 2, "numba_rhs_loop": {"ns": 100.0}, "handwritten_rhs_loop": {"ns": 95.0},
+           "lambdify_math": {"ns": 60000.0}, "numba_rhs_python": {"ns": 900.0}}
+    monkeypatch.setattr(bench_percall, "bench_percall", lambda ns, quick=False, progress=None: {"rows": [row]})
+    previous = {"benchmark": "precision", "problems": {"A": {"what": "kept"}},
+                "targets": [{"target": "per call: old", "passed": False}, {"target": "problem A: kept", "passed": True}]}
+    result = bp.rerun_percall(previous, (2,))
+    assert result["problems"] == {"A": {"what": "kept"}} and result["percall"]["rows"][0]["n"] == 2
+    names = [t["target"] for t in result["targets"]]
+    assert "per call: old" not in names and "problem A: kept" in names
+    assert any(name.startswith("per call: generated numba rhs within 1.2x") for name in names)
+    assert result["percall_date"]
+
+
+def test_only_percall_refuses_a_foreign_results_file(tmp_path, capsys):
+    out = tmp_path / "sweep.json"
+    out.write_text('{"benchmark": "sweep"}\n')
+    before = out.read_bytes()
+    assert main(["bench", "precision", "--only-percall", "--out", str(out)]) == 2
+    assert "holds no `adbgen bench precision` result" in capsys.readouterr().err
+    assert out.read_bytes() == before
