@@ -57,14 +57,25 @@ balls = [ir.state_names.index(name) for name in ir.leaves]
 assert all((i, j) not in ir.mass_pattern for i in balls for j in balls if i != j)
 
 # %% [markdown]
-# ### The rhs program
-# Common subexpressions of the mass blocks and forcing (w_k), then the Schur complement S and its
-# right-hand side as sums over balls, an unrolled LU solve of the 2 x 2 core, and the back-substitution of
-# the ball accelerations (A.6).  No inverse of M is ever formed.  The statements after the common
-# subexpressions:
+# ### The rhs, in the loop form every target prints
+# Each ball's block (its row of M and of the forcing: B_i, C_i, D_i, f_i) is kept once, with the ball's
+# angle, rate and parameters as loop inputs (`codegen/balls.py` takes ball 1's block and checks
+# symbolically that it equals every ball's).  The Schur complement S of the rotor core and its right-hand
+# side g are accumulated over the balls in one loop, the 2 x 2 core is solved by an unrolled LU, and a
+# second loop back-substitutes the ball accelerations (A.6).  No inverse of M is ever formed.  This is the
+# function the numba target prints (the C, CVODE and AUTO-07p targets print the same kernel in C):
 
 # %%
-for lhs, rhs in ir.rhs.assignments:
+from adbgen.codegen.interpret import python_source
+
+print(python_source(ir, "rhs", "rhs"))
+
+# %% [markdown]
+# The same model unrolled (one block of statements per ball, `adbgen regenerate --form unrolled`), as
+# mathematics: the statements after the common subexpressions.
+
+# %%
+for lhs, rhs in ir.as_unrolled().rhs.assignments:
     if not lhs.name.startswith("w_"):
         show(str(lhs), rhs, "", lhs=sp.latex(lhs))
 
@@ -87,21 +98,27 @@ for _ in range(20):
 print(f"rhs program = closed form at 20 random points (largest difference {worst:.1e} of max |rhs|)")
 
 # %% [markdown]
-# ### Operation counts grow linearly in n
-# One more ball adds about the same number of operations (common-subexpression elimination makes the
-# increments differ by a few); nothing grows like n^2.
+# ### The printed code does not grow with n; the operations executed grow linearly
+# The loop form prints the per-ball block once, so its operation count (a loop body counted once) is the
+# same for every n >= 2 (with one ball the common-subexpression elimination pairs a few terms differently).  Unrolled, one more ball adds about the same number of operations (common-subexpression
+# elimination makes the increments differ by a few): what the loops execute, nothing grows like n^2.
 
 # %%
 ns = (1, 2, 3, 4, 6)
-ops = {n: models.thesis_rotating(n).build().rhs.count_ops() for n in ns}
+built = {n: models.thesis_rotating(n).build() for n in ns}
+printed = {n: built[n].count_ops("rhs") for n in ns}
+ops = {n: built[n].as_unrolled().rhs.count_ops() for n in ns}
 slope, intercept = np.polyfit(ns, [ops[n] for n in ns], 1)
 deviation = max(abs(ops[n] - (intercept + slope * n)) / ops[n] for n in ns)
-print("rhs operations:", ops)
-print(f"ops ~ {intercept:.0f} + {slope:.1f} n, largest deviation from the line {100 * deviation:.1f} %")
+print("loop form, printed rhs operations:", printed)
+print("unrolled rhs operations:", ops)
+print(f"unrolled ops ~ {intercept:.0f} + {slope:.1f} n, largest deviation from the line {100 * deviation:.1f} %")
+assert len({printed[n] for n in ns if n >= 2}) == 1 and all(built[n].form == "loops" for n in ns)
 assert deviation < 0.05
 fig, ax = plt.subplots(figsize=(4.5, 3))
-ax.plot(ns, [ops[n] for n in ns], "ko")
+ax.plot(ns, [ops[n] for n in ns], "ko", label="unrolled")
 ax.plot(ns, intercept + slope * np.array(ns), "C0-", lw=0.8, label=f"{intercept:.0f} + {slope:.1f} n")
+ax.plot(ns, [printed[n] for n in ns], "s", color="C1", label="loop form (printed)")
 ax.set_xlabel("balls n")
 ax.set_ylabel("operations in rhs")
 ax.legend(fontsize=8)
