@@ -107,7 +107,7 @@ def _step(J: np.ndarray, f: np.ndarray, refinements: int = 3) -> np.ndarray:
     step = np.linalg.lstsq(J, -f, rcond=1e-11)[0]
     for _ in range(refinements):
         hi, lo = _two_product(J, step[None, :])
-        r = np.array([-math.fsum(np.r_[f[i], hi[i], lo[i]]) for i in range(len(f))])
+        r = -np.array([math.fsum(row) for row in np.column_stack([f, hi, lo]).tolist()])
         new = step + np.linalg.lstsq(J, r, rcond=1e-11)[0]
         if np.array_equal(new, step):
             break
