@@ -28,6 +28,7 @@ Classification of the transverse spectrum (neutral directions of the family repo
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -77,10 +78,41 @@ def newton(model: Model, p: np.ndarray, y0: np.ndarray, tol: float = NEWTON_TOL,
             return y, it
         if extra:
             J, f = np.vstack([J, extra[1](y)]), np.r_[f, g]
-        step = np.linalg.lstsq(J, -f, rcond=1e-11)[0]
-        y = y + step
+        y = y + _step(J, f)
     raise SteadyStateError(f"Newton did not converge in {max_iter} steps (|rhs| = {np.max(np.abs(f)):.3g}); "
                            f"start closer to a steady state (--y0 / --state)")
+
+
+def _two_product(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """a * b = hi + lo exactly (Dekker's product by Veltkamp splitting; plain IEEE operations)."""
+    split = 134217729.0  # 2^27 + 1
+    ca, cb = split * a, split * b
+    ah = ca - (ca - a)
+    bh = cb - (cb - b)
+    al, bl = a - ah, b - bh
+    hi = a * b
+    return hi, ((ah * bh - hi) + ah * bl + al * bh) + al * bl
+
+
+def _step(J: np.ndarray, f: np.ndarray, refinements: int = 3) -> np.ndarray:
+    """The minimum-norm Newton step -J^+ f, reproducible to the last bit on any BLAS.
+
+    LAPACK's result depends in its last bits on the BLAS kernel it runs (OpenBLAS picks one per CPU
+    type), and where Newton starts far from a steady state (the sweep's START at small mu) the state
+    it reaches is chaotic in those bits: thesis_rotating_n4 at Omega = 0.4, mu = 0.007 reached
+    coincident 2+, in-line 3(4-3)- or the balanced state by kernel.  Iterative refinement with the
+    residual f + J s computed exactly and rounded once (Dekker products, math.fsum) converges on every
+    kernel to the double nearest the exact step, barring ties within ~cond(J) eps of a rounding
+    boundary."""
+    step = np.linalg.lstsq(J, -f, rcond=1e-11)[0]
+    for _ in range(refinements):
+        hi, lo = _two_product(J, step[None, :])
+        r = -np.array([math.fsum(row) for row in np.column_stack([f, hi, lo]).tolist()])
+        new = step + np.linalg.lstsq(J, r, rcond=1e-11)[0]
+        if np.array_equal(new, step):
+            break
+        step = new
+    return step
 
 
 # ---------------------------------------------------------------------------- the balanced family

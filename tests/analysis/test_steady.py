@@ -207,3 +207,38 @@ def test_unequal_balls_reduce_by_the_rotor_rows_of_the_generated_jac(tmp_path, m
     full = np.linalg.eigvals(s.jacobian)
     rest = np.delete(full, np.argmin(np.abs(full)))
     assert _match(s.transverse, rest) < 1e-9 * np.max(np.abs(full))
+
+
+@pytest.mark.parametrize("Omega, mu", [(0.4, 0.007), (1.0, 0.004), (2.4, 0.013)])
+def test_newton_from_start_does_not_depend_on_the_blas_kernels_last_bits(monkeypatch, Omega, mu):
+    """The sweep's stability map (Newton from START) flipped cells by CPU type: LAPACK's last bits
+    depend on the BLAS kernel, and at these points of the n = 4 (Omega, mu) map the undamped Newton
+    path from START is chaotic in them.  A least-squares solver off by an ulp here and there (another
+    kernel) must reach the same steady state."""
+    from adbgen.analysis import attractors
+
+    model = load_model("thesis_rotating_n4")
+    p = np.array(model.module.START_PARAMETERS, float)
+    p[model.param_names.index("Omega")], p[model.param_names.index("mu")] = Omega, mu
+    seed = np.array(model.module.START, float)
+
+    def outcome():
+        y = attractors.newton(model, seed, p)
+        assert y is not None
+        return attractors.spectrum(model, y, p).unstable(), attractors.name_steady_state(model, y, p), y
+
+    exact = outcome()
+    lstsq = np.linalg.lstsq
+    for k in range(4):
+        rng = np.random.default_rng(k)
+
+        def noisy(a, b, rcond=None):
+            x, *rest = lstsq(a, b, rcond=rcond)
+            ulps = rng.integers(-2, 3, size=x.shape)
+            return (x + ulps * np.spacing(x), *rest)
+
+        monkeypatch.setattr(np.linalg, "lstsq", noisy)
+        other = outcome()
+        monkeypatch.setattr(np.linalg, "lstsq", lstsq)
+        assert other[:2] == exact[:2]
+        assert np.max(np.abs(attractors.state_difference(model, other[2], exact[2]))) < 1e-8
