@@ -114,14 +114,14 @@ static double dense_r2(void *res, double t, int ix, int iy)
 }
 
 /* step t[k] -> t[k+1] integrated again from its accepted state with dense output; the window runs on
- * past t[k+1] (CyRK's first step may be at most half of it), and its first step is the accepted step
- * again.  NULL on failure. */
+ * past t[k+1] (CyRK's first step may be at most half of it: 2.05 h leaves room for h and one more
+ * step), and its first step is the accepted step again.  NULL on failure. */
 static void *redo_step(const Settings *s, Args *args, const double *t, const double *Y, size_t k)
 {
     double y0[ADB_NY];
     memcpy(y0, Y + k * ADB_NY, sizeof y0);
     double h = t[k + 1] - t[k];
-    void *res = solve(s, t[k], t[k] + 2.5 * h, y0, args, true, h);
+    void *res = solve(s, t[k], t[k] + 2.05 * h, y0, args, true, h);
     if (res && !cy.success(res)) {
         cy.free(res);
         res = NULL;

@@ -20,8 +20,8 @@
  * both located on the continuous (interpolated) solution by SUNDIALS' root finding: the extrema of r
  * are the roots of y[ix] y[ixd] + y[iy] y[iyd] (the rates of the rotor's coordinates), the threshold
  * crossings the roots of r^2 - H^2.  A maximum of r at or above H counts too (an excursion above H
- * that starts and ends inside one step changes no sign of r^2 - H^2 at step ends): its end is found by
- * bisection on the step's interpolant.
+ * that starts and ends inside one step changes no sign of r^2 - H^2 at step ends; SUNDIALS splits the
+ * step at the maximum's root and then finds its end as a crossing).
  *
  * Exact symmetry: the explicit (ERKStep) and Adams/fixed-point methods update every component by the
  * same sequence of floating-point operations (N_Vector operations are element-wise and reductions only
@@ -184,32 +184,6 @@ static void solver_root_info(Solver *s, int *found)
     else CVodeGetRootInfo(s->mem, found);
 }
 
-/* r^2 at t inside the last step, on the solver's interpolant */
-static double dense_r2(Solver *s, const RunData *d, double t, N_Vector tmp)
-{
-    if ((s->method < 10 ? ERKStepGetDky(s->mem, t, 0, tmp) : CVodeGetDky(s->mem, t, 0, tmp)) < 0) return NAN;
-    return adb_r2(N_VGetArrayPointer(tmp), d->ix, d->iy);
-}
-
-/* At a maximum of r at t_m with r >= H: the end of that excursion inside the current step, by bisection on
- * the interpolant, when r is below H at the step's end (the excursion may start and end between step
- * ends, where no crossing of r^2 - H^2 shows); else t_m (a crossing later on will say more). */
-static double excursion_end(Solver *s, const RunData *d, double t_m, N_Vector tmp)
-{
-    double tn = t_m, H2 = d->threshold * d->threshold;
-    if (s->method < 10) ERKStepGetCurrentTime(s->mem, &tn);
-    else CVodeGetCurrentTime(s->mem, &tn);
-    double a = t_m, b = tn;
-    if (!(b > a) || !(dense_r2(s, d, b, tmp) < H2)) return t_m;
-    for (int it = 0; it < 200; ++it) {
-        double m = 0.5 * (a + b);
-        if (m <= a || m >= b) break;
-        if (dense_r2(s, d, m, tmp) >= H2) a = m;
-        else b = m;
-    }
-    return a;
-}
-
 static void solver_stats(Solver *s, long *nfe, long *nsteps, double *hcur)
 {
     long e = 0, st = 0, dummy = 0;
@@ -261,7 +235,7 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
 
     SUNContext ctx;
     if (SUNContext_Create(NULL, &ctx)) return ADB_SOLVER_FAILURE;
-    N_Vector y = N_VNew_Serial(ADB_NY, ctx), tmp = N_VNew_Serial(ADB_NY, ctx);
+    N_Vector y = N_VNew_Serial(ADB_NY, ctx);
     double *yd = N_VGetArrayPointer(y);
     memcpy(yd, y0, sizeof(double) * ADB_NY);
 
@@ -269,7 +243,6 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
     int status = ADB_SUCCESS;
     if (solver_create(&s, method, ctx, y, &d, rtol, atol, max_steps)) {
         N_VDestroy(y);
-        N_VDestroy(tmp);
         SUNContext_Free(&ctx);
         return ADB_BAD_INPUT;
     }
@@ -309,8 +282,10 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
             int found[2] = {0, 0};
             solver_root_info(&s, found);
             if (found[0]) t_cross = fmax(t_cross, t);
-            /* sup{t : r >= H} includes maxima above H between crossings */
-            if (found[1] && r >= threshold) t_cross = fmax(t_cross, excursion_end(&s, &d, t, tmp));
+            /* sup{t : r >= H} includes maxima above H between crossings; after such a root SUNDIALS
+             * checks r^2 - H^2 again from it to the step's end, so the excursion's end is the next
+             * crossing root even when both step ends are below H */
+            if (found[1] && r >= threshold) t_cross = fmax(t_cross, t);
             continue;
         }
         if (!isfinite(r)) {
@@ -349,7 +324,6 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
     if (message) memcpy(message, d.message, sizeof d.message);
     solver_free(&s);
     N_VDestroy(y);
-    N_VDestroy(tmp);
     SUNContext_Free(&ctx);
     return status;
 }
