@@ -184,7 +184,7 @@ static double peak_on(void *res, double a0, double b0, int ns, int ix, int iy, d
  * 2 (x x' + y y') (the rates are states) goes from + to -.  A cubic Hermite estimate of r^2 from the
  * step's ends and slopes screens the candidates: it is within 15 % of the interpolant's maximum on
  * problem A at rtol 1e-3 (measured), and a step is only passed over when the estimate stays below
- * H^2 / 4. */
+ * H^2 / 2 (a factor 2 of margin; H^2 / 4 re-integrated twice as many steps, 8 % more time at rtol 1e-8). */
 static int may_exceed(const double *t, const double *Y, size_t k, const int *amp, double H2)
 {
     const double *u = Y + k * ADB_NY, *v = Y + (k + 1) * ADB_NY;
@@ -195,7 +195,7 @@ static int may_exceed(const double *t, const double *Y, size_t k, const int *amp
     for (int j = 1; j < 16; ++j) {
         double x = j / 16.0, x2 = x * x, x3 = x2 * x;
         double p = (2 * x3 - 3 * x2 + 1) * f0 + (x3 - 2 * x2 + x) * d0 + (3 * x2 - 2 * x3) * f1 + (x3 - x2) * d1;
-        if (p >= 0.25 * H2) return 1;
+        if (p >= 0.5 * H2) return 1;
     }
     return 0;
 }
