@@ -239,6 +239,22 @@ class CyRKEngine(_Compiled):
                 lib.adb_cyrk_release(ctypes.byref(traj))
         return _single(code, t, y, y_end, stats, counts, wall, "")
 
+    def dense(self, model, p, t, y, times, rtol, atol) -> np.ndarray:
+        """The continuous solution of a run (its accepted steps t, y as `run` returns them) at `times`
+        (increasing, within [t[0], t[-1]]), states x times: each step's own interpolant, the one r_max
+        and t_dec are located on."""
+        lib = self.library(model)
+        T = np.ascontiguousarray(t, dtype=float)
+        Y = np.ascontiguousarray(np.asarray(y).T, dtype=float)
+        times = np.ascontiguousarray(times, dtype=float)
+        out = np.zeros((len(times), model.n_states))
+        code = lib.adb_cyrk_dense(_ptr(T), _ptr(Y), ctypes.c_long(len(T)), _ptr(np.ascontiguousarray(p, dtype=float)),
+                                  ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id, len(times),
+                                  _ptr(times), _ptr(out))
+        if code:
+            raise AnalysisError("CyRK failed to integrate a step again for its dense output")
+        return out.T
+
 
 class SundialsEngine(_Compiled):
     """SUNDIALS CVODE or ARKODE ERKStep (sundials_driver.c); events by SUNDIALS' root finding."""

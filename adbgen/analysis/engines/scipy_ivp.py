@@ -4,7 +4,8 @@ Kept selectable (`scipy-dop853`, `scipy-rk45`, `scipy-radau`, `scipy-lsoda`, `sc
 it is what users know and what the compiled engines are checked against.  It does not promise exact
 symmetry: its stage combinations go through BLAS matrix products, which may round identical
 components differently.  r_max and t_dec come from solve_ivp's events (extrema of r and crossings of
-the threshold) on its dense output.
+the threshold) on its dense output; a maximum of r above the threshold counts for t_dec, whose
+excursion's end is then found on the dense output (brentq).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import warnings
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 
 from ..results import SUCCESS
 
@@ -24,6 +26,29 @@ _IMPLICIT = {"Radau", "LSODA", "BDF"}
 class _NonFinite(Exception):
     def __init__(self, t):
         self.t = float(t)
+
+
+def _decay_time(sol, r, ix, iy, threshold) -> float:
+    """t_dec = sup{t : r(t) >= H} on the dense output, r(t_end) < H: the last crossing event, or the end of
+    the excursion at the latest maximum of r above H when later (an excursion that starts and ends
+    inside one step changes no sign of r^2 - H^2 at step ends); 0 when r never reaches H."""
+    crossings = sol.t_events[0]
+    last = float(crossings[-1]) if len(crossings) else None
+    above = [float(te) for te in sol.t_events[1] if np.hypot(*sol.sol(te)[[ix, iy]]) >= threshold]
+    if above and (last is None or above[-1] > last):
+        te = above[-1]
+        t_next = float(sol.t[np.searchsorted(sol.t, te, side="right")])  # r(t_end) < H: a step end follows
+
+        def g(t):
+            y = sol.sol(t)
+            return y[ix] * y[ix] + y[iy] * y[iy] - threshold * threshold
+
+        if g(t_next) < 0:
+            return float(brentq(g, te, t_next, xtol=1e-12, rtol=4 * np.finfo(float).eps))
+        last = te if last is None else max(last, te)
+    if last is not None:
+        return last
+    return 0.0 if r.max() < threshold else float("nan")
 
 
 class ScipyEngine:
@@ -74,11 +99,10 @@ class ScipyEngine:
             r = np.hypot(sol.y[ix], sol.y[iy])
             peaks = [float(np.hypot(*sol.sol(te)[[ix, iy]])) for te in sol.t_events[1]]
             r_max = max([float(r.max())] + peaks)
-            crossings = sol.t_events[0]
             if r[-1] >= threshold:
                 t_dec = float("nan")
             else:
-                t_dec = float(crossings[-1]) if len(crossings) else (0.0 if r.max() < threshold else float("nan"))
+                t_dec = _decay_time(sol, r, ix, iy, threshold)
             status, t_fail = SUCCESS, None
         else:
             bad = np.nonzero(~np.all(np.isfinite(sol.y), axis=0))[0]

@@ -19,7 +19,9 @@
  * r = sqrt(y[ix]^2 + y[iy]^2), its maximum r_max and the decay time t_dec = sup{t <= t_end : r >= H},
  * both located on the continuous (interpolated) solution by SUNDIALS' root finding: the extrema of r
  * are the roots of y[ix] y[ixd] + y[iy] y[iyd] (the rates of the rotor's coordinates), the threshold
- * crossings the roots of r^2 - H^2.
+ * crossings the roots of r^2 - H^2.  A maximum of r at or above H counts too (an excursion above H
+ * that starts and ends inside one step changes no sign of r^2 - H^2 at step ends; SUNDIALS splits the
+ * step at the maximum's root and then finds its end as a crossing).
  *
  * Exact symmetry: the explicit (ERKStep) and Adams/fixed-point methods update every component by the
  * same sequence of floating-point operations (N_Vector operations are element-wise and reductions only
@@ -279,7 +281,11 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
         if (flag == 2) {
             int found[2] = {0, 0};
             solver_root_info(&s, found);
-            if (found[0]) t_cross = t;
+            if (found[0]) t_cross = fmax(t_cross, t);
+            /* sup{t : r >= H} includes maxima above H between crossings; after such a root SUNDIALS
+             * checks r^2 - H^2 again from it to the step's end, so the excursion's end is the next
+             * crossing root even when both step ends are below H */
+            if (found[1] && r >= threshold) t_cross = fmax(t_cross, t);
             continue;
         }
         if (!isfinite(r)) {
