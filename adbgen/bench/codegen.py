@@ -44,7 +44,6 @@ from statistics import median
 import numpy as np
 import sympy as sp
 
-from . import write  # noqa: F401  (re-exported: `adbgen bench codegen` writes with it)
 from .. import families
 from ..codegen.lowering import DEFAULT_FORM
 from ..codegen.scratch import import_numba, render_into
@@ -573,4 +572,4 @@ def describe(row: dict) -> str:
 
 
 __all__ = ["bench_codegen", "bench_forms", "bench_ops", "bench_speed", "bench_speed_one", "describe", "jac_parts",
-           "machine", "polyfit", "write"]
+           "machine", "polyfit"]

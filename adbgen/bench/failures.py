@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .simulate import PROBLEM_A, _jsonable, _load, _versions, symmetric_y0, symmetry_record
+from .simulate import PROBLEM_A, _jsonable, _load, _versions, save_figure, symmetric_y0, symmetry_record
 
 REF_RTOL, REF_ATOL = 1e-13, 1e-15
 STIFF_BETAS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4)
@@ -330,13 +330,8 @@ def charts(result: dict, out: Path) -> list[Path]:
     stem = out.with_suffix("")
 
     def save(fig, part):
-        path = Path(f"{stem}_{part}.png")
-        tmp = path.with_name(path.stem + ".tmp.png")
         fig.tight_layout()
-        fig.savefig(tmp, dpi=110)
-        plt.close(fig)
-        tmp.replace(path)
-        paths.append(path)
+        paths.append(save_figure(fig, f"{stem}_{part}.png", dpi=110))
 
     when = f"{result['date'][:16].replace('T', ' ')} UTC, load {result['machine']['load_average_at_start']}"
     fx = result.get("fixed_step")

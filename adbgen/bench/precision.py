@@ -85,7 +85,6 @@ from typing import Callable
 
 import numpy as np
 
-from . import write  # noqa: F401  (re-exported: `adbgen bench precision` writes with it)
 from .simulate import Pathway, Problem, _load, _target, engine_pathway, error, measure, time_at_error
 
 TOLS = tuple(10.0 ** -k for k in range(3, 13))
@@ -942,4 +941,4 @@ def describe_targets(result: dict) -> list[str]:
 
 __all__ = ["rerun_percall", "Curve", "CvodeMain", "HEADLINE", "PROBLEMS", "PrecisionProblem", "TOLS", "bench_precision", "chart",
            "chart_percall", "chart_reliable", "curve_record", "curves", "describe_targets", "lambdify_rhs",
-           "loosest_reliable", "precision_targets", "reference", "stiffness", "sweep", "write"]
+           "loosest_reliable", "precision_targets", "reference", "stiffness", "sweep"]

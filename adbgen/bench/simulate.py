@@ -53,7 +53,6 @@ from typing import Callable
 
 import numpy as np
 
-from . import write  # noqa: F401  (re-exported: `adbgen bench simulate` writes with it)
 
 DEFAULT_REPEATS = 7
 SLOW_S = 1.0  # a pathway slower than this on its first run is run once
@@ -926,4 +925,4 @@ def describe_targets(result: dict) -> list[str]:
 __all__ = ["PROBLEM_A", "ParallelControl", "Pathway", "Problem", "baseline_pathways", "bench_simulate", "chart",
            "describe_targets", "engine_pathway", "equal_error", "error", "evaluate_targets", "floor_pathways",
            "floor_record", "many", "measure", "paired_floor", "reference", "rhs_symmetry", "save_figure",
-           "symmetric_y0", "symmetry_record", "time_at_error", "write"]
+           "symmetric_y0", "symmetry_record", "time_at_error"]

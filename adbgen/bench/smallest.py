@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .simulate import PROBLEM_A, _jsonable, _load, _versions
+from .simulate import PROBLEM_A, _jsonable, _load, _versions, save_figure
 
 OMEGA = 400.0
 OMEGA_N = 100.0  # sqrt(k / M)
@@ -247,13 +247,7 @@ def chart(result: dict, path: Path) -> Path:
     fig.suptitle(f"Smallest model: {result['date'][:16].replace('T', ' ')} UTC, load "
                  f"{result['machine']['load_average_at_start']}, rtol {result['scene']['rtol']:g}", fontsize=8)
     fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.stem + ".tmp.png")
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    tmp.replace(path)
-    return path
+    return save_figure(fig, path, dpi=110)
 
 
 __all__ = ["bench_smallest", "chart", "to_rotating"]

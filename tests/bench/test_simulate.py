@@ -10,7 +10,7 @@ import pytest
 
 from toolchain import require_tool
 
-from adbgen.bench import simulate as bs
+from adbgen.bench import simulate as bs, write
 from adbgen.cli import main
 
 TINY = bs.Problem("tiny", "thesis_rotating_n3", {}, dict(bs.PROBLEM_A.y0), t_end=20.0, rtol=1e-6, atol=1e-8)
@@ -37,7 +37,7 @@ def test_result_has_every_part(tiny_result, tmp_path):
     assert r["machine"]["load_average_at_start"] is not None
     assert r["default_engine_cold_build_s"] > 0
     json.dumps(r)  # JSON-ready as returned
-    path = bs.write(r, tmp_path / "simulate.json")
+    path = write(r, tmp_path / "simulate.json")
     assert json.loads(path.read_text())["benchmark"] == "simulate"
     png = bs.chart(r, tmp_path / "simulate.png")
     assert png.stat().st_size > 1000
