@@ -143,8 +143,10 @@ class RunUp:
 
 
 def spin_law(model: Model, p: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(theta_0, theta_0') of the prescribed run-up: the generated `spin` if the model has one, else
-    from the parameters of the ramp (Omega_max t / t_ramp, then constant) or the Hill profile (45)."""
+    """(theta_0, theta_0') of the prescribed run-up, for plots and lag measures: from the parameters of the
+    ramp (Omega_max t / t_ramp, then constant) or the Hill profile (45).  The generated modules do not
+    emit their spin law, so this restates it; a test compares it with the spin inside the generated
+    equations."""
     get = lambda name: p[model.param_names.index(name)]  # noqa: E731
     if "t_ramp" in model.param_names:
         w, tr = get("Omega_max"), get("t_ramp")
