@@ -28,13 +28,14 @@ class _NonFinite(Exception):
         self.t = float(t)
 
 
-def _decay_time(sol, r, ix, iy, threshold) -> float:
+def _decay_time(sol, peaks, r, ix, iy, threshold) -> float:
     """t_dec = sup{t : r(t) >= H} on the dense output, r(t_end) < H: the last crossing event, or the end of
     the excursion at the latest maximum of r above H when later (an excursion that starts and ends
-    inside one step changes no sign of r^2 - H^2 at step ends); 0 when r never reaches H."""
+    inside one step changes no sign of r^2 - H^2 at step ends); 0 when r never reaches H.  `peaks`: r at
+    the extremum events, as r_max has them."""
     crossings = sol.t_events[0]
     last = float(crossings[-1]) if len(crossings) else None
-    above = [float(te) for te in sol.t_events[1] if np.hypot(*sol.sol(te)[[ix, iy]]) >= threshold]
+    above = [float(te) for te, v in zip(sol.t_events[1], peaks) if v >= threshold]
     if above and (last is None or above[-1] > last):
         te = above[-1]
         t_next = float(sol.t[np.searchsorted(sol.t, te, side="right")])  # r(t_end) < H: a step end follows
@@ -102,7 +103,7 @@ class ScipyEngine:
             if r[-1] >= threshold:
                 t_dec = float("nan")
             else:
-                t_dec = _decay_time(sol, r, ix, iy, threshold)
+                t_dec = _decay_time(sol, peaks, r, ix, iy, threshold)
             status, t_fail = SUCCESS, None
         else:
             bad = np.nonzero(~np.all(np.isfinite(sol.y), axis=0))[0]
