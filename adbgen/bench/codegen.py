@@ -47,6 +47,7 @@ import sympy as sp
 from .. import families
 from ..codegen.lowering import DEFAULT_FORM
 from ..codegen.scratch import import_numba, render_into
+from ..codegen.spec import build as build_ir
 from ..families.single_plane.model import derive
 
 FAMILIES = families.kinds()  # {kind: n -> ModelSpec}: thesis_rotating, single_plane_fixed
@@ -96,7 +97,7 @@ def bench_ops(ns=OPS_NS, families=tuple(FAMILIES), progress=None) -> dict:
         for n in ns:
             derive.cache_clear()
             start = time.perf_counter()
-            ir = FAMILIES[family](n).build(form="unrolled")  # the straight-line programs' structure
+            ir = build_ir(FAMILIES[family](n), form="unrolled")  # the straight-line programs' structure
             seconds = time.perf_counter() - start
             parts = jac_parts(ir.jac)
             row = {"family": family, "n": n, "build_seconds": round(seconds, 3),
@@ -313,7 +314,7 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
     spec = FAMILIES[family](n)
     derive.cache_clear()
     system = spec.system()
-    ir = spec.build(system, form=form)
+    ir = build_ir(spec, system, form=form)
     folder = render_into(ir, workdir / f"{family}_n{n}_{form}", ("numba", "c"))
     y, p = _sample_point(system, ir.n_states)
     row: dict = {"family": family, "n": n, "form": ir.form, "n_states": ir.n_states, "rhs_ops": ir.count_ops("rhs"),

@@ -19,6 +19,7 @@ from adbgen.codegen.render import render_model
 from adbgen.families.single_plane import models
 from adbgen.families.single_plane.scene import Scene
 from adbgen.families.two_plane import models as two_plane
+from adbgen.codegen.spec import build as build_ir
 
 from toolchain import STRICT_CFLAGS, require_tool
 from toolchain import which as find_tool
@@ -26,7 +27,7 @@ from toolchain import which as find_tool
 
 def _both(spec):
     system = spec.system()
-    return system, spec.build(system), spec.build(system, form="unrolled")
+    return system, build_ir(spec, system), build_ir(spec, system, form="unrolled")
 
 
 CASES = {
@@ -93,7 +94,7 @@ def test_a_term_coupling_two_balls_is_refused():
 
 
 def _sizes(n: int) -> dict[str, int]:
-    ir = models.thesis_rotating(n).build()
+    ir = build_ir(models.thesis_rotating(n))
     files = render_model(ir, ("numba", "c"))
     name = ir.name
     out = {}
@@ -116,7 +117,7 @@ def test_the_source_does_not_grow_with_n():
 
 def test_balls_started_together_stay_equal_bit_for_bit():
     """Ball i's loop body is ball j's: equal ball states give bitwise equal accelerations and rows."""
-    ir = models.thesis_rotating(4).build()
+    ir = build_ir(models.thesis_rotating(4))
     f, J = compile_program(ir, "rhs"), compile_program(ir, "jac")
     y = np.array([0.01, -0.02, 1.0, 1.0, 2.5, 1.0, 0.3, -0.1, 0.2, 0.2, -0.4, 0.2])
     p = np.array([q.default for q in ir.parameters])

@@ -1,16 +1,23 @@
 """Adding a family or a target touches its own folder plus one registry line (issue 8).
 
 A toy family (a pendulum on a sprung cart: the cart is the Schur core, the pendulum the one "ball")
-and a toy target (a JSON listing of a model's states, parameters and rhs program) are defined here,
-registered with one call each, and regenerated through the ordinary command line with everything
-else; nothing in the package names them.
+and two toy targets are registered with one call each and regenerated through the ordinary command
+line with everything else; nothing in the package names them:
+
+- ``pylist`` (issue 19: a target is one folder plus one registry line): tests/plugins/pylist/, its own
+  printer, dialect and templates; it prints the loop form, and what it prints is run here against the
+  generated numba module;
+- ``listing`` (a JSON listing of a model's states, parameters and rhs statements): a target of the
+  unrolled form (statements one by one), printed with pylist's printer and dialect.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,11 +26,10 @@ import sympy as sp
 from adbgen import families
 from adbgen.cli import main
 from adbgen.codegen import targets
-from adbgen.codegen.ir import Continuation
-from adbgen.codegen.spec import Check, ModelSpec
 from adbgen.core import Coordinate, EnergyTerm, Parameter, lagrange_equations
 from adbgen.core.checks import CheckResult
 from adbgen.core.first_order import first_order
+from adbgen.core.model_spec import Check, Continuation, ModelSpec
 from adbgen.core.symbols import positive, t
 
 def pendulum_on_cart():
@@ -96,6 +102,9 @@ class Pendulum:
 
 
 class Listing(targets.Target):
+    def dialect(self, which, kernel):
+        return load_pylist().ListDialect("y", "p", "out", targets.columns(kernel))
+
     def skip_reason(self, ir):
         return None if ir.autonomous else "the listing is for autonomous models only"
 
@@ -103,8 +112,18 @@ class Listing(targets.Target):
         return {"rhs_outputs": len(ir.rhs.outputs)}
 
 
+def load_pylist():
+    """The toy target's folder, imported as a plug-in outside the package would be."""
+    path = Path(__file__).parent / "pylist" / "target.py"
+    spec = importlib.util.spec_from_file_location("_adbgen_toy_pylist_target", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 @pytest.fixture
 def toy(tmp_path):
+    pylist = load_pylist()
     templates = tmp_path / "listing_templates"  # the target's folder: its templates beside its config
     templates.mkdir()
     (templates / "listing.json.j2").write_text(
@@ -113,11 +132,13 @@ def toy(tmp_path):
         '"rhs": [{% for i, e in programs.rhs.outputs %}{{ e | tojson }}{{ ", " if not loop.last }}{% endfor %}], '
         '"hash": {{ source_hash | tojson }}}\n')
     families.register(Pendulum())
+    targets.register(pylist.TARGET)
     targets.register(Listing(name="listing", files=(("listing/listing.json.j2", "{name}/{name}.json"),),
-                             language="py", templates=templates))
-    yield
+                             printer=pylist.PurePythonPrinter, templates=templates, functions=("rhs",)))
+    yield pylist
     families.unregister("toy-pendulum")
     targets.unregister("listing")
+    targets.unregister("pylist")
 
 
 def test_a_registered_family_and_target_regenerate_with_the_others(toy, tmp_path, capsys):
@@ -157,3 +178,56 @@ def test_a_registered_family_and_target_regenerate_with_the_others(toy, tmp_path
 def test_unregistered_after_the_test():
     assert "toy-pendulum" not in families.names() and "listing" not in targets.names()
     assert families.names() == ("single-plane", "two-plane") and targets.names() == ("numba", "c", "cvode", "auto")
+
+
+def _load_module(path: Path, alias: str):
+    spec = importlib.util.spec_from_file_location(alias, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_toy_target_prints_the_loop_form_and_it_runs(toy, tmp_path, capsys):
+    """pylist's module equals the generated numba module (rhs, jac) at random points, in the loop form:
+    one ball loop whatever n, the same number of lines for 3 and 6 balls."""
+    from adbgen.codegen.scratch import import_numba
+
+    out = tmp_path / "gen"
+    code = main(["regenerate", "--family", "single-plane", "--n", "3", "6", "--targets", "pylist", "numba",
+                 "--out", str(out), "--quiet", "--skip-checks"])
+    assert code == 0, capsys.readouterr().err
+    sizes = {}
+    rng = np.random.default_rng(5)
+    for n in (3, 6):
+        name = f"thesis_rotating_n{n}"
+        path = out / name / f"{name}_pylist.py"
+        text = path.read_text()
+        assert "for i in range(" in text and "from math import *" in text and "math.sin" not in text
+        sizes[n] = text.count("\n") - text.count("ball_slot")  # the slot tables are data, one line each
+        toy_module = _load_module(path, f"_adbgen_pylist_{name}")
+        ref = import_numba(out / name, f"_adbgen_pylist_ref_{name}")
+        for _ in range(5):
+            y = rng.uniform(-1, 1, ref.N_STATES)
+            p = ref.DEFAULTS * rng.uniform(0.5, 1.5, ref.DEFAULTS.size)
+            assert np.allclose(toy_module.rhs(0.3, list(y), list(p)), ref.rhs(0.3, y, p), rtol=1e-13, atol=1e-15)
+            assert np.allclose(np.reshape(toy_module.jac(0.3, list(y), list(p)), (ref.N_STATES, ref.N_STATES)),
+                               ref.jac(0.3, y, p), rtol=1e-12, atol=1e-14)
+    assert sizes[3] == sizes[6], sizes
+
+
+def test_the_toy_targets_dialect_is_what_prints(toy, tmp_path, capsys, monkeypatch):
+    """Negative control: a pylist dialect that transposes matrix entries gives a wrong jac."""
+    entry = toy.ListDialect.entry
+    monkeypatch.setattr(toy.ListDialect, "entry",
+                        lambda self, row, col: entry(self, row, col) if col is None else entry(self, col, row))
+    out = tmp_path / "gen"
+    assert main(["regenerate", "--family", "single-plane", "--n", "2", "--targets", "pylist", "numba",
+                 "--out", str(out), "--quiet", "--skip-checks"]) == 0, capsys.readouterr().err
+    name = "thesis_rotating_n2"
+    toy_module = _load_module(out / name / f"{name}_pylist.py", "_adbgen_pylist_transposed")
+    from adbgen.codegen.scratch import import_numba
+
+    ref = import_numba(out / name, "_adbgen_pylist_ref_transposed")
+    y = np.linspace(-0.5, 0.7, ref.N_STATES)
+    got = np.reshape(toy_module.jac(0.0, list(y), list(ref.DEFAULTS)), (ref.N_STATES, ref.N_STATES))
+    assert not np.allclose(got, ref.jac(0.0, y, ref.DEFAULTS), rtol=1e-6)

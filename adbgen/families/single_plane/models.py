@@ -21,8 +21,7 @@ import math
 
 import sympy as sp
 
-from ...codegen.ir import Continuation
-from ...codegen.spec import Check, ModelSpec
+from ...core.model_spec import Check, Continuation, ModelSpec
 from ...core.first_order import FirstOrderSystem
 from . import steady_states as ss
 from . import verify

@@ -20,8 +20,7 @@ from __future__ import annotations
 
 import math
 
-from ...codegen.ir import Continuation
-from ...codegen.spec import Check, ModelSpec
+from ...core.model_spec import Check, Continuation, ModelSpec
 from . import verify
 from .model import derive
 from .reductions import balls_relative_to_spin, first_order, rotating_frame
