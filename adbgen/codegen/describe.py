@@ -110,12 +110,17 @@ def _refuse(model: str, what: str) -> None:
 
 
 def _measures(names: list[str], exprs: list[sp.Expr]) -> tuple[Kernel, tuple[Kernel, ...]]:
+    """One kernel for every measure, and one per measure with just the statements it needs (the same
+    statements, so measure(name) and measures_inplace give the same bits)."""
     lets, red = _cse(exprs, "w_m_")
     every = Kernel(tuple(lets) + tuple(Put(Pos(k), None, e) for k, e in enumerate(red)), (len(exprs),), False)
     alone = []
-    for e in exprs:
-        lets1, red1 = _cse([e], "w_m_")
-        alone.append(Kernel(tuple(lets1) + (Put(Pos(0), None, red1[0]),), (1,), False))
+    for e in red:
+        needed = set(e.free_symbols)
+        for let in reversed(lets):
+            if let.sym in needed:
+                needed |= let.expr.free_symbols
+        alone.append(Kernel(tuple(let for let in lets if let.sym in needed) + (Put(Pos(0), None, e),), (1,), False))
     return every, tuple(alone)
 
 
@@ -133,7 +138,7 @@ def _candidate(model: str, cand: Candidate, system: FirstOrderSystem, allowed: s
             _refuse(model, f"guard {guard} uses {sorted(map(str, diff.free_symbols - allowed))}, not parameters")
         lets, (red,) = _cse([diff], f"w_{tag}g{g}_")
         ops += lets
-        ops.append(Guard(type(guard)(red, 0)))
+        ops.append(Guard(type(guard)(red, 0, evaluate=False)))  # (a positive symbol > 0 stays a test)
     values = {}
     for name, expr in cand.values.items():
         if name not in index:

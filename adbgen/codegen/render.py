@@ -19,6 +19,7 @@ fixed float formatting, no dates); the source hash in every header covers both.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 from functools import lru_cache
@@ -70,7 +71,7 @@ def _environment(generation: int) -> jinja2.Environment:
     loader = jinja2.PrefixLoader({name: jinja2.FileSystemLoader(str(folder)) for name, folder in folders.items()})
     env = jinja2.Environment(loader=loader, undefined=jinja2.StrictUndefined,
                              keep_trailing_newline=True, autoescape=False)
-    env.filters.update(pyrepr=repr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float)
+    env.filters.update(pyrepr=repr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float, cstr=_c_string)
     for target in targets.all_targets():
         env.filters.update(target.filters)
     return env
@@ -121,15 +122,60 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
     }
 
 
+def _c_string(text: str) -> str:
+    """A C string literal."""
+    return '"' + str(text).replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
 def _c_float(value: float) -> str:
     text = repr(float(value))
     return text if any(c in text for c in ".eEn") else text + ".0"
 
 
+def param_domain(symbol: sp.Symbol) -> str:
+    """What values a parameter's symbol admits, from its assumptions (the derivation relies on them)."""
+    return "positive" if symbol.is_positive else "nonnegative" if symbol.is_nonnegative else "real"
+
+
+def describe_data(ir: ModelIR) -> dict:
+    """The self-description as template data (names resolved to indices where a C array wants them);
+    empty where the model declares none."""
+    d = ir.description
+    names, params = ir.state_names, ir.parameter_names
+    if d is None:
+        return {"present": False, "family": "", "kind": "", "time_unit": "", "state_units": [""] * ir.n_states,
+                "roles": [""] * ir.n_states, "angles": [], "angle_indices": [], "amplitude": [],
+                "amplitude_indices": [], "measures": [], "forcing_frequency": "", "forcing_index": -1,
+                "symmetries": [], "parameter_sets": [], "scales": [], "labels": [], "forms": [], "max_args": 0}
+    defaults = [q.default for q in ir.parameters]
+    sets = []
+    for name, values in d.parameter_sets:
+        full = list(defaults)
+        for k, v in values:
+            full[params.index(k)] = v
+        sets.append({"name": name, "values": dict(values), "vector": full})
+    return {
+        "present": True, "family": d.family, "kind": d.kind, "time_unit": d.time_unit, "state_units": list(d.state_units),
+        "roles": list(d.roles), "angles": list(d.angles), "angle_indices": [names.index(a) for a in d.angles],
+        "amplitude": list(d.amplitude), "amplitude_indices": [names.index(a) for a in d.amplitude],
+        "measures": list(d.measure_names), "forcing_frequency": d.forcing_frequency,
+        "forcing_index": params.index(d.forcing_frequency) if d.forcing_frequency else -1,
+        "symmetries": list(d.symmetries), "parameter_sets": sets,
+        "scales": [{"key": k, "name": v, "index": params.index(v)} for k, v in d.scales],
+        "labels": [{"label": label, "note": note, "form": form, "arguments": list(args)
+                    + [0.0] * (max(1, d.max_arguments) - len(args))} for label, note, form, args in d.steady_states],
+        "forms": [{"name": f.name, "candidates": len(f.candidates), "arguments": [a.name for a in f.arguments]}
+                  for f in d.closed_forms],
+        "max_args": max(1, d.max_arguments),
+    }
+
+
 def _base_context(ir: ModelIR) -> dict:
     return {"ir": ir, "source_hash": source_hash(ir), "P": ir.name.upper(),
             "units": [p.unit for p in ir.parameters], "defaults": [p.default for p in ir.parameters],
-            "coordinates": [s.name for s in ir.states[: ir.n_coordinates]], "version": __version__}
+            "param_domains": [param_domain(p.symbol) for p in ir.parameters],
+            "coordinates": [s.name for s in ir.states[: ir.n_coordinates]], "version": __version__,
+            "describe": describe_data(ir)}
 
 
 def _programs(ir: ModelIR, target: "targets.Target") -> dict:
@@ -152,7 +198,28 @@ def _programs(ir: ModelIR, target: "targets.Target") -> dict:
         if program is not None:
             ctx.update(_program_context(program, ir, printer, names))
         out[key] = ctx
+    if target.describe and ir.description is not None:
+        out.update(_described(ir, target, printer, names, split, states, params))
     return out
+
+
+def _described(ir: ModelIR, target, printer, names, split, states, params) -> dict:
+    """The self-description's functions printed by the target: every measure, each measure alone, and
+    each closed form's candidates (reading their arguments from an array a, no time argument)."""
+    d = ir.description
+
+    def code(kernel, which):
+        return Emitter(kernel, target.dialect(which, kernel), printer, names, split, ir.n_coordinates, states,
+                       params).emit(target.depth)
+
+    def closed(kernel, form):
+        dia = dataclasses.replace(target.dialect("closed_form", kernel), states="a", time=False)
+        return Emitter(kernel, dia, printer, names, split, ir.n_coordinates, list(form.arguments),
+                       params).emit(target.depth)
+
+    return {"measures": {"size": len(d.measure_names), "code": code(d.measures, "measures")},
+            "measure_each": [code(k, "measure") for k in d.measure_kernels],
+            "closed_forms": [[closed(k, f) for k in f.candidates] for f in d.closed_forms]}
 
 
 def context(ir: ModelIR, target: "targets.Target", _memo: dict | None = None) -> dict:

@@ -44,25 +44,30 @@ def _positive(symbol: sp.Symbol) -> sp.Basic:
 
 def _balanced_candidate(n: int, A: sp.Expr, balls: sp.Expr | None) -> Candidate:
     """(3.6) with the free balls placed so that A = -delta/mu - sum cos phi_3.. (and B = 0): phi_1,2 =
-    atan2(0, A) +- arccos(|A|/2), where |A| <= 2."""
-    alpha, gamma = sp.atan2(0, A), sp.acos(sp.sqrt(A**2) / 2)
-    return Candidate((_positive(mu), sp.Ge(4 - A**2, 0)), {"x": 0, "y": 0, "phi_1": alpha + gamma, "phi_2": alpha - gamma},
-                     balls)
+    alpha +- arccos(|A|/2), where |A| <= 2; the rotor at rest (its coordinates 0).  alpha = atan2(B, A)
+    = pi or 0: with free balls (all at pi or 0) B = -sum sin phi_i is 0, but it rounds to a tiny negative
+    number (sin of the double pi is +1.2e-16), so with A < 0 the numbers (as the analysis layer computed
+    them before these were emitted) have alpha = -pi for n >= 3: kept so (-atan2(0, A)), the same state
+    either way."""
+    alpha = (1 if n == 2 else -1) * sp.atan2(0, A)
+    gamma = sp.acos(sp.sqrt(A**2) / 2)
+    return Candidate((_positive(mu), sp.Ge(4 - A**2, 0)), {"phi_1": alpha + gamma, "phi_2": alpha - gamma}, balls)
 
 
 def balanced_form(n: int) -> ClosedForm:
     """The balanced state 1 (3.6): the free angles phi_3..phi_n at pi (the thesis' ch. 4), else the
-    pattern pi, 0, pi, ... (pairs cancel, so A = -delta/mu - ((n - 2) mod 2)), else the first n - 2 - j
+    pattern pi, 0, pi, ... (pairs cancel, so A = (n - 2) mod 2 - delta/mu), else the first n - 2 - j
     free balls in that pattern and the last j at pi with j the largest of n's parity <= delta/mu + 2
     (A = j - delta/mu): one of them exists wherever mu >= delta/n (3.14)."""
-    candidates = [_balanced_candidate(n, -delta / mu + (n - 2), sp.pi if n > 2 else None)]
-    if n > 2:
-        alternating = sp.pi * (1 + (-1) ** BALL) / 2  # pi for phi_3 (index 2), 0 for phi_4, ...
-        candidates.append(_balanced_candidate(n, -delta / mu + (n - 2) % 2, alternating))
-        J = sp.floor(delta / mu) + 2
-        j = J - (1 - (-1) ** (J - n)) / 2
-        first = _balanced_candidate(n, -delta / mu + j, sp.Piecewise((alternating, BALL < n - j), (sp.pi, True)))
-        candidates.append(Candidate(first.guards + (sp.Ge(n - 2 - j, 0),), first.values, first.balls))
+    # the same three candidates for every n (the emitted code does not grow with n; for n = 2 the
+    # second is the first and the third never applies)
+    alternating = sp.pi * (1 + (-1) ** BALL) / 2  # pi for phi_3 (index 2), 0 for phi_4, ...
+    J = sp.floor(delta / mu) + 2
+    j = J - (1 - (-1) ** (J - n)) / 2
+    last = _balanced_candidate(n, -delta / mu + j, sp.Piecewise((alternating, BALL < n - j), (sp.pi, True)))
+    candidates = [_balanced_candidate(n, -delta / mu + (n - 2), sp.pi),
+                  _balanced_candidate(n, -delta / mu + (n - 2) % 2, alternating),
+                  Candidate(last.guards + (sp.Ge(n - 2 - j, 0),), last.values, last.balls)]
     return ClosedForm("balanced", (), tuple(candidates))
 
 
@@ -91,7 +96,7 @@ def thesis_steady_states(n: int) -> tuple[tuple[ClosedForm, ...], tuple[SteadySt
                                   sp.And(exists_where, ss.inline_condition(n, n))))
     for k in range(1, n):
         for sign, tag in ((1, "+"), (-1, "-")):
-            states.append(SteadyState(f"3({k}){tag}", f"in-line state 3({k}){tag} (3.10): {n - k} balls at phi_1, {k} "
+            states.append(SteadyState(f"3({k}){tag}", f"in-line state 3({k}){tag} (3.10): {n - k} ball(s) at phi_1, {k} "
                                                       "opposite; exists where (3.18) holds (needs zeta > 0)",
                                       "inline", (n - k, sign), sp.And(exists_where, ss.inline_condition(n, n - k))))
     return forms, tuple(states)
@@ -150,3 +155,38 @@ def thesis_rotating(system: FirstOrderSystem) -> Description:
     """thesis_rotating_n*: (2.25)-(2.27), dimensionless, autonomous; the closed forms of ch. 3."""
     return describe(system, rotating=True, dimensionless=True, thesis_states=True, parameter_sets=THESIS_SETS,
                     forcing="")
+
+
+def _substituted(form: ClosedForm, sub: dict, guards=()) -> ClosedForm:
+    """The closed form with the thesis' ratios written in a model's own parameters (`sub`), and more guards."""
+    def relation(g):
+        return type(g)(sp.sympify(g.lhs).xreplace(sub), sp.sympify(g.rhs).xreplace(sub), evaluate=False)
+
+    cands = tuple(Candidate(tuple(guards) + tuple(relation(g) for g in c.guards),
+                            {k: sp.sympify(v).xreplace(sub) for k, v in c.values.items()},
+                            None if c.balls is None else sp.sympify(c.balls).xreplace(sub)) for c in form.candidates)
+    return ClosedForm(form.name, form.arguments, cands)
+
+
+FIXED_SET = "thesis (5.1) in SI units (omega_n = 100 rad/s), k_Y = 1.2 k_X, c_Y = 1.2 c_X, gravity"
+
+
+def fixed_frame(system: FirstOrderSystem, parameter_sets: Mapping | None = None) -> Description:
+    """A fixed-frame model (X, Y, [psi], phi_i; dimensional).  With equal balls it gets the balanced state
+    1 (3.6) in its own parameters (mu = m/M, delta = eps/R), given where there is no gravity (g = 0):
+    the rotor at rest, no support force whatever the anisotropy, the balls still in the rotor's frame,
+    an equilibrium of the forced system (`models.balanced_orbit_start`'s orbit)."""
+    d = describe(system, rotating=False, dimensionless=False, parameter_sets=parameter_sets)
+    names = {p.name: p.symbol for p in system.parameters}
+    n = len(_balls(system))
+    if n < 2 or "m" not in names or "omega" not in names:
+        return d  # unequal balls or a torque drive: no closed form
+    sub = {mu: names["m"] / names["M"], delta: names["eps"] / names["R"]}
+    no_gravity = (sp.Eq(names["g"], 0, evaluate=False),) if "g" in names else ()
+    form = _substituted(balanced_form(n), sub, no_gravity)
+    exists = sp.And(sp.Ge(sub[mu], sub[delta] / n), *no_gravity)
+    note = ("balanced state (3.6) with mu = m/M, delta = eps/R, the rotor at rest: an equilibrium of the forced "
+            "model" + (" without gravity (given where g == 0)" if no_gravity else ""))
+    from dataclasses import replace
+
+    return replace(d, closed_forms=(form,), steady_states=(SteadyState("1", note, "balanced", (), exists),))
