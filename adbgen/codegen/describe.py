@@ -125,9 +125,10 @@ def _measures(names: list[str], exprs: list[sp.Expr]) -> tuple[Kernel, tuple[Ker
 
 
 def _candidate(model: str, cand: Candidate, system: FirstOrderSystem, allowed: set, leaves: list[int],
-               n_states: int, tag: str) -> Kernel:
+               n_states: int, tag: str, unrolled: bool = False) -> Kernel:
     """One candidate as a kernel: each guard's statements and test, in order; the values' statements;
-    the stores (core values, then the ball loop, then leaves named one by one)."""
+    the stores (core values, then the ball loop, then leaves named one by one).  `unrolled`: the ball
+    loop written out ball by ball (the lowering's unrolled form)."""
     index = {c.name: k for k, c in enumerate(system.coordinates)}
     ops: list = []
     for g, guard in enumerate(cand.guards):
@@ -166,7 +167,13 @@ def _candidate(model: str, cand: Candidate, system: FirstOrderSystem, allowed: s
     if cand.balls is not None:
         if not leaves or leaves != list(range(leaves[0], leaves[0] + len(leaves))):
             _refuse(model, "closed form values per ball need the balls' angles to be consecutive states")
-        ops.append(Balls(tuple(inner) + (Put(Pos(leaves[0], ball=True), None, red[-1]),), count=len(leaves)))
+        if unrolled:
+            for k in range(len(leaves)):
+                at = {BALL: sp.Integer(k)} | {let.sym: sp.Symbol(f"{let.sym.name}_{k}", real=True) for let in inner}
+                ops += [Let(at[let.sym], let.expr.xreplace(at)) for let in inner]
+                ops.append(Put(Pos(leaves[0] + k), None, red[-1].xreplace(at)))
+        else:
+            ops.append(Balls(tuple(inner) + (Put(Pos(leaves[0], ball=True), None, red[-1]),), count=len(leaves)))
     ops += [Put(Pos(index[name]), None, e) for name, e in named if name in leaf_names]
     return Kernel(tuple(ops), (n_states,), True)
 
@@ -184,9 +191,10 @@ def _signed(model: str, what: str, mapping: dict, names: Sequence[str]) -> tuple
     return tuple(images), tuple(signs)
 
 
-def lower_description(spec: ModelSpec, system: FirstOrderSystem) -> SelfDescription:
+def lower_description(spec: ModelSpec, system: FirstOrderSystem, form: str = "loops") -> SelfDescription:
     """The spec's declared self-description, resolved against its system (`DescriptionError` if it names
-    what the model does not have)."""
+    what the model does not have); `form`: the lowering's (in the unrolled form the closed forms' ball
+    loops are written out too)."""
     d: Description = spec.describe(system)
     model = spec.name
     coords = [c.name for c in system.coordinates]
@@ -250,13 +258,14 @@ def lower_description(spec: ModelSpec, system: FirstOrderSystem) -> SelfDescript
     # closed forms and the labels
     forms, form_index = [], {}
     n_states = len(states)
+    unrolled = form == "unrolled"
     for k, form in enumerate(d.closed_forms):
         for arg in form.arguments:
             if arg.name in set(states) | set(params) or not arg.name.startswith("arg_"):
                 _refuse(model, f"closed form {form.name!r}: argument {arg.name!r} must start with arg_ "
                                "(the names of states and parameters are the model's)")
         allowed = set(psym.values()) | set(form.arguments)
-        kernels = tuple(_candidate(model, c, system, allowed, leaves, n_states, f"f{k}c{j}")
+        kernels = tuple(_candidate(model, c, system, allowed, leaves, n_states, f"f{k}c{j}", unrolled)
                         for j, c in enumerate(form.candidates))
         form_index[form.name] = k
         forms.append(ClosedFormIR(form.name, tuple(form.arguments), kernels))

@@ -32,7 +32,7 @@ def build(spec: ModelSpec, system: FirstOrderSystem | None = None, form: str = D
     continuation = spec.continuation
     if callable(continuation):
         continuation = continuation(system, (start, label, values))
-    description = lower_description(spec, system) if spec.describe is not None else None
+    description = lower_description(spec, system, form) if spec.describe is not None else None
     return lower(spec.name, system, title=spec.title, n_balls=spec.n, start=start, start_label=label,
                  start_parameters=values, autonomous_extension=extension,
                  continuation=continuation if start is not None else None, balls=slots, form=form,
