@@ -242,15 +242,14 @@ class Proof:
         for s in base.description.symmetries:
             if s["kind"] != IDENTICAL_BALLS:
                 continue
+            extra = model.n_states - base.n_states if model is not None else 0
+            # on an oscillator extension the exchange leaves the oscillator's states where they are
+            image = dict(s, states=tuple(s["states"]) + tuple(range(base.n_states, base.n_states + extra)),
+                         signs=tuple(s["signs"]) + (1,) * extra)
             for t, y, p in _state_points(base, samples, 29):
                 p = _project(p, s["params"], s["param_signs"])
-                y = _project(y, s["states"], s["signs"])
-                if model is not None and model is not base:
-                    extra = model.n_states - y.size
-                    y = np.concatenate([y, [np.sin(0.3), np.cos(0.3)][:extra]])
-                    s = dict(s, states=tuple(s["states"]) + tuple(range(base.n_states, model.n_states)),
-                             signs=tuple(s["signs"]) + (1,) * extra)
-                out.append((s, t, y, p))
+                y = np.concatenate([_project(y, s["states"], s["signs"]), [np.sin(0.3), np.cos(0.3)][:extra]])
+                out.append((image, t, y, p))
         return out
 
     def exchange_bitwise(self, what: str, rhs: Callable, model: ModelIR | None = None) -> int:
