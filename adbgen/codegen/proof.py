@@ -378,3 +378,21 @@ def refusal(model: str):
         raise
     except Exception as exc:  # noqa: BLE001 - the refusal names what failed, the traceback is chained
         raise CheckFailed(_one_line(f"{model}: {type(exc).__name__}: {exc}")) from exc
+
+
+def prove_index(files: dict[str, str], models: list[tuple[str, str, str]]) -> None:
+    """The output folder's package files: __init__.py executed, MODELS = {name: title} of every model,
+    and README.md's table naming each model with its title."""
+    text = files.get("__init__.py")
+    scope: dict = {}
+    try:
+        exec(compile(text, "__init__.py", "exec"), scope)  # noqa: S102 - the file just rendered
+    except Exception as exc:  # noqa: BLE001
+        raise ProofFailed(_one_line(f"the output's __init__.py does not run: {type(exc).__name__}: {exc}")) from exc
+    want = {name: title for name, title, _ in models}
+    if scope.get("MODELS") != want:
+        raise ProofFailed(_one_line(f"the output's __init__.py lists {scope.get('MODELS')!r}, not {want!r}"))
+    readme = files.get("README.md", "")
+    for name, title, reference in models:
+        if f"| `{name}` | {title} | {reference} |" not in readme:
+            raise ProofFailed(_one_line(f"the output's README.md does not list {name}"))

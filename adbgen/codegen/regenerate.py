@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Callable, Iterable
 
 from .checks import CheckFailed, Reference, check_description, check_programs, check_start
-from .proof import prove_model, refusal
+from .proof import prove_index, prove_model, refusal
 from .render import render_index, render_model, skipped_targets
 from .lowering import DEFAULT_FORM
 from ..core.model_spec import Check, ModelSpec
@@ -97,7 +97,9 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
                  + (" (cached)" if proven["cached"] else f" ({proven['seconds']:.1f} s)")
                  + f" ({time.perf_counter() - start:.1f} s)"
                  + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))
-    files.update(render_index(index))
+    package = render_index(index)
+    prove_index(package, index)
+    files.update(package)
     return Rendered(files, tuple(name for name, _, _ in index))
 
 
