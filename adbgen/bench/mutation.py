@@ -60,8 +60,11 @@ OPERATORS = ("core/ReplaceBinaryOperator_Add_Sub", "core/ReplaceBinaryOperator_S
              "core/ReplaceOrWithAnd", "core/ZeroIterationForLoop", "core/ReplaceContinueWithBreak",
              "core/ReplaceUnaryOperator_USub_UAdd", "core/RemoveDecorator")
 REGENERATE = ("regenerate", "--n", "3", "--family", "single-plane", "--skip-checks", "--quiet")
+# a mutant the loop form writes is run again in the unrolled form (the issue's "both forms")
+UNROLLED = REGENERATE + ("--form", "unrolled")
 TIMEOUT = 900  # s per regenerate
-TESTS = {  # the named tests a written mutant of a file is put through (--tests)
+PYTHON_TESTS = "tests/codegen/test_cross_target.py tests/codegen/test_c_target.py tests/codegen/test_numba_target.py"
+TESTS = {  # the named tests a written mutant of a file is put through (--tests); Python: PYTHON_TESTS
     "templates/c": "tests/codegen/test_c_target.py", "templates/cvode": "tests/codegen/test_cvode.py",
     "templates/auto": "tests/codegen/test_auto.py", "templates/numba": "tests/codegen/test_numba_target.py",
 }
@@ -85,8 +88,8 @@ class Mutant:
         return text.replace(self.old, self.new)
 
 
-def _sample(id, file, old, new, n="2", targets=()):
-    args = ("regenerate", "--n", n, "--family", "single-plane", "--skip-checks", "--quiet")
+def _sample(id, file, old, new, n="2", targets=(), form="loops"):
+    args = ("regenerate", "--n", n, "--family", "single-plane", "--skip-checks", "--quiet", "--form", form)
     return Mutant(id, file, old, new, "sample", args + (("--targets", *targets) if targets else ()))
 
 
@@ -122,7 +125,7 @@ SAMPLE: tuple[Mutant, ...] = (
     _sample("ball-split-falls-back", f"{C}/balls.py", "if sp.expand(g.xreplace(from_ball(i)) - per_ball[i]) != 0:",
             "if sp.expand(g.xreplace(from_ball(i)) - per_ball[i]) == 0:", targets=("numba",)),
     _sample("ball-invariant-order-broken", f"{C}/printers.py", 'out = self._cls.get(expr) or "s:" + _INDEX.sub("#", expr.name)',
-            'out = self._cls.get(expr) or "s:" + expr.name', targets=("c",)),
+            'out = self._cls.get(expr) or "s:" + expr.name', targets=("c",), form="unrolled"),
     # more of every target
     _sample("c-defaults-doubled", f"{T}/c/model.c.j2", "{% for p in ir.parameters %}    {{ p.default | cfloat }},",
             "{% for p in ir.parameters %}    {{ (2 * p.default) | cfloat }},", targets=("c",)),
@@ -362,61 +365,74 @@ def same_but_comments(a: dict[str, str], b: dict[str, str]) -> bool:
 _EXCEPTION = re.compile(r": (?:[A-Z]\w*(?:Error|Exception)|KeyError|StopIteration|RecursionError|NotImplementedError)\b")
 
 
-def classify(scratch: Scratch, mutant: Mutant, baseline: dict[str, str], run_tests: bool) -> dict:
+def _outcome(scratch: Scratch, args, baseline: dict[str, str]) -> dict:
+    """One regenerate run of the applied mutant, classified (without the tests)."""
     out = scratch.root / ".out"
+    r = scratch.regenerate(args, out)
+    lines = r.stderr.strip().splitlines()
+    written = files_of(out) if out.is_dir() else {}
+    if r.returncode == 0:
+        if written == baseline:
+            return {"status": "equivalent", "reason": "byte-identical output"}
+        if same_but_comments(written, baseline):
+            return {"status": "equivalent", "reason": "the output differs in comments, docstrings or README only"}
+        return {"status": "survived", "changed": sorted(k for k in set(written) | set(baseline)
+                                                        if written.get(k) != baseline.get(k))}
+    if written:
+        return {"status": "crashed", "message": "wrote files and failed: " + (lines[-1] if lines else "")}
+    if r.returncode == 2 and len(lines) == 1 and lines[0].startswith("adbgen: error: "):
+        return {"status": "crashed-as-refusal" if _EXCEPTION.search(lines[0]) else "refused", "message": lines[0]}
+    return {"status": "crashed", "message": (lines[-1] if lines else f"exit {r.returncode}")[:300]}
+
+
+def classify(scratch: Scratch, mutant: Mutant, baselines: dict, run_tests: bool) -> dict:
+    """The mutant's class: its loop-form run, and where that writes, its unrolled-form run too (refused
+    in either form is refused; equivalent only if both are)."""
     start = time.perf_counter()
+    result = {"id": mutant.id, "file": mutant.file, "kind": mutant.kind, "old": mutant.old, "new": mutant.new}
     with scratch.applied(mutant):
-        r = scratch.regenerate(mutant.args, out)
-        lines = r.stderr.strip().splitlines()
-        written = files_of(out) if out.is_dir() else {}
-        result = {"id": mutant.id, "file": mutant.file, "kind": mutant.kind, "exit": r.returncode,
-                  "old": mutant.old, "new": mutant.new}
-        if r.returncode == 0:
-            if written == baseline:
-                result.update(status="equivalent", reason="byte-identical output")
-            elif same_but_comments(written, baseline):
-                result.update(status="equivalent", reason="the output differs in comments, docstrings or README only")
-            else:
-                changed = sorted(k for k in set(written) | set(baseline) if written.get(k) != baseline.get(k))
-                result.update(status="survived", changed=changed)
-                if run_tests:
-                    test = _named_test(mutant)
-                    if test is not None:
-                        caught, name = _run_test(scratch, test, out)
-                        if caught:
-                            result.update(status="caught", test=name)
-        elif written:
-            result.update(status="crashed", message="wrote files and failed: " + (lines[-1] if lines else ""))
-        elif r.returncode == 2 and len(lines) == 1 and lines[0].startswith("adbgen: error: "):
-            result.update(status="crashed-as-refusal" if _EXCEPTION.search(lines[0]) else "refused", message=lines[0])
-        else:
-            result.update(status="crashed", message=(lines[-1] if lines else f"exit {r.returncode}")[:300])
+        first = _outcome(scratch, mutant.args, baselines[mutant.args])
+        outcome = dict(first, form="loops")
+        if first["status"] in ("equivalent", "survived") and mutant.args == REGENERATE:
+            second = _outcome(scratch, UNROLLED, baselines[UNROLLED])
+            if second["status"] != "equivalent":
+                outcome = dict(second, form="unrolled") if second["status"] != "survived" or first["status"] != "survived" \
+                    else dict(first, form="both")
+        result.update(outcome)
+        if result["status"] == "survived" and run_tests:
+            test = _named_test(mutant)
+            if test is not None:
+                caught, name = _run_test(scratch, test)
+                if caught:
+                    result.update(status="caught", test=name)
     result["seconds"] = round(time.perf_counter() - start, 1)
     return result
 
 
-def _named_test(mutant: Mutant) -> str | None:
+def _named_test(mutant: Mutant) -> str:
     for prefix, test in TESTS.items():
         if mutant.file.startswith(prefix):
             return test
-    return None
+    return PYTHON_TESTS
 
 
-def _run_test(scratch: Scratch, test: str, out: Path) -> tuple[bool, str]:
-    """Copy the mutant's files over the scratch generated/ and run the named test file there."""
-    for rel, text in files_of(out).items():
-        path = scratch.root / "generated" / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
+def _run_test(scratch: Scratch, test: str) -> tuple[bool, str]:
+    """The scratch generated/ regenerated with the mutant applied (the default set: what the tests read),
+    then the named tests run there; (failed, the first failing test)."""
+    generated = scratch.root / "generated"
     try:
-        r = subprocess.run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider", test], cwd=scratch.root,
-                           env=scratch.env(), capture_output=True, text=True, timeout=3 * TIMEOUT)
+        r = subprocess.run([sys.executable, "-m", "adbgen.cli", "regenerate", "--skip-checks", "--quiet"],
+                           cwd=scratch.root, env=scratch.env(), capture_output=True, text=True, timeout=2 * TIMEOUT)
+        if r.returncode != 0:
+            return True, "adbgen regenerate (the default set refuses it): " + r.stderr.strip()[-200:]
+        r = subprocess.run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider", *test.split()],
+                           cwd=scratch.root, env={**scratch.env(), "CI": "true"}, capture_output=True, text=True,
+                           timeout=4 * TIMEOUT)
         failed = re.findall(r"^FAILED (\S+)", r.stdout, re.M)
         return r.returncode not in (0, 5), failed[0] if failed else test
     finally:
-        shutil.rmtree(scratch.root / "generated")
-        shutil.copytree(ROOT / "generated", scratch.root / "generated",
-                        ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+        shutil.rmtree(generated)
+        shutil.copytree(ROOT / "generated", generated, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
 
 
 def summarize(results: list[dict]) -> dict:
@@ -445,13 +461,13 @@ def run(args, out) -> int:
         baselines: dict[tuple, dict] = {}
         results = []
         for k, mutant in enumerate(mutants, 1):
-            if mutant.args not in baselines:
-                r = scratch.regenerate(mutant.args, scratch.root / ".out")
+            for runs in {mutant.args, UNROLLED} - set(baselines):
+                r = scratch.regenerate(runs, scratch.root / ".out")
                 if r.returncode != 0:
                     print(f"the unmutated tree does not regenerate: {r.stderr.strip()[-300:]}", file=sys.stderr)
                     return 1
-                baselines[mutant.args] = files_of(scratch.root / ".out")
-            res = classify(scratch, mutant, baselines[mutant.args], args.tests)
+                baselines[runs] = files_of(scratch.root / ".out")
+            res = classify(scratch, mutant, baselines, args.tests)
             results.append(res)
             print(f"[{k}/{len(mutants)}] {res['status']:18} {mutant.id} ({res['seconds']} s)", file=sys.stderr, flush=True)
     finally:

@@ -28,6 +28,8 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import signal
+import sys
 import tempfile
 import time
 from contextlib import contextmanager
@@ -49,7 +51,9 @@ SYMBOLIC_TOLERANCE = 1e-12  # rhs, mass, forcing against the dense solve of the 
 SAMPLES = 12  # random points per model: those of `checks.errors_of`
 SEED = 0
 SENTINEL = 7.7e300  # what guard cells around an output hold (and must still hold after the call)
-GUARD = 16  # guard cells on each side of an output array
+GUARD = 64  # guard cells on each side of an output array
+ISOLATION_TIMEOUT = 120.0  # s for the compiled code of one target's proof
+MESSAGE_BYTES = 4000
 
 _PACKAGE = Path(__file__).resolve().parent
 
@@ -174,6 +178,49 @@ class Proof:
         if not condition:
             self.fail(message)
 
+    def isolated(self, what: str, fn: Callable[[], None], timeout: float = ISOLATION_TIMEOUT) -> None:
+        """Run `fn` (which calls compiled code) in a forked child: emitted code that writes out of bounds,
+        crashes or never returns is refused by name instead of taking regenerate down with it."""
+        sys.stdout.flush()
+        sys.stderr.flush()
+        read, write = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: run, report on the pipe, leave without any clean-up of the parent's
+            code, message = 0, ""
+            try:
+                os.close(read)
+                fn()
+            except ProofFailed as exc:
+                code, message = 1, str(exc)
+            except BaseException as exc:  # noqa: BLE001 - everything is reported to the parent
+                code, message = 2, f"{type(exc).__name__}: {exc}"
+            try:
+                os.write(write, message.encode()[:MESSAGE_BYTES])
+            finally:
+                os._exit(code)
+        os.close(write)
+        deadline = time.monotonic() + timeout
+        try:
+            while True:
+                done, status = os.waitpid(pid, os.WNOHANG)
+                if done:
+                    break
+                if time.monotonic() > deadline:
+                    os.kill(pid, signal.SIGKILL)
+                    os.waitpid(pid, 0)
+                    self.fail(f"{what} does not return within {timeout:g} s")
+                time.sleep(0.002)
+            message = os.read(read, MESSAGE_BYTES + 16).decode(errors="replace")
+        finally:
+            os.close(read)
+        if os.WIFSIGNALED(status):
+            self.fail(f"{what} crashed ({signal.Signals(os.WTERMSIG(status)).name})")
+        code = os.WEXITSTATUS(status)
+        if code == 1:
+            raise ProofFailed(message)
+        if code != 0:
+            self.fail(message or f"{what}: exit status {code}")
+
     # ------------------------------------------------------------------ references
     def model(self, target: "targets.Target") -> ModelIR:
         """The form of the model `target` renders (AUTO: a forced model's oscillator extension)."""
@@ -228,6 +275,12 @@ class Proof:
                 self.fail(f"the checked program {which} differs from the symbolic model by {err:.2e}")
         self._memo[key] = value
         return value
+
+    def expected_all(self, model: ModelIR | None = None) -> None:
+        """Every `expected` value at the samples computed here (a forked proof inherits them)."""
+        for t, y, p in self.samples(model):
+            for which in KERNELS:
+                self.expected(which, t, y, p, model)
 
     def symmetric_points(self, model: ModelIR | None = None, samples: int = 3):
         """(symmetry, t, y, p) at random states fixed by each identical-balls exchange the model

@@ -256,7 +256,10 @@ def _constants(proof, target, model, ctx) -> None:
         except (ValueError, SyntaxError) as exc:
             proof.fail(f"{rel} is not an AUTO-07p constants file: {exc}")
         what = f"{Path(rel).name}:"
-        expect = {"NDIM": model.n_states, "IPS": 2 if forced else 1, "IPLT": ctx["iplt"], "JAC": 1, "NBC": 0,
+        # IPLT = 0: fort.7's second column is AUTO's L2-NORM, which adbgen's readers of fort.7 expect (the
+        # amplitude is the last ICP); JAC = 1: func fills dfdu and dfdp; NBC = NINT = 0: bcnd, icnd are empty
+        proof.require(ctx["iplt"] == 0, f"the target decided IPLT = {ctx['iplt']}: fort.7 must keep its L2-NORM column")
+        expect = {"NDIM": model.n_states, "IPS": 2 if forced else 1, "IPLT": 0, "JAC": 1, "NBC": 0,
                   "NINT": 0, "IRS": 0 if stage == 1 else ctx["restart_label"]}
         if forced:
             first = p1 if stage == 1 else par_index(ctx["stage2"]) + 1
@@ -305,12 +308,13 @@ def prove(target, proof) -> None:
                                   defines=[f'USER_FILE="{name}"'])
     so = compiler.link([obj], build / "libauto_proof.so", name, shared=True)
     npar = max(NPAR, ctx["npar_amp"] + 1 + GUARD)
-    lib = UserFile(so, model.n_states, npar)
-    try:
+    proof.expected_all(model)
+
+    def run():
+        lib = UserFile(so, model.n_states, npar)
         _func(proof, lib, model, ctx)
         _stpnt_pvls(proof, lib, model, ctx)
-    finally:
-        lib.close()
+    proof.isolated(name, run)
     _constants(proof, target, model, ctx)
     if proof.form == "loops":
         body = proof.files[rel].split("int func(", 1)[1].split("if (ijac == 0)", 1)[0]

@@ -206,13 +206,14 @@ def prove(target, proof) -> None:
     probe = compiler.compile_object(build / "probe.c", build / "probe.o", f"{ir.name}.h (included alone)",
                                     include=[proof.path(rel_c).parent])
     so = compiler.link([obj, probe], build / f"lib{ir.name}.so", f"the library of {rel_c}", shared=True)
-    lib = Library(proof, so, ir)
-    try:
+    proof.expected_all()
+
+    def run():
+        lib = Library(proof, so, ir)
         _metadata(proof, lib, ir)
         _functions(proof, lib, ir)
         _description(proof, lib, ir)
-    finally:
-        lib.close()
+    proof.isolated(f"the library of {rel_c}", run)
     if proof.form == "loops":
         text = proof.files[rel_c]
         body = text.split(f"void {ir.name}_rhs(", 1)[1].split("\n}\n", 1)[0]

@@ -213,10 +213,7 @@ def prove(target, proof) -> None:
     driver = proof.c_object(proof.file(target, "cvode/driver.c.j2"))
     exe = compiler.link([driver, adaptor, model], build / f"{name}_cvode_main", f"{name}_cvode_main.c",
                         shared=False, libs=libs)
-    for path, check in ((real, _adaptor), (stub, _non_finite)):
-        h = Harness(path, ir.n_states)
-        try:
-            check(proof, h, name)
-        finally:
-            h.close()
+    proof.expected_all()
+    for path, check, what in ((real, _adaptor, f"{name}_cvode.c over {name}.c"), (stub, _non_finite, f"{name}_cvode.c")):
+        proof.isolated(what, lambda path=path, check=check: check(proof, Harness(path, ir.n_states), name))
     _driver(proof, exe, ir)
