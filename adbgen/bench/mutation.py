@@ -447,8 +447,23 @@ def summarize(results: list[dict]) -> dict:
             "score_refused": before / non_equivalent if non_equivalent else None}
 
 
+def _report(results: list[dict], started: float, planned: int) -> dict:
+    from .report import load_average, machine, versions
+
+    return {"benchmark": "mutation", "date": time.strftime("%Y-%m-%d"), "machine": machine(), "versions": versions(),
+            "load_average": load_average(), "seconds": round(time.time() - started),
+            "complete": len(results) == planned, "planned": planned,
+            "command": " ".join(["adbgen", "bench", "mutation", *sys.argv[3:]]),
+            "regenerate": [" ".join(REGENERATE), " ".join(UNROLLED) + " (where the loop form writes)"],
+            "sources": {"python": [f"adbgen/codegen/{p}" for p in PYTHON_SOURCES], "operators": list(OPERATORS),
+                        "templates": "templates/**/*.j2"},
+            "summary": summarize(results), "results": results,
+            "survivors": [r for r in results if r["status"] in ("survived", "crashed")],
+            "equivalents": [{"id": r["id"], "reason": r["reason"]} for r in results if r["status"] == "equivalent"]}
+
+
 def run(args, out) -> int:
-    from .report import load_average, machine, versions, write
+    from .report import write
 
     started = time.time()
     scratch = Scratch()
@@ -470,18 +485,11 @@ def run(args, out) -> int:
             res = classify(scratch, mutant, baselines, args.tests)
             results.append(res)
             print(f"[{k}/{len(mutants)}] {res['status']:18} {mutant.id} ({res['seconds']} s)", file=sys.stderr, flush=True)
+            path = write(_report(results, started, len(mutants)), out)  # a run cut short keeps what it did
     finally:
         scratch.close()
     summary = summarize(results)
-    result = {"benchmark": "mutation", "date": time.strftime("%Y-%m-%d"), "machine": machine(), "versions": versions(),
-              "load_average": load_average(), "seconds": round(time.time() - started),
-              "command": " ".join(["adbgen", "bench", "mutation", *sys.argv[3:]]),
-              "regenerate": " ".join(REGENERATE), "sources": {"python": list(PYTHON_SOURCES), "operators": list(OPERATORS),
-                                                               "templates": "templates/**/*.j2"},
-              "summary": summary, "results": results,
-              "survivors": [r for r in results if r["status"] in ("survived", "crashed")],
-              "equivalents": [{"id": r["id"], "reason": r["reason"]} for r in results if r["status"] == "equivalent"]}
-    path = write(result, out)
+    path = write(_report(results, started, len(mutants)), out)
     print(f"{path}: {summary['mutants']} mutants, {summary['counts']}; refused or caught "
           f"{summary['score_refused_or_caught']:.1%}, refused before writing {summary['score_refused']:.1%} "
           "of the non-equivalent")
