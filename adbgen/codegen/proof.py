@@ -18,8 +18,8 @@ difference is rounding at most (measured: 0 for C, CVODE, AUTO-07p and numba); `
 room for a libm that rounds differently.
 
 A verdict is cached (`$ADBGEN_CACHE/proofs`, default ~/.cache/adbgen) under the sha256 of the files'
-texts, the intermediate form, the proofs' own source (every file of adbgen/codegen) and the
-toolchain: the same files are compiled and proven once.  Any exception while a proof runs is the
+texts, the intermediate form, the proofs' own source (`PROOF_SOURCES`) and the toolchain: the same
+files are compiled and proven once.  Any exception while a proof runs is the
 one-line refusal ``<model>: <target> files: ...`` (`ProofFailed`).
 """
 
@@ -329,11 +329,17 @@ def cache_dir() -> Path:
     return Path(base)
 
 
+# what decides whether files are proven, besides the files and the model: the frame, the toolchain, the
+# symbolic reference, and every target's proof and harness (the programs `expected` also runs are
+# checked against the symbolic model in the same run, so they need not be part of the key)
+PROOF_SOURCES = ("proof.py", "compiler.py", "checks.py", "targets/*/prove.py", "targets/*/harness.c")
+
+
 @lru_cache(maxsize=1)
 def _own_source() -> str:
-    """sha256 of adbgen/codegen (every .py and .c: the proofs, their harnesses and what they compare)."""
+    """sha256 of the proofs' own source (PROOF_SOURCES)."""
     h = hashlib.sha256()
-    for path in sorted(p for p in _PACKAGE.rglob("*") if p.suffix in (".py", ".c", ".h") and p.is_file()):
+    for path in sorted({p for pattern in PROOF_SOURCES for p in _PACKAGE.glob(pattern)}):
         h.update(path.relative_to(_PACKAGE).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()
