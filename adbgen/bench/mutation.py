@@ -462,9 +462,41 @@ def _report(results: list[dict], started: float, planned: int) -> dict:
             "equivalents": [{"id": r["id"], "reason": r["reason"]} for r in results if r["status"] == "equivalent"]}
 
 
+def retest(path: str) -> int:
+    """Put the survivors of a results file through their named tests (the --tests step of a run that
+    was made without it); rewrites the file."""
+    import json
+
+    from .report import write
+
+    data = json.loads(Path(path).read_text())
+    results, started = data["results"], time.time() - data["seconds"]
+    scratch = Scratch()
+    try:
+        for res in results:
+            if res["status"] != "survived":
+                continue
+            mutant = Mutant(res["id"], res["file"], res["old"], res["new"], res["kind"])
+            t0 = time.perf_counter()
+            with scratch.applied(mutant):
+                caught, name = _run_test(scratch, _named_test(mutant))
+            res.update(tested=_named_test(mutant), test_seconds=round(time.perf_counter() - t0, 1))
+            if caught:
+                res.update(status="caught", test=name)
+            print(f"{res['status']:10} {res['id']} ({res['test_seconds']} s)", file=sys.stderr, flush=True)
+            write(_report(results, started, data["planned"]), path)
+    finally:
+        scratch.close()
+    summary = summarize(results)
+    print(f"{path}: {summary['counts']}")
+    return 0
+
+
 def run(args, out) -> int:
     from .report import write
 
+    if args.retest:
+        return retest(out)
     started = time.time()
     scratch = Scratch()
     try:
@@ -502,6 +534,7 @@ BENCHMARK = Benchmark("mutation", run, (
     option("--seed", type=int, default=20, help="the sample's seed"),
     option("--sample", action="store_true", help="only the CI sample of 30 mutants"),
     option("--tests", action="store_true", help="put written mutants through the named tests of their target"),
+    option("--retest", action="store_true", help="only put the survivors of the results file (--out) through their tests"),
 ))
 
 __all__ = ["BENCHMARK", "Mutant", "SAMPLE", "Scratch", "classify", "python_mutants", "template_mutants"]

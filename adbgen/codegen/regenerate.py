@@ -66,7 +66,8 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
     if run_checks:
         for check in _checks_for(specs):
             scaled = check.scaled is not None and not full_checks
-            r = (check.scaled if scaled else check.run)()
+            with refusal(f"check {check.key}"):
+                r = (check.scaled if scaled else check.run)()
             progress(f"check  {'ok  ' if r.passed else 'FAIL'} {r.name} [{r.reference}] ({r.seconds:.1f} s)"
                      + (" (proportionate form; --full-checks runs the exact one)" if scaled else ""))
             if not r.passed:
@@ -97,8 +98,9 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
                  + (" (cached)" if proven["cached"] else f" ({proven['seconds']:.1f} s)")
                  + f" ({time.perf_counter() - start:.1f} s)"
                  + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))
-    package = render_index(index)
-    prove_index(package, index)
+    with refusal("the output's index"):
+        package = render_index(index)
+        prove_index(package, index)
     files.update(package)
     return Rendered(files, tuple(name for name, _, _ in index))
 
