@@ -1,6 +1,7 @@
 """A generated model, found by name, folder or scene file, with its parameters and states by name.
 
-    load_model("thesis_rotating_n3")        generated.thesis_rotating_n3 (the committed default set)
+    load_model("thesis_rotating_n3")        adbgen.models.thesis_rotating_n3: the committed default set
+                                            (the checkout's generated/, or the wheel's copy)
     load_model("out/models")                a folder written by `adbgen regenerate --out` (one model)
     load_model("out/models/my_rotor")       ... or the model's own folder inside it
     load_model(scene="rotor.toml")          the scene's smallest exact model, generated once into a
@@ -266,13 +267,27 @@ def _scene_model(scene: str | os.PathLike) -> Path:
     return folder
 
 
+def _consistent(model: Model) -> Model:
+    """The model, unless its files come from different runs of the generator (a hand-copied file, a
+    regenerate of old that was killed half-way): then one line naming them."""
+    from ..codegen.journal import mismatched
+
+    bad = mismatched(model.folder, model.source_hash)
+    if bad:
+        listed = ", ".join(f"{rel} ({h})" for rel, h in sorted(bad.items())[:3]) + (", ..." if len(bad) > 3 else "")
+        raise AnalysisError(f"{model.name}: its files come from different runs of `adbgen regenerate` "
+                            f"(__init__.py has SOURCE_HASH {model.source_hash}; {listed}): regenerate it")
+    return model
+
+
 def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike | None = None) -> Model:
-    """The model named by `spec` (a generated model's name or a folder) or made for `scene`."""
+    """The model named by `spec` (a generated model's name or a folder) or made for `scene`; refused
+    when its files' SOURCE_HASHes disagree."""
     if scene is not None:
         if spec is not None:
             raise AnalysisError("give a model name or --scene, not both")
         folder = _scene_model(scene)
-        return Model(_import_folder(folder), folder)
+        return _consistent(Model(_import_folder(folder), folder))
     if spec is None:
         raise AnalysisError("no model given: a generated model's name, a folder, or --scene FILE")
     text = str(spec)
@@ -281,23 +296,33 @@ def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike |
         if not path.is_dir():
             raise AnalysisError(f"{path}: no such folder")
         folder = _model_folder(path)
-        return Model(_import_folder(folder), folder)
+        from ..codegen.journal import recover
+
+        recover(folder.parent)  # a swap of the output folder killed half-way: finish it first
+        return _consistent(Model(_import_folder(folder), folder))
     if not text.isidentifier():
         raise AnalysisError(f"{text!r} is neither a generated model's name nor a folder")
     try:
-        module = importlib.import_module(f"generated.{text}")
+        module = import_generated(text)
     except ModuleNotFoundError:
         known = available_models()
         raise AnalysisError(f"no generated model {text!r}; generated/ holds: {', '.join(known) or 'none'} "
                             f"(`adbgen regenerate --out DIR` makes others; pass DIR)") from None
-    return Model(module, Path(module.__file__).parent)
+    return _consistent(Model(module, Path(module.__file__).parent))
+
+
+def import_generated(name: str) -> ModuleType:
+    """`adbgen.models.<name>`: the checkout's generated/<name>, or the copy a wheel installed."""
+    from ..codegen.journal import recover
+    from .. import models
+
+    for folder in models.__path__:
+        recover(Path(folder))  # a swap of generated/ killed half-way: finish it before importing
+    return importlib.import_module(f"{models.__name__}.{name}")
 
 
 def available_models() -> list[str]:
-    """Names of the models in the installed `generated` package."""
-    try:
-        import generated
-    except ModuleNotFoundError:
-        return []
-    root = Path(generated.__file__).parent
-    return sorted(p.parent.name for p in root.glob("*/__init__.py"))
+    """Names of the generated models (`adbgen.models`: the checkout's generated/ or a wheel's copy)."""
+    from .. import models
+
+    return models.names()

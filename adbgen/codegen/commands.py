@@ -18,7 +18,8 @@ from pathlib import Path
 from .. import families
 from ..cli_types import UsageError, model_name, positive_int
 from ..errors import AdbgenError, SceneError
-from . import targets
+from ..outputs import output_folder
+from . import journal, targets
 from .lowering import DEFAULT_FORM, FORMS
 
 
@@ -88,6 +89,11 @@ def cmd_regenerate(args) -> int:
     if args.name is not None and args.scene is None:
         raise UsageError("--name names the model of --scene")
     out = Path(args.out) if args.out is not None else DEFAULT_OUT
+    output_folder(out, "--out")  # before minutes of derivation, not after
+    note = journal.recover(out)
+    if note:
+        print(f"{out}: an interrupted `adbgen regenerate` was {note} (its journal)" if note != "cleaned" else
+              f"{out}: removed what an interrupted `adbgen regenerate` left beside it", file=sys.stderr)
     specs = specs_for(args)
     for spec in specs:
         validate_name(spec.name)
