@@ -245,24 +245,36 @@ def _generator_digest() -> str:
     return h.hexdigest()
 
 
-def _scene_model(scene: str | os.PathLike) -> Path:
-    """Generate the scene's smallest exact model once (numba and C targets) and return its folder."""
+# what a scene's model is generated with: numba (simulate, stability), C (the compiled engines), AUTO-07p
+# (continue; a forced scene's periodic orbits); the AUTO target skips a model it cannot continue
+SCENE_TARGETS = ("numba", "c", "auto")
+
+
+def _scene_model(scene: str | os.PathLike, on_line=None) -> Path:
+    """Generate the scene's smallest exact model once (SCENE_TARGETS) and return its folder.
+    `on_line(text)` is given regenerate's progress lines while it runs (the first run takes seconds)."""
     path = Path(scene)
     try:
         data = path.read_bytes()
     except OSError as exc:
         raise AnalysisError(f"scene file {path}: {exc.strerror}") from None
-    key = hashlib.sha256(data + _generator_digest().encode()).hexdigest()[:16]
+    key = hashlib.sha256(data + _generator_digest().encode() + " ".join(SCENE_TARGETS).encode()).hexdigest()[:16]
     name = f"scene_{key}"
     out = cache_dir() / "scenes" / key
     folder = out / name
     if not (folder / "__init__.py").is_file():
         cmd = [sys.executable, "-m", "adbgen.cli", "regenerate", "--scene", str(path), "--name", name,
-               "--out", str(out), "--targets", "numba", "c", "--quiet"]
-        proc = subprocess.run(cmd, capture_output=True, text=True)
+               "--out", str(out), "--targets", *SCENE_TARGETS] + ([] if on_line else ["--quiet"])
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        lines = []
+        for line in proc.stderr:
+            lines.append(line)
+            if on_line and line.strip():
+                on_line(line.strip())
+        proc.wait()
         if proc.returncode != 0:
-            lines = (proc.stderr or proc.stdout).strip().splitlines()
-            message = lines[-1] if lines else f"exit status {proc.returncode}"
+            errors = [line for line in lines if line.startswith("adbgen: error: ")] or lines[-1:]
+            message = errors[-1].strip() if errors else f"exit status {proc.returncode}"
             raise AnalysisError(message.removeprefix("adbgen: error: "))
     return folder
 
@@ -280,13 +292,14 @@ def _consistent(model: Model) -> Model:
     return model
 
 
-def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike | None = None) -> Model:
+def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike | None = None,
+               on_line=None) -> Model:
     """The model named by `spec` (a generated model's name or a folder) or made for `scene`; refused
-    when its files' SOURCE_HASHes disagree."""
+    when its files' SOURCE_HASHes disagree.  `on_line`: progress lines of a scene's generation."""
     if scene is not None:
         if spec is not None:
             raise AnalysisError("give a model name or --scene, not both")
-        folder = _scene_model(scene)
+        folder = _scene_model(scene, on_line)
         return _consistent(Model(_import_folder(folder), folder))
     if spec is None:
         raise AnalysisError("no model given: a generated model's name, a folder, or --scene FILE")
