@@ -45,6 +45,13 @@ def output_folder(path, option: str = "--out") -> Path:
     if str(path).strip() == "":
         raise UsageError(f"{option}: empty path")
     existing = _nearest_existing(path)
+    try:
+        limit = os.pathconf(existing if existing.is_dir() else existing.parent, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    for part in path.parts:
+        if len(os.fsencode(part)) > limit:
+            raise UsageError(f"{option}: a name in the path is longer than {limit} bytes: {part[:20]}...")
     if existing == path and not path.is_dir():
         raise UsageError(f"{option} {path}: is a file, not a folder")
     if not existing.is_dir():

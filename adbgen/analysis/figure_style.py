@@ -77,11 +77,21 @@ def angle_panel(ax, t, angles, names, wrap_angles: bool = True, unit: str = "rad
 
 
 def amplitude_panel(ax, t, r, threshold: float | None, t_dec: float | None, length: str, time: str,
-                    threshold_why: str = "") -> None:
+                    threshold_why: str = "", log: bool = True) -> None:
     """r on a log axis from DECADES_BELOW_THRESHOLD decades under the threshold (the clip is written
-    on the panel), the threshold and t_dec drawn and labelled."""
+    on the panel), or on a linear one (as the thesis draws Fig. 5.4); the threshold and t_dec drawn
+    and labelled."""
     r = np.asarray(r, float)
     ax.plot(t, r, lw=0.7, color="C0", label="$r$")
+    if not log:
+        if threshold is not None and threshold > 0:
+            ax.axhline(threshold, color="0.45", lw=0.8, ls="--", label=f"threshold {show(threshold, length, 3)}"
+                       + (f" ({threshold_why})" if threshold_why else ""))
+        if t_dec is not None:
+            ax.axvline(t_dec, color="C3", lw=0.8, ls=":", label=f"$t_{{dec}}$ = {show(t_dec, time, 5)}")
+        ax.set_ylabel(axis_label("$r$", length))
+        ax.legend(loc="upper right", fontsize=7)
+        return
     ax.set_yscale("log")
     positive = r[r > 0]
     top = float(positive.max()) if len(positive) else 1.0

@@ -37,12 +37,34 @@ def _family_for_scene(path: str, chosen: tuple[str, ...] | None):
     if len(accepted) == 1:
         return accepted[0]
     if not accepted:
-        if len(errors) == 1:
-            raise errors[0][1]
-        raise UsageError(f"{path}: not a scene of any family: "
-                         + "; ".join(f"{f.name}: {exc}" for f, exc in errors))
+        raise _error_of_the_scenes_family(path, errors)
     raise UsageError(f"{path}: a scene of several families ({', '.join(f.name for f, _ in accepted)}): "
                      "choose one with --family")
+
+
+def _unknown_top_level(exc) -> str | None:
+    """The key a family's scene format does not know, when that is why it refused the file."""
+    field = getattr(exc, "field", "")
+    return field if isinstance(exc, SceneError) and str(exc).endswith("unknown option") and "." not in field \
+        and not field.startswith("<") else None
+
+
+def _error_of_the_scenes_family(path: str, errors: list):
+    """One error, the one of the family the file is written for: a family that refused it for a key it does
+    not know is not the file's family when another family knows its keys and refused a value (issue 24:
+    no "...; two-plane: scene.n: unknown option" after a single-plane scene's own complaint)."""
+    if len(errors) == 1:
+        return errors[0][1]
+    own = [(f, exc) for f, exc in errors if _unknown_top_level(exc) is None]
+    if own:
+        return own[0][1]
+    keys = {_unknown_top_level(exc) for _, exc in errors}
+    if len(keys) == 1:  # every family refuses the same key: a typo, or no scene at all
+        key = keys.pop()
+        return SceneError(key, f"unknown option (not a key of a {' or a '.join(f.name for f, _ in errors)} scene)")
+    # each family stops at another unknown key: the one that got further in the sorted keys knows more of them
+    family, exc = max(errors, key=lambda fe: _unknown_top_level(fe[1]))
+    return SceneError(exc.field, f"unknown option (read as a {family.name} scene, the format that knows most of its keys)")
 
 
 def _resize(family, scene, n: int):
