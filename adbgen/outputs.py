@@ -22,8 +22,11 @@ from .cli_types import UsageError
 
 def _nearest_existing(path: Path) -> Path:
     for candidate in (path, *path.parents):
-        if candidate.exists() or candidate.is_symlink():
-            return candidate
+        try:
+            if candidate.exists() or candidate.is_symlink():
+                return candidate
+        except OSError:  # a name too long, a loop of links: not there
+            continue
     return Path(".")
 
 
@@ -41,9 +44,9 @@ def _probe(folder: Path) -> str | None:
 
 def output_folder(path, option: str = "--out") -> Path:
     """`path` as a folder this process can create and write into (it need not exist yet)."""
-    path = Path(path)
     if str(path).strip() == "":
         raise UsageError(f"{option}: empty path")
+    path = Path(path)
     existing = _nearest_existing(path)
     try:
         limit = os.pathconf(existing if existing.is_dir() else existing.parent, "PC_NAME_MAX")
@@ -64,8 +67,10 @@ def output_folder(path, option: str = "--out") -> Path:
 
 def output_file(path, option: str = "--out") -> Path:
     """`path` as a file this process can (re)write: not a folder, its folder creatable and writable."""
+    if str(path).strip() == "":
+        raise UsageError(f"{option}: empty path")
     path = Path(path)
-    if str(path).strip() == "" or path.name in ("", ".", ".."):
+    if path.name in ("", ".", ".."):
         raise UsageError(f"{option}: not a file name: {str(path)!r}")
     if path.is_dir():
         raise UsageError(f"{option} {path}: is a folder, not a file")
