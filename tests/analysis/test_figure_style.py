@@ -19,8 +19,8 @@ def test_wrap_lands_in_minus_pi_to_pi_and_keeps_the_angle(a):
 
 def test_wrapped_lines_break_at_the_jumps():
     t = np.linspace(0, 10, 101)
-    tt, w = fs._broken(t, fs.wrap(0.9 * t))  # two turns: two jumps from pi to -pi
-    assert np.isnan(w).sum() == 2 and len(tt) == len(w) == 103
+    tt, w = fs._broken(t, fs.wrap(2.0 * t))  # 20 rad: through pi, 3 pi and 5 pi, three jumps to -pi
+    assert np.isnan(w).sum() == 3 and len(tt) == len(w) == 104
     assert np.nanmax(np.abs(np.diff(w))) < math.pi
 
 
