@@ -102,8 +102,9 @@ def amplitude_panel(ax, t, r, threshold: float | None, t_dec: float | None, leng
         bottom = max(floor, float(positive.min()) / 2) if len(positive) else floor
         ax.set_ylim(min(bottom, threshold / 2), max(top, threshold) * 2)
         if len(positive) and positive.min() < floor:
-            ax.text(0.99, 0.02, f"axis clipped at {show(floor, length, 2)} = threshold / {10 ** DECADES_BELOW_THRESHOLD}",
-                    transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color="0.35")
+            ax.text(0.01, 0.02, f"axis clipped at {show(floor, length, 2)} = threshold / {10 ** DECADES_BELOW_THRESHOLD}",
+                    transform=ax.transAxes, ha="left", va="bottom", fontsize=7, color="0.35",
+                    bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.8))
     if t_dec is not None:
         ax.axvline(t_dec, color="C3", lw=0.8, ls=":", label=f"$t_{{dec}}$ = {show(t_dec, time, 4)}")
     ax.set_ylabel(axis_label("$r$", length))

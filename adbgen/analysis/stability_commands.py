@@ -20,9 +20,13 @@ from .command_registry import _emit_json, _finite_positive, _load, _model_argume
 from .loading import AnalysisError
 from .units import assignments, show
 
-# the default largest continuation step: the parameter's range in this many steps (0.01 for the
-# thesis' Omega from 4 to 0.5, the step of before); AUTO-07p's runs take five times as many
+# the default largest continuation step (in (state, parameter)): the parameter's range in this many steps
+# (0.857 for omega from 400 to 100 rad/s), but at least STATE_STEP, what a step may move the state (the
+# angles, in rad) by, the step of before (the thesis' scans: Omega from 4 to 0.5 takes 350 steps either
+# way; a branch whose angles turn at a fold, mu from 0.05 to 0.002, needs the state's step, not 1/350 of
+# its parameter range); AUTO-07p's runs take five times as many
 STEPS_PER_RANGE = 350
+STATE_STEP = 0.01
 AUTO_STEPS_PER_RANGE = 1750
 ENDED_EARLY = 3  # exit status of a scan or continuation that stopped before its range (`adbgen --help`)
 
@@ -85,7 +89,7 @@ def _add_stability(p) -> None:
                    help="follow the state from NAME = FROM to TO (pseudo-arclength), locate Hopf points and folds")
     p.add_argument("--ds-max", type=_finite_positive, metavar="DS",
                    help="largest continuation step in (state, parameter) (default |TO - FROM| / "
-                        f"{STEPS_PER_RANGE}: 0.01 for Omega from 4 to 0.5)")
+                        f"{STEPS_PER_RANGE}, at least {STATE_STEP}: 0.857 for omega from 400 to 100 rad/s)")
     p.add_argument("--max-steps", type=_positive_int, default=20000,
                    help="continuation steps at most (default 20000); a scan stopped by it exits with status 3")
     p.add_argument("--out", help="with --scan: a folder for scan.csv (the branch: parameter, leading real part, "
@@ -121,7 +125,7 @@ def run_stability(args) -> int:
             _print_steady(st)
         return 0
     name, a, b = scan
-    ds_max = args.ds_max if args.ds_max is not None else abs(b - a) / STEPS_PER_RANGE
+    ds_max = args.ds_max if args.ds_max is not None else max(abs(b - a) / STEPS_PER_RANGE, STATE_STEP)
     unit = units(model).params[name]
     with progress_bar(abs(b - a), f"{model.name}: {name} from {show(a, unit)} to {show(b, unit)}",
                       show_progress) as update:
