@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 
+from ..cli_types import count as _positive_int  # noqa: F401  (the commands' whole numbers >= 1)
 from .loading import AnalysisError, load_model
 
 # (name, add_arguments, run) of every command here; `register` adds them all
@@ -40,18 +41,6 @@ def _load(args, show_progress: bool = False):
         return load_model(args.model)
     with activity(f"generating the model of {args.scene} (once; cached)", show_progress) as note:
         return load_model(args.model, scene=args.scene, on_line=note)
-
-
-def _positive_int(text: str) -> int:
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
 
 
 def _quantity_text(option: str):
