@@ -443,10 +443,8 @@ def test_more_than_ten_parameters_skip_autos_own_par_slots(auto_toolchain, tmp_p
     spec = models.for_scene(Scene.from_mapping({"n": 3, "ball_mass": [0.05, 0.04, 0.03]}), "unequal_n3")
     ir = spec.build()
     assert ir.autonomous and len(ir.parameters) == 12
-    assert ir.start is None and "auto" in skipped_targets(ir)  # no steady state known: no AUTO files
-    # the PAR layout does not depend on the start: give it one (not a steady state) to render the files
-    ir = dataclasses.replace(ir, start=(0.0,) * ir.n_states, start_label="U = 0 (not a steady state)",
-                             start_parameters=tuple(p.default for p in ir.parameters), continuation=Continuation("omega"))
+    # issue 24: a scene's unequal balls get the balanced state weighted by their masses as START
+    assert ir.start is not None and "masses" in ir.start_label and "auto" not in skipped_targets(ir)
     files = rendered_auto(ir)
     user = files["unequal_n3.c"]
     name10, name11 = ir.parameter_names[10], ir.parameter_names[11]
