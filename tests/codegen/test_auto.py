@@ -30,7 +30,6 @@ Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
 
 from __future__ import annotations
 
-import dataclasses
 
 import ctypes
 import re
@@ -44,7 +43,6 @@ from scipy.optimize import brentq
 
 from adbgen.families.single_plane import models
 from adbgen.codegen.regenerate import DEFAULT_OUT
-from adbgen.codegen.ir import Continuation
 from adbgen.codegen.render import render_model, skipped_targets
 from adbgen.families.single_plane.steady_states import critical_speeds
 
