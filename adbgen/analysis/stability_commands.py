@@ -119,8 +119,10 @@ def run_stability(args) -> int:
     y0, label = _start(model, args, p)
     if scan is None:
         st = steady.refine(model, p, y0, label=label)
+        u = units(model)
         if args.json:
-            _emit_json(st.to_json())
+            _emit_json({**st.to_json(), "units": {"state": u.states, "parameters": u.params,
+                                                  "eigenvalues": "1" if u.time == "1" else f"1/{u.time}"}})
         else:
             _print_steady(st)
         return 0
@@ -205,11 +207,14 @@ def _rounded(value: float, floor: float = 1e-15) -> float:
 
 
 def _print_steady(st) -> None:
+    from .units import units
+
     m = st.model
+    u = units(m)
     print(f"model {m.name}: steady state ({st.label}), |rhs| = {st.residual:.2e} after {st.iterations} Newton steps")
-    print("parameters: " + ", ".join(f"{k} = {v:g}" for k, v in zip(m.param_names, st.p)))
+    print("parameters: " + ", ".join(f"{k} = {show(v, u.params[k], 6)}" for k, v in zip(m.param_names, st.p)))
     for name, v in zip(m.state_names, st.y):
-        print(f"  {name:<12} {v: .12g}")
+        print(f"  {name:<12} {v: .12g}" + ("" if u.states[name] == "1" else f" {u.states[name]}"))
     k = st.tangent.shape[1]
     extra = f", {st.n_unstable} unstable" if st.classification == "unstable" else ""
     print(f"classification: {st.classification}{extra}"
