@@ -34,7 +34,6 @@ import numpy as np
 
 from .auto import TYPES, AutoError, Point, Session, Solution, _mapping, auto_parameter
 from .loading import AnalysisError, Model
-from .units import forcing_frequency
 
 OSCILLATOR = ("osc_sin", "osc_cos")
 CLOSURE_TOL = 1e-7  # an orbit closes when |y(T) - y(0)| <= CLOSURE_TOL (1 + |y|) (angles mod 2 pi)
@@ -241,7 +240,7 @@ def _check_start(model: Model, st: Stages, p: np.ndarray) -> None:
     q[st.first] = st.start_parameters[st.first]
     if np.array_equal(q, st.start_parameters):
         return
-    freq = forcing_frequency(model)
+    freq = model.forcing_frequency
     if not freq:
         raise AnalysisError(f"{model.name}: no forcing frequency known (FORCING_FREQUENCY)")
     omega = float(q[model.param_names.index(freq)])
@@ -376,7 +375,7 @@ def continue_orbit(model: Model, name: str, p: np.ndarray, to: float | None = No
 
 def _multipliers_at(model: Model, p: np.ndarray, u: np.ndarray):
     """(orbit state, t0, multipliers) of the forced response near the extension state u, at p."""
-    freq = forcing_frequency(model)
+    freq = model.forcing_frequency
     omega = float(p[model.param_names.index(freq)])
     y0, phase = _model_states(model, u)
     t0 = (phase % (2 * math.pi)) / omega
@@ -452,7 +451,7 @@ def forced_response(model: Model, p: np.ndarray, keep: str | None = None) -> Res
     """The periodic response at p, refined by shooting, and its Floquet multipliers.  The start orbit
     (stpnt) is checked to be an orbit at p (but for stage 1's parameter); where p's value of that
     parameter differs from stpnt's, AUTO's stage 1 carries the orbit there, the other parameters at p."""
-    freq = forcing_frequency(model)
+    freq = model.forcing_frequency
     if not freq:
         raise AnalysisError(f"{model.name}: no forcing frequency known (FORCING_FREQUENCY)")
     st = stages(model)

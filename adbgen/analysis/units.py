@@ -7,8 +7,9 @@
     default_threshold(model, p)      t_dec's threshold: a tenth of the eccentricity (thesis: 1e-3 = delta / 10)
     show(value, unit)                "10.4 mm", "5.46 s", "0.001" (dimensionless): a number for a table
 
-What a model says about itself (TIME_UNIT, STATE_UNITS, SCALES of the generated module, issue 19)
-decides every default here; nothing depends on a family's or a model's name.  Plain numbers and
+What a model says about itself (TIME_UNIT, STATE_UNITS, SCALES, PARAM_DOMAINS of the generated
+module, issue 19; `Model`'s properties) decides every default here; nothing depends on a family's or
+a model's name.  Plain numbers and
 expressions in pi are read without a units library; anything with a unit goes through pint
 (imported on first use only: it costs about half a second, the command line's start-up matters).
 """
@@ -26,8 +27,9 @@ DIMENSIONLESS = ("1", "dimensionless", "")
 # t_end's default, as the thesis runs its transients: t = 1000 at Omega = 4 (dimensionless time), i.e.
 # 2000/pi = 636.6 revolutions of the spin, whatever the model's time unit (10 s at 400 rad/s)
 DEFAULT_REVOLUTIONS = 2000.0 / math.pi
-# t_dec's default threshold relative to the eccentricity: the thesis' 1e-3 with delta = 0.01
-THRESHOLD_PER_ECCENTRICITY = 0.1
+# t_dec's default threshold: the eccentricity over this (the thesis' 1e-3 with delta = 0.01; a division,
+# so that 0.01 / 10 is the double 1e-3 exactly, which 0.1 * 0.01 is not)
+ECCENTRICITY_PER_THRESHOLD = 10
 
 
 @dataclass(frozen=True)
@@ -36,65 +38,19 @@ class Units:
     states: dict  # state name -> unit
     params: dict  # parameter name -> unit
     scales: dict  # {"eccentricity": parameter, "speed": parameter} where the model has them
-
-    @property
-    def length(self) -> str:
-        """The unit of the rotor amplitude r (its first state's)."""
-        return next(iter(self.states.values()))
+    length: str  # the unit of the rotor amplitude r (its AMPLITUDE states')
 
 
-def _declared(model, name):
-    return getattr(model.module, name, None)
-
-
-def _fallback_scales(model) -> dict:
-    """SCALES of a module generated before the self-description (issue 19 item 1) carried them: the
-    parameters whose descriptions say eccentricity and spin speed."""
-    descriptions = _declared(model, "PARAM_DESCRIPTIONS") or ()
-    out = {}
-    for key, words in (("eccentricity", ("eccentricity",)), ("speed", ("spin speed",))):
-        hits = [n for n, d in zip(model.param_names, descriptions) if any(w in d.lower() for w in words)]
-        if len(hits) == 1:
-            out[key] = hits[0]
-    return out
+def _unit(text: str) -> str:
+    return "1" if text in DIMENSIONLESS else text
 
 
 def units(model) -> Units:
-    """The model's units as its generated module declares them (TIME_UNIT, STATE_UNITS, PARAM_UNITS,
-    SCALES); for a module from before those were declared, read off PARAM_UNITS (dimensionless
-    parameters: dimensionless time and lengths; angles in rad)."""
-    params = dict(zip(model.param_names, _declared(model, "PARAM_UNITS") or ("",) * model.n_params))
-    params = {k: ("1" if v in DIMENSIONLESS else v) for k, v in params.items()}
-    time = _declared(model, "TIME_UNIT")
-    if time is None:
-        time = "1" if all(v == "1" for v in params.values()) else "s"
-    states = _declared(model, "STATE_UNITS")
-    if states is not None:
-        states = dict(zip(model.state_names, ("1" if u in DIMENSIONLESS else u for u in states)))
-    else:
-        length = "1" if time == "1" else "m"
-        translations = tuple(model.module.CORE[:2])
-        coord = {c: (length if c in translations else "rad") for c in (*model.module.CORE, *model.leaves)}
-        states = {}
-        for name in model.state_names:
-            base = name[:-4] if name.endswith("_dot") and name[:-4] in coord else None
-            if base is None:
-                states[name] = coord.get(name, "1")
-            else:
-                states[name] = coord[base] if time == "1" else f"{coord[base]}/{time}"
-    scales = _declared(model, "SCALES")
-    scales = dict(scales) if scales is not None else _fallback_scales(model)
-    return Units(time, states, params, scales)
-
-
-def forcing_frequency(model) -> str:
-    """The parameter whose 2 pi / value is the forcing period of a periodically forced model ("" for an
-    autonomous one): FORCING_FREQUENCY of the generated module; before modules declared it, a forced
-    model's spin speed (SCALES["speed"]), which is what forces a fixed-frame rotor at constant speed."""
-    declared = _declared(model, "FORCING_FREQUENCY")
-    if declared is not None:
-        return declared
-    return "" if model.autonomous else units(model).scales.get("speed", "")
+    """The model's units as its generated module declares them (`Model.time_unit`, `state_units`,
+    `scales`, and PARAM_UNITS)."""
+    params = {k: _unit(v) for k, v in zip(model.param_names, model.module.PARAM_UNITS)}
+    states = {k: _unit(v) for k, v in zip(model.state_names, model.state_units)}
+    return Units(_unit(model.time_unit), states, params, model.scales, states[model.amplitude[0]])
 
 
 # --- reading values with units ---------------------------------------------------------------------
@@ -205,7 +161,7 @@ def default_threshold(model, p) -> tuple[float, str]:
     if ecc is not None:
         eps = float(p[model.param_names.index(ecc)])
         if eps > 0:
-            return eps / 10, f"a tenth of {ecc} = {show(eps, units(model).params[ecc], 6)}"
+            return eps / ECCENTRICITY_PER_THRESHOLD, f"a tenth of {ecc} = {show(eps, units(model).params[ecc], 6)}"
     return 1e-3, "no eccentricity scale: 1e-3"
 
 
@@ -257,28 +213,10 @@ DOMAINS = {"positive": (lambda v: v > 0, "must be positive"), "nonnegative": (la
            "real": (lambda v: True, "")}
 
 
-def _fallback_domains(model) -> dict:
-    """PARAM_DOMAINS of a module generated before the self-description declared them: masses and
-    inertias positive (by unit or a description naming a mass), stiffness, damping and drag
-    non-negative (by unit)."""
-    u = units(model).params
-    descriptions = dict(zip(model.param_names, _declared(model, "PARAM_DESCRIPTIONS") or ("",) * model.n_params))
-    out = {}
-    for name in model.param_names:
-        if u[name] in ("kg", "kg m^2") or "mass" in descriptions[name].lower():
-            out[name] = "positive"
-        elif u[name] in ("N/m", "N s/m", "N m s/rad"):
-            out[name] = "nonnegative"
-    return out
-
-
 def domains(model) -> dict:
     """{parameter: "positive" | "nonnegative" | "real"} as the generated module declares them
-    (PARAM_DOMAINS, from the symbols' assumptions of the derivation)."""
-    declared = _declared(model, "PARAM_DOMAINS")
-    if declared is not None:
-        return dict(zip(model.param_names, declared))
-    return _fallback_domains(model)
+    (`Model.param_domains`: the assumptions of the derivation's symbols)."""
+    return dict(zip(model.param_names, model.param_domains))
 
 
 def params(model, values: dict) -> "np.ndarray":
