@@ -42,11 +42,8 @@ def _probe(folder: Path) -> str | None:
     return None
 
 
-def output_folder(path, option: str = "--out") -> Path:
-    """`path` as a folder this process can create and write into (it need not exist yet)."""
-    if str(path).strip() == "":
-        raise UsageError(f"{option}: empty path")
-    path = Path(path)
+def _check_names(path: Path, option: str) -> Path:
+    """The nearest existing folder of `path`, once no name in `path` is longer than the file system takes."""
     existing = _nearest_existing(path)
     try:
         limit = os.pathconf(existing if existing.is_dir() else existing.parent, "PC_NAME_MAX")
@@ -55,6 +52,15 @@ def output_folder(path, option: str = "--out") -> Path:
     for part in path.parts:
         if len(os.fsencode(part)) > limit:
             raise UsageError(f"{option}: a name in the path is longer than {limit} bytes: {part[:20]}...")
+    return existing
+
+
+def output_folder(path, option: str = "--out") -> Path:
+    """`path` as a folder this process can create and write into (it need not exist yet)."""
+    if str(path).strip() == "":
+        raise UsageError(f"{option}: empty path")
+    path = Path(path)
+    existing = _check_names(path, option)
     if existing == path and not path.is_dir():
         raise UsageError(f"{option} {path}: is a file, not a folder")
     if not existing.is_dir():
@@ -72,6 +78,7 @@ def output_file(path, option: str = "--out") -> Path:
     path = Path(path)
     if path.name in ("", ".", ".."):
         raise UsageError(f"{option}: not a file name: {str(path)!r}")
+    _check_names(path, option)
     if path.is_dir():
         raise UsageError(f"{option} {path}: is a folder, not a file")
     output_folder(path.parent, option)

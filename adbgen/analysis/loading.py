@@ -411,6 +411,8 @@ def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike |
         raise AnalysisError("no model given: a generated model's name, a folder, or --scene FILE")
     text = str(spec)
     path = Path(text)
+    if len(text) > 4096 or any(len(os.fsencode(part)) > 255 for part in path.parts):
+        raise AnalysisError(f"{text[:40]!r}...: neither a generated model's name nor a folder (a name too long)")
     if os.sep in text or path.is_dir():
         if not path.is_dir():
             raise AnalysisError(f"{path}: no such folder")
@@ -423,7 +425,7 @@ def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike |
         raise AnalysisError(f"{text!r} is neither a generated model's name nor a folder")
     try:
         module = import_generated(text)
-    except ModuleNotFoundError:
+    except (ModuleNotFoundError, OSError):  # OSError: a name longer than the file system takes
         known = available_models()
         raise AnalysisError(f"no generated model {text!r}; generated/ holds: {', '.join(known) or 'none'} "
                             f"(`adbgen regenerate --out DIR` makes others; pass DIR)") from None
