@@ -43,7 +43,7 @@ def _stop(*args, **kwargs):
 def stubbed(monkeypatch, tmp_path):
     """The expensive entry points replaced by `_stop`; the parser built once."""
     from adbgen.analysis import auto, auto_orbits, continuation, loading, reproduce, sweep
-    from adbgen.analysis.engines import compiled, scipy_ivp
+    from adbgen.analysis import engines
     from adbgen.bench import registry
     from adbgen.codegen import regenerate
     from adbgen.core import linearisation
@@ -58,11 +58,9 @@ def stubbed(monkeypatch, tmp_path):
                          (linearisation, "Linearisation"), (tp_commands, "cmd_derive"), (tp_commands, "cmd_steady"),
                          (tp_commands, "cmd_verify"), (fam_commands, "cmd_verify")]:
         monkeypatch.setattr(module, name, _stop)
-    for engine in (compiled, scipy_ivp):
-        for cls in vars(engine).values():
-            if isinstance(cls, type) and hasattr(cls, "run") and hasattr(cls, "run_many"):
-                monkeypatch.setattr(cls, "run", _stop)
-                monkeypatch.setattr(cls, "run_many", _stop)
+    for eng in engines.ENGINES.values():  # every registered engine, whatever its class
+        monkeypatch.setattr(type(eng), "run", _stop)
+        monkeypatch.setattr(type(eng), "run_many", _stop)
     get = registry.get
     monkeypatch.setattr(registry, "get", lambda name: dataclasses.replace(get(name), run=_stop))
     for name in dir(notebooks):
