@@ -5,7 +5,6 @@
 
     adbgen stability ..., adbgen continue ...   (stability_commands.py)
     adbgen sweep ...                             (sweep_commands.py)
-    adbgen reproduce ...                         (reproduce.py)
 
 Each command prints one JSON object on stdout with --json.  Bad input: one line on stderr, exit 2;
 a failed integration: one line naming where it failed, exit 1.
@@ -24,7 +23,7 @@ from .loading import parse_assignments
 def register(sub, parser_class) -> None:
     """Add this layer's commands to the `adbgen` subparsers."""
     # the command modules register themselves in COMMANDS when imported
-    from . import reproduce, stability_commands, sweep_commands  # noqa: F401
+    from . import stability_commands, sweep_commands  # noqa: F401
 
     for name, help_, add in COMMANDS:
         p = sub.add_parser(name, help=help_, description=help_)

@@ -1,11 +1,11 @@
-"""Brute-force vibration (Figure 12(a)) and run-ups (section 6) of analysis.two_plane_runs."""
+"""Brute-force vibration (Figure 12(a)) and run-ups (section 6): the two-plane science's runs."""
 
 import math
 
 import numpy as np
 import pytest
 
-from adbgen.analysis import two_plane_runs as tr
+from adbgen.families.two_plane.science import runs as tr
 from adbgen.analysis.loading import load_model
 
 
@@ -118,7 +118,7 @@ def test_floquet_of_B_along_figure_12a():
     """B of two_plane_fixed is a constant solution at every time; its Floquet multipliers: stable at
     Omega = 5, unstable at 4.4 by a gamma_r-odd mode (the one the symmetric start of Figure 12(a) cannot
     excite, the paper's explanation of its brute-force/Figure 11 discrepancy)."""
-    from adbgen.analysis.two_plane_exchange import race_swap
+    from adbgen.families.two_plane.science.exchange import race_swap
 
     model = load_model("two_plane_fixed")
     values = {"epsilon": 1e-4, "chi": 0.0, "beta": 0.0, **tr._ball_values(1e-4, 0.01)}

@@ -2,7 +2,8 @@
 Figure 12(a) (brute-force diagram, anisotropic supports) and section 6 (run-ups, Figures 15, 16).
 
 `compute(fig_dir)` runs everything and draws the figures; `section(results, root)` writes the
-markdown.  The computations are in `two_plane_exchange` and `two_plane_runs`.
+markdown (`REPRODUCTION`, listed by the family's `reproductions()`).  The computations are in
+`exchange` and `runs`.
 """
 
 from __future__ import annotations
@@ -13,8 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import two_plane_exchange as tx
-from . import two_plane_runs as tr
+from ....analysis.reproduction import Reproduction
+from . import exchange as tx
+from . import runs as tr
 
 FIG12_GRID = (0.2, 5.0, 97)  # Omega from, to, count (step 0.05)
 FLOQUET_GRID = (0.2, 5.0, 49)  # step 0.1, boundaries then refined
@@ -167,7 +169,7 @@ def floquet_section(omegas, balanced) -> dict:
     eigenvector (+1 even, -1 odd)."""
     from scipy.optimize import brentq
 
-    from .loading import load_model
+    from ....analysis.loading import load_model
 
     model = load_model("two_plane_fixed")
     values = {"epsilon": tr.FIG12_EPS, "chi": 0.0, "beta": 0.0, **tr._ball_values(tr.FIG12_EPS, tr.FIG12_RATIO)}
@@ -475,3 +477,6 @@ def section(res: dict, root: Path) -> list[str]:
           f"![Figure 15]({ramp['figure'].relative_to(root).as_posix()})", "",
           f"![Figure 16]({hill['figure'].relative_to(root).as_posix()})", ""]
     return L
+
+
+REPRODUCTION = Reproduction("two-plane", "Two-plane paper", compute, section)

@@ -28,8 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, root
 
-from .loading import AnalysisError, Model
-from .steady import jacobian, refine, residual
+from ....analysis.loading import AnalysisError, Model
+from ....analysis.steady import jacobian, refine, residual
 
 MODEL = "two_plane_rotating"
 RACE_DAMPING = 0.01  # c_b / m of (10)
@@ -226,7 +226,7 @@ class Exchange:
 
 
 def compute(model: Model | None = None, omegas=None, small_epsilon: float = 1e-4) -> Exchange:
-    from .loading import load_model
+    from ....analysis.loading import load_model
 
     model = model or load_model(MODEL)
     pf = Pitchfork(model, {"c_1": 0.0, "c_2": 0.0})

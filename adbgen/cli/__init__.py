@@ -23,15 +23,16 @@ import inspect
 import sys
 from typing import Callable
 
-from . import __version__, families
-from .cli_types import UsageError
-from .errors import AdbgenError
+from .. import __version__, families
+from ..cli_types import UsageError
+from ..errors import AdbgenError
 
 # Command groups besides the families', in the order of `adbgen --help`; one line per group.
 COMMAND_GROUPS: list[str] = [
     "adbgen.codegen.commands:register",  # regenerate
     "adbgen.bench.commands:register",  # bench
     "adbgen.analysis.commands:register",  # simulate (the analysis layer over generated code)
+    "adbgen.cli.reproduce:register",  # reproduce (every family's reproductions)
     "adbgen.notebooks:register",  # notebooks (execute and render derive/)
 ]
 
@@ -46,11 +47,22 @@ def _load(entry: str) -> Callable:
     return getattr(importlib.import_module(module), attr)
 
 
+def _family_commands() -> list[Callable]:
+    """Each family's commands, then its science's (`Family.science_commands`, loaded by name)."""
+    out = []
+    for family in families.all_families():
+        out.append(family.register_commands)
+        science = getattr(family, "science_commands", lambda: "")()
+        if science:
+            out.append(_load(science))
+    return out
+
+
 def command_groups() -> list[Callable]:
     """Every register(subparsers) function: verify, each family's commands, then COMMAND_GROUPS."""
-    from .families.commands import register as register_verify
+    from ..families.commands import register as register_verify
 
-    return [register_verify] + [f.register_commands for f in families.all_families()] + [_load(e) for e in COMMAND_GROUPS]
+    return [register_verify] + _family_commands() + [_load(e) for e in COMMAND_GROUPS]
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -75,7 +87,3 @@ def main(argv: list[str] | None = None) -> int:
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

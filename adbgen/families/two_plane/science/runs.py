@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .loading import AnalysisError, Model, load_model
-from .simulate import simulate
+from ....analysis.loading import AnalysisError, Model, load_model
+from ....analysis.simulate import simulate
 
 PLAIN_MASS = 1e-10  # "plain rotor": balls too light for the rotor to feel
 RTOL, ATOL = 1e-9, 1e-14
@@ -222,7 +222,7 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
     (`two_plane_rotating`, autonomous there): the end state's steady state and spectrum (Newton), and the
     run from it as it is, then from where that settled with balls 1 and 3 (one in each race) moved by
     `kick` rad."""
-    from .steady import refine
+    from ....analysis.steady import refine
 
     fixed = load_model("two_plane_ramp")
     rotating = load_model("two_plane_rotating")
