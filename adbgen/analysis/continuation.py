@@ -1,6 +1,7 @@
 """Follow a steady state in one parameter and locate where its stability changes (thesis ch. 4).
 
     scan(model, p, y0, "Omega", 4.0, 0.5)   -> Scan: the branch, Hopf points and folds, stable intervals
+    write_scan(scan, out)                   scan.csv and scan.png in the folder out
 
 Pseudo-arclength continuation on the generated rhs, jac and jac_p: unknowns z = (y, lambda); each
 step predicts along the unit tangent and corrects by Newton on
@@ -28,6 +29,7 @@ balanced branch turning at mu_c into its mirror copy phi_1 <-> phi_2, the thesis
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
@@ -315,3 +317,46 @@ def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, s
                     found.append((i, bif))
     return Scan(model, name, start, stop, branch, [b for _, b in found],
                 _stable_intervals(branch, found, lo, hi), reason)
+
+
+def write_scan(result, out: Path) -> None:
+    """scan.csv (one row per continuation step) and scan.png: the leading real part of the transverse
+    spectrum and the rotor amplitude along the parameter, stable stretches solid, Hopf points and folds
+    marked (the thesis' one-parameter diagrams, Fig. 4.2, 4.6, 4.11)."""
+    import os
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out.mkdir(parents=True, exist_ok=True)
+    m = result.model
+    ix, iy = m.amplitude_indices[:2]
+    lam = np.array([b.lam for b in result.branch])
+    lead = np.array([float(np.max(b.spectrum.real)) for b in result.branch])
+    amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
+    amp[amp < 1e-14] = 0.0  # the balanced state: rounding only
+    unstable = np.array([b.n_unstable for b in result.branch])
+    # written under temporary names and renamed: an interrupted run leaves the folder as it was
+    with open(out / ".scan.csv.tmp", "w") as fh:
+        fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
+                 f"to {result.stop!r}\n")
+        fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
+        np.savetxt(fh, np.column_stack([lam, lead, unstable, amp]), delimiter=",", fmt="%.17g")
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True, constrained_layout=True)
+    for ax, values, label in ((a1, lead, "max Re $\\lambda$ (transverse)"), (a2, amp, "$r = \\sqrt{x^2 + y^2}$")):
+        stable = np.where(unstable == 0, values, np.nan)
+        ax.plot(lam, values, "--", color="C0", lw=0.8)
+        ax.plot(lam, stable, "-", color="C0", lw=1.6)
+        ax.set_ylabel(label)
+        for b in result.points:
+            ax.axvline(b.value, color="C3" if b.kind == "hopf" else "C2", lw=0.6, ls=":")
+    a1.axhline(0.0, color="0.5", lw=0.5)
+    a2.set_xlabel(result.name)
+    marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points)
+    a1.set_title(f"{m.name}: solid stable, dashed unstable; {marks}", fontsize=8)
+    fig.savefig(out / ".scan.png.tmp", dpi=120, format="png")
+    plt.close(fig)
+    os.replace(out / ".scan.csv.tmp", out / "scan.csv")
+    os.replace(out / ".scan.png.tmp", out / "scan.png")

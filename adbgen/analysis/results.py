@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,6 +25,11 @@ FAILURES = {
     "nonfinite": "non-finite state or derivative",
     "solver_failure": "solver failure",
 }
+
+
+def json_number(v):
+    """A number for JSON: None where it is None or not finite (JSON has no NaN or infinity)."""
+    return None if v is None or (isinstance(v, float) and not math.isfinite(v)) else v
 
 
 class IntegrationError(AdbgenError):

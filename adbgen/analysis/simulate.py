@@ -2,6 +2,7 @@
 
     simulate(model, params={"Omega": 4}, y0={"phi_1": pi/2}, t_end=1000)   -> Simulation
     simulate_many(model, P, Y0, t_end=1000, threads=2)                      -> Ensemble
+    write_trajectory(model, sim, out)        trajectory.npz, trajectory.csv and trajectory.png in out
 
 The default engine is compiled end to end (see `engines`); `engine="scipy-dop853"` etc. select
 the others.  A failed, stalled or non-finite integration raises `IntegrationError` naming the time
@@ -10,7 +11,9 @@ it failed at (``check=False`` returns the result with its status instead).
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -95,3 +98,43 @@ def amplitude(model: Model, y: np.ndarray) -> np.ndarray:
     """r = sqrt(x^2 + y^2) of the rotor centre along a trajectory (states on the rows)."""
     ix, iy, _, _ = model.amplitude_indices
     return np.hypot(y[ix], y[iy])
+
+
+def write_trajectory(model, sim, out: Path) -> None:
+    """trajectory.npz (t, y, names, metadata), trajectory.csv (metadata header) and a plot of r and the angles."""
+    from .grid import tex
+    from .results import json_number
+
+    out.mkdir(parents=True, exist_ok=True)
+    meta = {k: v for k, v in sim.to_json().items() if k != "y_end"}
+    meta["source_hash"] = model.source_hash
+    np.savez_compressed(out / "trajectory.npz", t=sim.t, y=sim.y, state_names=np.array(sim.state_names),
+                        metadata=json.dumps(meta, default=json_number))
+    r = amplitude(model, sim.y)
+    header = "\n".join(f"# {k}: {json.dumps(v, default=json_number)}" for k, v in meta.items())
+    table = np.column_stack([sim.t, r, sim.y.T])
+    with open(out / "trajectory.csv", "w") as fh:
+        fh.write(header + "\n")
+        fh.write(",".join(["t", "r", *sim.state_names]) + "\n")
+        np.savetxt(fh, table, delimiter=",", fmt="%.17g")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True, constrained_layout=True)
+    a1.plot(sim.t, r, lw=0.7)
+    a1.axhline(sim.threshold, color="0.6", lw=0.6, ls="--")
+    if sim.t_dec is not None:
+        a1.axvline(sim.t_dec, color="C3", lw=0.6, ls=":")
+    a1.set_ylabel("$r$")
+    a1.set_yscale("log")
+    a1.set_title(f"{model.name}: $r_{{max}}$ = {sim.r_max:.4g}, "
+                 f"$t_{{dec}}$ = {'-' if sim.t_dec is None else f'{sim.t_dec:.2f}'}", fontsize=9)
+    for i in model.angle_indices:
+        a2.plot(sim.t, sim.y[i], lw=0.8, label=f"${tex(model.state_names[i])}$")
+    a2.set_xlabel("$t$")
+    a2.set_ylabel("ball angle")
+    a2.legend(loc="best", fontsize=8)
+    fig.savefig(out / "trajectory.png", dpi=120)
+    plt.close(fig)

@@ -434,7 +434,8 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
         encoding[name] = {"chunks": ch, "fill_value": fill}
     ds = xr.Dataset(data, coords=coords)
     for a in grid.axes:
-        ds[a.name].attrs.update(kind=a.kind, long_name=axis_symbol(a.name))
+        ds[a.name].attrs.update(kind=a.kind, long_name=axis_symbol(a.name, a.kind),
+                                angle=a.kind == "state" and model.index(a.name) in model.angle_indices)
     desc = {"attractor": "label code: index into the attribute `labels` (-1: not computed)",
             "r_max": "largest rotor amplitude r = sqrt(x^2 + y^2) over [0, t_end]",
             "t_dec": "last time r >= threshold (NaN: not settled by t_end, or not computed)",

@@ -7,7 +7,7 @@
     adbgen bench derive|codegen|sweep [--out FILE] [--n ...]
     adbgen bench simulate [--out FILE] [--repeats N] [--engines E ...] [--no-peers]
     adbgen bench failures|smallest [--out FILE] [--quick]
-    adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/analysis/commands.py)
+    adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/cli/simulate.py, ...)
     adbgen notebooks [--check | --run] [--only NN ...]                 the derivation notebooks of derive/
 
 Every family in `families.REGISTRY` adds its own subcommands (`Family.register_commands`); other
@@ -30,10 +30,12 @@ from ..errors import AdbgenError
 # Command groups besides the families', in the order of `adbgen --help`; one line per group.
 COMMAND_GROUPS: list[str] = [
     "adbgen.codegen.commands:register",  # regenerate
-    "adbgen.bench.commands:register",  # bench
-    "adbgen.analysis.commands:register",  # simulate (the analysis layer over generated code)
+    "adbgen.cli.bench:register",  # bench
+    "adbgen.cli.simulate:register",  # simulate (the analysis layer over generated code)
+    "adbgen.cli.stability:register",  # stability, continue
+    "adbgen.cli.sweep:register",  # sweep
     "adbgen.cli.reproduce:register",  # reproduce (every family's reproductions)
-    "adbgen.notebooks:register",  # notebooks (execute and render derive/)
+    "adbgen.cli.notebooks:register",  # notebooks (execute and render derive/)
 ]
 
 
@@ -60,7 +62,7 @@ def _family_commands() -> list[Callable]:
 
 def command_groups() -> list[Callable]:
     """Every register(subparsers) function: verify, each family's commands, then COMMAND_GROUPS."""
-    from ..families.commands import register as register_verify
+    from .verify import register as register_verify
 
     return [register_verify] + _family_commands() + [_load(e) for e in COMMAND_GROUPS]
 

@@ -165,7 +165,7 @@ def test_two_parameter_hopf_curves_are_hopf_points_of_the_analysis_layer(auto_ok
 def test_double_hopf_points_of_n3_are_two_pairs_on_the_axis(auto_ok, thesis):
     """n = 3, (Omega, mu): the Hopf curve crosses itself where two pairs of different frequency are on
     the imaginary axis (thesis: two H1 curves intersect, Fig. 4.5); checked on a fresh steady state."""
-    from adbgen.analysis.stability_commands import _follower
+    from adbgen.analysis.starts import follower as _follower
 
     m = thesis[3]
     res = auto.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
@@ -200,7 +200,7 @@ def test_fold_curve_of_the_coincident_state_passes_the_wedge_tip(auto_ok, thesis
 def test_zeta_limit_of_n4_at_omega_3(auto_ok, thesis):
     """Fig. 4.13(b): at Omega = 3 the balanced state of n = 4 is stable only for zeta below about 0.1;
     the scan and AUTO-07p (started at Omega = 3 through U and PAR, the free angles pinned) agree."""
-    from adbgen.analysis.stability_commands import _pinned_start
+    from adbgen.analysis.starts import pinned_start as _pinned_start
 
     m = thesis[4]
     p = m.params({**CH4, "Omega": 3.0})

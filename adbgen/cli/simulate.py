@@ -1,40 +1,29 @@
-"""Command-line commands of the analysis layer, registered into `adbgen`'s parser by `register`.
+"""`adbgen simulate`: one transient of a generated model (`adbgen.analysis.simulate`).
 
     adbgen simulate MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-end T]
                     [--rtol R] [--atol A] [--engine E] [--threshold H] [--out DIR] [--json]
 
-    adbgen stability ..., adbgen continue ...   (stability_commands.py)
-    adbgen sweep ...                             (sweep_commands.py)
-
-Each command prints one JSON object on stdout with --json.  Bad input: one line on stderr, exit 2;
-a failed integration: one line naming where it failed, exit 1.
+With --json one JSON object on stdout.  Bad input: one line on stderr, exit 2; a failed integration:
+one line naming where it failed, exit 1.
 """
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
-from .command_registry import COMMANDS, _emit_json, _finite_positive, _json_number, _load, _model_arguments, command
-from .loading import parse_assignments
+from ..analysis.loading import parse_assignments
+from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments
 
-
-def register(sub, parser_class) -> None:
-    """Add this layer's commands to the `adbgen` subparsers."""
-    # the command modules register themselves in COMMANDS when imported
-    from . import stability_commands, sweep_commands  # noqa: F401
-
-    for name, help_, add in COMMANDS:
-        p = sub.add_parser(name, help=help_, description=help_)
-        add(p)
+command = Commands()
+register = command.register
 
 
 # --------------------------------------------------------------------------------------- simulate
 
 @command("simulate", "integrate a transient of a generated model (compiled; thesis ch. 5)")
 def _add_simulate(p) -> None:
-    from .engines import DEFAULT, ENGINES
+    from ..analysis.engines import DEFAULT, ENGINES
 
     _model_arguments(p)
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
@@ -53,8 +42,8 @@ def _add_simulate(p) -> None:
 
 
 def run_simulate(args) -> int:
-    from .results import IntegrationError
-    from .simulate import simulate
+    from ..analysis.results import IntegrationError
+    from ..analysis.simulate import simulate, write_trajectory
 
     model = _load(args)
     params = parse_assignments(args.set, "--set")
@@ -92,45 +81,3 @@ def _print_simulation(model, sim, out) -> None:
         print(f"  {name:<{width - 2}}  {v: .10g}")
     if out is not None and sim.ok:
         print(f"wrote {out}/trajectory.npz, trajectory.csv, trajectory.png")
-
-
-def write_trajectory(model, sim, out: Path) -> None:
-    """trajectory.npz (t, y, names, metadata), trajectory.csv (metadata header) and a plot of r and the angles."""
-    import numpy as np
-
-    from .simulate import amplitude
-
-    out.mkdir(parents=True, exist_ok=True)
-    meta = {k: v for k, v in sim.to_json().items() if k != "y_end"}
-    meta["source_hash"] = model.source_hash
-    np.savez_compressed(out / "trajectory.npz", t=sim.t, y=sim.y, state_names=np.array(sim.state_names),
-                        metadata=json.dumps(meta, default=_json_number))
-    r = amplitude(model, sim.y)
-    header = "\n".join(f"# {k}: {json.dumps(v, default=_json_number)}" for k, v in meta.items())
-    table = np.column_stack([sim.t, r, sim.y.T])
-    with open(out / "trajectory.csv", "w") as fh:
-        fh.write(header + "\n")
-        fh.write(",".join(["t", "r", *sim.state_names]) + "\n")
-        np.savetxt(fh, table, delimiter=",", fmt="%.17g")
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True, constrained_layout=True)
-    a1.plot(sim.t, r, lw=0.7)
-    a1.axhline(sim.threshold, color="0.6", lw=0.6, ls="--")
-    if sim.t_dec is not None:
-        a1.axvline(sim.t_dec, color="C3", lw=0.6, ls=":")
-    a1.set_ylabel("$r$")
-    a1.set_yscale("log")
-    a1.set_title(f"{model.name}: $r_{{max}}$ = {sim.r_max:.4g}, "
-                 f"$t_{{dec}}$ = {'-' if sim.t_dec is None else f'{sim.t_dec:.2f}'}", fontsize=9)
-    for i in model.angle_indices:
-        a2.plot(sim.t, sim.y[i], lw=0.8, label=f"${model.state_names[i]}$".replace("phi", r"\phi"))
-    a2.set_xlabel("$t$")
-    a2.set_ylabel("ball angle")
-    a2.legend(loc="best", fontsize=8)
-    fig.savefig(out / "trajectory.png", dpi=120)
-    plt.close(fig)
-

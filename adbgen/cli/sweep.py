@@ -11,8 +11,11 @@ from __future__ import annotations
 
 import argparse
 
-from .command_registry import _emit_json, _finite_positive, command
-from .loading import AnalysisError
+from ..analysis.loading import AnalysisError
+from .arguments import Commands, _emit_json, _finite_positive
+
+command = Commands()
+register = command.register
 
 
 def _positive_int(text: str) -> int:
@@ -27,10 +30,10 @@ def _positive_int(text: str) -> int:
 
 @command("sweep", "sweep parameters or initial states on Dask: basins, r_max/t_dec maps, stability maps")
 def _add_sweep(p) -> None:
-    from .engines import DEFAULT, ENGINES
-    from .sweep import MEASURES
+    from ..analysis.engines import DEFAULT, ENGINES
+    from ..analysis.sweep import MEASURES
 
-    p.add_argument("model", help="a generated model's name (e.g. thesis_rotating_n2) or a model folder")
+    p.add_argument("model", help="a generated model's name (one of generated/) or a model folder")
     p.add_argument("--grid", action="append", default=[], metavar="NAME=FROM:TO:COUNT",
                    help="a grid axis over a parameter or an initial state (repeatable; FROM and TO included, "
                         "numbers or expressions in pi)")
@@ -72,7 +75,7 @@ def _add_sweep(p) -> None:
 def run_sweep_command(args: argparse.Namespace) -> int:
     import os
 
-    from .sweep import SweepSpec, run_sweep
+    from ..analysis.sweep import SweepSpec, run_sweep
 
     model = args.model
     if os.sep in model or os.path.isdir(model):

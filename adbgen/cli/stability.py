@@ -4,40 +4,26 @@
                      [--scan NAME=FROM:TO] [--json]
     adbgen continue MODEL --par NAME [--par2 NAME2] [--set NAME=VALUE]... [--to VALUE] [--range2 LO:HI] [--json]
 
-Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).
+Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).  The states they
+start from are `adbgen.analysis.starts`'.
 """
 
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 
-from .command_registry import _emit_json, _load, _model_arguments, command
-from .loading import AnalysisError, parse_assignments, parse_value
+from ..analysis.loading import AnalysisError, parse_assignments, parse_value
+from .arguments import Commands, _emit_json, _load, _model_arguments
+
+command = Commands()
+register = command.register
 
 
 def _fmt(z: complex) -> str:
     return f"{z.real: .9f} {'+' if z.imag >= 0 else '-'} {abs(z.imag):.9f}i"
-
-
-def _start(model, args, p):
-    """(state vector, label): --y0 (states not given 0), --state LABEL, or the model's START."""
-    from . import closed_forms
-
-    if args.y0 and args.state:
-        raise AnalysisError("give --y0 or --state, not both")
-    if args.y0:
-        return model.state(parse_assignments(args.y0, "--y0")), "y0"
-    label = args.state or "start"
-    if label == "start":
-        start = getattr(model.module, "START", None)
-        if start is None:
-            raise AnalysisError(f"{model.name} has no START state; give --y0 or --state")
-        return np.array(start, float), "start"
-    return closed_forms.state(model, label, p), label
 
 
 def _scan_range(text: str, model) -> tuple[str, float, float]:
@@ -76,7 +62,9 @@ def _add_stability(p) -> None:
 
 
 def run_stability(args) -> int:
-    from . import continuation, steady
+    from ..analysis import continuation, steady
+    from ..analysis.continuation import write_scan
+    from ..analysis.starts import start_state
 
     model = _load(args)
     steady._require_autonomous(model)
@@ -89,7 +77,9 @@ def run_stability(args) -> int:
     p = model.params(values)
     if scan:
         p[model.param_names.index(scan[0])] = scan[1]
-    y0, label = _start(model, args, p)
+    if args.y0 and args.state:
+        raise AnalysisError("give --y0 or --state, not both")
+    y0, label = start_state(model, p, parse_assignments(args.y0, "--y0"), args.state)
     if scan is None:
         st = steady.refine(model, p, y0, label=label)
         if args.json:
@@ -127,47 +117,6 @@ def _print_steady(st) -> None:
             print("  " + _fmt(z))
 
 
-def write_scan(result, out: Path) -> None:
-    """scan.csv (one row per continuation step) and scan.png: the leading real part of the transverse
-    spectrum and the rotor amplitude along the parameter, stable stretches solid, Hopf points and folds
-    marked (the thesis' one-parameter diagrams, Fig. 4.2, 4.6, 4.11)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    out.mkdir(parents=True, exist_ok=True)
-    m = result.model
-    ix, iy = m.amplitude_indices[:2]
-    lam = np.array([b.lam for b in result.branch])
-    lead = np.array([float(np.max(b.spectrum.real)) for b in result.branch])
-    amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
-    amp[amp < 1e-14] = 0.0  # the balanced state: rounding only
-    unstable = np.array([b.n_unstable for b in result.branch])
-    # written under temporary names and renamed: an interrupted run leaves the folder as it was
-    with open(out / ".scan.csv.tmp", "w") as fh:
-        fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
-                 f"to {result.stop!r}\n")
-        fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
-        np.savetxt(fh, np.column_stack([lam, lead, unstable, amp]), delimiter=",", fmt="%.17g")
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True, constrained_layout=True)
-    for ax, values, label in ((a1, lead, "max Re $\\lambda$ (transverse)"), (a2, amp, "$r = \\sqrt{x^2 + y^2}$")):
-        stable = np.where(unstable == 0, values, np.nan)
-        ax.plot(lam, values, "--", color="C0", lw=0.8)
-        ax.plot(lam, stable, "-", color="C0", lw=1.6)
-        ax.set_ylabel(label)
-        for b in result.points:
-            ax.axvline(b.value, color="C3" if b.kind == "hopf" else "C2", lw=0.6, ls=":")
-    a1.axhline(0.0, color="0.5", lw=0.5)
-    a2.set_xlabel(result.name)
-    marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points)
-    a1.set_title(f"{m.name}: solid stable, dashed unstable; {marks}", fontsize=8)
-    fig.savefig(out / ".scan.png.tmp", dpi=120, format="png")
-    plt.close(fig)
-    os.replace(out / ".scan.csv.tmp", out / "scan.csv")
-    os.replace(out / ".scan.png.tmp", out / "scan.png")
-
-
 def _print_scan(result) -> None:
     print(f"model {result.model.name}: {result.name} from {result.start:g} to {result.stop:g}, "
           f"{len(result.branch)} steps ({result.end_reason})")
@@ -200,47 +149,9 @@ def _add_continue(p) -> None:
     p.set_defaults(fn=run_continue)
 
 
-def _pinned(model, y0, p, guess=None):
-    """The steady state near `guess` (default y0) at p; on the n >= 3 balanced family with the free
-    angles kept at y0's (the member AUTO's regularised func follows)."""
-    from . import steady
-
-    free = list(model.angle_indices)[2:] if steady.on_balanced_family(model, y0) else []
-    extra = None
-    if free:
-        rows = np.zeros((len(free), model.n_states))
-        rows[range(len(free)), free] = 1.0
-        extra = (lambda y: y[free] - y0[free], lambda y: rows)
-    y, _ = steady.newton(model, p, y0 if guess is None else guess, extra=extra)
-    return y
-
-
-def _pinned_start(model, p):
-    """START, re-solved at p (see `_pinned`)."""
-    y0 = np.array(model.module.START, float)
-    return y0 if np.array_equal(p, model.module.START_PARAMETERS) else _pinned(model, y0, p)
-
-
-def _follower(model, y0):
-    """p -> the followed steady state at p: the balanced state (3.6) from its closed form where y0 is
-    one (x = y = 0), else Newton from y0."""
-    from . import closed_forms, steady
-
-    core = [model.index(c) for c in model.module.CORE]
-    balanced = closed_forms.is_thesis_model(model) and np.max(np.abs(y0[core])) < 1e-12
-
-    def at(p):
-        guess = None
-        if balanced:
-            guess = closed_forms.state(model, "1", p)
-            if steady.on_balanced_family(model, y0):
-                guess[list(model.angle_indices)[2:]] = y0[list(model.angle_indices)[2:]]
-        return _pinned(model, y0, p, guess)
-    return at
-
-
 def run_continue(args) -> int:
-    from . import auto, steady
+    from ..analysis import auto, steady
+    from ..analysis.starts import follower, pinned_start
 
     model = _load(args)
     steady._require_autonomous(model)
@@ -264,11 +175,11 @@ def run_continue(args) -> int:
         if not range2[0] < range2[1]:
             raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
     if args.state in (None, "start"):
-        y = _pinned_start(model, p)
+        y = pinned_start(model, p)
     else:
-        from . import closed_forms
+        from ..analysis.starts import labelled_state
 
-        y = closed_forms.state(model, args.state, p)
+        y = labelled_state(model, args.state, p)
         y, _ = steady.newton(model, p, y)
         start = np.asarray(model.module.START, float)
         free = list(model.angle_indices)[2:] if steady.on_balanced_family(model, start) else []
@@ -286,7 +197,7 @@ def run_continue(args) -> int:
     else:
         curves = auto.continue_two(model, args.par, args.par2, p, y, to, range2)
         curves.double_hopf = auto.double_hopf_points(model, curves.curves, p, args.par, args.par2,
-                                                     _follower(model, y))
+                                                     follower(model, y))
         out = {"model": model.name, "parameter": args.par, "parameter2": args.par2,
                "points": curves.one.to_json(), **curves.to_json()}
     if args.json:
