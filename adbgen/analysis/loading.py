@@ -1,6 +1,6 @@
 """A generated model, found by name, folder or scene file, with its parameters and states by name.
 
-    load_model("thesis_rotating_n3")        generated.thesis_rotating_n3 (the committed default set)
+    load_model("NAME")                      generated.NAME (the committed default set: `available_models()`)
     load_model("out/models")                a folder written by `adbgen regenerate --out` (one model)
     load_model("out/models/my_rotor")       ... or the model's own folder inside it
     load_model(scene="rotor.toml")          the scene's smallest exact model, generated once into a

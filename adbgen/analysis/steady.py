@@ -99,7 +99,7 @@ def _step(J: np.ndarray, f: np.ndarray, refinements: int = 3) -> np.ndarray:
 
     LAPACK's result depends in its last bits on the BLAS kernel it runs (OpenBLAS picks one per CPU
     type), and where Newton starts far from a steady state (the sweep's START at small mu) the state
-    it reaches is chaotic in those bits: thesis_rotating_n4 at Omega = 0.4, mu = 0.007 reached
+    it reaches is chaotic in those bits: the thesis model with n = 4 at Omega = 0.4, mu = 0.007 reached
     coincident 2+, in-line 3(4-3)- or the balanced state by kernel.  Iterative refinement with the
     residual f + J s computed exactly and rounded once (Dekker products, math.fsum) converges on every
     kernel to the double nearest the exact step, barring ties within ~cond(J) eps of a rounding

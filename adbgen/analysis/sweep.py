@@ -1,6 +1,6 @@
 """Sweeps over parameters and initial states: many trajectories (or steady states) on a grid, on Dask.
 
-    spec = SweepSpec(model="thesis_rotating_n2", grid=["phi_1=0:2*pi:32", "phi_2=0:2*pi:32"],
+    spec = SweepSpec(model="NAME", grid=["phi_1=0:2*pi:32", "phi_2=0:2*pi:32"],
                      measure="attractor", t_end=2000)
     run_sweep(spec, "out/basins")        -> {"points", "computed", "reused", "wall_s", "store"}
 
