@@ -29,7 +29,7 @@ from ..errors import AdbgenError
 
 # Command groups besides the families', in the order of `adbgen --help`; one line per group.
 COMMAND_GROUPS: list[str] = [
-    "adbgen.codegen.commands:register",  # regenerate
+    "adbgen.cli.regenerate:register",  # regenerate
     "adbgen.cli.bench:register",  # bench
     "adbgen.cli.simulate:register",  # simulate (the analysis layer over generated code)
     "adbgen.cli.stability:register",  # stability, continue

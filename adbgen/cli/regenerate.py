@@ -18,8 +18,8 @@ from pathlib import Path
 from .. import families
 from ..cli_types import UsageError, model_name, positive_int
 from ..errors import AdbgenError, SceneError
-from . import targets
-from .lowering import DEFAULT_FORM, FORMS
+from ..codegen import targets
+from ..codegen.lowering import DEFAULT_FORM, FORMS
 
 
 def _family_for_scene(path: str, chosen: tuple[str, ...] | None):
@@ -76,8 +76,8 @@ def specs_for(args) -> list:
 
 
 def cmd_regenerate(args) -> int:
-    from .names import validate_name
-    from .regenerate import DEFAULT_OUT, IN_SOURCE_CHECKOUT, diff, render_all, stale, write
+    from ..codegen.names import validate_name
+    from ..codegen.regenerate import DEFAULT_OUT, IN_SOURCE_CHECKOUT, diff, render_all, stale, write
 
     custom = args.scene is not None or args.n is not None or bool(args.family)
     if custom and args.out is None:
