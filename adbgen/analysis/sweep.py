@@ -127,8 +127,9 @@ class Swap:
 
 
 def _ball_states(model: Model, angle: str) -> list[int]:
-    names = [angle, angle + "_dot"]
-    return [model.index(n) for n in names if n in model.state_names]
+    """A ball's angle and its rate."""
+    k = model.index(angle)
+    return [k, model.rate_index(k)]
 
 
 def find_swap(model: Model, grid: Grid) -> Swap | None:
@@ -137,7 +138,7 @@ def find_swap(model: Model, grid: Grid) -> Swap | None:
     Two angle axes over the same values swap their balls; balls `--tie`d to them with equal offsets swap
     with them (phi_3 = phi_1 + pi and phi_4 = phi_2 + pi: the exchange (1 2)(3 4)).  Every swapped ball's
     other states must be fixed and equal to its partner's."""
-    leaves = set(model.leaves)
+    leaves = {model.state_names[k] for k in model.role_indices("ball_angle")}
     axes = grid.axes
     grid_states = {x.name for x in axes if x.kind == "state"} | {t.state for t in grid.ties}
     for a in range(len(axes)):
@@ -174,7 +175,8 @@ def find_swap(model: Model, grid: Grid) -> Swap | None:
 
 
 def _equivariant(model: Model, grid: Grid, perm: list[int]) -> bool:
-    """rhs(s y) = s rhs(y) at random states, at the base parameters and each parameter axis' ends."""
+    """s exchanges identical balls (`attractors.equivariant`) at the base parameters and at each parameter
+    axis' ends."""
     from .attractors import equivariant
 
     params = [grid.base_params]

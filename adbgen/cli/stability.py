@@ -50,8 +50,9 @@ def _add_stability(p) -> None:
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
                    help="the initial guess by state name (repeatable); states not given are 0")
     p.add_argument("--state", metavar="LABEL",
-                   help="start from `start` (the model's START, default) or a closed-form state of the thesis "
-                        "models: 1 (balanced (3.6)), 2+, 2- (3.9), 3(k)+, 3(k)- (3.10, k balls opposite)")
+                   help="start from `start` (the model's START, default) or one of the model's closed-form steady "
+                        "states by label (its STEADY_STATES; the thesis models': 1 (balanced (3.6)), 2+, 2- (3.9), "
+                        "3(k)+, 3(k)- (3.10, k balls opposite))")
     p.add_argument("--scan", metavar="NAME=FROM:TO",
                    help="follow the state from NAME = FROM to TO (pseudo-arclength), locate Hopf points and folds")
     p.add_argument("--ds-max", type=float, default=0.01, help="largest continuation step (default 0.01)")
@@ -141,9 +142,9 @@ def _add_continue(p) -> None:
                                                  "(default: half the start value)")
     p.add_argument("--range2", metavar="LO:HI", help="bounds of --par2 (default 0 to ten times its value)")
     p.add_argument("--state", metavar="LABEL",
-                   help="start from `start` (START, default) or, for the thesis models, a closed-form state at the "
-                        "--set parameters: 1, 2+, 2-, 3(k)+, 3(k)- (n >= 3: only the balanced family's member of the "
-                        "AUTO files, whose func pins phi_3.. at START's values)")
+                   help="start from `start` (START, default) or one of the model's closed-form steady states at the "
+                        "--set parameters, by label (its STEADY_STATES; n >= 3 balls: only the balanced family's "
+                        "member of the AUTO files, whose func pins phi_3.. at START's values)")
     p.add_argument("--keep", metavar="DIR", help="run AUTO in DIR and keep its files (fort.7, fort.8, ...)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.set_defaults(fn=run_continue)
@@ -182,7 +183,7 @@ def run_continue(args) -> int:
         y = labelled_state(model, args.state, p)
         y, _ = steady.newton(model, p, y)
         start = np.asarray(model.module.START, float)
-        free = list(model.angle_indices)[2:] if steady.on_balanced_family(model, start) else []
+        free = list(model.role_indices("ball_angle"))[2:] if steady.on_balanced_family(model, start) else []
         if free and np.max(np.abs(np.angle(np.exp(1j * (y[free] - start[free]))))) > 1e-9:
             raise AnalysisError(f"state {args.state}: {model.name}'s AUTO files pin the free angles "
                                 f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
