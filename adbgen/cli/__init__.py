@@ -50,12 +50,14 @@ def _load(entry: str) -> Callable:
 
 
 def _family_commands() -> list[Callable]:
-    """Each family's commands, then its science's (`Family.science_commands`, loaded by name)."""
-    out = []
+    """Each family's commands, then its science's (`Family.science_commands`, loaded by name; once, when
+    families share them, as a family derived from another does)."""
+    out, seen = [], set()
     for family in families.all_families():
         out.append(family.register_commands)
         science = getattr(family, "science_commands", lambda: "")()
-        if science:
+        if science and science not in seen:
+            seen.add(science)
             out.append(_load(science))
     return out
 

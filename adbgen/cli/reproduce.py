@@ -12,13 +12,14 @@ from ..analysis.reproduction import Reproduction, build
 
 
 def references() -> dict[str, str]:
-    """Every section key -> "module:attribute" of its Reproduction, family by family (nothing imported)."""
+    """Every section key -> "module:attribute" of its Reproduction, family by family (nothing imported); a
+    section two families share (one derived from the other) counts once."""
     out: dict[str, str] = {}
     for family in families.all_families():
         hook = getattr(family, "reproductions", None)
         for key, ref in (hook() if hook else {}).items():
-            if key in out:
-                raise ValueError(f"reproduction section {key!r} offered twice (family {family.name!r})")
+            if out.get(key, ref) != ref:
+                raise ValueError(f"two reproduction sections named {key!r} (family {family.name!r})")
             out[key] = ref
     return out
 

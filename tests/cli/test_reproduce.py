@@ -7,7 +7,7 @@ import pytest
 
 from adbgen import families
 from adbgen.analysis.reproduction import Reproduction
-from adbgen.cli import main
+from adbgen.cli import build_parser, main
 from adbgen.cli import reproduce as cli_reproduce
 
 
@@ -70,3 +70,40 @@ def test_a_registered_familys_section_is_computed_and_written(toy_family, tmp_pa
     # the sections not chosen are named, each once
     assert text.count("Not computed in this run") == 2 and "## Two-plane paper" in text
     assert (tmp_path / "reproduction").is_dir()
+
+
+def test_a_family_derived_from_another_shares_its_sections_and_commands():
+    """A family object derived from the single-plane one (as tests and plug-ins make them) inherits its
+    science: its reproduction and `adbgen demo` count once; a different section under a taken key is
+    refused (negative control)."""
+    import dataclasses
+
+    @dataclasses.dataclass(frozen=True)
+    class Derived(type(families.get("single-plane"))):
+        name: str = "derived-single-plane"
+
+        def register_commands(self, subparsers):
+            pass
+
+    families.register(Derived())
+    try:
+        assert list(cli_reproduce.references()) == ["thesis", "two-plane"]
+        parser = build_parser()  # argparse refuses a subcommand added twice
+        commands = next(a for a in parser._actions if a.dest == "command").choices
+        assert list(commands).count("demo") == 1
+    finally:
+        families.unregister("derived-single-plane")
+
+    @dataclasses.dataclass(frozen=True)
+    class Clashing(type(families.get("single-plane"))):
+        name: str = "clashing"
+
+        def reproductions(self):
+            return {"thesis": "somewhere.else:SECTION"}
+
+    families.register(Clashing())
+    try:
+        with pytest.raises(ValueError, match="two reproduction sections named 'thesis'"):
+            cli_reproduce.references()
+    finally:
+        families.unregister("clashing")
