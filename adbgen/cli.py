@@ -9,6 +9,7 @@
     adbgen bench failures|smallest [--out FILE] [--quick]
     adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/analysis/commands.py)
     adbgen notebooks [--check | --run] [--only NN ...]                 the derivation notebooks of derive/
+    adbgen docs [--out DIR]                                            the documentation site (Sphinx, -W)
 
 Every family in `families.REGISTRY` adds its own subcommands (`Family.register_commands`); other
 command groups are listed once in `COMMAND_GROUPS` as "module:function", each function taking the
@@ -33,6 +34,7 @@ COMMAND_GROUPS: list[str] = [
     "adbgen.bench.commands:register",  # bench
     "adbgen.analysis.commands:register",  # simulate (the analysis layer over generated code)
     "adbgen.notebooks:register",  # notebooks (execute and render derive/)
+    "adbgen.docsite:register",  # docs (build the documentation site)
 ]
 
 
