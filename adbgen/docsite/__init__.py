@@ -81,15 +81,16 @@ def build(out: Path, jobs: int = 1) -> int:
     out = out.resolve()
     _check_out(out, docs)
     out.parent.mkdir(parents=True, exist_ok=True)
+    # Sphinx writes into staging/html; its doctrees and myst-nb's extracted outputs (which it puts
+    # beside the output folder, in jupyter_execute/) stay in staging/ and go with it.
     staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.new.", dir=out.parent))
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(
         [str(root())] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])}
     try:
-        with tempfile.TemporaryDirectory(prefix="adbgen-doctrees.") as doctrees:
-            code = subprocess.call(sphinx_command(docs, staging, Path(doctrees), jobs), env=env)
+        code = subprocess.call(sphinx_command(docs, staging / "html", staging / "doctrees", jobs), env=env)
         if code != 0:
             return code
-        _replace(out, staging)
+        _replace(out, staging / "html")
     finally:
         shutil.rmtree(staging, ignore_errors=True)
     return 0
