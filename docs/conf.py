@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import shutil
 import sys
+import types
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parent
@@ -61,6 +62,11 @@ autosummary_imported_members = False
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
 shutil.rmtree(DOCS / "reference" / "api", ignore_errors=True)
+# autosummary imports every module it finds, and a package's __main__.py runs its program when imported
+# (here with Sphinx's own command line): such modules stand in sys.modules as mocks, which it skips.
+for _main in sorted(ROOT.glob("adbgen/**/__main__.py")):
+    _name = ".".join(_main.relative_to(ROOT).with_suffix("").parts)
+    sys.modules.setdefault(_name, types.SimpleNamespace(__sphinx_mock__=True, __name__=_name))
 
 html_theme = "sphinx_book_theme"
 html_theme_options = {"show_toc_level": 2, "navigation_with_keys": False}
