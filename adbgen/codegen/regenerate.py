@@ -86,7 +86,9 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
         index.append((ir.name, ir.title, ir.reference))
         progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, {ir.form}, rhs {ir.count_ops('rhs')} ops, "
                  f"jac {ir.count_ops('jac')} ops, lowering error {errors['rhs']:.1e} (jac {errors['jac']:.1e}), "
-                 + (f"self-description checked ({len(ir.description.labels)} steady states), " if described else "")
+                 + (f"self-description checked ({len(ir.description.labels)} steady states"
+                    + (f"; {', '.join(described['unexercised'])} given at no sampled parameters" if described
+                       and described["unexercised"] else "") + "), " if described else "")
                  + f"{len(model_files)} files "
                  f"({time.perf_counter() - start:.1f} s)"
                  + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))
