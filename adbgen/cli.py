@@ -13,7 +13,15 @@
 
 Every family in `families.REGISTRY` adds its own subcommands (`Family.register_commands`); other
 command groups are listed once in `COMMAND_GROUPS` as "module:function", each function taking the
-subparsers (and, if it asks for a second argument, the parser class, for nested subcommands).  Bad input gives one line on stderr, `adbgen: error: ...`, and exit status 2.
+subparsers (and, if it asks for a second argument, the parser class, for nested subcommands).
+
+Exit status (`EXIT_STATUS`, printed by `adbgen --help`): 0 done; 1 a failure the command reports
+(an integration that failed, a stale file under --check, a failed check); 2 bad input, one line on
+stderr `adbgen: error: ...`, before any work where the input can be checked first; 3 a scan or
+continuation that ended before its range (it says why and where; --json: "complete": false); 130
+interrupted (Ctrl-C), one line.  Whatever goes wrong, stderr gets one line, never a traceback: an
+error of adbgen itself is reported as `adbgen: error: internal error: ...` (exit 70) with the
+traceback only when ADBGEN_TRACEBACK=1.
 """
 
 from __future__ import annotations
@@ -38,6 +46,13 @@ COMMAND_GROUPS: list[str] = [
 ]
 
 
+EXIT_STATUS = {0: "done", 1: "failed (an integration, a check, stale files under --check)",
+               2: "bad input (one line: adbgen: error: ...)",
+               3: "a scan or continuation ended before its range (says why and where; --json: complete false)",
+               70: "internal error of adbgen (ADBGEN_TRACEBACK=1 shows the traceback)", 130: "interrupted (Ctrl-C)"}
+EPILOG = "exit status: " + "; ".join(f"{k} {v}" for k, v in EXIT_STATUS.items())
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # one line, not usage + line
         raise UsageError(message)
@@ -56,7 +71,7 @@ def command_groups() -> list[Callable]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="adbgen", description="Equations of motion of automatic dynamic balancers.")
+    p = _Parser(prog="adbgen", description="Equations of motion of automatic dynamic balancers.", epilog=EPILOG)
     p.add_argument("--version", action="version", version=f"adbgen {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for register in command_groups():
@@ -65,18 +80,37 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         return args.fn(args)
     except AdbgenError as exc:
-        print(f"adbgen: error: {exc}", file=sys.stderr)
+        print(f"adbgen: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("adbgen: error: interrupted", file=sys.stderr)
+        return 130
     except BrokenPipeError:  # output piped into e.g. `head`, which closed early: not an error
         import os
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except OSError as exc:  # a file that could not be read or written after the checks passed
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"adbgen: error: {where}{_one_line(exc.strerror or exc)}", file=sys.stderr)
+        return 1
+    except Exception as exc:  # a bug of adbgen's: one line, the traceback on request
+        import os
+
+        if os.environ.get("ADBGEN_TRACEBACK"):
+            raise
+        print(f"adbgen: error: internal error: {type(exc).__name__}: {_one_line(exc)} "
+              "(ADBGEN_TRACEBACK=1 shows where)", file=sys.stderr)
+        return 70
 
 
 if __name__ == "__main__":

@@ -1,14 +1,18 @@
 """Command-line commands of the analysis layer, registered into `adbgen`'s parser by `register`.
 
     adbgen simulate MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-end T]
-                    [--rtol R] [--atol A] [--engine E] [--threshold H] [--out DIR] [--json]
+                    [--rtol R] [--atol A] [--engine E] [--threshold H] [--angles wrapped|unwrapped]
+                    [--out DIR] [--json] [--quiet]
 
     adbgen stability ..., adbgen continue ...   (stability_commands.py)
     adbgen sweep ...                             (sweep_commands.py)
     adbgen reproduce ...                         (reproduce.py)
 
 Each command prints one JSON object on stdout with --json.  Bad input: one line on stderr, exit 2;
-a failed integration: one line naming where it failed, exit 1.
+a failed integration: one line naming where it failed, exit 1.  Values take units where a user would
+type them (`--set omega=3000rpm`, `--t-end 20s`, `--t-end 640rev`, `--y0 X=1mm`; see `units`), and the
+defaults scale with the model (t_end in revolutions of the spin, t_dec's threshold a tenth of the
+eccentricity: what its generated module declares, `units.default_t_end`, `default_threshold`).
 """
 
 from __future__ import annotations
@@ -17,8 +21,11 @@ import json
 import sys
 from pathlib import Path
 
-from .command_registry import COMMANDS, _emit_json, _finite_positive, _json_number, _load, _model_arguments, command
-from .loading import parse_assignments
+from ..progress import activity, wanted
+from .command_registry import (COMMANDS, _emit_json, _finite_positive, _json_number, _load, _model_arguments,
+                               _positive_int, _quantity_text, command)
+from .loading import AnalysisError
+from .units import show
 
 
 def register(sub, parser_class) -> None:
@@ -39,38 +46,64 @@ def _add_simulate(p) -> None:
 
     _model_arguments(p)
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
-                   help="an initial state by name (repeatable); states not given are 0")
-    p.add_argument("--t-end", type=_finite_positive, default=1000.0, help="end time (default 1000)")
+                   help="an initial state by name (repeatable; with a unit if you like: X=1mm, phi_1=90deg); "
+                        "states not given are 0")
+    p.add_argument("--t-end", type=_quantity_text("--t-end"), metavar="T",
+                   help="end time: a number in the model's time unit, a time (20s, 2min) or revolutions of the "
+                        "spin (640rev); default 2000/pi = 636.6 revolutions (the thesis' t = 1000 at Omega = 4; "
+                        "10 s at 400 rad/s)")
     p.add_argument("--rtol", type=_finite_positive, default=1e-8, help="relative tolerance (default 1e-8)")
     p.add_argument("--atol", type=_finite_positive, default=1e-10, help="absolute tolerance (default 1e-10)")
     p.add_argument("--engine", default=DEFAULT, choices=sorted(ENGINES), metavar="E",
                    help=f"integration engine (default {DEFAULT}); one of: {', '.join(ENGINES)}")
-    p.add_argument("--threshold", type=_finite_positive, default=1e-3,
-                   help="t_dec = last time r >= threshold (default 1e-3, the thesis')")
-    p.add_argument("--max-steps", type=int, default=10_000_000, help="step limit (default 10^7)")
+    p.add_argument("--threshold", type=_quantity_text("--threshold"), metavar="H",
+                   help="t_dec = last time r >= H: a number in the model's length unit or a length (0.05mm); "
+                        "default a tenth of the eccentricity (the thesis' 1e-3 at delta = 0.01)")
+    p.add_argument("--max-steps", type=_positive_int, default=10_000_000, help="step limit (default 10^7)")
+    p.add_argument("--angles", choices=("wrapped", "unwrapped"), default="wrapped",
+                   help="the plot's ball angles: wrapped into (-pi, pi] (default) or unwrapped")
     p.add_argument("--out", help="folder for the trajectory (trajectory.npz, trajectory.csv) and a plot")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.set_defaults(fn=run_simulate)
 
 
 def run_simulate(args) -> int:
+    from ..outputs import output_folder
     from .results import IntegrationError
     from .simulate import simulate
+    from .units import assignments, default_t_end, default_threshold, duration, params, quantity, units
 
-    model = _load(args)
-    params = parse_assignments(args.set, "--set")
-    y0 = parse_assignments(args.y0, "--y0")
-    p = model.params(params)
-    y = model.state(y0)
-    sim = simulate(model, p, y, t_end=args.t_end, rtol=args.rtol, atol=args.atol, engine=args.engine,
-                   threshold=args.threshold, keep_trajectory=args.out is not None, max_steps=args.max_steps,
-                   check=False)
-    if args.out is not None and sim.ok:
-        write_trajectory(model, sim, Path(args.out))
-    if args.json:
-        _emit_json({**sim.to_json(), "out": args.out})
+    if args.out is not None:
+        output_folder(args.out, "--out")
+    show_progress = wanted(args.quiet, args.json)
+    model = _load(args, show_progress)
+    u = units(model)
+    values = assignments(args.set, "--set", u.params)
+    p = params(model, values)
+    y = model.state(assignments(args.y0, "--y0", u.states))
+    t_end, t_end_why = (duration(args.t_end, model, p), "given") if args.t_end else default_t_end(model, p)
+    if not t_end > 0:
+        raise AnalysisError(f"--t-end must be > 0, got {args.t_end}")
+    if args.threshold:
+        threshold, threshold_why = quantity(args.threshold, u.length, "--threshold"), ""
+        if not threshold > 0:
+            raise AnalysisError(f"--threshold must be > 0, got {args.threshold}")
     else:
-        _print_simulation(model, sim, args.out)
+        threshold, threshold_why = default_threshold(model, p)
+    with activity(f"{model.name}: integrating to t = {show(t_end, u.time)}", show_progress):
+        sim = simulate(model, p, y, t_end=t_end, rtol=args.rtol, atol=args.atol, engine=args.engine,
+                       threshold=threshold, keep_trajectory=args.out is not None, max_steps=args.max_steps,
+                       check=False)
+    defaults = {"t_end": t_end_why if not args.t_end else None, "threshold": threshold_why or None}
+    if args.out is not None and sim.ok:
+        write_trajectory(model, sim, Path(args.out), values=values, scene=args.scene,
+                         wrap_angles=args.angles == "wrapped", threshold_why=threshold_why)
+    if args.json:
+        _emit_json({**sim.to_json(), "out": args.out, "units": simulation_units(model, sim),
+                    "defaults": {k: v for k, v in defaults.items() if v}})
+    else:
+        _print_simulation(model, sim, args.out, defaults)
     if not sim.ok:
         err = IntegrationError(sim.status, sim.t_fail if sim.t_fail is not None else float("nan"), sim.engine,
                                sim.message)
@@ -79,59 +112,78 @@ def run_simulate(args) -> int:
     return 0
 
 
-def _print_simulation(model, sim, out) -> None:
-    t_dec = "not settled by t_end" if sim.t_dec is None else f"{sim.t_dec:.6g}"
-    rows = [("model", model.name), ("engine", sim.engine), ("rtol, atol", f"{sim.rtol:g}, {sim.atol:g}"),
-            ("t_end", f"{sim.t_end:g}"), ("status", sim.status), ("r_max", f"{sim.r_max:.7g}"),
-            (f"t_dec (r < {sim.threshold:g})", t_dec), ("rhs evaluations", str(sim.n_rhs)),
-            ("steps", str(sim.n_steps)), ("wall (integration)", f"{sim.wall_s * 1e3:.3f} ms")]
+def simulation_units(model, sim) -> dict:
+    """The unit of each number of `Simulation.to_json` ("1": dimensionless)."""
+    from .units import units
+
+    u = units(model)
+    return {"t_end": u.time, "threshold": u.length, "r_max": u.length, "t_dec": u.time, "t_fail": u.time,
+            "wall_s": "s", "y_end": dict(u.states), "parameters": dict(u.params)}
+
+
+def _print_simulation(model, sim, out, defaults) -> None:
+    from .units import show, units
+
+    u = units(model)
+    t_dec = "not settled by t_end" if sim.t_dec is None else show(sim.t_dec, u.time, 6)
+    note = {k: f" ({v})" for k, v in defaults.items() if v}
+    rows = [("model", model.name + (f" ({model.module.TITLE})" if getattr(model.module, "TITLE", "") else "")),
+            ("engine", sim.engine), ("rtol, atol", f"{sim.rtol:g}, {sim.atol:g}"),
+            ("t_end", show(sim.t_end, u.time, 6) + note.get("t_end", "")), ("status", sim.status),
+            ("r_max", show(sim.r_max, u.length, 7)),
+            (f"t_dec (r < {show(sim.threshold, u.length, 4)})", t_dec),
+            ("threshold", show(sim.threshold, u.length, 4) + note.get("threshold", "")),
+            ("rhs evaluations", str(sim.n_rhs)), ("steps", str(sim.n_steps)),
+            ("wall (integration)", f"{sim.wall_s * 1e3:.3f} ms")]
     width = max(len(k) for k, _ in rows)
     for k, v in rows:
         print(f"{k:<{width}}  {v}")
     print("final state:")
     for name, v in zip(sim.state_names, sim.y_end):
-        print(f"  {name:<{width - 2}}  {v: .10g}")
+        unit = u.states.get(name, "1")
+        print(f"  {name:<{width - 2}}  {v: .10g}" + ("" if unit == "1" else f" {unit}"))
     if out is not None and sim.ok:
         print(f"wrote {out}/trajectory.npz, trajectory.csv, trajectory.png")
 
 
-def write_trajectory(model, sim, out: Path) -> None:
-    """trajectory.npz (t, y, names, metadata), trajectory.csv (metadata header) and a plot of r and the angles."""
+def write_trajectory(model, sim, out: Path, values: dict | None = None, scene: str | None = None,
+                     wrap_angles: bool = True, threshold_why: str = "") -> None:
+    """trajectory.npz (t, y, names, metadata), trajectory.csv (metadata header) and trajectory.png (r
+    and the ball angles), each written whole (a temporary file renamed)."""
+    import io
+
     import numpy as np
 
+    from ..outputs import save_figure, writing
+    from .figure_style import amplitude_panel, angle_panel, pyplot, title
     from .simulate import amplitude
+    from .units import axis_label, show, units
 
+    u = units(model)
     out.mkdir(parents=True, exist_ok=True)
     meta = {k: v for k, v in sim.to_json().items() if k != "y_end"}
     meta["source_hash"] = model.source_hash
-    np.savez_compressed(out / "trajectory.npz", t=sim.t, y=sim.y, state_names=np.array(sim.state_names),
-                        metadata=json.dumps(meta, default=_json_number))
+    meta["units"] = simulation_units(model, sim)
+    with writing(out / "trajectory.npz", "wb") as fh:
+        np.savez_compressed(fh, t=sim.t, y=sim.y, state_names=np.array(sim.state_names),
+                            metadata=json.dumps(meta, default=_json_number))
     r = amplitude(model, sim.y)
     header = "\n".join(f"# {k}: {json.dumps(v, default=_json_number)}" for k, v in meta.items())
     table = np.column_stack([sim.t, r, sim.y.T])
-    with open(out / "trajectory.csv", "w") as fh:
+    body = io.StringIO()
+    np.savetxt(body, table, delimiter=",", fmt="%.17g")
+    with writing(out / "trajectory.csv") as fh:
         fh.write(header + "\n")
         fh.write(",".join(["t", "r", *sim.state_names]) + "\n")
-        np.savetxt(fh, table, delimiter=",", fmt="%.17g")
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True, constrained_layout=True)
-    a1.plot(sim.t, r, lw=0.7)
-    a1.axhline(sim.threshold, color="0.6", lw=0.6, ls="--")
-    if sim.t_dec is not None:
-        a1.axvline(sim.t_dec, color="C3", lw=0.6, ls=":")
-    a1.set_ylabel("$r$")
-    a1.set_yscale("log")
-    a1.set_title(f"{model.name}: $r_{{max}}$ = {sim.r_max:.4g}, "
-                 f"$t_{{dec}}$ = {'-' if sim.t_dec is None else f'{sim.t_dec:.2f}'}", fontsize=9)
-    for i in model.angle_indices:
-        a2.plot(sim.t, sim.y[i], lw=0.8, label=f"${model.state_names[i]}$".replace("phi", r"\phi"))
-    a2.set_xlabel("$t$")
-    a2.set_ylabel("ball angle")
-    a2.legend(loc="best", fontsize=8)
-    fig.savefig(out / "trajectory.png", dpi=120)
-    plt.close(fig)
-
+        fh.write(body.getvalue())
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 5.5), sharex=True, constrained_layout=True)
+    amplitude_panel(a1, sim.t, r, sim.threshold, sim.t_dec, u.length, u.time, threshold_why)
+    angles = list(model.angle_indices)
+    angle_panel(a2, sim.t, sim.y[angles], [model.state_names[i] for i in angles], wrap_angles)
+    a2.set_xlabel(axis_label("$t$", u.time))
+    name = f"{Path(scene).name} ({model.name})" if scene else model.name
+    summary = (f"$r_{{max}}$ = {show(sim.r_max, u.length, 4)}, $t_{{dec}}$ = "
+               f"{'not settled' if sim.t_dec is None else show(sim.t_dec, u.time, 4)}")
+    a1.set_title(title(name, values or {}, u.params, summary), fontsize=8)
+    save_figure(fig, out / "trajectory.png", dpi=120)

@@ -82,6 +82,17 @@ class Scan:
     extra: dict = field(default_factory=dict)
 
     @property
+    def complete(self) -> bool:
+        """Whether the branch was followed until it left the parameter range (at TO, or at FROM after
+        turning back at a fold); False when a step limit or step-size underflow stopped it inside."""
+        return self.end_reason == "left the range"
+
+    @property
+    def end_at(self) -> float:
+        """The parameter value of the last step."""
+        return float(self.branch[-1].lam)
+
+    @property
     def points(self) -> list[Bifurcation]:
         """Hopf points and folds, in the order met along the branch."""
         return [b for b in self.bifurcations if b.kind in ("hopf", "fold")]
@@ -95,7 +106,7 @@ class Scan:
                 "points": [b.to_json(self.name) for b in self.points],
                 "branch_points": [b.to_json(self.name) for b in self.branch_points],
                 "stable_intervals": [list(iv) for iv in self.stable_intervals],
-                "steps": len(self.branch), "end": self.end_reason,
+                "steps": len(self.branch), "end": self.end_reason, "complete": self.complete, "end_at": self.end_at,
                 "range": [float(min(b.lam for b in self.branch)), float(max(b.lam for b in self.branch))]}
 
 
@@ -164,9 +175,11 @@ def _sorted_real(spectrum: np.ndarray) -> np.ndarray:
 
 
 def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float,
-           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000):
+           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000, progress=None):
     """The branch through the steady state near y0 at name = start, continued towards `stop` (pseudo-
-    arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop)."""
+    arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop),
+    or `max_steps` steps ("step limit") or a step below ds_min ("step size underflow") end it early.
+    `progress(lambda)` is called after each step."""
     _require_autonomous(model)
     if name not in model.param_names:
         raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
@@ -184,7 +197,7 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
         raise AnalysisError(f"the start state is a fold in {name}: move {name} a little")
     branch = [prob.point(np.r_[first.y, start], t0)]
     branch[0].tangent = t0
-    h, reason = ds, "steps"
+    h, reason = ds, "step limit"
     for _ in range(max_steps):
         a = branch[-1]
         za = np.r_[a.y, a.lam]
@@ -200,6 +213,8 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
             continue
         b = prob.point(z, a.tangent)
         branch.append(b)
+        if progress is not None:
+            progress(b.lam)
         if not lo - 1e-12 <= b.lam <= hi + 1e-12:
             reason = "left the range"
             break

@@ -649,13 +649,22 @@ def _add_reproduce(p) -> None:
     p.add_argument("--only", nargs="+", choices=SECTIONS, default=list(SECTIONS), metavar="SECTION",
                    help="compute only these sections: thesis (ch. 4-5, about 3 min), two-plane (the 2011 paper, "
                         "about 1 min); default both")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.set_defaults(fn=run_reproduce)
 
 
 def run_reproduce(args) -> int:
+    from ..outputs import output_file, output_folder
+    from ..progress import activity, wanted
+
     only = tuple(s for s in SECTIONS if s in args.only)
-    out = Path(args.out or ("docs/reproduction.md" if only == SECTIONS else f"docs/reproduction-{'-'.join(only)}.md"))
-    figs = Path(args.figures) if args.figures else out.parent / "reproduction"
-    path = build(out, figs, only=only)
+    out = output_file(args.out or ("docs/reproduction.md" if only == SECTIONS else
+                                   f"docs/reproduction-{'-'.join(only)}.md"), "--out")
+    figs = output_folder(args.figures if args.figures else out.parent / "reproduction", "--figures")
+    with activity("reproduce: " + ", ".join(only), wanted(args.quiet)) as note:
+        def progress(line: str) -> None:
+            print(line, flush=True)
+            note(f"reproduce, after: {line.strip()[:60]}")
+        path = build(out, figs, progress=progress, only=only)
     print(f"wrote {path}")
     return 0

@@ -11,18 +11,7 @@ from __future__ import annotations
 
 import argparse
 
-from .command_registry import _emit_json, _finite_positive, command
-from .loading import AnalysisError
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise AnalysisError(f"not a whole number: {text!r}") from None
-    if value < 1:
-        raise AnalysisError(f"must be at least 1, got {value}")
-    return value
+from .command_registry import _emit_json, _finite_positive, _positive_int, _quantity_text, command
 
 
 @command("sweep", "sweep parameters or initial states on Dask: basins, r_max/t_dec maps, stability maps")
@@ -42,10 +31,14 @@ def _add_sweep(p) -> None:
     p.add_argument("--measure", required=True, choices=MEASURES,
                    help="attractor (where each trajectory ends), r_max, t_dec, or stability (spectrum of "
                         "the steady state continued from the model's START; no integration)")
-    p.add_argument("--t-end", type=_finite_positive, default=1000.0, help="end time (default 1000)")
+    p.add_argument("--t-end", type=_quantity_text("--t-end"), metavar="T",
+                   help="end time: a number in the model's time unit, a time (20s) or revolutions (640rev); default "
+                        "2000/pi revolutions at the model's speed with --set (the thesis' t = 1000 at Omega = 4)")
     p.add_argument("--rtol", type=_finite_positive, default=1e-8, help="relative tolerance (default 1e-8)")
     p.add_argument("--atol", type=_finite_positive, default=1e-10, help="absolute tolerance (default 1e-10)")
-    p.add_argument("--threshold", type=_finite_positive, default=1e-3, help="t_dec threshold (default 1e-3)")
+    p.add_argument("--threshold", type=_quantity_text("--threshold"), metavar="H",
+                   help="t_dec threshold: a number in the model's length unit or a length (0.05mm); default a "
+                        "tenth of the eccentricity with --set (the thesis' 1e-3)")
     p.add_argument("--engine", default=DEFAULT, choices=sorted(ENGINES), metavar="E",
                    help=f"integration engine (default {DEFAULT})")
     p.add_argument("--out", required=True, help="folder: the store DIR/sweep.zarr and the figures")
@@ -69,17 +62,33 @@ def _add_sweep(p) -> None:
     p.set_defaults(fn=run_sweep_command)
 
 
+def _time_and_threshold(args) -> tuple[float, float]:
+    """--t-end and --threshold in the model's units, or their defaults at the --set parameters."""
+    from .loading import load_model
+    from .units import assignments, default_t_end, default_threshold, duration, quantity, units
+
+    model = load_model(args.model)
+    u = units(model)
+    p = model.params(assignments(args.set, "--set", u.params))
+    t_end = duration(args.t_end, model, p) if args.t_end else default_t_end(model, p)[0]
+    threshold = quantity(args.threshold, u.length, "--threshold") if args.threshold else default_threshold(model, p)[0]
+    return t_end, threshold
+
+
 def run_sweep_command(args: argparse.Namespace) -> int:
     import os
 
+    from ..outputs import output_folder
     from .sweep import SweepSpec, run_sweep
 
+    output_folder(args.out, "--out")
     model = args.model
     if os.sep in model or os.path.isdir(model):
         model = os.path.abspath(model)  # workers load it by path
+    t_end, threshold = _time_and_threshold(args)
     spec = SweepSpec(model=model, grid=list(args.grid), measure=args.measure, set=list(args.set),
-                     y0=list(args.y0), tie=list(args.tie), t_end=args.t_end, rtol=args.rtol, atol=args.atol,
-                     threshold=args.threshold, engine=args.engine, early_stop=args.early_stop,
+                     y0=list(args.y0), tie=list(args.tie), t_end=t_end, rtol=args.rtol, atol=args.atol,
+                     threshold=threshold, engine=args.engine, early_stop=args.early_stop,
                      symmetry=args.symmetry, check_dt=args.check_dt, stop_region=args.stop_region,
                      chunk=args.chunk)
     summary = run_sweep(spec, args.out, scheduler=args.scheduler, workers=args.workers, progress=not args.json,

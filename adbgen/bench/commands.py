@@ -7,8 +7,12 @@ from . import registry
 
 
 def cmd_bench(args) -> int:
+    from ..outputs import output_file
+
     benchmark = registry.get(args.what)
-    return benchmark.run(args, args.out if args.out is not None else benchmark.default_out)
+    out = args.out if args.out is not None else benchmark.default_out
+    output_file(out, "--out")  # before minutes of timing, not after
+    return benchmark.run(args, out)
 
 
 def register(sub) -> None:

@@ -18,7 +18,8 @@ from pathlib import Path
 from .. import families
 from ..cli_types import UsageError, model_name, positive_int
 from ..errors import AdbgenError, SceneError
-from . import targets
+from ..outputs import output_folder
+from . import journal, targets
 from .lowering import DEFAULT_FORM, FORMS
 
 
@@ -36,12 +37,34 @@ def _family_for_scene(path: str, chosen: tuple[str, ...] | None):
     if len(accepted) == 1:
         return accepted[0]
     if not accepted:
-        if len(errors) == 1:
-            raise errors[0][1]
-        raise UsageError(f"{path}: not a scene of any family: "
-                         + "; ".join(f"{f.name}: {exc}" for f, exc in errors))
+        raise _error_of_the_scenes_family(path, errors)
     raise UsageError(f"{path}: a scene of several families ({', '.join(f.name for f, _ in accepted)}): "
                      "choose one with --family")
+
+
+def _unknown_top_level(exc) -> str | None:
+    """The key a family's scene format does not know, when that is why it refused the file."""
+    field = getattr(exc, "field", "")
+    return field if isinstance(exc, SceneError) and str(exc).endswith("unknown option") and "." not in field \
+        and not field.startswith("<") else None
+
+
+def _error_of_the_scenes_family(path: str, errors: list):
+    """One error, the one of the family the file is written for: a family that refused it for a key it does
+    not know is not the file's family when another family knows its keys and refused a value (issue 24:
+    no "...; two-plane: scene.n: unknown option" after a single-plane scene's own complaint)."""
+    if len(errors) == 1:
+        return errors[0][1]
+    own = [(f, exc) for f, exc in errors if _unknown_top_level(exc) is None]
+    if own:
+        return own[0][1]
+    keys = {_unknown_top_level(exc) for _, exc in errors}
+    if len(keys) == 1:  # every family refuses the same key: a typo, or no scene at all
+        key = keys.pop()
+        return SceneError(key, f"unknown option (not a key of a {' or a '.join(f.name for f, _ in errors)} scene)")
+    # each family stops at another unknown key: the one that got further in the sorted keys knows more of them
+    family, exc = max(errors, key=lambda fe: _unknown_top_level(fe[1]))
+    return SceneError(exc.field, f"unknown option (read as a {family.name} scene, the format that knows most of its keys)")
 
 
 def _resize(family, scene, n: int):
@@ -88,6 +111,11 @@ def cmd_regenerate(args) -> int:
     if args.name is not None and args.scene is None:
         raise UsageError("--name names the model of --scene")
     out = Path(args.out) if args.out is not None else DEFAULT_OUT
+    output_folder(out, "--out")  # before minutes of derivation, not after
+    note = journal.recover(out)
+    if note:
+        print(f"{out}: an interrupted `adbgen regenerate` was {note} (its journal)" if note != "cleaned" else
+              f"{out}: removed what an interrupted `adbgen regenerate` left beside it", file=sys.stderr)
     specs = specs_for(args)
     for spec in specs:
         validate_name(spec.name)

@@ -35,3 +35,6 @@ def register(sub) -> None:
                    help="numbers of balls for the checks that take one (single-plane)")
     v.add_argument("--model", choices=names() + ("all",), default="all", help="one family, or all")
     v.set_defaults(fn=cmd_verify)
+    from .scene_reference import register as register_scenes
+
+    register_scenes(sub)

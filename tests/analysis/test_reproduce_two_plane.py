@@ -41,7 +41,8 @@ def test_only_a_part_keeps_the_whole_document(monkeypatch, tmp_path):
     from adbgen.analysis import reproduce
 
     seen = {}
-    monkeypatch.setattr(reproduce, "build", lambda out, figs, only: seen.update(out=out, figs=figs, only=only) or out)
+    monkeypatch.setattr(reproduce, "build",
+                        lambda out, figs, only, progress=None: seen.update(out=out, figs=figs, only=only) or out)
     monkeypatch.chdir(tmp_path)
     assert main(["reproduce", "--only", "two-plane"]) == 0
     assert seen["out"].as_posix() == "docs/reproduction-two-plane.md" and seen["only"] == ("two-plane",)

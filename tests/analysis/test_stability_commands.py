@@ -91,7 +91,6 @@ def test_stability_scan_fold_has_null_frequency(capsys):
     (["thesis_rotating_n2", "--scan", "Omega=1:x"], "cannot read"),
     (["thesis_rotating_n2", "--ds-max", "0"], "--ds-max"),
     (["thesis_rotating_n2", "--out", "x"], "--out needs --scan"),
-    (["single_plane_fixed_n2"], "periodic orbits"),
     (["thesis_rotating_n2", "--bogus"], "unrecognized"),
 ])
 def test_stability_bad_input(capsys, argv, match):
@@ -109,7 +108,6 @@ def test_stability_bad_input(capsys, argv, match):
     (["thesis_rotating_n2", "--par", "Omega", "--to", "4"], "must differ from the start"),
     (["thesis_rotating_n2", "--par", "Omega", "--set", "mu=inf"], "cannot read"),
     (["thesis_rotating_n2", "--par", "Omega", "--set", "mu=1e999"], "not finite"),
-    (["single_plane_fixed_n2", "--par", "omega"], "periodic orbits"),
     (["thesis_rotating_n3", "--par", "Omega", "--state", "2-", "--set", "Omega=0.5"], "pin the free angles"),
     (["thesis_rotating_n2", "--par", "Omega", "--state", "9"], "unknown state label"),
 ])
