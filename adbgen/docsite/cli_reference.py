@@ -1,7 +1,13 @@
-"""Sphinx extension: the `adbgen bench WHAT` part of the CLI reference, one section per benchmark.
+"""The CLI reference's sources: the parser as sphinx-argparse should read it, and a Sphinx extension
+for the `adbgen bench WHAT` part, one section per benchmark.
 
-sphinx-argparse renders the parser (`adbgen.cli.build_parser`) with every nested subcommand, but the
-benchmarks are values of one positional argument (`bench.registry`), not argparse subcommands, and
+sphinx-argparse renders a parser with every nested subcommand and reads its help texts, descriptions
+and epilogs as reST.  adbgen's are plain text (|TO - FROM| is a substitution to reST, an indented
+line a block quote), so `reference_parser()` is `adbgen.cli.build_parser()` with each of those
+translated as the docstrings are (`plain_docstrings`): the page shows them as written and no command's
+wording can fail the -W build.
+
+The benchmarks are values of one positional argument (`bench.registry`), not argparse subcommands, and
 share one merged option list.  The directive
 
     ```{adbgen-benchmarks}
@@ -26,6 +32,44 @@ from sphinx.util.nodes import nested_parse_with_titles
 from .plain_docstrings import _inline, _paragraphs, translate
 
 SECTION_ID = "adbgen-bench-{}"
+
+
+def _parsers(parser: argparse.ArgumentParser):
+    yield parser
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                yield from _parsers(sub)
+
+
+def _text(text: str, prog: str) -> str:
+    """A description, epilog or group description as reST (argparse's %(prog)s filled in)."""
+    return "\n".join(translate(text.replace("%(prog)s", prog).splitlines()))
+
+
+def reference_parser() -> argparse.ArgumentParser:
+    """`adbgen.cli.build_parser()` with its texts made reST that shows them as written (the CLI page's
+    `:func:`).  Help strings are expanded by argparse here (%(default)s ...) and their other percent
+    signs doubled, since sphinx-argparse %-formats them again."""
+    from adbgen.cli import build_parser
+
+    root = build_parser()
+    for parser in _parsers(root):
+        formatter = parser._get_formatter()
+        for attr in ("description", "epilog"):
+            if getattr(parser, attr):
+                setattr(parser, attr, _text(getattr(parser, attr), parser.prog))
+        for group in parser._action_groups:
+            if group.description:
+                group.description = _text(group.description, parser.prog)
+        for action in parser._actions:
+            if action.help and action.help is not argparse.SUPPRESS:
+                action.help = _inline(formatter._expand_help(action)).replace("%", "%%")
+            if isinstance(action, argparse._SubParsersAction):
+                for choice in action._choices_actions:  # each subcommand's one-line help
+                    if choice.help:
+                        choice.help = _inline(choice.help.replace("%(prog)s", parser.prog))
+    return root
 
 
 def _usage(benchmark) -> str:

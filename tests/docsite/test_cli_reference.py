@@ -35,3 +35,72 @@ def test_the_sections_are_valid_rest():
         stream = io.StringIO()
         publish_doctree("\n".join(benchmark_rst(bm)), settings_overrides={"report_level": 2, "warning_stream": stream})
         assert stream.getvalue() == "", (bm.name, stream.getvalue())
+
+
+def _texts(parser) -> list[str]:
+    """Every text of a parser tree that sphinx-argparse reads as reST (help strings %-formatted)."""
+    import argparse
+
+    from adbgen.docsite.cli_reference import _parsers
+
+    out = []
+    for p in _parsers(parser):
+        out += [t for t in (p.description, p.epilog) if t]
+        out += [g.description for g in p._action_groups if g.description]
+        for a in p._actions:
+            if a.help and a.help is not argparse.SUPPRESS:
+                out.append(a.help % {**vars(a), "prog": p.prog, "default": a.default})
+            if isinstance(a, argparse._SubParsersAction):
+                out += [c.help for c in a._choices_actions if c.help]
+    return out
+
+
+def _messages(text: str) -> str:
+    from docutils.core import publish_doctree
+
+    stream = io.StringIO()
+    publish_doctree(text, settings_overrides={"report_level": 2, "halt_level": 5, "warning_stream": stream})
+    return stream.getvalue()
+
+
+def test_the_reference_parser_is_the_parser_with_texts_that_parse_cleanly():
+    """sphinx-argparse reads help texts as reST; adbgen's are plain text.  The reference's copy of the
+    parser has the same commands and options, and every text parses without a message; the parser's
+    own texts do not all (negative control: the translation is needed)."""
+    toolchain.require_module("docutils", "the docs extra, with Sphinx")
+    from site_helpers import all_parsers, command_paths
+
+    from adbgen.cli import build_parser
+    from adbgen.docsite.cli_reference import reference_parser
+
+    plain, reference = build_parser(), reference_parser()
+    assert command_paths(plain) == command_paths(reference)
+    assert [[a.option_strings for a in p._actions] for p in all_parsers(plain)] == \
+           [[a.option_strings for a in p._actions] for p in all_parsers(reference)]
+    bad = [(text, msg) for text in _texts(reference) if (msg := _messages(text))]
+    assert not bad, bad[:3]
+
+
+def test_texts_that_are_not_rest_are_translated(monkeypatch):
+    """Negative control on a toy parser: its texts, read as reST, give messages; the reference's don't,
+    and argparse's %(default)s is filled in before the % signs are doubled for sphinx-argparse."""
+    import argparse
+
+    toolchain.require_module("docutils", "the docs extra, with Sphinx")
+    import adbgen.cli
+    from adbgen.docsite.cli_reference import reference_parser
+
+    def toy():
+        p = argparse.ArgumentParser(prog="adbgen", description="runs *everything", epilog="exit status:\n  0 done\nend")
+        sub = p.add_subparsers(dest="command")
+        s = sub.add_parser("scan", help="a scan_ of |x|", description="steps of |TO - FROM|")
+        s.add_argument("--ds", default=0.5, help="step (default %(default)s, |TO - FROM| / 350, 5 %%)")
+        return p
+
+    monkeypatch.setattr(adbgen.cli, "build_parser", toy)
+    nasty = [text for text in _texts(toy()) if any(c in text for c in "|*\n")]
+    assert len(nasty) == 5 and all(_messages(text) for text in nasty)
+    reference = reference_parser()
+    assert [_messages(text) for text in _texts(reference)] == [""] * len(_texts(reference))
+    [scan] = [a for a in reference._actions if isinstance(a, argparse._SubParsersAction)][0].choices.values()
+    assert "default 0.5," in [a for a in scan._actions if a.dest == "ds"][0].help % {}
