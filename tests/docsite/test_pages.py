@@ -4,6 +4,7 @@ results record."""
 
 from __future__ import annotations
 
+import ast
 import json
 import re
 import tomllib
@@ -92,3 +93,17 @@ def test_the_docs_extra_provides_what_the_build_imports():
     names = {re.split(r"[<>=!~\[ ]", req, maxsplit=1)[0].lower() for req in extra}
     assert set(docsite.REQUIRED.values()) <= names
     assert "docs" in (ROOT / ".ci" / "run").read_text().split("pip install -e '.[")[1].split("]")[0].split(",")
+
+
+def test_the_readme_python_example_runs():
+    """The tour's Python block, as printed, in a fresh interpreter (numpy, SciPy, the generated model)."""
+    import subprocess
+    import sys
+
+    from site_helpers import env
+
+    [block] = re.findall(r"^```python\n(.*?)^```", README.read_text(), flags=re.S | re.M)
+    run = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, cwd=ROOT, env=env(), timeout=300)
+    assert run.returncode == 0, run.stderr
+    final = ast.literal_eval(run.stdout.strip().replace("np.float64", ""))  # {'x': ..., 'y': ..., ...}
+    assert abs(final["x"]) < 1e-4 and abs(final["y"]) < 1e-4  # balanced, as the comment says
