@@ -43,8 +43,8 @@ def finite(text: str) -> float:
 
 
 def model_name(text: str) -> str:
-    """A model name usable as a Python module, a C prefix and a folder (`codegen.names`)."""
-    from .codegen.names import name_problem
+    """A model name usable as a Python module, a C prefix and a folder (`core.names`)."""
+    from .core.names import name_problem
 
     problem = name_problem(text)
     if problem:

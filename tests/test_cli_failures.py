@@ -106,7 +106,7 @@ def test_ctrl_c_is_one_line_and_exit_130(tmp_path):
 
 
 def test_an_error_of_adbgen_itself_is_one_line(capsys, monkeypatch):
-    from adbgen.analysis import commands
+    from adbgen.cli import simulate as commands
 
     def broken(args):
         raise KeyError("planted")

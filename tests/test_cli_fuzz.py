@@ -42,18 +42,18 @@ def _stop(*args, **kwargs):
 @pytest.fixture()
 def stubbed(monkeypatch, tmp_path):
     """The expensive entry points replaced by `_stop`; the parser built once."""
-    from adbgen.analysis import auto, auto_orbits, continuation, loading, reproduce, sweep
+    from adbgen.analysis import auto, auto_orbits, continuation, loading, sweep
     from adbgen.analysis import engines
     from adbgen.bench import registry
+    from adbgen.cli import notebooks as cli_notebooks, reproduce as cli_reproduce, verify as fam_commands
     from adbgen.codegen import regenerate
     from adbgen.core import linearisation
     from adbgen.families.single_plane import commands as sp_commands, verify as sp_verify
     from adbgen.families.two_plane import commands as tp_commands
     import adbgen.notebooks as notebooks
-    import adbgen.families.commands as fam_commands
 
     for module, name in [(regenerate, "render_all"), (continuation, "scan"), (auto.Session, "__init__"),
-                         (auto_orbits, "refine_orbit"), (sweep, "run_sweep"), (reproduce, "build"),
+                         (auto_orbits, "refine_orbit"), (sweep, "run_sweep"), (cli_reproduce, "build"),
                          (loading, "_scene_model"), (sp_commands, "_form"), (sp_verify, "rotating"),
                          (linearisation, "Linearisation"), (tp_commands, "cmd_derive"), (tp_commands, "cmd_steady"),
                          (tp_commands, "cmd_verify"), (fam_commands, "cmd_verify")]:
@@ -63,9 +63,10 @@ def stubbed(monkeypatch, tmp_path):
         monkeypatch.setattr(type(eng), "run_many", _stop)
     get = registry.get
     monkeypatch.setattr(registry, "get", lambda name: dataclasses.replace(get(name), run=_stop))
-    for name in dir(notebooks):
-        if name.startswith(("execute", "run_", "render")) and callable(getattr(notebooks, name)):
-            monkeypatch.setattr(notebooks, name, _stop)
+    for module in (notebooks, cli_notebooks):  # the command module holds its own references
+        for name in dir(module):
+            if name.startswith(("execute", "run_", "render")) and callable(getattr(module, name)):
+                monkeypatch.setattr(module, name, _stop)
     parser = cli.build_parser()
     monkeypatch.setattr(cli, "build_parser", lambda: parser)
     monkeypatch.setenv("ADBGEN_CACHE", str(tmp_path / "cache"))
@@ -177,7 +178,7 @@ def test_no_traceback_from_fuzzed_argument_vectors(stubbed, tmp_path):
 def test_the_fuzz_sees_a_traceback_when_there_is_one(stubbed, monkeypatch):
     """Negative control: an exception escaping a command is caught as a problem (and main keeps it to one
     line, exit 70)."""
-    from adbgen.analysis import commands
+    from adbgen.cli import simulate as commands
 
     def boom(args):
         raise ZeroDivisionError("planted")

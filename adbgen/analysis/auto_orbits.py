@@ -4,9 +4,9 @@
     forced_response(model, p)               -> Response: the orbit at p and its Floquet multipliers
 
 A forced model (fixed frame, anisotropic support or gravity) has periodic responses, not steady
-states.  Its emitted AUTO files continue them as periodic orbits of the autonomous extension (the
-oscillator of the two-plane paper's (40), states osc_sin, osc_cos) from an exact start orbit
-(stpnt): stage 1 (c.<model>) in the parameter the start moved (gravity g from 0), stage 2
+states.  Its emitted AUTO files continue them as periodic orbits of the autonomous extension (an
+oscillator whose limit cycle is the forcing, paper (40): states osc_sin, osc_cos) from an exact start
+orbit (stpnt): stage 1 (c.<model>) in the parameter the start moved (gravity g from 0), stage 2
 (c.<model>.2) in the forcing frequency.  Here the stages run one after the other on a temporary copy
 (`auto.Session`): stage 1 up to the requested value of its parameter, then the requested
 continuation.  Stability along the branch is AUTO's (PT < 0: every Floquet multiplier but the two

@@ -1,7 +1,7 @@
 """A generated model, found by name, folder or scene file, with its parameters and states by name.
 
-    load_model("thesis_rotating_n3")        adbgen.models.thesis_rotating_n3: the committed default set
-                                            (the checkout's generated/, or the wheel's copy)
+    load_model("NAME")                      adbgen.models.NAME: the committed default set
+                                            (the checkout's generated/, or the wheel's copy; `available_models()`)
     load_model("out/models")                a folder written by `adbgen regenerate --out` (one model)
     load_model("out/models/my_rotor")       ... or the model's own folder inside it
     load_model(scene="rotor.toml")          the scene's smallest exact model, generated once into a
@@ -154,12 +154,12 @@ class Model:
 
     @property
     def family(self) -> str:
-        """The family's registry key ("single-plane", "two-plane", ...)."""
+        """The registry key of the family the model comes from (`adbgen.families`)."""
         return self._described("FAMILY")
 
     @property
     def kind(self) -> str:
-        """The family's kind of model ("thesis_rotating", "two_plane_fixed", ...; "scene" for a scene's)."""
+        """The family's kind of model (a key of its `kinds()` or of its models; "scene" for a scene's)."""
         return self._described("KIND")
 
     @property
@@ -175,6 +175,16 @@ class Model:
     def roles(self) -> tuple[str, ...]:
         """One per state: "translation", "tilt", "ball_angle", "spin_angle", ... and "<role>_rate"."""
         return tuple(self._described("STATE_ROLES"))
+
+    def role_indices(self, role: str) -> tuple[int, ...]:
+        """Positions of the states of one role, in state order (e.g. the balls' angles: "ball_angle")."""
+        return tuple(i for i, r in enumerate(self.roles) if r == role)
+
+    def rate_index(self, coordinate: int) -> int:
+        """Position of a coordinate's rate: the first-order state is (q, q'), so n_coordinates further."""
+        if not 0 <= coordinate < self.n_coordinates:
+            raise AnalysisError(f"{self.state_names[coordinate]} of {self.name} is a rate, not a coordinate")
+        return coordinate + self.n_coordinates
 
     @property
     def param_domains(self) -> tuple[str, ...]:
@@ -200,10 +210,10 @@ class Model:
     def amplitude_indices(self) -> tuple[int, int, int, int]:
         """(a, b, a', b'): positions of the amplitude's two states and of their rates.
 
-        r = sqrt(a^2 + b^2) is the thesis' rotor amplitude (rotating frame), the rotor centre's in the
-        fixed frame (X, Y) and for the two-plane rotor (X, Y of its centre)."""
+        r = sqrt(a^2 + b^2) is the rotor's amplitude as its family defines it (the thesis': the rotor
+        centre's, in the rotating or the fixed frame)."""
         a, b = (self.index(name) for name in self.amplitude)
-        return a, b, a + self.n_coordinates, b + self.n_coordinates
+        return a, b, self.rate_index(a), self.rate_index(b)
 
     @property
     def measures(self) -> tuple[str, ...]:

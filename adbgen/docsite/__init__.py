@@ -1,4 +1,4 @@
-"""`adbgen docs`: build the documentation site of docs/ with Sphinx, warnings as errors.
+"""The documentation site of docs/, built with Sphinx, warnings as errors (`adbgen docs`: adbgen/cli/docs.py).
 
     adbgen docs                 build into docs/_build/html (git-ignored)
     adbgen docs --out DIR       build into DIR
@@ -24,10 +24,8 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-from ..cli_types import positive_int
 from ..errors import AdbgenError
 
 # The Python modules the build imports, and the distribution that provides each (the `docs` extra).
@@ -105,24 +103,3 @@ def _replace(out: Path, staging: Path) -> None:
     os.replace(staging, out)
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
-
-
-def cmd_docs(args) -> int:
-    out = Path(args.out) if args.out else root() / DEFAULT_OUT
-    t0 = time.perf_counter()
-    code = build(out, jobs=args.jobs)
-    seconds = time.perf_counter() - t0
-    if code != 0:
-        print(f"adbgen docs: the build failed (Sphinx exit status {code}; the warnings above); "
-              f"{out} left as it was", file=sys.stderr)
-        return 1
-    print(f"built {out / 'index.html'} in {seconds:.1f} s (no warnings)")
-    return 0
-
-
-def register(sub) -> None:
-    p = sub.add_parser("docs", help="build the documentation site (Sphinx, warnings as errors)")
-    p.add_argument("--out", metavar="DIR", default=None,
-                   help="output folder (default: docs/_build/html of this checkout; replaced only when the build passes)")
-    p.add_argument("--jobs", type=positive_int, default=1, help="Sphinx processes (default 1)")
-    p.set_defaults(fn=cmd_docs)

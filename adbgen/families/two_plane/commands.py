@@ -22,7 +22,7 @@ def _scene(args):
 
 def cmd_verify(args) -> int:
     from .. import get
-    from ..commands import run_verify
+    from ..verification import run_verify
 
     return run_verify((get("two-plane"),), ())
 

@@ -1,31 +1,39 @@
-"""The registry of the analysis layer's commands and what they share (model arguments, JSON output).
-
-Each command module (commands.py: simulate; stability_commands.py: stability, continue; ...)
-decorates its argument builder with `@command(name, help)`; `commands.register` adds them all to
-`adbgen`'s parser.
+"""What the commands over generated models share: the model arguments, loading, positive numbers, JSON
+output, and `Commands`, the per-module list of subcommands (`@command(name, help)` on the argument
+builder; the module's `register = command.register` adds them to `adbgen`'s parser).
 """
 
 from __future__ import annotations
 
 import json
-import math
 
+from ..analysis.loading import AnalysisError, load_model
+from ..analysis.results import json_number as _json_number
+from ..analysis.results import plain as _plain
 from ..cli_types import count as _positive_int  # noqa: F401  (the commands' whole numbers >= 1)
-from .loading import AnalysisError, load_model
-
-# (name, add_arguments, run) of every command here; `register` adds them all
-COMMANDS: list = []
 
 
-def command(name: str, help: str):
-    def wrap(add):
-        COMMANDS.append((name, help, add))
-        return add
-    return wrap
+class Commands:
+    """A module's subcommands: ``command = Commands()``, ``@command(name, help)`` on each argument
+    builder (it sets the run function), ``register = command.register``."""
+
+    def __init__(self):
+        self.entries: list = []
+
+    def __call__(self, name: str, help: str):
+        def wrap(add):
+            self.entries.append((name, help, add))
+            return add
+        return wrap
+
+    def register(self, sub) -> None:
+        for name, help_, add in self.entries:
+            p = sub.add_parser(name, help=help_, description=help_)
+            add(p)
 
 
 def _model_arguments(p) -> None:
-    p.add_argument("model", nargs="?", help="a generated model's name (e.g. thesis_rotating_n3) or a folder "
+    p.add_argument("model", nargs="?", help="a generated model's name (one of generated/) or a folder "
                                             "written by `adbgen regenerate --out`")
     p.add_argument("--scene", help="scene file (TOML): its smallest exact model, generated once into a cache")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
@@ -48,7 +56,7 @@ def _quantity_text(option: str):
     now (converted once the model, whose units decide, is loaded)."""
     import argparse
 
-    from .units import check_syntax
+    from ..analysis.units import check_syntax
 
     def check(text: str) -> str:
         try:
@@ -62,7 +70,7 @@ def _quantity_text(option: str):
 def _finite_positive(text: str) -> float:
     import argparse
 
-    from .loading import parse_value
+    from ..analysis.loading import parse_value
 
     try:
         value = parse_value(text)
@@ -71,26 +79,6 @@ def _finite_positive(text: str) -> float:
     if not value > 0:
         raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
     return value
-
-
-def _json_number(v):
-    """A JSON value for what json cannot write itself: numpy scalars and arrays as numbers and lists."""
-    if hasattr(v, "tolist"):  # numpy scalar or array
-        return _plain(v.tolist())
-    raise TypeError(f"{type(v).__name__} is not JSON")
-
-
-def _plain(obj):
-    """`obj` with non-finite floats as null (JSON has no NaN) and numpy values as Python ones."""
-    if isinstance(obj, float):
-        return obj if math.isfinite(obj) else None
-    if isinstance(obj, dict):
-        return {k: _plain(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_plain(v) for v in obj]
-    if hasattr(obj, "tolist"):
-        return _plain(obj.tolist())
-    return obj
 
 
 def _emit_json(obj) -> None:

@@ -1,11 +1,11 @@
-"""The B/C3 exchange of paper 3.2.3 on the generated two_plane_rotating (analysis.two_plane_exchange)."""
+"""The B/C3 exchange of paper 3.2.3 on the generated two_plane_rotating (the two-plane science's exchange)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from adbgen.analysis import two_plane_exchange as tx
+from adbgen.families.two_plane.science import exchange as tx
 from adbgen.analysis.loading import load_model
 from adbgen.families.two_plane import critical_speeds as cs
 from adbgen.families.two_plane import models

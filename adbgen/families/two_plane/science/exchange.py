@@ -28,8 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, root
 
-from .loading import AnalysisError, Model
-from .steady import jacobian, refine, residual
+from ....analysis.loading import AnalysisError, Model
+from ....analysis.steady import jacobian, refine, residual
 
 MODEL = "two_plane_rotating"
 RACE_DAMPING = 0.01  # c_b / m of (10)
@@ -42,14 +42,12 @@ def _index(model: Model, names) -> list[int]:
 
 def race_swap(model: Model) -> np.ndarray:
     """gamma_r of (13)-(14) as a state permutation with signs (N x N): the races exchanged, the tilt
-    reversed (z_t = -z_b); rotating (phi_x, phi_y) or fixed (phi_X, phi_Y) frame."""
-    names = model.state_names
-    swap = {"alpha_1": "alpha_3", "alpha_2": "alpha_4", "alpha_3": "alpha_1", "alpha_4": "alpha_2"}
-    P = np.zeros((len(names), len(names)))
-    for i, name in enumerate(names):
-        base = name.removesuffix("_dot")
-        target = swap.get(base, base) + ("_dot" if name.endswith("_dot") else "")
-        P[names.index(target), i] = -1.0 if base.lower() in ("phi_x", "phi_y") else 1.0
+    reversed (z_t = -z_b): the generated module's declared "race-swap" symmetry, (P y)[k] = s_k y[j_k]."""
+    sym = next((s for s in model.symmetries if s["kind"] == "race-swap"), None)
+    if sym is None:
+        raise AnalysisError(f"{model.name} declares no race swap")
+    P = np.zeros((model.n_states, model.n_states))
+    P[np.arange(model.n_states), sym["states"]] = sym["signs"]
     return P
 
 
@@ -91,7 +89,7 @@ class Pitchfork:
 
     def _equations(self, kind: str, z: np.ndarray, s: float, Omega: float) -> np.ndarray:
         y, m = self._unpack(kind, z, s)
-        rates = [i for i, n in enumerate(self.model.state_names) if n.endswith("_dot")]
+        rates = [i for i, r in enumerate(self.model.roles) if r.endswith("_rate")]
         acc = residual(self.model, y, self.params(m, Omega=Omega))[rates]
         # C3: the coincident balls' rows coincide; one of them is kept
         return acc if kind == "B" else np.delete(acc, self.model.leaves.index("alpha_2") + 4)
@@ -226,7 +224,7 @@ class Exchange:
 
 
 def compute(model: Model | None = None, omegas=None, small_epsilon: float = 1e-4) -> Exchange:
-    from .loading import load_model
+    from ....analysis.loading import load_model
 
     model = model or load_model(MODEL)
     pf = Pitchfork(model, {"c_1": 0.0, "c_2": 0.0})

@@ -7,7 +7,7 @@
     adbgen bench derive|codegen|sweep [--out FILE] [--n ...]
     adbgen bench simulate [--out FILE] [--repeats N] [--engines E ...] [--no-peers]
     adbgen bench failures|smallest [--out FILE] [--quick]
-    adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/analysis/commands.py)
+    adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/cli/simulate.py, ...)
     adbgen notebooks [--check | --run] [--only NN ...]                 the derivation notebooks of derive/
     adbgen docs [--out DIR]                                            the documentation site (Sphinx, -W)
 
@@ -32,17 +32,20 @@ import inspect
 import sys
 from typing import Callable
 
-from . import __version__, families
-from .cli_types import UsageError
-from .errors import AdbgenError
+from .. import __version__, families
+from ..cli_types import UsageError
+from ..errors import AdbgenError
 
 # Command groups besides the families', in the order of `adbgen --help`; one line per group.
 COMMAND_GROUPS: list[str] = [
-    "adbgen.codegen.commands:register",  # regenerate
-    "adbgen.bench.commands:register",  # bench
-    "adbgen.analysis.commands:register",  # simulate (the analysis layer over generated code)
-    "adbgen.notebooks:register",  # notebooks (execute and render derive/)
-    "adbgen.docsite:register",  # docs (build the documentation site)
+    "adbgen.cli.regenerate:register",  # regenerate
+    "adbgen.cli.bench:register",  # bench
+    "adbgen.cli.simulate:register",  # simulate (the analysis layer over generated code)
+    "adbgen.cli.stability:register",  # stability, continue
+    "adbgen.cli.sweep:register",  # sweep
+    "adbgen.cli.reproduce:register",  # reproduce (every family's reproductions)
+    "adbgen.cli.notebooks:register",  # notebooks (execute and render derive/)
+    "adbgen.cli.docs:register",  # docs (build the documentation site)
 ]
 
 
@@ -63,11 +66,24 @@ def _load(entry: str) -> Callable:
     return getattr(importlib.import_module(module), attr)
 
 
+def _family_commands() -> list[Callable]:
+    """Each family's commands, then its science's (`Family.science_commands`, loaded by name; once, when
+    families share them, as a family derived from another does)."""
+    out, seen = [], set()
+    for family in families.all_families():
+        out.append(family.register_commands)
+        science = getattr(family, "science_commands", lambda: "")()
+        if science and science not in seen:
+            seen.add(science)
+            out.append(_load(science))
+    return out
+
+
 def command_groups() -> list[Callable]:
     """Every register(subparsers) function: verify, each family's commands, then COMMAND_GROUPS."""
-    from .families.commands import register as register_verify
+    from .verify import register as register_verify
 
-    return [register_verify] + [f.register_commands for f in families.all_families()] + [_load(e) for e in COMMAND_GROUPS]
+    return [register_verify] + _family_commands() + [_load(e) for e in COMMAND_GROUPS]
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -112,6 +128,3 @@ def main(argv: list[str] | None = None) -> int:
               "(ADBGEN_TRACEBACK=1 shows where)", file=sys.stderr)
         return 70
 
-
-if __name__ == "__main__":
-    sys.exit(main())

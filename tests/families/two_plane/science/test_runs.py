@@ -1,11 +1,11 @@
-"""Brute-force vibration (Figure 12(a)) and run-ups (section 6) of analysis.two_plane_runs."""
+"""Brute-force vibration (Figure 12(a)) and run-ups (section 6): the two-plane science's runs."""
 
 import math
 
 import numpy as np
 import pytest
 
-from adbgen.analysis import two_plane_runs as tr
+from adbgen.families.two_plane.science import runs as tr
 from adbgen.analysis.loading import load_model
 
 
@@ -15,7 +15,7 @@ def test_vibration_is_the_mean_at_the_two_points_one_unit_from_the_midspan():
     y[model.index("X"), 0] = 3e-4  # translation: both points move by 3e-4
     y[model.index("phi_Y"), 1] = 2e-4  # tilt: the points move by -+2e-4
     y[model.index("Y"), 1] = 1e-4
-    A = tr.vibration(model, y)
+    A = tr.vibration(model, 0.0, y, model.params())
     assert A[0] == pytest.approx(3e-4)
     assert A[1] == pytest.approx(0.5 * (math.hypot(2e-4, 1e-4) + math.hypot(2e-4, 1e-4)))
     assert A[1] != pytest.approx(math.hypot(1e-4, 0))  # centre only: wrong
@@ -59,8 +59,9 @@ def test_hill_run_up_synchronises_sooner_with_high_race_damping():
 
 @pytest.mark.parametrize("name", ["two_plane_hill", "two_plane_ramp"])
 def test_spin_law_is_the_generated_models_spin(name):
-    """Omega(t) of `spin_law` = the spin inside the generated rhs: with eps = chi = 0 and the balls in
-    opposite pairs at one speed s the rotor is not forced, and (4) gives theta_k'' = -c_b (s - Omega)/(m R^2)."""
+    """Omega(t) of `spin_law` (the module's measure spin_rate) = the spin inside the generated rhs: with
+    eps = chi = 0 and the balls in opposite pairs at one speed s the rotor is not forced, and (4) gives
+    theta_k'' = -c_b (s - Omega)/(m R^2); its angle is the speed's integral."""
     model = load_model(name)
     m, cb = 1e-4, 1e-5
     p = model.params({"epsilon": 0.0, "chi": 0.0, **tr._ball_values(m, cb / m)})
@@ -73,6 +74,11 @@ def test_spin_law_is_the_generated_models_spin(name):
     inside = [s + model.module.rhs(tk, y, p)[k] * m / cb for tk in t]
     assert np.allclose(speed, inside, rtol=1e-9, atol=1e-12)
     assert not np.allclose(speed * 1.001, inside, rtol=1e-9, atol=1e-12)
+    from scipy.integrate import quad
+
+    angle, _ = tr.spin_law(model, p, t)
+    rate = lambda s: float(tr.spin_law(model, p, np.array([s]))[1][0])  # noqa: E731
+    assert np.allclose(angle, [quad(rate, 0.0, tk, limit=200)[0] for tk in t], rtol=1e-8)
 
 
 def test_peaks_refines_a_parabola():
@@ -118,7 +124,7 @@ def test_floquet_of_B_along_figure_12a():
     """B of two_plane_fixed is a constant solution at every time; its Floquet multipliers: stable at
     Omega = 5, unstable at 4.4 by a gamma_r-odd mode (the one the symmetric start of Figure 12(a) cannot
     excite, the paper's explanation of its brute-force/Figure 11 discrepancy)."""
-    from adbgen.analysis.two_plane_exchange import race_swap
+    from adbgen.families.two_plane.science.exchange import race_swap
 
     model = load_model("two_plane_fixed")
     values = {"epsilon": 1e-4, "chi": 0.0, "beta": 0.0, **tr._ball_values(1e-4, 0.01)}

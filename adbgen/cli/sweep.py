@@ -11,15 +11,18 @@ from __future__ import annotations
 
 import argparse
 
-from .command_registry import _emit_json, _finite_positive, _positive_int, _quantity_text, command
+from .arguments import Commands, _emit_json, _finite_positive, _positive_int, _quantity_text
+
+command = Commands()
+register = command.register
 
 
 @command("sweep", "sweep parameters or initial states on Dask: basins, r_max/t_dec maps, stability maps")
 def _add_sweep(p) -> None:
-    from .engines import DEFAULT, ENGINES
-    from .sweep import MEASURES
+    from ..analysis.engines import DEFAULT, ENGINES
+    from ..analysis.sweep import MEASURES
 
-    p.add_argument("model", help="a generated model's name (e.g. thesis_rotating_n2) or a model folder")
+    p.add_argument("model", help="a generated model's name (one of generated/) or a model folder")
     p.add_argument("--grid", action="append", default=[], metavar="NAME=FROM:TO:COUNT",
                    help="a grid axis over a parameter or an initial state (repeatable; FROM and TO included, "
                         "numbers or expressions in pi)")
@@ -78,8 +81,8 @@ def _time_and_threshold(args) -> tuple[float, float]:
 def run_sweep_command(args: argparse.Namespace) -> int:
     import os
 
+    from ..analysis.sweep import SweepSpec, run_sweep
     from ..outputs import output_folder
-    from .sweep import SweepSpec, run_sweep
 
     output_folder(args.out, "--out")
     model = args.model

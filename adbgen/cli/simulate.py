@@ -1,48 +1,35 @@
-"""Command-line commands of the analysis layer, registered into `adbgen`'s parser by `register`.
+"""`adbgen simulate`: one transient of a generated model (`adbgen.analysis.simulate`).
 
     adbgen simulate MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-end T]
                     [--rtol R] [--atol A] [--engine E] [--threshold H] [--angles wrapped|unwrapped]
                     [--out DIR] [--json] [--quiet]
 
-    adbgen stability ..., adbgen continue ...   (stability_commands.py)
-    adbgen sweep ...                             (sweep_commands.py)
-    adbgen reproduce ...                         (reproduce.py)
-
-Each command prints one JSON object on stdout with --json.  Bad input: one line on stderr, exit 2;
-a failed integration: one line naming where it failed, exit 1.  Values take units where a user would
-type them (`--set omega=3000rpm`, `--t-end 20s`, `--t-end 640rev`, `--y0 X=1mm`; see `units`), and the
-defaults scale with the model (t_end in revolutions of the spin, t_dec's threshold a tenth of the
-eccentricity: what its generated module declares, `units.default_t_end`, `default_threshold`).
+With --json one JSON object on stdout.  Bad input: one line on stderr, exit 2; a failed integration:
+one line naming where it failed, exit 1.  Values take units where a user would type them (`--set
+omega=3000rpm`, `--t-end 20s`, `--t-end 640rev`, `--y0 X=1mm`; see `analysis.units`), and the defaults
+scale with the model (t_end in revolutions of the spin, t_dec's threshold a tenth of the eccentricity:
+what its generated module declares, `units.default_t_end`, `default_threshold`).
 """
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
+from ..analysis.loading import AnalysisError
+from ..analysis.units import show
 from ..progress import activity, wanted
-from .command_registry import (COMMANDS, _emit_json, _finite_positive, _json_number, _load, _model_arguments,
-                               _positive_int, _quantity_text, command)
-from .loading import AnalysisError
-from .units import show
+from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments, _positive_int, _quantity_text
 
-
-def register(sub, parser_class) -> None:
-    """Add this layer's commands to the `adbgen` subparsers."""
-    # the command modules register themselves in COMMANDS when imported
-    from . import reproduce, stability_commands, sweep_commands  # noqa: F401
-
-    for name, help_, add in COMMANDS:
-        p = sub.add_parser(name, help=help_, description=help_)
-        add(p)
+command = Commands()
+register = command.register
 
 
 # --------------------------------------------------------------------------------------- simulate
 
 @command("simulate", "integrate a transient of a generated model (compiled; thesis ch. 5)")
 def _add_simulate(p) -> None:
-    from .engines import DEFAULT, ENGINES
+    from ..analysis.engines import DEFAULT, ENGINES
 
     _model_arguments(p)
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
@@ -69,10 +56,10 @@ def _add_simulate(p) -> None:
 
 
 def run_simulate(args) -> int:
+    from ..analysis.results import IntegrationError
+    from ..analysis.simulate import simulate, simulation_units, write_trajectory
+    from ..analysis.units import assignments, default_t_end, default_threshold, duration, params, quantity, units
     from ..outputs import output_folder
-    from .results import IntegrationError
-    from .simulate import simulate
-    from .units import assignments, default_t_end, default_threshold, duration, params, quantity, units
 
     if args.out is not None:
         output_folder(args.out, "--out")
@@ -112,17 +99,8 @@ def run_simulate(args) -> int:
     return 0
 
 
-def simulation_units(model, sim) -> dict:
-    """The unit of each number of `Simulation.to_json` ("1": dimensionless)."""
-    from .units import units
-
-    u = units(model)
-    return {"t_end": u.time, "threshold": u.length, "r_max": u.length, "t_dec": u.time, "t_fail": u.time,
-            "wall_s": "s", "y_end": dict(u.states), "parameters": dict(u.params)}
-
-
 def _print_simulation(model, sim, out, defaults) -> None:
-    from .units import show, units
+    from ..analysis.units import show, units
 
     u = units(model)
     t_dec = "not settled by t_end" if sim.t_dec is None else show(sim.t_dec, u.time, 6)
@@ -144,46 +122,3 @@ def _print_simulation(model, sim, out, defaults) -> None:
         print(f"  {name:<{width - 2}}  {v: .10g}" + ("" if unit == "1" else f" {unit}"))
     if out is not None and sim.ok:
         print(f"wrote {out}/trajectory.npz, trajectory.csv, trajectory.png")
-
-
-def write_trajectory(model, sim, out: Path, values: dict | None = None, scene: str | None = None,
-                     wrap_angles: bool = True, threshold_why: str = "") -> None:
-    """trajectory.npz (t, y, names, metadata), trajectory.csv (metadata header) and trajectory.png (r
-    and the ball angles), each written whole (a temporary file renamed)."""
-    import io
-
-    import numpy as np
-
-    from ..outputs import save_figure, writing
-    from .figure_style import amplitude_panel, angle_panel, pyplot, title
-    from .simulate import amplitude
-    from .units import axis_label, show, units
-
-    u = units(model)
-    out.mkdir(parents=True, exist_ok=True)
-    meta = {k: v for k, v in sim.to_json().items() if k != "y_end"}
-    meta["source_hash"] = model.source_hash
-    meta["units"] = simulation_units(model, sim)
-    with writing(out / "trajectory.npz", "wb") as fh:
-        np.savez_compressed(fh, t=sim.t, y=sim.y, state_names=np.array(sim.state_names),
-                            metadata=json.dumps(meta, default=_json_number))
-    r = amplitude(model, sim.y)
-    header = "\n".join(f"# {k}: {json.dumps(v, default=_json_number)}" for k, v in meta.items())
-    table = np.column_stack([sim.t, r, sim.y.T])
-    body = io.StringIO()
-    np.savetxt(body, table, delimiter=",", fmt="%.17g")
-    with writing(out / "trajectory.csv") as fh:
-        fh.write(header + "\n")
-        fh.write(",".join(["t", "r", *sim.state_names]) + "\n")
-        fh.write(body.getvalue())
-    plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 5.5), sharex=True, constrained_layout=True)
-    amplitude_panel(a1, sim.t, r, sim.threshold, sim.t_dec, u.length, u.time, threshold_why)
-    angles = list(model.angle_indices)
-    angle_panel(a2, sim.t, sim.y[angles], [model.state_names[i] for i in angles], wrap_angles)
-    a2.set_xlabel(axis_label("$t$", u.time))
-    name = f"{Path(scene).name} ({model.name})" if scene else model.name
-    summary = (f"$r_{{max}}$ = {show(sim.r_max, u.length, 4)}, $t_{{dec}}$ = "
-               f"{'not settled' if sim.t_dec is None else show(sim.t_dec, u.time, 4)}")
-    a1.set_title(title(name, values or {}, u.params, summary), fontsize=8)
-    save_figure(fig, out / "trajectory.png", dpi=120)

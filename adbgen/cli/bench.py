@@ -1,9 +1,9 @@
-"""`adbgen bench WHAT [--out FILE] [options]`: the benchmarks of `bench.registry`, results written to a
+"""`adbgen bench WHAT [--out FILE] [options]`: the benchmarks of `adbgen.bench.registry`, results written to a
 committed file (default ``benchmarks/<what>.json``)."""
 
 from __future__ import annotations
 
-from . import registry
+from ..bench import registry
 
 
 def cmd_bench(args) -> int:

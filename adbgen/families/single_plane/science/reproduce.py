@@ -1,4 +1,6 @@
-"""`adbgen reproduce`: the thesis' chapter 5 transients recomputed, written to docs/reproduction.md.
+"""`adbgen reproduce`, the thesis (the single-plane family): chapters 4 and 5 recomputed on the generated
+models, the thesis' sections of docs/reproduction.md (`REPRODUCTION`, listed by the family's
+`reproductions()`).
 
 For every published number: the published value, ours converged in tolerance (DOP853 on the compiled
 path at rtol 1e-12, atol 1e-14), the relative difference, and the tolerance study beside it (the value
@@ -10,7 +12,7 @@ Covered: thesis ch. 5, Fig. 5.4 (n = 2), Fig. 5.6 (n = 3), Fig. 5.8 (n = 4), the
 and (0, 0, pi) in-line runs (text of Fig. 5.7), the n = 2 limit cycle from (pi/4, -pi/4), the damping runs
 of section 5.2.2 (Fig. 5.15-5.17), the basin maps of Fig. 5.18 and 5.19 (a), (c); ch. 4, the zeta and
 beta limits the text states for n = 3, 4 and the (Omega, mu), (zeta, beta) stability maps for n = 2, 3,
-4; the two-plane paper (section 3.2.3, Figure 12(a), Figures 15-16) by `reproduce_two_plane`.
+4.
 """
 
 from __future__ import annotations
@@ -21,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .command_registry import command
-from .loading import load_model
+from ....analysis.loading import load_model
+from ....analysis.reproduction import Reproduction
 
 PI = math.pi
 RTOLS = (1e-6, 1e-8, 1e-10, 1e-12)
@@ -100,7 +102,7 @@ STATEMENTS = [
 def _balanced_stable(model, values: dict) -> bool | None:
     """Is the balanced state (continued by Newton from START, the member of the n >= 3 family with
     phi_3 (, phi_4) = pi) stable at these parameters?  Deflated spectrum; None if Newton fails."""
-    from .attractors import amplitude_of, newton, spectrum
+    from ....analysis.attractors import amplitude_of, newton, spectrum
 
     p = model.params(values)
     y = newton(model, np.array(model.module.START, float), p)
@@ -155,7 +157,7 @@ def _maps(fig_dir: Path) -> list[tuple[str, Path]]:
     import shutil
     import tempfile
 
-    from .sweep import SweepSpec, run_sweep
+    from ....analysis.sweep import SweepSpec, run_sweep
 
     out = []
     tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-"))
@@ -187,7 +189,7 @@ def _basins(fig_dir: Path, size: int = 40) -> list[dict]:
 
     import xarray as xr
 
-    from .sweep import SweepSpec, run_sweep
+    from ....analysis.sweep import SweepSpec, run_sweep
 
     out = []
     tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-basins-"))
@@ -225,7 +227,7 @@ def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
 
     import xarray as xr
 
-    from .sweep import SweepSpec, run_sweep
+    from ....analysis.sweep import SweepSpec, run_sweep
 
     out = []
     tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-n4-"))
@@ -294,7 +296,7 @@ def _basin_n4_section(basins, root: Path) -> list[str]:
 
 
 def _run(case: Case, rtol: float, keep: bool = False, threshold: float = 1e-3):
-    from .simulate import simulate
+    from ....analysis.simulate import simulate
 
     model = load_model(f"thesis_rotating_n{case.n}")
     y0 = model.state({f"phi_{i + 1}": v for i, v in enumerate(case.phi0)})
@@ -323,7 +325,7 @@ LOOSE = (("DOP853 rtol 1e-4", "cyrk-dop853", 1e-4, 1e-6), ("DOP853 rtol 1e-5", "
 
 def loose_study(case: Case) -> dict:
     """(t_dec, r_max) under the LOOSE settings."""
-    from .simulate import simulate
+    from ....analysis.simulate import simulate
 
     model = load_model(f"thesis_rotating_n{case.n}")
     y0 = model.state({f"phi_{i + 1}": v for i, v in enumerate(case.phi0)})
@@ -345,7 +347,7 @@ def _wrap_array(a: np.ndarray) -> np.ndarray:
 
 def study(case: Case) -> dict:
     """The case at every tolerance; the attractor and final state at the tightest."""
-    from .attractors import classifier
+    from ....analysis.attractors import classifier
 
     rows = {}
     for rtol in RTOLS:
@@ -367,26 +369,13 @@ def _rel(ours, published):
     return (ours - published) / published
 
 
-SECTIONS = ("thesis", "two-plane")
-
-
-def build(out_md: Path, fig_dir: Path, progress=print, only=SECTIONS) -> Path:
-    """Compute every case of the chosen sections, draw the panels, write the markdown document."""
-    fig_dir.mkdir(parents=True, exist_ok=True)
-    two_plane = None
-    if "two-plane" in only:
-        from .reproduce_two_plane import compute as two_plane_compute
-
-        two_plane = two_plane_compute(fig_dir, progress)
-    if "thesis" not in only:
-        lines = _header(only) + _two_plane_lines(two_plane, out_md.parent)
-        return _write(out_md, lines)
+def compute(fig_dir: Path, progress=print) -> dict:
+    """Every case, statement and map of the thesis' sections; the panels drawn into fig_dir."""
     results = []
     for case in CASES:
         results.append((case, study(case)))
         if progress:
             progress(f"Fig. {case.figure:16s} n = {case.n} phi(0) = {case.phi0_text}: {results[-1][1]['label']}")
-    fig_dir.mkdir(parents=True, exist_ok=True)
     figures = _figures(fig_dir)
     statements = statement_values()
     if progress:
@@ -400,30 +389,13 @@ def build(out_md: Path, fig_dir: Path, progress=print, only=SECTIONS) -> Path:
             progress(f"Fig. 5.18({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
         for b in basins_n4:
             progress(f"Fig. 5.19({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
-    lines = _document(results, figures, out_md.parent, statements, maps, basins, basins_n4)
-    lines += _two_plane_lines(two_plane, out_md.parent)
-    return _write(out_md, lines)
+    return {"results": results, "figures": figures, "statements": statements, "maps": maps, "basins": basins,
+            "basins_n4": basins_n4}
 
 
-def _write(out_md: Path, lines: list[str]) -> Path:
-    out_md.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out_md.with_suffix(".md.tmp")
-    tmp.write_text("\n".join(lines) + "\n")
-    tmp.replace(out_md)
-    return out_md
-
-
-def _header(only) -> list[str]:
-    return ["# Reproduction of the published results", "",
-            f"Generated by `adbgen reproduce --only {' '.join(only)}` (do not edit by hand): only these sections.", ""]
-
-
-def _two_plane_lines(two_plane, root: Path) -> list[str]:
-    if two_plane is None:
-        return ["## Two-plane paper", "", "Not computed in this run (`adbgen reproduce --only thesis`)."]
-    from .reproduce_two_plane import section
-
-    return section(two_plane, root)
+def lines(res: dict, root: Path) -> list[str]:
+    return _document(res["results"], res["figures"], root, res["statements"], res["maps"], res["basins"],
+                     res["basins_n4"])
 
 
 def _chapter4(statements, maps, root: Path) -> list[str]:
@@ -500,8 +472,7 @@ def _basin_section(basins, root: Path) -> list[str]:
 
 
 def _document(results, figures, root: Path, statements=(), maps=(), basins=(), basins_n4=()) -> list[str]:
-    L = ["# Reproduction of the published results", "",
-         "Generated by `adbgen reproduce` (do not edit by hand).  Models: `generated/thesis_rotating_n{2,3,4}`; "
+    L = ["Models: `generated/thesis_rotating_n{2,3,4}`; "
          "engine: the default compiled DOP853 (`cyrk-dop853`), atol = rtol/100, t in [0, 3000]; parameters "
          "(5.1) (Omega = 4, zeta = beta = delta = 0.01, mu = 0.05) unless a row says otherwise; all rates and "
          "x, y start at 0.  r_max and t_dec (the last time r >= 1e-3) are located on the continuous solution "
@@ -613,7 +584,7 @@ def _figures(fig_dir: Path) -> list[tuple[str, Path]]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .simulate import amplitude
+    from ....analysis.simulate import amplitude
 
     out = []
     for fig_name, cases in (("5.4", [c for c in CASES if c.figure.startswith("5.4")]),
@@ -641,30 +612,4 @@ def _figures(fig_dir: Path) -> list[tuple[str, Path]]:
     return out
 
 
-@command("reproduce", "recompute the published results (thesis ch. 4-5, two-plane paper) into docs/reproduction.md")
-def _add_reproduce(p) -> None:
-    p.add_argument("--out", default=None, help="the document (default docs/reproduction.md; with --only a part, "
-                                               "docs/reproduction-PART.md, so the whole document is kept)")
-    p.add_argument("--figures", default=None, help="figure folder (default: docs/reproduction/ beside it)")
-    p.add_argument("--only", nargs="+", choices=SECTIONS, default=list(SECTIONS), metavar="SECTION",
-                   help="compute only these sections: thesis (ch. 4-5, about 3 min), two-plane (the 2011 paper, "
-                        "about 1 min); default both")
-    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
-    p.set_defaults(fn=run_reproduce)
-
-
-def run_reproduce(args) -> int:
-    from ..outputs import output_file, output_folder
-    from ..progress import activity, wanted
-
-    only = tuple(s for s in SECTIONS if s in args.only)
-    out = output_file(args.out or ("docs/reproduction.md" if only == SECTIONS else
-                                   f"docs/reproduction-{'-'.join(only)}.md"), "--out")
-    figs = output_folder(args.figures if args.figures else out.parent / "reproduction", "--figures")
-    with activity("reproduce: " + ", ".join(only), wanted(args.quiet)) as note:
-        def progress(line: str) -> None:
-            print(line, flush=True)
-            note(f"reproduce, after: {line.strip()[:60]}")
-        path = build(out, figs, progress=progress, only=only)
-    print(f"wrote {path}")
-    return 0
+REPRODUCTION = Reproduction("thesis", "Thesis", compute, lines)

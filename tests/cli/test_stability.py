@@ -12,6 +12,8 @@ from adbgen.cli import main
 
 from analysis_helpers import CH4, require_auto
 
+pytestmark = pytest.mark.usefixtures("needs_gcc")
+
 PREFIX = "adbgen: error: "
 SET = [arg for k, v in CH4.items() for arg in ("--set", f"{k}={v}")]
 

@@ -1,4 +1,4 @@
-"""`adbgen simulate` (adbgen/analysis/commands.py): JSON keys, output files, errors."""
+"""`adbgen simulate` (adbgen/cli/simulate.py): JSON keys, output files, errors."""
 
 from __future__ import annotations
 
@@ -8,6 +8,8 @@ import numpy as np
 import pytest
 
 from adbgen.cli import main
+
+pytestmark = pytest.mark.usefixtures("needs_gcc")
 
 KEYS = {"model", "engine", "rtol", "atol", "t_end", "status", "r_max", "t_dec", "y_end", "n_rhs", "wall_s"}
 

@@ -24,18 +24,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .loading import AnalysisError, Model, load_model
-from .simulate import simulate
+from ....analysis.loading import AnalysisError, Model, load_model
+from ....analysis.simulate import simulate
 
 PLAIN_MASS = 1e-10  # "plain rotor": balls too light for the rotor to feel
 RTOL, ATOL = 1e-9, 1e-14
 
 
-def vibration(model: Model, y: np.ndarray) -> np.ndarray:
-    """A(t): mean of |q_1 + q_2| and |q_1 - q_2| (displacements at z = +-1), states on the rows."""
-    X, Y, px, py = (y[model.index(n)] for n in model.module.CORE)
-    q1, q2 = X + 1j * Y, py - 1j * px
-    return 0.5 * (np.abs(q1 + q2) + np.abs(q1 - q2))
+def vibration(model: Model, t, y: np.ndarray, p) -> np.ndarray:
+    """A(t): mean of |q_1 + q_2| and |q_1 - q_2| (displacements at z = +-1), states on the rows: the
+    generated module's measure "A" (the family declares it once, `two_plane/description.py`)."""
+    return model.measure("A", t, y, p)
 
 
 def _ball_values(m: float, ratio: float) -> dict:
@@ -65,8 +64,8 @@ def settled_vibration(model: Model, values: dict, Omega: float, t_transient: flo
                      keep_trajectory=False)
     window = simulate(model, p, first.y_end, t_end=periods * T, rtol=rtol, atol=ATOL,
                       samples=periods * per_period + 1)
-    rates = window.y[[model.index(f"{a}_dot") for a in model.leaves]]
-    return Orbit(Omega, float(vibration(model, window.y).max()), float(np.abs(rates).max()))
+    rates = window.y[[model.rate_index(k) for k in model.role_indices("ball_angle")]]
+    return Orbit(Omega, float(vibration(model, window.t, window.y, p).max()), float(np.abs(rates).max()))
 
 
 def figure_12a(omegas, t_transient: float = 4000.0, rtol: float = RTOL, with_plain: bool = True) -> dict:
@@ -143,22 +142,12 @@ class RunUp:
 
 
 def spin_law(model: Model, p: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(theta_0, theta_0') of the prescribed run-up, for plots and lag measures: from the parameters of the
-    ramp (Omega_max t / t_ramp, then constant) or the Hill profile (45).  The generated modules do not
-    emit their spin law, so this restates it; a test compares it with the spin inside the generated
-    equations."""
-    get = lambda name: p[model.param_names.index(name)]  # noqa: E731
-    if "t_ramp" in model.param_names:
-        w, tr = get("Omega_max"), get("t_ramp")
-        speed = np.where(t < tr, w * t / tr, w)
-        angle = np.where(t < tr, 0.5 * w * t**2 / tr, 0.5 * w * tr + w * (t - tr))
-        return angle, speed
-    w, th, wc = get("Omega_max"), get("t_half"), get("Omega_cyl")
-    tb = wc * t
-    speed = w * tb**3 / (th**3 + tb**3)  # (45) with n = 3, the exponent of the generated model
-    dt = np.diff(t, prepend=t[0])
-    angle = np.cumsum(0.5 * (speed + np.r_[speed[0], speed[:-1]]) * dt)  # (for the plots only)
-    return angle, speed
+    """(theta_0, theta_0') of the prescribed run-up at the times t: the generated module's measures
+    "spin_angle" and "spin_rate" (the run-up law the family derived the model with: the ramp, or the
+    Hill profile (45)); they depend on t and p only."""
+    t = np.atleast_1d(np.asarray(t, float))
+    y = np.zeros((model.n_states, len(t)))
+    return model.measure("spin_angle", t, y, p), model.measure("spin_rate", t, y, p)
 
 
 def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples: int = 30001,
@@ -169,11 +158,11 @@ def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples
     y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi, "theta_3": phase, "theta_4": phase + math.pi})
     sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples)
     angle, spin = spin_law(model, p, sim.t)
-    speeds = sim.y[[model.index(f"{a}_dot") for a in model.leaves]]
-    thetas = sim.y[[model.index(a) for a in model.leaves]]
+    balls = list(model.role_indices("ball_angle"))
+    rates = [model.rate_index(k) for k in balls]
     _, end_spin = spin_law(model, p, np.array([t_end]))
-    return RunUp(name, ratio, sim.t, spin, speeds, thetas - angle, vibration(model, sim.y),
-                 sim.y_end[[model.index(f"{a}_dot") for a in model.leaves]], float(end_spin[0]))
+    return RunUp(name, ratio, sim.t, spin, sim.y[rates], sim.y[balls] - angle, vibration(model, sim.t, sim.y, p),
+                 sim.y_end[rates], float(end_spin[0]))
 
 
 def synchronised_from(run: RunUp, tol: float = 1e-3) -> float | None:
@@ -222,7 +211,7 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
     (`two_plane_rotating`, autonomous there): the end state's steady state and spectrum (Newton), and the
     run from it as it is, then from where that settled with balls 1 and 3 (one in each race) moved by
     `kick` rad."""
-    from .steady import refine
+    from ....analysis.steady import refine
 
     fixed = load_model("two_plane_ramp")
     rotating = load_model("two_plane_rotating")
@@ -234,7 +223,8 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
     y = to_rotating(fixed, _end_state(fixed, ratio, rtol), float(theta0[0]), omega, rotating)
     out = {"coincident_from": coincident_from(run), "A_end_ramp": float(run.A[-1]), "kick": kick, "omega": omega}
     sim = simulate(rotating, p, y, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
-    out["as_is"] = {"A_end": float(vibration(rotating, sim.y)[-1]), "t": sim.t, "A": vibration(rotating, sim.y)}
+    A = vibration(rotating, sim.t, sim.y, p)
+    out["as_is"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
     try:  # where the run settled: a steady state of the rotating frame?
         st = refine(rotating, p, sim.y_end)
         out.update(unstable=st.n_unstable, leading=[complex(z) for z in st.transverse[:2]],
@@ -244,7 +234,7 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
     y1 = sim.y_end.copy()
     y1[[rotating.index(rotating.leaves[0]), rotating.index(rotating.leaves[2])]] += kick  # one ball a race
     sim = simulate(rotating, p, y1, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
-    A = vibration(rotating, sim.y)
+    A = vibration(rotating, sim.t, sim.y, p)
     out["kicked"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
     return out
 

@@ -2,7 +2,8 @@
 Figure 12(a) (brute-force diagram, anisotropic supports) and section 6 (run-ups, Figures 15, 16).
 
 `compute(fig_dir)` runs everything and draws the figures; `section(results, root)` writes the
-markdown.  The computations are in `two_plane_exchange` and `two_plane_runs`.
+markdown (`REPRODUCTION`, listed by the family's `reproductions()`).  The computations are in
+`exchange` and `runs`.
 """
 
 from __future__ import annotations
@@ -13,8 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import two_plane_exchange as tx
-from . import two_plane_runs as tr
+from ....analysis.reproduction import Reproduction
+from . import exchange as tx
+from . import runs as tr
 
 FIG12_GRID = (0.2, 5.0, 97)  # Omega from, to, count (step 0.05)
 FLOQUET_GRID = (0.2, 5.0, 49)  # step 0.1, boundaries then refined
@@ -167,7 +169,7 @@ def floquet_section(omegas, balanced) -> dict:
     eigenvector (+1 even, -1 odd)."""
     from scipy.optimize import brentq
 
-    from .loading import load_model
+    from ....analysis.loading import load_model
 
     model = load_model("two_plane_fixed")
     values = {"epsilon": tr.FIG12_EPS, "chi": 0.0, "beta": 0.0, **tr._ball_values(tr.FIG12_EPS, tr.FIG12_RATIO)}
@@ -331,7 +333,7 @@ def section(res: dict, root: Path) -> list[str]:
     for rel, (e, o) in ex.study.items():
         L.append(f"| {rel:g} | {'—' if e is None else f'{e:.4f}'} | {'—' if o is None else f'{o:.4f}'} |")
     L += [f"| (32), the limit m -> m_c | {cyl:.4f} | {con:.4f} |", "",
-          "B's other instabilities of the full model (Hopf points of the whirl modes, see README \"Stability\") "
+          "B's other instabilities of the full model (Hopf points of the whirl modes, see [Stability](stability.md)) "
           "are beyond the normal form, as the paper says.", "",
           f"![B/C3 exchange]({res['exchange']['figure'].relative_to(root).as_posix()})", ""]
 
@@ -378,13 +380,13 @@ def section(res: dict, root: Path) -> list[str]:
           + " (-1: odd): the start, balls at 0 and pi in both races, is gamma_r-symmetric, so the exactly "
           "symmetric equations never excite that mode.  The same discrepancy, with the same cause.", "",
           "The peaks are located by a bounded scalar search (xatol 1e-5) on the brute-force A_bar around the "
-          "grid's maxima; they are the damped response peaks of the derived model (README, `response_peaks`: 1.000100, 2.237185), so 2.24 is met at its "
+          "grid's maxima; they are the damped response peaks of the derived model ([Two-plane rotor](two-plane.md), `response_peaks`: 1.000100, 2.237185), so 2.24 is met at its "
           "printed precision.  The plain rotor approaches eps/R from above as its Y response "
           "1/(1 - Omega_Y^2/Omega^2) with Omega_Y^2 = (k_1Y + k_2Y)/M = 5 does ("
           + ", ".join(f"{_pct(1 / (1 - 5 / k**2) - 1)} at Omega = {k:g}" for k in sorted(lim))
           + f"; at the grid's end, Omega = {f['omegas'][-1]:g}: {f['plain'][-1]:.4g}): the difference is the "
           "limit not yet reached, not an error.  The printed 1.65 and 3.79 (the conical "
-          "critical speeds of (43)) remain NOT REPRODUCED (README, errata: the derived model gives 1.659235 and "
+          "critical speeds of (43)) remain NOT REPRODUCED ([Errata](errata.md): the derived model gives 1.659235 and "
           "3.776920); a static imbalance does not excite them, so this figure cannot test them.  Where the balls "
           "do not balance they run behind the rotor (alpha_k' != 0 over the window) and the ABB is worse than "
           f"the plain rotor up to {f['worst_ratio'][1]:.0f} times (at Omega = {f['worst_ratio'][0]:.2f}), as the "
@@ -475,3 +477,6 @@ def section(res: dict, root: Path) -> list[str]:
           f"![Figure 15]({ramp['figure'].relative_to(root).as_posix()})", "",
           f"![Figure 16]({hill['figure'].relative_to(root).as_posix()})", ""]
     return L
+
+
+REPRODUCTION = Reproduction("two-plane", "Two-plane paper", compute, section)

@@ -4,7 +4,8 @@
                      [--scan NAME=FROM:TO] [--json]
     adbgen continue MODEL --par NAME [--par2 NAME2] [--set NAME=VALUE]... [--to VALUE] [--range2 LO:HI] [--json]
 
-Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).
+Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).  The states they
+start from are `adbgen.analysis.starts`'.
 """
 
 from __future__ import annotations
@@ -14,11 +15,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analysis.loading import AnalysisError
+from ..analysis.units import assignments, show
 from ..outputs import output_folder
 from ..progress import activity, bar as progress_bar, wanted
-from .command_registry import _emit_json, _finite_positive, _load, _model_arguments, _positive_int, command
-from .loading import AnalysisError
-from .units import assignments, show
+from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments, _positive_int
+
+command = Commands()
+register = command.register
 
 # the default largest continuation step (in (state, parameter)): the parameter's range in this many steps
 # (0.857 for omega from 400 to 100 rad/s), but at least STATE_STEP, what a step may move the state (the
@@ -36,22 +40,13 @@ def _fmt(z: complex) -> str:
 
 
 def _start(model, args, p):
-    """(state vector, label): --y0 (states not given 0), --state LABEL, or the model's START."""
-    from . import closed_forms
+    """(state vector, label): --y0 (states not given 0, values with units), --state LABEL, or START."""
+    from ..analysis.starts import start_state
+    from ..analysis.units import units
 
     if args.y0 and args.state:
         raise AnalysisError("give --y0 or --state, not both")
-    if args.y0:
-        from .units import assignments, units
-
-        return model.state(assignments(args.y0, "--y0", units(model).states)), "y0"
-    label = args.state or "start"
-    if label == "start":
-        start = getattr(model.module, "START", None)
-        if start is None:
-            raise AnalysisError(f"{model.name} has no START state; give --y0 or --state")
-        return np.array(start, float), "start"
-    return closed_forms.state(model, label, p), label
+    return start_state(model, p, assignments(args.y0, "--y0", units(model).states), args.state)
 
 
 def _scan_range(text: str, model) -> tuple[str, float, float]:
@@ -63,7 +58,7 @@ def _scan_range(text: str, model) -> tuple[str, float, float]:
     if name not in model.param_names:
         raise AnalysisError(f"--scan: {name!r} is not a parameter of {model.name}; parameters: "
                             f"{', '.join(model.param_names)}")
-    from .units import quantity, units
+    from ..analysis.units import quantity, units
 
     unit = units(model).params[name]
     a, b = quantity(lo, unit, f"--scan {name} FROM"), quantity(hi, unit, f"--scan {name} TO")
@@ -83,8 +78,9 @@ def _add_stability(p) -> None:
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
                    help="the initial guess by state name (repeatable); states not given are 0")
     p.add_argument("--state", metavar="LABEL",
-                   help="start from `start` (the model's START, default) or a closed-form state of the thesis "
-                        "models: 1 (balanced (3.6)), 2+, 2- (3.9), 3(k)+, 3(k)- (3.10, k balls opposite)")
+                   help="start from `start` (the model's START, default) or one of the model's closed-form steady "
+                        "states by label (its STEADY_STATES; the thesis models': 1 (balanced (3.6)), 2+, 2- (3.9), "
+                        "3(k)+, 3(k)- (3.10, k balls opposite))")
     p.add_argument("--scan", metavar="NAME=FROM:TO",
                    help="follow the state from NAME = FROM to TO (pseudo-arclength), locate Hopf points and folds")
     p.add_argument("--ds-max", type=_finite_positive, metavar="DS",
@@ -100,8 +96,9 @@ def _add_stability(p) -> None:
 
 
 def run_stability(args) -> int:
-    from . import continuation, steady
-    from .units import params, units
+    from ..analysis import continuation, steady
+    from ..analysis.continuation import write_scan
+    from ..analysis.units import params, units
 
     if args.out is not None:
         if not args.scan:
@@ -159,7 +156,7 @@ def _scan_end(result, ds_max: float, max_steps: int, unit: str) -> str:
 def _forced_stability(model, p, args, show_progress) -> int:
     """`adbgen stability` on a periodically forced model: its periodic response at p and the response's
     Floquet multipliers (`auto_orbits.forced_response`)."""
-    from . import auto_orbits
+    from ..analysis import auto_orbits
 
     if args.scan:
         raise AnalysisError(f"{model.name} is periodically forced: follow its response along a parameter with "
@@ -181,7 +178,7 @@ def _forced_stability(model, p, args, show_progress) -> int:
 
 
 def _print_response(r) -> None:
-    from .units import show, units
+    from ..analysis.units import show, units
 
     m, u = r.model, units(r.model)
     print(f"model {m.name}: periodic response (period {show(r.period, u.time, 8)}), |y(T) - y(0)| = "
@@ -207,7 +204,7 @@ def _rounded(value: float, floor: float = 1e-15) -> float:
 
 
 def _print_steady(st) -> None:
-    from .units import units
+    from ..analysis.units import units
 
     m = st.model
     u = units(m)
@@ -226,71 +223,6 @@ def _print_steady(st) -> None:
         print(f"neutral (along the family, |J T| = {st.tangent_residual:.1e}):")
         for z in st.neutral:
             print("  " + _fmt(z))
-
-
-def write_scan(result, out: Path, values: dict | None = None, scene: str | None = None) -> None:
-    """scan.csv (one row per continuation step) and scan.png: the leading real part of the transverse
-    spectrum and the rotor amplitude along the parameter, stable stretches solid, Hopf points and folds
-    marked and labelled (the thesis' one-parameter diagrams, Fig. 4.2, 4.6, 4.11); each file written
-    whole."""
-    import io
-
-    from ..outputs import save_figure, writing
-    from .figure_style import latex_name, pyplot, title
-    from .units import axis_label, units
-
-    out.mkdir(parents=True, exist_ok=True)
-    m = result.model
-    u = units(m)
-    unit = u.params.get(result.name, "1")
-    ix, iy = m.amplitude_indices[:2]
-    lam = np.array([b.lam for b in result.branch])
-    lead = np.array([float(np.max(b.spectrum.real)) for b in result.branch])
-    amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
-    amp[amp < 1e-14 * max(1.0, float(np.max(amp)))] = 0.0  # the balanced state: rounding only
-    unstable = np.array([b.n_unstable for b in result.branch])
-    body = io.StringIO()
-    np.savetxt(body, np.column_stack([lam, lead, unstable, amp]), delimiter=",", fmt="%.17g")
-    with writing(out / "scan.csv") as fh:
-        fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
-                 f"to {result.stop!r}; complete: {str(result.complete).lower()} ({result.end_reason}, last step at "
-                 f"{result.end_at!r}); units: {result.name} {unit}, amplitude {u.length}, leading_real_part "
-                 f"{'1' if u.time == '1' else '1/' + u.time}\n")
-        fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
-        fh.write(body.getvalue())
-    plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 5.5), sharex=True, constrained_layout=True)
-    rate = "" if u.time == "1" else f"1/{u.time}"
-    balanced = not np.any(amp > 0)
-    # on the balanced state r = 0 all along: the lower panel counts the unstable eigenvalues instead
-    lower = (unstable.astype(float), "eigenvalues with Re > 0") if balanced else \
-        (amp, axis_label("$r = \\sqrt{x^2 + y^2}$", u.length))
-    for ax, values_, label in ((a1, lead, axis_label("max Re $\\lambda$ (transverse)", rate)), (a2, *lower)):
-        stable = np.where(unstable == 0, values_, np.nan)
-        ax.plot(lam, values_, "--", color="C0", lw=0.8, label="unstable")
-        ax.plot(lam, stable, "-", color="C0", lw=1.6, label="stable")
-        ax.set_ylabel(label)
-        for b in result.points:
-            ax.axvline(b.value, color="C3" if b.kind == "hopf" else "C2", lw=0.6, ls=":")
-    for b in result.points:
-        a1.annotate(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}", (b.value, 1.0), xycoords=("data", "axes fraction"),
-                    textcoords="offset points", xytext=(3, -4), ha="left", va="top", fontsize=7,
-                    color="C3" if b.kind == "hopf" else "C2", rotation=90)
-    a1.axhline(0.0, color="0.5", lw=0.5)
-    a1.legend(loc="best", fontsize=7)
-    if balanced:
-        a2.set_yticks(range(int(unstable.max()) + 1))
-        a2.set_title("r = 0 along the whole branch (the balanced state)", fontsize=8)
-    a2.set_xlabel(axis_label(latex_name(result.name), unit))
-    if not result.complete:
-        for ax in (a1, a2):
-            ax.axvspan(min(result.end_at, result.stop), max(result.end_at, result.stop), color="0.9", zorder=0)
-        a2.text(0.5 * (result.end_at + result.stop), 0.02, "not scanned", ha="center", va="bottom", fontsize=8,
-                color="0.4", transform=a2.get_xaxis_transform())
-    name = f"{Path(scene).name} ({m.name})" if scene else m.name
-    marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points) or "no Hopf point or fold"
-    a1.set_title(title(name, values or {}, u.params, f"solid stable, dashed unstable; {marks}"), fontsize=8)
-    save_figure(fig, out / "scan.png", dpi=120)
 
 
 def _print_scan(result, unit: str = "1") -> None:
@@ -322,57 +254,19 @@ def _add_continue(p) -> None:
                                                  "the start value)")
     p.add_argument("--range2", metavar="LO:HI", help="bounds of --par2 (default 0 to ten times its value)")
     p.add_argument("--state", metavar="LABEL",
-                   help="start from `start` (START, default) or, for the thesis models, a closed-form state at the "
-                        "--set parameters: 1, 2+, 2-, 3(k)+, 3(k)- (n >= 3: only the balanced family's member of the "
-                        "AUTO files, whose func pins phi_3.. at START's values)")
+                   help="start from `start` (START, default) or one of the model's closed-form steady states at the "
+                        "--set parameters, by label (its STEADY_STATES; n >= 3 balls: only the balanced family's "
+                        "member of the AUTO files, whose func pins phi_3.. at START's values)")
     p.add_argument("--keep", metavar="DIR", help="run AUTO in DIR and keep its files (fort.7, fort.8, ...)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.set_defaults(fn=run_continue)
 
 
-def _pinned(model, y0, p, guess=None):
-    """The steady state near `guess` (default y0) at p; on the n >= 3 balanced family with the free
-    angles kept at y0's (the member AUTO's regularised func follows)."""
-    from . import steady
-
-    free = list(model.angle_indices)[2:] if steady.on_balanced_family(model, y0) else []
-    extra = None
-    if free:
-        rows = np.zeros((len(free), model.n_states))
-        rows[range(len(free)), free] = 1.0
-        extra = (lambda y: y[free] - y0[free], lambda y: rows)
-    y, _ = steady.newton(model, p, y0 if guess is None else guess, extra=extra)
-    return y
-
-
-def _pinned_start(model, p):
-    """START, re-solved at p (see `_pinned`)."""
-    y0 = np.array(model.module.START, float)
-    return y0 if np.array_equal(p, model.module.START_PARAMETERS) else _pinned(model, y0, p)
-
-
-def _follower(model, y0):
-    """p -> the followed steady state at p: the balanced state (3.6) from its closed form where y0 is
-    one (x = y = 0), else Newton from y0."""
-    from . import closed_forms, steady
-
-    core = [model.index(c) for c in model.module.CORE]
-    balanced = closed_forms.is_thesis_model(model) and np.max(np.abs(y0[core])) < 1e-12
-
-    def at(p):
-        guess = None
-        if balanced:
-            guess = closed_forms.state(model, "1", p)
-            if steady.on_balanced_family(model, y0):
-                guess[list(model.angle_indices)[2:]] = y0[list(model.angle_indices)[2:]]
-        return _pinned(model, y0, p, guess)
-    return at
-
-
 def run_continue(args) -> int:
-    from . import auto, steady
-    from .units import params, quantity, units
+    from ..analysis import auto, steady
+    from ..analysis.starts import follower, pinned_start
+    from ..analysis.units import params, quantity, units
 
     if args.keep is not None:
         output_folder(args.keep, "--keep")
@@ -406,14 +300,14 @@ def run_continue(args) -> int:
         if not range2[0] < range2[1]:
             raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
     if args.state in (None, "start"):
-        y = _pinned_start(model, p)
+        y = pinned_start(model, p)
     else:
-        from . import closed_forms
+        from ..analysis.starts import labelled_state
 
-        y = closed_forms.state(model, args.state, p)
+        y = labelled_state(model, args.state, p)
         y, _ = steady.newton(model, p, y)
         start = np.asarray(model.module.START, float)
-        free = list(model.angle_indices)[2:] if steady.on_balanced_family(model, start) else []
+        free = list(model.role_indices("ball_angle"))[2:] if steady.on_balanced_family(model, start) else []
         if free and np.max(np.abs(np.angle(np.exp(1j * (y[free] - start[free]))))) > 1e-9:
             raise AnalysisError(f"state {args.state}: {model.name}'s AUTO files pin the free angles "
                                 f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
@@ -431,7 +325,7 @@ def run_continue(args) -> int:
         else:
             curves = auto.continue_two(model, args.par, args.par2, p, y, to, range2)
             curves.double_hopf = auto.double_hopf_points(model, curves.curves, p, args.par, args.par2,
-                                                         _follower(model, y))
+                                                         follower(model, y))
             out = {"model": model.name, "parameter": args.par, "parameter2": args.par2,
                    "points": curves.one.to_json(), **curves.to_json()}
             one = curves.one
@@ -454,8 +348,8 @@ def run_continue(args) -> int:
 
 def _continue_forced(model, p, args, to, show_progress) -> int:
     """`adbgen continue` on a periodically forced model: its AUTO files' stages (`auto_orbits`)."""
-    from . import auto_orbits
-    from .units import units
+    from ..analysis import auto_orbits
+    from ..analysis.units import units
 
     if args.par2 is not None or args.range2 is not None or args.state not in (None, "start"):
         raise AnalysisError(f"{model.name} is periodically forced: `continue` follows its periodic response in one "

@@ -18,9 +18,9 @@ from pathlib import Path
 from .. import families
 from ..cli_types import UsageError, model_name, positive_int
 from ..errors import AdbgenError, SceneError
+from ..codegen import journal, targets
+from ..codegen.lowering import DEFAULT_FORM, FORMS
 from ..outputs import output_folder
-from . import journal, targets
-from .lowering import DEFAULT_FORM, FORMS
 
 
 def _family_for_scene(path: str, chosen: tuple[str, ...] | None):
@@ -99,8 +99,8 @@ def specs_for(args) -> list:
 
 
 def cmd_regenerate(args) -> int:
-    from .names import validate_name
-    from .regenerate import DEFAULT_OUT, IN_SOURCE_CHECKOUT, diff, render_all, stale, write
+    from ..codegen.names import validate_name
+    from ..codegen.regenerate import DEFAULT_OUT, IN_SOURCE_CHECKOUT, diff, render_all, stale, write
 
     custom = args.scene is not None or args.n is not None or bool(args.family)
     if custom and args.out is None:
