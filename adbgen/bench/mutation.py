@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import ast
 import difflib
+import json
 import os
 import random
 import re
@@ -465,8 +466,6 @@ def _report(results: list[dict], started: float, planned: int) -> dict:
 def retest(path: str) -> int:
     """Put the survivors of a results file through their named tests (the --tests step of a run that
     was made without it); rewrites the file."""
-    import json
-
     from .report import write
 
     data = json.loads(Path(path).read_text())
@@ -492,6 +491,22 @@ def retest(path: str) -> int:
     return 0
 
 
+def interleaved(mutants: list[Mutant]) -> list[Mutant]:
+    """Round-robin over the mutated files (each file's own order kept), so that a run cut short has
+    sampled every file and template alike instead of the first files only."""
+    by_file: dict[str, list[Mutant]] = {}
+    for m in mutants:
+        by_file.setdefault(m.file, []).append(m)
+    queues = list(by_file.values())
+    return [q[k] for k in range(max(map(len, queues), default=0)) for q in queues if k < len(q)]
+
+
+def _resumed(out) -> list[dict]:
+    """The results an earlier run of the same plan wrote to `out` (none when there is no such file)."""
+    path = Path(out)
+    return json.loads(path.read_text())["results"] if path.is_file() else []
+
+
 def run(args, out) -> int:
     from .report import write
 
@@ -503,11 +518,16 @@ def run(args, out) -> int:
         if args.sample:
             mutants = list(SAMPLE)
         else:
-            mutants = python_mutants(scratch.root, args.per_file, args.seed) + \
-                template_mutants(scratch.root, args.per_template, args.seed)
+            mutants = interleaved(python_mutants(scratch.root, args.per_file, args.seed)
+                                  + template_mutants(scratch.root, args.per_template, args.seed))
         baselines: dict[tuple, dict] = {}
-        results = []
+        results = _resumed(out) if args.resume else []
+        done = {r["id"] for r in results}
+        if done:
+            started -= json.loads(Path(out).read_text())["seconds"]
         for k, mutant in enumerate(mutants, 1):
+            if mutant.id in done:
+                continue
             for runs in {mutant.args, UNROLLED} - set(baselines):
                 r = scratch.regenerate(runs, scratch.root / ".out")
                 if r.returncode != 0:
@@ -535,9 +555,10 @@ BENCHMARK = Benchmark("mutation", run, (
     option("--sample", action="store_true", help="only the CI sample of 30 mutants"),
     option("--tests", action="store_true", help="put written mutants through the named tests of their target"),
     option("--retest", action="store_true", help="only put the survivors of the results file (--out) through their tests"),
+    option("--resume", action="store_true", help="keep the results already in --out and run only the mutants not in it"),
 ))
 
-__all__ = ["BENCHMARK", "Mutant", "SAMPLE", "Scratch", "classify", "python_mutants", "template_mutants"]
+__all__ = ["BENCHMARK", "Mutant", "SAMPLE", "Scratch", "classify", "interleaved", "python_mutants", "template_mutants"]
 
 if __name__ == "__main__":  # pragma: no cover
     raise SystemExit("run: adbgen bench mutation")
