@@ -411,7 +411,9 @@ def prove_model(ir: ModelIR, files: dict[str, str], names=None, form: str | None
         for target in chosen:
             proof.target = target.name
             if not _overrides_prove(target):
-                proof.fail(f"target {target.name!r} has no proof of its files (Target.prove): nothing unproven is written")
+                proof.fail(f"target {target.name!r} has no proof of its files, and nothing unproven is written: "
+                           f"give it a prove(proof) method (adbgen/codegen/targets/{target.name}/prove.py; "
+                           "docs/proofs.md says what a proof compares), or leave it out with --targets")
             try:
                 target.prove(proof)
             except ProofFailed:
