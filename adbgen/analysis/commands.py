@@ -4,6 +4,7 @@
                     [--rtol R] [--atol A] [--engine E] [--threshold H] [--out DIR] [--json]
 
     adbgen stability ..., adbgen continue ...   (stability_commands.py)
+    adbgen orbit ...                             (orbits/commands.py)
     adbgen sweep ...                             (sweep_commands.py)
     adbgen reproduce ...                         (reproduce.py)
 
@@ -25,6 +26,7 @@ def register(sub, parser_class) -> None:
     """Add this layer's commands to the `adbgen` subparsers."""
     # the command modules register themselves in COMMANDS when imported
     from . import reproduce, stability_commands, sweep_commands  # noqa: F401
+    from .orbits import commands as _orbits  # noqa: F401
 
     for name, help_, add in COMMANDS:
         p = sub.add_parser(name, help=help_, description=help_)

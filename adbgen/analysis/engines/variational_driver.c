@@ -1,0 +1,218 @@
+/* Arcs of a generated model with their variational equations, integrated in C by CyRK's DOP853 (or any of
+ * its explicit Runge-Kutta methods): the flow map x -> phi(t0 + h; t0, x), its derivative
+ * Phi = d phi / d x and, optionally, w = d phi / d p_k, with no Python per step or per evaluation.
+ *
+ *     y'   = f(t, y, p)
+ *     Phi' = J(t, y, p) Phi,          Phi(t0) = I        (J the generated analytic Jacobian)
+ *     w'   = J(t, y, p) w + f_p[:, k], w(t0) = 0         (f_p the generated d f / d p)
+ *
+ * integrated as one system, so the monodromy matrix of a periodic orbit is Phi over one period (a product
+ * of the arcs' Phi in multiple shooting) and the shooting Newton has its exact Jacobian.  The error control
+ * covers Phi and w too (their accuracy is what the Floquet multipliers and Newton's convergence need).
+ *
+ * One translation unit per model: it #includes the model's generated C source, compiled by
+ * adbgen.analysis.orbits.flow through engines.compiled.build with
+ *     -DADB_MODEL_SOURCE='"<model>.c"' -DADB_RHS=<model>_rhs -DADB_JAC=<model>_jac -DADB_JAC_P=<model>_jac_p
+ *     -DADB_NY=<states> -DADB_NP=<parameters>
+ * CyRK's solver is reached through the C function pointers of its numba bridge (CyRK.nb.numba_c_api),
+ * handed over once by adb_var_init, as in cyrk_driver.c.  Each arc keeps only its end point (CyRK's
+ * t_eval at the arc's end), so memory does not grow with the number of steps.
+ */
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include ADB_MODEL_SOURCE
+#include "driver_common.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+typedef void (*PreEvalFn)(char *, double, double *, char *);
+typedef void (*DiffeqFn)(double *, double, double *, char *, PreEvalFn);
+typedef void *(*SolveFn)(DiffeqFn, double, double, double *, size_t, int, size_t, size_t, char *, size_t, size_t,
+                         size_t, bool, double *, size_t, PreEvalFn, void *, size_t, double *, size_t, double *, size_t,
+                         double, double, bool);
+typedef bool (*BoolFn)(void *);
+typedef int (*IntFn)(void *);
+typedef size_t (*SizeFn)(void *);
+typedef double *(*PtrFn)(void *);
+typedef int (*CallFn)(void *, double, double *);
+typedef void (*FreeFn)(void *);
+
+static struct {
+    SolveFn solve;
+    BoolFn success;
+    IntFn status;
+    SizeFn size;
+    PtrFn t;
+    PtrFn y;
+    SizeFn steps;
+    CallFn call;
+    FreeFn free;
+} cy;
+
+/* ptrs: solve, success, status, size, t, y, steps_taken, call, free (CyRK.nb.numba_c_api). */
+int adb_var_init(void *const *ptrs)
+{
+    cy.solve = (SolveFn)ptrs[0];
+    cy.success = (BoolFn)ptrs[1];
+    cy.status = (IntFn)ptrs[2];
+    cy.size = (SizeFn)ptrs[3];
+    cy.t = (PtrFn)ptrs[4];
+    cy.y = (PtrFn)ptrs[5];
+    cy.steps = (SizeFn)ptrs[6];
+    cy.call = (CallFn)ptrs[7];
+    cy.free = (FreeFn)ptrs[8];
+    return ADB_NY;
+}
+
+#define NN (ADB_NY * ADB_NY)
+
+/* CyRK copies the argument bytes; the counter pointer survives the copy */
+typedef struct {
+    double p[ADB_NP];
+    long *count;
+    int phi; /* integrate Phi */
+    int k;   /* parameter of w, or -1 */
+} Args;
+
+static void diffeq(double *dz, double t, double *z, char *args, PreEvalFn pre)
+{
+    (void)pre;
+    Args *a = (Args *)args;
+    ADB_RHS(t, z, a->p, dz);
+    ++*a->count;
+    if (!a->phi) return;
+    double J[NN];
+    ADB_JAC(t, z, a->p, J);
+    const double *Phi = z + ADB_NY;
+    double *dPhi = dz + ADB_NY;
+    /* dPhi = J Phi (row-major): row i of J times each column of Phi; i-k-j order for contiguous rows */
+    for (int i = 0; i < ADB_NY; ++i) {
+        double *row = dPhi + i * ADB_NY;
+        for (int j = 0; j < ADB_NY; ++j) row[j] = 0.0;
+        for (int k = 0; k < ADB_NY; ++k) {
+            double c = J[i * ADB_NY + k];
+            if (c == 0.0) continue; /* the Jacobians are sparse (rates, the balls' own columns) */
+            const double *src = Phi + k * ADB_NY;
+            for (int j = 0; j < ADB_NY; ++j) row[j] += c * src[j];
+        }
+    }
+    if (a->k < 0) return;
+    double Fp[ADB_NY * ADB_NP];
+    ADB_JAC_P(t, z, a->p, Fp);
+    const double *w = z + ADB_NY + NN;
+    double *dw = dz + ADB_NY + NN;
+    for (int i = 0; i < ADB_NY; ++i) {
+        double s = Fp[i * ADB_NP + a->k];
+        for (int k = 0; k < ADB_NY; ++k) s += J[i * ADB_NY + k] * w[k];
+        dw[i] = s;
+    }
+}
+
+/* CyRK status -> ours (CyrkErrorCodes: -51..-53 step limits, -54/-55/-80 step size) */
+static int decode(int code)
+{
+    if (code == -51 || code == -52 || code == -53) return ADB_MAX_STEPS;
+    if (code == -54 || code == -55 || code == -80) return ADB_STEP_UNDERFLOW;
+    return ADB_SOLVER_FAILURE;
+}
+
+/* One arc from (t0, x0) over h > 0 (or h < 0: backwards).  out_x: the end state; out_phi (NULL: not
+ * integrated): Phi at the end, row-major; out_w (NULL or k < 0: not integrated): w at the end.
+ * counts: [rhs evaluations, steps].  Returns a status code of driver_common.h. */
+static int arc(const double *x0, double t0, double h, const double *p, int k, double rtol, double atol, int method,
+               long max_steps, double *out_x, double *out_phi, double *out_w, long *counts)
+{
+    int with_phi = out_phi != NULL, with_w = with_phi && out_w != NULL && k >= 0;
+    size_t n = ADB_NY + (with_phi ? NN : 0) + (with_w ? ADB_NY : 0);
+    double *z = calloc(n, sizeof(double));
+    if (!z) return ADB_SOLVER_FAILURE;
+    memcpy(z, x0, sizeof(double) * ADB_NY);
+    if (with_phi)
+        for (int i = 0; i < ADB_NY; ++i) z[ADB_NY + i * ADB_NY + i] = 1.0;
+    long count = 0;
+    Args args;
+    memcpy(args.p, p, sizeof args.p);
+    args.count = &count;
+    args.phi = with_phi;
+    args.k = with_w ? k : -1;
+    double t1 = t0 + h;
+    double t_eval[1] = {t1};
+    void *res = cy.solve(diffeq, t0, t1, z, n, method, 4, 0, (char *)&args, sizeof(Args),
+                         max_steps > 0 ? (size_t)max_steps : 0, 2000, false, t_eval, 1, NULL, NULL, 0, &rtol, 1, &atol, 1,
+                         INFINITY, 0.0, true);
+    int status = ADB_SUCCESS;
+    if (!res) {
+        free(z);
+        return ADB_SOLVER_FAILURE;
+    }
+    if (!cy.success(res)) status = decode(cy.status(res));
+    else {
+        size_t m = cy.size(res);
+        const double *ry = cy.y(res);
+        const double *end = ry + (m - 1) * n;
+        if (m < 1 || !adb_all_finite(end, (int)n)) status = ADB_NONFINITE;
+        else {
+            memcpy(out_x, end, sizeof(double) * ADB_NY);
+            if (with_phi) memcpy(out_phi, end + ADB_NY, sizeof(double) * NN);
+            if (with_w) memcpy(out_w, end + ADB_NY + NN, sizeof(double) * ADB_NY);
+        }
+    }
+    counts[0] += count;
+    counts[1] += (long)cy.steps(res);
+    cy.free(res);
+    free(z);
+    return status;
+}
+
+/* m arcs, arc i from (T0[i], X0 + i ADB_NY) over H[i], on `threads` OpenMP threads (< 1: all).
+ * with_phi: 0 state only, 1 with Phi; k >= 0 adds w = d x / d p_k.  Outputs by arc (rows of Xend, blocks
+ * of Phi and W); status per arc; counts: [rhs evaluations, steps] summed over the arcs. */
+void adb_var_arcs(int m, const double *X0, const double *T0, const double *H, const double *p, int k, int with_phi,
+                  double rtol, double atol, int method, long max_steps, int threads, double *Xend, double *Phi,
+                  double *W, int *status, long *counts)
+{
+    long c0 = 0, c1 = 0;
+#ifdef _OPENMP
+    if (threads < 1) threads = omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : c0, c1) if (m > 1)
+#endif
+    for (int i = 0; i < m; ++i) {
+        long c[2] = {0, 0};
+        status[i] = arc(X0 + (size_t)i * ADB_NY, T0[i], H[i], p, k, rtol, atol, method, max_steps,
+                        Xend + (size_t)i * ADB_NY, with_phi ? Phi + (size_t)i * NN : NULL,
+                        with_phi && k >= 0 ? W + (size_t)i * ADB_NY : NULL, c);
+        c0 += c[0];
+        c1 += c[1];
+    }
+    counts[0] = c0;
+    counts[1] = c1;
+}
+
+/* The state only, from (t0, y0), at `times` (n, monotone from t0, not including it) into out (n x ADB_NY):
+ * CyRK's t_eval (its dense output between steps).  Returns a status code. */
+int adb_var_sample(const double *y0, double t0, const double *p, int n, const double *times, double rtol, double atol,
+                   int method, long max_steps, double *out)
+{
+    long count = 0;
+    Args args;
+    memcpy(args.p, p, sizeof args.p);
+    args.count = &count;
+    args.phi = 0;
+    args.k = -1;
+    double z[ADB_NY];
+    memcpy(z, y0, sizeof z);
+    void *res = cy.solve(diffeq, t0, times[n - 1], z, ADB_NY, method, (size_t)n + 1, 0, (char *)&args, sizeof(Args),
+                         max_steps > 0 ? (size_t)max_steps : 0, 2000, false, (double *)times, (size_t)n, NULL, NULL, 0,
+                         &rtol, 1, &atol, 1, INFINITY, 0.0, true);
+    if (!res) return ADB_SOLVER_FAILURE;
+    int status = ADB_SUCCESS;
+    if (!cy.success(res)) status = decode(cy.status(res));
+    else if ((int)cy.size(res) != n) status = ADB_SOLVER_FAILURE;
+    else memcpy(out, cy.y(res), sizeof(double) * (size_t)n * ADB_NY);
+    cy.free(res);
+    return status;
+}
