@@ -1,10 +1,11 @@
 /* Arcs of a generated model with their variational equations, integrated in C by CyRK's DOP853 (or any of
  * its explicit Runge-Kutta methods): the flow map x -> phi(t0 + h; t0, x), its derivative
- * Phi = d phi / d x and, optionally, w = d phi / d p_k, with no Python per step or per evaluation.
+ * Phi = d phi / d x and, optionally, w = d phi / d p along dp, with no Python per step or per evaluation.
  *
  *     y'   = f(t, y, p)
  *     Phi' = J(t, y, p) Phi,          Phi(t0) = I        (J the generated analytic Jacobian)
- *     w'   = J(t, y, p) w + f_p[:, k], w(t0) = 0         (f_p the generated d f / d p)
+ *     w'   = J(t, y, p) w + f_p dp,    w(t0) = 0         (f_p the generated d f / d p, dp a direction in
+ *                                                        parameter space: one parameter, or several tied)
  *
  * integrated as one system, so the monodromy matrix of a periodic orbit is Phi over one period (a product
  * of the arcs' Phi in multiple shooting) and the shooting Newton has its exact Jacobian.  The error control
@@ -74,8 +75,9 @@ int adb_var_init(void *const *ptrs)
 typedef struct {
     double p[ADB_NP];
     long *count;
-    int phi; /* integrate Phi */
-    int k;   /* parameter of w, or -1 */
+    int phi;            /* integrate Phi */
+    int w;              /* integrate w along dp */
+    double dp[ADB_NP];  /* the parameter direction of w */
 } Args;
 
 static void diffeq(double *dz, double t, double *z, char *args, PreEvalFn pre)
@@ -100,13 +102,14 @@ static void diffeq(double *dz, double t, double *z, char *args, PreEvalFn pre)
             for (int j = 0; j < ADB_NY; ++j) row[j] += c * src[j];
         }
     }
-    if (a->k < 0) return;
+    if (!a->w) return;
     double Fp[ADB_NY * ADB_NP];
     ADB_JAC_P(t, z, a->p, Fp);
     const double *w = z + ADB_NY + NN;
     double *dw = dz + ADB_NY + NN;
     for (int i = 0; i < ADB_NY; ++i) {
-        double s = Fp[i * ADB_NP + a->k];
+        double s = 0.0;
+        for (int k = 0; k < ADB_NP; ++k) s += Fp[i * ADB_NP + k] * a->dp[k];
         for (int k = 0; k < ADB_NY; ++k) s += J[i * ADB_NY + k] * w[k];
         dw[i] = s;
     }
@@ -121,12 +124,12 @@ static int decode(int code)
 }
 
 /* One arc from (t0, x0) over h > 0 (or h < 0: backwards).  out_x: the end state; out_phi (NULL: not
- * integrated): Phi at the end, row-major; out_w (NULL or k < 0: not integrated): w at the end.
+ * integrated): Phi at the end, row-major; out_w (NULL, or dp NULL: not integrated): w at the end.
  * counts: [rhs evaluations, steps].  Returns a status code of driver_common.h. */
-static int arc(const double *x0, double t0, double h, const double *p, int k, double rtol, double atol, int method,
-               long max_steps, double *out_x, double *out_phi, double *out_w, long *counts)
+static int arc(const double *x0, double t0, double h, const double *p, const double *dp, double rtol, double atol,
+               int method, long max_steps, double *out_x, double *out_phi, double *out_w, long *counts)
 {
-    int with_phi = out_phi != NULL, with_w = with_phi && out_w != NULL && k >= 0;
+    int with_phi = out_phi != NULL, with_w = with_phi && out_w != NULL && dp != NULL;
     size_t n = ADB_NY + (with_phi ? NN : 0) + (with_w ? ADB_NY : 0);
     double *z = calloc(n, sizeof(double));
     if (!z) return ADB_SOLVER_FAILURE;
@@ -138,7 +141,8 @@ static int arc(const double *x0, double t0, double h, const double *p, int k, do
     memcpy(args.p, p, sizeof args.p);
     args.count = &count;
     args.phi = with_phi;
-    args.k = with_w ? k : -1;
+    args.w = with_w;
+    if (with_w) memcpy(args.dp, dp, sizeof args.dp);
     double t1 = t0 + h;
     double t_eval[1] = {t1};
     void *res = cy.solve(diffeq, t0, t1, z, n, method, 4, 0, (char *)&args, sizeof(Args),
@@ -169,9 +173,10 @@ static int arc(const double *x0, double t0, double h, const double *p, int k, do
 }
 
 /* m arcs, arc i from (T0[i], X0 + i ADB_NY) over H[i], on `threads` OpenMP threads (< 1: all).
- * with_phi: 0 state only, 1 with Phi; k >= 0 adds w = d x / d p_k.  Outputs by arc (rows of Xend, blocks
- * of Phi and W); status per arc; counts: [rhs evaluations, steps] summed over the arcs. */
-void adb_var_arcs(int m, const double *X0, const double *T0, const double *H, const double *p, int k, int with_phi,
+ * with_phi: 0 state only, 1 with Phi; dp (not NULL, with Phi) adds w = d x / d p along dp.  Outputs by arc
+ * (rows of Xend, blocks of Phi and W); status per arc; counts: [rhs evaluations, steps] summed over the arcs. */
+void adb_var_arcs(int m, const double *X0, const double *T0, const double *H, const double *p, const double *dp,
+                  int with_phi,
                   double rtol, double atol, int method, long max_steps, int threads, double *Xend, double *Phi,
                   double *W, int *status, long *counts)
 {
@@ -182,9 +187,9 @@ void adb_var_arcs(int m, const double *X0, const double *T0, const double *H, co
 #endif
     for (int i = 0; i < m; ++i) {
         long c[2] = {0, 0};
-        status[i] = arc(X0 + (size_t)i * ADB_NY, T0[i], H[i], p, k, rtol, atol, method, max_steps,
+        status[i] = arc(X0 + (size_t)i * ADB_NY, T0[i], H[i], p, dp, rtol, atol, method, max_steps,
                         Xend + (size_t)i * ADB_NY, with_phi ? Phi + (size_t)i * NN : NULL,
-                        with_phi && k >= 0 ? W + (size_t)i * ADB_NY : NULL, c);
+                        with_phi && dp ? W + (size_t)i * ADB_NY : NULL, c);
         c0 += c[0];
         c1 += c[1];
     }
@@ -202,7 +207,7 @@ int adb_var_sample(const double *y0, double t0, const double *p, int n, const do
     memcpy(args.p, p, sizeof args.p);
     args.count = &count;
     args.phi = 0;
-    args.k = -1;
+    args.w = 0;
     double z[ADB_NY];
     memcpy(z, y0, sizeof z);
     void *res = cy.solve(diffeq, t0, times[n - 1], z, ADB_NY, method, (size_t)n + 1, 0, (char *)&args, sizeof(Args),

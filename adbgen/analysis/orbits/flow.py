@@ -1,10 +1,10 @@
 """The flow of a generated model and its derivatives, from the compiled variational driver.
 
     Flow(model).arcs(X0, T0, H, p)            end states of m arcs (rows), integrated in C
-    Flow(model).arcs(..., phi=True, k=3)      ... with Phi = d end / d start and w = d end / d p_3
+    Flow(model).arcs(..., phi=True, dp=e_3)   ... with Phi = d end / d start and w = d end / d p along dp
     Flow(model).sample(y0, t0, times, p)      the state at `times` (CyRK's dense output)
 
-`engines/variational_driver.c` integrates y' = f, Phi' = J Phi and w' = J w + f_p[:, k] as one
+`engines/variational_driver.c` integrates y' = f, Phi' = J Phi and w' = J w + f_p dp as one
 system with CyRK's DOP853 (the default engine's solver), J and f_p the generated analytic Jacobians,
 so the monodromy matrix of an orbit and the shooting Newton's Jacobian come from the variational
 equations, not from finite differences.  The library is compiled once per model with its C source
@@ -66,9 +66,10 @@ class Flow:
         self.lib = library(model)
         self.n_rhs = 0  # evaluations of the augmented system so far (each costs one rhs and, with Phi, one jac)
 
-    def arcs(self, X0, T0, H, p, phi: bool = False, k: int | None = None):
+    def arcs(self, X0, T0, H, p, phi: bool = False, dp=None):
         """End states (m x N) of the arcs from (T0[i], X0[i]) over H[i]; with phi, also Phi (m x N x N) and,
-        with k, w = d end / d p_k (m x N).  Returns (X, Phi or None, W or None)."""
+        with dp (a direction in parameter space), w = d end / d p along dp (m x N).  Returns (X, Phi or None,
+        W or None)."""
         N = self.model.n_states
         X0 = np.ascontiguousarray(np.atleast_2d(X0), dtype=float)
         m = len(X0)
@@ -77,11 +78,13 @@ class Flow:
         p = np.ascontiguousarray(p, dtype=float)
         X = np.zeros((m, N))
         P = np.zeros((m, N, N)) if phi else np.zeros(1)
-        W = np.zeros((m, N)) if phi and k is not None else np.zeros(1)
+        with_w = phi and dp is not None
+        W = np.zeros((m, N)) if with_w else np.zeros(1)
+        dpv = np.ascontiguousarray(dp, dtype=float) if with_w else None
         status = np.zeros(m, np.int32)
         counts = np.zeros(2, np.int64)
         self.lib.adb_var_arcs(
-            m, _ptr(X0), _ptr(T0), _ptr(H), _ptr(p), -1 if k is None else int(k), 1 if phi else 0,
+            m, _ptr(X0), _ptr(T0), _ptr(H), _ptr(p), None if dpv is None else _ptr(dpv), 1 if phi else 0,
             ctypes.c_double(self.rtol), ctypes.c_double(self.atol), self.method, ctypes.c_long(self.max_steps),
             int(self.threads), _ptr(X), _ptr(P), _ptr(W), status.ctypes.data_as(_I), counts.ctypes.data_as(_L))
         self.n_rhs += int(counts[0])
@@ -90,7 +93,7 @@ class Flow:
             i = int(bad[0])
             raise FlowError(f"{self.model.name}: arc {i} from t = {T0[i]:.6g} over {H[i]:.6g} failed "
                             f"({STATUS.get(int(status[i]), status[i])})")
-        return X, (P if phi else None), (W if phi and k is not None else None)
+        return X, (P if phi else None), (W if with_w else None)
 
     def end(self, x0, t0: float, h: float, p) -> np.ndarray:
         return self.arcs(x0, t0, h, p)[0][0]

@@ -198,6 +198,26 @@ class Return:
     distance: float  # |y(T) - y(0)| with the angles wrapped, at the detected return
 
 
+def wrap_angles(model: Model, y: np.ndarray) -> np.ndarray:
+    """y with its angles in [-pi, pi) (the same point of the state space)."""
+    return wrapped(model, y)
+
+
+def settled_on_steady_state(model: Model, y: np.ndarray, p: np.ndarray, tol: float = 1e-4) -> None:
+    """Raise if y is within tol (relative) of a steady state Newton reaches from it: the trajectory has
+    settled on an equilibrium, not an orbit."""
+    from ..steady import SteadyStateError, newton
+
+    try:
+        ys, _ = newton(model, p, y)
+    except SteadyStateError:
+        return
+    d = float(np.linalg.norm(wrapped(model, ys - y)))
+    if d <= tol * (1.0 + float(np.linalg.norm(ys))):
+        raise AnalysisError(f"the trajectory settled on a steady state (|y - y_eq| = {d:.2g}), not a periodic orbit "
+                            f"(see `adbgen stability`)")
+
+
 def wrapped(model: Model, d: np.ndarray) -> np.ndarray:
     d = np.array(d, float)
     idx = list(describe.angle_indices(model))
@@ -281,11 +301,11 @@ def find(model: Model, p: np.ndarray, y0: np.ndarray, t_transient: float = 2000.
         Tf = TWO_PI / p[forcing]
         t_transient = math.ceil(t_transient / Tf) * Tf
     y = flow.end(y0, 0.0, t_transient, p) if t_transient > 0 else np.array(y0, float)
+    y = wrap_angles(model, y)
     if forcing is not None:
         ret = detect_subharmonic(model, flow, y, p, forcing)
         q = int(round(ret.period * p[forcing] / TWO_PI))
         return refine(model, p, y, None, ret.windings, arcs=arcs, subharmonic=q, flow=flow, tol=tol)
-    if np.max(np.abs(np.asarray(model.module.rhs(0.0, y, p)))) < 1e-10 * max(1.0, float(np.max(np.abs(y)))):
-        raise AnalysisError("the trajectory settled on a steady state, not a periodic orbit (see `adbgen stability`)")
+    settled_on_steady_state(model, y, p)
     ret = detect_return(model, flow, y, p, t_return)
     return refine(model, p, y, ret.period, ret.windings, arcs=arcs, flow=flow, tol=tol)

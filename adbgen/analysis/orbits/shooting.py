@@ -11,8 +11,8 @@ phase condition fixing the point on the orbit), u = (x_0, ..., x_{m-1}) for a pe
                                                      reference point x_r normal to the flow there
 
 The Jacobian is exact: d F_i / d x_i = Phi_i (the variational equations of `flow`), d F_i / d x_i+1 = -I,
-d F_i / d T = f(end_i) / m, d F_i / d p_k = w_i (forced in the forcing frequency: the arc's times move
-with it too).  The monodromy matrix is Phi_m-1 ... Phi_0; its eigenvalues are the Floquet multipliers.
+d F_i / d T = f(end_i) / m, d F_i / d p along a direction dp = w_i (forced with the forcing frequency in
+dp: the arcs' times move with it too).  The monodromy matrix is Phi_m-1 ... Phi_0; its eigenvalues are the Floquet multipliers.
 Multiple shooting (m > 1) keeps each arc's Phi moderate where one arc over the whole period would
 amplify errors beyond what Newton can use (long, unstable orbits).
 """
@@ -93,7 +93,7 @@ class Shooting:
 
     # --- the system -------------------------------------------------------------------------------
 
-    def evaluate(self, u: np.ndarray, p: np.ndarray, jacobian: bool = True, k: int | None = None) -> Evaluation:
+    def evaluate(self, u: np.ndarray, p: np.ndarray, jacobian: bool = True, dp=None) -> Evaluation:
         m, N = self.m, self.N
         X = self.arcs_of(u)
         T = self.period(u, p)
@@ -101,7 +101,7 @@ class Shooting:
             raise ShootingError(f"the period left (0, inf): T = {T}")
         h = T / m
         t0 = np.arange(m) * h
-        ends, Phi, W = self.flow.arcs(X, t0, h, p, phi=jacobian, k=k if jacobian else None)
+        ends, Phi, W = self.flow.arcs(X, t0, h, p, phi=jacobian, dp=dp if jacobian else None)
         nxt = np.roll(X, -1, axis=0)
         nxt[-1] = X[0] + self.shift
         F = (ends - nxt).ravel()
@@ -124,15 +124,17 @@ class Shooting:
             fe = np.array([np.asarray(rhs(t0[i] + h, ends[i], p)) for i in range(m)])
             A[: m * N, -1] = (fe / m).ravel()
             A[-1, :N] = self.ref_f
-            if k is not None:
+            if dp is not None:
                 Fk = np.r_[W.ravel(), 0.0]
-        elif k is not None:
+        elif dp is not None:
             Fk = W.copy()
-            if k == self.forcing:  # the arcs' times scale with the forcing period: t_i = i T/m, dt_i/dw = -t_i/w
-                w = p[k]
+            dw = float(dp[self.forcing])
+            if dw:  # the arcs' times scale with the forcing period: t_i = i T/m, dt_i/dw = -t_i/w
+                w = p[self.forcing]
                 for i in range(m):
                     ta, tb = t0[i], t0[i] + h
-                    Fk[i] += np.asarray(rhs(tb, ends[i], p)) * (-tb / w) - Phi[i] @ np.asarray(rhs(ta, X[i], p)) * (-ta / w)
+                    Fk[i] += (np.asarray(rhs(tb, ends[i], p)) * (-tb / w)
+                              - Phi[i] @ np.asarray(rhs(ta, X[i], p)) * (-ta / w)) * dw
             Fk = Fk.ravel()
         return Evaluation(F, A, Fk, X, ends, Phi, T)
 
