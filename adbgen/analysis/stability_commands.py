@@ -197,6 +197,9 @@ def _add_continue(p) -> None:
                         "AUTO files, whose func pins phi_3.. at START's values)")
     p.add_argument("--keep", metavar="DIR", help="run AUTO in DIR and keep its files (fort.7, fort.8, ...)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    from .orbits import continue_command
+
+    continue_command.add_options(p)
     p.set_defaults(fn=run_continue)
 
 
@@ -241,17 +244,22 @@ def _follower(model, y0):
 
 def run_continue(args) -> int:
     from . import auto, steady
+    from .orbits import continue_command
 
     model = _load(args)
-    steady._require_autonomous(model)
-    if getattr(model.module, "START", None) is None:
-        raise AnalysisError(f"{model.name} has no START state to continue from")
+
+    def emit(out):
+        _emit_json(out) if args.json else _print_continue(out, args.par, args.par2)
+    if not model.autonomous:  # a forced model: its forced response (periodic orbits), not steady states
+        return continue_command.run_forced(args, model, emit)
+    if getattr(model.module, "START", None) is None and not args.y0:
+        raise AnalysisError(f"{model.name} has no START state to continue from (give --y0)")
     values = parse_assignments(args.set, "--set")
     for name in (args.par, args.par2):
         if name is not None and name not in model.param_names:
             raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: "
                                 f"{', '.join(model.param_names)}")
-    p = model.params({**dict(zip(model.param_names, model.module.START_PARAMETERS)), **values})
+    p = model.params({**continue_command._start_parameters(model), **values})
     to = parse_value(args.to, "--to") if args.to is not None else None
     range2 = None
     if args.range2 is not None:
@@ -263,7 +271,13 @@ def run_continue(args) -> int:
         range2 = (parse_value(lo, "--range2 LO"), parse_value(hi, "--range2 HI"))
         if not range2[0] < range2[1]:
             raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
-    if args.state in (None, "start"):
+    pmap = continue_command.pmap_for(model, p, [args.par, args.par2], args)
+    p = pmap([p[k] for k in pmap.index])
+    if args.tie and args.par2 is None and np.any(pmap.direction(p[pmap.index[0]], 0) != np.eye(model.n_params)[pmap.index[0]]):
+        raise AnalysisError("--tie: a parameter tied to --par needs --par2 (AUTO-07p's one-parameter run cannot keep it tied)")
+    if args.y0 and getattr(model.module, "START", None) is None:
+        y, _ = steady.newton(model, p, model.state(parse_assignments(args.y0, "--y0")))
+    elif args.state in (None, "start"):
         y = _pinned_start(model, p)
     else:
         from . import closed_forms
@@ -289,18 +303,33 @@ def run_continue(args) -> int:
                                                      _follower(model, y))
         out = {"model": model.name, "parameter": args.par, "parameter2": args.par2,
                "points": curves.one.to_json(), **curves.to_json()}
-    if args.json:
-        _emit_json(out)
-    else:
-        _print_continue(out, args.par, args.par2)
+    continue_command.add_lyapunov(model, out["points"], args.par, p, lambda q, guess: _pinned(model, y, q, guess), args)
+    if continue_command.wants_orbits(args):
+        result, branches = continue_command.continue_orbits(model, args, p, out["points"], args.par, to,
+                                                            lambda q, guess: _pinned(model, y, q, guess))
+        out.update(result)
+        if args.plot and args.par2 is None:
+            continue_command.plot_branches(Path(args.plot), model, args.par, branches)
+    emit(out)
     return 0
 
 
 def _print_continue(out, name, name2) -> None:
-    print(f"model {out['model']}: AUTO-07p in {name}")
+    if out["points"]:
+        print(f"model {out['model']}: AUTO-07p in {name}")
     for pt in out["points"]:
         freq = f", frequency {pt['frequency']:.9g}" if pt.get("frequency") else ""
-        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {pt['stability']}{freq}")
+        crit = f", {pt['criticality']} (l1 = {pt['first_lyapunov']:.6g})" if "criticality" in pt else ""
+        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {pt['stability']}{freq}{crit}")
+    for i, br in enumerate(out.get("orbits", [])):
+        origin = br["from"]
+        lam = br["parameter"]
+        span = f"{name} from {lam[0]:.8g} to {lam[-1]:.8g}, period {br['period'][0]:.8g} to {br['period'][-1]:.8g}" \
+            if lam else "no orbits"
+        print(f"  orbit branch {i} from the {origin['kind']} at {name} = {origin[name]:.10g}: {len(lam)} orbits, {span} "
+              f"({br['end']})")
+    for sp in out.get("orbit_points", []):
+        print(f"    {sp['kind']:<15} {name} = {sp[name]:.10g}, period {sp['period']:.10g} (branch {sp['branch']})")
     if name2:
         for c in out["curves"]:
             pts = c["points"]

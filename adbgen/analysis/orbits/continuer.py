@@ -179,6 +179,8 @@ def run(curve, x0: np.ndarray, direction, settings: Settings | None = None, tang
         t = np.asarray(tangent, float) / corr.norm(np.asarray(tangent, float))
     data = curve.data(x)
     curve.accept(x, data)
+    if tangent is None:
+        t = corr.tangent(x, t)  # under the curve's state after accept (a moving phase condition)
     first = Point(x, data, _tests(curve, x, data, t, s), t, 0.0)
     branch = Branch([first], [], "max_points", floor)
     tnames = names(curve, s)
@@ -245,6 +247,7 @@ def _append(curve, corr, branch: Branch, b: Point, tnames, s: Settings) -> None:
     i = len(branch.points) - 1
     branch.points.append(b)
     curve.accept(b.x, b.data)
+    b.tangent = corr.tangent(b.x, b.tangent)  # the tangent under the accepted state (a moved phase condition)
     for j, name in enumerate(tnames):
         if a.tests[j] == 0 or b.tests[j] == 0 or np.sign(a.tests[j]) == np.sign(b.tests[j]):
             continue

@@ -156,6 +156,7 @@ class CycleCurve:
         f = np.asarray(self.model.module.rhs(0.0, data.X[0], data.p))
         if np.linalg.norm(f) > 1e-9 * (1.0 + np.linalg.norm(data.X[0])):
             self.shooting.set_reference(data.X[0], data.p)
+            self._cache = {}  # the phase row changed
 
     def remesh(self, x: np.ndarray, data: CycleData):
         """More arcs when one arc amplifies too much (long periods near a homoclinic end)."""

@@ -1,0 +1,224 @@
+"""What `adbgen continue` gains for periodic orbits (the command itself is in stability_commands.py).
+
+    adbgen continue MODEL --par NAME [--orbits | --from-hopf VALUE] [--tie NAME=EXPR]... [--y0 NAME=VALUE]...
+                    [--max-points N] [--auto-orbits] [--plot FILE] ...
+
+* every Hopf point of the one-parameter run gets `first_lyapunov` and `criticality` ("supercritical" |
+  "subcritical") in `points` (exact second and third derivatives: `lyapunov`, `jets`);
+* `--orbits`: the cycles born at every Hopf point (`--from-hopf VALUE`: at the one nearest VALUE) are
+  continued by Newton shooting on the compiled variational equations (`branches`): JSON `orbits` (one
+  object per branch: arrays `parameter`, `period`, `stable`, `amplitude`, and `from`, `windings`, `end`)
+  and `orbit_points` ({kind: "fold" | "period-doubling" | "torus", NAME, period, multipliers, branch});
+  `--auto-orbits` adds `auto_orbits`, the same branches by AUTO-07p's collocation (IPS = 2 from the HB
+  labels), for comparison;
+* a periodically forced model (fixed frame) has no steady state: its forced response, the periodic
+  orbit at the forcing period (B of the two-plane paper's section 4 in its anisotropic model), is
+  continued from START (or --y0) recomputed at the --set parameters, its torus and period-doubling
+  points in `orbit_points`;
+* `--tie NAME=EXPR` keeps a parameter tied to others along every branch (m/M = eps/R in the paper's
+  charts); `--plot FILE` draws the branches (amplitude and period against the parameter, stable solid).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ..loading import AnalysisError, parse_assignments, parse_value
+
+
+def add_options(p) -> None:
+    p.add_argument("--orbits", action="store_true",
+                   help="continue the periodic orbits born at every Hopf point (a forced model: its forced response)")
+    p.add_argument("--from-hopf", metavar="VALUE",
+                   help="continue the orbits born at the Hopf point nearest VALUE of --par only (implies --orbits)")
+    p.add_argument("--tie", action="append", default=[], metavar="NAME=EXPR",
+                   help="keep parameter NAME = EXPR (an expression in parameter names) along every branch and curve, "
+                        "e.g. --tie m_1=epsilon*M/R_t (repeatable, applied in order)")
+    p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
+                   help="the start state by name where the model has no START (states not given are 0)")
+    p.add_argument("--max-points", type=int, default=200, metavar="N",
+                   help="points per orbit branch (default 200)")
+    p.add_argument("--auto-orbits", action="store_true",
+                   help="with --orbits: also AUTO-07p's branches of the same orbits (IPS = 2 from the HB labels)")
+    p.add_argument("--plot", metavar="FILE", help="draw the orbit branches (with --par2: the stability chart) into FILE")
+
+
+def wants_orbits(args) -> bool:
+    return bool(args.orbits or args.from_hopf is not None)
+
+
+def pmap_for(model, p, names, args):
+    from .parameters import ParameterMap
+
+    return ParameterMap(model, p, [n for n in names if n is not None], ties=args.tie)
+
+
+def add_lyapunov(model, points: list[dict], name: str, p: np.ndarray, follower, args) -> None:
+    """first_lyapunov, criticality at each HB point of AUTO's run (its state refined at its parameter)."""
+    from .lyapunov import criticality, first_lyapunov
+
+    k = model.param_names.index(name)
+    for row in points:
+        if row.get("type") != "HB" or "state" not in row:
+            continue
+        q = p.copy()
+        q[k] = row[name]
+        try:
+            y = follower(q, np.array([row["state"][s] for s in model.state_names]))
+            l1, _ = first_lyapunov(model, q, y, row.get("frequency"))
+        except AnalysisError:
+            continue
+        row["first_lyapunov"] = l1
+        row["criticality"] = criticality(l1)
+
+
+def refine_hopf(model, pmap, y, lam, omega, follower):
+    """The Hopf point near (y, lam): lam by Brent's method on the real part of the pair nearest i omega,
+    the equilibrium re-solved at each trial (`follower(p, guess)`)."""
+    from scipy.optimize import brentq
+
+    from .hopf import HopfPoint
+    from .lyapunov import hopf_vectors
+
+    state = {"y": np.array(y, float)}
+
+    def g(v):
+        state["y"] = follower(pmap(v), state["y"])
+        A = np.asarray(model.module.jac(0.0, state["y"], pmap(v)))
+        return float(hopf_vectors(A, omega)[0].real)
+    d = 1e-6 * max(1.0, abs(lam))
+    a, b = lam - d, lam + d
+    try:
+        ga, gb = g(a), g(b)
+        for _ in range(8):
+            if ga * gb < 0:
+                break
+            d *= 4
+            a, b = lam - d, lam + d
+            ga, gb = g(a), g(b)
+        lam = brentq(g, a, b, xtol=1e-13, rtol=4e-16) if ga * gb < 0 else lam
+        g(lam)
+    except (AnalysisError, ValueError):
+        pass
+    return HopfPoint.at(model, pmap, state["y"], lam, omega)
+
+
+def orbit_settings(args, lam0: float, to: float | None):
+    from .continuer import Settings
+
+    if args.max_points < 2:
+        raise AnalysisError(f"--max-points must be >= 2, got {args.max_points}")
+    lo, hi = (min(lam0, to), max(lam0, to)) if to is not None else (-math.inf, math.inf)
+    return Settings(ds=0.01, ds_max=0.05, max_points=args.max_points, bounds=(lo, hi))
+
+
+def continue_orbits(model, args, p, points: list[dict], name: str, to: float | None, follower) -> dict:
+    """`orbits` and `orbit_points` from the Hopf points of the one-parameter run (autonomous model)."""
+    from . import branches
+
+    pmap = pmap_for(model, p, [name], args)
+    start = float(p[pmap.index[0]])
+    hb = [row for row in points if row.get("type") == "HB" and "state" in row]
+    if args.from_hopf is not None:
+        value = parse_value(args.from_hopf, "--from-hopf")
+        if not hb:
+            raise AnalysisError(f"--from-hopf {value:g}: the run found no Hopf point")
+        hb = [min(hb, key=lambda row: abs(row[name] - value))]
+    out_branches, out_points = [], []
+    for row in hb:
+        y = np.array([row["state"][s] for s in model.state_names])
+        hp = refine_hopf(model, pmap, y, row[name], row.get("frequency"), follower)
+        br = branches.from_hopf(model, pmap, hp, orbit_settings(args, start, to), to=to)
+        out_points += br.points_json(len(out_branches))
+        out_branches.append(br)
+    result = {"orbits": [b.to_json() for b in out_branches], "orbit_points": out_points}
+    if args.auto_orbits:
+        from .auto_cycles import auto_branches
+
+        result["auto_orbits"] = auto_branches(model, name, p, [row[name] for row in hb], to, args)
+    return result, out_branches
+
+
+def forced_start(model, args, p):
+    """START (or --y0) of a forced model at p: the orbit through it refined by Newton shooting."""
+    from .orbit import refine
+
+    if args.y0:
+        y0 = model.state(parse_assignments(args.y0, "--y0"))
+    elif getattr(model.module, "START", None) is not None:
+        y0 = np.array(model.module.START, float)
+    else:
+        raise AnalysisError(f"{model.name} has no START; give the start of its forced response with --y0 NAME=VALUE")
+    return refine(model, p, y0, None)
+
+
+def run_forced(args, model, emit) -> int:
+    """`adbgen continue` on a periodically forced model: its forced response continued in --par (and, with
+    --par2, its torus and period-doubling curves)."""
+    from . import branches
+
+    values = parse_assignments(args.set, "--set")
+    p = model.params({**_start_parameters(model), **values})
+    for name in (args.par, args.par2):
+        if name is not None and name not in model.param_names:
+            raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
+    pmap = pmap_for(model, p, [args.par], args)
+    p = pmap(p[pmap.index[0]])
+    k = model.param_names.index(args.par)
+    to = parse_value(args.to, "--to") if args.to is not None else (0.5 * p[k] if p[k] > 0 else p[k] - 1.0)
+    if to == p[k]:
+        raise AnalysisError(f"--to must differ from the start value {args.par} = {p[k]:g}")
+    start = forced_start(model, args, p)
+    if args.par2 is not None:
+        from .charts import chart_command
+
+        return chart_command(args, model, p, start, emit)
+    br = branches.from_orbit(model, pmap, start, 1.0 if to > p[k] else -1.0, orbit_settings(args, float(p[k]), to), to=to)
+    out = {"model": model.name, "parameter": args.par, "ties": list(args.tie), "points": [],
+           "orbits": [br.to_json()], "orbit_points": br.points_json(0)}
+    if args.plot:
+        plot_branches(Path(args.plot), model, args.par, [br])
+    emit(out)
+    return 0
+
+
+def _start_parameters(model) -> dict:
+    sp = getattr(model.module, "START_PARAMETERS", None)
+    return {} if sp is None else dict(zip(model.param_names, map(float, sp)))
+
+
+def plot_branches(path: Path, model, name: str, branches_) -> None:
+    """Amplitude and period against the parameter: stable solid, unstable thin, special points marked."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True)
+    marks = {"torus": ("*", "C3"), "period-doubling": ("D", "C2"), "fold": ("s", "C1")}
+    for i, br in enumerate(branches_):
+        j = br.to_json()
+        lam, amp, per, st = (np.array(j[k]) for k in ("parameter", "amplitude", "period", "stable"))
+        if len(lam) == 0:
+            continue
+        for ax, v in ((a1, amp), (a2, per)):
+            ax.plot(lam, v, "-", color=f"C{i % 10}", lw=0.7)
+            ax.plot(lam, np.where(st, v, np.nan), "-", color=f"C{i % 10}", lw=2.2)
+        for sp in br.specials:
+            mk, c = marks.get(sp["kind"], ("o", "k"))
+            k = int(np.argmin(np.abs(lam - sp[name])))
+            a1.plot(sp[name], amp[k], mk, color=c, ms=8)
+            a2.plot(sp[name], sp["period"], mk, color=c, ms=8)
+    a1.set_ylabel("amplitude r_max")
+    a2.set_ylabel("period T")
+    a2.set_xlabel(name)
+    a1.set_title(f"{model.name}: periodic orbits (thick stable; * torus, D period-doubling, s fold)", fontsize=9)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name("." + path.name + ".tmp")
+    fig.savefig(tmp, dpi=120, format=path.suffix.lstrip(".") or "png")
+    plt.close(fig)
+    os.replace(tmp, path)
