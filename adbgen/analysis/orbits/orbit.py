@@ -275,15 +275,20 @@ def detect_return(model: Model, flow: Flow, y: np.ndarray, p: np.ndarray, t_max:
     return Return(float(T), windings, d)
 
 
-def detect_subharmonic(model: Model, flow: Flow, y: np.ndarray, p: np.ndarray, forcing: int, q_max: int = 16) -> Return:
-    """A forced model: the smallest q <= q_max with y(q T_f) back at y (modulo 2 pi on the angles, up to twice
-    the closest return), T_f the forcing period."""
+def detect_subharmonic(model: Model, flow: Flow, y: np.ndarray, p: np.ndarray, forcing: int, q_max: int = 16,
+                       close: float = 1e-3) -> Return:
+    """A forced model: the smallest q <= q_max with y(q T_f) back within `close` of the trajectory's size from
+    y (modulo 2 pi on the angles; else the closest return), T_f the forcing period."""
     Tf = TWO_PI / p[forcing]
-    times = Tf * np.arange(1, q_max + 1)
+    per = 32
+    times = Tf * np.arange(1, q_max * per + 1) / per
     Y = flow.sample(y, 0.0, times, p)
-    dist = np.linalg.norm(wrapped(model, Y - y), axis=1)
-    q = int(np.nonzero(dist <= 2 * float(dist.min()) + 1e-12)[0][0]) + 1
-    windings = {model.state_names[i]: int(round((Y[q - 1, i] - y[i]) / TWO_PI)) for i in describe.angle_indices(model)}
+    size = float(np.linalg.norm(np.minimum(np.ptp(np.vstack([Y, y]), axis=0), TWO_PI)))
+    strobe = Y[per - 1::per]
+    dist = np.linalg.norm(wrapped(model, strobe - y), axis=1)
+    ok = np.nonzero(dist <= close * size)[0]
+    q = int(ok[0] if len(ok) else np.argmin(dist)) + 1
+    windings = {model.state_names[i]: int(round((strobe[q - 1, i] - y[i]) / TWO_PI)) for i in describe.angle_indices(model)}
     return Return(q * Tf, windings, float(dist[q - 1]))
 
 
