@@ -278,7 +278,7 @@ def run_continue(args) -> int:
     if args.y0 and getattr(model.module, "START", None) is None:
         y, _ = steady.newton(model, p, model.state(parse_assignments(args.y0, "--y0")))
     elif args.state in (None, "start"):
-        y = _pinned_start(model, p)
+        y = continue_command.carried_start(model, p) if continue_command.wants_chart(args) else _pinned_start(model, p)
     else:
         from . import closed_forms
 
@@ -290,6 +290,10 @@ def run_continue(args) -> int:
             raise AnalysisError(f"state {args.state}: {model.name}'s AUTO files pin the free angles "
                                 f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
                                 f"balanced continuum), which this state does not share; use stability --scan")
+    if continue_command.wants_chart(args):
+        from .orbits.charts import chart_command
+
+        return chart_command(args, model, p, y, emit)
     if args.par2 is None:
         if args.keep:
             with auto.Session(model, keep=args.keep) as session:

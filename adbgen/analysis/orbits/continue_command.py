@@ -44,11 +44,20 @@ def add_options(p) -> None:
                    help="points per orbit branch (default 200)")
     p.add_argument("--auto-orbits", action="store_true",
                    help="with --orbits: also AUTO-07p's branches of the same orbits (IPS = 2 from the HB labels)")
-    p.add_argument("--plot", metavar="FILE", help="draw the orbit branches (with --par2: the stability chart) into FILE")
+    p.add_argument("--plot", metavar="FILE", help="draw the orbit branches (with --par2: the stability chart, its curves "
+                                                  "also written as data into FILE's .json) into FILE")
+    p.add_argument("--log2", action="store_true", help="with --par2: the second parameter on a log scale (range and plot)")
+    p.add_argument("--grid", metavar="N1:N2", help="with --par2 on our own continuation: the chart's grid (default 81:25)")
 
 
 def wants_orbits(args) -> bool:
     return bool(args.orbits or args.from_hopf is not None)
+
+
+def wants_chart(args) -> bool:
+    """--par2 on our own continuation (a chart) rather than AUTO-07p's Hopf and fold curves: with ties, a
+    plot, a log scale or a grid asked for."""
+    return args.par2 is not None and bool(args.tie or args.plot or args.log2 or args.grid)
 
 
 def pmap_for(model, p, names, args):
@@ -184,6 +193,14 @@ def run_forced(args, model, emit) -> int:
         plot_branches(Path(args.plot), model, args.par, [br])
     emit(out)
     return 0
+
+
+def carried_start(model, p):
+    """START carried from START_PARAMETERS to p by a homotopy (several parameters set at once can throw plain
+    Newton onto another steady state)."""
+    from .equilibrium import homotopy
+
+    return homotopy(model, np.array(model.module.START, float), np.array(model.module.START_PARAMETERS, float), p)
 
 
 def _start_parameters(model) -> dict:

@@ -103,12 +103,18 @@ class _Corrector:
     def norm(self, a) -> float:
         return math.sqrt(self.dot(a, a))
 
-    def solve(self, x0: np.ndarray, direction: np.ndarray, anchor: np.ndarray, offset: float) -> np.ndarray:
-        """Newton on F(x) = 0, direction . W^2 (x - anchor) = offset, from x0."""
+    def solve(self, x0: np.ndarray, direction: np.ndarray, anchor: np.ndarray, offset: float,
+              radius: float | None = None) -> np.ndarray:
+        """Newton on F(x) = 0, direction . W^2 (x - anchor) = offset, from x0; a Newton step longer than
+        `radius` (default: 4 times the larger of the offset and the smallest step) is a failure, not a jump."""
         x = np.array(x0, float)
         row = direction * self.w2
+        radius = radius if radius is not None else 4 * max(abs(offset), self.s.ds_min, 1e-12) + 1e-3 * self.norm(x0)
         for _ in range(self.s.newton_max + 1):
-            F, J = self.curve.evaluate(x)
+            try:
+                F, J = self.curve.evaluate(x)
+            except (ArithmeticError, ValueError) as exc:  # the model's own arithmetic failed there
+                raise AnalysisError(f"corrector: {type(exc).__name__}") from None
             g = float(row @ (x - anchor)) - offset
             if not (np.all(np.isfinite(F)) and math.isfinite(g)):
                 break
@@ -116,9 +122,12 @@ class _Corrector:
                 return x
             A = np.vstack([J, row])
             try:
-                x = x + np.linalg.solve(A, -np.r_[F, g])
+                dx = np.linalg.solve(A, -np.r_[F, g])
             except np.linalg.LinAlgError:
-                x = x + np.linalg.lstsq(A, -np.r_[F, g], rcond=1e-14)[0]
+                dx = np.linalg.lstsq(A, -np.r_[F, g], rcond=1e-14)[0]
+            if not np.all(np.isfinite(dx)) or self.norm(dx) > radius:
+                break
+            x = x + dx
         raise AnalysisError("corrector: Newton did not converge")
 
     def tangent(self, x: np.ndarray, previous: np.ndarray | None) -> np.ndarray:

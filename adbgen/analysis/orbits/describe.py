@@ -61,22 +61,29 @@ def forcing_parameter(model: Model, p: np.ndarray | None = None) -> int | None:
 
 
 def _detect_forcing(model: Model, p: np.ndarray) -> int:
-    """The parameter w with rhs(t + 2 pi/w, y) = rhs(t, y) != rhs(t + 0.37 (2 pi/w), y) at random states."""
+    """The parameter w with rhs(t + 2 pi/w, y) = rhs(t, y) != rhs(t + 0.37 (2 pi/w), y) at random states, and
+    still so when w itself is moved (a parameter that merely equals the forcing frequency, or a divisor of it,
+    at these values fails that)."""
     rng = np.random.default_rng(7)
     Y = rng.normal(scale=0.3, size=(3, model.n_states))
     ts = rng.uniform(0.0, 10.0, size=3)
     rhs = model.module.rhs
-    for k, w in enumerate(p):
-        if not (w > 0 and math.isfinite(w)):
-            continue
-        T = 2 * math.pi / w
+
+    def periodic(q, k) -> bool:
+        T = 2 * math.pi / q[k]
         same = moved = True
         for t, y in zip(ts, Y):
-            a, b, c = (np.asarray(rhs(t + s, y, p)) for s in (0.0, T, 0.37 * T))
+            a, b, c = (np.asarray(rhs(t + s, y, q)) for s in (0.0, T, 0.37 * T))
             scale = 1e-9 * max(1.0, float(np.max(np.abs(a))))
             same &= bool(np.max(np.abs(a - b)) <= scale)
             moved &= bool(np.max(np.abs(a - c)) > 1e3 * scale)
-        if same and moved:
+        return same and moved
+    for k, w in enumerate(p):
+        if not (w > 0 and math.isfinite(w)) or not periodic(p, k):
+            continue
+        q = np.array(p, float)
+        q[k] *= 1.0137
+        if periodic(q, k):
             return k
     raise AnalysisError(f"{model.name} depends on time, but not periodically through any one parameter's "
                         f"2 pi / value: it has no forced periodic orbits to follow")

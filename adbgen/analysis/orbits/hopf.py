@@ -1,7 +1,9 @@
-"""Hopf points of an equilibrium: refined, classified, and the start of the cycles they give birth to.
+"""Hopf points of an equilibrium: refined, classified, the start of the cycles they give birth to, and the
+Hopf curve in two parameters.
 
     hp = HopfPoint.at(model, pmap, y, lam)          eigenvectors, frequency, first Lyapunov coefficient
-    x0, t0 = cycle_start(curve, hp, amplitude)       the first cycle of the branch and its direction
+    x0, t0 = cycle_start(curve, hp)                  the first cycle of the branch and its direction
+    HopfCurve(model, pmap2, follower)                the curve of Hopf points in two parameters (`boundary`)
 
 The cycle branch leaves the Hopf point in the direction of the eigenvector: x(t) = y + a Re(q e^(i w t)),
 T = 2 pi / w, the parameter unchanged to first order; the continuer's first step is taken along that
@@ -16,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..loading import Model
+from .boundary import BoundaryCurve
 from .lyapunov import criticality, first_lyapunov, hopf_vectors
 from .parameters import ParameterMap
 
@@ -63,3 +66,27 @@ def cycle_start(curve, hp: HopfPoint) -> tuple[np.ndarray, np.ndarray]:
     sh.ref = hp.y.copy()
     sh.ref_f = -q.imag / np.linalg.norm(q.imag)
     return x, tangent
+
+
+class HopfCurve(BoundaryCurve):
+    """The Hopf curve in two parameters: a complex eigenvalue pair of the followed steady state on the
+    imaginary axis (defining system in `boundary`: g = Re of the tracked pair).  Test functions: the pair's
+    frequency (a Bogdanov-Takens point where it reaches 0) and the first Lyapunov coefficient l1 (a
+    generalised Hopf point, Bautin, where it changes sign; from the exact jets, `lyapunov`)."""
+
+    kind = "hopf"
+    test_names = ("Bogdanov-Takens", "generalised Hopf")
+
+    def candidates(self, ev):
+        ev = np.asarray(ev, complex)
+        return ev[ev.imag > 1e-9 * (1 + np.abs(ev))]
+
+    def value(self, z):
+        return float(z.real)
+
+    def tests(self, x, data):
+        l1 = first_lyapunov(self.model, self.pmap(data.lam), data.state, float(data.critical.imag))[0]
+        return np.array([float(data.critical.imag), l1])
+
+    def special(self, name, x, data):
+        return {"kind": name, "frequency": float(data.critical.imag)}
