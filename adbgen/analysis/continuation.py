@@ -202,7 +202,7 @@ def _extremum_inside(z: BranchPoint, a: BranchPoint, b: BranchPoint) -> float | 
 
 def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float,
            ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000,
-           ds_floor: float | None = None):
+           ds_floor: float | None = None, watch: bool = True):
     """The branch through the steady state near y0 at name = start, continued towards `stop` (pseudo-
     arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop).
 
@@ -210,8 +210,9 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
     parts of the transverse spectrum move (one heading for zero may cover at most APPROACH of its distance
     in a step, down to ds_floor, default ds_max / 50); and where one of them has an extremum inside a step
     (the parabola through the last three points) that may reach the other side of zero, the branch is
-    corrected at that extremum too, so two crossings inside one step are seen.  Returns (problem, branch,
-    end reason, statistics: the floor, the extremum checks made and the largest parameter step)."""
+    corrected at that extremum too, so two crossings inside one step are seen (watch=False: neither, the
+    plain stepping of before).  Returns (problem, branch, end reason, statistics: the floor, the extremum
+    checks made and the largest parameter step)."""
     _require_autonomous(model)
     if name not in model.param_names:
         raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
@@ -245,7 +246,7 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
                 break
             continue
         b = prob.point(z, a.tangent)
-        frac = _extremum_inside(branch[-2], a, b) if len(branch) >= 2 else None
+        frac = _extremum_inside(branch[-2], a, b) if watch and len(branch) >= 2 else None
         if frac is not None:
             checks += 1
             zb = np.r_[b.y, b.lam]
@@ -260,6 +261,8 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
             reason = "left the range"
             break
         h = min(ds_max, h * 1.3)
+        if not watch:
+            continue
         prev, last = branch[-2], branch[-1]
         dsl = max(_arc(prev, last), 1e-300)
         for va, vb in zip(_leading(prev), _leading(last)):

@@ -188,8 +188,9 @@ def _add_continue(p) -> None:
     _model_arguments(p)
     p.add_argument("--par", required=True, metavar="NAME", help="the continuation parameter")
     p.add_argument("--par2", metavar="NAME2", help="second parameter: continue each Hopf point and fold in (NAME, NAME2)")
-    p.add_argument("--to", metavar="VALUE", help="continue --par from its start value to VALUE "
-                                                 "(default: half the start value)")
+    p.add_argument("--to", metavar="VALUE", help="continue --par from its start value to VALUE (default: half the "
+                                                 "start value; with --par2, the end of the range the model's AUTO "
+                                                 "constants continue over, UZSTOP)")
     p.add_argument("--range2", metavar="LO:HI", help="bounds of --par2 (default 0 to ten times its value)")
     p.add_argument("--state", metavar="LABEL",
                    help="start from `start` (START, default) or, for the thesis models, a closed-form state at the "
@@ -261,6 +262,8 @@ def run_continue(args) -> int:
                                 f"{', '.join(model.param_names)}")
     p = model.params({**continue_command._start_parameters(model), **values})
     to = parse_value(args.to, "--to") if args.to is not None else None
+    if to is None and args.par2 is not None:  # the whole range the model's AUTO constants continue over
+        to = auto.default_stop(model, args.par, float(p[model.param_names.index(args.par)]))
     range2 = None
     if args.range2 is not None:
         if args.par2 is None:

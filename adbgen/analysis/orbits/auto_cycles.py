@@ -131,3 +131,38 @@ def nearest_special(points: list[dict], kind: str, value: float, name: str) -> f
     code = {"torus": "TR", "period-doubling": "PD", "fold": "LP"}[kind]
     vals = [pt[name] for pt in points if pt.get("type") == code]
     return min((abs(v - value) for v in vals), default=math.inf)
+
+
+def auto_forced_bifurcations(model: Model, name: str, p: np.ndarray, lo: float, hi: float, ds: float | None = None,
+                             nmx: int = 400) -> list[dict]:
+    """A forced model's emitted AUTO files (the oscillator extension, IPS = 2) continued in `name` from their
+    stpnt orbit, with the model parameters `p` (AUTO's PAR key): the TR, PD and LP points AUTO detects
+    between lo and hi.  (`auto.Session` runs the autonomous models' steady-state files; this runs the
+    forced model's own.)"""
+    import shutil
+    import tempfile
+    from pathlib import Path
+
+    missing = auto.missing_tools()
+    if missing:
+        raise auto.AutoError("AUTO-07p cannot run here: missing " + ", ".join(missing))
+    src = model.folder / "auto"
+    k = model.param_names.index(name)
+    a = auto.auto_parameter(k)
+    with tempfile.TemporaryDirectory(prefix="adbgen-auto-") as tmp:
+        d = Path(tmp)
+        for f in src.iterdir():
+            if f.is_file():
+                shutil.copy(f, d / f.name)
+        base = (d / f"c.{model.name}").read_text()
+        par = {auto.auto_parameter(j): float(v) for j, v in enumerate(p)}
+        consts = dict(NMX=nmx, NPR=nmx, UZSTOP=auto._mapping({a: [lo, hi]}), PAR=auto._mapping(par))
+        if ds is not None:
+            consts.update(DS=ds, DSMAX=4 * abs(ds))
+        (d / "c.run").write_text(auto.set_constants(base, **consts))
+        log = auto.build_and_run({}, model.name, d, "c.run")
+        if not (d / "fort.7").is_file():
+            raise auto.AutoError(f"AUTO-07p did not run:\n{log}")
+        points = auto.read_fort7(d / "fort.7")
+    return [{"type": pt.type, name: pt.values[f"PAR({a})"], "period": pt.values.get("PERIOD")}
+            for pt in points if pt.label > 0 and pt.type in ("TR", "PD", "LP")]

@@ -208,17 +208,6 @@ class FoldCurve(BoundaryCurve):
         return float(z.real)
 
 
-def seed_curve(kind: str):
-    """The curve class of a kind."""
-    from .fold_cycle import FoldCycleCurve
-    from .hopf import HopfCurve
-    from .period_doubling import PeriodDoublingCurve
-    from .torus import TorusCurve
-
-    return {"hopf": HopfCurve, "fold": FoldCurve, "torus": TorusCurve, "period-doubling": PeriodDoublingCurve,
-            "fold of cycles": FoldCycleCurve}[kind]
-
-
 def follower_for(model: Model, start) -> object:
     """An equilibrium follower from a state vector, an orbit follower from a PeriodicOrbit."""
     if hasattr(start, "multipliers"):

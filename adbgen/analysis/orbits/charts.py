@@ -35,8 +35,16 @@ from scipy.optimize import brentq
 from .. import steady
 from ..loading import AnalysisError, Model
 from . import continuer
-from .boundary import OrbitFollower, follower_for, seed_curve
+from .boundary import FoldCurve, OrbitFollower, follower_for
+from .fold_cycle import FoldCycleCurve
+from .hopf import HopfCurve
 from .parameters import ParameterMap
+from .period_doubling import PeriodDoublingCurve
+from .torus import TorusCurve
+
+# the curve of each kind of stability change (one place: a new kind is a module and a line here)
+CURVES = {"hopf": HopfCurve, "fold": FoldCurve, "torus": TorusCurve, "period-doubling": PeriodDoublingCurve,
+          "fold of cycles": FoldCycleCurve}
 
 UNIT_TOL = 1e-7
 
@@ -200,7 +208,7 @@ def compute(model: Model, pmap: ParameterMap, start, range1, range2, log2: bool 
             continue
         follower = follower_for(model, start)
         follower.accept(sd["state"])
-        cls = seed_curve(kind)
+        cls = CURVES[kind]
         cv = cls(model, pmap, follower, log2=log2, range2=(lo2, hi2))
         x2 = math.log10(lam2[sd["row"]]) if log2 else lam2[sd["row"]]
         try:

@@ -170,6 +170,9 @@ def run_forced(args, model, emit) -> int:
     --par2, its torus and period-doubling curves)."""
     from . import branches
 
+    if not (wants_orbits(args) or args.par2 is not None):
+        raise AnalysisError(f"{model.name} is periodically forced: it has periodic orbits, not steady states; continue "
+                            f"its forced response with --orbits (or --par2 for its torus and period-doubling curves)")
     values = parse_assignments(args.set, "--set")
     p = model.params({**_start_parameters(model), **values})
     for name in (args.par, args.par2):
