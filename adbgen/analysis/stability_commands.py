@@ -281,7 +281,8 @@ def run_continue(args) -> int:
     if args.y0 and getattr(model.module, "START", None) is None:
         y, _ = steady.newton(model, p, model.state(parse_assignments(args.y0, "--y0")))
     elif args.state in (None, "start"):
-        y = continue_command.carried_start(model, p) if continue_command.wants_chart(args) else _pinned_start(model, p)
+        y = continue_command.carried_start(model, p, pmap) if (continue_command.wants_chart(args) or args.tie) \
+            else _pinned_start(model, p)
     else:
         from . import closed_forms
 

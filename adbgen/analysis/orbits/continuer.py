@@ -229,15 +229,16 @@ def run(curve, x0: np.ndarray, direction, settings: Settings | None = None, tang
             new = remesh(xb, data)
             if new is not None:
                 xn = np.asarray(new, float)
+                old_dpar = curve.parameter(xb + tb) - curve.parameter(xb)
+                corr = _Corrector(curve, s)  # the unknowns changed: new weights
                 tn = corr.tangent(xn, None)
-                # keep the direction: the parameter's and the period's change as before the remesh
-                if curve.parameter(xn + tn) - curve.parameter(xn) != 0 and \
-                        (curve.parameter(xn + tn) - curve.parameter(xn)) * (curve.parameter(xb + tb) - curve.parameter(xb)) < 0:
+                # keep the direction: the parameter's change as before the remesh
+                if (curve.parameter(xn + tn) - curve.parameter(xn)) * old_dpar < 0:
                     tn = -tn
                 dn = curve.data(xn)
                 curve.accept(xn, dn)
+                tn = corr.tangent(xn, tn)
                 branch.points[-1] = Point(xn, dn, _tests(curve, xn, dn, tn, s), tn, branch.points[-1].s)
-                corr = _Corrector(curve, s)
         # the next step: Newton's effort, then the test functions' approach to zero
         h = min(s.ds_max, h * 1.3)
         last = branch.points[-1]
