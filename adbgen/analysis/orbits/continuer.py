@@ -110,6 +110,10 @@ class _Corrector:
         x = np.array(x0, float)
         row = direction * self.w2
         radius = radius if radius is not None else 4 * max(abs(offset), self.s.ds_min, 1e-12) + 1e-3 * self.norm(x0)
+        if hasattr(self.curve, "residual"):
+            done = self._chord(x, row, anchor, offset, radius)
+            if done is not None:
+                return done
         for _ in range(self.s.newton_max + 1):
             try:
                 F, J = self.curve.evaluate(x)
@@ -129,6 +133,36 @@ class _Corrector:
                 break
             x = x + dx
         raise AnalysisError("corrector: Newton did not converge")
+
+    def _chord(self, x, row, anchor, offset, radius):
+        """The chord method: the Jacobian at the anchor (the last accepted point, whose evaluation the curve
+        still holds) factorised once, then only residuals (`curve.residual`, cheaper: a cycle's arcs without
+        their variational equations).  None where it does not contract: the caller then runs Newton."""
+        from scipy.linalg import lu_factor, lu_solve
+
+        try:
+            _, J = self.curve.evaluate(anchor)
+            lu = lu_factor(np.vstack([J, row]))
+        except (ArithmeticError, ValueError, AnalysisError, np.linalg.LinAlgError):
+            return None
+        last = math.inf
+        for _ in range(2 * self.s.newton_max):
+            try:
+                F = self.curve.residual(x)
+            except (ArithmeticError, ValueError, AnalysisError):
+                return None
+            g = float(row @ (x - anchor)) - offset
+            if not (np.all(np.isfinite(F)) and math.isfinite(g)):
+                return None
+            if np.max(np.abs(F), initial=0.0) <= self.s.newton_tol and abs(g) <= self.s.newton_tol * (1 + abs(offset)):
+                return x
+            dx = lu_solve(lu, -np.r_[F, g])
+            size = self.norm(dx)
+            if not np.all(np.isfinite(dx)) or size > radius or size > 0.5 * last:
+                return None
+            last = size
+            x = x + dx
+        return None
 
     def tangent(self, x: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
         _, J = self.curve.evaluate(x)

@@ -113,6 +113,11 @@ class CycleCurve:
     def scale(self, x) -> float:
         return 1.0 + float(np.max(np.abs(x[: self.shooting.m * self.model.n_states])))
 
+    def residual(self, x: np.ndarray) -> np.ndarray:
+        """F alone (the arcs without their variational equations): the chord iterations' residual."""
+        ev = self.shooting.evaluate(x[:-1], self.pmap(float(x[-1])), jacobian=False)
+        return ev.F / self.scale(x)
+
     def evaluate(self, x: np.ndarray):
         ev = self._evaluation(x)
         c = self.scale(x)
@@ -156,7 +161,15 @@ class CycleCurve:
         f = np.asarray(self.model.module.rhs(0.0, data.X[0], data.p))
         if np.linalg.norm(f) > 1e-9 * (1.0 + np.linalg.norm(data.X[0])):
             self.shooting.set_reference(data.X[0], data.p)
-            self._cache = {}  # the phase row changed
+            # the phase row changed: patch the held evaluation of this point (its arcs are unchanged)
+            ev = self._cache.get(self._key(x))
+            self._cache = {}
+            if ev is not None and ev.A is not None:
+                N = self.model.n_states
+                ev.F[-1] = 0.0  # x_0 is the new reference point
+                ev.A[-1, :] = 0.0
+                ev.A[-1, :N] = self.shooting.ref_f
+                self._cache[self._key(x)] = ev
 
     def remesh(self, x: np.ndarray, data: CycleData):
         """More arcs when one arc amplifies too much (long periods near a homoclinic end)."""
