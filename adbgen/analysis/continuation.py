@@ -60,10 +60,11 @@ class Bifurcation:
     n_unstable_before: int
     n_unstable_after: int
     bracket: tuple[float, float] | None = None  # set when root finding failed: the step it lies in
+    extra: dict = field(default_factory=dict)  # e.g. first_lyapunov, criticality of a Hopf point
 
     def to_json(self, name: str) -> dict:
         out = {"kind": self.kind, name: self.value, "frequency": self.frequency, "direction": self.direction,
-               "n_unstable_before": self.n_unstable_before, "n_unstable_after": self.n_unstable_after}
+               "n_unstable_before": self.n_unstable_before, "n_unstable_after": self.n_unstable_after, **self.extra}
         if self.bracket is not None:
             out["bracket"] = list(self.bracket)
         return out
@@ -80,6 +81,7 @@ class Scan:
     stable_intervals: list[tuple[float, float]]
     end_reason: str
     extra: dict = field(default_factory=dict)
+    p: np.ndarray | None = None  # the parameters (the scanned one at its start)
 
     @property
     def points(self) -> list[Bifurcation]:
@@ -382,7 +384,8 @@ def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, s
                 if lo <= bif.value <= hi:
                     found.append((i, bif))
     return Scan(model, name, start, stop, branch, [b for _, b in found],
-                _stable_intervals(branch, found, lo, hi), reason, {"resolution": _resolution(branch, stats)})
+                _stable_intervals(branch, found, lo, hi), reason, {"resolution": _resolution(branch, stats)},
+                np.array(prob.p, float))
 
 
 def _resolution(branch: list[BranchPoint], stats: dict) -> dict:

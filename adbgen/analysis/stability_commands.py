@@ -99,6 +99,9 @@ def run_stability(args) -> int:
         return 0
     name, a, b = scan
     result = continuation.scan(model, p, y0, name, a, b, ds_max=args.ds_max)
+    from .orbits.lyapunov import add_to_scan
+
+    add_to_scan(result)
     if args.out is not None:
         write_scan(result, Path(args.out))
     if args.json:
@@ -173,7 +176,8 @@ def _print_scan(result) -> None:
           f"{len(result.branch)} steps ({result.end_reason})")
     for b in result.points:
         freq = "" if b.frequency is None else f", frequency {b.frequency:.9g}"
-        print(f"  {b.kind:<5} {result.name} = {b.value:.10g}{freq}, {b.direction or 'stability unchanged'}")
+        crit = f", {b.extra['criticality']} (l1 = {b.extra['first_lyapunov']:.6g})" if "criticality" in b.extra else ""
+        print(f"  {b.kind:<5} {result.name} = {b.value:.10g}{freq}, {b.direction or 'stability unchanged'}{crit}")
     for b in result.branch_points:
         print(f"  branch point {result.name} = {b.value:.10g}")
     intervals = ", ".join(f"[{a:.7g}, {b:.7g}]" for a, b in result.stable_intervals) or "none"

@@ -153,15 +153,25 @@ def continue_orbits(model, args, p, points: list[dict], name: str, to: float | N
 
 
 def forced_start(model, args, p):
-    """START (or --y0) of a forced model at p: the orbit through it refined by Newton shooting."""
+    """The start of a forced model's response at p, refined by Newton shooting: --y0, else START, else the
+    first of the module's labelled steady states (STEADY_STATES: a constant solution of the forced model, such
+    as B with the rotor at rest) that exists at p."""
     from .orbit import refine
 
+    y0 = None
     if args.y0:
         y0 = model.state(parse_assignments(args.y0, "--y0"))
     elif getattr(model.module, "START", None) is not None:
         y0 = np.array(model.module.START, float)
-    else:
-        raise AnalysisError(f"{model.name} has no START; give the start of its forced response with --y0 NAME=VALUE")
+    elif hasattr(model.module, "steady_state"):
+        for label in getattr(model.module, "STEADY_STATES", ()):
+            y = model.module.steady_state(label, p)
+            if y is not None:
+                y0 = np.array(y, float)
+                break
+    if y0 is None:
+        raise AnalysisError(f"{model.name} has no START (nor a labelled steady state at these parameters); give the "
+                            f"start of its forced response with --y0 NAME=VALUE")
     return refine(model, p, y0, None)
 
 

@@ -84,3 +84,18 @@ def first_lyapunov(model: Model, p, y, omega: float | None = None, derivatives: 
 
 def criticality(l1: float) -> str:
     return "supercritical" if l1 < 0 else "subcritical"
+
+
+def add_to_scan(scan) -> None:
+    """first_lyapunov and criticality on each Hopf point of a `continuation.Scan` (at its located state)."""
+    k = scan.model.param_names.index(scan.name)
+    for b in scan.points:
+        if b.kind != "hopf" or scan.p is None:
+            continue
+        p = np.array(scan.p, float)
+        p[k] = b.value
+        try:
+            l1, _ = first_lyapunov(scan.model, p, b.y, b.frequency)
+        except AnalysisError:
+            continue
+        b.extra.update(first_lyapunov=l1, criticality=criticality(l1))
