@@ -34,6 +34,7 @@ def test_scan_finds_the_window_inside_one_step(capsys):
     assert code == 0
     hopf = [p["Omega"] for p in out["points"] if p["kind"] == "hopf"]
     assert hopf == pytest.approx([1.065577215, 1.066561046], abs=1e-8)
+    assert all(p["criticality"] in ("supercritical", "subcritical") and "first_lyapunov" in p for p in out["points"])
     assert len(out["stable_intervals"]) == 1
     assert out["stable_intervals"][0] == pytest.approx([1.065577215, 1.066561046], abs=1e-8)
     res = out["resolution"]

@@ -324,3 +324,21 @@ def test_cycle_branch_agrees_with_auto(n2):
     assert len(cmp["points"]) >= 6 and cmp["period_rel"] < 1e-9
     tr = [s["Omega"] for s in ours.specials if s["kind"] == "torus"]
     assert tr and auto_cycles.nearest_special(theirs["points"], "torus", tr[0], "Omega") < 1e-6
+
+
+def test_continue_orbits_json(capsys):
+    """`continue --from-hopf`: the HB points carry first_lyapunov and criticality; `orbits` holds one branch of
+    arrays (parameter, period, stable, amplitude) starting at that Hopf point; `orbit_points` the torus."""
+    require_auto()
+    code = main(["continue", "thesis_rotating_n2", "--par", "Omega", "--to", "1.8", "--from-hopf", "1.88",
+                 "--max-points", "25", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    hb = [pt for pt in out["points"] if pt["type"] == "HB"]
+    assert hb and all(pt["criticality"] == "supercritical" and pt["first_lyapunov"] < 0 for pt in hb)
+    (br,) = out["orbits"]
+    assert {"parameter", "period", "stable", "amplitude"} <= set(br) and len(br["parameter"]) == 25
+    assert br["from"]["Omega"] == pytest.approx(1.8822393490, abs=1e-8) and br["stable"][1] is True
+    assert br["period"][0] == pytest.approx(2 * PI / 0.7431172783, rel=1e-8)
+    tr = [pt for pt in out["orbit_points"] if pt["kind"] == "torus"]
+    assert tr and tr[0]["Omega"] == pytest.approx(1.867449636, abs=1e-8) and len(tr[0]["multipliers"]) == 8
