@@ -268,16 +268,9 @@ def run_continue(args) -> int:
     to = parse_value(args.to, "--to") if args.to is not None else None
     if to is None and args.par2 is not None:  # the whole range the model's AUTO constants continue over
         to = auto.default_stop(model, args.par, float(p[model.param_names.index(args.par)]))
-    range2 = None
-    if args.range2 is not None:
-        if args.par2 is None:
-            raise AnalysisError("--range2 needs --par2")
-        lo, sep, hi = args.range2.partition(":")
-        if not sep:
-            raise AnalysisError(f"--range2: expected LO:HI, got {args.range2!r}")
-        range2 = (parse_value(lo, "--range2 LO"), parse_value(hi, "--range2 HI"))
-        if not range2[0] < range2[1]:
-            raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
+    if args.range2 is not None and args.par2 is None:
+        raise AnalysisError("--range2 needs --par2")
+    range2 = continue_command.parse_range2(args.range2)
     pmap = continue_command.pmap_for(model, p, [args.par, args.par2], args)
     p = pmap([p[k] for k in pmap.index])
     if args.tie and args.par2 is None and np.any(pmap.direction(p[pmap.index[0]], 0) != np.eye(model.n_params)[pmap.index[0]]):

@@ -25,47 +25,16 @@
 
 #include ADB_MODEL_SOURCE
 #include "driver_common.h"
+#include "cyrk_bridge.h"
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
-typedef void (*PreEvalFn)(char *, double, double *, char *);
-typedef void (*DiffeqFn)(double *, double, double *, char *, PreEvalFn);
-typedef void *(*SolveFn)(DiffeqFn, double, double, double *, size_t, int, size_t, size_t, char *, size_t, size_t,
-                         size_t, bool, double *, size_t, PreEvalFn, void *, size_t, double *, size_t, double *, size_t,
-                         double, double, bool);
-typedef bool (*BoolFn)(void *);
-typedef int (*IntFn)(void *);
-typedef size_t (*SizeFn)(void *);
-typedef double *(*PtrFn)(void *);
-typedef int (*CallFn)(void *, double, double *);
-typedef void (*FreeFn)(void *);
-
-static struct {
-    SolveFn solve;
-    BoolFn success;
-    IntFn status;
-    SizeFn size;
-    PtrFn t;
-    PtrFn y;
-    SizeFn steps;
-    CallFn call;
-    FreeFn free;
-} cy;
-
-/* ptrs: solve, success, status, size, t, y, steps_taken, call, free (CyRK.nb.numba_c_api). */
+/* CyRK's function pointers, once per library (cyrk_bridge.h) */
 int adb_var_init(void *const *ptrs)
 {
-    cy.solve = (SolveFn)ptrs[0];
-    cy.success = (BoolFn)ptrs[1];
-    cy.status = (IntFn)ptrs[2];
-    cy.size = (SizeFn)ptrs[3];
-    cy.t = (PtrFn)ptrs[4];
-    cy.y = (PtrFn)ptrs[5];
-    cy.steps = (SizeFn)ptrs[6];
-    cy.call = (CallFn)ptrs[7];
-    cy.free = (FreeFn)ptrs[8];
+    adb_cyrk_bind(ptrs);
     return ADB_NY;
 }
 
@@ -115,14 +84,6 @@ static void diffeq(double *dz, double t, double *z, char *args, PreEvalFn pre)
     }
 }
 
-/* CyRK status -> ours (CyrkErrorCodes: -51..-53 step limits, -54/-55/-80 step size) */
-static int decode(int code)
-{
-    if (code == -51 || code == -52 || code == -53) return ADB_MAX_STEPS;
-    if (code == -54 || code == -55 || code == -80) return ADB_STEP_UNDERFLOW;
-    return ADB_SOLVER_FAILURE;
-}
-
 /* One arc from (t0, x0) over h > 0 (or h < 0: backwards).  out_x: the end state; out_phi (NULL: not
  * integrated): Phi at the end, row-major; out_w (NULL, or dp NULL: not integrated): w at the end.
  * counts: [rhs evaluations, steps].  Returns a status code of driver_common.h. */
@@ -153,7 +114,7 @@ static int arc(const double *x0, double t0, double h, const double *p, const dou
         free(z);
         return ADB_SOLVER_FAILURE;
     }
-    if (!cy.success(res)) status = decode(cy.status(res));
+    if (!cy.success(res)) status = adb_cyrk_decode(cy.status(res));
     else {
         size_t m = cy.size(res);
         const double *ry = cy.y(res);
@@ -215,7 +176,7 @@ int adb_var_sample(const double *y0, double t0, const double *p, int n, const do
                          &rtol, 1, &atol, 1, INFINITY, 0.0, true);
     if (!res) return ADB_SOLVER_FAILURE;
     int status = ADB_SUCCESS;
-    if (!cy.success(res)) status = decode(cy.status(res));
+    if (!cy.success(res)) status = adb_cyrk_decode(cy.status(res));
     else if ((int)cy.size(res) != n) status = ADB_SOLVER_FAILURE;
     else memcpy(out, cy.y(res), sizeof(double) * (size_t)n * ADB_NY);
     cy.free(res);

@@ -309,15 +309,9 @@ def chart_command(args, model, p, start, emit) -> int:
     v1, v2 = float(p[k1]), float(p[k2])
     to = parse_value(args.to, "--to") if args.to is not None else None
     range1 = (min(v1, to), max(v1, to)) if to is not None else (0.5 * v1, 1.5 * v1)
-    if args.range2 is not None:
-        lo, sep, hi = args.range2.partition(":")
-        if not sep:
-            raise AnalysisError(f"--range2: expected LO:HI, got {args.range2!r}")
-        range2 = (parse_value(lo, "--range2 LO"), parse_value(hi, "--range2 HI"))
-        if not range2[0] < range2[1]:
-            raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
-    else:
-        range2 = (0.1 * v2, 10 * v2) if v2 > 0 else (v2 - 1.0, v2 + 1.0)
+    from .continue_command import parse_range2
+
+    range2 = parse_range2(args.range2) or ((0.1 * v2, 10 * v2) if v2 > 0 else (v2 - 1.0, v2 + 1.0))
     log2 = bool(getattr(args, "log2", False))
     n1, n2 = 81, 25
     if getattr(args, "grid", None):

@@ -50,6 +50,19 @@ def add_options(p) -> None:
     p.add_argument("--grid", metavar="N1:N2", help="with --par2 on our own continuation: the chart's grid (default 81:25)")
 
 
+def parse_range2(text: str | None):
+    """--range2 LO:HI -> (lo, hi) with lo < hi (None: not given)."""
+    if text is None:
+        return None
+    lo, sep, hi = text.partition(":")
+    if not sep:
+        raise AnalysisError(f"--range2: expected LO:HI, got {text!r}")
+    out = (parse_value(lo, "--range2 LO"), parse_value(hi, "--range2 HI"))
+    if not out[0] < out[1]:
+        raise AnalysisError(f"--range2: LO must be below HI, got {text!r}")
+    return out
+
+
 def wants_orbits(args) -> bool:
     return bool(args.orbits or args.from_hopf is not None)
 

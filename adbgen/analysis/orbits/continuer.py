@@ -200,24 +200,12 @@ def run(curve, x0: np.ndarray, direction, settings: Settings | None = None, tang
     corr = _Corrector(curve, s)
     x = np.array(x0, float)
     if tangent is None:
-        t = corr.tangent(x, None)
-        if np.ndim(direction) == 0:
-            dpar = curve.parameter(x + t) - curve.parameter(x)
-            if dpar * float(direction) < 0:
-                t = -t
-        elif corr.dot(t, np.asarray(direction, float)) < 0:
-            t = -t
+        t = _oriented(curve, corr, x, corr.tangent(x, None), direction)
         try:
             x = corr.solve(x, t, x, 0.0)
         except AnalysisError:
             raise ContinuationError("the start is not on the curve (Newton failed there)") from None
-        t = corr.tangent(x, t)
-        if np.ndim(direction) == 0:
-            dpar = curve.parameter(x + t) - curve.parameter(x)
-            if dpar * float(direction) < 0:
-                t = -t
-        elif corr.dot(t, np.asarray(direction, float)) < 0:
-            t = -t
+        t = _oriented(curve, corr, x, corr.tangent(x, t), direction)
     else:
         t = np.asarray(tangent, float) / corr.norm(np.asarray(tangent, float))
     data = curve.data(x)
@@ -284,6 +272,14 @@ def run(curve, x0: np.ndarray, direction, settings: Settings | None = None, tang
                 h = min(h, max(s.approach * abs(tau_b) / abs(rate), floor))
         h = max(h, min(floor, s.ds_max))
     return branch
+
+
+def _oriented(curve, corr, x, t, direction) -> np.ndarray:
+    """t or -t: the parameter's change along it has the sign of `direction` (a number), or it points along
+    `direction` (a vector)."""
+    if np.ndim(direction) == 0:
+        return -t if (curve.parameter(x + t) - curve.parameter(x)) * float(direction) < 0 else t
+    return -t if corr.dot(t, np.asarray(direction, float)) < 0 else t
 
 
 def _append(curve, corr, branch: Branch, b: Point, tnames, s: Settings) -> None:
