@@ -11,4 +11,5 @@ equations were derived, checked and emitted upstream; here they are only evaluat
     closed_forms  the thesis' closed-form states (3.6), (3.9), (3.10) in numpy
     continuation  a steady state along a parameter: Hopf points, folds, stable intervals (ch. 4)
     auto        AUTO-07p on the emitted files: one- and two-parameter runs, fort.7/fort.8 readers
+    orbits      periodic orbits: shooting on the variational equations, continuation, bifurcations, charts
 """

@@ -342,3 +342,19 @@ def test_continue_orbits_json(capsys):
     assert br["period"][0] == pytest.approx(2 * PI / 0.7431172783, rel=1e-8)
     tr = [pt for pt in out["orbit_points"] if pt["kind"] == "torus"]
     assert tr and tr[0]["Omega"] == pytest.approx(1.867449636, abs=1e-8) and len(tr[0]["multipliers"]) == 8
+
+
+def test_orbit_code_names_no_family_or_model():
+    """analysis/orbits reads models through their self-description: no family's or model's name in it (the
+    negative control: the family folders do name them)."""
+    import re
+    from pathlib import Path
+
+    import adbgen
+
+    root = Path(adbgen.__file__).parent
+    pattern = re.compile(r"thesis_rotating|single_plane|two_plane|single-plane|two-plane|scene_two", re.I)
+    files = sorted((root / "analysis" / "orbits").glob("*.py")) + [root / "analysis" / "engines" / "variational_driver.c"]
+    assert len(files) > 15
+    assert [f.name for f in files if pattern.search(f.read_text())] == []
+    assert pattern.search((root / "families" / "two_plane" / "periodic_orbits.py").read_text())

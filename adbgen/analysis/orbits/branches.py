@@ -10,7 +10,7 @@ Each branch is followed by the generic continuer on the limit-cycle curve (`cycl
 special points (folds of cycles, period-doubling, torus) are located by their test functions and listed
 with the parameter, the period and the multipliers there.  The amplitude of an orbit is r_max, the
 largest r = hypot(AMPLITUDE states) along it (the thesis' measure); where the module emits further
-measures (the two-plane paper's A) their maxima go along as "<name>_bar".
+measures (e.g. a vibration measure "A") their maxima go along as "<name>_bar".
 """
 
 from __future__ import annotations

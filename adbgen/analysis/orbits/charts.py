@@ -1,6 +1,6 @@
 """Stability charts in two parameters: where the followed solution (a steady state, or a forced model's
-periodic response) is stable, and the curves of bifurcations that bound it (the two-plane paper's Figs.
-10, 11, 13, 14: eps/R against Omega with m/M tied to eps/R, log scale).
+periodic response) is stable, and the curves of bifurcations that bound it (e.g. an imbalance against the speed with the
+balls' mass tied to the imbalance, on a log scale).
 
     chart = compute(model, pmap, start, (lo1, hi1), (lo2, hi2), log2=True)
     chart.to_json(); plot(chart, "chart.png")

@@ -7,7 +7,7 @@ JSON keys: period, multipliers ([re, im] pairs, by decreasing modulus), trivial_
 (|mu - 1| of the flow direction's multiplier; null for a forced orbit), stable, windings (angle ->
 k, the 2 pi k it gains per period), r_min, r_max, y (the point on the orbit, by state name), residual;
 also model, parameters, n_unstable, newton_iterations, arcs, forced, subharmonic and <measure>_bar for
-every amplitude measure the module emits (A_bar for the two-plane models).
+every amplitude measure the module emits (MEASURES, e.g. A_bar).
 """
 
 from __future__ import annotations

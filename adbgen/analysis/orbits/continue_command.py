@@ -12,7 +12,7 @@
   `--auto-orbits` adds `auto_orbits`, the same branches by AUTO-07p's collocation (IPS = 2 from the HB
   labels), for comparison;
 * a periodically forced model (fixed frame) has no steady state: its forced response, the periodic
-  orbit at the forcing period (B of the two-plane paper's section 4 in its anisotropic model), is
+  orbit at the forcing period (a balanced state is one, with the rotor at rest), is
   continued from START (or --y0) recomputed at the --set parameters, its torus and period-doubling
   points in `orbit_points`;
 * `--tie NAME=EXPR` keeps a parameter tied to others along every branch (m/M = eps/R in the paper's

@@ -36,7 +36,7 @@ def amplitude_indices(model: Model) -> tuple[int, int]:
 
 
 def measures(model: Model) -> tuple[str, ...]:
-    """Compiled measures the module emits besides r (e.g. "A", the two-plane paper's vibration)."""
+    """Compiled measures the module emits besides r (MEASURES, e.g. a vibration measure "A")."""
     names = tuple(getattr(model.module, "MEASURES", ()) or ())
     return tuple(n for n in names if n != "r") if hasattr(model.module, "measure") else ()
 

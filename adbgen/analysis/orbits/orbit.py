@@ -11,7 +11,7 @@ monodromy matrix of the variational equations, the trivial multiplier's distance
 accuracy check: an autonomous orbit's monodromy maps f(y) to itself), stability (every other
 multiplier inside the unit circle), and the amplitude range r_min, r_max of r = hypot of the model's
 AMPLITUDE states along the orbit (and the maximum of every other measure the module emits, e.g. the
-two-plane paper's A-bar).
+maximum A-bar of a vibration measure A).
 """
 
 from __future__ import annotations
