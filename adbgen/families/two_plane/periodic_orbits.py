@@ -294,7 +294,8 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
 def _chart_summary(c, case: ChartCase) -> str:
     """Where the grid found B stable at the smallest and the largest eccentricity row, and the curves' lowest
     points (what the curves asymptote to as the imbalance vanishes)."""
-    parts = []
+    found = c.stable >= 0
+    parts = [f"B found at {int(found.sum())} of {c.stable.size} grid points, stable at {int((c.stable == 1).sum())}"]
     for i, what in ((0, "smallest"), (len(c.lam2) - 1, "largest")):
         row = c.stable[i]
         lam = c.lam1[row == 1]
