@@ -93,20 +93,50 @@ def _unstable(spectrum: np.ndarray, orbit: bool) -> int:
     return steady.classify(spectrum)[1]
 
 
-def _kind(a: np.ndarray, b: np.ndarray, orbit: bool) -> str:
-    """Which kind of eigenvalue / multiplier crossed between the spectra a and b."""
-    def counts(ev):
-        ev = np.asarray(ev, complex)
-        cx = np.abs(ev.imag) > 1e-9 * (1 + np.abs(ev))
-        if orbit:
-            out = np.abs(ev) > 1 + UNIT_TOL
-            return (int(np.sum(out & cx)), int(np.sum(out & ~cx & (ev.real < 0))), int(np.sum(out & ~cx & (ev.real > 0))))
-        out = ev.real > steady.ON_AXIS * max(1.0, float(np.max(np.abs(ev))))
-        return (int(np.sum(out & cx)), int(np.sum(out & ~cx)), 0)
-    ca, cb = counts(a), counts(b)
-    if orbit:
-        return ["torus", "period-doubling", "fold of cycles"][int(np.argmax(np.abs(np.subtract(ca, cb))))]
-    return ["hopf", "fold", "fold"][int(np.argmax(np.abs(np.subtract(ca, cb))))]
+def _ordered(ev: np.ndarray, orbit: bool) -> np.ndarray:
+    """Real parts (multipliers: moduli - 1), largest first: the (m+1)-th changes sign where the number of
+    unstable ones goes from m to more."""
+    ev = np.asarray(ev, complex)
+    return np.sort(np.abs(ev) - 1.0 if orbit else ev.real)[::-1]
+
+
+def _critical(ev: np.ndarray, orbit: bool, m: int) -> complex:
+    """The eigenvalue (multiplier) at the (m+1)-th place of `_ordered`."""
+    ev = np.asarray(ev, complex)
+    key = np.abs(ev) - 1.0 if orbit else ev.real
+    return complex(ev[np.argsort(key)[::-1][m]])
+
+
+def _kind_of(z: complex, orbit: bool) -> str:
+    """The kind of stability change a critical eigenvalue (multiplier) z makes."""
+    cx = abs(z.imag) > 1e-9 * (1 + abs(z))
+    if not orbit:
+        return "hopf" if cx else "fold"
+    return "torus" if cx else ("period-doubling" if z.real < 0 else "fold of cycles")
+
+
+JUMP = 0.2  # a solution that moved this much (max norm, angles wrapped) between neighbours is re-found in halves
+
+
+def _moved(a, b) -> float:
+    if isinstance(a, tuple):  # an orbit: (arcs, period)
+        a, b = a[0].ravel(), b[0].ravel()
+    d = np.asarray(a, float) - np.asarray(b, float)
+    return float(np.max(np.abs(np.remainder(d + math.pi, 2 * math.pi) - math.pi)))
+
+
+def _step(follower, pmap, lam_from, lam_to, depth: int = 0):
+    """The solution at lam_to from the follower's (at lam_from): re-found in halves where it would jump (Newton
+    landing on another solution), up to 5 halvings."""
+    prev = follower.last
+    state, ev = follower.solve(pmap(lam_to))
+    if depth < 5 and _moved(state, prev) > JUMP:
+        mid = tuple(0.5 * (np.asarray(lam_from) + np.asarray(lam_to)))
+        follower.accept(prev)
+        s_mid, _ = _step(follower, pmap, lam_from, mid, depth + 1)
+        follower.accept(s_mid)
+        state, ev = _step(follower, pmap, mid, lam_to, depth + 1)
+    return state, ev
 
 
 def _row(follower, pmap, lam1, lam2, j0, state0):
@@ -116,13 +146,15 @@ def _row(follower, pmap, lam1, lam2, j0, state0):
     for direction in (1, -1):
         follower.accept(state0)
         j = j0 if direction == 1 else j0 - 1
+        prev = lam1[j0]
         while 0 <= j < n:
             try:
-                state, ev = follower.solve(pmap((lam1[j], lam2)))
+                state, ev = _step(follower, pmap, (prev, lam2), (lam1[j], lam2))
             except (AnalysisError, ArithmeticError):
                 break
             follower.accept(state)
             spectra[j], states[j] = ev, state
+            prev = lam1[j]
             j += direction
     return spectra, states
 
@@ -196,38 +228,62 @@ def compute(model: Model, pmap: ParameterMap, start, range1, range2, log2: bool 
             a, b = spectra[j], spectra[j + 1]
             if a is None or b is None or _unstable(a, orbit) == _unstable(b, orbit):
                 continue
-            seeds.append({"row": i, "col": j, "kind": _kind(a, b, orbit), "state": states[j]})
+            seeds.append({"row": i, "col": j, "state": states[j], "along": 0,
+                          "m": min(_unstable(a, orbit), _unstable(b, orbit))})
+    # and between rows, column by column: a curve that runs between two rows without crossing either
+    for i in sorted(rows):
+        if i + 1 not in rows:
+            continue
+        for j in range(n1):
+            a, b = rows[i][0][j], rows[i + 1][0][j]
+            if a is None or b is None or _unstable(a, orbit) == _unstable(b, orbit):
+                continue
+            seeds.append({"row": i, "col": j, "state": rows[i][1][j], "along": 1,
+                          "m": min(_unstable(a, orbit), _unstable(b, orbit))})
     span1 = hi1 - lo1
     span2 = (math.log10(hi2) - math.log10(lo2)) if log2 else (hi2 - lo2)
     ds_max = max(span1, span2) / 80
     curves: list[Curve] = []
     located = []
     for sd in seeds:
-        kind = sd["kind"]
-        if kinds is not None and kind not in kinds:
-            continue
         follower = follower_for(model, start)
         follower.accept(sd["state"])
+        x2 = math.log10(lam2[sd["row"]]) if log2 else lam2[sd["row"]]
+        lam_of = (lambda x: (float(x[0]), float(10.0 ** x[1] if log2 else x[1])))
+        m_ = sd["m"]
+
+        def g(x):  # the (m+1)-th eigenvalue's real part (multiplier's modulus - 1): it changes sign there
+            _, ev = follower.solve(pmap(lam_of(x)))
+            return _ordered(ev, orbit)[m_]
+        try:
+            if sd["along"] == 0:  # along the row
+                v = brentq(lambda v: g((v, x2)), lam1[sd["col"]], lam1[sd["col"] + 1], xtol=1e-12)
+                x_seed = np.array([v, x2])
+            else:  # along the column
+                x2b = math.log10(lam2[sd["row"] + 1]) if log2 else lam2[sd["row"] + 1]
+                x_seed = np.array([lam1[sd["col"]], brentq(lambda v: g((lam1[sd["col"]], v)), x2, x2b, xtol=1e-12)])
+            _, ev = follower.solve(pmap(lam_of(x_seed)))
+        except (AnalysisError, ArithmeticError, ValueError):
+            continue
+        z = _critical(ev, orbit, m_)
+        kind = _kind_of(z, orbit)
+        if kinds is not None and kind not in kinds:
+            continue
         cls = CURVES[kind]
         cv = cls(model, pmap, follower, log2=log2, range2=(lo2, hi2))
-        x2 = math.log10(lam2[sd["row"]]) if log2 else lam2[sd["row"]]
-        try:
-            g = lambda v: cv.g(np.array([v, x2]))  # noqa: E731
-            v = brentq(g, lam1[sd["col"]], lam1[sd["col"] + 1], xtol=1e-12)
-        except (AnalysisError, ValueError):
-            continue
-        seed = (float(v), float(lam2[sd["row"]]))
+        cv.crit = z
+        seed = cv.lam(x_seed)
         located.append({"kind": kind, pmap.free[0]: seed[0], pmap.free[1]: seed[1]})
         if any(c.kind == kind and _on_curve(c, seed, log2, 3 * ds_max) for c in curves):
             continue
         halves, specials, ends = [], [], []
-        x_seed = np.array([v, x2])
         state_seed = cv._solve(x_seed)[0]
         _, grad = cv.evaluate(x_seed)
         along = np.array([-grad[0, 1], grad[0, 0]])  # the curve's direction: normal to the gradient of g
         for direction in (1.0, -1.0):
             cv = cls(model, pmap, follower_for(model, start), log2=log2, range2=(lo2, hi2))
             cv.follower.accept(state_seed)
+            cv.crit = z
             settings = continuer.Settings(ds=ds_max / 4, ds_max=ds_max, ds_min=1e-6 * ds_max, max_points=max_points,
                                           bounds=(lo1, hi1), newton_tol=1e-10, fold_test=False)
             try:
