@@ -292,9 +292,7 @@ def run_continue(args) -> int:
                                 f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
                                 f"balanced continuum), which this state does not share; use stability --scan")
     if continue_command.wants_chart(args):
-        from .orbits.charts import chart_command
-
-        return chart_command(args, model, p, y, emit)
+        return continue_command.chart_command(args, model, p, y, emit)
     if args.par2 is None:
         if args.keep:
             with auto.Session(model, keep=args.keep) as session:

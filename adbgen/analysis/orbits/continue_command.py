@@ -209,8 +209,6 @@ def run_forced(args, model, emit) -> int:
         raise AnalysisError(f"--to must differ from the start value {args.par} = {p[k]:g}")
     start = forced_start(model, args, p)
     if args.par2 is not None:
-        from .charts import chart_command
-
         return chart_command(args, model, p, start, emit)
     br = branches.from_orbit(model, pmap, start, 1.0 if to > p[k] else -1.0, orbit_settings(args, float(p[k]), to), to=to)
     out = {"model": model.name, "parameter": args.par, "ties": list(args.tie), "points": [],
@@ -281,3 +279,32 @@ def plot_branches(path: Path, model, name: str, branches_) -> None:
     fig.savefig(tmp, dpi=120, format=path.suffix.lstrip(".") or "png")
     plt.close(fig)
     os.replace(tmp, path)
+
+
+def chart_command(args, model, p, start, emit) -> int:
+    """`adbgen continue MODEL --par NAME --par2 NAME2 [--tie ...] [--range2 LO:HI] [--log2] [--plot FILE]` on our
+    own continuation (forced models; autonomous ones with --tie, --plot or --log2)."""
+    from .charts import compute, plot
+    from .parameters import ParameterMap
+
+    pmap = ParameterMap(model, p, [args.par, args.par2], ties=args.tie)
+    k1, k2 = pmap.index
+    v1, v2 = float(p[k1]), float(p[k2])
+    to = parse_value(args.to, "--to") if args.to is not None else None
+    range1 = (min(v1, to), max(v1, to)) if to is not None else (0.5 * v1, 1.5 * v1)
+    range2 = parse_range2(args.range2) or ((0.1 * v2, 10 * v2) if v2 > 0 else (v2 - 1.0, v2 + 1.0))
+    log2 = bool(getattr(args, "log2", False))
+    n1, n2 = 81, 25
+    if getattr(args, "grid", None):
+        a, sep, b = args.grid.partition(":")
+        try:
+            n1, n2 = int(a), int(b)
+        except ValueError:
+            raise AnalysisError(f"--grid: expected N1:N2 (whole numbers), got {args.grid!r}") from None
+        if not sep or n1 < 3 or n2 < 2:
+            raise AnalysisError(f"--grid: expected N1:N2 with N1 >= 3 and N2 >= 2, got {args.grid!r}")
+    chart = compute(model, pmap, start, range1, range2, log2=log2, n1=n1, n2=n2)
+    if args.plot:
+        plot(chart, Path(args.plot))
+    emit(chart.to_json())
+    return 0

@@ -42,7 +42,12 @@ def measures(model: Model) -> tuple[str, ...]:
 
 
 def measure(model: Model, name: str, t: np.ndarray, Y: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """The measure `name` along samples (times t, states on the rows of Y)."""
+    """The measure `name` along samples (times t, one state per row of Y): the module's compiled
+    measures_along where it has it (all measures at once, MEASURES' order), else measure() per sample."""
+    along = getattr(model.module, "measures_along", None)
+    if along is not None:
+        k = tuple(model.module.MEASURES).index(name)
+        return np.asarray(along(np.ascontiguousarray(t, dtype=float), np.ascontiguousarray(np.asarray(Y).T), p))[k]
     fn = model.module.measure
     return np.array([fn(name, float(tk), np.ascontiguousarray(y), p) for tk, y in zip(t, Y)])
 
