@@ -126,10 +126,7 @@ def test_torus_curve_of_the_forced_model_against_auto():
     p = m.params()
     tr = [pt for pt in auto_cycles.auto_forced_bifurcations(m, "Omega", p, 2.2, 3.0) if pt["type"] == "TR"]
     assert len(tr) >= 2
-    a = math.acos(m.params()[m.param_names.index("M")] * p[m.param_names.index("epsilon")] /
-                  (4 * p[m.param_names.index("R_t")] * p[m.param_names.index("m_1")]))
-    y = m.state({"alpha_1": math.pi + a, "alpha_2": math.pi - a, "alpha_3": math.pi + a, "alpha_4": math.pi - a})
-    start = orbit.refine(m, p, y, None)
+    start = orbit.refine(m, p, m.steady_state("B", p), None)
     f = OrbitFollower(m, start)
     k = m.param_names.index("Omega")
     for pt in tr[:2]:

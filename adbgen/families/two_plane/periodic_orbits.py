@@ -85,18 +85,15 @@ CHARTS = [
 
 
 def _start(model, pmap, lam):
-    """B at the chart's start: for an autonomous model START carried along the ties; for the forced model B
-    itself (rotor at rest, each race's balls at pi +- alpha_hat, cos alpha_hat = m_c/m, (9))."""
+    """B at the chart's start: for an autonomous model START carried along the ties; for the forced model the
+    module's own B (its labelled steady state, (9): the rotor at rest)."""
     from ...analysis.orbits import orbit
     from ...analysis.orbits.continue_command import carried_start
 
     p = pmap(lam)
     if model.autonomous:
         return carried_start(model, p, pmap)
-    get = lambda name: p[model.param_names.index(name)]  # noqa: E731
-    a = math.acos(get("M") * get("epsilon") / (4 * get("R_t") * get("m_1")))
-    y = model.state({"alpha_1": math.pi + a, "alpha_2": math.pi - a, "alpha_3": math.pi + a, "alpha_4": math.pi - a})
-    return orbit.refine(model, p, y, None)
+    return orbit.refine(model, p, model.steady_state("B", p), None)
 
 
 def chart(case: ChartCase, out: Path, n1: int = 81, n2: int = 25, progress=print):
