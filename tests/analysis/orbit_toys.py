@@ -27,7 +27,6 @@ import sympy as sp
 
 def write_toy(folder: Path, name: str, states, params: dict, rhs, *, angles=(), amplitude=None,
               forcing: str = "", autonomous: bool = True) -> Path:
-    t = sp.Symbol("t")
     ys = sp.symbols(states)
     ps = sp.symbols(list(params))
     F = sp.Matrix(rhs)
@@ -43,7 +42,7 @@ def write_toy(folder: Path, name: str, states, params: dict, rhs, *, angles=(), 
 
     def py(e):
         return sp.pycode(sp.sympify(e).xreplace(sub)).replace("math.", "math.")
-    body = [f"#include <math.h>",
+    body = ["#include <math.h>",
             f"void {name}_rhs(double t, const double *y, const double *p, double *dydt) {{",
             "    (void)t; (void)p;"]
     body += [f"    dydt[{i}] = {c(e)};" for i, e in enumerate(F)] + ["}"]

@@ -12,7 +12,7 @@ import pytest
 
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.orbits import auto_cycles, branches, continuer, hopf, jets, lyapunov, orbit
-from adbgen.analysis.orbits.cycle import CycleCurve, torus_test
+from adbgen.analysis.orbits.cycle import torus_test
 from adbgen.analysis.orbits.flow import Flow
 from adbgen.analysis.orbits.parameters import ParameterMap
 from adbgen.analysis.orbits.shooting import Shooting

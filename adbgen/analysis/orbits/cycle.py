@@ -80,7 +80,7 @@ class CycleCurve:
         self.shooting = Shooting(self.model, self.flow, arcs, shift_vector(self.model, self.windings), self.forcing,
                                  self.q)
         self.size = self.shooting.size + 1
-        m, N = self.shooting.m, self.model.n_states
+        m = self.shooting.m
         w = np.full(self.size, 1.0 / math.sqrt(m))
         if not self.shooting.forced:
             w[-2] = 0.1  # the period

@@ -10,7 +10,6 @@ parameter sets and ties are stated here, as the command line would give them (`-
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
