@@ -282,9 +282,56 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
         L += [f"#### Fig. {case.figure}", "", f"Paper: {case.text}", "",
               f"Ours ({case.model}{'; ' + case.note if case.note else ''}; ties: `{' '.join(case.ties)}`; "
               f"{c.wall_s:.0f} s): " + (", ".join(f"{v} {k} curve(s)" for k, v in kinds.items()) or "no curve") + "; "
-              + _chart_summary(c, case), "", f"![Fig. {case.figure}](reproduction/{name})", ""]
+              + _chart_summary(c, case), ""]
+        if case.figure in ("10(a)", "11", "13(b)"):
+            lim = limit(case, progress=progress)
+            L += ["As the imbalance vanishes (the same ties, B followed from Omega = 5 down to 0.5), its stability "
+                  "changes at: " + "; ".join(f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
+                                            for eps, pts in lim) + ".", ""]
+        L += [f"![Fig. {case.figure}](reproduction/{name})", ""]
     L.append(f"(this section: {time.perf_counter() - t0:.0f} s)")
     return "\n".join(L)
+
+
+def _runs(x: np.ndarray, mask: np.ndarray) -> list[tuple[float, float]]:
+    """The stretches of x where mask holds (first and last grid point of each)."""
+    out, start = [], None
+    for i, ok in enumerate(mask):
+        if ok and start is None:
+            start = i
+        if not ok and start is not None:
+            out.append((float(x[start]), float(x[i - 1])))
+            start = None
+    if start is not None:
+        out.append((float(x[start]), float(x[-1])))
+    return out
+
+
+def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[tuple[float, list]]:
+    """Where B's stability changes along Omega (from the range's top down) at imbalances below the chart's:
+    the values the curves tend to as eps/R = m/M -> 0 (the paper: the critical speeds).  A steady state's Hopf
+    points and folds (autonomous model), or the torus and period-doubling points of the forced response."""
+    from ...analysis import continuation
+    from ...analysis.loading import load_model
+    from ...analysis.orbits import branches, continuer
+    from ...analysis.orbits.parameters import ParameterMap
+
+    m = load_model(case.model)
+    pm2 = ParameterMap(m, m.params(case.sets), ["Omega", "epsilon"], case.ties)
+    top, bottom = case.range1[1], case.range1[0]
+    out = []
+    for eps in epsilons:
+        start = _start(m, pm2, (top, eps))
+        pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
+        if m.autonomous:
+            sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
+            out.append((eps, [(b.kind, b.value) for b in sc.points]))
+        else:
+            br = branches.from_orbit(m, pm, start, -1.0, continuer.Settings(ds=0.02, ds_max=0.05, max_points=2000,
+                                                                             bounds=(bottom, top)), amplitude=False)
+            out.append((eps, [(sp["kind"], sp["Omega"]) for sp in br.specials]))
+        progress(f"Fig. {case.figure} limit eps = {eps:g}: " + ", ".join(f"{k} {v:.5f}" for k, v in out[-1][1]))
+    return out
 
 
 def _chart_summary(c, case: ChartCase) -> str:
@@ -293,10 +340,9 @@ def _chart_summary(c, case: ChartCase) -> str:
     found = c.stable >= 0
     parts = [f"B found at {int(found.sum())} of {c.stable.size} grid points, stable at {int((c.stable == 1).sum())}"]
     for i, what in ((0, "smallest"), (len(c.lam2) - 1, "largest")):
-        row = c.stable[i]
-        lam = c.lam1[row == 1]
+        runs = _runs(c.lam1, c.stable[i] == 1)
         parts.append(f"at the {what} imbalance ({c.lam2[i] * case.scale2:.1e}) stable for Omega in "
-                     + (f"[{lam.min():.2f}, {lam.max():.2f}]" if len(lam) else "no grid point"))
+                     + (", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in runs) if runs else "no grid point"))
     lows = sorted(pt[0] for cv in c.curves for pt in [min(cv.points, key=lambda q: q[1])] if pt[1] <= 1.01 * c.lam2[0])
     if lows:
         parts.append("curves reaching the smallest imbalance at Omega = " + ", ".join(f"{v:.3f}" for v in lows))
