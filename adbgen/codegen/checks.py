@@ -374,12 +374,12 @@ def _parameter_points(ir: ModelIR, samples: int, seed: int):
         yield p
 
 
-def _check_steady_states(ir: ModelIR, rhs) -> float:
+def _check_steady_states(ir: ModelIR, rhs) -> tuple[float, tuple[str, ...]]:
     from .interpret import compile_steady_states
 
     d = ir.description
     if not d.steady_states:
-        return 0.0
+        return 0.0, ()
     solvers = compile_steady_states(ir)
     psym = [p.symbol for p in ir.parameters]
     exists = {st.label: sp.lambdify([psym], st.exists, modules="numpy") for st in d.declared.steady_states
@@ -413,11 +413,9 @@ def _check_steady_states(ir: ModelIR, rhs) -> float:
                     raise CheckFailed(f"{ir.name}: steady state {label} is not a zero of the rhs: |rhs| = "
                                       f"{residual:.2e} (scale {scale:.2e}) at {dict(zip(ir.parameter_names, p.round(6)))}")
                 worst = max(worst, residual / scale)
-    never = [label for label, count in found.items() if not count]
-    if never:
-        raise CheckFailed(f"{ir.name}: steady state(s) {', '.join(never)} given at none of {DESCRIPTION_SAMPLES} "
-                          "random parameter points: nothing shows they are zeros of the rhs")
-    return worst
+    # a label given at none of the points is not shown wrong, only not shown right: said, not refused
+    # (a scene's parameters may put a state out of reach; the default set's are all exercised: a test)
+    return worst, tuple(label for label, count in found.items() if not count)
 
 
 def check_description(ir: ModelIR, system: FirstOrderSystem) -> dict[str, float]:
@@ -427,11 +425,13 @@ def check_description(ir: ModelIR, system: FirstOrderSystem) -> dict[str, float]
     frequency is the one the model is forced at; every symmetry holds on the rhs at random states and
     parameters (bitwise where identical balls coincide); every closed-form steady state is a zero of
     the rhs wherever it is given, and given exactly where the reference's criterion says it exists.
-    Returns the largest relative errors seen."""
+    Returns the largest relative errors seen, and under "unexercised" the labels given at none of the
+    random parameter points (so not shown to be zeros there)."""
     if ir.description is None:
         return {}
     rhs = compile_program(ir, "rhs")
     _check_roles(ir)
     _check_forcing(ir, system)
+    steady, unexercised = _check_steady_states(ir, rhs)
     return {"angles": _check_angles(ir, rhs), "measures": _check_measures(ir, system),
-            "symmetries": _check_symmetries(ir, rhs), "steady_states": _check_steady_states(ir, rhs)}
+            "symmetries": _check_symmetries(ir, rhs), "steady_states": steady, "unexercised": unexercised}

@@ -357,4 +357,4 @@ def test_orbit_code_names_no_family_or_model():
     files = sorted((root / "analysis" / "orbits").glob("*.py")) + [root / "analysis" / "engines" / "variational_driver.c"]
     assert len(files) > 15
     assert [f.name for f in files if pattern.search(f.read_text())] == []
-    assert pattern.search((root / "families" / "two_plane" / "periodic_orbits.py").read_text())
+    assert pattern.search((root / "families" / "two_plane" / "science" / "periodic_orbits.py").read_text())

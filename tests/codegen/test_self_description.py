@@ -273,6 +273,14 @@ def test_a_correct_declaration_passes_the_checks():
     assert _check(sp_models.thesis_rotating(2))["steady_states"] < 1e-12
 
 
+@pytest.mark.parametrize("spec", [sp_models.thesis_rotating(4), sp_models.single_plane_fixed(3),
+                                  tp_models.two_plane_rotating(), tp_models.two_plane_fixed()], ids=lambda s: s.name)
+def test_every_default_label_is_exercised_by_the_check(spec):
+    """Each steady state of the default set is given (and so shown a zero of the rhs) at some of the
+    check's random parameter points."""
+    assert _check(spec)["unexercised"] == ()
+
+
 def test_a_wrong_steady_state_is_refused():
     def shifted(d, system):
         form = d.closed_forms[1]

@@ -87,6 +87,23 @@ class Chart:
 
 # ---------------------------------------------------------------------------------------- the grid
 
+def chart_start(model: Model, pmap: ParameterMap, lam):
+    """The followed solution at the chart's start pmap(lam): an autonomous model's START carried along the ties
+    (a state); a forced model's first labelled steady state that exists there (a constant solution, e.g. the
+    balanced state with the rotor at rest), refined as its periodic response by shooting (a PeriodicOrbit)."""
+    from .continue_command import carried_start
+    from .orbit import refine
+
+    p = pmap(lam)
+    if model.autonomous:
+        return carried_start(model, p, pmap)
+    for label in model.steady_states:
+        y = model.steady_state(label, p)
+        if y is not None:
+            return refine(model, p, np.asarray(y, float), None)
+    raise AnalysisError(f"{model.name}: no labelled steady state exists at the chart's start to begin from")
+
+
 def _unstable(spectrum: np.ndarray, orbit: bool) -> int:
     if orbit:
         return int(np.sum(np.abs(spectrum) > 1.0 + UNIT_TOL))

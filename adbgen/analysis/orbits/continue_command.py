@@ -1,4 +1,4 @@
-"""What `adbgen continue` gains for periodic orbits (the command itself is in stability_commands.py).
+"""What `adbgen continue` gains for periodic orbits (the command and its options: adbgen/cli/stability.py, cli/orbit.py).
 
     adbgen continue MODEL --par NAME [--orbits | --from-hopf VALUE] [--tie NAME=EXPR]... [--y0 NAME=VALUE]...
                     [--max-points N] [--auto-orbits] [--plot FILE] ...
@@ -27,27 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..loading import AnalysisError, parse_assignments, parse_value
-
-
-def add_options(p) -> None:
-    p.add_argument("--orbits", action="store_true",
-                   help="continue the periodic orbits born at every Hopf point (a forced model: its forced response)")
-    p.add_argument("--from-hopf", metavar="VALUE",
-                   help="continue the orbits born at the Hopf point nearest VALUE of --par only (implies --orbits)")
-    p.add_argument("--tie", action="append", default=[], metavar="NAME=EXPR",
-                   help="keep parameter NAME = EXPR (an expression in parameter names) along every branch and curve, "
-                        "e.g. --tie m_1=epsilon*M/R_t (repeatable, applied in order)")
-    p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
-                   help="the start state by name where the model has no START (states not given are 0)")
-    p.add_argument("--max-points", type=int, default=200, metavar="N",
-                   help="points per orbit branch (default 200)")
-    p.add_argument("--auto-orbits", action="store_true",
-                   help="with --orbits: also AUTO-07p's branches of the same orbits (IPS = 2 from the HB labels)")
-    p.add_argument("--plot", metavar="FILE", help="draw the orbit branches (with --par2: the stability chart, its curves "
-                                                  "also written as data into FILE's .json) into FILE")
-    p.add_argument("--log2", action="store_true", help="with --par2: the second parameter on a log scale (range and plot)")
-    p.add_argument("--grid", metavar="N1:N2", help="with --par2 on our own continuation: the chart's grid (default 81:25)")
+from ..loading import AnalysisError, parse_value
+from ..units import assignments, quantity, units
 
 
 def parse_range2(text: str | None):
@@ -173,7 +154,7 @@ def forced_start(model, args, p):
 
     y0 = None
     if args.y0:
-        y0 = model.state(parse_assignments(args.y0, "--y0"))
+        y0 = model.state(assignments(args.y0, "--y0", units(model).states))
     elif getattr(model.module, "START", None) is not None:
         y0 = np.array(model.module.START, float)
     elif hasattr(model.module, "steady_state"):
@@ -196,7 +177,7 @@ def run_forced(args, model, emit) -> int:
     if not (wants_orbits(args) or args.par2 is not None):
         raise AnalysisError(f"{model.name} is periodically forced: it has periodic orbits, not steady states; continue "
                             f"its forced response with --orbits (or --par2 for its torus and period-doubling curves)")
-    values = parse_assignments(args.set, "--set")
+    values = assignments(args.set, "--set", units(model).params)
     p = model.params({**_start_parameters(model), **values})
     for name in (args.par, args.par2):
         if name is not None and name not in model.param_names:
@@ -204,7 +185,8 @@ def run_forced(args, model, emit) -> int:
     pmap = pmap_for(model, p, [args.par], args)
     p = pmap(p[pmap.index[0]])
     k = model.param_names.index(args.par)
-    to = parse_value(args.to, "--to") if args.to is not None else (0.5 * p[k] if p[k] > 0 else p[k] - 1.0)
+    to = quantity(args.to, units(model).params[args.par], "--to") if args.to is not None else \
+        (0.5 * p[k] if p[k] > 0 else p[k] - 1.0)
     if to == p[k]:
         raise AnalysisError(f"--to must differ from the start value {args.par} = {p[k]:g}")
     start = forced_start(model, args, p)
@@ -290,7 +272,7 @@ def chart_command(args, model, p, start, emit) -> int:
     pmap = ParameterMap(model, p, [args.par, args.par2], ties=args.tie)
     k1, k2 = pmap.index
     v1, v2 = float(p[k1]), float(p[k2])
-    to = parse_value(args.to, "--to") if args.to is not None else None
+    to = quantity(args.to, units(model).params[args.par], "--to") if args.to is not None else None
     range1 = (min(v1, to), max(v1, to)) if to is not None else (0.5 * v1, 1.5 * v1)
     range2 = parse_range2(args.range2) or ((0.1 * v2, 10 * v2) if v2 > 0 else (v2 - 1.0, v2 + 1.0))
     log2 = bool(getattr(args, "log2", False))

@@ -160,6 +160,12 @@ def arcs_for(flow: Flow, y: np.ndarray, T: float, p: np.ndarray, max_growth: flo
     return max(1, math.ceil(math.log(max(growth, 1.0)) / math.log(max_growth)))
 
 
+def windings_over(model: Model, flow: Flow, y: np.ndarray, T: float, p: np.ndarray) -> dict:
+    """The whole turns each angle gains from y over T (the windings of an orbit through y with period T)."""
+    end = flow.end(y, 0.0, T, p)
+    return {model.state_names[i]: int(round((end[i] - y[i]) / TWO_PI)) for i in describe.angle_indices(model)}
+
+
 def initial_arcs(flow: Flow, y: np.ndarray, T: float, p: np.ndarray, m: int) -> np.ndarray:
     """The m shooting points along the trajectory from y (y itself first)."""
     if m == 1:

@@ -58,7 +58,7 @@ class Shooting:
     """The shooting system of `model` at parameters p (see the module's docstring)."""
 
     def __init__(self, model: Model, flow: Flow, arcs: int = 1, shift: np.ndarray | None = None,
-                 forcing: int | None = None, subharmonic: int = 1):
+                 forcing: int | None = None, subharmonic: int = 1, t_start: float = 0.0):
         if arcs < 1:
             raise AnalysisError(f"arcs must be >= 1, got {arcs}")
         self.model, self.flow, self.m = model, flow, int(arcs)
@@ -66,6 +66,9 @@ class Shooting:
         self.shift = np.zeros(self.N) if shift is None else np.asarray(shift, float)
         self.forcing, self.q = forcing, int(subharmonic)
         self.forced = forcing is not None
+        # a forced orbit's phase: the first arc starts at t_start (the forcing's time; 0 unless the orbit is
+        # given at another instant); the parameter derivative below assumes t_start = 0
+        self.t_start = float(t_start)
         self.ref: np.ndarray | None = None  # phase condition: reference point and the flow there
         self.ref_f: np.ndarray | None = None
 
@@ -100,7 +103,7 @@ class Shooting:
         if not (T > 0 and math.isfinite(T)):
             raise ShootingError(f"the period left (0, inf): T = {T}")
         h = T / m
-        t0 = np.arange(m) * h
+        t0 = self.t_start + np.arange(m) * h
         ends, Phi, W = self.flow.arcs(X, t0, h, p, phi=jacobian, dp=dp if jacobian else None)
         nxt = np.roll(X, -1, axis=0)
         nxt[-1] = X[0] + self.shift

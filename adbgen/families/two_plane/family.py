@@ -63,5 +63,12 @@ class TwoPlane:
 
         register(subparsers)
 
+    def reproductions(self) -> dict:
+        return {"two-plane": "adbgen.families.two_plane.science.reproduce:REPRODUCTION",
+                "two-plane-orbits": "adbgen.families.two_plane.science.periodic_orbits:REPRODUCTION"}
+
+    def science_commands(self) -> str:
+        return ""
+
 
 FAMILY = TwoPlane()
