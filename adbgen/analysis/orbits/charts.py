@@ -91,7 +91,7 @@ def chart_start(model: Model, pmap: ParameterMap, lam):
     """The followed solution at the chart's start pmap(lam): an autonomous model's START carried along the ties
     (a state); a forced model's first labelled steady state that exists there (a constant solution, e.g. the
     balanced state with the rotor at rest), refined as its periodic response by shooting (a PeriodicOrbit)."""
-    from .continue_command import carried_start
+    from .equilibrium import carried_start
     from .orbit import refine
 
     p = pmap(lam)

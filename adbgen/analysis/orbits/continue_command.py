@@ -29,6 +29,7 @@ import numpy as np
 
 from ..loading import AnalysisError, parse_value
 from ..units import assignments, quantity, units
+from .equilibrium import carried_start  # noqa: F401  (the command's start along ties)
 
 
 def parse_range2(text: str | None):
@@ -199,30 +200,6 @@ def run_forced(args, model, emit) -> int:
         plot_branches(Path(args.plot), model, args.par, [br])
     emit(out)
     return 0
-
-
-def carried_start(model, p, pmap=None):
-    """START carried to p: first to the --set values with the free parameters at START's and the ties applied,
-    then along the ties to the free parameters' values (geometrically where they keep their sign).  Several
-    parameters set at once can throw plain Newton, or a straight homotopy, onto another steady state: the
-    paper's charts tie the balls' mass to the imbalance, and only along the tie does B keep its angles."""
-    from .equilibrium import EquilibriumFollower, homotopy
-
-    y0 = np.array(model.module.START, float)
-    p0 = np.array(model.module.START_PARAMETERS, float)
-    if pmap is None:
-        return homotopy(model, y0, p0, p)
-    lam0 = np.array([p0[k] for k in pmap.index])
-    lam1 = np.array([p[k] for k in pmap.index])
-    y = homotopy(model, y0, p0, pmap(lam0))
-    follower = EquilibriumFollower(model, y)
-    same = (lam0 * lam1 > 0)
-    for t in np.linspace(0.0, 1.0, 61)[1:]:
-        lam = np.where(same, np.abs(lam0) ** (1 - t) * np.abs(lam1) ** t * np.sign(lam1 + (lam1 == 0)),
-                       lam0 + t * (lam1 - lam0))
-        y, _ = follower.solve(pmap(lam))
-        follower.accept(y)
-    return y
 
 
 def _start_parameters(model) -> dict:

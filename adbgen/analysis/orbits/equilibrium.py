@@ -174,3 +174,25 @@ def homotopy(model: Model, y0: np.ndarray, p0: np.ndarray, p1: np.ndarray, steps
         s = t
         ds = min(2 * ds, 1.0 / steps)
     return y
+
+
+def carried_start(model, p, pmap=None):
+    """START carried to p: first to the --set values with the free parameters at START's and the ties applied,
+    then along the ties to the free parameters' values (geometrically where they keep their sign).  Several
+    parameters set at once can throw plain Newton, or a straight homotopy, onto another steady state: the
+    paper's charts tie the balls' mass to the imbalance, and only along the tie does B keep its angles."""
+    y0 = np.array(model.module.START, float)
+    p0 = np.array(model.module.START_PARAMETERS, float)
+    if pmap is None:
+        return homotopy(model, y0, p0, p)
+    lam0 = np.array([p0[k] for k in pmap.index])
+    lam1 = np.array([p[k] for k in pmap.index])
+    y = homotopy(model, y0, p0, pmap(lam0))
+    follower = EquilibriumFollower(model, y)
+    same = (lam0 * lam1 > 0)
+    for t in np.linspace(0.0, 1.0, 61)[1:]:
+        lam = np.where(same, np.abs(lam0) ** (1 - t) * np.abs(lam1) ** t * np.sign(lam1 + (lam1 == 0)),
+                       lam0 + t * (lam1 - lam0))
+        y, _ = follower.solve(pmap(lam))
+        follower.accept(y)
+    return y

@@ -43,7 +43,7 @@ def criticality(progress=print) -> list[dict]:
     from ....analysis import continuation
     from ....analysis.loading import load_model
     from ....analysis.orbits import hopf
-    from ....analysis.orbits.continue_command import carried_start
+    from ....analysis.orbits.equilibrium import carried_start
     from ....analysis.orbits.parameters import ParameterMap
 
     m = load_model("two_plane_rotating")
