@@ -31,6 +31,7 @@ REGISTRY: dict[str, str] = {
     "smallest": "adbgen.bench.smallest:BENCHMARK",
     "precision": "adbgen.bench.precision:BENCHMARK",
     "mutation": "adbgen.bench.mutation:BENCHMARK",
+    "orbits": "adbgen.bench.orbits:BENCHMARK",
 }
 
 

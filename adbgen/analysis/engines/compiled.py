@@ -62,8 +62,9 @@ def build(model, driver: str, libs: list[str]) -> Path:
     source = model.c_source()
     drv = HERE / driver
     h = hashlib.sha256()
-    for part in (drv.read_bytes(), (HERE / "driver_common.h").read_bytes(), source.read_bytes(),
-                 " ".join(_CFLAGS + libs).encode(), model.name.encode()):
+    headers = [p.read_bytes() for p in sorted(HERE.glob("*.h"))]  # every header a driver may include
+    for part in (drv.read_bytes(), *headers, source.read_bytes(), " ".join(_CFLAGS + libs).encode(),
+                 model.name.encode()):
         h.update(part)
         h.update(b"\0")
     target = cache_dir() / "engines" / f"{model.name}-{drv.stem}-{h.hexdigest()[:16]}.so"
