@@ -1,0 +1,480 @@
+/* The Taylor engine: Taylor's method on a model's emitted series (<model>_taylor.c, the taylor target),
+ * adaptive step as in Jorba & Zou (2005) and heyoka, the order fixed per build (ADB_TS_ORDER).
+ *
+ * One translation unit per (model, order): it #includes the model's series source with TS_MAXO =
+ * ADB_TS_ORDER, so every order of a step is the always-inline series body with a constant K, every
+ * convolution unrolled; compiled by adbgen.analysis.engines.taylor with
+ *
+ *     -DADB_TS_SOURCE='"<model>_taylor.c"' -DADB_TS_PREFIX=<model> -DADB_TS_ORDER=<p> -DADB_NY=<states>
+ *     -DADB_NP=<parameters>   (gcc -O3 -march=native -ffp-contract=off)
+ *
+ * A step from (t, y): the coefficients y_0..y_p of the solution (y_{K+1} = f_K / (K + 1)); the step
+ * h = fac * rho exp(-0.7 / (p - 1)) / e^2 with rho = min over k = p - 1, p of (N / |y_k|_inf)^(1/k),
+ * N = 1 when rtol |y|_inf <= atol (absolute control) and |y|_inf otherwise (Jorba & Zou's rule; fac = 1
+ * is heyoka's); clamped to t_end and to the first sign change of a Piecewise condition's series (the
+ * ramp's t - t_ramp: the branch never changes inside a step); the new state by Horner.
+ *
+ * r_max and t_dec (thesis ch. 5) are located on each step's polynomial r^2(s) = x(s)^2 + y(s)^2 (exact
+ * to the order of the method): a bound sum_k |x_k| h^k, sum_k |y_k| h^k screens the steps; r_max takes
+ * the polynomial's largest value on [0, h] (its ends and the roots of d r^2/ds), t_dec the last root of
+ * r^2 - H^2 in a step that ends below H.  Roots are isolated by Descartes' rule on the Bernstein
+ * coefficients (subdivision by de Casteljau) and refined by bisection.
+ *
+ * Exact symmetry: the series program evaluates every ball by the same lane operations, and the step
+ * (norms, Horner) treats every component alike, so identical balls stay together bit for bit.
+ */
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef ADB_TS_ORDER
+#error "ADB_TS_ORDER (the Taylor order) must be defined"
+#endif
+#define TS_MAXO ADB_TS_ORDER
+#include ADB_TS_SOURCE
+#include "driver_common.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define ADB_CAT2(a, b) a##b
+#define ADB_CAT(a, b) ADB_CAT2(a, b)
+#define TSF(x) ADB_CAT(ADB_TS_PREFIX, x)
+typedef TSF(_ts) TsWork;
+
+#define P ADB_TS_ORDER
+#define NY ADB_NY
+#define DEG (2 * P) /* r^2's degree */
+
+typedef struct {
+    double jet[P + 1][NY]; /* the solution's coefficients of the current step */
+    double f[NY];
+    TsWork w;
+} Stepper;
+
+/* The jet of the solution through (t, y): rows 0..P.  Each order is the series body with a constant K. */
+static void jet_of(Stepper *S, double t, const double *y)
+{
+    TsWork *w = &S->w;
+    TSF(_ts_time)(w, &t, 1.0);
+    memcpy(S->jet[0], y, sizeof(double) * NY);
+    TSF(_ts_load)(w, 0, S->jet[0]);
+#define ADB_K(K)                                                                                             \
+    if ((K) < P) {                                                                                           \
+        TSF(_ts_order)(w, (K), S->f);                                                                        \
+        for (int r = 0; r < NY; ++r) S->jet[(K) + 1][r] = S->f[r] * ts_rec[(K) + 1];                           \
+        TSF(_ts_load)(w, (K) + 1, S->jet[(K) + 1]);                                                          \
+    }
+    ADB_K(0) ADB_K(1) ADB_K(2) ADB_K(3) ADB_K(4) ADB_K(5) ADB_K(6) ADB_K(7) ADB_K(8) ADB_K(9) ADB_K(10)
+    ADB_K(11) ADB_K(12) ADB_K(13) ADB_K(14) ADB_K(15) ADB_K(16) ADB_K(17) ADB_K(18) ADB_K(19) ADB_K(20)
+    ADB_K(21) ADB_K(22) ADB_K(23) ADB_K(24) ADB_K(25) ADB_K(26) ADB_K(27) ADB_K(28) ADB_K(29) ADB_K(30)
+    ADB_K(31) ADB_K(32) ADB_K(33) ADB_K(34) ADB_K(35) ADB_K(36) ADB_K(37) ADB_K(38) ADB_K(39)
+#undef ADB_K
+}
+#if P > 40 || P < 2
+#error "ADB_TS_ORDER must be in 2..40"
+#endif
+
+/* Jorba & Zou's step (see the header) */
+static double step_size(const Stepper *S, double rtol, double atol, double fac)
+{
+    double n0 = 0.0, np = 0.0, nm = 0.0;
+    for (int r = 0; r < NY; ++r) {
+        n0 = fmax(n0, fabs(S->jet[0][r]));
+        np = fmax(np, fabs(S->jet[P][r]));
+        nm = fmax(nm, fabs(S->jet[P - 1][r]));
+    }
+    const double num = rtol * n0 <= atol ? 1.0 : n0;
+    const double rho = fmin(pow(num / np, 1.0 / P), pow(num / nm, 1.0 / (P - 1)));
+    return fac * rho * exp(-0.7 / (P - 1)) / (M_E * M_E);
+}
+
+static void horner(const Stepper *S, double h, double *y)
+{
+    for (int r = 0; r < NY; ++r) {
+        double s = S->jet[P][r];
+        for (int k = P - 1; k >= 0; --k) s = s * h + S->jet[k][r];
+        y[r] = s;
+    }
+}
+
+/* ------------------------------------------------------------------------------ polynomial roots */
+
+static double poly_at(const double *c, int d, double s)
+{
+    double v = c[d];
+    for (int k = d - 1; k >= 0; --k) v = v * s + c[k];
+    return v;
+}
+
+static int variations(const double *b, int d)
+{
+    int n = 0, last = 0;
+    for (int j = 0; j <= d; ++j) {
+        int sg = b[j] > 0.0 ? 1 : (b[j] < 0.0 ? -1 : 0);
+        if (sg && last && sg != last) ++n;
+        if (sg) last = sg;
+    }
+    return n;
+}
+
+/* the root of c (degree d, in u on [0, 1] after scaling) in [lo, hi] with a sign change: bisection */
+static double bisect(const double *c, int d, double lo, double hi)
+{
+    double flo = poly_at(c, d, lo);
+    for (int it = 0; it < 200; ++it) {
+        double m = 0.5 * (lo + hi);
+        if (m <= lo || m >= hi) break;
+        double fm = poly_at(c, d, m);
+        if ((fm > 0.0) == (flo > 0.0) && fm != 0.0) lo = m, flo = fm;
+        else hi = m;
+    }
+    return 0.5 * (lo + hi);
+}
+
+#define MAXR 64
+/* Roots of the polynomial c (degree d <= DEG, in u on [0, 1]) with Bernstein coefficients b on
+ * [lo, hi]: Descartes' rule (0 variations: none; 1: one, refined by bisection), else halves by
+ * de Casteljau.  Appends to roots (ascending), at most MAXR. */
+static void isolate(const double *c, int d, const double *b, double lo, double hi, int depth, double *roots, int *n)
+{
+    int v = variations(b, d);
+    if (v == 0 || *n >= MAXR) return;
+    if (v == 1 && (poly_at(c, d, lo) > 0.0) != (poly_at(c, d, hi) > 0.0)) {
+        roots[(*n)++] = bisect(c, d, lo, hi);
+        return;
+    }
+    if (depth > 48 || hi - lo < 1e-15) {
+        if ((poly_at(c, d, lo) > 0.0) != (poly_at(c, d, hi) > 0.0)) roots[(*n)++] = 0.5 * (lo + hi);
+        return;
+    }
+    double left[DEG + 1], right[DEG + 1], tmp[DEG + 1];
+    memcpy(tmp, b, sizeof(double) * (d + 1));
+    for (int k = 0; k <= d; ++k) {
+        left[k] = tmp[0];
+        right[d - k] = tmp[d - k];
+        for (int j = 0; j < d - k; ++j) tmp[j] = 0.5 * (tmp[j] + tmp[j + 1]);
+    }
+    double mid = 0.5 * (lo + hi);
+    isolate(c, d, left, lo, mid, depth + 1, roots, n);
+    isolate(c, d, right, mid, hi, depth + 1, roots, n);
+}
+
+static double binom_tab[DEG + 1][DEG + 1];
+static int binom_ready = 0;
+
+static void binoms(void)
+{
+    if (binom_ready) return;
+    for (int n = 0; n <= DEG; ++n) {
+        binom_tab[n][0] = binom_tab[n][n] = 1.0;
+        for (int k = 1; k < n; ++k) binom_tab[n][k] = binom_tab[n - 1][k - 1] + binom_tab[n - 1][k];
+    }
+    binom_ready = 1;
+}
+
+/* Roots in [0, h] of the polynomial sum_k c_k s^k (degree d), ascending, in s; returns their number */
+static int roots_on(const double *c, int d, double h, double *roots)
+{
+    double a[DEG + 1], b[DEG + 1];
+    double hk = 1.0;
+    for (int k = 0; k <= d; ++k) a[k] = c[k] * hk, hk *= h;
+    while (d > 0 && a[d] == 0.0) --d;
+    if (d == 0) return 0;
+    for (int j = 0; j <= d; ++j) {
+        double s = 0.0;
+        for (int k = 0; k <= j; ++k) s += binom_tab[j][k] / binom_tab[d][k] * a[k];
+        b[j] = s;
+    }
+    int n = 0;
+    isolate(a, d, b, 0.0, 1.0, 0, roots, &n);
+    for (int k = 0; k < n; ++k) roots[k] *= h;
+    return n;
+}
+
+/* r^2(s) of the step: coefficients 0..DEG */
+static void r2_poly(const Stepper *S, const int *amp, double *q)
+{
+    const int ix = amp[0], iy = amp[1];
+    for (int k = 0; k <= DEG; ++k) {
+        double s = 0.0;
+        for (int j = (k > P ? k - P : 0); j <= (k < P ? k : P); ++j)
+            s += S->jet[j][ix] * S->jet[k - j][ix] + S->jet[j][iy] * S->jet[k - j][iy];
+        q[k] = s;
+    }
+}
+
+/* sum_k |x_k| h^k and |y_k|'s: |r(s)| <= hypot of both on [0, h] */
+static double r2_bound(const Stepper *S, const int *amp, double h)
+{
+    double bx = 0.0, by = 0.0, hk = 1.0;
+    for (int k = 0; k <= P; ++k) {
+        bx += fabs(S->jet[k][amp[0]]) * hk;
+        by += fabs(S->jet[k][amp[1]]) * hk;
+        hk *= h;
+    }
+    return bx * bx + by * by;
+}
+
+/* largest r^2 on [0, h]: the ends and the roots of d r^2 / ds */
+static double r2_max(const double *q, double h)
+{
+    double dq[DEG], roots[MAXR];
+    for (int k = 1; k <= DEG; ++k) dq[k - 1] = k * q[k];
+    double best = fmax(poly_at(q, DEG, 0.0), poly_at(q, DEG, h));
+    int n = roots_on(dq, DEG - 1, h, roots);
+    for (int k = 0; k < n; ++k) best = fmax(best, poly_at(q, DEG, roots[k]));
+    return best;
+}
+
+/* the last s in [0, h] with r^2(s) >= H2, given r^2(h) < H2; -1 if r^2 < H2 on [0, h] */
+static double r2_last_above(const double *q, double h, double H2)
+{
+    double c[DEG + 1], roots[MAXR];
+    memcpy(c, q, sizeof c);
+    c[0] -= H2;
+    int n = roots_on(c, DEG, h, roots);
+    return n ? roots[n - 1] : -1.0;
+}
+
+/* the first sign change in (0, h] of the Piecewise conditions' series (lane 0): h itself if none */
+static double switch_limit(const Stepper *S, double t, double h)
+{
+#if TS_N_SWITCH > 0
+    double c[P + 1], roots[MAXR];
+    for (int which = 0; which < TS_N_SWITCH; ++which) {
+        for (int k = 0; k < P; ++k) c[k] = TSF(_ts_switch)(&S->w, which, k, 0);
+        c[P] = 0.0; /* (the body computes a switch's coefficients to order P - 1) */
+        int n = roots_on(c, P - 1, h, roots);
+        for (int k = 0; k < n; ++k)
+            if (roots[k] > 0.0) {
+                /* a change within an ulp of t: step one ulp, past it (the next step takes the other branch) */
+                h = fmin(h, t + roots[k] > t ? roots[k] : nextafter(t, INFINITY) - t);
+                break;
+            }
+    }
+#else
+    (void)S;
+    (void)t;
+#endif
+    return h;
+}
+
+/* ------------------------------------------------------------------------------ integration */
+
+typedef struct {
+    double *t; /* step ends, malloc'd (adb_taylor_release frees them) */
+    double *y;
+    long k;
+} Trajectory;
+
+/* One trajectory from t = 0 to t_end (the contract of cyrk_driver.c's adb_cyrk_integrate, with fac, the
+ * step factor, in place of the method).  With check_dt > 0 the state is tested at every multiple of
+ * check_dt (on the step's polynomial: the steps are the same with or without targets) and the run
+ * stops in the first target region holding it.  out_stats: [r_max, t_dec, t_last, t_fail];
+ * out_counts: [order passes (steps x P, the analogue of rhs evaluations), steps]. */
+int adb_taylor_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, double fac,
+                         long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
+                         const double *centres, const double *weights, const double *cubics, const double *levels,
+                         const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target,
+                         double *y_end, double *out_stats, long *out_counts)
+{
+    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
+    out_counts[0] = out_counts[1] = 0;
+    if (target) *target = -1;
+    if (traj) traj->t = traj->y = NULL, traj->k = 0;
+    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !(fac > 0.0) || !adb_all_finite(y0, NY))
+        return ADB_BAD_INPUT;
+    binoms();
+    Stepper *S = malloc(sizeof(Stepper));
+    if (!S) return ADB_SOLVER_FAILURE;
+    TSF(_ts_setup)(&S->w, p);
+    double y[NY], ynew[NY], q[DEG + 1];
+    memcpy(y, y0, sizeof y);
+    size_t cap = keep ? 1024 : 0, K = 0;
+    double *T = NULL, *Y = NULL;
+    if (keep) {
+        T = malloc(cap * sizeof(double));
+        Y = malloc(cap * NY * sizeof(double));
+        T[0] = 0.0;
+        memcpy(Y, y0, sizeof(double) * NY);
+        K = 1;
+    }
+    const double H2 = threshold * threshold;
+    double t = 0.0, r2max = adb_r2(y0, amp_idx[0], amp_idx[1]), last_above = -1.0;
+    if (r2max >= H2) last_above = 0.0;
+    double next_check = check_dt > 0.0 ? check_dt : INFINITY;
+    long steps = 0;
+    int status = ADB_SUCCESS;
+    while (t < t_end) {
+        if (max_steps > 0 && steps >= max_steps) {
+            status = ADB_MAX_STEPS;
+            out_stats[3] = t;
+            break;
+        }
+        jet_of(S, t, y);
+        double h = step_size(S, rtol, atol, fac);
+        if (!(h > 0.0) || !isfinite(h)) {
+            /* a zero or non-finite coefficient norm: a non-finite state, or an exactly polynomial solution */
+            if (!adb_all_finite(S->jet[P], NY) || !adb_all_finite(S->jet[P - 1], NY)) {
+                status = ADB_NONFINITE;
+                out_stats[3] = t;
+                break;
+            }
+            h = t_end - t;
+        }
+        if (t + h > t_end) h = t_end - t;
+        h = switch_limit(S, t, h);
+        if (!(t + h > t)) {
+            status = ADB_STEP_UNDERFLOW;
+            out_stats[3] = t;
+            break;
+        }
+        horner(S, h, ynew);
+        if (!adb_all_finite(ynew, NY)) {
+            status = ADB_NONFINITE;
+            out_stats[3] = t;
+            break;
+        }
+        const double t1 = (t + h >= t_end) ? t_end : t + h;
+        ++steps;
+        if (measures) {
+            const double bound = r2_bound(S, amp_idx, h);
+            const double end2 = adb_r2(ynew, amp_idx[0], amp_idx[1]);
+            int have_q = 0;
+            if (bound > r2max) {
+                r2_poly(S, amp_idx, q);
+                have_q = 1;
+                r2max = fmax(r2max, r2_max(q, h));
+            }
+            if (end2 >= H2) last_above = t1;
+            else if (bound >= H2) {
+                if (!have_q) r2_poly(S, amp_idx, q);
+                double s = r2_last_above(q, h, H2);
+                if (s >= 0.0) last_above = t + s;
+            }
+        }
+        /* early stop: the state at each multiple of check_dt inside this step, on its polynomial */
+        int stopped = -1;
+        while (n_targets > 0 && next_check <= t1 && next_check < t_end) {
+            double yc[NY];
+            horner(S, next_check - t, yc);
+            int k = adb_in_target(yc, n_targets, centres, weights, cubics, levels, periodic);
+            if (k >= 0) {
+                stopped = k;
+                memcpy(ynew, yc, sizeof yc);
+                t = next_check;
+                break;
+            }
+            next_check += check_dt;
+        }
+        if (stopped >= 0) {
+            if (target) *target = stopped;
+            status = ADB_STOPPED;
+            memcpy(y, ynew, sizeof y);
+            if (keep) {
+                if (K + 1 > cap) {
+                    cap *= 2;
+                    T = realloc(T, cap * sizeof(double));
+                    Y = realloc(Y, cap * NY * sizeof(double));
+                }
+                T[K] = t;
+                memcpy(Y + K * NY, y, sizeof y);
+                ++K;
+            }
+            break;
+        }
+        t = t1;
+        memcpy(y, ynew, sizeof y);
+        if (keep) {
+            if (K + 1 > cap) {
+                cap *= 2;
+                T = realloc(T, cap * sizeof(double));
+                Y = realloc(Y, cap * NY * sizeof(double));
+            }
+            T[K] = t;
+            memcpy(Y + K * NY, y, sizeof y);
+            ++K;
+        }
+    }
+    if (measures) {
+        out_stats[0] = sqrt(r2max);
+        if (status == ADB_SUCCESS)
+            out_stats[1] = adb_r2(y, amp_idx[0], amp_idx[1]) >= H2 ? NAN : (last_above < 0.0 ? 0.0 : last_above);
+    }
+    out_stats[2] = t;
+    memcpy(y_end, y, sizeof y);
+    out_counts[0] = steps * P;
+    out_counts[1] = steps;
+    free(S);
+    if (traj && keep) {
+        traj->t = T, traj->y = Y, traj->k = (long)K;
+    } else {
+        free(T);
+        free(Y);
+    }
+    return status;
+}
+
+void adb_taylor_release(Trajectory *traj)
+{
+    free(traj->t);
+    free(traj->y);
+    traj->t = traj->y = NULL;
+    traj->k = 0;
+}
+
+/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
+void adb_taylor_integrate_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
+                               double fac, long max_steps, const int *amp_idx, double threshold, int measures,
+                               double check_dt, int n_targets, const double *centres, const double *weights,
+                               const double *cubics, const double *levels, const unsigned char *periodic,
+                               int threads, int *status, int *target, double *Y_end, double *stats, long *counts)
+{
+    binoms();
+#ifdef _OPENMP
+    if (threads < 1) threads = omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#else
+    (void)threads;
+#endif
+    for (int k = 0; k < n; ++k)
+        status[k] = adb_taylor_integrate(Y0 + (size_t)k * NY, Pm + (size_t)k * ADB_NP, t_end, rtol, atol, fac,
+                                         max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights,
+                                         cubics, levels, periodic, 0, measures, NULL, target + k,
+                                         Y_end + (size_t)k * NY, stats + (size_t)k * 4, counts + (size_t)k * 2);
+}
+
+/* The continuous solution of a run at `times` (n, increasing, within [T[0], T[K-1]]) into out (n x NY):
+ * each step's polynomial, computed again from its start (the same coefficients as in the run). */
+int adb_taylor_dense(const double *T, const double *Y, long K, const double *p, int n, const double *times,
+                     double *out)
+{
+    Stepper *S = malloc(sizeof(Stepper));
+    if (!S) return ADB_SOLVER_FAILURE;
+    TSF(_ts_setup)(&S->w, p);
+    long k = 0, held = -1;
+    for (int j = 0; j < n; ++j) {
+        while (k + 2 < K && T[k + 1] < times[j]) ++k;
+        if (held != k) {
+            jet_of(S, T[k], Y + k * NY);
+            held = k;
+        }
+        horner(S, times[j] - T[k], out + (size_t)j * NY);
+    }
+    free(S);
+    return 0;
+}
+
+/* The jet (P + 1 rows of NY) of the solution through (t, y): for tests and the orbits' users */
+int adb_taylor_jet(double t, const double *y, const double *p, double *jet)
+{
+    Stepper *S = malloc(sizeof(Stepper));
+    if (!S) return ADB_SOLVER_FAILURE;
+    TSF(_ts_setup)(&S->w, p);
+    jet_of(S, t, y);
+    memcpy(jet, S->jet, sizeof(S->jet));
+    free(S);
+    return P;
+}
