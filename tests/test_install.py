@@ -106,3 +106,14 @@ def test_an_installed_adbgen_needs_out(installed):
     _, script, env, elsewhere = installed
     r = _run([script, "regenerate", "--skip-checks"], elsewhere, env)
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "give --out DIR" in r.stderr, r.stderr
+
+
+def test_the_wheel_holds_the_benchmarks_c_programs(installed):
+    python, _, env, elsewhere = installed
+    code = ("import adbgen.bench.timing as t; "
+            "print(sorted(p.name for p in t.C_DIR.iterdir() if p.suffix == '.c')); print(t.C_DIR)")
+    r = _run([python, "-c", code], elsewhere, env)
+    assert r.returncode == 0, r.stderr
+    names, folder = r.stdout.splitlines()
+    assert names == "['midpoint.c', 'omp_control.c', 'rhs_timer.c']"
+    assert Path(folder).resolve().is_relative_to((elsewhere.parent / "venv").resolve())

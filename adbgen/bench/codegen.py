@@ -31,25 +31,21 @@ Three parts, all for the model kinds indexed by n of the registered families (`a
 from __future__ import annotations
 
 import os
-import platform
 import re
-import shutil
 import subprocess
 import tempfile
 import time
-import timeit
 from pathlib import Path
-from statistics import median
 
 import numpy as np
-import sympy as sp
 
-from .. import families
-from ..codegen.lowering import DEFAULT_FORM
-from ..codegen.scratch import import_numba, render_into
-from ..families.single_plane.model import derive
+from ..cli_types import positive_int
+from .registry import BALL_COUNTS, Benchmark, option
+from .report import machine, write
+from . import symbolic
+from .symbolic import closed_form, kinds, sample_point
+from .timing import c_compiler, numba_loop, time_c, time_calls, time_python
 
-FAMILIES = families.kinds()  # {kind: n -> ModelSpec}: thesis_rotating, single_plane_fixed
 OPS_NS = (1, 2, 4, 8, 16, 32)
 SPEED_NS = (2, 4, 8, 16)
 JAC_NS = (2, 4, 8)
@@ -66,11 +62,22 @@ _JAC_COLUMN = re.compile(r"^(gs|zs|xs)_\d+_\d+$")
 # --------------------------------------------------------------------------------------------- ops
 
 def _ops(exprs) -> int:
+    import sympy as sp
+
     return int(sum(sp.count_ops(e) for e in exprs))
+
+
+def _clear_derivation_cache() -> None:
+    """Each build times its derivation from scratch (the single-plane derivation is cached per scene)."""
+    from ..families.single_plane.model import derive
+
+    derive.cache_clear()
 
 
 def jac_parts(program) -> dict:
     """Ops of the jac program split into shared prefix, derivative expressions and column solves."""
+    import sympy as sp
+
     parts = {"shared": 0, "derivatives": 0, "column_solves": 0}
     for lhs, expr in program.assignments:
         key = "derivatives" if _JAC_DERIVATIVE.match(lhs.name) else \
@@ -90,13 +97,14 @@ def polyfit(ns, values, degree: int) -> dict:
             "max_relative_residual": round(float(np.max(np.abs(resid) / np.abs(y))), 5)}
 
 
-def bench_ops(ns=OPS_NS, families=tuple(FAMILIES), progress=None) -> dict:
+def bench_ops(ns=OPS_NS, families=None, progress=None) -> dict:
+    families = tuple(families or kinds())
     rows = []
     for family in families:
         for n in ns:
-            derive.cache_clear()
+            _clear_derivation_cache()
             start = time.perf_counter()
-            ir = FAMILIES[family](n).build(form="unrolled")  # the straight-line programs' structure
+            ir = kinds()[family](n).build(form="unrolled")  # the straight-line programs' structure
             seconds = time.perf_counter() - start
             parts = jac_parts(ir.jac)
             row = {"family": family, "n": n, "build_seconds": round(seconds, 3),
@@ -132,190 +140,21 @@ def bench_ops(ns=OPS_NS, families=tuple(FAMILIES), progress=None) -> dict:
 
 # ------------------------------------------------------------------------------------------- speed
 
-_C_MAIN = r"""
-#define _POSIX_C_SOURCE 199309L
-#include <stdio.h>
-#include <stdlib.h>
-#include <time.h>
-#include "{name}.h"
-
-#define NS {upper}_N_STATES
-static const double Y0[NS] = {{ {y0} }};
-static const double P[{upper}_N_PARAMS] = {{ {p} }};
-static double jac_out[NS * NS];
-
-static double now(void)
-{{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}}
-
-/* y[0] follows the previous output (by 1e-300: no effect on the values), so calls cannot be hoisted */
-static double run_rhs(long calls)
-{{
-    double y[NS], out[NS];
-    long i;
-    int k;
-    for (k = 0; k < NS; ++k) y[k] = Y0[k];
-    for (i = 0; i < calls; ++i) {{
-        {name}_rhs(0.0, y, P, out);
-        y[0] = Y0[0] + 1e-300 * out[NS - 1];
-    }}
-    return out[NS - 1];
-}}
-
-static double run_jac(long calls)
-{{
-    double y[NS];
-    long i;
-    int k;
-    for (k = 0; k < NS; ++k) y[k] = Y0[k];
-    for (i = 0; i < calls; ++i) {{
-        {name}_jac(0.0, y, P, jac_out);
-        y[0] = Y0[0] + 1e-300 * jac_out[NS * NS - 1];
-    }}
-    return jac_out[NS * NS - 1];
-}}
-
-static void bench(const char *label, double (*run)(long), double target, int repeats)
-{{
-    long calls = 64;
-    double t0, t1, sink = 0.0;
-    int r;
-    for (;;) {{ /* calibrate: calls so that one repeat takes about `target` seconds */
-        t0 = now();
-        sink += run(calls);
-        t1 = now();
-        if (t1 - t0 > 0.2 * target || calls > (1L << 40)) break;
-        calls *= 4;
-    }}
-    calls = (long)((double)calls * target / (t1 - t0)) + 1;
-    printf("%s calls %ld\n", label, calls);
-    for (r = 0; r < repeats; ++r) {{
-        t0 = now();
-        sink += run(calls);
-        t1 = now();
-        printf("%s ns %.6f\n", label, 1e9 * (t1 - t0) / (double)calls);
-    }}
-    printf("%s sink %g\n", label, sink);
-}}
-
-int main(int argc, char **argv)
-{{
-    double target = argc > 1 ? atof(argv[1]) : 0.1;
-    int repeats = argc > 2 ? atoi(argv[2]) : 5;
-    int jac = argc > 3 ? atoi(argv[3]) : 1;
-    bench("rhs", run_rhs, target, repeats);
-    if (jac) bench("jac", run_jac, target, repeats);
-    return 0;
-}}
-"""
-
-
-def _c_literal(values) -> str:
-    return ", ".join(repr(float(v)) for v in values)
-
-
-def build_c_timer(folder: Path, name: str, y0, p, cc: str = "gcc", flags=("-O2",),
-                  suffix: str = "") -> tuple[Path, float]:
-    """Compile the timing program of `_C_MAIN` for the model's C library in `folder`: (exe, seconds)."""
-    main = folder / f"bench_{name}_main.c"
-    main.write_text(_C_MAIN.format(name=name, upper=name.upper(), y0=_c_literal(y0), p=_c_literal(p)))
-    exe = folder / f"bench_{name}{suffix}"
-    start = time.perf_counter()
-    subprocess.run([cc, "-std=c99", *flags, "-o", str(exe), str(main), str(folder / f"{name}.c"), "-lm"],
-                   check=True, capture_output=True, text=True)
-    return exe, time.perf_counter() - start
-
-
-def run_c_timer(exe: Path, target: float, repeats: int, jac: bool) -> dict:
-    """Run a timing program: {"rhs": {calls, repeats_ns, ns, min_ns}, "jac": ... (if jac)}."""
-    res = subprocess.run([str(exe), repr(target), str(repeats), "1" if jac else "0"],
-                         check=True, capture_output=True, text=True)
-    out: dict = {}
-    for line in res.stdout.splitlines():
-        label, key, value = line.split()
-        if key == "ns":
-            out.setdefault(label, {}).setdefault("repeats_ns", []).append(round(float(value), 2))
-        elif key == "calls":
-            out.setdefault(label, {})["calls"] = int(value)
-    for label in ("rhs", "jac"):
-        if label in out:
-            out[label]["ns"] = round(median(out[label]["repeats_ns"]), 2)
-            out[label]["min_ns"] = min(out[label]["repeats_ns"])
-    return out
-
-
-def _time_c(folder: Path, name: str, y0, p, target: float, repeats: int, jac: bool,
-            cc: str = "gcc", flags=("-O2",), suffix: str = "") -> dict:
-    exe, compile_seconds = build_c_timer(folder, name, y0, p, cc, flags, suffix)
-    return {"compile_seconds": round(compile_seconds, 3), **run_c_timer(exe, target, repeats, jac)}
-
-
-def _numba_loop(fn):
-    """A jitted loop over `calls` calls of fn(t, y, p, out), with y[0] fed back (see `_C_MAIN`)."""
-    from numba import njit
-
-    @njit
-    def loop(y0, p, out, calls):
-        y = y0.copy()
-        flat = out.reshape(-1)
-        for _ in range(calls):
-            fn(0.0, y, p, out)
-            y[0] = y0[0] + 1e-300 * flat[flat.size - 1]
-        return flat[flat.size - 1]
-
-    return loop
-
-
-def _calibrate(run, target: float) -> int:
-    """Number of calls of run(calls) taking about `target` seconds."""
-    calls = 16
-    while True:
-        start = time.perf_counter()
-        run(calls)
-        elapsed = time.perf_counter() - start
-        if elapsed > 0.2 * target or calls > 1 << 40:
-            return max(1, int(calls * target / elapsed))
-        calls *= 4
-
-
-def _time_calls(run, target: float, repeats: int) -> dict:
-    calls = _calibrate(run, target)
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        run(calls)
-        times.append(1e9 * (time.perf_counter() - start) / calls)
-    return {"calls": calls, "repeats_ns": [round(t, 2) for t in times], "ns": round(median(times), 2),
-            "min_ns": round(min(times), 2)}
-
-
-def _time_python(fn, args, target: float, repeats: int) -> dict:
-    timer = timeit.Timer(lambda: fn(*args))
-    return _time_calls(lambda calls: timer.timeit(calls), target, repeats)
-
-
-def _sample_point(system, n_states: int, seed: int = 0):
-    rng = np.random.default_rng(seed)
-    y = rng.uniform(-1, 1, n_states)
-    y[: n_states // 2] *= 0.1
-    p = np.array([p.default for p in system.parameters], float)
-    return y, p
-
-
 def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, repeats: int = 5,
-                    jac: bool = True, lambdify: bool = True, cc: str | None = None, form: str = DEFAULT_FORM,
+                    jac: bool = True, lambdify: bool = True, cc: str | None = None, form: str | None = None,
                     native: bool = True) -> dict:
     """ns per call for one model in one form (`lowering.FORMS`): numba (jitted loop, from Python), C,
     sympy.lambdify; with the emitted source sizes and the first calls' (compilation) times."""
-    spec = FAMILIES[family](n)
-    derive.cache_clear()
+    from ..codegen.lowering import DEFAULT_FORM
+    from ..codegen.scratch import import_numba, render_into
+
+    form = form or DEFAULT_FORM
+    spec = kinds()[family](n)
+    _clear_derivation_cache()
     system = spec.system()
     ir = spec.build(system, form=form)
     folder = render_into(ir, workdir / f"{family}_n{n}_{form}", ("numba", "c"))
-    y, p = _sample_point(system, ir.n_states)
+    y, p = sample_point(system, ir.n_states)
     row: dict = {"family": family, "n": n, "form": ir.form, "n_states": ir.n_states, "rhs_ops": ir.count_ops("rhs"),
                  "jac_ops": ir.count_ops("jac"),
                  "source_bytes": {"numba": len((folder / "__init__.py").read_bytes()),
@@ -327,28 +166,28 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
     start = time.perf_counter()
     mod.rhs_inplace(0.0, y, p, out)
     row["numba_first_call_seconds_rhs"] = round(time.perf_counter() - start, 3)
-    loop = _numba_loop(mod.rhs_inplace)
+    loop = numba_loop(mod.rhs_inplace)
     loop(y, p, out, 1)
     row["numba_compile_seconds_rhs"] = round(time.perf_counter() - start, 3)
     reference = np.asarray(mod.rhs(0.0, y, p))
-    row["numba_rhs_loop"] = _time_calls(lambda calls: loop(y, p, out, calls), target, repeats)
-    row["numba_rhs_python"] = _time_python(mod.rhs, (0.0, y, p), target, repeats)
+    row["numba_rhs_loop"] = time_calls(lambda calls: loop(y, p, out, calls), target, repeats)
+    row["numba_rhs_python"] = time_python(mod.rhs, (0.0, y, p), target, repeats)
     if jac:
         jout = np.empty((ir.n_states, ir.n_states))
         start = time.perf_counter()
         mod.jac_inplace(0.0, y, p, jout)
         row["numba_first_call_seconds_jac"] = round(time.perf_counter() - start, 3)
-        jloop = _numba_loop(mod.jac_inplace)
+        jloop = numba_loop(mod.jac_inplace)
         jloop(y, p, jout, 1)
         mod.jac(0.0, y, p)
         row["numba_compile_seconds_jac"] = round(time.perf_counter() - start, 3)
-        row["numba_jac_loop"] = _time_calls(lambda calls: jloop(y, p, jout, calls), target, repeats)
-        row["numba_jac_python"] = _time_python(mod.jac, (0.0, y, p), target, repeats)
+        row["numba_jac_loop"] = time_calls(lambda calls: jloop(y, p, jout, calls), target, repeats)
+        row["numba_jac_python"] = time_python(mod.jac, (0.0, y, p), target, repeats)
 
     # C
-    cc = cc or shutil.which("gcc") or shutil.which("cc")
+    cc = cc or c_compiler()
     if cc:
-        c = _time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc)
+        c = time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc)
         row["c_compile_seconds"] = c["compile_seconds"]
         row["c_rhs_loop"] = c["rhs"]
         if jac:
@@ -356,7 +195,7 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
         # numba compiles for the host CPU (like -march=native): the same C built that way, for fairness
         if native:
             try:
-                c = _time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc, flags=("-O2", "-march=native"),
+                c = time_c(folder, ir.name, y, p, target, repeats, jac, cc=cc, flags=("-O2", "-march=native"),
                             suffix="_native")
             except subprocess.CalledProcessError as exc:
                 row["c_native_rhs_loop"] = f"skipped: {exc.stderr.strip()[:200]}"
@@ -369,25 +208,22 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
 
     # sympy.lambdify of the closed form
     if lambdify:
-        eom = system.solve.eom
-        law = dict(eom.driven_law)
-        closed = [sp.sympify(e).xreplace(law) for e in system.rhs()]
+        closed = closed_form(system)
         row["closed_form_ops"] = _ops(closed)
         if n > LAMBDIFY_BOTH_MAX_N:
             row["lambdify_numpy"] = f"skipped: n > {LAMBDIFY_BOTH_MAX_N} (lambdify alone takes ~10 s)"
-        args = (eom.time, list(system.states), [q.symbol for q in system.parameters])
         for modules in ("math", "numpy") if n <= LAMBDIFY_BOTH_MAX_N else ("math",):
             key = f"lambdify_{modules}"
             start = time.perf_counter()
             try:
-                fn = sp.lambdify(args, closed, modules=modules, cse=True)
+                fn = symbolic.lambdify(system, closed, modules)
             except RecursionError as exc:  # the closed form's source is too deep for CPython
                 row[key] = f"failed: {type(exc).__name__} in lambdify after {time.perf_counter() - start:.1f} s"
                 continue
             setup = time.perf_counter() - start
             err = float(np.max(np.abs(np.asarray(fn(0.0, y, p), float) - reference))
                         / np.max(np.abs(reference)))
-            row[key] = {**_time_python(fn, (0.0, y, p), target, repeats),
+            row[key] = {**time_python(fn, (0.0, y, p), target, repeats),
                         "lambdify_seconds": round(setup, 3), "relative_difference_to_numba": err}
     else:
         row["lambdify_math"] = row["lambdify_numpy"] = f"skipped: n > {LAMBDIFY_MAX_N}, see notes"
@@ -419,8 +255,9 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
     return row
 
 
-def bench_speed(ns=SPEED_NS, families=tuple(FAMILIES), *, jac_ns=JAC_NS, lambdify_max_n=LAMBDIFY_MAX_N,
+def bench_speed(ns=SPEED_NS, families=None, *, jac_ns=JAC_NS, lambdify_max_n=LAMBDIFY_MAX_N,
                 target: float = 0.1, repeats: int = 7, progress=None) -> list[dict]:
+    families = tuple(families or kinds())
     rows = []
     with tempfile.TemporaryDirectory(prefix="adbgen-bench-") as tmp:
         for family in families:
@@ -438,13 +275,14 @@ UNROLLED_MAX_N = 16  # the unrolled form's jac takes minutes to compile in numba
 UNROLLED_JAC_MAX_N = 8
 
 
-def bench_forms(ns=FORMS_NS, families=tuple(FAMILIES), *, unrolled_max_n: int = UNROLLED_MAX_N,
+def bench_forms(ns=FORMS_NS, families=None, *, unrolled_max_n: int = UNROLLED_MAX_N,
                 unrolled_jac_max_n: int = UNROLLED_JAC_MAX_N, target: float = 0.1, repeats: int = 5,
                 progress=None) -> dict:
     """Issue 10: the loop form against the unrolled form, per family and n: emitted source size, first
     calls of numba's rhs and jac (compilation), gcc -O2 time, ns per rhs and jac call (numba in a
     jitted loop, C from a C loop), all in one run; the unrolled form up to `unrolled_max_n` (its jac up
     to `unrolled_jac_max_n`)."""
+    families = tuple(families or kinds())
     rows, ratios = [], []
     with tempfile.TemporaryDirectory(prefix="adbgen-bench-forms-") as tmp:
         for family in families:
@@ -470,32 +308,6 @@ def bench_forms(ns=FORMS_NS, families=tuple(FAMILIES), *, unrolled_max_n: int = 
                             ratio[f"{key} loops/unrolled"] = round(a["ns"] / b["ns"], 3)
                     ratios.append(ratio)
     return {"rows": rows, "ratios_loops_over_unrolled": ratios}
-
-
-def _compiler() -> str:
-    cc = shutil.which("gcc") or shutil.which("cc")
-    if not cc:
-        return "none"
-    res = subprocess.run([cc, "--version"], capture_output=True, text=True)
-    return res.stdout.splitlines()[0] if res.returncode == 0 and res.stdout else cc
-
-
-def machine() -> dict:
-    import numba
-
-    cpu = platform.processor() or ""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return {"platform": platform.platform(), "cpu": cpu, "cpus": os.cpu_count(),
-            "python": f"{platform.python_implementation()} {platform.python_version()}",
-            "sympy": sp.__version__, "numpy": np.__version__, "numba": numba.__version__,
-            "cc": _compiler(), "c_flags": "-std=c99 -O2 (c_native: -O2 -march=native)",
-            "load_average_at_start": list(os.getloadavg()) if hasattr(os, "getloadavg") else None}
 
 
 NOTES = (
@@ -525,9 +337,10 @@ NOTES = (
 )
 
 
-def bench_codegen(ops_ns=OPS_NS, speed_ns=SPEED_NS, *, families=tuple(FAMILIES), jac_ns=JAC_NS,
+def bench_codegen(ops_ns=OPS_NS, speed_ns=SPEED_NS, *, families=None, jac_ns=JAC_NS,
                   lambdify_max_n=LAMBDIFY_MAX_N, target: float = 0.1, repeats: int = 7,
                   progress=None, forms_ns=FORMS_NS, parts=("ops", "speed", "forms")) -> dict:
+    families = tuple(families or kinds())
     start = time.perf_counter()
     out = {"benchmark": "codegen", "machine": machine(), "notes": NOTES,
            "settings": {"ops_n": list(ops_ns), "speed_n": list(speed_ns), "jac_speed_n": list(jac_ns),
@@ -571,5 +384,23 @@ def describe(row: dict) -> str:
             f"C {ns('c_jac_loop')}")
 
 
-__all__ = ["bench_codegen", "bench_forms", "bench_ops", "bench_speed", "bench_speed_one", "describe", "jac_parts",
-           "machine", "polyfit"]
+def run(args, out: str) -> int:
+    ns = tuple(args.n)  # op counts for every n; timings for n <= 16 (jac and lambdify up to 8)
+    result = bench_codegen(ns, tuple(n for n in ns if n <= max(SPEED_NS)), progress=lambda r: print(describe(r), flush=True),
+                           **({"forms_ns": tuple(args.forms_n)} if args.forms_n else {}),
+                           **({"parts": tuple(args.parts)} if args.parts else {}))
+    path = write(result, out)
+    print(f"wrote {path} ({result['seconds']} s)")
+    return 0
+
+
+BENCHMARK = Benchmark("codegen", run, (
+    BALL_COUNTS.but("ball counts"),
+    option("--forms-n", type=positive_int, nargs="+", default=None,
+           help="n of the loop-versus-unrolled comparison (default 1 2 4 8 16 32 64)"),
+    option("--parts", nargs="+", choices=("ops", "speed", "forms"), default=None, help="only these parts (default: all)"),
+))
+
+
+__all__ = ["BENCHMARK", "bench_codegen", "bench_forms", "bench_ops", "bench_speed", "bench_speed_one", "describe",
+           "jac_parts", "polyfit"]

@@ -1,4 +1,5 @@
-"""Benchmarks (not tests): derivation time and expression size against the number of balls.
+"""Benchmark (not a test): derivation time and expression size against the number of balls, and the
+stages of `adbgen regenerate --n N` (`adbgen bench derive [--n N ...] [--pipeline-n N ...]`).
 
 Target (issue: single-plane model): n = 32 derived in under 30 s on the 2-core CI machine, with the
 size of the structured first-order form growing linearly in n.  Results go to a committed JSON file;
@@ -11,21 +12,26 @@ import os
 import platform
 import time
 
-import sympy as sp
-
-from ..families.single_plane.model import derive
-from ..families.single_plane.reductions import first_order, nondimensionalise, rotating_frame
-from ..families.single_plane.verify import general_scene
-from ..families.single_plane.scene import Scene
+from ..cli_types import positive_int
+from .registry import BALL_COUNTS, Benchmark, option
+from .report import write
 
 
 def _derive_general(n: int):
+    from ..families.single_plane.model import derive
+    from ..families.single_plane.reductions import first_order
+    from ..families.single_plane.verify import general_scene
+
     scene = general_scene(n)  # unequal balls, anisotropic, gravity, torque-driven: 3 + n coordinates
     eom = derive(scene)
     return eom, first_order(eom)
 
 
 def _derive_thesis(n: int):
+    from ..families.single_plane.model import derive
+    from ..families.single_plane.reductions import first_order, nondimensionalise, rotating_frame
+    from ..families.single_plane.scene import Scene
+
     scene = Scene(n=n)
     rot = rotating_frame(scene, nondimensionalise(scene, derive(scene)))
     return rot, first_order(rot)
@@ -33,6 +39,10 @@ def _derive_thesis(n: int):
 
 def bench_derive(ns=(1, 2, 4, 8, 16, 32), progress=None, pipeline_ns=None, pipeline_progress=None) -> dict:
     """The derivation's time and size for `ns`; with `pipeline_ns`, also `bench_pipeline` (issue 10)."""
+    import sympy as sp
+
+    from ..families.single_plane.model import derive
+
     rows = []
     for n in ns:
         for label, fn in (("general fixed frame (torque)", _derive_general),
@@ -74,6 +84,7 @@ def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progre
     from .. import families
     from ..codegen.checks import check_programs, check_start
     from ..codegen.render import render_model
+    from ..families.single_plane.model import derive
 
     kinds = kinds or families.kinds()
     rows = []
@@ -111,3 +122,23 @@ def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progre
             if progress:
                 progress(row)
     return {"rows": rows, "full_checks": full_checks, "ns": list(ns)}
+
+
+def run(args, out: str) -> int:
+    result = bench_derive(tuple(args.n), progress=lambda r: print(
+        f"{r['model']:30s} n={r['n']:3d}  {r['seconds']:8.3f} s  eom ops {r['eom_ops']:7d}  first-order ops "
+        f"{r['first_order_ops']:7d}", flush=True), pipeline_ns=tuple(args.pipeline_n or PIPELINE_NS),
+        pipeline_progress=lambda r: print(
+            f"pipeline {r['kind']:20s} n={r['n']:3d}  derive {r['derive_seconds']:.1f} s, reduction checks "
+            f"{r['reduction_checks_seconds']:.1f} s, lower {r['lower_seconds']:.1f} s, program checks "
+            f"{r['program_checks_seconds']:.1f} s, emit {r['emit_seconds']:.1f} s ({r['bytes']} bytes)", flush=True))
+    path = write(result, out)
+    print(f"wrote {path}")
+    return 0
+
+
+BENCHMARK = Benchmark("derive", run, (
+    BALL_COUNTS.but("ball counts"),
+    option("--pipeline-n", type=positive_int, nargs="+", default=None,
+           help="n of the regenerate-stage timings (default 1 2 4 8 16 32 64)"),
+))

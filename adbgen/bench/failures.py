@@ -29,14 +29,15 @@
 
 from __future__ import annotations
 
-import datetime
 import math
 import time
 from pathlib import Path
 
 import numpy as np
 
-from .simulate import PROBLEM_A, _jsonable, _load, _versions, save_figure, symmetric_y0, symmetry_record
+from .problems import PROBLEM_A, THESIS_2MINUS, symmetric_y0, symmetry_record
+from .registry import QUICK, Benchmark
+from .report import closing, load_average, opening, pyplot, save_figure, when, write
 
 REF_RTOL, REF_ATOL = 1e-13, 1e-15
 STIFF_BETAS = (0.01, 0.1, 1.0, 10.0, 100.0, 1e3, 1e4)
@@ -187,14 +188,15 @@ def stiff_part(quick: bool, progress=None) -> dict:
 
 def symmetry_part(quick: bool, progress=None) -> dict:
     from ..analysis.loading import load_model
-    from .simulate import Problem, engine_pathway
+    from .pathways import engine_pathway
+    from .problems import Problem
     from . import fixed_step as fs
 
     model = load_model(PROBLEM_A.model)
     t_end = 200.0 if quick else PROBLEM_A.t_end
     problem = Problem("A", PROBLEM_A.model, {}, PROBLEM_A.y0, t_end)
     y_sym = symmetric_y0(model)
-    out = {"y0": y_sym, "t_end": t_end, "thesis_2minus": {"x": 0.1285, "y": -0.0083, "phi": 3.0772},
+    out = {"y0": y_sym, "t_end": t_end, "thesis_2minus": dict(THESIS_2MINUS),
            "runs": {}}
     for eng in SYMMETRY_ENGINES[:3] if quick else SYMMETRY_ENGINES:
         r = engine_pathway(model, problem, eng, y0=y_sym).run()
@@ -321,10 +323,7 @@ def merging_part(quick: bool, progress=None) -> dict:
 # ----------------------------------------------------------------------------------------- charts
 
 def charts(result: dict, out: Path) -> list[Path]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     paths = []
     stem = out.with_suffix("")
@@ -333,7 +332,7 @@ def charts(result: dict, out: Path) -> list[Path]:
         fig.tight_layout()
         paths.append(save_figure(fig, f"{stem}_{part}.png", dpi=110))
 
-    when = f"{result['date'][:16].replace('T', ' ')} UTC, load {result['machine']['load_average_at_start']}"
+    stamp = f"{when(result)} UTC, load {result['machine']['load_average_at_start']}"
     fx = result.get("fixed_step")
     if fx:
         fig, ax = plt.subplots(figsize=(7.5, 4.8))
@@ -348,7 +347,7 @@ def charts(result: dict, out: Path) -> list[Path]:
         ax.set_ylabel("error of the final state (max abs)")
         ax.set_title(f"Problem A by fixed-step RK: dashed = measured blow-up step, dotted = stability limit\n"
                      f"predicted from the Jacobian's spectrum along the trajectory (|lambda|max "
-                     f"{fx['spectrum']['rho_max']:.3f}); {when}", fontsize=8)
+                     f"{fx['spectrum']['rho_max']:.3f}); {stamp}", fontsize=8)
         ax.legend(fontsize=8)
         save(fig, "fixed_step")
     jc = result.get("jacobi")
@@ -361,7 +360,7 @@ def charts(result: dict, out: Path) -> list[Path]:
             ax.loglog(t[keep], e[keep], label=f"{name} ({rec['kind'].split(' ')[0]}, {extra}; {rec['wall_s']:.3g} s)")
         ax.set_xlabel("t")
         ax.set_ylabel("max over [0, t] of |J - J(0)|")
-        ax.set_title(f"Jacobi integral, thesis n = 3, zeta = beta = 0, t to {jc['t_end']:g}\n{when}", fontsize=8)
+        ax.set_title(f"Jacobi integral, thesis n = 3, zeta = beta = 0, t to {jc['t_end']:g}\n{stamp}", fontsize=8)
         ax.legend(fontsize=7)
         save(fig, "jacobi")
     st = result.get("stiff")
@@ -382,7 +381,7 @@ def charts(result: dict, out: Path) -> list[Path]:
         for ax in axes:
             ax.set_xlabel("ball damping beta (Jacobian spectral radius ~ beta)")
             ax.legend(fontsize=7)
-        fig.suptitle(f"Stiffness: thesis n = 3, t in [0, {st['t_end']:g}], rtol {st['rtol']:g}; {when}", fontsize=9)
+        fig.suptitle(f"Stiffness: thesis n = 3, t in [0, {st['t_end']:g}], rtol {st['rtol']:g}; {stamp}", fontsize=9)
         save(fig, "stiff")
     mg = result.get("merging")
     if mg and mg.get("hill"):
@@ -410,7 +409,7 @@ def charts(result: dict, out: Path) -> list[Path]:
         ax.set_title("thesis n = 2 from phi = pi +- d0: |phi_1 - phi_2|", fontsize=8)
         ax.set_xlabel("t")
         ax.legend(fontsize=5)
-        fig.suptitle(when, fontsize=8)
+        fig.suptitle(stamp, fontsize=8)
         save(fig, "merging")
     return paths
 
@@ -422,21 +421,25 @@ PARTS = {"fixed_step": fixed_step_part, "jacobi": jacobi_part, "stiff": stiff_pa
 
 
 def bench_failures(quick: bool = False, parts=None, progress=None) -> dict:
-    from .codegen import machine
-
-    started = time.perf_counter()
-    mach = machine()
-    mach["load_average_at_start"] = _load()
-    result: dict = {"benchmark": "failures", "date": datetime.datetime.now(datetime.timezone.utc).isoformat(
-        timespec="seconds"), "machine": mach, "versions": _versions(), "quick": quick, "seconds_per_part": {}}
+    result, started = opening("failures")
+    result.update({"quick": quick, "seconds_per_part": {}})
     for name in parts or PARTS:
         t0 = time.perf_counter()
         result[name] = PARTS[name](quick, progress)
         result["seconds_per_part"][name] = round(time.perf_counter() - t0, 1)
-        result.setdefault("load_average_after_part", {})[name] = _load()
-    result["machine"]["load_average_at_end"] = _load()
-    result["seconds"] = round(time.perf_counter() - started, 1)
-    return _jsonable(result)
+        result.setdefault("load_average_after_part", {})[name] = load_average()
+    return closing(result, started)
 
 
-__all__ = ["PARTS", "bench_failures", "charts"]
+def run(args, out: str) -> int:
+    result = bench_failures(quick=args.quick, progress=lambda line: print(line, flush=True))
+    path = write(result, out)
+    pngs = charts(result, Path(out))
+    print(f"wrote {path} and {', '.join(map(str, pngs))} ({result['seconds']} s)")
+    return 0
+
+
+BENCHMARK = Benchmark("failures", run, (QUICK.but("short runs (checks the machinery)"),))
+
+
+__all__ = ["BENCHMARK", "PARTS", "bench_failures", "charts"]

@@ -21,7 +21,8 @@ is the implicit midpoint rule, y_{n+1} = y_n + h f(t_n + h/2, (y_n + y_{n+1}) / 
 invariant.  Our equations are in (q, q'), not canonical (q, p) with p = M(q) q' + gyroscopic terms,
 so symplecticity is not promised in these variables; what the benchmark measures is whether the
 error of h stays bounded (no secular drift), as it does for symmetric methods on reversible systems.
-The driver below is a few lines of C around SUNDIALS, compiled with the model's generated C source.
+The driver, c/midpoint.c beside this module, is a few lines of C around SUNDIALS, compiled with the
+model's generated C source.
 """
 
 from __future__ import annotations
@@ -37,82 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-MIDPOINT_DRIVER = r"""
-/* Implicit midpoint rule (one-stage Gauss-Legendre) at a fixed step, by SUNDIALS ARKStep with a
- * user Butcher table; Newton with a dense solver and the generated analytic Jacobian. */
-#include <math.h>
-#include <string.h>
-#include <arkode/arkode_arkstep.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-#include ADB_MODEL_SOURCE
-
-static int rhs_fn(realtype t, N_Vector y, N_Vector yd, void *p)
-{
-    double *out = N_VGetArrayPointer(yd);
-    ADB_RHS(t, N_VGetArrayPointer(y), (const double *)p, out);
-    for (int i = 0; i < ADB_NY; ++i)
-        if (!isfinite(out[i])) return -1;
-    return 0;
-}
-
-static int jac_fn(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *p, N_Vector a, N_Vector b, N_Vector c)
-{
-    (void)fy; (void)a; (void)b; (void)c;
-    double buf[ADB_NY * ADB_NY];
-    ADB_JAC(t, N_VGetArrayPointer(y), (const double *)p, buf);
-    for (int i = 0; i < ADB_NY; ++i)
-        for (int j = 0; j < ADB_NY; ++j) SM_ELEMENT_D(J, i, j) = buf[i * ADB_NY + j];
-    return 0;
-}
-
-/* returns 0 on success; out[k * ny] = y(times[k]); counts = steps, rhs evaluations, Newton iterations,
- * Jacobian evaluations, samples reached */
-int adb_midpoint(const double *y0, const double *p, double h, double rtol, double atol, int n_out,
-                 const double *times, double *out, long *counts)
-{
-    SUNContext ctx;
-    if (SUNContext_Create(NULL, &ctx)) return -1;
-    N_Vector y = N_VNew_Serial(ADB_NY, ctx);
-    memcpy(N_VGetArrayPointer(y), y0, sizeof(double) * ADB_NY);
-    void *mem = ARKStepCreate(NULL, rhs_fn, 0.0, y, ctx);
-    double A[1] = {0.5}, b[1] = {1.0}, c[1] = {0.5};
-    ARKodeButcherTable B = ARKodeButcherTable_Create(1, 2, 0, c, A, b, NULL);
-    SUNMatrix M = SUNDenseMatrix(ADB_NY, ADB_NY, ctx);
-    SUNLinearSolver LS = SUNLinSol_Dense(y, M, ctx);
-    int flag = ARKStepSetTables(mem, 2, 0, B, NULL);
-    flag |= ARKStepSetUserData(mem, (void *)p);
-    flag |= ARKStepSStolerances(mem, rtol, atol); /* the Newton iteration's stopping test */
-    flag |= ARKStepSetFixedStep(mem, h);
-    flag |= ARKStepSetMaxNonlinIters(mem, 10); /* a fixed step cannot shrink: let Newton converge instead */
-    flag |= ARKStepSetMaxNumSteps(mem, -1);
-    flag |= ARKStepSetLinearSolver(mem, LS, M);
-    flag |= ARKStepSetJacFn(mem, jac_fn);
-    int k = 0;
-    double t = 0.0;
-    if (!flag) {
-        for (; k < n_out; ++k) {
-            if (ARKStepEvolve(mem, times[k], y, &t, ARK_NORMAL) < 0) break;
-            memcpy(out + (long)k * ADB_NY, N_VGetArrayPointer(y), sizeof(double) * ADB_NY);
-        }
-    }
-    long st = 0, fe = 0, fi = 0, nni = 0, nje = 0;
-    ARKStepGetNumSteps(mem, &st);
-    ARKStepGetNumRhsEvals(mem, &fe, &fi);
-    ARKStepGetNumNonlinSolvIters(mem, &nni);
-    ARKStepGetNumJacEvals(mem, &nje);
-    counts[0] = st; counts[1] = fi; counts[2] = nni; counts[3] = nje; counts[4] = k;
-    ARKodeButcherTable_Free(B);
-    ARKStepFree(&mem);
-    SUNLinSolFree(LS);
-    SUNMatDestroy(M);
-    N_VDestroy(y);
-    SUNContext_Free(&ctx);
-    return flag ? -2 : (k == n_out ? 0 : -3);
-}
-"""
+from .timing import c_file
 
 
 def jacobi_function(n: int = 3):
@@ -155,17 +81,16 @@ def _midpoint_library(c_source: str, name: str, ny: int, np_: int) -> ctypes.CDL
     from ..analysis.loading import cache_dir
 
     src = Path(c_source)
-    key = hashlib.sha256(MIDPOINT_DRIVER.encode() + src.read_bytes()).hexdigest()[:16]
+    driver = c_file("midpoint.c")
+    key = hashlib.sha256(driver.read_bytes() + src.read_bytes()).hexdigest()[:16]
     target = cache_dir() / "bench" / f"{name}-midpoint-{key}.so"
     if not target.is_file():
         target.parent.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(prefix="adbgen-midpoint-") as tmp:
-            drv = Path(tmp) / "midpoint.c"
-            drv.write_text(MIDPOINT_DRIVER)
             so = Path(tmp) / "midpoint.so"
             cmd = [compiler(), "-std=gnu99", "-O2", "-fPIC", "-shared", f"-I{src.parent}",
                    f'-DADB_MODEL_SOURCE="{src}"', f"-DADB_RHS={name}_rhs", f"-DADB_JAC={name}_jac",
-                   f"-DADB_NY={ny}", str(drv), "-o", str(so), *SUNDIALS_LIBS, "-lsundials_arkode", "-lm"]
+                   f"-DADB_NY={ny}", str(driver), "-o", str(so), *SUNDIALS_LIBS, "-lsundials_arkode", "-lm"]
             subprocess.run(cmd, check=True, capture_output=True, text=True)
             so.replace(target)
     lib = ctypes.CDLL(str(target))
@@ -204,4 +129,4 @@ def drift_curve(t, J, J0, points: int = 400) -> dict:
             "max_abs_dJ_all": float(err[-1])}
 
 
-__all__ = ["MIDPOINT_DRIVER", "drift_curve", "jacobi_function", "midpoint"]
+__all__ = ["drift_curve", "jacobi_function", "midpoint"]

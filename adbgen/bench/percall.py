@@ -4,11 +4,11 @@ Part of `adbgen bench precision`.  For the thesis model (`thesis_rotating`, n ba
 the intermediate form into a temporary folder (as `adbgen bench codegen` does), all in one run:
 
 - ``numba_rhs_loop`` / ``handwritten_rhs_loop``: the generated ``rhs_inplace`` and the hand-written
-  baseline of thesis Appendix A (`bench.baseline`), each in a jitted loop (`bench_codegen._numba_loop`:
+  baseline of thesis Appendix A (`bench.baseline`), each in a jitted loop (`bench.timing.numba_loop`:
   y[0] fed back from the output so that calls cannot be hoisted), their repeats interleaved so that
   the machine's load hits both alike;
 - ``numba_jac_loop``: the generated ``jac_inplace`` in the same loop;
-- ``c_rhs_loop`` / ``c_jac_loop``: the generated C in a C loop (`bench_codegen.build_c_timer`, gcc -O2);
+- ``c_rhs_loop`` / ``c_jac_loop``: the generated C in a C loop (`bench.timing.build_c_timer`, gcc -O2);
 - ``numba_rhs_python``: the generated ``rhs`` called from Python (what solve_ivp sees);
 - ``lambdify_math`` / ``lambdify_numpy``: ``sympy.lambdify(cse=True)`` of the closed form, called from
   Python; ``lambdify_jac_math``: of the closed form's Jacobian (small n only: its size explodes).
@@ -24,9 +24,12 @@ from __future__ import annotations
 import tempfile
 import time
 from pathlib import Path
-from statistics import median
 
 import numpy as np
+
+from . import symbolic
+from . import report
+from .timing import numba_loop, paired_loops, time_c, time_python
 
 NS = (2, 4, 8, 16, 32)
 JAC_MAX_N = 64  # the loop form's jac compiles in about a second at any n (the unrolled one took 9-32 s at n = 16)
@@ -36,40 +39,16 @@ LAMBDIFY_JAC_MAX_N = 2
 FAMILY = "thesis_rotating"
 
 
-def paired_loops(loops: dict, target: float, repeats: int) -> dict:
-    """ns per call of several loop(calls) functions, their repeats interleaved."""
-    from .codegen import _calibrate
-
-    calls = {k: _calibrate(fn, target) for k, fn in loops.items()}
-    times: dict = {k: [] for k in loops}
-    for _ in range(repeats):
-        for k, fn in loops.items():
-            start = time.perf_counter()
-            fn(calls[k])
-            times[k].append(1e9 * (time.perf_counter() - start) / calls[k])
-    return {k: {"calls": calls[k], "repeats_ns": [round(t, 2) for t in v], "ns": round(median(v), 2),
-                "min_ns": round(min(v), 2)} for k, v in times.items()}
-
-
-def _lambdify(system, exprs, modules: str):
-    import sympy as sp
-
-    eom = system.solve.eom
-    args = (eom.time, list(system.states), [q.symbol for q in system.parameters])
-    return sp.lambdify(args, exprs, modules=modules, cse=True)
-
-
 def percall_one(n: int, workdir: Path, *, target: float = 0.05, repeats: int = 5, jac: bool = True,
                 lambdify_modules=("math", "numpy"), lambdify_jac: bool = False, progress=None) -> dict:
     import sympy as sp
 
     from . import baseline as bench_baseline
-    from .codegen import FAMILIES, _numba_loop, _sample_point, _time_c, _time_python
     from ..codegen.scratch import import_numba, render_into
     from ..families.single_plane.model import derive
 
     derive.cache_clear()
-    spec = FAMILIES[FAMILY](n)
+    spec = symbolic.kinds()[FAMILY](n)
     start = time.perf_counter()
     system = spec.system()
     ir = spec.build(system)
@@ -77,27 +56,27 @@ def percall_one(n: int, workdir: Path, *, target: float = 0.05, repeats: int = 5
     row: dict = {"n": n, "n_states": ir.n_states, "build_s": round(time.perf_counter() - start, 3)}
     mod = import_numba(folder, f"_adbgen_percall_{ir.name}")
     bench_baseline.check_layout(mod)
-    y, p = _sample_point(system, ir.n_states)
+    y, p = symbolic.sample_point(system, ir.n_states)
     out = np.empty(ir.n_states)
     row["handwritten_max_relative_difference"] = bench_baseline.max_difference(mod, samples=50)
 
     start = time.perf_counter()
-    gen, hand = _numba_loop(mod.rhs_inplace), _numba_loop(bench_baseline.rhs_inplace)
+    gen, hand = numba_loop(mod.rhs_inplace), numba_loop(bench_baseline.rhs_inplace)
     gen(y, p, out, 1)
     hand(y, p, out, 1)
     loops = {"numba_rhs_loop": lambda k: gen(y, p, out, k), "handwritten_rhs_loop": lambda k: hand(y, p, out, k)}
     if jac and n <= JAC_MAX_N:
         jout = np.empty((ir.n_states, ir.n_states))
-        jl = _numba_loop(mod.jac_inplace)
+        jl = numba_loop(mod.jac_inplace)
         jl(y, p, jout, 1)
         loops["numba_jac_loop"] = lambda k: jl(y, p, jout, k)
     elif jac:
         row["numba_jac_loop"] = f"not measured: n > {JAC_MAX_N} (numba's compile time of the dense jac)"
     row["numba_compile_s"] = round(time.perf_counter() - start, 3)
     row.update(paired_loops(loops, target, repeats))
-    row["numba_rhs_python"] = _time_python(mod.rhs, (0.0, y, p), target, repeats)
+    row["numba_rhs_python"] = time_python(mod.rhs, (0.0, y, p), target, repeats)
     try:
-        c = _time_c(folder, ir.name, y, p, target, repeats, jac)  # gcc builds the n = 32 jac in seconds
+        c = time_c(folder, ir.name, y, p, target, repeats, jac)  # gcc builds the n = 32 jac in seconds
         row["c_rhs_loop"] = c["rhs"]
         if "jac" in c:
             row["c_jac_loop"] = c["jac"]
@@ -105,31 +84,30 @@ def percall_one(n: int, workdir: Path, *, target: float = 0.05, repeats: int = 5
         row["c_rhs_loop"] = f"not measured: {type(exc).__name__}: {exc}"
 
     if lambdify_modules:
-        law = dict(system.solve.eom.driven_law)
         start = time.perf_counter()
-        closed = [sp.sympify(e).xreplace(law) for e in system.rhs()]
+        closed = symbolic.closed_form(system)
         row["closed_form_s"] = round(time.perf_counter() - start, 3)
         ref = np.asarray(mod.rhs(0.0, y, p))
         for modules in lambdify_modules:
             key = f"lambdify_{modules}"
             start = time.perf_counter()
             try:
-                fn = _lambdify(system, closed, modules)
+                fn = symbolic.lambdify(system, closed, modules)
             except RecursionError as exc:
                 row[key] = f"failed: {type(exc).__name__} in lambdify after {time.perf_counter() - start:.1f} s"
                 continue
             setup = round(time.perf_counter() - start, 3)
             diff = float(np.max(np.abs(np.asarray(fn(0.0, y, p), float) - ref)) / np.max(np.abs(ref)))
-            row[key] = {**_time_python(fn, (0.0, y, p), target, repeats), "lambdify_s": setup,
+            row[key] = {**time_python(fn, (0.0, y, p), target, repeats), "lambdify_s": setup,
                         "relative_difference_to_numba": diff}
         if lambdify_jac:
             start = time.perf_counter()
             J = sp.Matrix(closed).jacobian(list(system.states))
-            fj = _lambdify(system, J.tolist(), "math")
+            fj = symbolic.lambdify(system, J.tolist(), "math")
             setup = round(time.perf_counter() - start, 3)
             jref = np.asarray(mod.jac(0.0, y, p))
             diff = float(np.max(np.abs(np.asarray(fj(0.0, y, p), float) - jref)) / np.max(np.abs(jref)))
-            row["lambdify_jac_math"] = {**_time_python(fj, (0.0, y, p), target, repeats),
+            row["lambdify_jac_math"] = {**time_python(fj, (0.0, y, p), target, repeats),
                                         "jacobian_and_lambdify_s": setup, "relative_difference_to_numba": diff}
     _ratios(row)
     if progress:
@@ -195,15 +173,13 @@ def bench_percall(ns=NS, *, quick: bool = False, target: float | None = None, re
 
 
 def targets(percall: dict) -> list[dict]:
-    from .simulate import _target
-
     rows = percall["rows"]
     hand = [(r["n"], _ns(r, "handwritten_rhs_loop") / _ns(r, "numba_rhs_loop")) for r in rows
             if _ns(r, "handwritten_rhs_loop") and _ns(r, "numba_rhs_loop")]
     out = []
     if hand:
         n_worst, worst = min(hand, key=lambda v: v[1])
-        out.append(_target("per call: generated numba rhs within 1.2x of the hand-written baseline",
+        out.append(report.target("per call: generated numba rhs within 1.2x of the hand-written baseline",
                            "hand-written ns / generated ns >= 1/1.2 at every n", worst, round(1 / 1.2, 4),
                            "hand-written / generated per n: " + ", ".join(f"n={n}: {v:.2f}" for n, v in hand)
                            + f"; worst at n={n_worst} (generated = {1 / worst:.2f}x hand-written)"))
@@ -215,7 +191,7 @@ def targets(percall: dict) -> list[dict]:
                         best / _ns(r, "numba_rhs_python") if _ns(r, "numba_rhs_python") else None))
     if lam:
         n_worst, worst, _ = min(lam, key=lambda v: v[1])
-        out.append(_target("per call: generated numba rhs >= 50x faster than the best lambdify variant",
+        out.append(report.target("per call: generated numba rhs >= 50x faster than the best lambdify variant",
                            "best lambdify ns / numba loop ns >= 50 at every n measured", worst, 50.0,
                            "per n (loop; from Python): " + ", ".join(
                                f"n={n}: {a:.0f}x" + (f" ({b:.1f}x)" if b else "") for n, a, b in lam)
@@ -223,4 +199,4 @@ def targets(percall: dict) -> list[dict]:
     return out
 
 
-__all__ = ["NS", "bench_percall", "describe", "paired_loops", "percall_one", "targets"]
+__all__ = ["NS", "bench_percall", "describe", "percall_one", "targets"]

@@ -27,8 +27,6 @@ ball angles relative to the rotor in both (the fixed frame's phi_i are measured 
 
 from __future__ import annotations
 
-import datetime
-import math
 import subprocess
 import sys
 import tempfile
@@ -37,7 +35,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .simulate import PROBLEM_A, _jsonable, _load, _versions, save_figure
+from .problems import PROBLEM_A
+from .registry import QUICK, Benchmark
+from .report import closing, opening, pyplot, save_figure, when, write
+from .timing import best_per_call, calibrate, numba_loop
 
 OMEGA = 400.0
 OMEGA_N = 100.0  # sqrt(k / M)
@@ -96,20 +97,13 @@ def generate(folder: Path, kind: str, text: str) -> Path:
 
 
 def ns_per_rhs(model, y, p, target: float = 0.05) -> float:
-    from .codegen import _calibrate, _numba_loop
-
     y = np.ascontiguousarray(y, float)
     p = np.ascontiguousarray(p, float)
     buf = np.empty(model.n_states)
-    loop = _numba_loop(model.module.rhs_inplace)
+    loop = numba_loop(model.module.rhs_inplace)
     loop(y, p, buf, 1)
-    calls = _calibrate(lambda k: loop(y, p, buf, k), target)
-    best = math.inf
-    for _ in range(5):
-        start = time.perf_counter()
-        loop(y, p, buf, calls)
-        best = min(best, (time.perf_counter() - start) / calls)
-    return 1e9 * best
+    calls = calibrate(lambda k: loop(y, p, buf, k), target)
+    return 1e9 * best_per_call(lambda k: loop(y, p, buf, k), calls, 5)
 
 
 def to_rotating(t_si, Y, model) -> dict:
@@ -137,21 +131,16 @@ def _start(model) -> dict:
 def bench_smallest(quick: bool = False, progress=None) -> dict:
     from ..analysis.loading import load_model
     from ..analysis.simulate import simulate
-    from .codegen import machine
     from .pairs import cyrk_solve
 
     say = progress or (lambda line: None)
-    started = time.perf_counter()
-    mach = machine()
-    mach["load_average_at_start"] = _load()
+    result, started = opening("smallest")
     t_nd = 200.0 if quick else PROBLEM_A.t_end
     t_si = t_nd / OMEGA_N
     samples = np.linspace(0.0, t_nd, 401)[1:]
-    result: dict = {"benchmark": "smallest", "date": datetime.datetime.now(datetime.timezone.utc).isoformat(
-        timespec="seconds"), "machine": mach, "versions": _versions(), "quick": quick,
-        "scene": {"n": 3, "M": 1.0, "k": 1e4, "R": R, "ball_mass": 0.05, "omega": OMEGA, "omega_n": OMEGA_N,
-                  "y0": PROBLEM_A.y0, "t_nd_end": t_nd, "t_si_end": t_si, "rtol": RTOL, "atol": ATOL},
-        "models": {}, "agreement": {}}
+    result.update({"quick": quick, "models": {}, "agreement": {},
+                   "scene": {"n": 3, "M": 1.0, "k": 1e4, "R": R, "ball_mass": 0.05, "omega": OMEGA, "omega_n": OMEGA_N,
+                             "y0": PROBLEM_A.y0, "t_nd_end": t_nd, "t_si_end": t_si, "rtol": RTOL, "atol": ATOL}})
     kappas = KAPPAS[-1:] if quick else KAPPAS
     with tempfile.TemporaryDirectory(prefix="adbgen-smallest-") as tmp:
         folder = Path(tmp)
@@ -216,16 +205,11 @@ def bench_smallest(quick: bool = False, progress=None) -> dict:
                                 "ns_per_rhs_ratio": rec["ns_per_rhs"] / rot["ns_per_rhs"],
                                 "extra_states": rec["states"] - rot["states"]}
                          for kind, rec in result["models"].items() if kind != "rotating"}
-    result["machine"]["load_average_at_end"] = _load()
-    result["seconds"] = round(time.perf_counter() - started, 1)
-    return _jsonable(result)
+    return closing(result, started)
 
 
 def chart(result: dict, path: Path) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     models = result["models"]
@@ -244,10 +228,21 @@ def chart(result: dict, path: Path) -> Path:
     axes[1].set_xlabel("t_nd = omega_n t")
     axes[1].set_ylabel("difference from the rotating-frame run")
     axes[1].legend(fontsize=7)
-    fig.suptitle(f"Smallest model: {result['date'][:16].replace('T', ' ')} UTC, load "
+    fig.suptitle(f"Smallest model: {when(result)} UTC, load "
                  f"{result['machine']['load_average_at_start']}, rtol {result['scene']['rtol']:g}", fontsize=8)
     fig.tight_layout()
     return save_figure(fig, path, dpi=110)
 
 
-__all__ = ["bench_smallest", "chart", "to_rotating"]
+def run(args, out: str) -> int:
+    result = bench_smallest(quick=args.quick, progress=lambda line: print(line, flush=True))
+    path = write(result, out)
+    png = chart(result, Path(out).with_suffix(".png"))
+    print(f"wrote {path} and {png} ({result['seconds']} s)")
+    return 0
+
+
+BENCHMARK = Benchmark("smallest", run, (QUICK.but("short runs (checks the machinery)"),))
+
+
+__all__ = ["BENCHMARK", "bench_smallest", "chart", "to_rotating"]

@@ -26,6 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .registry import REPEATS, Benchmark, option, require_positive_repeats
+from .report import write
+
 GRID = ["phi_1=0:2*pi*99/100:100", "phi_2=0:2*pi*99/100:100"]
 
 
@@ -160,3 +163,18 @@ def bench_sweep(workers: int | None = None, grid=GRID, t_end: float = 2000.0, pr
         return out
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def run(args, out: str) -> int:
+    require_positive_repeats(args)
+    result = bench_sweep(progress=lambda line: print(line, flush=True), repeats=args.repeats or 2, only=args.only)
+    path = write(result, out)
+    runs = ", ".join(f"{k} {v['wall_s']} s wall / {v['cpu_s']} CPU-s" for k, v in result["runs"].items())
+    print(f"wrote {path} ({runs}; labels identical: {result.get('labels_identical', 'not compared')})")
+    return 0
+
+
+BENCHMARK = Benchmark("sweep", run, (
+    REPEATS.but("each configuration N times, alternating (default 2)"),
+    option("--only", choices=tuple(CONFIGS), default=None, help="run only this configuration (no label comparison)"),
+))

@@ -17,7 +17,7 @@ from adbgen.bench import fixed_step as fs
 from adbgen.bench import pairs as bp
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
-from adbgen.bench.simulate import PROBLEM_A
+from adbgen.bench.problems import PROBLEM_A
 
 HILL_PAIRS = (("theta_1", "theta_2"), ("theta_3", "theta_4"))
 
@@ -156,7 +156,7 @@ def test_rotating_and_fixed_frame_agree():
 
 def test_bench_failures_machinery_quick(tmp_path):
     from adbgen.bench import failures as bf
-    from adbgen.bench import write
+    from adbgen.bench.report import write
 
     _require_gcc()
 

@@ -13,8 +13,9 @@ import pytest
 from toolchain import require_tool
 
 from adbgen.bench import baseline as bench_baseline, precision as bp
+from adbgen.bench import precision_charts, precision_curves, precision_sweep
 from adbgen.analysis.loading import load_model
-from adbgen.bench.simulate import Problem
+from adbgen.bench.problems import Problem
 from adbgen.cli import main
 
 
@@ -37,14 +38,14 @@ def test_hand_written_baseline_refuses_another_layout():
 def test_t_dec_from_samples_and_loosest_reliable():
     t = np.linspace(0.0, 20.0, 2001)
     r = 1e-3 * np.exp(-(t - 7.0))  # crosses 1e-3 downwards at t = 7
-    assert bp._t_dec_grid(t, r) == pytest.approx(7.0, abs=1e-9)
-    assert bp._t_dec_grid(t, np.full_like(t, 1.0)) is None
-    assert bp._t_dec_grid(t, np.zeros_like(t)) == 0.0
+    assert precision_curves.t_dec_grid(t, r) == pytest.approx(7.0, abs=1e-9)
+    assert precision_curves.t_dec_grid(t, np.full_like(t, 1.0)) is None
+    assert precision_curves.t_dec_grid(t, np.zeros_like(t)) == 0.0
     rec = {"points": [{"tol": 1e-3, "reliable": False}, {"tol": 1e-4, "reliable": True},
                       {"tol": 1e-5, "reliable": False}, {"tol": 1e-6, "reliable": True}]}
-    assert bp.loosest_reliable(rec)["tol"] == 1e-6  # 1e-5 fails, so 1e-4 does not count
+    assert precision_sweep.loosest_reliable(rec)["tol"] == 1e-6  # 1e-5 fails, so 1e-4 does not count
     rec["points"][2]["reliable"] = True
-    assert bp.loosest_reliable(rec)["tol"] == 1e-4
+    assert precision_sweep.loosest_reliable(rec)["tol"] == 1e-4
 
 
 def test_errors_against_a_known_solution(tmp_path):
@@ -61,14 +62,14 @@ def test_errors_against_a_known_solution(tmp_path):
     ref = bp.reference(model, pp, t_end)
     assert np.max(np.abs(ref["y_end"] - exact)) < 1e-12
     assert ref["check_difference"] < 1e-12
-    cs = [c for c in bp.curves(model, pp, tmp_path, engines=["cyrk-rk23"], peers=False, lambdify=False)
+    cs = [c for c in precision_curves.curves(model, pp, tmp_path, engines=["cyrk-rk23"], peers=False, lambdify=False)
           if c.name in ("cyrk-rk23", "ivp:handwritten-dop853", "cvode-main")]
     assert len(cs) == 3
     for c in cs:
         pw = c.make(1e-3, t_end)
         out = pw.last = pw.run()
         c.points = [pw]
-        rec = bp.curve_record(c, ref["y_end"], ref["check_difference"])
+        rec = precision_sweep.curve_record(c, ref["y_end"], ref["check_difference"])
         err = rec["points"][0]["error"]
         assert err == pytest.approx(float(np.max(np.abs(out["y_end"] - exact))), rel=1e-3, abs=1e-12)
         assert 0 < err < 1e-2
@@ -102,23 +103,23 @@ def test_quick_run_records_curves_reference_and_targets(quick_result, tmp_path):
     assert set(a["loosest_reliable"]) == names
     assert [t["target"] for t in r["targets"]][0].startswith("A, error 1e-8")
     for label in ("A",):
-        assert bp.chart(r, label, tmp_path / f"p_{label}.png").stat().st_size > 1000
-    assert bp.chart_reliable(r, tmp_path / "rel.png").stat().st_size > 1000
+        assert precision_charts.chart(r, label, tmp_path / f"p_{label}.png").stat().st_size > 1000
+    assert precision_charts.chart_reliable(r, tmp_path / "rel.png").stat().st_size > 1000
 
 
 def test_sweep_skips_a_pathway_predicted_too_slow():
     """The probe predicts the full run; over the cap, every tolerance is recorded as skipped with the reason."""
-    from adbgen.bench.simulate import Pathway
+    from adbgen.bench.pathways import Pathway
 
     def make(tol, t_end):
         return Pathway(f"slow@{tol:g}", "ivp", "slow", tol, lambda: {"wall_s": t_end * 1e-3, "y_end": None,
                                                                      "status": "success"})
 
-    c = bp.Curve("slow", "ivp", "", make, False)
-    bp.sweep(None, None, [c], (1e-3, 1e-4), t_end=100.0, repeats=1, max_run_s=0.05, budget_s=10.0)
+    c = precision_curves.Curve("slow", "ivp", "", make, False)
+    precision_sweep.sweep(None, None, [c], (1e-3, 1e-4), t_end=100.0, repeats=1, max_run_s=0.05, budget_s=10.0)
     assert not c.points and [s["tol"] for s in c.skipped] == [1e-3, 1e-4]
     assert "predicted" in c.skipped[0]["reason"]
-    assert c.skipped[0]["last_measured_s"] == pytest.approx(100.0 * bp.PROBE_FRACTION * 1e-3)
+    assert c.skipped[0]["last_measured_s"] == pytest.approx(100.0 * precision_sweep.PROBE_FRACTION * 1e-3)
 
 
 def test_cli_bench_precision_rejects_bad_input(tmp_path, capsys):

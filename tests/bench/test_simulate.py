@@ -10,10 +10,11 @@ import pytest
 
 from toolchain import require_tool
 
-from adbgen.bench import simulate as bs, write
+from adbgen.bench import pathways, problems, simulate as bs
+from adbgen.bench.report import describe_targets, write
 from adbgen.cli import main
 
-TINY = bs.Problem("tiny", "thesis_rotating_n3", {}, dict(bs.PROBLEM_A.y0), t_end=20.0, rtol=1e-6, atol=1e-8)
+TINY = problems.Problem("tiny", "thesis_rotating_n3", {}, dict(problems.PROBLEM_A.y0), t_end=20.0, rtol=1e-6, atol=1e-8)
 
 
 def _require_gcc():
@@ -86,31 +87,31 @@ def test_floor_symmetry_many_and_targets(tiny_result):
     assert targets["default engine vs JiTCODE dop853"]["passed"] is None  # peers off: not measured
     rk = targets["a Runge-Kutta engine within 1.5x of its floor"]
     assert rk["passed"] in (True, False) and rk["measured_ratio"] > 0
-    assert all(line.split()[0] in ("PASS", "FAIL", "n/a") for line in bs.describe_targets(r))
+    assert all(line.split()[0] in ("PASS", "FAIL", "n/a") for line in describe_targets(r))
 
 
 def test_time_at_error_interpolates_log_log():
     pts = [(1e-6, 1.0), (1e-8, 4.0)]
-    mid = bs.time_at_error(pts, 1e-7)
+    mid = pathways.time_at_error(pts, 1e-7)
     assert mid["how"] == "interpolated" and mid["time_s"] == pytest.approx(2.0)
-    out = bs.time_at_error(pts, 1e-9)
+    out = pathways.time_at_error(pts, 1e-9)
     assert out["how"] == "extrapolated" and out["time_s"] == pytest.approx(8.0)
     # a dominated point (less accurate and slower than another) is ignored
-    assert bs.time_at_error(pts + [(1e-5, 3.0)], 1e-7)["time_s"] == pytest.approx(2.0)
-    assert bs.time_at_error([], 1e-7) is None and bs.time_at_error([(None, 1.0)], 1e-7) is None
+    assert pathways.time_at_error(pts + [(1e-5, 3.0)], 1e-7)["time_s"] == pytest.approx(2.0)
+    assert pathways.time_at_error([], 1e-7) is None and pathways.time_at_error([(None, 1.0)], 1e-7) is None
 
 
 def test_error_and_symmetry_records():
-    assert bs.error([1.0, 2.0], [1.0, 2.5]) == pytest.approx(0.5)
-    assert bs.error([math.nan, 2.0], [1.0, 2.0]) is None
+    assert pathways.error([1.0, 2.0], [1.0, 2.5]) == pytest.approx(0.5)
+    assert pathways.error([math.nan, 2.0], [1.0, 2.0]) is None
     from adbgen.analysis.loading import load_model
 
     model = load_model("thesis_rotating_n3")
     y = model.state({"x": 0.1285, "y": -0.0083, "phi_1": 3.0772, "phi_2": 3.0772, "phi_3": 3.0772})
-    rec = bs.symmetry_record(model, y)
+    rec = problems.symmetry_record(model, y)
     assert rec["bitwise_equal"] and rec["ends_at_2minus"] and rec["angle_spread"] == 0.0
     y[model.index("phi_3")] = math.nextafter(3.0772, 4.0)
-    rec = bs.symmetry_record(model, y)
+    rec = problems.symmetry_record(model, y)
     assert not rec["bitwise_equal"] and rec["ends_at_2minus"]
 
 

@@ -8,7 +8,7 @@ import shutil
 
 import pytest
 
-from adbgen import bench
+from adbgen.bench.report import write
 from adbgen.bench.sweep import bench_sweep
 
 
@@ -31,5 +31,5 @@ def test_bench_sweep_tiny_grid(tmp_path):
     assert set(short["timing"]["tasks_cpu_s"]) == {"regions", "integrate", "classify"}
     assert r["cpu_target_met"] in (True, False) and r["check_dt"] == 10.0 and r["stop_region"] == "lyapunov"
     assert figure.is_file() and len(r["every_run"]) == 2
-    path = bench.write(r, tmp_path / "sweep.json")
+    path = write(r, tmp_path / "sweep.json")
     assert json.loads(path.read_text())["target"].startswith("under 20 s")
