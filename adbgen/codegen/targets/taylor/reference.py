@@ -205,14 +205,14 @@ def lie_coefficients(ir, t: float, y, p, order: int, digits: int = DIGITS) -> np
         return np.array([[float(v) for v in row] for row in rows])
 
 
-def odefun_step(ir, t: float, y, p, h: float, digits: int = 30) -> np.ndarray:
-    """The state at t + h by mpmath.odefun (its Taylor method, `digits` digits) on the printed rhs."""
+def odefun_step(ir, t: float, y, p, h: float, digits: int = 30) -> list:
+    """The state at t + h (mpf) by mpmath.odefun (its Taylor method, `digits` digits) on the printed rhs."""
     f = _rhs_function(ir)
     with mpmath.workdps(digits):
         p_ = [mpmath.mpf(float(v)) for v in p]
         sol = mpmath.odefun(lambda x, z: f(x, z, p_), mpmath.mpf(float(t)), [mpmath.mpf(float(v)) for v in y],
                             degree=20)  # (its default degree takes twice as long here)
-        return np.array([float(v) for v in sol(mpmath.mpf(float(t)) + mpmath.mpf(float(h)))])
+        return list(sol(mpmath.mpf(float(t)) + mpmath.mpf(float(h))))
 
 
 __all__ = ["DIGITS", "Series", "lie_coefficients", "odefun_step"]
