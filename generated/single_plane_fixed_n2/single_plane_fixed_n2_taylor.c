@@ -230,9 +230,9 @@ typedef struct {
     double kc_16[TS_B];
     double kc_17[TS_B];
     double kc_18[TS_B];
+    double sf_LU_1_0[TS_B];
     double sf_LU_1_1_0[TS_B];
     double sf_Uinv_0[TS_B];
-    double sf_LU_1_0[TS_B];
     double sf_Uinv_1[TS_B];
 } single_plane_fixed_n2_ts;
 

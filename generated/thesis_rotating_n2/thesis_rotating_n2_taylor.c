@@ -226,9 +226,9 @@ typedef struct {
     double kc_13[TS_B];
     double kc_14[TS_B];
     double kc_15[TS_B];
+    double sf_LU_1_0[TS_B];
     double sf_LU_1_1_0[TS_B];
     double sf_Uinv_0[TS_B];
-    double sf_LU_1_0[TS_B];
     double sf_Uinv_1[TS_B];
 } thesis_rotating_n2_ts;
 

@@ -166,8 +166,7 @@ class TaylorEngine(_Compiled):
             if traj.k:
                 lib.adb_taylor_release(ctypes.byref(traj))
         out = _single(code, t, y, y_end, stats, counts, wall, "")
-        out["order"] = order
-        out["step_factor"] = fac
+        out["picked"] = {"engine": self.name, "rtol": rtol, "atol": atol, "order": order, "step_factor": fac}
         return out
 
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,

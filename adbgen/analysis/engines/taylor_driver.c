@@ -9,10 +9,9 @@
  *     -DADB_NP=<parameters>   (gcc -O3 -march=native -ffp-contract=off)
  *
  * A step from (t, y): the coefficients y_0..y_p of the solution (y_{K+1} = f_K / (K + 1)); the step
- * h = fac * rho exp(-0.7 / (p - 1)) / e^2 with rho = min over k = p - 1, p of (N / |y_k|_inf)^(1/k),
- * N = 1 when rtol |y|_inf <= atol (absolute control) and |y|_inf otherwise (Jorba & Zou's rule; fac = 1
- * is heyoka's); clamped to t_end and to the first sign change of a Piecewise condition's series (the
- * ramp's t - t_ramp: the branch never changes inside a step); the new state by Horner.
+ * h = fac * rho exp(-0.7 / (p - 1)) / e^2 (Jorba & Zou's rule, heyoka's with fac = 1) with rho taken per
+ * component (`step_size`); clamped to t_end and to the first sign change of a Piecewise condition's
+ * series (the ramp's t - t_ramp: the branch never changes inside a step); the new state by Horner.
  *
  * r_max and t_dec (thesis ch. 5) are located on each step's polynomial r^2(s) = x(s)^2 + y(s)^2 (exact
  * to the order of the method): a bound sum_k |x_k| h^k, sum_k |y_k| h^k screens the steps; r_max takes
@@ -45,6 +44,8 @@ typedef TSF(_ts) TsWork;
 
 #define P ADB_TS_ORDER
 #define NY ADB_NY
+/* exp(-0.7 / (P - 1)) / e^2, Jorba & Zou's safety factor and scaling */
+#define ADB_JZ_FACTOR (exp(-0.7 / (P - 1)) / (M_E * M_E))
 #define DEG (2 * P) /* r^2's degree */
 
 typedef struct {
@@ -53,41 +54,290 @@ typedef struct {
     TsWork w;
 } Stepper;
 
-/* The jet of the solution through (t, y): rows 0..P.  Each order is the series body with a constant K. */
-static void jet_of(Stepper *S, double t, const double *y)
-{
-    TsWork *w = &S->w;
-    TSF(_ts_time)(w, &t, 1.0);
-    memcpy(S->jet[0], y, sizeof(double) * NY);
-    TSF(_ts_load)(w, 0, S->jet[0]);
-#define ADB_K(K)                                                                                             \
-    if ((K) < P) {                                                                                           \
-        TSF(_ts_order)(w, (K), S->f);                                                                        \
+/* Order K of the series program, K constant: one function per order (each compiled on its own, which
+ * keeps gcc's time linear in the order's size), its convolutions unrolled. */
+#define ADB_ORDER_FN(K)                                                                                      \
+    static __attribute__((noinline)) void order_##K(Stepper *S)                                              \
+    {                                                                                                        \
+        TSF(_ts_order)(&S->w, (K), S->f);                                                                    \
         for (int r = 0; r < NY; ++r) S->jet[(K) + 1][r] = S->f[r] * ts_rec[(K) + 1];                           \
-        TSF(_ts_load)(w, (K) + 1, S->jet[(K) + 1]);                                                          \
+        TSF(_ts_load)(&S->w, (K) + 1, S->jet[(K) + 1]);                                                      \
     }
-    ADB_K(0) ADB_K(1) ADB_K(2) ADB_K(3) ADB_K(4) ADB_K(5) ADB_K(6) ADB_K(7) ADB_K(8) ADB_K(9) ADB_K(10)
-    ADB_K(11) ADB_K(12) ADB_K(13) ADB_K(14) ADB_K(15) ADB_K(16) ADB_K(17) ADB_K(18) ADB_K(19) ADB_K(20)
-    ADB_K(21) ADB_K(22) ADB_K(23) ADB_K(24) ADB_K(25) ADB_K(26) ADB_K(27) ADB_K(28) ADB_K(29) ADB_K(30)
-    ADB_K(31) ADB_K(32) ADB_K(33) ADB_K(34) ADB_K(35) ADB_K(36) ADB_K(37) ADB_K(38) ADB_K(39)
-#undef ADB_K
-}
+
+/* The jet of the solution through (t, y): rows 0..P. */
+static void jet_of(Stepper *S, double t, const double *y);
+
 #if P > 40 || P < 2
 #error "ADB_TS_ORDER must be in 2..40"
 #endif
+#if P > 0
+ADB_ORDER_FN(0)
+#endif
+#if P > 1
+ADB_ORDER_FN(1)
+#endif
+#if P > 2
+ADB_ORDER_FN(2)
+#endif
+#if P > 3
+ADB_ORDER_FN(3)
+#endif
+#if P > 4
+ADB_ORDER_FN(4)
+#endif
+#if P > 5
+ADB_ORDER_FN(5)
+#endif
+#if P > 6
+ADB_ORDER_FN(6)
+#endif
+#if P > 7
+ADB_ORDER_FN(7)
+#endif
+#if P > 8
+ADB_ORDER_FN(8)
+#endif
+#if P > 9
+ADB_ORDER_FN(9)
+#endif
+#if P > 10
+ADB_ORDER_FN(10)
+#endif
+#if P > 11
+ADB_ORDER_FN(11)
+#endif
+#if P > 12
+ADB_ORDER_FN(12)
+#endif
+#if P > 13
+ADB_ORDER_FN(13)
+#endif
+#if P > 14
+ADB_ORDER_FN(14)
+#endif
+#if P > 15
+ADB_ORDER_FN(15)
+#endif
+#if P > 16
+ADB_ORDER_FN(16)
+#endif
+#if P > 17
+ADB_ORDER_FN(17)
+#endif
+#if P > 18
+ADB_ORDER_FN(18)
+#endif
+#if P > 19
+ADB_ORDER_FN(19)
+#endif
+#if P > 20
+ADB_ORDER_FN(20)
+#endif
+#if P > 21
+ADB_ORDER_FN(21)
+#endif
+#if P > 22
+ADB_ORDER_FN(22)
+#endif
+#if P > 23
+ADB_ORDER_FN(23)
+#endif
+#if P > 24
+ADB_ORDER_FN(24)
+#endif
+#if P > 25
+ADB_ORDER_FN(25)
+#endif
+#if P > 26
+ADB_ORDER_FN(26)
+#endif
+#if P > 27
+ADB_ORDER_FN(27)
+#endif
+#if P > 28
+ADB_ORDER_FN(28)
+#endif
+#if P > 29
+ADB_ORDER_FN(29)
+#endif
+#if P > 30
+ADB_ORDER_FN(30)
+#endif
+#if P > 31
+ADB_ORDER_FN(31)
+#endif
+#if P > 32
+ADB_ORDER_FN(32)
+#endif
+#if P > 33
+ADB_ORDER_FN(33)
+#endif
+#if P > 34
+ADB_ORDER_FN(34)
+#endif
+#if P > 35
+ADB_ORDER_FN(35)
+#endif
+#if P > 36
+ADB_ORDER_FN(36)
+#endif
+#if P > 37
+ADB_ORDER_FN(37)
+#endif
+#if P > 38
+ADB_ORDER_FN(38)
+#endif
+#if P > 39
+ADB_ORDER_FN(39)
+#endif
 
-/* Jorba & Zou's step (see the header) */
+static void (*const orders[P])(Stepper *) = {
+#if P > 0
+    order_0,
+#endif
+#if P > 1
+    order_1,
+#endif
+#if P > 2
+    order_2,
+#endif
+#if P > 3
+    order_3,
+#endif
+#if P > 4
+    order_4,
+#endif
+#if P > 5
+    order_5,
+#endif
+#if P > 6
+    order_6,
+#endif
+#if P > 7
+    order_7,
+#endif
+#if P > 8
+    order_8,
+#endif
+#if P > 9
+    order_9,
+#endif
+#if P > 10
+    order_10,
+#endif
+#if P > 11
+    order_11,
+#endif
+#if P > 12
+    order_12,
+#endif
+#if P > 13
+    order_13,
+#endif
+#if P > 14
+    order_14,
+#endif
+#if P > 15
+    order_15,
+#endif
+#if P > 16
+    order_16,
+#endif
+#if P > 17
+    order_17,
+#endif
+#if P > 18
+    order_18,
+#endif
+#if P > 19
+    order_19,
+#endif
+#if P > 20
+    order_20,
+#endif
+#if P > 21
+    order_21,
+#endif
+#if P > 22
+    order_22,
+#endif
+#if P > 23
+    order_23,
+#endif
+#if P > 24
+    order_24,
+#endif
+#if P > 25
+    order_25,
+#endif
+#if P > 26
+    order_26,
+#endif
+#if P > 27
+    order_27,
+#endif
+#if P > 28
+    order_28,
+#endif
+#if P > 29
+    order_29,
+#endif
+#if P > 30
+    order_30,
+#endif
+#if P > 31
+    order_31,
+#endif
+#if P > 32
+    order_32,
+#endif
+#if P > 33
+    order_33,
+#endif
+#if P > 34
+    order_34,
+#endif
+#if P > 35
+    order_35,
+#endif
+#if P > 36
+    order_36,
+#endif
+#if P > 37
+    order_37,
+#endif
+#if P > 38
+    order_38,
+#endif
+#if P > 39
+    order_39,
+#endif
+};
+
+static void jet_of(Stepper *S, double t, const double *y)
+{
+    TSF(_ts_time)(&S->w, &t, 1.0);
+    memcpy(S->jet[0], y, sizeof(double) * NY);
+    TSF(_ts_load)(&S->w, 0, S->jet[0]);
+    for (int K = 0; K < P; ++K) orders[K](S);
+}
+
+/* Jorba & Zou's step (see the header), per component: rho = min over k = P - 1, P and i of
+ * (w_i / |y_k,i|)^(1/k) with w_i = |y_0,i| + atol / rtol, so |y_P,i| h^P ~ (atol + rtol |y_i|) e^(-2P) for
+ * every state (a small rotor coordinate beside large spin angles keeps its own accuracy); two pow()
+ * calls a step.  fac scales the step (1: Jorba & Zou's). */
 static double step_size(const Stepper *S, double rtol, double atol, double fac)
 {
-    double n0 = 0.0, np = 0.0, nm = 0.0;
+    const double a = atol / rtol;
+    double qp = 0.0, qm = 0.0;
     for (int r = 0; r < NY; ++r) {
-        n0 = fmax(n0, fabs(S->jet[0][r]));
-        np = fmax(np, fabs(S->jet[P][r]));
-        nm = fmax(nm, fabs(S->jet[P - 1][r]));
+        const double inv = 1.0 / (fabs(S->jet[0][r]) + a);
+        const double vp = fabs(S->jet[P][r]) * inv, vm = fabs(S->jet[P - 1][r]) * inv;
+        qp = vp > qp ? vp : qp;
+        qm = vm > qm ? vm : qm;
     }
-    const double num = rtol * n0 <= atol ? 1.0 : n0;
-    const double rho = fmin(pow(num / np, 1.0 / P), pow(num / nm, 1.0 / (P - 1)));
-    return fac * rho * exp(-0.7 / (P - 1)) / (M_E * M_E);
+    const double rp = pow(qp, -1.0 / P), rm = pow(qm, -1.0 / (P - 1));
+    return fac * (rp < rm ? rp : rm) * ADB_JZ_FACTOR;
 }
 
 static void horner(const Stepper *S, double h, double *y)
@@ -340,20 +590,23 @@ int adb_taylor_integrate(const double *y0, const double *p, double t_end, double
         const double t1 = (t + h >= t_end) ? t_end : t + h;
         ++steps;
         if (measures) {
-            const double bound = r2_bound(S, amp_idx, h);
+            /* two screens before any root finding: (sum |x_k| h^k)^2 + (sum |y_k| h^k)^2, then, on r^2's
+             * own coefficients, r^2_0 + sum_k |r^2_k| h^k (tight where x, y turn while r changes slowly) */
             const double end2 = adb_r2(ynew, amp_idx[0], amp_idx[1]);
-            int have_q = 0;
-            if (bound > r2max) {
+            double bound = r2_bound(S, amp_idx, h);
+            const int want_max = bound > r2max, want_dec = end2 < H2 && bound >= H2;
+            if (want_max || want_dec) {
                 r2_poly(S, amp_idx, q);
-                have_q = 1;
-                r2max = fmax(r2max, r2_max(q, h));
+                double tail = 0.0, hk = h;
+                for (int k = 1; k <= DEG; ++k, hk *= h) tail += fabs(q[k]) * hk;
+                bound = q[0] + tail;
+                if (want_max && bound > r2max) r2max = fmax(r2max, r2_max(q, h));
+                if (want_dec && bound >= H2) {
+                    double s = r2_last_above(q, h, H2);
+                    if (s >= 0.0) last_above = t + s;
+                }
             }
             if (end2 >= H2) last_above = t1;
-            else if (bound >= H2) {
-                if (!have_q) r2_poly(S, amp_idx, q);
-                double s = r2_last_above(q, h, H2);
-                if (s >= 0.0) last_above = t + s;
-            }
         }
         /* early stop: the state at each multiple of check_dt inside this step, on its polynomial */
         int stopped = -1;
@@ -456,7 +709,7 @@ int adb_taylor_dense(const double *T, const double *Y, long K, const double *p, 
     TSF(_ts_setup)(&S->w, p);
     long k = 0, held = -1;
     for (int j = 0; j < n; ++j) {
-        while (k + 2 < K && T[k + 1] < times[j]) ++k;
+        while (k + 2 < K && T[k + 1] <= times[j]) ++k; /* a step end belongs to the next step: y itself */
         if (held != k) {
             jet_of(S, T[k], Y + k * NY);
             held = k;

@@ -219,7 +219,7 @@ class CEmitter:
         factors = set(st.factor_syms)
         names0 = {st.s_syms[a * r + b]: (self.at(st.S[a][b], "0") if st.S[a][b] else "0.0")
                   for a in range(r) for b in range(r)}
-        for sym in factors:
+        for sym in st.factor_syms:  # (in the statements' order: the output must not depend on hashing)
             field = f"sf_{sym.name}"
             if field not in self.solve_fields:
                 self.solve_fields.append(field)

@@ -3,8 +3,9 @@
 1. The series program's coefficients y_0..y_5 (run in Python, `pyeval`) against the Lie derivatives
    L_f^k y / k! of the printed rhs in 60-digit series arithmetic (`reference.lie_coefficients`, no
    recurrences), at random states away from equilibria (as `codegen.checks`: coordinates and angles in
-   [-0.1, 0.1], rates in [-1, 1], parameters 0.5x to 1.5x the defaults, t = 0 and random t in [0, 10]):
-   norm-wise relative difference per order at most `LIE_TOLERANCE`.
+   [-0.1, 0.1], rates in [-1, 1], parameters 0.5x to 1.5x the defaults, t = 0 and random t in [0, 10],
+   and a time past each Piecewise switch, so every branch of a run-up's speed law is checked): norm-wise
+   relative difference per order at most `LIE_TOLERANCE`.
 2. One step of Taylor's method (order `STEP_ORDER`, Jorba & Zou's step size) from such a state, the
    series program run in 30-digit arithmetic (`pyeval` with mpmath), against mpmath's own Taylor solver
    (`odefun`) at 30 digits on the printed rhs: at most `STEP_TOLERANCE` of max(1, |y|).  In 30 digits
@@ -40,10 +41,29 @@ def _points(ir, samples: int, seed: int):
         yield t, y, defaults * rng.uniform(0.5, 1.5, defaults.size)
 
 
+def branch_times(prog, y, p) -> list[float]:
+    """Times at which the Piecewise conditions take values they do not take at t = 0 (the run-ups'
+    later branches), the first of each new combination along t = 10^k, k = 0..6."""
+    seen = {pyeval.flags(prog, 0.0, y, p)}
+    out = []
+    for k in range(7):
+        t = 10.0 ** k
+        f = pyeval.flags(prog, t, y, p)
+        if f not in seen:
+            seen.add(f)
+            out.append(t * 1.1)
+    return out
+
+
 def lie_errors(ir, prog, samples: int = 3, seed: int = 0, order: int = LIE_ORDER) -> list[float]:
-    """Largest norm-wise relative difference per order 0..order over the sample points."""
+    """Largest norm-wise relative difference per order 0..order over the sample points, and at a point
+    past every Piecewise switch (`branch_times`)."""
     worst = [0.0] * (order + 1)
-    for t, y, p in _points(ir, samples, seed):
+    points = list(_points(ir, samples, seed))
+    if prog.flags:
+        _, y, p = points[-1]
+        points += [(t, y, p) for t in branch_times(prog, y, p)]
+    for t, y, p in points:
         ref = reference.lie_coefficients(ir, t, y, p, order)
         got = np.array(pyeval.taylor(prog, t, y, p, order), dtype=float)
         for k in range(order + 1):

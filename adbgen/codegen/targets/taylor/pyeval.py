@@ -259,4 +259,12 @@ def jet(prog: SeriesProgram, t, ycoef, p, order: int, tdot=0.0, lib=math) -> lis
     return [[run.f[r][K] for r in range(prog.n_states)] for K in range(order + 1)]
 
 
-__all__ = ["jet", "taylor"]
+def flags(prog: SeriesProgram, t, y, p) -> tuple:
+    """The Piecewise conditions' values at (t, y, p) (the branches order 0 takes)."""
+    run = _run(prog, t, p, 0, True, 1.0, math)
+    _load_states(run, [list(y)])
+    run.block(prog.body, 0)
+    return tuple(run.flags.get(f.name) for f in prog.flags)
+
+
+__all__ = ["flags", "jet", "taylor"]

@@ -447,22 +447,15 @@ class Decomposer:
             frame = {"stmts": [], "memo": {}, "kind": "branch"}
             self.frames.append(frame)
             try:
+                # the branch's value as one node, made inside the branch (a scaled value's lin node too)
                 t = self.term(branch)
+                node = self.as_node(t) if t.node is not None else self.lin([], t.coef)
             finally:
                 self.frames.pop()
-            results.append((t, frame["stmts"]))
-        (t1, s1), (t2, s2) = results
-        if t1.node is None and t2.node is None:
-            # both constant: a select of two constants is still varying only through the flag
-            pass
-        a = self.as_node(t1) if t1.node is not None else self.lin([], t1.coef)
-        b = self.as_node(t2) if t2.node is not None else self.lin([], t2.coef)
-        if a.startswith("b") or b.startswith("b"):
-            ball = True
-        else:
-            ball = False
+            results.append((node, frame["stmts"]))
+        (a, s1), (b, s2) = results
+        ball = self.nodes[a].ball or self.nodes[b].ball
         deg = max(self.nodes[a].degree, self.nodes[b].degree)
-        # the constant branch values were made in the outer frame by lin([]) above: fine, they are cheap
         name = f"{'b' if ball else 'v'}{self.count}"
         self.count += 1
         nd = Node(name, "select", (a, b), (), flag, ball, deg)

@@ -1,0 +1,184 @@
+"""Benchmark (not a test): the `auto` engine's table, `adbgen bench auto` (issue 22 item 2).
+
+Work-precision of the candidates on the precision benchmark's problems A (thesis n = 3) and B (the
+two-plane Hill run-up): the Taylor engine at every order of `ORDERS` and step factor of `FACTORS`, and
+CyRK's DOP853 and Vern8 at the rtols of `RTOLS` (atol = rtol x the problem's atol ratio, as in `bench
+precision`); each run's error is the largest absolute difference of its final state from the
+reference (`precision.reference`: CyRK Vern8 at rtol 1e-14, checked by heyoka), its time the best of
+`repeats` CPU times (the integration alone, engines built beforehand; round-robin per problem).
+
+The table: for each requested tolerance T of `TARGETS`, the candidate that reached an error of at
+most T times the state's size (max(1, |y_ref|_inf): B's spin angles are ~2700 rad) on every problem
+in the least time, time measured relative to the fastest candidate that reached it on that problem
+(the worse of the problems' ratios counts).  A Taylor candidate is run with the requested tolerance
+as its rtol (atol from the problem's ratio), the order and factor its own.  Written to
+`adbgen/analysis/engines/auto_table.json` (`--table`), which the auto engine reads, and with every
+measurement to `benchmarks/auto.json`.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .registry import QUICK, REPEATS, Benchmark, option, require_positive_repeats
+from .report import closing, opening, write
+from ..cli_types import UsageError
+
+ORDERS = (6, 8, 10, 12, 14, 16, 18, 20)
+FACTORS = (1.0, 1.5, 2.0, 2.5)
+RTOLS = tuple(10.0 ** -k for k in range(3, 15))
+TARGETS = tuple(10.0 ** -k for k in range(3, 14))
+RK_ENGINES = ("cyrk-dop853", "cyrk-vern8")
+QUICK_ORDERS, QUICK_FACTORS, QUICK_RTOLS = (8, 12), (1.0, 2.0), (1e-6, 1e-9)
+DEFAULT_REPEATS, QUICK_REPEATS = 5, 1
+TABLE_PATH = Path(__file__).resolve().parents[1] / "analysis" / "engines" / "auto_table.json"
+
+
+def candidates(orders, factors, rtols) -> list[dict]:
+    """{key, engine, order, step_factor} for Taylor; {key, engine, rtol_run} for the RK engines."""
+    out = [{"key": f"taylor:o{o}:f{f:g}", "engine": "taylor", "order": o, "step_factor": f}
+           for o in orders for f in factors]
+    out += [{"key": f"{e}@{r:g}", "engine": e, "rtol_run": r} for e in RK_ENGINES for r in rtols]
+    return out
+
+
+def _runner(model, pp, cand: dict, t_end: float, tol: float):
+    """A function running the candidate once on the problem: (cpu seconds, final state, steps, status)."""
+    from ..analysis.engines import ENGINES
+    from ..analysis.engines.taylor import TaylorEngine
+
+    p, y0 = pp.problem.vectors(model)
+    if cand["engine"] == "taylor":
+        eng = TaylorEngine(table=[(0.0, cand["order"], cand["step_factor"])])
+        rtol = tol
+    else:
+        eng = ENGINES[cand["engine"]]
+        rtol = cand["rtol_run"]
+
+    def run():
+        start = time.process_time()
+        out = eng.run(model, p, y0, t_end, rtol, rtol * pp.atol_ratio, 1e-3, 10**7, keep_trajectory=False)
+        return time.process_time() - start, out["y_end"], int(out["n_steps"]), out["status"]
+
+    return run
+
+
+def measure_problem(label: str, cands: list[dict], repeats: int, t_end: float | None, tol: float,
+                    progress=print) -> dict:
+    """Every candidate on one problem: {key: {error, cpu_s, steps, status}} and the reference."""
+    from ..analysis.loading import load_model
+    from .precision import PROBLEMS, reference
+
+    pp = PROBLEMS[label]
+    model = load_model(pp.problem.model)
+    horizon = t_end or pp.problem.t_end
+    ref = reference(model, pp, horizon)
+    y_ref = np.asarray(ref["y_end"], float)
+    runs = {c["key"]: _runner(model, pp, c, horizon, tol) for c in cands}
+    for key, run in runs.items():  # builds and warms every engine outside the timings
+        started = time.perf_counter()
+        run()
+        progress(f"  {label} {key}: ready ({time.perf_counter() - started:.1f} s)")
+    best: dict = {}
+    last: dict = {}
+    for _ in range(repeats):
+        for key, run in runs.items():
+            cpu, y_end, steps, status = run()
+            best[key] = min(best.get(key, float("inf")), cpu)
+            last[key] = (y_end, steps, status)
+    rows = {}
+    for key in runs:
+        y_end, steps, status = last[key]
+        err = float(np.max(np.abs(np.asarray(y_end, float) - y_ref))) if status == "success" else None
+        rows[key] = {"error": err, "cpu_s": best[key], "steps": steps, "status": status}
+        progress(f"  {label} {key}: error {err if err is None else f'{err:.2e}'}, {1e3 * best[key]:.2f} ms")
+    return {"t_end": horizon, "reference": {k: v for k, v in ref.items() if k != "y_end"},
+            "scale": max(1.0, float(np.max(np.abs(y_ref)))), "runs": rows}
+
+
+def choose(problems: dict, cands: list[dict], targets) -> list[dict]:
+    """The table's rows (see the module docstring)."""
+    rows = []
+    for target in targets:
+        fastest = {}
+        for label, res in problems.items():
+            ok = [r["cpu_s"] for r in res["runs"].values()
+                  if r["error"] is not None and r["error"] <= target * res["scale"]]
+            fastest[label] = min(ok) if ok else None
+        if any(v is None for v in fastest.values()):
+            continue
+        best, best_cost = None, float("inf")
+        for c in cands:
+            cost = 0.0
+            for label, res in problems.items():
+                r = res["runs"][c["key"]]
+                if r["error"] is None or r["error"] > target * res["scale"]:
+                    cost = float("inf")
+                    break
+                cost = max(cost, r["cpu_s"] / fastest[label])
+            if cost < best_cost:
+                best, best_cost = c, cost
+        row = {"rtol": target, "engine": best["engine"], "key": best["key"], "time_ratio_to_fastest": best_cost}
+        row.update({k: best[k] for k in ("order", "step_factor", "rtol_run") if k in best})
+        rows.append(row)
+    return rows
+
+
+def bench_auto(labels=("A", "B"), *, quick: bool = False, repeats: int | None = None, t_end: float | None = None,
+               progress=print) -> dict:
+    result, started = opening("auto")
+    orders, factors, rtols = (QUICK_ORDERS, QUICK_FACTORS, QUICK_RTOLS) if quick else (ORDERS, FACTORS, RTOLS)
+    cands = candidates(orders, factors, rtols)
+    repeats = repeats or (QUICK_REPEATS if quick else DEFAULT_REPEATS)
+    problems = {}
+    for label in labels:
+        progress(f"problem {label}")
+        # Taylor candidates run with the tolerance they are chosen for: the tightest target (their step
+        # control is per component through atol / rtol only, which does not change with it)
+        problems[label] = measure_problem(label, cands, repeats, (t_end or None) if not quick else
+                                          (t_end or 200.0), 1e-8, progress)
+    targets = TARGETS if not quick else (1e-5, 1e-8)
+    result.update({"problems": problems, "candidates": cands, "targets": list(targets), "repeats": repeats,
+                   "quick": quick, "rows": choose(problems, cands, targets),
+                   "notes": ["time: best CPU time of the integration (process_time), engines built beforehand",
+                             "error: max |y_end - y_ref|; a target T is met at error <= T max(1, |y_ref|_inf)",
+                             "Taylor candidates run at rtol 1e-8 (their order and step factor decide the step; "
+                             "rtol only sets the per-component weights |y| + atol/rtol)"]})
+    return closing(result, started)
+
+
+def run(args, out: str) -> int:
+    require_positive_repeats(args)
+    labels = args.problems or ["A", "B"]
+    from .precision import PROBLEMS
+
+    unknown = [p for p in labels if p not in PROBLEMS]
+    if unknown:
+        raise UsageError(f"unknown problem {unknown[0]!r}; choose from {', '.join(PROBLEMS)}")
+    result = bench_auto(tuple(labels), quick=args.quick, repeats=args.repeats, t_end=args.t_end,
+                        progress=lambda line: print(line, flush=True))
+    path = write(result, out)
+    table = args.table or (None if args.quick else str(TABLE_PATH))
+    if table:
+        write({"benchmark": "auto", "date": result["date"], "problems": list(labels), "machine": result["machine"],
+               "rows": result["rows"], "source": "adbgen bench auto (adbgen/bench/auto.py)"}, table)
+    for row in result["rows"]:
+        extra = f"order {row['order']}, factor {row['step_factor']:g}" if "order" in row else f"rtol {row['rtol_run']:g}"
+        print(f"rtol {row['rtol']:g}: {row['engine']} ({extra}), {row['time_ratio_to_fastest']:.2f}x the fastest")
+    print(f"wrote {path}" + (f" and {table}" if table else ""))
+    return 0
+
+
+BENCHMARK = Benchmark("auto", run, (
+    REPEATS.but("best of N CPU times (default 5; quick 1)"),
+    option("--problems", nargs="+", default=None, help="problems (default A B C)"),
+    QUICK.but("2 orders x 2 factors, 2 rtols, t_end 200, no table written unless --table (under a minute)"),
+    option("--t-end", type=float, default=None, help="integrate every problem to this time (default: each problem's)"),
+    option("--table", default=None, help="where to write the auto engine's table (default: "
+           "adbgen/analysis/engines/auto_table.json; quick: nowhere)"),
+))
+
+__all__ = ["BENCHMARK", "FACTORS", "ORDERS", "RTOLS", "TARGETS", "bench_auto", "candidates", "choose"]
