@@ -57,6 +57,18 @@ def test_dense_output_is_the_step_polynomial(thesis, reference_a):
                                ref.dense(m, p, rr["t"], rr["y"], mid, 1e-13, 1e-15), atol=1e-9)
 
 
+def test_t_dec_sees_an_excursion_inside_one_step(thesis):
+    """Problem A at rtol 1e-3 (order 5): t_dec is the sup of r >= H on the steps' polynomials (dense
+    output on a fine grid), wherever the last excursion lies; r_max at least every grid value."""
+    m = thesis[3]
+    s = simulate(m, None, PHI_A, t_end=2000.0, rtol=1e-3, atol=1e-8, engine="taylor")
+    grid = np.arange(600.0, 1000.0, 0.002)
+    dense = ENGINES["taylor"].dense(m, m.params(), s.t, s.y, grid, 1e-3, 1e-8)
+    r = np.hypot(dense[0], dense[1])
+    sup = float(grid[r >= 1e-3][-1])
+    assert sup <= s.t_dec < sup + 0.002 and s.r_max >= r.max()
+
+
 def test_a_step_never_crosses_a_piecewise_switch():
     """The ramp's speed law has a kink at t_ramp: a step ends there (the Piecewise condition's series
     bounds the step), and the run equals CyRK Vern8 at rtol 1e-13 to 1e-9 across it."""
