@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from .registry import QUICK, REPEATS, Benchmark, option, require_positive_repeats
-from .report import closing, opening, write
+from .report import closing, describe_targets, opening, target, write
 from ..cli_types import UsageError
 
 ORDERS = (6, 8, 10, 12, 14, 16, 18, 20)
@@ -127,6 +127,67 @@ def choose(problems: dict, cands: list[dict], targets) -> list[dict]:
     return rows
 
 
+# ------------------------------------------------------------------------------ cost per step
+
+COST_TOLS = (1e-8, 1e-12)  # the table's picks at these tolerances are costed on problem A
+COST_TARGET = 1.3
+
+
+def flop_time(order: int, lanes: int, seconds: float = 0.5) -> float:
+    """The machine's CPU time per flop (ns) for the series' kind of work: convolutions of series in L1,
+    four partial sums of fused multiply-adds, over `lanes` lanes (`bench/c/flop_timer.c`, built with the
+    Taylor engine's flags)."""
+    import subprocess
+    import tempfile
+
+    from ..analysis.engines.taylor import CFLAGS
+    from .timing import c_compiler, c_file
+
+    flags = [f for f in CFLAGS if f not in ("-fPIC", "-shared", "-fopenmp")]
+    with tempfile.TemporaryDirectory(prefix="adbgen-flops-") as tmp:
+        exe = Path(tmp) / "flop_timer"
+        subprocess.run([c_compiler() or "gcc", *flags, f"-DP={min(order, 24)}", f"-DLANES={lanes}",
+                        str(c_file("flop_timer.c")), "-o", str(exe), "-lm"], check=True, capture_output=True)
+        out = subprocess.run([str(exe), str(seconds)], check=True, capture_output=True, text=True).stdout.split()
+    return float(out[out.index("ns_per_flop") + 1])
+
+
+def cost_per_step(order: int, factor: float, repeats: int, label: str = "A") -> dict:
+    """Taylor's CPU time per step on problem `label` (no events: the series and the step alone) against its
+    operation count (the series program's flops for orders 0..order-1, `ccode.CEmitter.count`, plus
+    Horner's 2 N order) times the machine's time per flop (`flop_time`, scalar and four lanes)."""
+    from .. import families
+    from ..analysis.engines.taylor import TaylorEngine
+    from ..analysis.loading import load_model
+    from ..codegen.targets.taylor.ccode import CEmitter
+    from ..codegen.targets.taylor.series import decompose
+    from .precision import PROBLEMS
+
+    pp = PROBLEMS[label]
+    spec = next(s for f in families.all_families() for s in f.models() if s.name == pp.problem.model)
+    ir = spec.build()
+    counted = CEmitter(decompose(ir), ir.name).count(order)
+    flops = counted["total"] + 2 * ir.n_states * order
+    model = load_model(pp.problem.model)
+    p, y0 = pp.problem.vectors(model)
+    eng = TaylorEngine(table=[(0.0, order, factor)])
+    args = (model, p[None], y0[None], pp.problem.t_end, 1e-8, 1e-8 * pp.atol_ratio, 1e-3, 10**7)
+    eng.run_many(*args, threads=1, measures=False)
+    best, steps = float("inf"), None
+    for _ in range(repeats):
+        start = time.process_time()
+        out = eng.run_many(*args, threads=1, measures=False)
+        best = min(best, time.process_time() - start)
+        steps = int(out["n_steps"][0])
+    per_step_ns = 1e9 * best / steps
+    scalar, lanes4 = flop_time(order, 1), flop_time(order, 4)
+    return {"problem": label, "order": order, "step_factor": factor, "steps": steps, "cpu_s": best,
+            "ns_per_step": per_step_ns, "flops_per_step": flops, "flops_by_operation": counted["per_op"],
+            "horner_flops": 2 * ir.n_states * order, "ns_per_flop_scalar": scalar, "ns_per_flop_4_lanes": lanes4,
+            "ratio_to_scalar_flop_time": per_step_ns / (flops * scalar),
+            "ratio_to_4_lane_flop_time": per_step_ns / (flops * lanes4)}
+
+
 def bench_auto(labels=("A", "B"), *, quick: bool = False, repeats: int | None = None, t_end: float | None = None,
                progress=print) -> dict:
     result, started = opening("auto")
@@ -141,8 +202,27 @@ def bench_auto(labels=("A", "B"), *, quick: bool = False, repeats: int | None = 
         problems[label] = measure_problem(label, cands, repeats, (t_end or None) if not quick else
                                           (t_end or 200.0), 1e-8, progress)
     targets = TARGETS if not quick else (1e-5, 1e-8)
-    result.update({"problems": problems, "candidates": cands, "targets": list(targets), "repeats": repeats,
-                   "quick": quick, "rows": choose(problems, cands, targets),
+    rows = choose(problems, cands, targets)
+    cost = []
+    if "A" in labels:
+        picks = {(r["order"], r["step_factor"]) for r in rows if r["engine"] == "taylor"
+                 and any(abs(r["rtol"] - t) <= 1e-9 * t for t in COST_TOLS)} or {(cands[0]["order"], cands[0]["step_factor"])}
+        for order, factor in sorted(picks):
+            cost.append(cost_per_step(order, factor, repeats))
+            c = cost[-1]
+            progress(f"cost: order {order}: {c['ns_per_step']:.0f} ns per step, {c['flops_per_step']} flops, "
+                     f"{c['ratio_to_scalar_flop_time']:.2f}x count x scalar flop time "
+                     f"({c['ns_per_flop_scalar']:.4f} ns), {c['ratio_to_4_lane_flop_time']:.2f}x the 4-lane one")
+    worst = max((c["ratio_to_scalar_flop_time"] for c in cost), default=None)
+    result["targets"] = [target("Taylor's cost per step within 1.3x of its operation count x the machine's time per flop",
+                                "1.3 / (time per step / (flops x scalar ns per flop)) >= 1",
+                                None if worst is None else COST_TARGET / worst, 1.0,
+                                "; ".join(f"order {c['order']}: {c['ns_per_step']:.0f} ns per step, {c['flops_per_step']} "
+                                          f"flops x {c['ns_per_flop_scalar']:.4f} ns = "
+                                          f"{c['ratio_to_scalar_flop_time']:.2f}x (four-lane flop time: "
+                                          f"{c['ratio_to_4_lane_flop_time']:.2f}x)" for c in cost) or "not measured")]
+    result.update({"problems": problems, "candidates": cands, "tolerances": list(targets), "repeats": repeats,
+                   "quick": quick, "rows": rows, "cost_per_step": cost,
                    "notes": ["time: best CPU time of the integration (process_time), engines built beforehand",
                              "error: max |y_end - y_ref|; a target T is met at error <= T max(1, |y_ref|_inf)",
                              "Taylor candidates run at rtol 1e-8 (their order and step factor decide the step; "
@@ -168,6 +248,8 @@ def run(args, out: str) -> int:
     for row in result["rows"]:
         extra = f"order {row['order']}, factor {row['step_factor']:g}" if "order" in row else f"rtol {row['rtol_run']:g}"
         print(f"rtol {row['rtol']:g}: {row['engine']} ({extra}), {row['time_ratio_to_fastest']:.2f}x the fastest")
+    for line in describe_targets(result):
+        print(line)
     print(f"wrote {path}" + (f" and {table}" if table else ""))
     return 0
 

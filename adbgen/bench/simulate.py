@@ -158,13 +158,13 @@ def peer_pathways(model, problem: Problem, tols, setup: dict, progress=None) -> 
             for tol in tols:
                 pathways.append(Pathway(f"jitcode@{tol:g}", "peer", "jitcode", tol,
                                         _jitcode_run(peer, y, p, problem.t_end, tol, tol * ratio)))
-        else:
-            rec["method"] = "adaptive Taylor (LLVM), tol = relative and absolute tolerance"
+        else:  # heyoka on the generated statements, or on the hand-written form (heyoka-hand)
+            rec["method"] = f"{peer.label}: adaptive Taylor (LLVM), tol = relative and absolute tolerance"
             rec["compile_s"] = {}
             for tol in tols:
                 peer.integrator(tol, y, p)  # compile now, outside the timings
                 rec["compile_s"][f"{tol:g}"] = round(peer.compile_s[tol], 3)
-                pathways.append(Pathway(f"heyoka@{tol:g}", "peer", "heyoka", tol,
+                pathways.append(Pathway(f"{name}@{tol:g}", "peer", name, tol,
                                         _heyoka_run(peer, y, p, problem.t_end, tol)))
         rec["_peer"] = peer
         setup[name] = rec
@@ -195,7 +195,7 @@ def _peer_symmetry(setup: dict, model, problem: Problem) -> dict:
     out = {}
     p, _ = problem.vectors(model)
     y = model.state(symmetric_y0(model))
-    for name in ("jitcode", "heyoka"):
+    for name in ("jitcode", "heyoka", "heyoka-hand"):
         peer = setup.get(name, {}).get("_peer")
         if peer is None:
             continue
