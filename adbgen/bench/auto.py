@@ -27,8 +27,8 @@ from .registry import QUICK, REPEATS, Benchmark, option, require_positive_repeat
 from .report import closing, describe_targets, opening, target, write
 from ..cli_types import UsageError
 
-ORDERS = (6, 8, 10, 12, 14, 16, 18, 20)
-FACTORS = (1.0, 1.5, 2.0, 2.5)
+ORDERS = (7, 8, 9, 10, 11, 12, 13, 14, 16, 18, 20)
+FACTORS = (1.0, 1.5, 2.0, 2.5, 3.0, 3.5)
 RTOLS = tuple(10.0 ** -k for k in range(3, 15))
 TARGETS = tuple(10.0 ** -k for k in range(3, 14))
 RK_ENGINES = ("cyrk-dop853", "cyrk-vern8")

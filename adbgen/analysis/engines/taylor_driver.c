@@ -324,8 +324,8 @@ static void jet_of(Stepper *S, double t, const double *y)
 
 /* Jorba & Zou's step (see the header), per component: rho = min over k = P - 1, P and i of
  * (w_i / |y_k,i|)^(1/k) with w_i = |y_0,i| + atol / rtol, so |y_P,i| h^P ~ (atol + rtol |y_i|) e^(-2P) for
- * every state (a small rotor coordinate beside large spin angles keeps its own accuracy); two pow()
- * calls a step.  fac scales the step (1: Jorba & Zou's). */
+ * every state (a small rotor coordinate beside large spin angles keeps its own accuracy).  fac scales
+ * the step (1: Jorba & Zou's). */
 static double step_size(const Stepper *S, double rtol, double atol, double fac)
 {
     const double a = atol / rtol;
@@ -337,7 +337,8 @@ static double step_size(const Stepper *S, double rtol, double atol, double fac)
         qm = vm > qm ? vm : qm;
     }
     const double rp = pow(qp, -1.0 / P), rm = pow(qm, -1.0 / (P - 1));
-    return fac * (rp < rm ? rp : rm) * ADB_JZ_FACTOR;
+    const double rho = rp < rm ? rp : rm;
+    return fac * rho * ADB_JZ_FACTOR;
 }
 
 static void horner(const Stepper *S, double h, double *y)
