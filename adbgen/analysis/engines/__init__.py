@@ -13,12 +13,13 @@ from ..loading import AnalysisError
 from .auto import AutoEngine
 from .compiled import CyRKEngine, SundialsEngine
 from .scipy_ivp import ScipyEngine
-from .taylor import TaylorEngine
+from .taylor import TaylorBatchEngine, TaylorEngine
 
 DEFAULT = "auto"
 
 ENGINES = {e.name: e for e in (
     TaylorEngine(),
+    TaylorBatchEngine(),
     CyRKEngine("DOP853"), CyRKEngine("Vern8"), CyRKEngine("Vern7"), CyRKEngine("RK45"), CyRKEngine("RK23"),
     SundialsEngine("cvode-bdf", 10, "SUNDIALS CVODE BDF, Newton, dense LU with the generated Jacobian (stiff)",
                    symmetric=False),

@@ -65,24 +65,26 @@ def _machine() -> str:
     return platform.machine() + hashlib.sha256(flags.encode()).hexdigest()[:12]
 
 
-def build(model, order: int) -> Path:
-    """Compile the driver with the model's series at `order` into a cached shared library."""
+def build(model, order: int, batch: int = 1) -> Path:
+    """Compile the driver with the model's series at `order` (and `batch` trajectories per lane group, the
+    batch variant) into a cached shared library."""
     if not MIN_ORDER <= order <= MAX_ORDER:
         raise AnalysisError(f"Taylor order {order} is not in {MIN_ORDER}..{MAX_ORDER}")
     source = taylor_source(model)
     drv = HERE / "taylor_driver.c"
     h = hashlib.sha256()
     for part in (drv.read_bytes(), (HERE / "driver_common.h").read_bytes(), source.read_bytes(),
-                 " ".join(CFLAGS).encode(), model.name.encode(), str(order).encode(), _machine().encode()):
+                 " ".join(CFLAGS).encode(), model.name.encode(), f"{order} {batch}".encode(), _machine().encode()):
         h.update(part)
         h.update(b"\0")
-    target = cache_dir() / "engines" / f"{model.name}-taylor{order}-{h.hexdigest()[:16]}.so"
+    kind = f"taylor{order}" + (f"x{batch}" if batch > 1 else "")
+    target = cache_dir() / "engines" / f"{model.name}-{kind}-{h.hexdigest()[:16]}.so"
     if target.is_file():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
     name = model.name
     defines = [f'-DADB_TS_SOURCE="{source}"', f"-DADB_TS_PREFIX={name}", f"-DADB_TS_ORDER={order}",
-               f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}"]
+               f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}", f"-DTS_B={batch}"]
     fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
     os.close(fd)
     cmd = [compiler(), *CFLAGS, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, "-lm"]
@@ -96,8 +98,11 @@ def build(model, order: int) -> Path:
 
 
 @lru_cache(maxsize=None)
-def _load_cached(path: str):
+def _load_cached(path: str, batch: int):
     lib = ctypes.CDLL(path)
+    if batch > 1:
+        lib.adb_taylor_batch_many.restype = None
+        return lib
     lib.adb_taylor_integrate.restype = ctypes.c_int
     lib.adb_taylor_integrate_many.restype = None
     lib.adb_taylor_dense.restype = ctypes.c_int
@@ -105,9 +110,9 @@ def _load_cached(path: str):
     return lib
 
 
-def library(model, order: int):
+def library(model, order: int, batch: int = 1):
     with _lock:
-        return _load_cached(str(build(model, order)))
+        return _load_cached(str(build(model, order, batch)), batch)
 
 
 class TaylorEngine(_Compiled):
@@ -118,9 +123,8 @@ class TaylorEngine(_Compiled):
     native_events = True
     symmetric = True
 
-    def __init__(self, name: str = "taylor", description: str = "", batch: bool = False, table=None):
+    def __init__(self, name: str = "taylor", description: str = "", table=None):
         self.name = name
-        self.batch = batch
         self.description = description or (
             "Taylor's method (order from the tolerance, Jorba & Zou's step) on the emitted series, compiled")
         # (tol, order, factor) rows, ascending tol: a tuned choice (the auto engine's measurements); None:
@@ -169,10 +173,13 @@ class TaylorEngine(_Compiled):
         out["picked"] = {"engine": self.name, "rtol": rtol, "atol": atol, "order": order, "step_factor": fac}
         return out
 
+    batch = 1  # trajectories per lane group of the compiled series (the batch variant: BATCH_LANES)
+    entry = "adb_taylor_integrate_many"
+
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
                  targets=(), measures=True):
         order, fac = self.settings(rtol, atol)
-        lib = library(model, order)
+        lib = library(model, order, self.batch)
         n = len(Y0)
         Y0 = np.ascontiguousarray(Y0, dtype=float)
         P = np.ascontiguousarray(P, dtype=float)
@@ -184,7 +191,7 @@ class TaylorEngine(_Compiled):
         stats = np.zeros((n, 4))
         counts = np.zeros((n, 2), np.int64)
         start = time.perf_counter()
-        lib.adb_taylor_integrate_many(
+        getattr(lib, self.entry)(
             n, _ptr(Y0), _ptr(P), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
             ctypes.c_double(fac), ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
             1 if measures else 0, ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
@@ -220,4 +227,22 @@ class TaylorEngine(_Compiled):
         return out
 
 
-__all__ = ["CFLAGS", "TaylorEngine", "build", "heyoka_order", "library", "taylor_source"]
+BATCH_LANES = 4  # AVX2's doubles per vector
+
+
+class TaylorBatchEngine(TaylorEngine):
+    """The batch variant: `run_many` advances BATCH_LANES trajectories per lane group (every operation of
+    a step on the group at once, SIMD; each trajectory its own step size, events and early stop), a
+    group per OpenMP thread; one trajectory (`run`) is the single stepper's."""
+
+    batch = BATCH_LANES
+    entry = "adb_taylor_batch_many"
+
+    def __init__(self, name: str = "taylor-batch", description: str = "", table=None):
+        super().__init__(name, description or (
+            f"Taylor's method, {BATCH_LANES} trajectories per SIMD lane group (ensembles, sweeps); one "
+            "trajectory as taylor"), table=table)
+
+
+__all__ = ["BATCH_LANES", "CFLAGS", "TaylorBatchEngine", "TaylorEngine", "build", "heyoka_order", "library",
+           "taylor_source"]

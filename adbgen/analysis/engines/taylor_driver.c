@@ -48,6 +48,7 @@ typedef TSF(_ts) TsWork;
 #define ADB_JZ_FACTOR (exp(-0.7 / (P - 1)) / (M_E * M_E))
 #define DEG (2 * P) /* r^2's degree */
 
+#if TS_B == 1 /* the single trajectory (a batch build, TS_B > 1, has its own stepper below) */
 typedef struct {
     double jet[P + 1][NY]; /* the solution's coefficients of the current step */
     double f[NY];
@@ -321,18 +322,21 @@ static void jet_of(Stepper *S, double t, const double *y)
     TSF(_ts_load)(&S->w, 0, S->jet[0]);
     for (int K = 0; K < P; ++K) orders[K](S);
 }
+#endif
 
 /* Jorba & Zou's step (see the header), per component: rho = min over k = P - 1, P and i of
  * (w_i / |y_k,i|)^(1/k) with w_i = |y_0,i| + atol / rtol, so |y_P,i| h^P ~ (atol + rtol |y_i|) e^(-2P) for
  * every state (a small rotor coordinate beside large spin angles keeps its own accuracy).  fac scales
  * the step (1: Jorba & Zou's). */
-static double step_size(const Stepper *S, double rtol, double atol, double fac)
+typedef double Jet[P + 1][NY];
+
+static double step_size(const Jet jet, double rtol, double atol, double fac)
 {
     const double a = atol / rtol;
     double qp = 0.0, qm = 0.0;
     for (int r = 0; r < NY; ++r) {
-        const double inv = 1.0 / (fabs(S->jet[0][r]) + a);
-        const double vp = fabs(S->jet[P][r]) * inv, vm = fabs(S->jet[P - 1][r]) * inv;
+        const double inv = 1.0 / (fabs(jet[0][r]) + a);
+        const double vp = fabs(jet[P][r]) * inv, vm = fabs(jet[P - 1][r]) * inv;
         qp = vp > qp ? vp : qp;
         qm = vm > qm ? vm : qm;
     }
@@ -341,11 +345,11 @@ static double step_size(const Stepper *S, double rtol, double atol, double fac)
     return fac * rho * ADB_JZ_FACTOR;
 }
 
-static void horner(const Stepper *S, double h, double *y)
+static void horner(const Jet jet, double h, double *y)
 {
     for (int r = 0; r < NY; ++r) {
-        double s = S->jet[P][r];
-        for (int k = P - 1; k >= 0; --k) s = s * h + S->jet[k][r];
+        double s = jet[P][r];
+        for (int k = P - 1; k >= 0; --k) s = s * h + jet[k][r];
         y[r] = s;
     }
 }
@@ -445,24 +449,24 @@ static int roots_on(const double *c, int d, double h, double *roots)
 }
 
 /* r^2(s) of the step: coefficients 0..DEG */
-static void r2_poly(const Stepper *S, const int *amp, double *q)
+static void r2_poly(const Jet jet, const int *amp, double *q)
 {
     const int ix = amp[0], iy = amp[1];
     for (int k = 0; k <= DEG; ++k) {
         double s = 0.0;
         for (int j = (k > P ? k - P : 0); j <= (k < P ? k : P); ++j)
-            s += S->jet[j][ix] * S->jet[k - j][ix] + S->jet[j][iy] * S->jet[k - j][iy];
+            s += jet[j][ix] * jet[k - j][ix] + jet[j][iy] * jet[k - j][iy];
         q[k] = s;
     }
 }
 
 /* sum_k |x_k| h^k and |y_k|'s: |r(s)| <= hypot of both on [0, h] */
-static double r2_bound(const Stepper *S, const int *amp, double h)
+static double r2_bound(const Jet jet, const int *amp, double h)
 {
     double bx = 0.0, by = 0.0, hk = 1.0;
     for (int k = 0; k <= P; ++k) {
-        bx += fabs(S->jet[k][amp[0]]) * hk;
-        by += fabs(S->jet[k][amp[1]]) * hk;
+        bx += fabs(jet[k][amp[0]]) * hk;
+        by += fabs(jet[k][amp[1]]) * hk;
         hk *= h;
     }
     return bx * bx + by * by;
@@ -489,13 +493,13 @@ static double r2_last_above(const double *q, double h, double H2)
     return n ? roots[n - 1] : -1.0;
 }
 
-/* the first sign change in (0, h] of the Piecewise conditions' series (lane 0): h itself if none */
-static double switch_limit(const Stepper *S, double t, double h)
+/* the first sign change in (0, h] of the Piecewise conditions' series (lane b): h itself if none */
+static double switch_limit(const TsWork *w, int b, double t, double h)
 {
 #if TS_N_SWITCH > 0
     double c[P + 1], roots[MAXR];
     for (int which = 0; which < TS_N_SWITCH; ++which) {
-        for (int k = 0; k < P; ++k) c[k] = TSF(_ts_switch)(&S->w, which, k, 0);
+        for (int k = 0; k < P; ++k) c[k] = TSF(_ts_switch)(w, which, k, b);
         c[P] = 0.0; /* (the body computes a switch's coefficients to order P - 1) */
         int n = roots_on(c, P - 1, h, roots);
         for (int k = 0; k < n; ++k)
@@ -506,7 +510,8 @@ static double switch_limit(const Stepper *S, double t, double h)
             }
     }
 #else
-    (void)S;
+    (void)w;
+    (void)b;
     (void)t;
 #endif
     return h;
@@ -520,11 +525,173 @@ typedef struct {
     long k;
 } Trajectory;
 
+/* What a run is asked (shared by the trajectories of a batch) */
+typedef struct {
+    double t_end, rtol, atol, fac, H2, check_dt;
+    long max_steps;
+    const int *amp;
+    int measures, n_targets;
+    const double *centres, *weights, *cubics, *levels;
+    const unsigned char *periodic;
+} Settings;
+
+/* One trajectory's state between steps (a lane of a batch, or the single run) */
+typedef struct {
+    double t, y[NY], r2max, last_above, next_check;
+    long steps;
+    int status, target, running;
+    int keep; /* the single run: every step end into T, Y */
+    size_t cap, K;
+    double *T, *Y;
+    double t_fail;
+} Lane;
+
+static void lane_start(Lane *L, const Settings *st, const double *y0, int keep)
+{
+    memset(L, 0, sizeof *L);
+    memcpy(L->y, y0, sizeof L->y);
+    L->r2max = adb_r2(y0, st->amp[0], st->amp[1]);
+    L->last_above = L->r2max >= st->H2 ? 0.0 : -1.0;
+    L->next_check = st->check_dt > 0.0 ? st->check_dt : INFINITY;
+    L->status = ADB_SUCCESS;
+    L->target = -1;
+    L->running = 1;
+    L->t_fail = NAN;
+    L->keep = keep;
+    if (keep) {
+        L->cap = 1024;
+        L->T = malloc(L->cap * sizeof(double));
+        L->Y = malloc(L->cap * NY * sizeof(double));
+        L->T[0] = 0.0;
+        memcpy(L->Y, y0, sizeof(double) * NY);
+        L->K = 1;
+    }
+}
+
+static void lane_store(Lane *L)
+{
+    if (!L->keep) return;
+    if (L->K + 1 > L->cap) {
+        L->cap *= 2;
+        L->T = realloc(L->T, L->cap * sizeof(double));
+        L->Y = realloc(L->Y, L->cap * NY * sizeof(double));
+    }
+    L->T[L->K] = L->t;
+    memcpy(L->Y + L->K * NY, L->y, sizeof L->y);
+    ++L->K;
+}
+
+static void lane_fail(Lane *L, int status)
+{
+    L->status = status;
+    L->t_fail = L->t;
+    L->running = 0;
+}
+
+/* One step of a lane from the jet of its state (lane b of the workspace w for the Piecewise switches):
+ * the step size, the new state, r_max and t_dec on the step's polynomial, early stop. */
+static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *w, int b)
+{
+    const double t = L->t;
+    double ynew[NY], q[DEG + 1];
+    if (st->max_steps > 0 && L->steps >= st->max_steps) {
+        lane_fail(L, ADB_MAX_STEPS);
+        return;
+    }
+    double h = step_size(jet, st->rtol, st->atol, st->fac);
+    if (!(h > 0.0) || !isfinite(h)) {
+        /* a zero or non-finite coefficient norm: a non-finite state, or an exactly polynomial solution */
+        if (!adb_all_finite(jet[P], NY) || !adb_all_finite(jet[P - 1], NY)) {
+            lane_fail(L, ADB_NONFINITE);
+            return;
+        }
+        h = st->t_end - t;
+    }
+    if (t + h > st->t_end) h = st->t_end - t;
+    h = switch_limit(w, b, t, h);
+    if (!(t + h > t)) {
+        lane_fail(L, ADB_STEP_UNDERFLOW);
+        return;
+    }
+    horner(jet, h, ynew);
+    if (!adb_all_finite(ynew, NY)) {
+        lane_fail(L, ADB_NONFINITE);
+        return;
+    }
+    const double t1 = (t + h >= st->t_end) ? st->t_end : t + h;
+    ++L->steps;
+    if (st->measures) {
+        /* two screens before any root finding: (sum |x_k| h^k)^2 + (sum |y_k| h^k)^2, then, on r^2's
+         * own coefficients, r^2_0 + sum_k |r^2_k| h^k (tight where x, y turn while r changes slowly) */
+        const double end2 = adb_r2(ynew, st->amp[0], st->amp[1]), H2 = st->H2;
+        double bound = r2_bound(jet, st->amp, h);
+        const int want_max = bound > L->r2max, want_dec = end2 < H2 && bound >= H2;
+        if (want_max || want_dec) {
+            r2_poly(jet, st->amp, q);
+            double tail = 0.0, hk = h;
+            for (int k = 1; k <= DEG; ++k, hk *= h) tail += fabs(q[k]) * hk;
+            bound = q[0] + tail;
+            if (want_max && bound > L->r2max) L->r2max = fmax(L->r2max, r2_max(q, h));
+            if (want_dec && bound >= H2) {
+                double sl = r2_last_above(q, h, H2);
+                if (sl >= 0.0) L->last_above = t + sl;
+            }
+        }
+        if (end2 >= H2) L->last_above = t1;
+    }
+    /* early stop: the state at each multiple of check_dt inside this step, on its polynomial (the steps
+     * are the same with or without targets) */
+    while (st->n_targets > 0 && L->next_check <= t1 && L->next_check < st->t_end) {
+        double yc[NY];
+        horner(jet, L->next_check - t, yc);
+        int k = adb_in_target(yc, st->n_targets, st->centres, st->weights, st->cubics, st->levels, st->periodic);
+        if (k >= 0) {
+            L->target = k;
+            L->status = ADB_STOPPED;
+            L->t = L->next_check;
+            memcpy(L->y, yc, sizeof yc);
+            lane_store(L);
+            L->running = 0;
+            return;
+        }
+        L->next_check += st->check_dt;
+    }
+    L->t = t1;
+    memcpy(L->y, ynew, sizeof ynew);
+    lane_store(L);
+    if (L->t >= st->t_end) L->running = 0;
+}
+
+/* A finished lane's outputs (out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [order passes
+ * (steps x P, the analogue of rhs evaluations), steps]) */
+static void lane_finish(const Lane *L, const Settings *st, int *target, double *y_end, double *out_stats,
+                        long *out_counts)
+{
+    out_stats[0] = out_stats[1] = NAN;
+    if (st->measures) {
+        out_stats[0] = sqrt(L->r2max);
+        if (L->status == ADB_SUCCESS)
+            out_stats[1] = adb_r2(L->y, st->amp[0], st->amp[1]) >= st->H2 ? NAN
+                           : (L->last_above < 0.0 ? 0.0 : L->last_above);
+    }
+    out_stats[2] = L->t;
+    out_stats[3] = L->t_fail;
+    memcpy(y_end, L->y, sizeof L->y);
+    out_counts[0] = L->steps * P;
+    out_counts[1] = L->steps;
+    if (target) *target = L->target;
+}
+
+static int bad_settings(double t_end, double rtol, double atol, double fac)
+{
+    return !(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !(fac > 0.0);
+}
+
+#if TS_B == 1
 /* One trajectory from t = 0 to t_end (the contract of cyrk_driver.c's adb_cyrk_integrate, with fac, the
  * step factor, in place of the method).  With check_dt > 0 the state is tested at every multiple of
  * check_dt (on the step's polynomial: the steps are the same with or without targets) and the run
- * stops in the first target region holding it.  out_stats: [r_max, t_dec, t_last, t_fail];
- * out_counts: [order passes (steps x P, the analogue of rhs evaluations), steps]. */
+ * stops in the first target region holding it. */
 int adb_taylor_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, double fac,
                          long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
                          const double *centres, const double *weights, const double *cubics, const double *levels,
@@ -535,140 +702,28 @@ int adb_taylor_integrate(const double *y0, const double *p, double t_end, double
     out_counts[0] = out_counts[1] = 0;
     if (target) *target = -1;
     if (traj) traj->t = traj->y = NULL, traj->k = 0;
-    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !(fac > 0.0) || !adb_all_finite(y0, NY))
-        return ADB_BAD_INPUT;
+    if (bad_settings(t_end, rtol, atol, fac) || !adb_all_finite(y0, NY)) return ADB_BAD_INPUT;
     binoms();
     Stepper *S = malloc(sizeof(Stepper));
     if (!S) return ADB_SOLVER_FAILURE;
+    const Settings st = {t_end, rtol, atol, fac, threshold * threshold, check_dt, max_steps, amp_idx, measures,
+                         n_targets, centres, weights, cubics, levels, periodic};
     TSF(_ts_setup)(&S->w, p);
-    double y[NY], ynew[NY], q[DEG + 1];
-    memcpy(y, y0, sizeof y);
-    size_t cap = keep ? 1024 : 0, K = 0;
-    double *T = NULL, *Y = NULL;
-    if (keep) {
-        T = malloc(cap * sizeof(double));
-        Y = malloc(cap * NY * sizeof(double));
-        T[0] = 0.0;
-        memcpy(Y, y0, sizeof(double) * NY);
-        K = 1;
+    Lane L;
+    lane_start(&L, &st, y0, keep && traj != NULL);
+    while (L.running) {
+        jet_of(S, L.t, L.y);
+        lane_step(&L, &st, (const double(*)[NY])S->jet, &S->w, 0);
     }
-    const double H2 = threshold * threshold;
-    double t = 0.0, r2max = adb_r2(y0, amp_idx[0], amp_idx[1]), last_above = -1.0;
-    if (r2max >= H2) last_above = 0.0;
-    double next_check = check_dt > 0.0 ? check_dt : INFINITY;
-    long steps = 0;
-    int status = ADB_SUCCESS;
-    while (t < t_end) {
-        if (max_steps > 0 && steps >= max_steps) {
-            status = ADB_MAX_STEPS;
-            out_stats[3] = t;
-            break;
-        }
-        jet_of(S, t, y);
-        double h = step_size(S, rtol, atol, fac);
-        if (!(h > 0.0) || !isfinite(h)) {
-            /* a zero or non-finite coefficient norm: a non-finite state, or an exactly polynomial solution */
-            if (!adb_all_finite(S->jet[P], NY) || !adb_all_finite(S->jet[P - 1], NY)) {
-                status = ADB_NONFINITE;
-                out_stats[3] = t;
-                break;
-            }
-            h = t_end - t;
-        }
-        if (t + h > t_end) h = t_end - t;
-        h = switch_limit(S, t, h);
-        if (!(t + h > t)) {
-            status = ADB_STEP_UNDERFLOW;
-            out_stats[3] = t;
-            break;
-        }
-        horner(S, h, ynew);
-        if (!adb_all_finite(ynew, NY)) {
-            status = ADB_NONFINITE;
-            out_stats[3] = t;
-            break;
-        }
-        const double t1 = (t + h >= t_end) ? t_end : t + h;
-        ++steps;
-        if (measures) {
-            /* two screens before any root finding: (sum |x_k| h^k)^2 + (sum |y_k| h^k)^2, then, on r^2's
-             * own coefficients, r^2_0 + sum_k |r^2_k| h^k (tight where x, y turn while r changes slowly) */
-            const double end2 = adb_r2(ynew, amp_idx[0], amp_idx[1]);
-            double bound = r2_bound(S, amp_idx, h);
-            const int want_max = bound > r2max, want_dec = end2 < H2 && bound >= H2;
-            if (want_max || want_dec) {
-                r2_poly(S, amp_idx, q);
-                double tail = 0.0, hk = h;
-                for (int k = 1; k <= DEG; ++k, hk *= h) tail += fabs(q[k]) * hk;
-                bound = q[0] + tail;
-                if (want_max && bound > r2max) r2max = fmax(r2max, r2_max(q, h));
-                if (want_dec && bound >= H2) {
-                    double s = r2_last_above(q, h, H2);
-                    if (s >= 0.0) last_above = t + s;
-                }
-            }
-            if (end2 >= H2) last_above = t1;
-        }
-        /* early stop: the state at each multiple of check_dt inside this step, on its polynomial */
-        int stopped = -1;
-        while (n_targets > 0 && next_check <= t1 && next_check < t_end) {
-            double yc[NY];
-            horner(S, next_check - t, yc);
-            int k = adb_in_target(yc, n_targets, centres, weights, cubics, levels, periodic);
-            if (k >= 0) {
-                stopped = k;
-                memcpy(ynew, yc, sizeof yc);
-                t = next_check;
-                break;
-            }
-            next_check += check_dt;
-        }
-        if (stopped >= 0) {
-            if (target) *target = stopped;
-            status = ADB_STOPPED;
-            memcpy(y, ynew, sizeof y);
-            if (keep) {
-                if (K + 1 > cap) {
-                    cap *= 2;
-                    T = realloc(T, cap * sizeof(double));
-                    Y = realloc(Y, cap * NY * sizeof(double));
-                }
-                T[K] = t;
-                memcpy(Y + K * NY, y, sizeof y);
-                ++K;
-            }
-            break;
-        }
-        t = t1;
-        memcpy(y, ynew, sizeof y);
-        if (keep) {
-            if (K + 1 > cap) {
-                cap *= 2;
-                T = realloc(T, cap * sizeof(double));
-                Y = realloc(Y, cap * NY * sizeof(double));
-            }
-            T[K] = t;
-            memcpy(Y + K * NY, y, sizeof y);
-            ++K;
-        }
-    }
-    if (measures) {
-        out_stats[0] = sqrt(r2max);
-        if (status == ADB_SUCCESS)
-            out_stats[1] = adb_r2(y, amp_idx[0], amp_idx[1]) >= H2 ? NAN : (last_above < 0.0 ? 0.0 : last_above);
-    }
-    out_stats[2] = t;
-    memcpy(y_end, y, sizeof y);
-    out_counts[0] = steps * P;
-    out_counts[1] = steps;
+    lane_finish(&L, &st, target, y_end, out_stats, out_counts);
     free(S);
-    if (traj && keep) {
-        traj->t = T, traj->y = Y, traj->k = (long)K;
+    if (traj && L.keep) {
+        traj->t = L.T, traj->y = L.Y, traj->k = (long)L.K;
     } else {
-        free(T);
-        free(Y);
+        free(L.T);
+        free(L.Y);
     }
-    return status;
+    return L.status;
 }
 
 void adb_taylor_release(Trajectory *traj)
@@ -700,6 +755,368 @@ void adb_taylor_integrate_many(int n, const double *Y0, const double *Pm, double
                                          Y_end + (size_t)k * NY, stats + (size_t)k * 4, counts + (size_t)k * 2);
 }
 
+#endif
+
+#if TS_B > 1
+/* ---------------------------------------------------------------------- the batch variant (TS_B > 1)
+ * TS_B trajectories at once, one per lane of every series (the series program's batch dimension): every
+ * operation of a step runs on the TS_B lanes together (SIMD), then each lane takes its own step (its own
+ * time, step size, events, switches, early stop).  A finished trajectory's lane takes the next one from
+ * the queue; a lane with nothing left to run copies a running lane (its results are not used). */
+typedef struct {
+    double jet[P + 1][NY * TS_B]; /* row k: state r of lane b at r * TS_B + b (the series' load layout) */
+    double f[NY * TS_B];
+    TsWork w;
+} BStepper;
+
+#define ADB_BORDER_FN(K)                                                                                     \
+    static __attribute__((noinline)) void border_##K(BStepper *S)                                            \
+    {                                                                                                        \
+        TSF(_ts_order)(&S->w, (K), S->f);                                                                    \
+        for (int i = 0; i < NY * TS_B; ++i) S->jet[(K) + 1][i] = S->f[i] * ts_rec[(K) + 1];                   \
+        TSF(_ts_load)(&S->w, (K) + 1, S->jet[(K) + 1]);                                                      \
+    }
+#if P > 0
+ADB_BORDER_FN(0)
+#endif
+#if P > 1
+ADB_BORDER_FN(1)
+#endif
+#if P > 2
+ADB_BORDER_FN(2)
+#endif
+#if P > 3
+ADB_BORDER_FN(3)
+#endif
+#if P > 4
+ADB_BORDER_FN(4)
+#endif
+#if P > 5
+ADB_BORDER_FN(5)
+#endif
+#if P > 6
+ADB_BORDER_FN(6)
+#endif
+#if P > 7
+ADB_BORDER_FN(7)
+#endif
+#if P > 8
+ADB_BORDER_FN(8)
+#endif
+#if P > 9
+ADB_BORDER_FN(9)
+#endif
+#if P > 10
+ADB_BORDER_FN(10)
+#endif
+#if P > 11
+ADB_BORDER_FN(11)
+#endif
+#if P > 12
+ADB_BORDER_FN(12)
+#endif
+#if P > 13
+ADB_BORDER_FN(13)
+#endif
+#if P > 14
+ADB_BORDER_FN(14)
+#endif
+#if P > 15
+ADB_BORDER_FN(15)
+#endif
+#if P > 16
+ADB_BORDER_FN(16)
+#endif
+#if P > 17
+ADB_BORDER_FN(17)
+#endif
+#if P > 18
+ADB_BORDER_FN(18)
+#endif
+#if P > 19
+ADB_BORDER_FN(19)
+#endif
+#if P > 20
+ADB_BORDER_FN(20)
+#endif
+#if P > 21
+ADB_BORDER_FN(21)
+#endif
+#if P > 22
+ADB_BORDER_FN(22)
+#endif
+#if P > 23
+ADB_BORDER_FN(23)
+#endif
+#if P > 24
+ADB_BORDER_FN(24)
+#endif
+#if P > 25
+ADB_BORDER_FN(25)
+#endif
+#if P > 26
+ADB_BORDER_FN(26)
+#endif
+#if P > 27
+ADB_BORDER_FN(27)
+#endif
+#if P > 28
+ADB_BORDER_FN(28)
+#endif
+#if P > 29
+ADB_BORDER_FN(29)
+#endif
+#if P > 30
+ADB_BORDER_FN(30)
+#endif
+#if P > 31
+ADB_BORDER_FN(31)
+#endif
+#if P > 32
+ADB_BORDER_FN(32)
+#endif
+#if P > 33
+ADB_BORDER_FN(33)
+#endif
+#if P > 34
+ADB_BORDER_FN(34)
+#endif
+#if P > 35
+ADB_BORDER_FN(35)
+#endif
+#if P > 36
+ADB_BORDER_FN(36)
+#endif
+#if P > 37
+ADB_BORDER_FN(37)
+#endif
+#if P > 38
+ADB_BORDER_FN(38)
+#endif
+#if P > 39
+ADB_BORDER_FN(39)
+#endif
+
+static void (*const borders[P])(BStepper *) = {
+#if P > 0
+    border_0,
+#endif
+#if P > 1
+    border_1,
+#endif
+#if P > 2
+    border_2,
+#endif
+#if P > 3
+    border_3,
+#endif
+#if P > 4
+    border_4,
+#endif
+#if P > 5
+    border_5,
+#endif
+#if P > 6
+    border_6,
+#endif
+#if P > 7
+    border_7,
+#endif
+#if P > 8
+    border_8,
+#endif
+#if P > 9
+    border_9,
+#endif
+#if P > 10
+    border_10,
+#endif
+#if P > 11
+    border_11,
+#endif
+#if P > 12
+    border_12,
+#endif
+#if P > 13
+    border_13,
+#endif
+#if P > 14
+    border_14,
+#endif
+#if P > 15
+    border_15,
+#endif
+#if P > 16
+    border_16,
+#endif
+#if P > 17
+    border_17,
+#endif
+#if P > 18
+    border_18,
+#endif
+#if P > 19
+    border_19,
+#endif
+#if P > 20
+    border_20,
+#endif
+#if P > 21
+    border_21,
+#endif
+#if P > 22
+    border_22,
+#endif
+#if P > 23
+    border_23,
+#endif
+#if P > 24
+    border_24,
+#endif
+#if P > 25
+    border_25,
+#endif
+#if P > 26
+    border_26,
+#endif
+#if P > 27
+    border_27,
+#endif
+#if P > 28
+    border_28,
+#endif
+#if P > 29
+    border_29,
+#endif
+#if P > 30
+    border_30,
+#endif
+#if P > 31
+    border_31,
+#endif
+#if P > 32
+    border_32,
+#endif
+#if P > 33
+    border_33,
+#endif
+#if P > 34
+    border_34,
+#endif
+#if P > 35
+    border_35,
+#endif
+#if P > 36
+    border_36,
+#endif
+#if P > 37
+    border_37,
+#endif
+#if P > 38
+    border_38,
+#endif
+#if P > 39
+    border_39,
+#endif
+};
+
+static int take_next(int *next, int n)
+{
+    int k;
+#ifdef _OPENMP
+#pragma omp atomic capture
+#endif
+    k = (*next)++;
+    return k < n ? k : -1;
+}
+
+/* The contract of adb_taylor_integrate_many; `threads` OpenMP threads, each with its own batch. */
+void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
+                           double fac, long max_steps, const int *amp_idx, double threshold, int measures,
+                           double check_dt, int n_targets, const double *centres, const double *weights,
+                           const double *cubics, const double *levels, const unsigned char *periodic, int threads,
+                           int *status, int *target, double *Y_end, double *stats, long *counts)
+{
+    binoms();
+    const Settings st = {t_end, rtol, atol, fac, threshold * threshold, check_dt, max_steps, amp_idx, measures,
+                         n_targets, centres, weights, cubics, levels, periodic};
+    for (int k = 0; k < n; ++k) {
+        status[k] = ADB_BAD_INPUT;
+        target[k] = -1;
+        for (int i = 0; i < 4; ++i) stats[(size_t)k * 4 + i] = NAN;
+        counts[(size_t)k * 2] = counts[(size_t)k * 2 + 1] = 0;
+    }
+    if (bad_settings(t_end, rtol, atol, fac)) return;
+    int next = 0;
+#ifdef _OPENMP
+    if (threads < 1) threads = omp_get_max_threads();
+#pragma omp parallel num_threads(threads)
+#else
+    (void)threads;
+#endif
+    {
+        BStepper *S = malloc(sizeof(BStepper));
+        Lane L[TS_B];
+        int traj[TS_B];
+        double params[TS_B * ADB_NP], tl[TS_B];
+        double lj[P + 1][NY];
+        int dirty = 1;
+        for (int b = 0; b < TS_B; ++b) {
+            traj[b] = -1;
+            L[b].running = 0;
+        }
+        for (;;) {
+            /* fill idle lanes from the queue (a bad initial state is reported and skipped) */
+            for (int b = 0; b < TS_B; ++b) {
+                while (!L[b].running) {
+                    int k = take_next(&next, n);
+                    traj[b] = k;
+                    if (k < 0) break;
+                    if (!adb_all_finite(Y0 + (size_t)k * NY, NY)) continue;
+                    lane_start(&L[b], &st, Y0 + (size_t)k * NY, 0);
+                    memcpy(params + b * ADB_NP, Pm + (size_t)k * ADB_NP, sizeof(double) * ADB_NP);
+                    dirty = 1;
+                }
+            }
+            int live = -1;
+            for (int b = 0; b < TS_B; ++b)
+                if (L[b].running) live = b;
+            if (live < 0 || !S) break;
+            for (int b = 0; b < TS_B; ++b)
+                if (!L[b].running) { /* an idle lane computes a copy of a running one */
+                    memcpy(params + b * ADB_NP, params + live * ADB_NP, sizeof(double) * ADB_NP);
+                    L[b].t = L[live].t;
+                    memcpy(L[b].y, L[live].y, sizeof L[b].y);
+                    dirty = 1;
+                }
+            if (dirty) TSF(_ts_setup)(&S->w, params);
+            dirty = 0;
+            for (int b = 0; b < TS_B; ++b) {
+                tl[b] = L[b].t;
+                for (int r = 0; r < NY; ++r) S->jet[0][r * TS_B + b] = L[b].y[r];
+            }
+            TSF(_ts_time)(&S->w, tl, 1.0);
+            TSF(_ts_load)(&S->w, 0, S->jet[0]);
+            for (int K = 0; K < P; ++K) borders[K](S);
+            for (int b = 0; b < TS_B; ++b) {
+                if (!L[b].running || traj[b] < 0) continue;
+                for (int k = 0; k <= P; ++k)
+                    for (int r = 0; r < NY; ++r) lj[k][r] = S->jet[k][r * TS_B + b];
+                lane_step(&L[b], &st, (const double(*)[NY])lj, &S->w, b);
+                if (!L[b].running) {
+                    const int k = traj[b];
+                    lane_finish(&L[b], &st, target + k, Y_end + (size_t)k * NY, stats + (size_t)k * 4,
+                                counts + (size_t)k * 2);
+                    status[k] = L[b].status;
+                }
+            }
+        }
+        free(S);
+    }
+}
+#endif
+
+#if TS_B == 1
 /* The continuous solution of a run at `times` (n, increasing, within [T[0], T[K-1]]) into out (n x NY):
  * each step's polynomial, computed again from its start (the same coefficients as in the run). */
 int adb_taylor_dense(const double *T, const double *Y, long K, const double *p, int n, const double *times,
@@ -715,7 +1132,7 @@ int adb_taylor_dense(const double *T, const double *Y, long K, const double *p, 
             jet_of(S, T[k], Y + k * NY);
             held = k;
         }
-        horner(S, times[j] - T[k], out + (size_t)j * NY);
+        horner((const double(*)[NY])S->jet, times[j] - T[k], out + (size_t)j * NY);
     }
     free(S);
     return 0;
@@ -732,3 +1149,4 @@ int adb_taylor_jet(double t, const double *y, const double *p, double *jet)
     free(S);
     return P;
 }
+#endif
