@@ -36,6 +36,7 @@ from adbgen.analysis.simulate import amplitude, simulate
 from adbgen.cli import main as adbgen
 from adbgen.codegen.interpret import compile_program
 from adbgen.codegen.render import render_model, source_hash
+from adbgen.codegen.spec import build
 from adbgen.families.single_plane import models
 from adbgen.notebooks import show
 
@@ -48,7 +49,7 @@ from adbgen.notebooks import show
 # %%
 spec = models.thesis_rotating(2)
 system = spec.system()
-ir = spec.build()
+ir = build(spec)
 print("states:", ir.state_names)
 print("parameters:", ir.parameter_names)
 print("core:", ir.core, " leaves:", ir.leaves)
@@ -105,7 +106,7 @@ print(f"rhs program = closed form at 20 random points (largest difference {worst
 
 # %%
 ns = (1, 2, 3, 4, 6)
-built = {n: models.thesis_rotating(n).build() for n in ns}
+built = {n: build(models.thesis_rotating(n)) for n in ns}
 printed = {n: built[n].count_ops("rhs") for n in ns}
 ops = {n: built[n].as_unrolled().rhs.count_ops() for n in ns}
 slope, intercept = np.polyfit(ns, [ops[n] for n in ns], 1)

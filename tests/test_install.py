@@ -1,5 +1,6 @@
 """`pip install .` (not editable) into a fresh virtual environment, then `adbgen regenerate` from any
-directory (issue 8): the templates ship inside the wheel.
+directory (issue 8): the templates ship inside the wheel (issue 19: the top-level templates/<target>/,
+mapped to the package adbgen.templates).
 
 The wheel is built from a copy of the tracked source files (so no build/ or egg-info lands in the
 checkout) with `pip wheel --no-deps --no-build-isolation`; the environment is
@@ -27,8 +28,8 @@ def _tracked_files() -> list[str]:
     r = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, text=True)
     if r.returncode == 0 and r.stdout:
         return [f for f in r.stdout.split("\0") if f]
-    return [p.relative_to(ROOT).as_posix() for top in ("adbgen", "generated") for p in (ROOT / top).rglob("*")
-            if p.is_file() and "__pycache__" not in p.parts] + ["pyproject.toml", "README.md"]
+    return [p.relative_to(ROOT).as_posix() for top in ("adbgen", "generated", "templates") for p in (ROOT / top).rglob("*")
+            if p.is_file() and "__pycache__" not in p.parts] + ["pyproject.toml", "setup.py", "README.md"]
 
 
 def _run(args, cwd, env, timeout=900) -> subprocess.CompletedProcess:
@@ -42,7 +43,7 @@ def installed(tmp_path_factory):
     base = tmp_path_factory.mktemp("install")
     src = base / "src"
     for rel in _tracked_files():
-        if rel.startswith(("adbgen/", "generated/")) or rel in ("pyproject.toml", "README.md"):
+        if rel.startswith(("adbgen/", "generated/", "templates/")) or rel in ("pyproject.toml", "setup.py", "README.md"):
             (src / rel).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(ROOT / rel, src / rel)
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
@@ -59,20 +60,20 @@ def installed(tmp_path_factory):
     assert r.returncode == 0, r.stdout + r.stderr
     elsewhere = base / "elsewhere"
     elsewhere.mkdir()
-    r = _run([python, "-c", "import adbgen, adbgen.codegen.targets.auto as a; print(adbgen.__file__); print(a.TARGET.templates)"],
+    r = _run([python, "-c", "import adbgen, adbgen.codegen.targets.auto as a; print(adbgen.__file__); print(a.TARGET.template_folder)"],
              elsewhere, env)
     assert r.returncode == 0, r.stderr
     module, templates = r.stdout.split()
     venv = (base / "venv").resolve()
     assert Path(module).resolve().is_relative_to(venv), f"the checkout, not the wheel, was imported: {module}"
-    assert (Path(templates) / "user.c.j2").is_file()
+    assert Path(templates).resolve().is_relative_to(venv) and (Path(templates) / "user.c.j2").is_file()
     return python, script, env, elsewhere
 
 
 def test_the_wheel_holds_the_templates_and_generated_files(installed):
     python, _, env, elsewhere = installed
     code = ("import importlib.resources as r; "
-            "print(sorted(p.name for p in (r.files('adbgen.codegen.targets.auto') / 'templates').iterdir())); "
+            "print(sorted(p.name for p in (r.files('adbgen') / 'templates' / 'auto').iterdir())); "
             "print((r.files('generated') / 'two_plane_rotating' / 'auto' / 'c.two_plane_rotating').is_file())")
     r = _run([python, "-c", code], elsewhere, env)
     assert r.returncode == 0, r.stderr

@@ -141,19 +141,125 @@ class Model:
             raise AnalysisError(f"{state!r} is not a state of {self.name}; states: "
                                 f"{', '.join(self.state_names)}") from None
 
-    @property
-    def amplitude_indices(self) -> tuple[int, int, int, int]:
-        """(x, y, x', y') of the rotor's centre: the first two core coordinates and their rates.
+    # -- the self-description (issue 19): what the generated module says about itself, declared by its
+    # family and checked against its rhs when it was written; read here, never guessed from names
 
-        r = sqrt(x^2 + y^2) is the thesis' rotor amplitude (rotating frame) and the rotor centre's
-        amplitude in the fixed frame (X, Y) and for the two-plane rotor (X, Y of its centre)."""
-        a, b = self.module.CORE[:2]
-        return self.index(a), self.index(b), self.index(a + "_dot"), self.index(b + "_dot")
+    def _described(self, attribute: str):
+        try:
+            return getattr(self.module, attribute)
+        except AttributeError:
+            raise AnalysisError(f"{self.name} ({self.folder}) was generated before models described themselves "
+                                f"(no {attribute}): run `adbgen regenerate` for it") from None
+
+    @property
+    def family(self) -> str:
+        """The family's registry key ("single-plane", "two-plane", ...)."""
+        return self._described("FAMILY")
+
+    @property
+    def kind(self) -> str:
+        """The family's kind of model ("thesis_rotating", "two_plane_fixed", ...; "scene" for a scene's)."""
+        return self._described("KIND")
+
+    @property
+    def time_unit(self) -> str:
+        """"s", or "1" for dimensionless time."""
+        return self._described("TIME_UNIT")
+
+    @property
+    def state_units(self) -> tuple[str, ...]:
+        return tuple(self._described("STATE_UNITS"))
+
+    @property
+    def roles(self) -> tuple[str, ...]:
+        """One per state: "translation", "tilt", "ball_angle", "spin_angle", ... and "<role>_rate"."""
+        return tuple(self._described("STATE_ROLES"))
+
+    @property
+    def param_domains(self) -> tuple[str, ...]:
+        """One per parameter: "positive", "nonnegative" or "real" (the assumptions the derivation made)."""
+        return tuple(self._described("PARAM_DOMAINS"))
+
+    @property
+    def angles(self) -> tuple[str, ...]:
+        """The states on which the rhs is 2 pi-periodic (ball angles, a spin angle)."""
+        return tuple(self._described("ANGLES"))
 
     @property
     def angle_indices(self) -> tuple[int, ...]:
-        """Positions of the angle states (the balls' angles): periodic with period 2 pi."""
-        return tuple(self.index(name) for name in self.leaves)
+        """Positions of the angles (`angles`) in the state vector."""
+        return tuple(self.index(name) for name in self.angles)
+
+    @property
+    def amplitude(self) -> tuple[str, str]:
+        """The two states whose hypot is the rotor's amplitude r."""
+        return tuple(self._described("AMPLITUDE"))
+
+    @property
+    def amplitude_indices(self) -> tuple[int, int, int, int]:
+        """(a, b, a', b'): positions of the amplitude's two states and of their rates.
+
+        r = sqrt(a^2 + b^2) is the thesis' rotor amplitude (rotating frame), the rotor centre's in the
+        fixed frame (X, Y) and for the two-plane rotor (X, Y of its centre)."""
+        a, b = (self.index(name) for name in self.amplitude)
+        return a, b, a + self.n_coordinates, b + self.n_coordinates
+
+    @property
+    def measures(self) -> tuple[str, ...]:
+        """The compiled measures: "r" for every model, the family's own ("A", "spin_rate", ...)."""
+        return tuple(self._described("MEASURES"))
+
+    def measure(self, name: str, t, y, p) -> float | np.ndarray:
+        """Measure `name` at (t, y, p); with y of shape (states, samples) and t one time per sample (or
+        one for all), an array over the samples."""
+        if name not in self.measures:
+            raise AnalysisError(f"{name!r} is not a measure of {self.name}; measures: {', '.join(self.measures)}")
+        y = np.asarray(y, dtype=float)
+        p = np.asarray(p, dtype=float)
+        if y.ndim == 1:
+            return float(self.module.measure(name, float(t), y, p))
+        ts = np.broadcast_to(np.asarray(t, dtype=float), (y.shape[1],))
+        return self.module.measures_along(np.ascontiguousarray(ts), np.ascontiguousarray(y), p)[self.measures.index(name)]
+
+    @property
+    def forcing_frequency(self) -> str:
+        """The parameter whose 2 pi / value is the forcing period of a periodically forced model ("": none)."""
+        return self._described("FORCING_FREQUENCY")
+
+    @property
+    def symmetries(self) -> tuple[dict, ...]:
+        """{"name", "kind", "states", "signs", "params", "param_signs"}: rhs(t, S y, p) = S rhs(t, y, p), with
+        (S y)[k] = signs[k] y[states[k]], wherever p[k] == param_signs[k] p[params[k]]."""
+        return tuple(self._described("SYMMETRIES"))
+
+    @property
+    def parameter_sets(self) -> dict[str, dict[str, float]]:
+        """The documents' named parameter sets ({name: {parameter: value}}; others keep the defaults)."""
+        return dict(self._described("PARAMETER_SETS"))
+
+    @property
+    def scales(self) -> dict[str, str]:
+        """{"eccentricity": parameter, "speed": parameter} where the model has them."""
+        return dict(self._described("SCALES"))
+
+    @property
+    def steady_states(self) -> tuple[str, ...]:
+        """The labels of the closed-form steady states ("1", "2+", "3(1)-", "B", ...)."""
+        return tuple(self._described("STEADY_STATES"))
+
+    def steady_state_note(self, label: str) -> str:
+        return self._described("STEADY_STATE_NOTES")[self._label(label)]
+
+    def _label(self, label: str) -> str:
+        if label not in self.steady_states:
+            known = ", ".join(self.steady_states) or "none"
+            raise AnalysisError(f"unknown steady state {label!r} of {self.name}; closed-form steady states: {known}")
+        return label
+
+    def steady_state(self, label: str, p) -> np.ndarray | None:
+        """The closed-form steady state `label` at parameters p (rates zero), or None where it does not
+        exist (or its closed form does not apply: `steady_state_note`)."""
+        return self.module.steady_state(self._label(label), self.check_vector(p, "parameter"))
 
     def params(self, values: dict[str, float] | None = None) -> np.ndarray:
         """DEFAULTS with the named values replaced (unknown names and non-finite values refused)."""

@@ -159,13 +159,14 @@ def cost_per_step(order: int, factor: float, repeats: int, label: str = "A") -> 
     from .. import families
     from ..analysis.engines.taylor import TaylorEngine
     from ..analysis.loading import load_model
+    from ..codegen.spec import build as build_ir
     from ..codegen.targets.taylor.ccode import CEmitter
     from ..codegen.targets.taylor.series import decompose
     from .precision import PROBLEMS
 
     pp = PROBLEMS[label]
     spec = next(s for f in families.all_families() for s in f.models() if s.name == pp.problem.model)
-    ir = spec.build()
+    ir = build_ir(spec)
     counted = CEmitter(decompose(ir), ir.name).count(order)
     flops = counted["total"] + 2 * ir.n_states * order
     model = load_model(pp.problem.model)

@@ -97,6 +97,14 @@ def polyfit(ns, values, degree: int) -> dict:
             "max_relative_residual": round(float(np.max(np.abs(resid) / np.abs(y))), 5)}
 
 
+def build_spec(spec, system=None, form=None):
+    """The model's intermediate form (`codegen.spec.build`), imported when a benchmark runs."""
+    from ..codegen.lowering import DEFAULT_FORM
+    from ..codegen.spec import build
+
+    return build(spec, system, form=form or DEFAULT_FORM)
+
+
 def bench_ops(ns=OPS_NS, families=None, progress=None) -> dict:
     families = tuple(families or kinds())
     rows = []
@@ -104,7 +112,7 @@ def bench_ops(ns=OPS_NS, families=None, progress=None) -> dict:
         for n in ns:
             _clear_derivation_cache()
             start = time.perf_counter()
-            ir = kinds()[family](n).build(form="unrolled")  # the straight-line programs' structure
+            ir = build_spec(kinds()[family](n), form="unrolled")  # the straight-line programs' structure
             seconds = time.perf_counter() - start
             parts = jac_parts(ir.jac)
             row = {"family": family, "n": n, "build_seconds": round(seconds, 3),
@@ -152,7 +160,7 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
     spec = kinds()[family](n)
     _clear_derivation_cache()
     system = spec.system()
-    ir = spec.build(system, form=form)
+    ir = build_spec(spec, system, form=form)
     folder = render_into(ir, workdir / f"{family}_n{n}_{form}", ("numba", "c"))
     y, p = sample_point(system, ir.n_states)
     row: dict = {"family": family, "n": n, "form": ir.form, "n_states": ir.n_states, "rhs_ops": ir.count_ops("rhs"),

@@ -84,6 +84,7 @@ def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progre
     from .. import families
     from ..codegen.checks import check_programs, check_start
     from ..codegen.render import render_model
+    from ..codegen.spec import build as build_ir
     from ..families.single_plane.model import derive
 
     kinds = kinds or families.kinds()
@@ -103,7 +104,7 @@ def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progre
                     raise RuntimeError(f"check failed: {result.name}: {result.detail}")
                 ran.append({"name": result.name, "seconds": round(result.seconds, 3), "proportionate": scaled})
             t2 = time.perf_counter()
-            ir = spec.build(system)
+            ir = build_ir(spec, system)
             t3 = time.perf_counter()
             errors = check_programs(ir, system)
             for model in (ir, ir.autonomous_extension):

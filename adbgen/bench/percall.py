@@ -45,13 +45,14 @@ def percall_one(n: int, workdir: Path, *, target: float = 0.05, repeats: int = 5
 
     from . import baseline as bench_baseline
     from ..codegen.scratch import import_numba, render_into
+    from ..codegen.spec import build as build_ir
     from ..families.single_plane.model import derive
 
     derive.cache_clear()
     spec = symbolic.kinds()[FAMILY](n)
     start = time.perf_counter()
     system = spec.system()
-    ir = spec.build(system)
+    ir = build_ir(spec, system)
     folder = render_into(ir, workdir / f"{FAMILY}_n{n}", ("numba", "c"))
     row: dict = {"n": n, "n_states": ir.n_states, "build_s": round(time.perf_counter() - start, 3)}
     mod = import_numba(folder, f"_adbgen_percall_{ir.name}")

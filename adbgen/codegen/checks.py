@@ -1,6 +1,7 @@
 """Checks of the lowering, run before anything is written: every program of the intermediate form
 (rhs, jac, jac_p, mass_matrix, forcing) against an evaluation that does not go through the lowering,
-and the start point at rest in the rendered rhs.
+the start point at rest in the rendered rhs, and every declaration of the self-description against
+the rendered rhs (`check_description`).
 
 The references (`Reference`) lambdify the model's whole mass matrix M and forcing f (after the speed
 law) and solve M q'' = f densely with numpy: no Schur complement, no structure, valid for any core
@@ -206,3 +207,231 @@ def check_start(ir: ModelIR) -> None:
     if not residual <= 1e-12 * scale:
         raise CheckFailed(f"{ir.name}: the start point ({ir.start_label}) is not at rest: |rhs| = {residual:.2e} "
                           f"(scale {scale:.2e})")
+
+
+# ------------------------------------------------------------------------------ self-description
+
+DESCRIPTION_SAMPLES = 24  # random parameter points per steady-state label
+PERIODIC_TOLERANCE = 1e-9  # rhs(y + 2 pi e_k) against rhs(y), relative: sin, cos of shifted angles round
+SYMMETRY_TOLERANCE = 1e-10  # rhs(S y) against S rhs(y), relative
+STEADY_TOLERANCE = 1e-10  # |rhs| at a closed-form steady state, relative to the rhs's size nearby
+
+
+def _project(p: np.ndarray, images, signs) -> np.ndarray:
+    """p made invariant under the signed permutation: p[k] = signs[k] p[images[k]] for every k (a cycle
+    whose signs multiply to -1 can only be zero)."""
+    p = p.copy()
+    done = set()
+    for start in range(len(p)):
+        if start in done:
+            continue
+        cycle, k = [], start
+        while k not in done:
+            done.add(k)
+            cycle.append(k)
+            k = images[k]
+        # p[k] = s_k p[image(k)] with s_k = +-1, so p[image(k)] = s_k p[k] along the cycle
+        if np.prod([signs[k] for k in cycle]) < 0:
+            p[cycle] = 0.0
+            continue
+        for k in cycle[:-1]:
+            p[images[k]] = signs[k] * p[k]
+    return p
+
+
+def _apply(y: np.ndarray, images, signs) -> np.ndarray:
+    return np.asarray(signs, dtype=float) * y[list(images)]
+
+
+def _relative_to(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.max(np.abs(a - b)) / max(1e-300, float(np.max(np.abs(b))), float(np.max(np.abs(a)))))
+
+
+def _state_points(ir: ModelIR, samples: int, seed: int):
+    """Random (t, y, p): angles on the whole circle, other coordinates in [-0.1, 0.1], rates in [-1, 1],
+    parameters 0.5x to 1.5x the defaults."""
+    rng = np.random.default_rng(seed)
+    N, names = ir.n_coordinates, ir.state_names
+    angles = [names.index(a) for a in ir.description.angles]
+    defaults = np.array([p.default for p in ir.parameters], dtype=float)
+    for _ in range(samples):
+        y = rng.uniform(-1, 1, ir.n_states)
+        y[:N] *= 0.1
+        y[angles] = rng.uniform(-np.pi, np.pi, len(angles))
+        yield float(rng.uniform(0, 10)), y, defaults * rng.uniform(0.5, 1.5, defaults.size)
+
+
+def _check_roles(ir: ModelIR) -> None:
+    d = ir.description
+    coords = ir.state_names[: ir.n_coordinates]
+    turning = {c for c, role in zip(coords, d.roles) if role in ("ball_angle", "spin_angle")}
+    if turning != set(d.angles):
+        raise CheckFailed(f"{ir.name}: the angles {sorted(d.angles)} are not the coordinates whose role is a ball "
+                          f"or spin angle {sorted(turning)}")
+
+
+def _check_angles(ir: ModelIR, rhs) -> float:
+    """The rhs is 2 pi-periodic in every declared angle (and the check sees a shift of anything else)."""
+    worst = 0.0
+    for t, y, p in _state_points(ir, 2, 11):
+        base = rhs(t, y, p)
+        for name in ir.description.angles:
+            shifted = y.copy()
+            shifted[ir.state_names.index(name)] += 2 * np.pi
+            err = _relative_to(rhs(t, shifted, p), base)
+            if not err <= PERIODIC_TOLERANCE:
+                raise CheckFailed(f"{ir.name}: the rhs is not 2 pi-periodic in the declared angle {name} "
+                                  f"(relative change {err:.2e})")
+            worst = max(worst, err)
+    return worst
+
+
+def _check_measures(ir: ModelIR, system: FirstOrderSystem) -> float:
+    from .interpret import compile_measures
+
+    d = ir.description
+    eom = system.solve.eom
+    reference = sp.lambdify((eom.time, list(system.states), [p.symbol for p in system.parameters]),
+                            list(d.measure_exprs), modules="numpy")
+    measures = compile_measures(ir)
+    worst = 0.0
+    for t, y, p in _state_points(ir, 8, 12):
+        got, want = measures(t, y, p), np.array(reference(t, y[: len(system.states)], p), dtype=float)
+        for k, name in enumerate(d.measure_names):
+            err = abs(got[k] - want[k]) / max(1e-300, abs(want[k]))
+            if not err <= LOWERING_TOLERANCE:
+                raise CheckFailed(f"{ir.name}: measure {name} = {got[k]!r} where its expression gives {want[k]!r}")
+            worst = max(worst, err)
+    return worst
+
+
+def _check_forcing(ir: ModelIR, system: FirstOrderSystem) -> None:
+    from ..core.oscillator import Oscillator
+
+    d = ir.description
+    eom = system.solve.eom
+    law = dict(eom.driven_law)
+    exprs = [sp.sympify(v).xreplace(law) for v in eom.mass.values()] + [sp.sympify(e).xreplace(law) for e in eom.forcing]
+    try:
+        frequency = Oscillator.detect(exprs, eom.time).frequency
+    except ValueError:
+        frequency = None
+    declared = {p.name: p.symbol for p in system.parameters}.get(d.forcing_frequency)
+    if frequency is None and declared is not None:
+        raise CheckFailed(f"{ir.name}: declares the forcing frequency {d.forcing_frequency} but is not periodically "
+                          "forced at one frequency")
+    if frequency is not None and (declared is None or sp.simplify(frequency - declared) != 0):
+        raise CheckFailed(f"{ir.name}: periodically forced at {frequency}, but declares "
+                          f"{d.forcing_frequency or 'no forcing frequency'}")
+
+
+def _check_symmetries(ir: ModelIR, rhs) -> float:
+    from ..core.description import IDENTICAL_BALLS
+
+    worst = 0.0
+    for s in ir.description.symmetries:
+        images, signs = s["states"], s["signs"]
+        for t, y, p in _state_points(ir, 4, 13):
+            p = _project(p, s["params"], s["param_signs"])
+            err = _relative_to(rhs(t, _apply(y, images, signs), p), _apply(rhs(t, y, p), images, signs))
+            if not err <= SYMMETRY_TOLERANCE:
+                raise CheckFailed(f"{ir.name}: symmetry {s['name']!r} does not hold on the rhs "
+                                  f"(relative difference {err:.2e})")
+            worst = max(worst, err)
+            if s["kind"] == IDENTICAL_BALLS:  # exact at a state the exchange fixes: balls together stay together
+                fixed = _project(y, images, signs)
+                f = rhs(t, fixed, p)
+                if not np.array_equal(f, _apply(f, images, signs)):
+                    raise CheckFailed(f"{ir.name}: {s['name']!r} holds only to rounding where the exchanged balls "
+                                      "coincide (identical balls must stay bitwise together)")
+    return worst
+
+
+def _parameter_points(ir: ModelIR, samples: int, seed: int):
+    """Random parameters for the steady states: the defaults and the named sets, each parameter scaled by
+    a factor log-uniform in [0.2, 5]; every other point projected onto the equalities the closed forms'
+    guards ask for (so closed forms that apply only there are met)."""
+    d = ir.description
+    rng = np.random.default_rng(seed)
+    names = ir.parameter_names
+    defaults = np.array([p.default for p in ir.parameters], dtype=float)
+    bases = [defaults]
+    for _, values in d.parameter_sets:
+        base = defaults.copy()
+        for k, v in values:
+            base[names.index(k)] = v
+        bases.append(base)
+    psym = [p.symbol for p in ir.parameters]
+    equalities = [g for form in d.declared.closed_forms for c in form.candidates for g in c.guards
+                  if isinstance(g, sp.Eq) and g.lhs in psym]
+    setters = [(names.index(g.lhs.name), sp.lambdify([psym], g.rhs, modules="numpy")) for g in equalities
+               if g.rhs.free_symbols <= set(psym)]
+    for k in range(samples):
+        p = bases[k % len(bases)] * np.exp(rng.uniform(np.log(0.2), np.log(5.0), defaults.size))
+        if k % 2:
+            for index, value in setters:
+                p[index] = float(value(p))
+        yield p
+
+
+def _check_steady_states(ir: ModelIR, rhs) -> tuple[float, tuple[str, ...]]:
+    from .interpret import compile_steady_states
+
+    d = ir.description
+    if not d.steady_states:
+        return 0.0, ()
+    solvers = compile_steady_states(ir)
+    psym = [p.symbol for p in ir.parameters]
+    exists = {st.label: sp.lambdify([psym], st.exists, modules="numpy") for st in d.declared.steady_states
+              if st.exists is not None}
+    leaves = [ir.state_names.index(leaf) for leaf in ir.leaves]
+    rows = slice(0, 2 * ir.n_coordinates)
+    found = dict.fromkeys(d.labels, 0)
+    worst = 0.0
+    for p in _parameter_points(ir, DESCRIPTION_SAMPLES, 14):
+        for label in d.labels:
+            try:
+                y = solvers[label](p)
+            except (ValueError, ZeroDivisionError, OverflowError) as exc:  # a guard missing: NaN in C and numba
+                raise CheckFailed(f"{ir.name}: steady state {label} cannot be evaluated where its guards let it "
+                                  f"({exc}) at {dict(zip(ir.parameter_names, p.round(6)))}") from None
+            if label in exists and bool(exists[label](p)) != (y is not None):
+                raise CheckFailed(f"{ir.name}: steady state {label} is {'given' if y is not None else 'not given'} at "
+                                  f"{dict(zip(ir.parameter_names, p.round(6)))}, where the reference's criterion "
+                                  f"says it {'does not exist' if y is not None else 'exists'}")
+            if y is None:
+                continue
+            found[label] += 1
+            # a forced model's equilibrium holds at every t; small t keep the forcing's phase (omega t) exact
+            # enough that its rounding stays below the tolerance
+            for t in ((0.0,) if ir.autonomous else (0.0, 0.013, 0.037)):
+                turned = y.copy()
+                turned[leaves] += 0.1
+                scale = max(1.0, float(np.max(np.abs(rhs(t, turned, p)[rows]))))
+                residual = float(np.max(np.abs(rhs(t, y, p)[rows])))
+                if not residual <= STEADY_TOLERANCE * scale:
+                    raise CheckFailed(f"{ir.name}: steady state {label} is not a zero of the rhs: |rhs| = "
+                                      f"{residual:.2e} (scale {scale:.2e}) at {dict(zip(ir.parameter_names, p.round(6)))}")
+                worst = max(worst, residual / scale)
+    # a label given at none of the points is not shown wrong, only not shown right: said, not refused
+    # (a scene's parameters may put a state out of reach; the default set's are all exercised: a test)
+    return worst, tuple(label for label, count in found.items() if not count)
+
+
+def check_description(ir: ModelIR, system: FirstOrderSystem) -> dict[str, float]:
+    """Every declaration of the self-description against the rendered code (run in Python, as the numba
+    target prints it), or CheckFailed naming it: the angles are the ball and spin angles and the rhs is
+    2 pi-periodic in each; every measure equals its SymPy expression at random states; the forcing
+    frequency is the one the model is forced at; every symmetry holds on the rhs at random states and
+    parameters (bitwise where identical balls coincide); every closed-form steady state is a zero of
+    the rhs wherever it is given, and given exactly where the reference's criterion says it exists.
+    Returns the largest relative errors seen, and under "unexercised" the labels given at none of the
+    random parameter points (so not shown to be zeros there)."""
+    if ir.description is None:
+        return {}
+    rhs = compile_program(ir, "rhs")
+    _check_roles(ir)
+    _check_forcing(ir, system)
+    steady, unexercised = _check_steady_states(ir, rhs)
+    return {"angles": _check_angles(ir, rhs), "measures": _check_measures(ir, system),
+            "symmetries": _check_symmetries(ir, rhs), "steady_states": steady, "unexercised": unexercised}

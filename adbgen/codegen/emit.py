@@ -21,51 +21,64 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .balls import BallSplit
-from .loops import Balls, Columns, Fetch, Get, Inc, Kernel, Let, Pos, Put, Save, Var
+from .loops import Balls, Columns, Fetch, Get, Guard, Inc, Kernel, Let, Pos, Put, Save, Var
 
 
 @dataclass(frozen=True)
 class Dialect:
-    """How one target's function addresses its arrays (see the module's table)."""
+    """How one target's function addresses its arrays and writes its statements (the module's table):
+    the part of printing that differs by language.  Each target defines its own beside its
+    configuration (`targets/<name>/dialect.py`); this base class holds what they share.
 
-    language: str  # "py" or "c" (auto is C)
+    ``time``: the function has an argument t (a C dialect silences it when unused)."""
+
     states: str  # the state array's name
     params: str  # the parameter array's name
     out: str  # the output array's name
     ncol: int  # columns of a matrix output (0: a vector)
-    auto: bool = False
-    auto_columns: bool = False  # the output's columns are parameters (AUTO's dfdp)
     indent: str = "    "
-    # a per-ball work array of `size` doubles (Python): the numba module puts it on the stack
-    # (its `_scratch`; np.empty would cost a heap allocation, ~100 ns, per call)
-    scratch: str = "np.empty({size})"
+    time: bool = True
 
     def param(self, index: str) -> str:
-        if self.auto:
-            return f"{self.params}[{_apar(index)}]"
         return f"{self.params}[{index}]"
 
     def entry(self, row: str, col: str | None) -> str:
-        if col is None:
-            return f"{self.out}[{row}]"
-        if self.auto:
-            return f"ARRAY2D({self.out}, {row}, {_apar(col) if self.auto_columns else col})"
-        if self.language == "py":
-            return f"{self.out}[{row}, {col}]"
-        if row.isdigit() and col.isdigit():
-            return f"{self.out}[{int(row) * self.ncol + int(col)}]"
-        return f"{self.out}[{_paren(row)} * {self.ncol} + {col}]"
+        """The output's element (row, col) (col None: a vector's element)."""
+        raise NotImplementedError
+
+    def let(self, name: str, value: str, mutable: bool = False) -> str:
+        """A scalar's definition (an accumulator's when `mutable`)."""
+        raise NotImplementedError
+
+    def stmt(self, text: str) -> str:
+        return text
+
+    def loop(self, var: str, count: int) -> str:
+        raise NotImplementedError
+
+    def end(self) -> str | None:
+        """What closes a loop (None: nothing, the indentation does)."""
+        return None
+
+    def array(self, name: str, size: int) -> str:
+        """A work array of `size` doubles."""
+        raise NotImplementedError
+
+    def zero(self, shape: tuple[int, ...]) -> list[tuple[int, str]]:
+        """Lines (extra depth, text) that set every entry of the output to zero."""
+        raise NotImplementedError
+
+    def unused(self, time: bool, states: bool, params: bool) -> list[str]:
+        """Lines silencing the arguments the function does not read (False: not read)."""
+        return []
+
+    def guard(self, condition: str) -> list[tuple[int, str]]:
+        """Lines (extra depth, text) that end the function with "no result" unless `condition` holds."""
+        raise NotImplementedError
 
 
-def _apar(index: str) -> str:
-    """AUTO's PAR index of model parameter `index` (PAR(11)-PAR(14) are AUTO's own)."""
-    if index.isdigit():
-        k = int(index)
-        return str(k if k < 10 else k + 4)
-    return f"APAR({index})"
-
-
-def _paren(text: str) -> str:
+def paren(text: str) -> str:
+    """`text` parenthesised unless it is a name or a number (an index expression in a product)."""
     return f"({text})" if not text.isidentifier() and not text.isdigit() else text
 
 
@@ -107,15 +120,15 @@ class Emitter:
     def line(self, depth: int, text: str) -> None:
         self.lines.append(self.d.indent * depth + text)
 
+    def lines_at(self, depth: int, lines) -> None:
+        for extra, text in lines:
+            self.line(depth + extra, text)
+
     def let(self, depth: int, sym, value: str, mutable: bool = False) -> None:
-        if self.d.language == "py":
-            self.line(depth, f"{self.sym(sym)} = {value}")
-        else:
-            ctype = "doublereal" if self.d.auto else "double"
-            self.line(depth, f"{'' if mutable else 'const '}{ctype} {self.sym(sym)} = {value};")
+        self.line(depth, self.d.let(self.sym(sym), value, mutable))
 
     def stmt(self, depth: int, text: str) -> None:
-        self.line(depth, text if self.d.language == "py" else text + ";")
+        self.line(depth, self.d.stmt(text))
 
     # -- what a block reads
     @staticmethod
@@ -126,6 +139,8 @@ class Emitter:
                 out |= Emitter._free(op.ops)
             elif isinstance(op, (Let, Var, Inc, Put)):
                 out |= sp.sympify(op.expr).free_symbols
+            elif isinstance(op, Guard):
+                out |= sp.sympify(op.condition).free_symbols
         return out
 
     @staticmethod
@@ -145,13 +160,10 @@ class Emitter:
             ball_states = {self.split.q, self.split.qd}
             ball_params = {sl.symbol for sl in self.split.slots} \
                 | {sp.Symbol(f"{sl.symbol.name}_coef", real=True) for sl in self.split.slots}
-        if d.language == "c":
-            if not d.auto and not any(s.name == "t" for s in used):
-                self.line(depth, "(void)t;")
-            if not any(s in self.state_index or s in ball_states for s in used):
-                self.line(depth, f"(void){d.states};")
-            if not any(s in self.param_index or s in ball_params for s in used):
-                self.line(depth, f"(void){d.params};")
+        for text in d.unused(time=not d.time or any(s.name == "t" for s in used),
+                             states=any(s in self.state_index or s in ball_states for s in used),
+                             params=any(s in self.param_index or s in ball_params for s in used)):
+            self.line(depth, text)
         for s, k in sorted(self.state_index.items(), key=lambda kv: kv[1]):
             if s in used:
                 self.let(depth, s, f"{d.states}[{k}]")
@@ -160,27 +172,9 @@ class Emitter:
                 self.let(depth, q, d.param(str(k)))
         n = self.split.n if self.split is not None else 0
         for name, width in self.k.arrays:
-            if d.language == "py":
-                self.line(depth, f"{name} = {d.scratch.format(size=n * width)}")
-            else:
-                self.line(depth, f"{'doublereal' if d.auto else 'double'} {name}[{n * width}];")
+            self.line(depth, d.array(name, n * width))
         if self.k.zero:
-            self.zero(depth)
-
-    def zero(self, depth: int) -> None:
-        d = self.d
-        size = 1
-        for s in self.k.shape:
-            size *= s
-        if d.language == "py":
-            self.line(depth, f"{d.out}[{', '.join([':'] * len(self.k.shape))}] = 0.0")
-        elif d.auto and d.auto_columns:
-            self.line(depth, f"for (int j = 0; j < {self.k.shape[1]}; ++j) {{")
-            self.line(depth + 1, f"memset(&ARRAY2D({d.out}, 0, APAR(j)), 0, sizeof(doublereal) * {self.k.shape[0]});")
-            self.line(depth, "}")
-        else:
-            ctype = "doublereal" if d.auto else "double"
-            self.line(depth, f"memset({d.out}, 0, sizeof({ctype}) * {size});")
+            self.lines_at(depth, d.zero(self.k.shape))
 
     def ball_loads(self, depth: int, ops) -> None:
         used = self._flat_free(ops)
@@ -217,9 +211,12 @@ class Emitter:
             elif isinstance(op, Put):
                 target = d.entry(_pos(op.row), None if op.col is None else _pos(op.col))
                 self.stmt(depth, f"{target} {'+=' if op.add else '='} {self.expr(op.expr)}")
+            elif isinstance(op, Guard):
+                self.lines_at(depth, d.guard(self.expr(op.condition)))
             elif isinstance(op, Balls):
-                self.loop(depth, "i", self.split.n)
-                self.ball_loads(depth + 1, op.ops)
+                self.loop(depth, "i", self.split.n if op.count is None else op.count)
+                if self.split is not None:
+                    self.ball_loads(depth + 1, op.ops)
                 self.block(op.ops, depth + 1, widths)
                 self.end(depth)
             elif isinstance(op, Columns):
@@ -236,14 +233,12 @@ class Emitter:
         return index if k == 0 else f"{index} + {k}"
 
     def loop(self, depth: int, var: str, count: int) -> None:
-        if self.d.language == "py":
-            self.line(depth, f"for {var} in range({count}):")
-        else:
-            self.line(depth, f"for (int {var} = 0; {var} < {count}; ++{var}) {{")
+        self.line(depth, self.d.loop(var, count))
 
     def end(self, depth: int) -> None:
-        if self.d.language == "c":
-            self.line(depth, "}")
+        text = self.d.end()
+        if text is not None:
+            self.line(depth, text)
 
     def emit(self, depth: int = 1) -> str:
         self.prologue(depth)

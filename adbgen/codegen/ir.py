@@ -17,8 +17,10 @@ from typing import TYPE_CHECKING, Callable
 import sympy as sp
 
 from ..core import Parameter
+from ..core.model_spec import Continuation  # noqa: F401  (the family decides it; the AUTO target prints it)
 
 if TYPE_CHECKING:
+    from .describe import SelfDescription
     from .loops import LoopForm
 
 KERNELS = ("rhs", "jac", "jac_p", "mass", "forcing")
@@ -49,25 +51,6 @@ class State:
 
 
 @dataclass(frozen=True)
-class Continuation:
-    """What AUTO-07p follows from a model's start point: decided by the family, printed by the AUTO target.
-
-    Steady states (autonomous models) are continued in `parameter` in the `direction` (+1 up, -1
-    down), until it leaves `stop` (UZSTOP) if given.  Periodic orbits of an oscillator extension go in
-    two stages: in `parameter` from the start orbit to its default, then in `second` (the forcing
-    frequency).  `continuum`: the start lies on a continuum of steady states (free ball angles), so
-    the continuation is singular there and the files say so.
-    """
-
-    parameter: str
-    direction: int = -1
-    stop: tuple[float, float] | None = None
-    second: str = ""
-    continuum: bool = False
-    note: str = ""  # a remark for the constants file's header (lines)
-
-
-@dataclass(frozen=True)
 class ModelIR:
     """Everything the templates render for one model."""
 
@@ -94,6 +77,8 @@ class ModelIR:
     continuation: Continuation | None = None  # what AUTO-07p continues from the start (None: no AUTO files)
     extras: dict = field(default_factory=dict)
     loops: "LoopForm | None" = None  # the loop form (issue 10): kernels over the balls, size independent of n
+    # what the generated module says about itself (`describe`; None: the spec declares nothing)
+    description: "SelfDescription | None" = None
     # the same model lowered unrolled, made on demand (for targets that print programs one by one)
     unrolled_form: Callable[[], "ModelIR"] | None = field(default=None, compare=False, repr=False)
 
@@ -154,6 +139,8 @@ class ModelIR:
                 h.update(f"{lhs}={sp.srepr(rhs)};".encode())
             for idx, rhs in prog.outputs:
                 h.update(f"[{idx}]={sp.srepr(rhs)};".encode())
+        if self.description is not None:
+            h.update(self.description.fingerprint_text().encode())
         if self.autonomous_extension is not None:
             h.update(self.autonomous_extension.fingerprint().encode())
         return h.hexdigest()

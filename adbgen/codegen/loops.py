@@ -89,6 +89,12 @@ class Put:  # out[row, col] = expr (or += with add)
 @dataclass(frozen=True)
 class Balls:
     ops: tuple
+    count: int | None = None  # the loop's length: the model's balls (None) or this many
+
+
+@dataclass(frozen=True)
+class Guard:  # the function ends with "no result" unless condition holds (closed forms, `describe`)
+    condition: sp.Basic
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 import sympy as sp
 
@@ -32,6 +32,9 @@ from .balls import BALL_PREFIX, NoBallStructure, split as split_balls
 from .loops import build_loops
 from .names import validate_name
 from .ir import Continuation, ModelIR, Program, State
+
+if TYPE_CHECKING:
+    from .describe import SelfDescription
 
 # Names the programs create; chosen so they cannot collide with a model's parameter names
 # (M, m, D, k, c, eps, ...; `build` checks it).
@@ -289,13 +292,14 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
           start: Sequence[float] | None = None, start_label: str = "",
           start_parameters: Sequence[float] | None = None, oscillator: bool = False,
           autonomous_extension: "ModelIR | None" = None, continuation: Continuation | None = None,
-          balls: Sequence[dict] | None = None, form: str = DEFAULT_FORM) -> ModelIR:
+          balls: Sequence[dict] | None = None, form: str = DEFAULT_FORM,
+          description: "SelfDescription | None" = None) -> ModelIR:
     """Lower a first-order system to the intermediate form (pure: same input, same output).
 
     With `oscillator`, the periodically forced system is lowered in its autonomous extension
     (`Oscillator`): two more states, osc_sin and osc_cos, after the rates.  `balls`: each ball's own
     parameters ({slot: c * parameter}, `balls.split`; default: those named <stem>_<i>).  `form`: see
-    `FORMS`.
+    `FORMS`.  `description`: the self-description (`describe.lower_description`), carried as it is.
     """
     if form not in FORMS:
         raise ValueError(f"form {form!r}: one of {', '.join(FORMS)}")
@@ -347,7 +351,7 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
             name, system, title=title, n_balls=n_balls, start=start, start_label=start_label,
             start_parameters=start_parameters, oscillator=oscillator, continuation=continuation,
             autonomous_extension=autonomous_extension.as_unrolled() if autonomous_extension is not None else None,
-            form="unrolled"))
+            form="unrolled", description=description))
     return ModelIR(
         name=name, title=title, reference=system.reference, n_balls=n_balls, autonomous=time_free,
         states=states, parameters=params,
@@ -359,5 +363,5 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
                                                  else [p.default for p in params])) if start is not None else None,
         forcing_frequency=str(osc.frequency) if osc is not None else "",
         autonomous_extension=autonomous_extension, continuation=continuation, loops=loop_form,
-        unrolled_form=unrolled,
+        unrolled_form=unrolled, description=description,
     )

@@ -1,4 +1,6 @@
-"""Print the intermediate form's programs as Python (for numba) or C99 statements.
+"""What every target's printer shares: identifiers, numbers as floats, small powers as products, and
+the ball-invariant order of terms.  Each target's printer (`targets/<name>/printer.py`) is a SymPy code
+printer with `PrintRules` mixed in.
 
 Small integer powers are printed as products (x*x, 1.0/(x*x)): exact, and cheaper than pow() in
 both targets.  Identifiers come from one mapping per model, so a state or parameter whose name is
@@ -10,12 +12,9 @@ from __future__ import annotations
 
 import hashlib
 import keyword
-import math
 import re
 
 import sympy as sp
-from sympy.printing.c import C99CodePrinter
-from sympy.printing.pycode import PythonCodePrinter
 
 from .ir import ModelIR
 
@@ -92,8 +91,8 @@ class BallInvariantOrder:
         return sorted(args, key=lambda a: (not a.is_Number, self.key(a)))
 
 
-class _Rules:
-    """What both printers share: the model's identifiers, floats for every number, small integer
+class PrintRules:
+    """What every target printer shares: the model's identifiers, floats for every number, small integer
     powers as products, and a ball-invariant order of terms and factors (`BallInvariantOrder`)."""
 
     def __init__(self, names: dict[sp.Symbol, str], *args):
@@ -141,22 +140,8 @@ class _Rules:
             return prod if exp > 0 else f"1.0/({prod})"
         if exp == -1:
             return f"1.0/{self.parenthesize(base, sp.printing.precedence.PRECEDENCE['Mul'] + 1)}"
-        return super()._print_Pow(expr, rational=rational) if not isinstance(self, C99CodePrinter) \
-            else super()._print_Pow(expr)
+        return self._print_other_Pow(expr, rational)
 
-
-class PythonPrinter(_Rules, PythonCodePrinter):
-    """math-module Python that numba compiles in nopython mode."""
-
-    def __init__(self, names: dict[sp.Symbol, str]):
-        super().__init__(names, {"fully_qualified_modules": True, "standard": "python3"})
-
-
-class CPrinter(_Rules, C99CodePrinter):
-    """C99 with <math.h>; constants as literals (M_PI, M_E are POSIX, not C99)."""
-
-    def _print_Pi(self, expr):
-        return repr(math.pi)
-
-    def _print_Exp1(self, expr):
-        return repr(math.e)
+    def _print_other_Pow(self, expr, rational=False):
+        """A power the rules leave to the language's printer."""
+        return super()._print_Pow(expr, rational=rational)

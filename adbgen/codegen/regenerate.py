@@ -17,10 +17,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable
 
-from .checks import CheckFailed, check_programs, check_start
+from .checks import CheckFailed, check_description, check_programs, check_start
 from .render import render_index, render_model, skipped_targets
 from .lowering import DEFAULT_FORM
-from .spec import Check, ModelSpec
+from ..core.model_spec import Check, ModelSpec
+from .spec import build
 
 _ROOT = Path(__file__).resolve().parents[2]
 # generated/ of the source checkout this package runs from; an installed package has none (give --out)
@@ -74,8 +75,9 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
     for k, spec in enumerate(specs, 1):
         start = time.perf_counter()
         system = spec.system()
-        ir = spec.build(system, form=form)
+        ir = build(spec, system, form=form)
         errors = check_programs(ir, system)
+        described = check_description(ir, system)
         for model in (ir, ir.autonomous_extension):
             if model is not None and model.start is not None:
                 check_start(model)
@@ -84,7 +86,10 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
         index.append((ir.name, ir.title, ir.reference))
         progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, {ir.form}, rhs {ir.count_ops('rhs')} ops, "
                  f"jac {ir.count_ops('jac')} ops, lowering error {errors['rhs']:.1e} (jac {errors['jac']:.1e}), "
-                 f"{len(model_files)} files "
+                 + (f"self-description checked ({len(ir.description.labels)} steady states"
+                    + (f"; {', '.join(described['unexercised'])} given at no sampled parameters" if described
+                       and described["unexercised"] else "") + "), " if described else "")
+                 + f"{len(model_files)} files "
                  f"({time.perf_counter() - start:.1f} s)"
                  + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))
     files.update(render_index(index))

@@ -1,15 +1,16 @@
 """Render a model's intermediate form through the jinja2 templates of every registered target.
 
-Targets live in `targets/<name>/` (templates beside their configuration, shipped in the wheel) and are
-registered in `targets.REGISTRY`; the output index (generated/__init__.py, README.md) renders from
-`package_templates/`.  Files relative to the output folder, for the built-in targets::
+Targets are registered in `targets.REGISTRY`, their Python side in `targets/<name>/`, their templates
+in the top-level `templates/<name>/` (shipped in the wheel); the output index (generated/__init__.py,
+README.md) renders from `templates/package/`.  Files relative to the output folder, for the built-in
+targets::
 
-    <model>/__init__.py             numba module            targets/numba/
-    <model>/<model>.h, .c           C99 library             targets/c/
-    <model>/<model>_cvode.h, .c     SUNDIALS CVODE adaptor  targets/cvode/
-    <model>/<model>_cvode_main.c    CVODE driver program    targets/cvode/
-    <model>/auto/<model>.c          AUTO-07p user file      targets/auto/
-    <model>/auto/c.<model>          AUTO-07p constants      targets/auto/
+    <model>/__init__.py             numba module            targets/numba/, templates/numba/
+    <model>/<model>.h, .c           C99 library             targets/c/, templates/c/
+    <model>/<model>_cvode.h, .c     SUNDIALS CVODE adaptor  targets/cvode/, templates/cvode/
+    <model>/<model>_cvode_main.c    CVODE driver program    targets/cvode/, templates/cvode/
+    <model>/auto/<model>.c          AUTO-07p user file      targets/auto/, templates/auto/
+    <model>/auto/c.<model>          AUTO-07p constants      targets/auto/, templates/auto/
     <model>/auto/c.<model>.2        its second stage (forced models: continuation in omega)
 
 Rendering is pure: the same intermediate form and templates give the same bytes (sorted symbols,
@@ -18,10 +19,10 @@ fixed float formatting, no dates); the source hash in every header covers both.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 from functools import lru_cache
-from pathlib import Path
 
 import jinja2
 import sympy as sp
@@ -29,11 +30,14 @@ import sympy as sp
 from .. import __version__
 from ..errors import AdbgenError
 from . import targets
-from .emit import Dialect, Emitter, tables
-from .ir import KERNELS, ModelIR, Program
-from .printers import CPrinter, PythonPrinter, identifiers
+from .emit import Emitter, tables
+from .ir import ModelIR, Program
+from .printers import identifiers
 
-PACKAGE_TEMPLATES = Path(__file__).resolve().parent / "package_templates"
+
+def package_templates():
+    """The output index's templates (generated/__init__.py, README.md): templates/package/."""
+    return targets.template_root() / "package"
 
 
 def _pytuple(values) -> str:
@@ -60,14 +64,14 @@ def template_digest() -> str:
 def _environment(generation: int) -> jinja2.Environment:
     """One environment over every registered target's templates, each under its target's name
     ("c/model.c.j2" is targets/c/templates/model.c.j2), and the output index's ("package/...")."""
-    folders = {"package": PACKAGE_TEMPLATES} | {t.name: t.templates for t in targets.all_targets()}
+    folders = {"package": package_templates()} | {t.name: t.template_folder for t in targets.all_targets()}
     for name, folder in folders.items():
         if not folder.is_dir():
             raise AdbgenError(f"templates of {name!r} not found at {folder} (a broken installation?)")
     loader = jinja2.PrefixLoader({name: jinja2.FileSystemLoader(str(folder)) for name, folder in folders.items()})
     env = jinja2.Environment(loader=loader, undefined=jinja2.StrictUndefined,
                              keep_trailing_newline=True, autoescape=False)
-    env.filters.update(pyrepr=repr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float)
+    env.filters.update(pyrepr=repr, pytuple=_pytuple, pylist=_pylist, cfloat=_c_float, cstr=_c_string)
     for target in targets.all_targets():
         env.filters.update(target.filters)
     return env
@@ -77,9 +81,10 @@ def _environment(generation: int) -> jinja2.Environment:
 def _template_digest(generation: int) -> str:
     """sha256 of every registered target's templates (names as the templates see them, and bytes, sorted)."""
     h = hashlib.sha256()
-    files = sorted((f"{t.name}/{p.relative_to(t.templates).as_posix()}", p)
-                   for t in targets.all_targets() for p in t.templates.rglob("*.j2"))
-    files += sorted((f"package/{p.relative_to(PACKAGE_TEMPLATES).as_posix()}", p) for p in PACKAGE_TEMPLATES.rglob("*.j2"))
+    files = sorted((f"{t.name}/{p.relative_to(t.template_folder).as_posix()}", p)
+                   for t in targets.all_targets() for p in t.template_folder.rglob("*.j2"))
+    package = package_templates()
+    files += sorted((f"package/{p.relative_to(package).as_posix()}", p) for p in package.rglob("*.j2"))
     for name, path in sorted(files):
         h.update(name.encode())
         h.update(path.read_bytes())
@@ -117,24 +122,9 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
     }
 
 
-# (states, parameters, output) array names of each function, per dialect: the C library's and
-# numba's functions take (t, y, p, out), AUTO-07p's func (u, par) and writes f, dfdu, dfdp
-_ARRAYS = {"py": {}, "c": {"rhs": ("y", "p", "dydt")}, "auto": {}}
-_AUTO_OUT = {"rhs": "f", "jac": "dfdu", "jac_p": "dfdp"}
-NUMBA_SCRATCH = "_scratch({size})"  # targets/numba/templates/module.py.j2 defines _scratch (on the stack)
-
-
-def _code(ir: ModelIR, which: str, kernel, dialect: str, printer, names: dict) -> str:
-    ncol = kernel.shape[1] if len(kernel.shape) == 2 else 0
-    if dialect == "auto":
-        d = Dialect("c", "u", "par", _AUTO_OUT[which], ncol, auto=True, auto_columns=which == "jac_p",
-                    indent="    ")
-    else:
-        y, p, out = _ARRAYS[dialect].get(which, ("y", "p", "out"))
-        d = Dialect(dialect, y, p, out, ncol, scratch=NUMBA_SCRATCH if dialect == "py" else "")
-    split = ir.loops.split if ir.loops is not None else None
-    return Emitter(kernel, d, printer, names, split, ir.n_coordinates, [s.symbol for s in ir.states],
-                   [q.symbol for q in ir.parameters]).emit(2 if dialect == "auto" else 1)
+def _c_string(text: str) -> str:
+    """A C string literal."""
+    return '"' + str(text).replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
 def _c_float(value: float) -> str:
@@ -142,45 +132,104 @@ def _c_float(value: float) -> str:
     return text if any(c in text for c in ".eEn") else text + ".0"
 
 
-_PRINTERS = {"py": PythonPrinter, "c": CPrinter}
+def param_domain(symbol: sp.Symbol) -> str:
+    """What values a parameter's symbol admits, from its assumptions (the derivation relies on them)."""
+    return "positive" if symbol.is_positive else "nonnegative" if symbol.is_nonnegative else "real"
+
+
+def describe_data(ir: ModelIR) -> dict:
+    """The self-description as template data (names resolved to indices where a C array wants them);
+    empty where the model declares none."""
+    d = ir.description
+    names, params = ir.state_names, ir.parameter_names
+    if d is None:
+        return {"present": False, "family": "", "kind": "", "time_unit": "", "state_units": [""] * ir.n_states,
+                "roles": [""] * ir.n_states, "angles": [], "angle_indices": [], "amplitude": [],
+                "amplitude_indices": [], "measures": [], "forcing_frequency": "", "forcing_index": -1,
+                "symmetries": [], "parameter_sets": [], "scales": [], "labels": [], "forms": [], "max_args": 0}
+    defaults = [q.default for q in ir.parameters]
+    sets = []
+    for name, values in d.parameter_sets:
+        full = list(defaults)
+        for k, v in values:
+            full[params.index(k)] = v
+        sets.append({"name": name, "values": dict(values), "vector": full})
+    return {
+        "present": True, "family": d.family, "kind": d.kind, "time_unit": d.time_unit, "state_units": list(d.state_units),
+        "roles": list(d.roles), "angles": list(d.angles), "angle_indices": [names.index(a) for a in d.angles],
+        "amplitude": list(d.amplitude), "amplitude_indices": [names.index(a) for a in d.amplitude],
+        "measures": list(d.measure_names), "forcing_frequency": d.forcing_frequency,
+        "forcing_index": params.index(d.forcing_frequency) if d.forcing_frequency else -1,
+        "symmetries": list(d.symmetries), "parameter_sets": sets,
+        "scales": [{"key": k, "name": v, "index": params.index(v)} for k, v in d.scales],
+        "labels": [{"label": label, "note": note, "form": form, "arguments": list(args)
+                    + [0.0] * (max(1, d.max_arguments) - len(args))} for label, note, form, args in d.steady_states],
+        "forms": [{"name": f.name, "candidates": len(f.candidates), "arguments": [a.name for a in f.arguments]}
+                  for f in d.closed_forms],
+        "max_args": max(1, d.max_arguments),
+    }
 
 
 def _base_context(ir: ModelIR) -> dict:
     return {"ir": ir, "source_hash": source_hash(ir), "P": ir.name.upper(),
             "units": [p.unit for p in ir.parameters], "defaults": [p.default for p in ir.parameters],
-            "coordinates": [s.name for s in ir.states[: ir.n_coordinates]], "version": __version__}
+            "param_domains": [param_domain(p.symbol) for p in ir.parameters],
+            "coordinates": [s.name for s in ir.states[: ir.n_coordinates]], "version": __version__,
+            "describe": describe_data(ir)}
 
 
-def _programs(ir: ModelIR, language: str) -> dict:
+def _programs(ir: ModelIR, target: "targets.Target") -> dict:
+    """The target's functions printed by its printer in its dialect (`code`, and for the unrolled form
+    the statements one by one), with the ball-slot tables the loop form reads."""
+    out = {"tables": tables(ir.loops.split) if ir.loops is not None else [], "form": ir.form}
+    if target.printer is None:
+        return out
     names = identifiers(ir)
-    printer = _PRINTERS[language](names)
+    printer = target.printer(names)
     kernels = ir.kernels()
-    out = {}
-    for key in KERNELS:
+    split = ir.loops.split if ir.loops is not None else None
+    states, params = [s.symbol for s in ir.states], [q.symbol for q in ir.parameters]
+    for key in target.functions:
         kernel = kernels[key]
-        ctx = {"shape": kernel.shape, "size": math.prod(kernel.shape),
-               "code": _code(ir, key, kernel, language, printer, names)}
-        if language == "c" and key in _AUTO_OUT:
-            ctx["auto"] = _code(ir, key, kernel, "auto", printer, names)
+        code = Emitter(kernel, target.dialect(key, kernel), printer, names, split, ir.n_coordinates, states,
+                       params).emit(target.depth)
+        ctx = {"shape": kernel.shape, "size": math.prod(kernel.shape), "code": code}
         program = getattr(ir, key)
         if program is not None:
             ctx.update(_program_context(program, ir, printer, names))
         out[key] = ctx
-    out["tables"] = tables(ir.loops.split) if ir.loops is not None else []
-    out["form"] = ir.form
+    if target.describe and ir.description is not None:
+        out.update(_described(ir, target, printer, names, split, states, params))
     return out
 
 
+def _described(ir: ModelIR, target, printer, names, split, states, params) -> dict:
+    """The self-description's functions printed by the target: every measure, each measure alone, and
+    each closed form's candidates (reading their arguments from an array a, no time argument)."""
+    d = ir.description
+
+    def code(kernel, which):
+        return Emitter(kernel, target.dialect(which, kernel), printer, names, split, ir.n_coordinates, states,
+                       params).emit(target.depth)
+
+    def closed(kernel, form):
+        dia = dataclasses.replace(target.dialect("closed_form", kernel), states="a", time=False)
+        return Emitter(kernel, dia, printer, names, split, ir.n_coordinates, list(form.arguments),
+                       params).emit(target.depth)
+
+    return {"measures": {"size": len(d.measure_names), "code": code(d.measures, "measures")},
+            "measure_each": [code(k, "measure") for k in d.measure_kernels],
+            "closed_forms": [[closed(k, f) for k in f.candidates] for f in d.closed_forms]}
+
+
 def context(ir: ModelIR, target: "targets.Target", _memo: dict | None = None) -> dict:
-    """Everything one target's templates see for one model: the common data, the programs printed in
-    the target's language, and the target's own decisions (under the target's name).  `_memo` shares
+    """Everything one target's templates see for one model: the common data, the functions printed by
+    the target's printer, and the target's own decisions (under the target's name).  `_memo` shares
     the common parts between the targets of one model."""
     memo = _memo if _memo is not None else {}
     if ("base", id(ir)) not in memo:
         memo[("base", id(ir))] = _base_context(ir)
-    if (target.language, id(ir)) not in memo:
-        memo[(target.language, id(ir))] = _programs(ir, target.language)
-    return {**memo[("base", id(ir))], "programs": memo[(target.language, id(ir))], target.name: target.context(ir)}
+    return {**memo[("base", id(ir))], "programs": _programs(ir, target), target.name: target.context(ir)}
 
 
 def skipped_targets(ir: ModelIR, names=None) -> dict[str, str]:

@@ -8,7 +8,7 @@ if TYPE_CHECKING:
     import argparse
     from pathlib import Path
 
-    from ..codegen.spec import ModelSpec
+    from ..core.model_spec import ModelSpec
     from ..core.checks import CheckResult, Registered
 
 

@@ -16,6 +16,7 @@ import pytest
 from adbgen import families
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.scratch import import_numba, render_into
+from adbgen.codegen.spec import build as build_ir
 
 # pytest runs with --import-mode=importlib, which puts no test folder on sys.path: put this one there
 # so that the tests import their helpers (toolchain, sampling) by name
@@ -37,7 +38,7 @@ def generated_model(tmp_path_factory):
                 # would leave a cache that `import generated.<model>` cannot load afterwards
                 module = importlib.import_module(f"generated.{spec.name}")
             else:
-                folder = render_into(spec.build(), tmp_path_factory.mktemp("rendered"), ("numba", "c"))
+                folder = render_into(build_ir(spec), tmp_path_factory.mktemp("rendered"), ("numba", "c"))
                 module = import_numba(folder, f"_adbgen_test_{spec.name}")
             _cache[key] = (module, system, folder)
         return _cache[key]

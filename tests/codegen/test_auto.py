@@ -47,6 +47,7 @@ from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.ir import Continuation
 from adbgen.codegen.render import render_model, skipped_targets
 from adbgen.families.single_plane.steady_states import critical_speeds
+from adbgen.codegen.spec import build as build_ir
 
 # helpers of this folder (conftest.py puts it on sys.path)
 from autorun import (AUTO_DIR, Point, auto_header, auto_toolchain, build_and_run, fortran_number, read_fort7,  # noqa: F401
@@ -67,7 +68,7 @@ def default_auto_files(spec: models.ModelSpec) -> dict[str, str]:
     paths = [DEFAULT_OUT / spec.name / "auto" / f for f in (f"{spec.name}.c", f"c.{spec.name}")]
     if all(path.is_file() for path in paths):
         return {path.name: path.read_text() for path in paths}
-    return rendered_auto(spec.build())
+    return rendered_auto(build_ir(spec))
 
 
 @pytest.fixture(scope="module")
@@ -156,7 +157,7 @@ def test_coincident_states_fold_at_the_critical_speeds(auto_toolchain, generated
                             models.thesis_rotating(2).system,
                             lambda s: models.balanced_start(s, 2, "coincident", Omega=omega0),
                             continuation=models.steady_continuation("Omega", stop=(0.5, 6.0)))
-    ir = spec.build()
+    ir = build_ir(spec)
     assert "coincident" in ir.start_label and ir.start_parameters[0] == omega0
     points = run_auto(rendered_auto(ir), spec.name, tmp_path)
     assert points[0].values["PAR(1)"] == pytest.approx(omega0)
@@ -253,7 +254,7 @@ def forced(auto_toolchain, generated_model, tmp_path_factory):
     fort.8 kept as s.<model>, stage 2 (c.<model>.2, naming s.<model> itself).  Returns
     (numba module, ir, {stage: (fort.7 points, fort.8 orbits, multipliers at the last point)})."""
     module, _, _ = generated_model("single_plane_fixed", 2)
-    ir = models.single_plane_fixed(2).build()
+    ir = build_ir(models.single_plane_fixed(2))
     workdir = tmp_path_factory.mktemp("auto_forced")
     files = forced_auto_files(ir)
     ndim = ir.autonomous_extension.n_states
@@ -285,7 +286,7 @@ def test_forced_model_renders_a_periodic_orbit_problem():
     """The forced model's AUTO files are those of its oscillator extension: IPS = 2, two stages."""
     from adbgen.codegen.render import skipped_targets
 
-    ir = models.single_plane_fixed(2).build()
+    ir = build_ir(models.single_plane_fixed(2))
     assert not ir.autonomous and "auto" not in skipped_targets(ir)
     ext = ir.autonomous_extension
     assert ext.autonomous and ext.forcing_frequency == "omega" and ext.state_names[-2:] == ("osc_sin", "osc_cos")
@@ -300,7 +301,7 @@ def test_forced_model_renders_a_periodic_orbit_problem():
     # autonomous models have one stage: the stage-2 template renders nothing for them
     from adbgen.codegen import targets
     from adbgen.codegen.render import context, environment
-    thesis = models.thesis_rotating(2).build()
+    thesis = build_ir(models.thesis_rotating(2))
     ctx = context(thesis, targets.get("auto"))
     assert environment().get_template("auto/constants_stage2.j2").render(**ctx) == ""
     assert "thesis_rotating_n2/auto/c.thesis_rotating_n2.2" not in render_model(thesis, ("auto",))
@@ -311,7 +312,7 @@ def test_forced_func_and_stpnt_equal_the_forced_numba_model_on_the_cycle(auto_to
     forced model's rhs, jac and jac_p at time t (but d/d omega, which the oscillator carries), and its
     own rows are the cycle's derivative; stpnt is the exact orbit at AUTO's time t."""
     module, _, _ = generated_model("single_plane_fixed", 2)
-    ir = models.single_plane_fixed(2).build()
+    ir = build_ir(models.single_plane_fixed(2))
     ndim, npar, n = ir.autonomous_extension.n_states, 36, module.N_STATES
     lib = _harness(forced_auto_files(ir)[f"{FORCED}.c"], FORCED, ndim, tmp_path)
     lib.h_stpnt_at.argtypes = [ctypes.c_double, ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double)]
@@ -441,7 +442,7 @@ def test_more_than_ten_parameters_skip_autos_own_par_slots(auto_toolchain, tmp_p
     from adbgen.families.single_plane.scene import Scene
 
     spec = models.for_scene(Scene.from_mapping({"n": 3, "ball_mass": [0.05, 0.04, 0.03]}), "unequal_n3")
-    ir = spec.build()
+    ir = build_ir(spec)
     assert ir.autonomous and len(ir.parameters) == 12
     assert ir.start is None and "auto" in skipped_targets(ir)  # no steady state known: no AUTO files
     # the PAR layout does not depend on the start: give it one (not a steady state) to render the files

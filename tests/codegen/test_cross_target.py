@@ -27,6 +27,7 @@ from adbgen import families
 from adbgen.codegen.checks import DERIVATIVE_TOLERANCE, Reference, errors_of
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.scratch import import_numba, render_into
+from adbgen.codegen.spec import build as build_ir
 
 from autorun import auto_header, auto_toolchain  # noqa: F401 - fixture
 from toolchain import STRICT_CFLAGS, require_tool, which
@@ -191,37 +192,33 @@ def test_auto_func_and_its_jacobians_equal_the_symbolic_model(name, auto_toolcha
     assert_close(errors_of(functions, ref, n, n // 2, SAMPLES), f"AUTO-07p func of {name}")
 
 
-# --- the issue's printing mutations (the bodies are printed by codegen/emit.py) ----------------------
+# --- the issue's printing mutations (the bodies are printed by codegen/emit.py, in each target's dialect) --
 
 def test_a_transposed_mass_matrix_in_the_numba_printing_is_seen(tmp_path, monkeypatch):
-    """The functions' bodies are printed by codegen/emit.py (the templates place them): a numba
-    dialect that addresses matrices transposed is caught."""
-    from adbgen.codegen import emit
+    """The functions' bodies are printed by codegen/emit.py in the target's dialect (the templates
+    place them): a numba dialect that addresses matrices transposed is caught."""
+    from adbgen.codegen.targets.numba.dialect import PythonDialect
 
     name = "thesis_rotating_n2"
     module, ref = reference(name)
-    entry = emit.Dialect.entry
-    monkeypatch.setattr(emit.Dialect, "entry", lambda self, row, col: entry(self, col, row)
-                        if self.language == "py" and col is not None else entry(self, row, col))
-    folder = render_into(_specs[name].build(), tmp_path / "out", ("numba",))
+    entry = PythonDialect.entry
+    monkeypatch.setattr(PythonDialect, "entry", lambda self, row, col: entry(self, col, row)
+                        if col is not None else entry(self, row, col))
+    folder = render_into(build_ir(_specs[name]), tmp_path / "out", ("numba",))
     broken = import_numba(folder, "_adbgen_mutated_mass")
     errors = errors_of({"mass": broken.mass_matrix.py_func}, ref, module.N_STATES, module.N_STATES // 2, 3)
     assert errors["mass"] > 1e-3, errors  # what test_numba_equals_the_symbolic_model refuses
 
 
 def test_double_to_float_in_the_c_printing_is_seen(tmp_path, monkeypatch):
-    from adbgen.codegen import emit
+    from adbgen.codegen.targets.c.dialect import CDialect
 
     name = "thesis_rotating_n2"
     module, ref = reference(name)
-    let = emit.Emitter.let
-
-    def single(self, depth, sym, value, mutable=False):
-        let(self, depth, sym, value, mutable)
-        if self.d.language == "c" and not self.d.auto:
-            self.lines[-1] = self.lines[-1].replace("double ", "float ")
-    monkeypatch.setattr(emit.Emitter, "let", single)
-    folder = render_into(_specs[name].build(), tmp_path / "out", ("c",))
+    let = CDialect.let
+    monkeypatch.setattr(CDialect, "let", lambda self, name, value, mutable=False:
+                        let(self, name, value, mutable).replace("double ", "float "))
+    folder = render_into(build_ir(_specs[name]), tmp_path / "out", ("c",))
     assert "const float" in (folder / f"{name}.c").read_text()
     lib = build_c(folder, name, tmp_path, module.N_STATES, module.DEFAULTS.size)  # compiles cleanly: strict flags pass
     errors = errors_of(lib.functions, ref, module.N_STATES, module.N_STATES // 2, 3)

@@ -16,22 +16,23 @@ from adbgen.codegen.checks import CheckFailed, check_start as _check_start
 from adbgen.families.single_plane.scene import Scene
 from adbgen.families.single_plane.model import derive
 from adbgen.families.single_plane.reductions import first_order
+from adbgen.codegen.spec import build as build_ir
 
 
 @pytest.fixture(scope="module")
 def fixed2():
     spec = models.single_plane_fixed(2)
-    return spec.system(), spec.build()
+    return spec.system(), build_ir(spec)
 
 
 def test_lowering_is_pure():
-    a, b = models.thesis_rotating(2).build(), models.thesis_rotating(2).build()
+    a, b = build_ir(models.thesis_rotating(2)), build_ir(models.thesis_rotating(2))
     assert a.fingerprint() == b.fingerprint()
-    assert models.thesis_rotating(3).build().fingerprint() != a.fingerprint()
+    assert build_ir(models.thesis_rotating(3)).fingerprint() != a.fingerprint()
 
 
 def test_structure_is_recorded_and_the_ball_block_is_diagonal():
-    ir = models.thesis_rotating(3).build()
+    ir = build_ir(models.thesis_rotating(3))
     assert ir.core == ("x", "y") and ir.leaves == ("phi_1", "phi_2", "phi_3")
     balls = [ir.state_names.index(name) for name in ir.leaves]
     assert not [(i, j) for i, j in ir.mass_pattern if i in balls and j in balls and i != j]
@@ -40,7 +41,7 @@ def test_structure_is_recorded_and_the_ball_block_is_diagonal():
     divisions = {lhs.name for lhs, e in ir.kernels()["rhs"].definitions()
                  if any(p.exp.is_negative for p in e.atoms(sp.Pow) if p.exp.is_number)}
     assert ir.form == "loops" and divisions <= {"Uinv_0", "Uinv_1", "LU_1_0", "ball_dinv"}
-    unrolled = models.thesis_rotating(3).build(form="unrolled")
+    unrolled = build_ir(models.thesis_rotating(3), form="unrolled")
     divisions = {lhs.name for lhs, e in unrolled.rhs.assignments
                  if any(p.exp.is_negative for p in e.atoms(sp.Pow) if p.exp.is_number)}
     assert divisions <= {"Uinv_0", "Uinv_1", "LU_1_0", "Mllinv_0", "Mllinv_1", "Mllinv_2"}
@@ -48,7 +49,7 @@ def test_structure_is_recorded_and_the_ball_block_is_diagonal():
 
 def test_the_lowering_check_catches_a_wrong_program():
     spec = models.thesis_rotating(2)
-    system, ir = spec.system(), spec.build(form="unrolled")
+    system, ir = spec.system(), build_ir(spec, form="unrolled")
     assert lowering_error(ir, system) < 1e-12
     outputs = list(ir.rhs.outputs)
     k, e = outputs[5]
@@ -58,7 +59,7 @@ def test_the_lowering_check_catches_a_wrong_program():
 
 
 def test_the_start_check_catches_a_point_that_is_not_at_rest():
-    ir = models.thesis_rotating(2).build()
+    ir = build_ir(models.thesis_rotating(2))
     _check_start(ir)
     moved = list(ir.start)
     moved[2] += 1e-3

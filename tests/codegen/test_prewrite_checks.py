@@ -19,6 +19,7 @@ from adbgen import cli
 from adbgen.codegen import loops, lowering
 from adbgen.codegen.checks import CheckFailed, check_programs, program_errors
 from adbgen.families.single_plane import models
+from adbgen.codegen.spec import build as build_ir
 
 
 def _residual_rows_with_wrong_sign(builder):
@@ -39,7 +40,7 @@ def _residual_rows_with_wrong_sign(builder):
 def thesis2():
     spec = models.thesis_rotating(2)
     system = spec.system()
-    return spec, system, spec.build(system)
+    return spec, system, build_ir(spec, system)
 
 
 def _loop_residuals_with_wrong_sign(self):
@@ -90,7 +91,7 @@ def test_a_wrong_sign_in_the_jacobian_lowering_is_refused(make, form, monkeypatc
     system = spec.system()
     monkeypatch.setattr(lowering, "_residual_rows", _residual_rows_with_wrong_sign)
     monkeypatch.setattr(loops._Kernels, "residuals", _loop_residuals_with_wrong_sign)
-    ir = spec.build(system, form=form)
+    ir = build_ir(spec, system, form=form)
     assert ir.form == form
     errors = program_errors(ir, system)
     assert errors["rhs"] < 1e-12 and errors["jac"] > 1e-3  # rhs untouched, the Jacobians wrong
@@ -136,7 +137,7 @@ def test_a_dropped_factor_in_jac_p_is_refused(thesis2):
 def test_a_wrong_oscillator_extension_is_refused():
     spec = models.single_plane_fixed(2)
     system = spec.system()
-    ir = spec.build(system)
+    ir = build_ir(spec, system)
     middle = _puts(ir.autonomous_extension, "jac") // 2
     ext = _replace_outputs(ir.autonomous_extension, "jac",
                            lambda k, put: dataclasses.replace(put, expr=2 * put.expr) if k == middle else put)

@@ -67,9 +67,10 @@ def test_check_names_stale_missing_and_foreign_files(small_tree, tmp_path):
     # each stale file's unified diff, on disk -> regenerated
     assert f"--- {out.name}/thesis_rotating_n1/thesis_rotating_n1.c (on disk)" in r.stdout
     assert "\n-/* edited by hand */\n" in r.stdout and "\n@@ " in r.stdout
-    # a missing file's diff is all additions; a long one is truncated to DIFF_LINES lines
+    # a missing file's diff is all additions; a long one is truncated to DIFF_LINES lines (the missing
+    # header and the emptied driver; not the hand-edited file's)
     assert f"+++ {out.name}/single_plane_fixed_n1/single_plane_fixed_n1.h (regenerated)" in r.stdout
-    assert r.stdout.count("more diff lines)") == 1
+    assert r.stdout.count("more diff lines)") == 2
     r = run("regenerate", "--n", "1", "--out", str(out), "--skip-checks", "--quiet")
     assert r.returncode == 0 and snapshot(out) == snapshot(small_tree) | {"thesis_rotating_n1/notes.txt": b"mine"}
 

@@ -18,6 +18,7 @@ from adbgen import families
 from adbgen.codegen.checks import CheckFailed
 from adbgen.codegen.loops import Kernel, Let, Put, Pos
 from adbgen.codegen.regenerate import DEFAULT_OUT
+from adbgen.codegen.spec import build as build_ir
 from adbgen.codegen.targets.taylor import checks, pyeval, reference
 from adbgen.codegen.targets.taylor.series import Decomposer, NotSeries, decompose
 from toolchain import STRICT_CFLAGS, require_tool, which
@@ -32,7 +33,7 @@ _ir: dict = {}
 
 def ir_of(name):
     if name not in _ir:
-        ir = SPECS[name].build()
+        ir = build_ir(SPECS[name])
         _ir[name] = (ir, decompose(ir))
     return _ir[name]
 

@@ -1,14 +1,12 @@
-"""Code-generation targets: one folder each (its configuration in `__init__.py`, its jinja2 templates in
-`templates/`, shipped as package data), registered in one place, `REGISTRY` below.
+"""Code-generation targets: one folder each, registered in one place, `REGISTRY` below.
 
-A target is a `Target`: its name, its files (template -> output path), the printer its programs are
-printed with, and hooks that hold its decisions in Python rather than in templates (whether a model
-gets it, which form of the model it renders, extra template data).  To add one (SymForce's
-`codegen/backends/<language>/` in small):
-
-1. make `targets/<name>/__init__.py` defining ``TARGET = Target(...)`` (or a subclass) and put its
-   templates in `targets/<name>/templates/`; templates refer to each other as "<name>/<file>";
-2. add one line to `REGISTRY`.
+A target is a `Target`: its name, its files (template -> output path), its printer and dialect (how
+its language writes an expression and a statement), and hooks that hold its decisions in Python
+rather than in templates (whether a model gets it, which form of the model it renders, extra template
+data).  Its Python side lives in `adbgen/codegen/targets/<name>/` (`__init__.py`: the `Target`;
+`printer.py`, `dialect.py`: its language), its jinja2 templates in the top-level `templates/<name>/`
+(shipped in the wheel as `adbgen/templates/<name>/`).  targets/README.md lists the steps to add one
+(SymForce's `codegen/backends/<language>/` in small).
 
 `register` adds a target at run time (tests, plug-ins outside the package).
 """
@@ -20,8 +18,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..ir import KERNELS
+
 if TYPE_CHECKING:
+    from ..emit import Dialect
     from ..ir import ModelIR
+    from ..loops import Kernel
 
 # name -> "module:attribute", in rendering order; one line per target
 REGISTRY: dict[str, str] = {
@@ -33,26 +35,51 @@ REGISTRY: dict[str, str] = {
 }
 _loaded: dict[str, "Target"] = {}
 
+_PACKAGE = Path(__file__).resolve().parents[2]  # adbgen/
+
+
+def template_root() -> Path:
+    """Where the targets' template folders are: the wheel's copy inside the package (adbgen/templates,
+    mapped from the top-level templates/ by pyproject's package-dir), else the source checkout's
+    top-level templates/ beside the package."""
+    installed = _PACKAGE / "templates"
+    return installed if installed.is_dir() else _PACKAGE.parent / "templates"
+
 
 @dataclass(frozen=True)
 class Target:
     """A code-generation target.
 
     ``files``: (template name, output path) pairs; the path may use {name} (the model's name).  A
-    template that renders to blank text writes no file (an optional file).  ``language`` picks the
-    printer of the programs: "py" (numba, plain Python) or "c" (C99).  ``loops``: see the field.
+    template that renders to blank text writes no file (an optional file).  ``printer``: the printer
+    class its functions are printed with (None: the target prints no functions, e.g. an adaptor over
+    another target's library); ``dialect(which, kernel)`` then says how its language addresses arrays
+    and writes statements.  ``functions``: which of the model's kernels it prints (``programs.<fn>``),
+    at indentation ``depth``.  ``templates``: its template folder (default: templates/<name>/).
     """
 
     name: str
     files: tuple[tuple[str, str], ...]
-    language: str
-    templates: Path
+    printer: type | None = None
+    templates: Path | None = None
     description: str = ""
     filters: dict = field(default_factory=dict)
     # prints the functions' `code` (the loop form or the unrolled one, through codegen/emit.py); a
     # target that prints the programs' statements one by one (programs.<fn>.assignments, ir.rhs)
     # leaves it False and gets the unrolled form
     loops: bool = False
+    functions: tuple[str, ...] = KERNELS
+    depth: int = 1
+    # prints the self-description's functions (measures, steady states: `describe`)
+    describe: bool = False
+
+    @property
+    def template_folder(self) -> Path:
+        return self.templates if self.templates is not None else template_root() / self.name
+
+    def dialect(self, which: str, kernel: "Kernel") -> "Dialect":
+        """The dialect of function `which` ('rhs', 'jac', ..., 'measures', ...) printing `kernel`."""
+        raise NotImplementedError(f"target {self.name!r} has a printer but no dialect")
 
     def skip_reason(self, ir: "ModelIR") -> str | None:
         """Why this target does not render the model (None: it does)."""
@@ -65,6 +92,11 @@ class Target:
     def context(self, ir: "ModelIR") -> dict:
         """Template data beyond the common context (decisions made here, in Python)."""
         return {}
+
+
+def columns(kernel: "Kernel") -> int:
+    """A kernel's output columns (0: a vector)."""
+    return kernel.shape[1] if len(kernel.shape) == 2 else 0
 
 
 def register(target: Target, replace: bool = False) -> None:

@@ -21,9 +21,9 @@ import math
 
 import sympy as sp
 
-from ...codegen.ir import Continuation
-from ...codegen.spec import Check, ModelSpec
+from ...core.model_spec import Check, Continuation, ModelSpec
 from ...core.first_order import FirstOrderSystem
+from . import description
 from . import steady_states as ss
 from . import verify
 from .model import derive
@@ -103,7 +103,8 @@ def thesis_rotating(n: int) -> ModelSpec:
         f"Single-plane balancer with {n} ball{'s' if n > 1 else ''}, rotating frame, dimensionless (thesis)",
         n, lambda: thesis_chain(n)["first_order"], lambda system: balanced_start(system, n), family=FAMILY,
         checks=checks("rotating", "appendix_a", "steady_states", n=n),
-        continuation=steady_continuation("Omega", stop=(0.5, 6.0)))
+        continuation=steady_continuation("Omega", stop=(0.5, 6.0)), kind="thesis_rotating",
+        describe=description.thesis_rotating)
 
 
 def fixed_scene(n: int) -> Scene:
@@ -144,7 +145,10 @@ def single_plane_fixed(n: int) -> ModelSpec:
         f"Single-plane balancer with {n} ball{'s' if n > 1 else ''}, fixed frame, anisotropic support, gravity",
         n, lambda: first_order(derive(scene)), orbit_start=lambda system: balanced_orbit_start(system, n),
         family=FAMILY, checks=checks("prescribed_speed", n=n),
-        orbit_continuation=Continuation("g", second="omega", continuum=n >= 3, note=_supercritical_note(scene)))
+        orbit_continuation=Continuation("g", second="omega", continuum=n >= 3, note=_supercritical_note(scene)),
+        kind="single_plane_fixed",
+        describe=lambda system: description.fixed_frame(system, {description.FIXED_SET: {
+            p.name: p.default for p in system.parameters}}))
 
 
 # the model kinds of the family, by n (`adbgen regenerate --n`) and the default set of generated/
@@ -162,6 +166,14 @@ def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
     rotating = selected.kind == "rotating-frame"
     start = (lambda system: balanced_start(system, scene.n)) if rotating else (lambda system: (None, ""))
     kinds = ("fixed_frame", "prescribed_speed") + (("rotating", "appendix_a") if rotating else ())
+    if selected.kind == "rotating-frame":
+        describe = lambda system: description.describe(  # noqa: E731
+            system, rotating=True, dimensionless=True, thesis_states=True, forcing="")
+    elif selected.kind == "rotating-frame-dimensional":
+        describe = lambda system: description.describe(system, rotating=True, dimensionless=False, forcing="")  # noqa: E731
+    else:
+        describe = description.fixed_frame
     return ModelSpec(name, f"Single-plane balancer with {scene.n} balls: {selected.reason}", scene.n,
                      lambda: selected.system, start, family=FAMILY, checks=checks(*kinds, n=scene.n),
-                     continuation=steady_continuation(("Omega", "omega")) if rotating else None)
+                     continuation=steady_continuation(("Omega", "omega")) if rotating else None, kind="scene",
+                     describe=describe)

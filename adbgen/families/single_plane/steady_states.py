@@ -56,6 +56,17 @@ def balanced(n: int, free_angles: Sequence[sp.Expr] | None = None, branch: int =
     return out
 
 
+def inline_parts(n: int, m, sign=1) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """(x, y, phi_1) of the in-line states (3.10) for m balls at phi_1 (numbers or symbols m, sign)."""
+    p = 2 * m - n  # net number of balls on the side of phi_1
+    Kn = K(n)
+    den = Kn**2 + (2 * Omega * zeta) ** 2
+    phi1 = sign * sp.acos(arccos_argument(n, m)) - sp.atan(-Kn / (2 * Omega * zeta))
+    x = (Kn * Omega**2 * (p * mu * sp.cos(phi1) + delta) + 2 * p * mu * Omega**3 * zeta * sp.sin(phi1)) / den
+    y = (p * Kn * mu * Omega**2 * sp.sin(phi1) - 2 * Omega * zeta * (delta * Omega**2 + p * mu * Omega**2 * sp.cos(phi1))) / den
+    return x, y, phi1
+
+
 def inline(n: int, m: int, sign: int = 1) -> dict[sp.Symbol, sp.Expr]:
     """In-line states 3(n-m)+- (3.10): phi_1..phi_m together, phi_{m+1}..phi_n opposite.
 
@@ -63,13 +74,7 @@ def inline(n: int, m: int, sign: int = 1) -> dict[sp.Symbol, sp.Expr]:
     """
     if not 1 <= m <= n:
         raise ValueError(f"need 1 <= m <= n, got m = {m}, n = {n}")
-    p = 2 * m - n  # net number of balls on the side of phi_1
-    Kn = K(n)
-    den = Kn**2 + (2 * Omega * zeta) ** 2
-    phi1 = sign * sp.acos(-2 * p * mu * zeta * Omega / sp.sqrt((2 * Omega * zeta * delta) ** 2 + (Kn * delta) ** 2)) \
-        - sp.atan(-Kn / (2 * Omega * zeta))
-    x = (Kn * Omega**2 * (p * mu * sp.cos(phi1) + delta) + 2 * p * mu * Omega**3 * zeta * sp.sin(phi1)) / den
-    y = (p * Kn * mu * Omega**2 * sp.sin(phi1) - 2 * Omega * zeta * (delta * Omega**2 + p * mu * Omega**2 * sp.cos(phi1))) / den
+    x, y, phi1 = inline_parts(n, m, sign)
     xs, ys, phis = _coords(n)
     out = {xs.q: x, ys.q: y}
     for i, ph in enumerate(phis):
@@ -91,6 +96,12 @@ def arccos_argument(n: int, m: int):
 def balanced_exists(n: int, mu_: float, delta_: float) -> bool:
     """(3.14): mu >= mu_c = delta/n (necessary; sufficient for n = 2 or phi_3.. = pi)."""
     return mu_ >= delta_ / n
+
+
+def inline_condition(n: int, m: int):
+    """(3.18) (m < n) and (3.16) (m = n) as a SymPy relation in the parameters."""
+    p = 2 * m - n
+    return sp.Ge(K(n) ** 2, (2 * Omega * zeta) ** 2 * ((p * mu / delta) ** 2 - 1))
 
 
 def inline_exists(n: int, m: int, mu_: float, Omega_: float, zeta_: float, delta_: float) -> bool:

@@ -20,9 +20,8 @@ from __future__ import annotations
 
 import math
 
-from ...codegen.ir import Continuation
-from ...codegen.spec import Check, ModelSpec
-from . import verify
+from ...core.model_spec import Check, Continuation, ModelSpec
+from . import description, verify
 from .model import derive
 from .reductions import balls_relative_to_spin, first_order, rotating_frame
 from .scene import TwoPlaneScene
@@ -111,7 +110,9 @@ def two_plane_rotating() -> ModelSpec:
         "two_plane_rotating", "Two-plane balancer, symmetric set-up (10), 2 + 2 balls, rotating frame (7)-(8)",
         sc.n, lambda: first_order(rotating_frame(sc)), rotating_start(sc), family=FAMILY,
         checks=checks(("rotating",), ("balanced_condition",)), balls=race_slots(sc),
-        continuation=Continuation("Omega", direction=-1, stop=(0.5, 6.0)))
+        continuation=Continuation("Omega", direction=-1, stop=(0.5, 6.0)), kind="two_plane_rotating",
+        describe=lambda system: description.describe(system, sc, {"paper (10)": description.defaults(system)},
+                                                      ("B", "C3"), forcing=""))
 
 
 def two_plane_fixed() -> ModelSpec:
@@ -120,14 +121,24 @@ def two_plane_fixed() -> ModelSpec:
         "two_plane_fixed", "Two-plane balancer, anisotropic bearings (43), 2 + 2 balls, fixed frame, constant speed",
         sc.n, lambda: first_order(balls_relative_to_spin(sc)), orbit_start=orbit_start(sc), family=FAMILY,
         checks=checks(("fixed_frame",), ("oscillator",)), balls=race_slots(sc),
-        orbit_continuation=Continuation("Omega", direction=-1))
+        orbit_continuation=Continuation("Omega", direction=-1), kind="two_plane_fixed",
+        describe=lambda system: description.describe(
+            system, sc, {"paper (43)": description.defaults(system), **description.FIGURE_12A_SET}, ("B",),
+            forcing="Omega"))
+
+
+def run_up_description(sc: TwoPlaneScene):
+    """The run-ups of section 6 (explicit time, not periodic): the paper's sets (10) and of section 6."""
+    return lambda system: description.describe(
+        system, sc, {"paper (10)": description.defaults(system), **description.RUN_UP_SETS}, forcing="")
 
 
 def two_plane_ramp() -> ModelSpec:
     sc = scene(speed={"law": "ramp", "omega_max": 3.6, "t_ramp": 6000.0})
     return ModelSpec("two_plane_ramp", "Two-plane balancer (10), 2 + 2 balls, run-up at constant acceleration (section 6)",
                      sc.n, lambda: first_order(derive(sc)), family=FAMILY,
-                     checks=checks(("fixed_frame",), ("prescribed_speed", "ramp")), balls=race_slots(sc))
+                     checks=checks(("fixed_frame",), ("prescribed_speed", "ramp")), balls=race_slots(sc),
+                     kind="two_plane_ramp", describe=run_up_description(sc))
 
 
 def two_plane_hill_scene() -> TwoPlaneScene:
@@ -138,14 +149,17 @@ def two_plane_hill() -> ModelSpec:
     sc = two_plane_hill_scene()
     return ModelSpec("two_plane_hill", "Two-plane balancer (10), 2 + 2 balls, Hill run-up (45)",
                      sc.n, lambda: first_order(derive(sc)), family=FAMILY,
-                     checks=checks(("fixed_frame",), ("prescribed_speed", "hill")), balls=race_slots(sc))
+                     checks=checks(("fixed_frame",), ("prescribed_speed", "hill")), balls=race_slots(sc),
+                     kind="two_plane_hill", describe=run_up_description(sc))
 
 
 def two_plane_torque() -> ModelSpec:
     sc = scene(speed={"law": "torque", "tau0": 0.036, "motor_slope": 0.01, "torsion_damping": 0.0})
     return ModelSpec("two_plane_torque", "Two-plane balancer (10), 2 + 2 balls, torque drive with the torsional equation (3)",
                      sc.n, lambda: first_order(derive(sc)), family=FAMILY, checks=checks(("fixed_frame",)),
-                     balls=race_slots(sc))
+                     balls=race_slots(sc), kind="two_plane_torque",
+                     describe=lambda system: description.describe(
+                         system, sc, {"paper (10)": description.defaults(system)}, forcing=""))
 
 
 KINDS = {"two_plane_rotating": two_plane_rotating, "two_plane_fixed": two_plane_fixed,
@@ -169,6 +183,10 @@ def for_scene(sc: TwoPlaneScene, name: str | None = None) -> ModelSpec:
         kind, system = law, (lambda: first_order(derive(sc)))
         calls = (("fixed_frame",),) + ((("prescribed_speed", law),) if law in ("ramp", "hill") else ())
     start = rotating_start(sc) if kind == "rotating" else (lambda system: (None, ""))
+    two_each = len(sc.races) == 2 and sorted(sc.ball_race) == [0, 0, 1, 1]
+    steady = (("B",) if two_each and kind in ("rotating", "fixed") else ()) + \
+        (("C3",) if two_each and kind == "rotating" else ())
     return ModelSpec(name or f"scene_two_plane_{kind}_n{sc.n}", f"Two-plane balancer with {sc.n} balls ({kind})",
                      sc.n, system, start, family=FAMILY, checks=checks(*calls), balls=race_slots(sc),
-                     continuation=Continuation("Omega", direction=-1) if kind == "rotating" else None)
+                     continuation=Continuation("Omega", direction=-1) if kind == "rotating" else None, kind="scene",
+                     describe=lambda system: description.describe(system, sc, steady=steady))

@@ -4,23 +4,25 @@ Its decisions are made here, from the model's `Continuation` (which the family s
 the templates as data: which parameter is continued (PAR index), in which direction and until where,
 whether there is a second stage (periodic orbits of an oscillator extension: first in the parameter
 the start moved, then in the forcing frequency), whether the start lies on a continuum, which states
-give the amplitude printed by pvls.  The templates only print.
+give the amplitude printed by pvls.  The templates (templates/auto/) only print; func's bodies are printed by
+the C printer in AUTO's dialect (`dialect.AutoDialect`: u, par[APAR(k)], ARRAY2D, doublereal).
 """
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from ....core.oscillator import OSC_COS, OSC_SIN
-from .. import Target
+from .. import Target, columns
+from ..c.printer import CPrinter
+from .dialect import AutoDialect, par_index as apar
 
-
-def apar(k: int) -> int:
-    """0-based index into AUTO's PAR of model parameter k: PAR(11)-PAR(14) are AUTO's own."""
-    return k if k < 10 else k + 4
+# the output arrays of AUTO-07p's func: f = F(U), dfdu = dF/dU, dfdp = dF/dPAR
+_OUT = {"rhs": "f", "jac": "dfdu", "jac_p": "dfdp"}
 
 
 class AutoTarget(Target):
+    def dialect(self, which, kernel):
+        return AutoDialect("u", "par", _OUT[which], columns(kernel), columns_are_parameters=which == "jac_p")
+
     def skip_reason(self, ir):
         if not ir.autonomous and ir.autonomous_extension is None:
             return ("explicit time and no autonomous extension with a known start orbit "
@@ -66,8 +68,9 @@ TARGET = AutoTarget(
     files=(("auto/user.c.j2", "{name}/auto/{name}.c"), ("auto/constants.j2", "{name}/auto/c.{name}"),
            # second continuation stage: forced models only (the template renders blank otherwise)
            ("auto/constants_stage2.j2", "{name}/auto/c.{name}.2")),
-    language="c",
-    templates=Path(__file__).parent / "templates",
+    printer=CPrinter,
     loops=True,
+    functions=tuple(_OUT),
+    depth=2,
     description="AUTO-07p user file and constants: continuation of steady states or periodic orbits",
 )

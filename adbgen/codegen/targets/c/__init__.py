@@ -1,15 +1,21 @@
-"""The C target: a C99 library per model (`<model>.h`, `<model>.c`), programs printed by
-`printers.CPrinter`; the CVODE and AUTO-07p targets build on the same printer."""
+"""The C target: a C99 library per model (`<model>.h`, `<model>.c`), printed by `printer.CPrinter` in
+`dialect.CDialect`; the CVODE and AUTO-07p targets build on the same printer.  Templates: templates/c/."""
 
-from pathlib import Path
+from .. import Target, columns
+from .dialect import CDialect
+from .printer import CPrinter
 
-from .. import Target
 
-TARGET = Target(
+class CTarget(Target):
+    def dialect(self, which, kernel):
+        return CDialect("y", "p", "dydt" if which == "rhs" else "out", columns(kernel))
+
+
+TARGET = CTarget(
     name="c",
     files=(("c/model.h.j2", "{name}/{name}.h"), ("c/model.c.j2", "{name}/{name}.c")),
-    language="c",
-    templates=Path(__file__).parent / "templates",
+    printer=CPrinter,
     loops=True,
-    description="C99 library: <model>_rhs, _jac, _jac_p, _mass, _forcing, names, defaults",
+    describe=True,
+    description="C99 library: <model>_rhs, _jac, _jac_p, _mass, _forcing, measures, steady states, names, defaults",
 )

@@ -1,15 +1,22 @@
-"""The numba target: one Python module per model, `@njit(cache=True)` functions over the programs
-printed as plain Python (`printers.PythonPrinter`); importable as `generated.<model>`."""
+"""The numba target: one Python module per model, `@njit(cache=True)` functions over the kernels printed
+as plain Python (`printer.PythonPrinter`, `dialect.PythonDialect`); importable as `generated.<model>`.
+Templates: templates/numba/."""
 
-from pathlib import Path
+from .. import Target, columns
+from .dialect import NUMBA_SCRATCH, PythonDialect
+from .printer import PythonPrinter
 
-from .. import Target
 
-TARGET = Target(
+class NumbaTarget(Target):
+    def dialect(self, which, kernel):
+        return PythonDialect("y", "p", "out", columns(kernel), scratch=NUMBA_SCRATCH)
+
+
+TARGET = NumbaTarget(
     name="numba",
     files=(("numba/module.py.j2", "{name}/__init__.py"),),
-    language="py",
-    templates=Path(__file__).parent / "templates",
+    printer=PythonPrinter,
     loops=True,
-    description="numba module: rhs, jac, jac_p, mass_matrix, forcing and metadata",
+    describe=True,
+    description="numba module: rhs, jac, jac_p, mass_matrix, forcing, measures, steady states and metadata",
 )

@@ -16,8 +16,6 @@ with the loop form over the balls kept (the text does not grow with n).
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from .. import Target
 from ...emit import tables
 from .ccode import CEmitter
@@ -68,11 +66,11 @@ class TaylorTarget(Target):
         }
 
 
+# It prints no kernel functions through a dialect (printer None): its C is the series program, printed by
+# `ccode` (expressions through the C target's printer), and its templates are templates/taylor/.
 TARGET = TaylorTarget(
     name="taylor",
     files=(("taylor/taylor.h.j2", "{name}/{name}_taylor.h"), ("taylor/taylor.c.j2", "{name}/{name}_taylor.c")),
-    language="c",
-    templates=Path(__file__).parent / "templates",
     loops=True,
     description="C: the solution's Taylor coefficients (<model>_taylor) and the rhs's jet (<model>_jet)",
 )

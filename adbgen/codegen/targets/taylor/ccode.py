@@ -19,7 +19,7 @@ import math
 
 import sympy as sp
 
-from ...printers import CPrinter
+from ..c.printer import CPrinter
 from .series import INF, Branch, Def, Flag, Increment, Loop, Out, SeriesProgram, Solve
 
 
