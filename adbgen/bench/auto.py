@@ -8,9 +8,11 @@ reference (`precision.reference`: CyRK Vern8 at rtol 1e-14, checked by heyoka), 
 `repeats` CPU times (the integration alone, engines built beforehand; round-robin per problem).
 
 The table: for each requested tolerance T of `TARGETS`, the candidate that reached an error of at
-most T times the state's size (max(1, |y_ref|_inf): B's spin angles are ~2700 rad) on every problem
-in the least time, time measured relative to the fastest candidate that reached it on that problem
-(the worse of the problems' ratios counts).  A Taylor candidate is run with the requested tolerance
+most T times the state's size (max(1, |y_ref|_inf): B's spin angles are ~2700 rad) in the least time:
+per family (`by_family`: problem A's measurements for the single-plane family, B's for the two-plane
+one, read from the models' FAMILY), and jointly (`rows`, for any other family: on every problem, time
+relative to the fastest candidate that reached it on that problem, the worse of the problems' ratios
+counting).  A Taylor candidate is run with the requested tolerance
 as its rtol (atol from the problem's ratio), the order and factor its own.  Written to
 `adbgen/analysis/engines/auto_table.json` (`--table`), which the auto engine reads, and with every
 measurement to `benchmarks/auto.json`.
@@ -189,6 +191,23 @@ def cost_per_step(order: int, factor: float, repeats: int, label: str = "A") -> 
             "ratio_to_4_lane_flop_time": per_step_ns / (flops * lanes4)}
 
 
+def family_of(label: str) -> str:
+    """The family (its models' FAMILY) of a problem's model."""
+    from ..analysis.loading import load_model
+    from .precision import PROBLEMS
+
+    return getattr(load_model(PROBLEMS[label].problem.model).module, "FAMILY", label)
+
+
+def table_of(result: dict) -> dict:
+    """The auto engine's table from a `bench auto` result: joint rows and rows per family."""
+    problems, cands, targets = result["problems"], result["candidates"], result["tolerances"]
+    by_family = {family_of(label): choose({label: res}, cands, targets) for label, res in problems.items()}
+    return {"benchmark": "auto", "date": result["date"], "problems": sorted(problems), "machine": result["machine"],
+            "rows": choose(problems, cands, targets), "by_family": by_family,
+            "source": "adbgen bench auto (adbgen/bench/auto.py)"}
+
+
 def bench_auto(labels=("A", "B"), *, quick: bool = False, repeats: int | None = None, t_end: float | None = None,
                progress=print) -> dict:
     result, started = opening("auto")
@@ -239,19 +258,31 @@ def run(args, out: str) -> int:
     unknown = [p for p in labels if p not in PROBLEMS]
     if unknown:
         raise UsageError(f"unknown problem {unknown[0]!r}; choose from {', '.join(PROBLEMS)}")
-    result = bench_auto(tuple(labels), quick=args.quick, repeats=args.repeats, t_end=args.t_end,
-                        progress=lambda line: print(line, flush=True))
-    path = write(result, out)
+    if args.table_only:
+        import json
+
+        try:
+            result = json.loads(Path(out).read_text())
+        except (OSError, ValueError) as exc:
+            raise UsageError(f"{out}: no results to make the table from ({exc})") from None
+        path = None
+    else:
+        result = bench_auto(tuple(labels), quick=args.quick, repeats=args.repeats, t_end=args.t_end,
+                            progress=lambda line: print(line, flush=True))
+        path = write(result, out)
     table = args.table or (None if args.quick else str(TABLE_PATH))
+    made = table_of(result)
     if table:
-        write({"benchmark": "auto", "date": result["date"], "problems": list(labels), "machine": result["machine"],
-               "rows": result["rows"], "source": "adbgen bench auto (adbgen/bench/auto.py)"}, table)
-    for row in result["rows"]:
-        extra = f"order {row['order']}, factor {row['step_factor']:g}" if "order" in row else f"rtol {row['rtol_run']:g}"
-        print(f"rtol {row['rtol']:g}: {row['engine']} ({extra}), {row['time_ratio_to_fastest']:.2f}x the fastest")
+        write(made, table)
+    for family, rows in [("joint", made["rows"])] + sorted(made["by_family"].items()):
+        for row in rows:
+            extra = f"order {row['order']}, factor {row['step_factor']:g}" if "order" in row else \
+                f"rtol {row['rtol_run']:g}"
+            print(f"{family}: rtol {row['rtol']:g}: {row['engine']} ({extra}), {row['time_ratio_to_fastest']:.2f}x "
+                  "the fastest")
     for line in describe_targets(result):
         print(line)
-    print(f"wrote {path}" + (f" and {table}" if table else ""))
+    print("wrote " + " and ".join(str(x) for x in (path, table) if x))
     return 0
 
 
@@ -262,6 +293,8 @@ BENCHMARK = Benchmark("auto", run, (
     option("--t-end", type=float, default=None, help="integrate every problem to this time (default: each problem's)"),
     option("--table", default=None, help="where to write the auto engine's table (default: "
            "adbgen/analysis/engines/auto_table.json; quick: nowhere)"),
+    option("--table-only", action="store_true", help="make the table from the results file (--out) without "
+           "measuring"),
 ))
 
-__all__ = ["BENCHMARK", "FACTORS", "ORDERS", "RTOLS", "TARGETS", "bench_auto", "candidates", "choose"]
+__all__ = ["BENCHMARK", "FACTORS", "ORDERS", "RTOLS", "TARGETS", "bench_auto", "candidates", "choose", "table_of"]

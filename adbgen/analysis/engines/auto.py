@@ -5,7 +5,8 @@ the benchmark rewrites it).  It runs the chosen engine and says what it picked (
 
 The table's rows: {"rtol": R, "engine": E, "rtol_run": r, "order": p, "step_factor": f}: the
 candidate that reached an error of at most R (relative to the state's size, see `adbgen bench auto`)
-fastest; it is run as engine E at rtol r (atol scaled by the same factor) with, for the Taylor engine,
+fastest, per family (`by_family`, keyed by the model's FAMILY: the measured problem of that family) and
+jointly (`rows`, for a model of another family); it is run as engine E at rtol r (atol scaled by the same factor) with, for the Taylor engine,
 order p and step factor f.  A requested rtol takes the row of the largest R at or below it (so the
 measured error is at most the requested rtol); tighter than every row: the tightest row.
 """
@@ -48,15 +49,16 @@ class AutoEngine:
     def table(self) -> dict:
         return load_table(self._table or str(TABLE))
 
-    def choice(self, rtol: float) -> dict:
-        """The table's row for a requested rtol (see the module docstring)."""
-        rows = self.table()["rows"]  # ascending R
+    def choice(self, rtol: float, family: str | None = None) -> dict:
+        """The table's row for a requested rtol and a model's family (see the module docstring)."""
+        table = self.table()
+        rows = sorted(table.get("by_family", {}).get(family) or table["rows"], key=lambda r: r["rtol"])
         fitting = [r for r in rows if r["rtol"] <= rtol * (1 + 1e-9)]
         return dict(fitting[-1] if fitting else rows[0])
 
-    def picked(self, rtol: float, atol: float):
-        """(engine object, rtol, atol, picked record) to run for a requested tolerance."""
-        row = self.choice(rtol)
+    def picked(self, rtol: float, atol: float, model=None):
+        """(engine object, rtol, atol, picked record) to run for a requested tolerance (and model)."""
+        row = self.choice(rtol, getattr(getattr(model, "module", None), "FAMILY", None))
         name = row["engine"]
         if name not in self._engines or name == self.name:
             raise AnalysisError(f"the auto engine's table picks {name!r}, which is not an engine here")
@@ -71,14 +73,14 @@ class AutoEngine:
         return eng, rtol * scale, atol * scale, record
 
     def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=2001):
-        eng, r, a, record = self.picked(rtol, atol)
+        eng, r, a, record = self.picked(rtol, atol, model)
         out = eng.run(model, p, y0, t_end, r, a, threshold, max_steps, keep_trajectory=keep_trajectory,
                       samples=samples)
         return {**out, "picked": record}
 
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
                  targets=(), measures=True):
-        eng, r, a, record = self.picked(rtol, atol)
+        eng, r, a, record = self.picked(rtol, atol, model)
         out = eng.run_many(model, P, Y0, t_end, r, a, threshold, max_steps, threads=threads, check_dt=check_dt,
                            targets=targets, measures=measures)
         return {**out, "picked": record}
