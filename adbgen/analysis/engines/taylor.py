@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from ..loading import AnalysisError, cache_dir
-from .compiled import HERE, STATUS, _Compiled, _ptr, _single, _Trajectory, compiler, D, I, L, U8
+from .compiled import HERE, _Compiled, _ptr, _single, _Trajectory, compiler, I, L
 
 CFLAGS = ["-std=gnu99", "-O3", "-march=native", "-ffp-contract=off", "-fPIC", "-shared", "-fopenmp"]
 MIN_ORDER, MAX_ORDER = 2, 40
@@ -176,33 +176,9 @@ class TaylorEngine(_Compiled):
     batch = 1  # trajectories per lane group of the compiled series (the batch variant: BATCH_LANES)
     entry = "adb_taylor_integrate_many"
 
-    def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
-                 targets=(), measures=True):
+    def _many_call(self, model, rtol, atol):
         order, fac = self.settings(rtol, atol)
-        lib = library(model, order, self.batch)
-        n = len(Y0)
-        Y0 = np.ascontiguousarray(Y0, dtype=float)
-        P = np.ascontiguousarray(P, dtype=float)
-        amp = self._common(model, threshold)
-        nt, centres, weights, cubics, levels, periodic = self._targets(model, targets)
-        status = np.zeros(n, np.int32)
-        target = np.full(n, -1, np.int32)
-        y_end = np.zeros((n, model.n_states))
-        stats = np.zeros((n, 4))
-        counts = np.zeros((n, 2), np.int64)
-        start = time.perf_counter()
-        getattr(lib, self.entry)(
-            n, _ptr(Y0), _ptr(P), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
-            ctypes.c_double(fac), ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
-            1 if measures else 0, ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
-            None if weights is None else _ptr(weights), None if cubics is None else _ptr(cubics),
-            None if levels is None else _ptr(levels), None if periodic is None else _ptr(periodic, U8),
-            int(threads or 0), _ptr(status, I), _ptr(target, I), _ptr(y_end), _ptr(stats), _ptr(counts, L))
-        wall = time.perf_counter() - start
-        codes = np.array([STATUS[int(c)] for c in status])
-        return {"status": codes, "r_max": stats[:, 0], "t_dec": stats[:, 1], "t_last": stats[:, 2],
-                "t_fail": stats[:, 3], "y_end": y_end, "target": target, "n_rhs": counts[:, 0],
-                "n_steps": counts[:, 1], "wall_s": wall}
+        return library(model, order, self.batch), self.entry, ctypes.c_double(fac)
 
     def dense(self, model, p, t, y, times, rtol, atol) -> np.ndarray:
         """The continuous solution of a run (its steps t, y as `run` returns them) at `times` (increasing,
