@@ -13,10 +13,10 @@ import pytest
 
 from adbgen.analysis.engines import DEFAULT, ENGINES
 from adbgen.analysis.engines.auto import AutoEngine
-from adbgen.analysis.engines.taylor import TaylorEngine, heyoka_order
+from adbgen.analysis.engines.taylor import heyoka_order
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.results import IntegrationError
-from adbgen.analysis.simulate import simulate, simulate_many
+from adbgen.analysis.simulate import simulate
 
 PHI_A = {"phi_1": math.pi / 3, "phi_2": -math.pi / 3, "phi_3": math.pi}
 

@@ -15,8 +15,6 @@ flag<N>; the Schur complement's LU factors (the kernel's own statements, once pe
 
 from __future__ import annotations
 
-import math
-
 import sympy as sp
 
 from ..c.printer import CPrinter

@@ -15,7 +15,6 @@ same printed rhs at 30 digits.
 
 from __future__ import annotations
 
-import math
 from types import SimpleNamespace
 
 import mpmath
