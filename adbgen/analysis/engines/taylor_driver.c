@@ -448,14 +448,16 @@ static int roots_on(const double *c, int d, double h, double *roots)
     return n;
 }
 
-/* r^2(s) of the step: coefficients 0..DEG */
-static void r2_poly(const Jet jet, const int *amp, double *q)
+/* r^2(s) of the step from the amplitude's series x, y: coefficients 0..DEG */
+static void r2_poly(const double *x, const double *y, double *q)
 {
-    const int ix = amp[0], iy = amp[1];
     for (int k = 0; k <= DEG; ++k) {
+        /* the products j, k - j and k - j, j are one: twice the sum below the middle, plus the middle */
         double s = 0.0;
-        for (int j = (k > P ? k - P : 0); j <= (k < P ? k : P); ++j)
-            s += jet[j][ix] * jet[k - j][ix] + jet[j][iy] * jet[k - j][iy];
+        const int lo = k > P ? k - P : 0;
+        for (int j = lo; 2 * j < k; ++j) s += x[j] * x[k - j] + y[j] * y[k - j];
+        s += s;
+        if (!(k & 1)) s += x[k / 2] * x[k / 2] + y[k / 2] * y[k / 2];
         q[k] = s;
     }
 }
@@ -535,9 +537,19 @@ typedef struct {
     const unsigned char *periodic;
 } Settings;
 
+/* A step kept for r_max or t_dec (its start, length, screen bound and the amplitude's two series): the
+ * root finding on r^2 is deferred, as most such steps are superseded (a later step reaches higher, or
+ * crosses the threshold later) and never need it */
+#define PEND 16
+typedef struct {
+    double t, h, bound, x[P + 1], y[P + 1];
+} Pending;
+
 /* One trajectory's state between steps (a lane of a batch, or the single run) */
 typedef struct {
     double t, y[NY], r2max, last_above, next_check;
+    Pending pmax[PEND], pdec[PEND];
+    int n_max, n_dec;
     long steps;
     int status, target, running;
     int keep; /* the single run: every step end into T, Y */
@@ -581,6 +593,60 @@ static void lane_store(Lane *L)
     ++L->K;
 }
 
+static void pend(Pending *c, const Jet jet, const int *amp, double t, double h, double bound)
+{
+    c->t = t;
+    c->h = h;
+    c->bound = bound;
+    for (int k = 0; k <= P; ++k) {
+        c->x[k] = jet[k][amp[0]];
+        c->y[k] = jet[k][amp[1]];
+    }
+}
+
+/* r^2's own screen, r^2_0 + sum_k |r^2_k| h^k (tight where x, y turn while r changes slowly) */
+static double q_bound(const double *q, double h)
+{
+    double tail = 0.0, hk = h;
+    for (int k = 1; k <= DEG; ++k, hk *= h) tail += fabs(q[k]) * hk;
+    return q[0] + tail;
+}
+
+/* r_max over the pending steps, highest screen bound first, until the bound is below r_max */
+static void resolve_max(Lane *L)
+{
+    double q[DEG + 1];
+    for (;;) {
+        int best = -1;
+        for (int i = 0; i < L->n_max; ++i)
+            if (L->pmax[i].bound > L->r2max && (best < 0 || L->pmax[i].bound > L->pmax[best].bound)) best = i;
+        if (best < 0) break;
+        Pending *c = &L->pmax[best];
+        r2_poly(c->x, c->y, q);
+        if (q_bound(q, c->h) > L->r2max) L->r2max = fmax(L->r2max, r2_max(q, c->h));
+        c->bound = -INFINITY;
+    }
+    L->n_max = 0;
+}
+
+/* t_dec over the pending steps (all after the last step ending at or above the threshold), latest
+ * first: the first with r^2 reaching H2 gives the last time above it */
+static void resolve_dec(Lane *L, double H2)
+{
+    double q[DEG + 1];
+    for (int i = L->n_dec - 1; i >= 0; --i) {
+        const Pending *c = &L->pdec[i];
+        r2_poly(c->x, c->y, q);
+        if (q_bound(q, c->h) < H2) continue;
+        const double sl = r2_last_above(q, c->h, H2);
+        if (sl >= 0.0) {
+            L->last_above = c->t + sl;
+            break;
+        }
+    }
+    L->n_dec = 0;
+}
+
 static void lane_fail(Lane *L, int status)
 {
     L->status = status;
@@ -593,7 +659,7 @@ static void lane_fail(Lane *L, int status)
 static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *w, int b)
 {
     const double t = L->t;
-    double ynew[NY], q[DEG + 1];
+    double ynew[NY];
     if (st->max_steps > 0 && L->steps >= st->max_steps) {
         lane_fail(L, ADB_MAX_STEPS);
         return;
@@ -621,23 +687,24 @@ static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *
     const double t1 = (t + h >= st->t_end) ? st->t_end : t + h;
     ++L->steps;
     if (st->measures) {
-        /* two screens before any root finding: (sum |x_k| h^k)^2 + (sum |y_k| h^k)^2, then, on r^2's
-         * own coefficients, r^2_0 + sum_k |r^2_k| h^k (tight where x, y turn while r changes slowly) */
+        /* a screen, (sum |x_k| h^k)^2 + (sum |y_k| h^k)^2 >= r^2 on the step, keeps the steps that may
+         * raise r_max or hold t_dec (pending, resolved when full and at the end); r_max meanwhile is the
+         * largest r^2 at a step end */
         const double end2 = adb_r2(ynew, st->amp[0], st->amp[1]), H2 = st->H2;
-        double bound = r2_bound(jet, st->amp, h);
-        const int want_max = bound > L->r2max, want_dec = end2 < H2 && bound >= H2;
-        if (want_max || want_dec) {
-            r2_poly(jet, st->amp, q);
-            double tail = 0.0, hk = h;
-            for (int k = 1; k <= DEG; ++k, hk *= h) tail += fabs(q[k]) * hk;
-            bound = q[0] + tail;
-            if (want_max && bound > L->r2max) L->r2max = fmax(L->r2max, r2_max(q, h));
-            if (want_dec && bound >= H2) {
-                double sl = r2_last_above(q, h, H2);
-                if (sl >= 0.0) L->last_above = t + sl;
-            }
+        const double bound = r2_bound(jet, st->amp, h);
+        if (bound > L->r2max) {
+            if (L->n_max == PEND) resolve_max(L);
+            pend(&L->pmax[L->n_max++], jet, st->amp, t, h, bound);
         }
-        if (end2 >= H2) L->last_above = t1;
+        if (end2 < H2 && bound >= H2) {
+            if (L->n_dec == PEND) resolve_dec(L, H2);
+            pend(&L->pdec[L->n_dec++], jet, st->amp, t, h, bound);
+        }
+        L->r2max = fmax(L->r2max, end2);
+        if (end2 >= H2) {
+            L->last_above = t1;
+            L->n_dec = 0; /* every pending step is earlier */
+        }
     }
     /* early stop: the state at each multiple of check_dt inside this step, on its polynomial (the steps
      * are the same with or without targets) */
@@ -664,11 +731,13 @@ static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *
 
 /* A finished lane's outputs (out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [order passes
  * (steps x P, the analogue of rhs evaluations), steps]) */
-static void lane_finish(const Lane *L, const Settings *st, int *target, double *y_end, double *out_stats,
+static void lane_finish(Lane *L, const Settings *st, int *target, double *y_end, double *out_stats,
                         long *out_counts)
 {
     out_stats[0] = out_stats[1] = NAN;
     if (st->measures) {
+        resolve_max(L);
+        resolve_dec(L, st->H2);
         out_stats[0] = sqrt(L->r2max);
         if (L->status == ADB_SUCCESS)
             out_stats[1] = adb_r2(L->y, st->amp[0], st->amp[1]) >= st->H2 ? NAN
