@@ -12,14 +12,24 @@ class UsageError(AdbgenError):
     """Bad command-line use: reported as one line, exit status 2."""
 
 
-def positive_int(text: str) -> int:
+def _whole(text: str, what: str) -> int:
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
     if value < 1:
-        raise argparse.ArgumentTypeError(f"n must be at least 1, got {value}")
+        raise argparse.ArgumentTypeError(f"{what}must be at least 1, got {value}")
     return value
+
+
+def positive_int(text: str) -> int:
+    """A number of balls (--n)."""
+    return _whole(text, "n ")
+
+
+def count(text: str) -> int:
+    """A whole number >= 1 (--workers, --max-steps, ...)."""
+    return _whole(text, "")
 
 
 def finite(text: str) -> float:
@@ -33,8 +43,8 @@ def finite(text: str) -> float:
 
 
 def model_name(text: str) -> str:
-    """A model name usable as a Python module, a C prefix and a folder (`codegen.names`)."""
-    from .codegen.names import name_problem
+    """A model name usable as a Python module, a C prefix and a folder (`core.names`)."""
+    from .core.names import name_problem
 
     problem = name_problem(text)
     if problem:

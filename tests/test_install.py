@@ -74,10 +74,27 @@ def test_the_wheel_holds_the_templates_and_generated_files(installed):
     python, _, env, elsewhere = installed
     code = ("import importlib.resources as r; "
             "print(sorted(p.name for p in (r.files('adbgen') / 'templates' / 'auto').iterdir())); "
-            "print((r.files('generated') / 'two_plane_rotating' / 'auto' / 'c.two_plane_rotating').is_file())")
+            "print((r.files('adbgen.models') / 'two_plane_rotating' / 'auto' / 'c.two_plane_rotating').is_file())")
     r = _run([python, "-c", code], elsewhere, env)
     assert r.returncode == 0, r.stderr
     assert "user.c.j2" in r.stdout and r.stdout.split()[-1] == "True"
+
+
+def test_the_wheel_installs_the_models_under_adbgen_only(installed):
+    """Issue 24 item 9: no top-level `generated` package in site-packages (it could collide with another
+    project's); the models are `adbgen.models.<model>`, which the analysis layer loads by name."""
+    python, script, env, elsewhere = installed
+    code = ("import sysconfig, adbgen.models as m, adbgen.models.thesis_rotating_n2 as t; "
+            "print(sysconfig.get_paths()['purelib']); print(t.NAME, t.__file__); print(len(m.names()))")
+    r = _run([python, "-c", code], elsewhere, env)
+    assert r.returncode == 0, r.stderr
+    site, model, count = r.stdout.splitlines()
+    assert (Path(site) / "adbgen").is_dir() and not (Path(site) / "generated").exists()
+    name, path = model.split()
+    assert name == "thesis_rotating_n2" and Path(path).resolve().is_relative_to((elsewhere.parent / "venv").resolve())
+    assert int(count) == len(list((ROOT / "generated").glob("*/__init__.py")))
+    r = _run([script, "stability", "thesis_rotating_n2", "--json"], elsewhere, env)
+    assert r.returncode == 0 and '"classification": "stable"' in r.stdout, r.stderr[-2000:]
 
 
 def test_regenerate_n5_from_another_directory(installed):

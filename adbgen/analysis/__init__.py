@@ -8,7 +8,14 @@ equations were derived, checked and emitted upstream; here they are only evaluat
     engines     integration engines (one registry): compiled CyRK and SUNDIALS paths, SciPy
     simulate    one trajectory or many; r, r_max, t_dec, final state, counts (thesis ch. 5)
     steady      steady states by Newton, eigenvalues, the n >= 3 family's neutral directions removed (ch. 3)
-    closed_forms  the thesis' closed-form states (3.6), (3.9), (3.10) in numpy
+    starts      the states stability and continuation start from (START, the module's closed forms)
     continuation  a steady state along a parameter: Hopf points, folds, stable intervals (ch. 4)
     auto        AUTO-07p on the emitted files: one- and two-parameter runs, fort.7/fort.8 readers
+    attractors  where a trajectory ends: steady states named, stop regions (basin_regions), the classifier
+    grid, sweep, sweep_figures   grids of trajectories or steady states on Dask, into Zarr, drawn
+    results     what a simulation returns
+    reproduction  the reproduction document (the families' science packages give its sections)
+
+It knows no family: what it needs of a model it reads from the generated module's self-description
+(roles of the states, angles, amplitude, measures, symmetries, closed-form steady states).
 """

@@ -12,10 +12,14 @@
 Newton and the transverse spectrum are those of `steady` (the stability layer); this module adds
 what the sweeps need on top: names, provable basin regions, and the classification of final states.
 
-The steady states and their names follow the thesis: balanced 1 (3.6) with x = y = 0; coincident 2+-
-(3.9) with all balls together; in-line 3(n-m)+- (3.10) with m balls together and n - m opposite.  The
-sign is that of the arccosine in (3.9)/(3.10), read off the closed form for the thesis' rotating-frame
-models; for other models the names carry no sign.
+The steady states are named by the balls' angles, as the thesis names them: balanced 1 (3.6) with the
+rotor's amplitude zero; coincident 2+- (3.9) with all balls together; in-line 3(n-m)+- (3.10) with m
+balls together and n - m opposite.  The sign is the branch of the closed form the state is (the
+arccosine's in (3.9)/(3.10)): the trailing + or - of the label of the generated module's closed-form
+steady state (`Model.steady_states`) at the same angle; a model without such labels names no sign.
+Everything here reads the module's self-description: the balls are the states of role "ball_angle",
+the angles (wrapped) `Model.angles`, the amplitude `Model.amplitude`, the exchanges of identical balls
+`Model.symmetries`.
 """
 
 from __future__ import annotations
@@ -28,7 +32,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.linalg
 
-from . import closed_forms, steady
+from . import steady
 from .loading import AnalysisError, Model
 
 TWO_PI = 2.0 * math.pi
@@ -89,9 +93,14 @@ def spectrum(model: Model, y, p) -> Spectrum:
 
 # --------------------------------------------------------------------------------------------- names
 
+def balls(model: Model) -> list[int]:
+    """The positions of the balls' angles (role "ball_angle"), in ball order."""
+    return list(model.role_indices("ball_angle"))
+
+
 def labels(model: Model) -> list[str]:
     """Every label a sweep of `model` can give, in a fixed order (the stored codes index this list)."""
-    n = len(model.angle_indices)
+    n = len(balls(model))
     out = ["balanced 1"]
     if n >= 2:
         out += ["coincident 2-", "coincident 2+", "coincident 2"]
@@ -104,37 +113,50 @@ def labels(model: Model) -> list[str]:
     return out
 
 
-def _closed_form_angles(model: Model, p, m: int) -> tuple[float, float] | None:
-    """phi_1 of (3.9)/(3.10) (m balls at phi_1, n - m opposite) for the signs -, + (`closed_forms.inline`)."""
-    if not closed_forms.is_thesis_model(model):
+def _grouping(model: Model, y, tol: float = 1e-6) -> tuple[int, float] | None:
+    """(m, angle): the balls lie in two opposite groups, the larger of m balls at `angle`; None if not."""
+    angles = np.asarray(y)[balls(model)]
+    n = len(angles)
+    if n < 2:
         return None
-    v = dict(zip(model.param_names, np.asarray(p, float)))
-    n = len(model.angle_indices)
-    out = [closed_forms.inline(n, m, sign, v["Omega"], v["delta"], v["mu"], v["zeta"]) for sign in (-1, 1)]
-    return None if any(c is None for c in out) else (float(out[0][2]), float(out[1][2]))
+    ref = angles[0]
+    same = np.abs(_wrap(angles - ref)) < tol
+    opposite = np.abs(_wrap(angles - ref - math.pi)) < tol
+    if not np.all(same | opposite):
+        return None
+    m = int(same.sum())
+    if m < n - m:  # name by the larger group
+        m, ref = n - m, ref + math.pi
+    return m, float(ref)
+
+
+def _signed_closed_forms(model: Model, p, m: int) -> list[tuple[str, float]]:
+    """(sign, angle of the larger group) of each closed-form steady state whose label ends in + or - and
+    whose balls make m and n - m: the branches a state of that grouping is named by."""
+    out = []
+    for label in model.steady_states:
+        if label[-1:] not in ("+", "-"):
+            continue
+        y = model.steady_state(label, p)
+        group = None if y is None or amplitude_of(model, y) < 1e-8 else _grouping(model, y)
+        if group is not None and group[0] == m:
+            out.append((label[-1], group[1]))
+    return out
 
 
 def name_steady_state(model: Model, y, p, tol: float = 1e-6) -> str:
     """The thesis' name of the steady state y: balanced 1, coincident 2+-, in-line 3(n-m)+-."""
     if amplitude_of(model, y) < 1e-8:
         return "balanced 1"
-    angles = np.asarray(y)[list(model.angle_indices)]
-    n = len(angles)
-    ref = angles[0]
-    same = np.abs(_wrap(angles - ref)) < tol
-    opposite = np.abs(_wrap(angles - ref - math.pi)) < tol
-    if not np.all(same | opposite) or n < 2:
+    group = _grouping(model, y, tol)
+    if group is None:
         return "other steady state"
-    m = int(same.sum())
-    if m < n - m:  # name by the larger group
-        same, opposite, m, ref = opposite, same, n - m, ref + math.pi
+    m, ref = group
+    n = len(balls(model))
     kind = "coincident 2" if m == n else f"in-line 3({n}-{m})"
     if 2 * m == n:
         return kind
-    closed = _closed_form_angles(model, p, m)
-    if closed is None:
-        return kind
-    for sign, phi in zip("-+", closed):
+    for sign, phi in _signed_closed_forms(model, p, m):
         if abs(_wrap(ref - phi)) < 1e-5:
             return kind + sign
     return kind
@@ -254,44 +276,71 @@ def stop_region(model: Model, y, p, *, method: str = "lyapunov", samples: int = 
 
 def seeds(model: Model, p) -> list[np.ndarray]:
     """Starting points for the steady states: START with its balls permuted (identical balls: each
-    permutation is a steady state too, physically the same, in state space another point), and for
-    the thesis' models the closed forms of ch. 3 (`closed_forms`: (3.6), (3.9), (3.10))."""
+    permutation is a steady state too, physically the same, in state space another point), and the
+    module's closed-form steady states at p (`Model.steady_states`; those that exist there)."""
     import itertools
 
     start = np.array(model.module.START, dtype=float)
-    angles = list(model.angle_indices)
+    angles = balls(model)
     out = []
     for perm in itertools.islice(itertools.permutations(range(len(angles))), 120):
         y = start.copy()
         y[angles] = start[[angles[k] for k in perm]]
         if not any(np.array_equal(y, o) for o in out):
             out.append(y)
-    for label in closed_forms.labels(model):
-        try:
-            out.append(closed_forms.state(model, label, p))
-        except AnalysisError:  # that state does not exist at these parameters
-            pass
+    for label in model.steady_states:
+        y = model.steady_state(label, p)
+        if y is not None:  # that state exists at these parameters
+            out.append(np.array(y, float))
     return out
 
 
 def ball_states(model: Model) -> list[list[int]]:
-    """Each ball's state indices (its angle, and its rate when the model has one), in ball order."""
-    out = []
-    for k in model.angle_indices:
-        name = model.state_names[k]
-        out.append([k] + ([model.index(name + "_dot")] if name + "_dot" in model.state_names else []))
-    return out
+    """Each ball's state indices (its angle and its rate), in ball order."""
+    return [[k, model.rate_index(k)] for k in balls(model)]
+
+
+def identical_balls(model: Model, p) -> list[set[int]]:
+    """The groups of identical balls at p (each a set of angle positions): the orbits of the balls under
+    the module's "identical-balls" symmetries whose parameter condition holds at p (masses equal, ...).
+    Balls of one race that are identical can be exchanged in any order (the generators given, an exchange
+    of two and a cyclic shift, generate every permutation of them)."""
+    p = np.asarray(p, float)
+    group = {b: b for b in balls(model)}
+
+    def root(b):
+        while group[b] != b:
+            b = group[b]
+        return b
+
+    for sym in model.symmetries:
+        if sym["kind"] != "identical-balls":
+            continue
+        params, signs = sym["params"], sym.get("param_signs") or (1,) * len(p)
+        if not all(p[k] == signs[k] * p[params[k]] for k in range(len(p))):
+            continue
+        for b in group:
+            group[root(b)] = root(sym["states"][b])
+    orbits: dict[int, set[int]] = {}
+    for b in group:
+        orbits.setdefault(root(b), set()).add(b)
+    return list(orbits.values())
 
 
 def equivariant(model: Model, p, perm) -> bool:
-    """rhs(s y) = s rhs(y) at random states (the balls that s exchanges are identical)."""
-    rng = np.random.default_rng(1)
-    for _ in range(4):
-        y = rng.uniform(-1, 1, model.n_states) * 0.1
-        y[list(model.angle_indices)] = rng.uniform(-math.pi, math.pi, len(model.angle_indices))
-        f = model.module.rhs(0.0, y, p)
-        g = model.module.rhs(0.0, y[perm], p)
-        if not np.allclose(g, f[perm], rtol=1e-12, atol=1e-14 * max(1.0, np.max(np.abs(f)))):
+    """Is the state permutation perm (y -> y[perm]) an exchange of identical balls at p, so that
+    rhs(s y) = s rhs(y)?  It must move whole balls (angle and rate together) within a group of
+    `identical_balls` and keep every other state."""
+    perm = list(perm)
+    if sorted(perm) != list(range(model.n_states)):
+        return False
+    rate_of = {k: r for k, r in ball_states(model)}
+    group_of = {b: k for k, g in enumerate(identical_balls(model, p)) for b in g}
+    for k, j in enumerate(perm):
+        if k in rate_of:
+            if j not in rate_of or group_of[j] != group_of[k] or perm[rate_of[k]] != rate_of[j]:
+                return False
+        elif k not in rate_of.values() and j != k:
             return False
     return True
 

@@ -248,7 +248,7 @@ def _mapping(d: dict) -> str:
 class Session:
     """A temporary copy of a model's auto/ folder; each `run` writes a constants file and runs AUTO."""
 
-    def __init__(self, model: Model, keep: Path | None = None):
+    def __init__(self, model: Model, keep: Path | None = None, forced: bool = False):
         missing = missing_tools()
         if missing:
             raise AutoError("AUTO-07p cannot run here: missing " + ", ".join(missing) +
@@ -258,9 +258,9 @@ class Session:
         src = model.folder / "auto"
         if not (src / f"{self.name}.c").is_file():
             raise AutoError(f"{model.name} has no AUTO files ({src}); regenerate with the 'auto' target")
-        if not model.autonomous:
+        if not model.autonomous and not forced:  # `auto_orbits` runs a forced model's periodic-orbit stages
             raise AutoError(f"{model.name} is periodically forced: its AUTO files continue periodic orbits "
-                            f"(run them as {src}/{self.name}.c explains); `adbgen continue` follows steady states")
+                            f"(`auto_orbits.continue_orbit`); this session follows steady states")
         self._tmp = None if keep else tempfile.TemporaryDirectory(prefix="adbgen-auto-")
         self.dir = Path(keep) if keep else Path(self._tmp.name)
         self.dir.mkdir(parents=True, exist_ok=True)

@@ -1,6 +1,7 @@
 """Follow a steady state in one parameter and locate where its stability changes (thesis ch. 4).
 
     scan(model, p, y0, "Omega", 4.0, 0.5)   -> Scan: the branch, Hopf points and folds, stable intervals
+    write_scan(scan, out)                   scan.csv and scan.png in the folder out
 
 Pseudo-arclength continuation on the generated rhs, jac and jac_p: unknowns z = (y, lambda); each
 step predicts along the unit tangent and corrects by Newton on
@@ -28,6 +29,7 @@ balanced branch turning at mu_c into its mirror copy phi_1 <-> phi_2, the thesis
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
@@ -82,6 +84,17 @@ class Scan:
     extra: dict = field(default_factory=dict)
 
     @property
+    def complete(self) -> bool:
+        """Whether the branch was followed until it left the parameter range (at TO, or at FROM after
+        turning back at a fold); False when a step limit or step-size underflow stopped it inside."""
+        return self.end_reason == "left the range"
+
+    @property
+    def end_at(self) -> float:
+        """The parameter value of the last step."""
+        return float(self.branch[-1].lam)
+
+    @property
     def points(self) -> list[Bifurcation]:
         """Hopf points and folds, in the order met along the branch."""
         return [b for b in self.bifurcations if b.kind in ("hopf", "fold")]
@@ -95,7 +108,7 @@ class Scan:
                 "points": [b.to_json(self.name) for b in self.points],
                 "branch_points": [b.to_json(self.name) for b in self.branch_points],
                 "stable_intervals": [list(iv) for iv in self.stable_intervals],
-                "steps": len(self.branch), "end": self.end_reason,
+                "steps": len(self.branch), "end": self.end_reason, "complete": self.complete, "end_at": self.end_at,
                 "range": [float(min(b.lam for b in self.branch)), float(max(b.lam for b in self.branch))]}
 
 
@@ -164,9 +177,11 @@ def _sorted_real(spectrum: np.ndarray) -> np.ndarray:
 
 
 def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float,
-           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000):
+           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000, progress=None):
     """The branch through the steady state near y0 at name = start, continued towards `stop` (pseudo-
-    arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop)."""
+    arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop),
+    or `max_steps` steps ("step limit") or a step below ds_min ("step size underflow") end it early.
+    `progress(lambda)` is called after each step."""
     _require_autonomous(model)
     if name not in model.param_names:
         raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
@@ -184,7 +199,7 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
         raise AnalysisError(f"the start state is a fold in {name}: move {name} a little")
     branch = [prob.point(np.r_[first.y, start], t0)]
     branch[0].tangent = t0
-    h, reason = ds, "steps"
+    h, reason = ds, "step limit"
     for _ in range(max_steps):
         a = branch[-1]
         za = np.r_[a.y, a.lam]
@@ -200,6 +215,8 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
             continue
         b = prob.point(z, a.tangent)
         branch.append(b)
+        if progress is not None:
+            progress(b.lam)
         if not lo - 1e-12 <= b.lam <= hi + 1e-12:
             reason = "left the range"
             break
@@ -315,3 +332,68 @@ def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, s
                     found.append((i, bif))
     return Scan(model, name, start, stop, branch, [b for _, b in found],
                 _stable_intervals(branch, found, lo, hi), reason)
+
+
+def write_scan(result, out: Path, values: dict | None = None, scene: str | None = None) -> None:
+    """scan.csv (one row per continuation step) and scan.png: the leading real part of the transverse
+    spectrum and the rotor amplitude along the parameter, stable stretches solid, Hopf points and folds
+    marked and labelled (the thesis' one-parameter diagrams, Fig. 4.2, 4.6, 4.11); each file written
+    whole."""
+    import io
+
+    from ..outputs import save_figure, writing
+    from .figure_style import latex_name, pyplot, title
+    from .units import axis_label, units
+
+    out.mkdir(parents=True, exist_ok=True)
+    m = result.model
+    u = units(m)
+    unit = u.params.get(result.name, "1")
+    ix, iy = m.amplitude_indices[:2]
+    lam = np.array([b.lam for b in result.branch])
+    lead = np.array([float(np.max(b.spectrum.real)) for b in result.branch])
+    amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
+    amp[amp < 1e-14 * max(1.0, float(np.max(amp)))] = 0.0  # the balanced state: rounding only
+    unstable = np.array([b.n_unstable for b in result.branch])
+    body = io.StringIO()
+    np.savetxt(body, np.column_stack([lam, lead, unstable, amp]), delimiter=",", fmt="%.17g")
+    with writing(out / "scan.csv") as fh:
+        fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
+                 f"to {result.stop!r}; complete: {str(result.complete).lower()} ({result.end_reason}, last step at "
+                 f"{result.end_at!r}); units: {result.name} {unit}, amplitude {u.length}, leading_real_part "
+                 f"{'1' if u.time == '1' else '1/' + u.time}\n")
+        fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
+        fh.write(body.getvalue())
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 5.5), sharex=True, constrained_layout=True)
+    rate = "" if u.time == "1" else f"1/{u.time}"
+    balanced = not np.any(amp > 0)
+    # on the balanced state r = 0 all along: the lower panel counts the unstable eigenvalues instead
+    lower = (unstable.astype(float), "eigenvalues with Re > 0") if balanced else \
+        (amp, axis_label("$r = \\sqrt{x^2 + y^2}$", u.length))
+    for ax, values_, label in ((a1, lead, axis_label("max Re $\\lambda$ (transverse)", rate)), (a2, *lower)):
+        stable = np.where(unstable == 0, values_, np.nan)
+        ax.plot(lam, values_, "--", color="C0", lw=0.8, label="unstable")
+        ax.plot(lam, stable, "-", color="C0", lw=1.6, label="stable")
+        ax.set_ylabel(label)
+        for b in result.points:
+            ax.axvline(b.value, color="C3" if b.kind == "hopf" else "C2", lw=0.6, ls=":")
+    for b in result.points:
+        a1.annotate(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}", (b.value, 1.0), xycoords=("data", "axes fraction"),
+                    textcoords="offset points", xytext=(3, -4), ha="left", va="top", fontsize=7,
+                    color="C3" if b.kind == "hopf" else "C2", rotation=90)
+    a1.axhline(0.0, color="0.5", lw=0.5)
+    a1.legend(loc="best", fontsize=7)
+    if balanced:
+        a2.set_yticks(range(int(unstable.max()) + 1))
+        a2.set_title("r = 0 along the whole branch (the balanced state)", fontsize=8)
+    a2.set_xlabel(axis_label(latex_name(result.name), unit))
+    if not result.complete:
+        for ax in (a1, a2):
+            ax.axvspan(min(result.end_at, result.stop), max(result.end_at, result.stop), color="0.9", zorder=0)
+        a2.text(0.5 * (result.end_at + result.stop), 0.02, "not scanned", ha="center", va="bottom", fontsize=8,
+                color="0.4", transform=a2.get_xaxis_transform())
+    name = f"{Path(scene).name} ({m.name})" if scene else m.name
+    marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points) or "no Hopf point or fold"
+    a1.set_title(title(name, values or {}, u.params, f"solid stable, dashed unstable; {marks}"), fontsize=8)
+    save_figure(fig, out / "scan.png", dpi=120)

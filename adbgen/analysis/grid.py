@@ -153,17 +153,22 @@ def make_grid(model: Model, grid: list[str], params: dict[str, float], y0: dict[
     return Grid(axes, model.params(params), model.state(y0), tied)
 
 
-def axis_symbol(name: str) -> str:
+_GREEK = frozenset("alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi pi rho sigma tau "
+                   "upsilon phi chi psi omega Gamma Delta Theta Lambda Xi Pi Sigma Upsilon Phi Psi Omega".split())
+
+
+def tex(name: str) -> str:
+    """A generated model's name as TeX: a Greek letter's name as the letter, the text after the first
+    "_" as its subscript, a trailing "_dot" as a dot (``phi_1_dot`` -> ``\\dot\\phi_{1}``, ``eps`` ->
+    ``\\varepsilon``); any other name as it is."""
+    dot = name.endswith("_dot")
+    base = name[:-4] if dot else name
+    head, sep, sub = base.partition("_")
+    symbol = "\\varepsilon" if head == "eps" else ("\\" + head if head in _GREEK else head)
+    text = symbol + (f"_{{{sub}}}" if sep else "")
+    return ("\\dot" + ("" if symbol.startswith("\\") else " ") + text) if dot else text
+
+
+def axis_symbol(name: str, kind: str = "parameter") -> str:
     """The symbol of a grid axis for figure labels: a parameter, or an initial state '(0)'."""
-    greek = {"Omega": r"\Omega", "mu": r"\mu", "zeta": r"\zeta", "beta": r"\beta", "delta": r"\delta",
-             "omega": r"\omega", "eps": r"\varepsilon"}
-    if name.startswith("phi_"):
-        base = name[4:]
-        if base.endswith("_dot"):
-            return rf"$\dot\phi_{{{base[:-4]}}}(0)$"
-        return rf"$\phi_{{{base}}}(0)$"
-    if name.endswith("_dot"):
-        return rf"$\dot {name[:-4]}(0)$"
-    if name in ("x", "y", "X", "Y"):
-        return rf"${name}(0)$"
-    return f"${greek.get(name, name)}$"
+    return f"${tex(name)}(0)$" if kind == "state" else f"${tex(name)}$"

@@ -1,6 +1,7 @@
 """A generated model, found by name, folder or scene file, with its parameters and states by name.
 
-    load_model("thesis_rotating_n3")        generated.thesis_rotating_n3 (the committed default set)
+    load_model("NAME")                      adbgen.models.NAME: the committed default set
+                                            (the checkout's generated/, or the wheel's copy; `available_models()`)
     load_model("out/models")                a folder written by `adbgen regenerate --out` (one model)
     load_model("out/models/my_rotor")       ... or the model's own folder inside it
     load_model(scene="rotor.toml")          the scene's smallest exact model, generated once into a
@@ -153,12 +154,12 @@ class Model:
 
     @property
     def family(self) -> str:
-        """The family's registry key ("single-plane", "two-plane", ...)."""
+        """The registry key of the family the model comes from (`adbgen.families`)."""
         return self._described("FAMILY")
 
     @property
     def kind(self) -> str:
-        """The family's kind of model ("thesis_rotating", "two_plane_fixed", ...; "scene" for a scene's)."""
+        """The family's kind of model (a key of its `kinds()` or of its models; "scene" for a scene's)."""
         return self._described("KIND")
 
     @property
@@ -174,6 +175,16 @@ class Model:
     def roles(self) -> tuple[str, ...]:
         """One per state: "translation", "tilt", "ball_angle", "spin_angle", ... and "<role>_rate"."""
         return tuple(self._described("STATE_ROLES"))
+
+    def role_indices(self, role: str) -> tuple[int, ...]:
+        """Positions of the states of one role, in state order (e.g. the balls' angles: "ball_angle")."""
+        return tuple(i for i, r in enumerate(self.roles) if r == role)
+
+    def rate_index(self, coordinate: int) -> int:
+        """Position of a coordinate's rate: the first-order state is (q, q'), so n_coordinates further."""
+        if not 0 <= coordinate < self.n_coordinates:
+            raise AnalysisError(f"{self.state_names[coordinate]} of {self.name} is a rate, not a coordinate")
+        return coordinate + self.n_coordinates
 
     @property
     def param_domains(self) -> tuple[str, ...]:
@@ -199,10 +210,10 @@ class Model:
     def amplitude_indices(self) -> tuple[int, int, int, int]:
         """(a, b, a', b'): positions of the amplitude's two states and of their rates.
 
-        r = sqrt(a^2 + b^2) is the thesis' rotor amplitude (rotating frame), the rotor centre's in the
-        fixed frame (X, Y) and for the two-plane rotor (X, Y of its centre)."""
+        r = sqrt(a^2 + b^2) is the rotor's amplitude as its family defines it (the thesis': the rotor
+        centre's, in the rotating or the fixed frame)."""
         a, b = (self.index(name) for name in self.amplitude)
-        return a, b, a + self.n_coordinates, b + self.n_coordinates
+        return a, b, self.rate_index(a), self.rate_index(b)
 
     @property
     def measures(self) -> tuple[str, ...]:
@@ -350,60 +361,99 @@ def _generator_digest() -> str:
     return h.hexdigest()
 
 
-def _scene_model(scene: str | os.PathLike) -> Path:
-    """Generate the scene's smallest exact model once (numba and C targets) and return its folder."""
+# what a scene's model is generated with: numba (simulate, stability), C (the compiled engines), AUTO-07p
+# (continue; a forced scene's periodic orbits); the AUTO target skips a model it cannot continue
+SCENE_TARGETS = ("numba", "c", "auto")
+
+
+def _scene_model(scene: str | os.PathLike, on_line=None) -> Path:
+    """Generate the scene's smallest exact model once (SCENE_TARGETS) and return its folder.
+    `on_line(text)` is given regenerate's progress lines while it runs (the first run takes seconds)."""
     path = Path(scene)
     try:
         data = path.read_bytes()
     except OSError as exc:
         raise AnalysisError(f"scene file {path}: {exc.strerror}") from None
-    key = hashlib.sha256(data + _generator_digest().encode()).hexdigest()[:16]
+    key = hashlib.sha256(data + _generator_digest().encode() + " ".join(SCENE_TARGETS).encode()).hexdigest()[:16]
     name = f"scene_{key}"
     out = cache_dir() / "scenes" / key
     folder = out / name
     if not (folder / "__init__.py").is_file():
         cmd = [sys.executable, "-m", "adbgen.cli", "regenerate", "--scene", str(path), "--name", name,
-               "--out", str(out), "--targets", "numba", "c", "--quiet"]
-        proc = subprocess.run(cmd, capture_output=True, text=True)
+               "--out", str(out), "--targets", *SCENE_TARGETS] + ([] if on_line else ["--quiet"])
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        lines = []
+        for line in proc.stderr:
+            lines.append(line)
+            if on_line and line.strip():
+                on_line(line.strip())
+        proc.wait()
         if proc.returncode != 0:
-            lines = (proc.stderr or proc.stdout).strip().splitlines()
-            message = lines[-1] if lines else f"exit status {proc.returncode}"
+            errors = [line for line in lines if line.startswith("adbgen: error: ")] or lines[-1:]
+            message = errors[-1].strip() if errors else f"exit status {proc.returncode}"
             raise AnalysisError(message.removeprefix("adbgen: error: "))
     return folder
 
 
-def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike | None = None) -> Model:
-    """The model named by `spec` (a generated model's name or a folder) or made for `scene`."""
+def _consistent(model: Model) -> Model:
+    """The model, unless its files come from different runs of the generator (a hand-copied file, a
+    regenerate of old that was killed half-way): then one line naming them."""
+    from ..codegen.journal import mismatched
+
+    bad = mismatched(model.folder, model.source_hash)
+    if bad:
+        listed = ", ".join(f"{rel} ({h})" for rel, h in sorted(bad.items())[:3]) + (", ..." if len(bad) > 3 else "")
+        raise AnalysisError(f"{model.name}: its files come from different runs of `adbgen regenerate` "
+                            f"(__init__.py has SOURCE_HASH {model.source_hash}; {listed}): regenerate it")
+    return model
+
+
+def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike | None = None,
+               on_line=None) -> Model:
+    """The model named by `spec` (a generated model's name or a folder) or made for `scene`; refused
+    when its files' SOURCE_HASHes disagree.  `on_line`: progress lines of a scene's generation."""
     if scene is not None:
         if spec is not None:
             raise AnalysisError("give a model name or --scene, not both")
-        folder = _scene_model(scene)
-        return Model(_import_folder(folder), folder)
+        folder = _scene_model(scene, on_line)
+        return _consistent(Model(_import_folder(folder), folder))
     if spec is None:
         raise AnalysisError("no model given: a generated model's name, a folder, or --scene FILE")
     text = str(spec)
     path = Path(text)
+    if len(text) > 4096 or any(len(os.fsencode(part)) > 255 for part in path.parts):
+        raise AnalysisError(f"{text[:40]!r}...: neither a generated model's name nor a folder (a name too long)")
     if os.sep in text or path.is_dir():
         if not path.is_dir():
             raise AnalysisError(f"{path}: no such folder")
         folder = _model_folder(path)
-        return Model(_import_folder(folder), folder)
+        from ..codegen.journal import recover
+
+        recover(folder.parent)  # a swap of the output folder killed half-way: finish it first
+        return _consistent(Model(_import_folder(folder), folder))
     if not text.isidentifier():
         raise AnalysisError(f"{text!r} is neither a generated model's name nor a folder")
     try:
-        module = importlib.import_module(f"generated.{text}")
-    except ModuleNotFoundError:
+        module = import_generated(text)
+    except (ModuleNotFoundError, OSError):  # OSError: a name longer than the file system takes
         known = available_models()
         raise AnalysisError(f"no generated model {text!r}; generated/ holds: {', '.join(known) or 'none'} "
                             f"(`adbgen regenerate --out DIR` makes others; pass DIR)") from None
-    return Model(module, Path(module.__file__).parent)
+    return _consistent(Model(module, Path(module.__file__).parent))
+
+
+def import_generated(name: str) -> ModuleType:
+    """`adbgen.models.<name>`: the checkout's generated/<name>, or the copy a wheel installed."""
+    from ..codegen.journal import recover
+    from .. import models
+
+    for folder in models.__path__:
+        recover(Path(folder))  # a swap of generated/ killed half-way: finish it before importing
+    return importlib.import_module(f"{models.__name__}.{name}")
 
 
 def available_models() -> list[str]:
-    """Names of the models in the installed `generated` package."""
-    try:
-        import generated
-    except ModuleNotFoundError:
-        return []
-    root = Path(generated.__file__).parent
-    return sorted(p.parent.name for p in root.glob("*/__init__.py"))
+    """Names of the generated models (`adbgen.models`: the checkout's generated/ or a wheel's copy)."""
+    from .. import models
+
+    return models.names()

@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,6 +25,26 @@ FAILURES = {
     "nonfinite": "non-finite state or derivative",
     "solver_failure": "solver failure",
 }
+
+
+def json_number(v):
+    """`json.dumps`'s default: numpy scalars and arrays as plain numbers and lists (non-finite as null)."""
+    if hasattr(v, "tolist"):  # numpy scalar or array
+        return plain(v.tolist())
+    raise TypeError(f"{type(v).__name__} is not JSON")
+
+
+def plain(obj):
+    """`obj` with non-finite floats as null (JSON has no NaN) and numpy values as Python ones."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [plain(v) for v in obj]
+    if hasattr(obj, "tolist"):
+        return plain(obj.tolist())
+    return obj
 
 
 class IntegrationError(AdbgenError):

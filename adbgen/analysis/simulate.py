@@ -2,6 +2,7 @@
 
     simulate(model, params={"Omega": 4}, y0={"phi_1": pi/2}, t_end=1000)   -> Simulation
     simulate_many(model, P, Y0, t_end=1000, threads=2)                      -> Ensemble
+    write_trajectory(model, sim, out)        trajectory.npz, trajectory.csv and trajectory.png in out
 
 The default engine is compiled end to end (see `engines`); `engine="scipy-dop853"` etc. select
 the others.  A failed, stalled or non-finite integration raises `IntegrationError` naming the time
@@ -10,7 +11,9 @@ it failed at (``check=False`` returns the result with its status instead).
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -95,3 +98,53 @@ def amplitude(model: Model, y: np.ndarray) -> np.ndarray:
     """r = sqrt(x^2 + y^2) of the rotor centre along a trajectory (states on the rows)."""
     ix, iy, _, _ = model.amplitude_indices
     return np.hypot(y[ix], y[iy])
+
+
+def simulation_units(model, sim) -> dict:
+    """The unit of each number of `Simulation.to_json` ("1": dimensionless)."""
+    from .units import units
+
+    u = units(model)
+    return {"t_end": u.time, "threshold": u.length, "r_max": u.length, "t_dec": u.time, "t_fail": u.time,
+            "wall_s": "s", "y_end": dict(u.states), "parameters": dict(u.params)}
+
+
+def write_trajectory(model, sim, out: Path, values: dict | None = None, scene: str | None = None,
+                     wrap_angles: bool = True, threshold_why: str = "") -> None:
+    """trajectory.npz (t, y, names, metadata), trajectory.csv (metadata header) and trajectory.png (r
+    and the ball angles), each written whole (a temporary file renamed)."""
+    import io
+
+    from ..outputs import save_figure, writing
+    from .figure_style import amplitude_panel, angle_panel, pyplot, title
+    from .results import json_number
+    from .units import axis_label, show, units
+
+    u = units(model)
+    out.mkdir(parents=True, exist_ok=True)
+    meta = {k: v for k, v in sim.to_json().items() if k != "y_end"}
+    meta["source_hash"] = model.source_hash
+    meta["units"] = simulation_units(model, sim)
+    with writing(out / "trajectory.npz", "wb") as fh:
+        np.savez_compressed(fh, t=sim.t, y=sim.y, state_names=np.array(sim.state_names),
+                            metadata=json.dumps(meta, default=json_number))
+    r = amplitude(model, sim.y)
+    header = "\n".join(f"# {k}: {json.dumps(v, default=json_number)}" for k, v in meta.items())
+    table = np.column_stack([sim.t, r, sim.y.T])
+    body = io.StringIO()
+    np.savetxt(body, table, delimiter=",", fmt="%.17g")
+    with writing(out / "trajectory.csv") as fh:
+        fh.write(header + "\n")
+        fh.write(",".join(["t", "r", *sim.state_names]) + "\n")
+        fh.write(body.getvalue())
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 5.5), sharex=True, constrained_layout=True)
+    amplitude_panel(a1, sim.t, r, sim.threshold, sim.t_dec, u.length, u.time, threshold_why)
+    angles = list(model.angle_indices)
+    angle_panel(a2, sim.t, sim.y[angles], [model.state_names[i] for i in angles], wrap_angles)
+    a2.set_xlabel(axis_label("$t$", u.time))
+    name = f"{Path(scene).name} ({model.name})" if scene else model.name
+    summary = (f"$r_{{max}}$ = {show(sim.r_max, u.length, 4)}, $t_{{dec}}$ = "
+               f"{'not settled' if sim.t_dec is None else show(sim.t_dec, u.time, 4)}")
+    a1.set_title(title(name, values or {}, u.params, summary), fontsize=8)
+    save_figure(fig, out / "trajectory.png", dpi=120)

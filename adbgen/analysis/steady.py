@@ -99,7 +99,7 @@ def _step(J: np.ndarray, f: np.ndarray, refinements: int = 3) -> np.ndarray:
 
     LAPACK's result depends in its last bits on the BLAS kernel it runs (OpenBLAS picks one per CPU
     type), and where Newton starts far from a steady state (the sweep's START at small mu) the state
-    it reaches is chaotic in those bits: thesis_rotating_n4 at Omega = 0.4, mu = 0.007 reached
+    it reaches is chaotic in those bits: the thesis model with n = 4 at Omega = 0.4, mu = 0.007 reached
     coincident 2+, in-line 3(4-3)- or the balanced state by kernel.  Iterative refinement with the
     residual f + J s computed exactly and rounded once (Dekker products, math.fsum) converges on every
     kernel to the double nearest the exact step, barring ties within ~cond(J) eps of a rounding
@@ -117,18 +117,18 @@ def _step(J: np.ndarray, f: np.ndarray, refinements: int = 3) -> np.ndarray:
 
 # ---------------------------------------------------------------------------- the balanced family
 
-def _rotor_and_rates(model: Model):
-    names = model.state_names
-    core = [names.index(c) for c in model.module.CORE]
-    rates = [i for i, s in enumerate(names) if s.endswith("_dot")]
-    return core, rates
+def _rotor_and_rates(model: Model) -> tuple[list[int], list[int]]:
+    """The rotor's translations and every rate (the model's STATE_ROLES)."""
+    return list(model.role_indices("translation")), [i for i, r in enumerate(model.roles) if r.endswith("_rate")]
 
 
 def on_balanced_family(model: Model, y: np.ndarray, tol: float = 1e-9) -> bool:
-    """Rotating-frame model with n >= 3 balls, rotor at the origin and at rest, balls at rest."""
-    if len(model.leaves) < 3 or tuple(model.module.CORE) != ("x", "y") or not model.autonomous:
-        return False
+    """An autonomous (rotating-frame) model whose coordinates are the rotor's two translations and n >= 3
+    ball angles, at a state with the rotor at the origin and at rest and the balls at rest."""
+    balls = model.role_indices("ball_angle")
     core, rates = _rotor_and_rates(model)
+    if len(balls) < 3 or len(core) != 2 or model.n_coordinates != 2 + len(balls) or not model.autonomous:
+        return False
     return bool(np.max(np.abs(y[core])) <= tol and np.max(np.abs(y[rates])) <= tol)
 
 
@@ -148,12 +148,12 @@ def balanced_family_tangent(model: Model, y: np.ndarray, p: np.ndarray | None = 
     N = model.n_states
     if not on_balanced_family(model, y):
         return np.zeros((N, 0))
-    leaves = list(model.angle_indices)
+    leaves = list(model.role_indices("ball_angle"))
     G = constraint_gradients(y[leaves])
     if p is not None:
         J = jacobian(model, y, p)
         if family_residual(J, _null_in(G, leaves, N)) > 1e-8:
-            rotor = [model.index(c + "_dot") for c in model.module.CORE]
+            rotor = [model.rate_index(i) for i in model.role_indices("translation")]
             G = J[np.ix_(rotor, leaves)]
     return _null_in(G, leaves, N)
 

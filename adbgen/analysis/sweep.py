@@ -1,6 +1,6 @@
 """Sweeps over parameters and initial states: many trajectories (or steady states) on a grid, on Dask.
 
-    spec = SweepSpec(model="thesis_rotating_n2", grid=["phi_1=0:2*pi:32", "phi_2=0:2*pi:32"],
+    spec = SweepSpec(model="NAME", grid=["phi_1=0:2*pi:32", "phi_2=0:2*pi:32"],
                      measure="attractor", t_end=2000)
     run_sweep(spec, "out/basins")        -> {"points", "computed", "reused", "wall_s", "store"}
 
@@ -128,8 +128,9 @@ class Swap:
 
 
 def _ball_states(model: Model, angle: str) -> list[int]:
-    names = [angle, angle + "_dot"]
-    return [model.index(n) for n in names if n in model.state_names]
+    """A ball's angle and its rate."""
+    k = model.index(angle)
+    return [k, model.rate_index(k)]
 
 
 def find_swap(model: Model, grid: Grid) -> Swap | None:
@@ -138,7 +139,7 @@ def find_swap(model: Model, grid: Grid) -> Swap | None:
     Two angle axes over the same values swap their balls; balls `--tie`d to them with equal offsets swap
     with them (phi_3 = phi_1 + pi and phi_4 = phi_2 + pi: the exchange (1 2)(3 4)).  Every swapped ball's
     other states must be fixed and equal to its partner's."""
-    leaves = set(model.leaves)
+    leaves = {model.state_names[k] for k in model.role_indices("ball_angle")}
     axes = grid.axes
     grid_states = {x.name for x in axes if x.kind == "state"} | {t.state for t in grid.ties}
     for a in range(len(axes)):
@@ -175,7 +176,8 @@ def find_swap(model: Model, grid: Grid) -> Swap | None:
 
 
 def _equivariant(model: Model, grid: Grid, perm: list[int]) -> bool:
-    """rhs(s y) = s rhs(y) at random states, at the base parameters and each parameter axis' ends."""
+    """s exchanges identical balls (`attractors.equivariant`) at the base parameters and at each parameter
+    axis' ends."""
     from .attractors import equivariant
 
     params = [grid.base_params]
@@ -435,7 +437,8 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
         encoding[name] = {"chunks": ch, "fill_value": fill}
     ds = xr.Dataset(data, coords=coords)
     for a in grid.axes:
-        ds[a.name].attrs.update(kind=a.kind, long_name=axis_symbol(a.name))
+        ds[a.name].attrs.update(kind=a.kind, long_name=axis_symbol(a.name, a.kind),
+                                angle=a.kind == "state" and model.index(a.name) in model.angle_indices)
     desc = {"attractor": "label code: index into the attribute `labels` (-1: not computed)",
             "r_max": "largest rotor amplitude r = sqrt(x^2 + y^2) over [0, t_end]",
             "t_dec": "last time r >= threshold (NaN: not settled by t_end, or not computed)",

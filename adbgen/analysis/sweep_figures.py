@@ -17,18 +17,17 @@ from pathlib import Path
 
 import numpy as np
 
-from .grid import axis_symbol
-
-_GREEK = {"Omega": r"\Omega", "mu": r"\mu", "zeta": r"\zeta", "beta": r"\beta", "delta": r"\delta"}
+from .grid import axis_symbol, tex
 
 
 def _caption(ds, axes) -> str:
     params = json.loads(ds.attrs.get("parameters", "{}"))
-    parts = [f"${_GREEK.get(k, k)}$ = {v:g}" for k, v in params.items() if k not in axes]
+    parts = [f"${tex(k)}$ = {v:g}" for k, v in params.items() if k not in axes]
     states = json.loads(ds.attrs.get("initial_state", "{}"))
     ties = {state: (axis, offset) for state, axis, offset in json.loads(ds.attrs.get("ties", "[]"))}
-    parts += [f"{axis_symbol(k)} = {v:.4g}" for k, v in states.items() if k not in axes and k not in ties and v != 0.0]
-    parts += [f"{axis_symbol(k)} = {axis_symbol(a)} {'+' if o >= 0 else '-'} {abs(o):.4g}"
+    parts += [f"{axis_symbol(k, 'state')} = {v:.4g}" for k, v in states.items()
+              if k not in axes and k not in ties and v != 0.0]
+    parts += [f"{axis_symbol(k, 'state')} = {axis_symbol(a, 'state')} {'+' if o >= 0 else '-'} {abs(o):.4g}"
               for k, (a, o) in ties.items()]
     settings = json.loads(ds.attrs["adbgen_sweep"])
     if settings["measure"] != "stability":
@@ -83,12 +82,17 @@ def _edges(values: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * values[0] - mid[0]], mid, [2 * values[-1] - mid[-1]]])
 
 
+def _symbol(da, dim: str) -> str:
+    return axis_symbol(dim, da[dim].attrs.get("kind", "parameter"))
+
+
 def _map(ax, da, dims, z, **kw):
     x, y = da[dims[0]].values, da[dims[1]].values
     m = ax.pcolormesh(_edges(x), _edges(y), np.asarray(z).T, **kw)
-    ax.set_xlabel(axis_symbol(dims[0]))
-    ax.set_ylabel(axis_symbol(dims[1]))
-    ax.set_aspect("equal" if dims[0].startswith("phi") and dims[1].startswith("phi") else "auto")
+    ax.set_xlabel(_symbol(da, dims[0]))
+    ax.set_ylabel(_symbol(da, dims[1]))
+    # two angles of the same period: a square map
+    ax.set_aspect("equal" if all(da[d].attrs.get("angle") for d in dims[:2]) else "auto")
     return m
 
 
@@ -106,7 +110,7 @@ def _categorical(fig, ax, da, done, names, dims):
         for c in present:
             sel = codes == c
             ax.plot(x[sel], np.full(sel.sum(), c), "s", color=colours[c], label=names[c])
-        ax.set_xlabel(axis_symbol(dims[0]))
+        ax.set_xlabel(_symbol(da, dims[0]))
         ax.set_yticks(present, [names[c] for c in present])
         return
     lut = ["#ffffff"] + [colours[c] for c in present]
@@ -147,7 +151,7 @@ def _stability(fig, ax, da, done, dims, other=None):
     norm = BoundaryNorm(np.arange(-2, top + 2) - 0.5, top + 3)
     if len(dims) == 1:
         ax.step(da[dims[0]].values, z, where="mid")
-        ax.set_xlabel(axis_symbol(dims[0]))
+        ax.set_xlabel(_symbol(da, dims[0]))
         ax.set_ylabel("unstable eigenvalues")
         return
     _map(ax, da, dims, z, cmap=cmap, norm=norm)
@@ -163,7 +167,7 @@ def _continuous(fig, ax, da, done, dims, measure):
     label = {"r_max": "$r_{max}$", "t_dec": "$t_{dec}$"}[measure]
     if len(dims) == 1:
         ax.plot(da[dims[0]].values, z, ".-")
-        ax.set_xlabel(axis_symbol(dims[0]))
+        ax.set_xlabel(_symbol(da, dims[0]))
         ax.set_ylabel(label)
         return
     import matplotlib

@@ -41,11 +41,12 @@ PROBLEM_A = Problem("A", "thesis_rotating_n3", {}, {"phi_1": math.pi / 3, "phi_2
 
 def symmetric_y0(model) -> dict:
     """Every ball at pi, all else 0 (thesis ch. 5: for n = 3 the run ends at the coincident state 2-)."""
-    return {name: math.pi for name in model.leaves}
+    return {model.state_names[k]: math.pi for k in model.role_indices("ball_angle")}
 
 
 def _ball_indices(model) -> tuple[list, list]:
-    return ([model.index(name) for name in model.leaves], [model.index(name + "_dot") for name in model.leaves])
+    balls = list(model.role_indices("ball_angle"))
+    return balls, [model.rate_index(k) for k in balls]
 
 
 def symmetry_record(model, y_end) -> dict:

@@ -28,7 +28,7 @@ def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int 
 
     p, y = problem.vectors(model)
     Y0 = np.repeat(y[None, :], n, axis=0)
-    i1 = model.index(model.leaves[0])
+    i1 = model.role_indices("ball_angle")[0]
     Y0[:, i1] += np.linspace(-spread, spread, n)
     runs: dict[int, list] = {k: [] for k in threads}
     ends: dict[int, np.ndarray] = {}

@@ -1,22 +1,20 @@
 """`adbgen regenerate`: derive, check, render, and write atomically (or `--check` for staleness).
 
-Everything is derived, checked and rendered in memory first; only when all of it has succeeded are
-files written, into a staging folder beside the output and then moved in with os.replace.  So bad
-input, a failed check or an interrupted run leave the output folder exactly as it was (a kill can
-only land in the final moves, which take milliseconds; each move is atomic).
+Everything is derived, checked and rendered in memory first; only when all of it has succeeded is
+the output folder replaced, as a whole (`journal`: a sibling tree swapped in by renames, with a
+journal that the next run rolls forward or back).  So bad input, a failed check or a run killed at
+any point leave the output folder entirely old or entirely new.
 """
 
 from __future__ import annotations
 
 import difflib
-import os
-import shutil
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable
 
+from . import journal
 from .checks import CheckFailed, check_description, check_programs, check_start
 from .render import render_index, render_model, skipped_targets
 from .lowering import DEFAULT_FORM
@@ -27,7 +25,6 @@ _ROOT = Path(__file__).resolve().parents[2]
 # generated/ of the source checkout this package runs from; an installed package has none (give --out)
 DEFAULT_OUT = _ROOT / "generated"
 IN_SOURCE_CHECKOUT = (_ROOT / "pyproject.toml").is_file() and (_ROOT / "adbgen").is_dir()
-IGNORED_DIRS = {"__pycache__"}
 DIFF_LINES = 40  # lines of unified diff shown per stale file by `regenerate --check`
 
 __all__ = ["CheckFailed", "DEFAULT_OUT", "IN_SOURCE_CHECKOUT", "Rendered", "diff", "render_all", "stale", "write"]
@@ -96,31 +93,12 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
     return Rendered(files, tuple(name for name, _, _ in index))
 
 
-def _existing(out: Path) -> dict[str, Path]:
-    found = {}
-    if out.is_dir():
-        for path in out.rglob("*"):
-            rel = path.relative_to(out)
-            if path.is_file() and not (set(rel.parts) & IGNORED_DIRS) and path.suffix != ".pyc":
-                found[rel.as_posix()] = path
-    return found
-
-
 def stale(rendered: Rendered, out: Path, extra: bool = True) -> dict[str, str]:
     """{relative path: 'differs' | 'missing' | 'not generated'} for every file out of date.
 
     'not generated' (a file in `out` that nothing renders) is reported only with `extra`.
     """
-    have = _existing(out)
-    report = {}
-    for rel, text in sorted(rendered.files.items()):
-        if rel not in have:
-            report[rel] = "missing"
-        elif have[rel].read_bytes() != text.encode():
-            report[rel] = "differs"
-    for rel in sorted(set(have) - set(rendered.files)) if extra else ():
-        report[rel] = "not generated"
-    return report
+    return journal.changes(rendered.files, out, prune=extra)
 
 
 def diff(rendered: Rendered, out: Path, rel: str, lines: int = DIFF_LINES) -> str:
@@ -136,33 +114,9 @@ def diff(rendered: Rendered, out: Path, rel: str, lines: int = DIFF_LINES) -> st
 
 
 def write(rendered: Rendered, out: Path, prune: bool = True) -> list[str]:
-    """Write the rendered files into `out` through a staging folder; returns the paths changed.
+    """Replace `out` by the rendered tree, all at once (`journal.write`); returns the paths changed.
 
-    With `prune`, files in `out` that were not rendered are removed (only pass it when every target
-    of every model was rendered).
+    With `prune`, files in `out` that were not rendered are dropped (only pass it when every target
+    of every model was rendered); otherwise they are kept.
     """
-    out.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}-staging-", dir=out.parent))
-    changed = []
-    try:
-        report = stale(rendered, out, extra=prune)
-        for rel, text in rendered.files.items():
-            if report.get(rel) in ("missing", "differs"):
-                target = staging / rel
-                target.parent.mkdir(parents=True, exist_ok=True)
-                target.write_bytes(text.encode())
-        for rel, status in report.items():
-            if status in ("missing", "differs"):
-                (out / rel).parent.mkdir(parents=True, exist_ok=True)
-                os.replace(staging / rel, out / rel)
-                changed.append(rel)
-            elif status == "not generated" and prune:
-                (out / rel).unlink()
-                changed.append(rel)
-        if prune:
-            for path in sorted(out.rglob("*"), key=lambda p: -len(p.parts)):
-                if path.is_dir() and path.name not in IGNORED_DIRS and not any(path.iterdir()):
-                    path.rmdir()
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
-    return changed
+    return journal.write(rendered.files, out, prune)

@@ -6,6 +6,7 @@ Each helper returns the value or raises SceneError naming the field, so a bad sc
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any, Mapping
 
 from ..errors import SceneError
@@ -55,3 +56,24 @@ def speed_law_name(data: Any, fields: Mapping[str, set]) -> str:
     for key in sorted(set(map(str, data)) - fields[law]):
         raise SceneError(f"speed.{key}", f"unknown option for law {law!r}")
     return law
+
+
+# --- what a scene format documents about each key (the scene reference, docs/scenes.md) ---------------
+
+DOMAINS = ("positive", "nonnegative", "real", "other")
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a scene file as its format accepts it: the TOML path ("speed.omega", "races[].z"), the
+    unit, the domain the validator enforces ("positive" | "nonnegative" | "real", each checked against
+    the validator by tests/families/test_scene_reference.py, or "other" with the rule in `allowed`), what
+    it means, and the context it needs (e.g. {"speed": {"law": "torque"}} for speed.tau0).  Defaults are
+    not written here: the reference reads them off the scene class's own defaults."""
+
+    path: str
+    unit: str
+    domain: str
+    meaning: str
+    allowed: str = ""
+    context: Mapping[str, Any] | None = None

@@ -18,6 +18,12 @@ class Family(Protocol):
 
     ``name`` is its key in the registry and on the command line (``adbgen verify --model NAME``,
     ``adbgen regenerate --family NAME``).
+
+    A family's science (published values, reproductions, plots of its own quantities, commands that run
+    the generated models) sits in its ``science`` sub-package above the analysis layer; the hooks
+    `reproductions` and `science_commands` name it by "module:attribute" strings, so that the family's
+    derivations never import it (the command line loads them).  Both may be left out by a family with
+    no science of its own (they then count as empty).
     """
 
     name: str
@@ -53,3 +59,10 @@ class Family(Protocol):
 
     def register_commands(self, subparsers: "argparse._SubParsersAction") -> None:
         """Add the family's command-line subcommands."""
+
+    def reproductions(self) -> dict[str, str]:
+        """The family's sections of ``adbgen reproduce``: {key (``--only KEY``): "module:attribute" of an
+        `adbgen.analysis.reproduction.Reproduction`}, in the document's order."""
+
+    def science_commands(self) -> str:
+        """"module:function" adding the family's commands that run generated models, or ""."""

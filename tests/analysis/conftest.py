@@ -1,48 +1,15 @@
-"""Fixtures of the analysis tests: the committed generated models, a private engine cache, and the
-scans of the balanced state along Omega at the parameters of thesis ch. 4 (computed once per session)."""
+"""Fixtures of the analysis tests (analysis_fixtures.py): gcc for the compiled engines, the committed
+generated models, and the scans of the balanced state along Omega at the parameters of thesis ch. 4."""
 
 from __future__ import annotations
 
-import shutil
 import sys
 from pathlib import Path
-
-import pytest
 
 # the one helper that turns a missing tool into a failure under CI (tests/codegen/toolchain.py), and
 # this folder's own helpers (analysis_helpers.py): pytest runs with --import-mode=importlib
 sys.path.insert(0, str(Path(__file__).parents[1] / "codegen"))
 sys.path.insert(0, str(Path(__file__).parent))
 
-from toolchain import require_tool  # noqa: E402
-
-from analysis_helpers import CH4  # noqa: E402
-
-_scans: dict = {}
-
-
-@pytest.fixture(autouse=True)
-def _needs_gcc():
-    """The compiled engines build the generated C library with gcc."""
-    require_tool(shutil.which("gcc") is not None, "gcc")
-
-
-@pytest.fixture(scope="session")
-def thesis():
-    from adbgen.analysis.loading import load_model
-
-    return {n: load_model(f"thesis_rotating_n{n}") for n in (2, 3, 4)}
-
-
-@pytest.fixture(scope="session")
-def balanced_scan(thesis):
-    """n -> the scan of the balanced state (START) from Omega = 4 down to 0.5 at CH4."""
-    from adbgen.analysis import continuation
-
-    def get(n: int) -> continuation.Scan:
-        if n not in _scans:
-            m = thesis[n]
-            p = m.params({"Omega": 4.0, **CH4})
-            _scans[n] = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
-        return _scans[n]
-    return get
+# the fixtures the command tests (tests/cli) share
+from analysis_fixtures import _needs_gcc, balanced_scan, thesis  # noqa: E402,F401

@@ -13,7 +13,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from adbgen.analysis import auto, closed_forms, continuation, steady
+from adbgen.analysis import auto, continuation, steady
+from adbgen.analysis.starts import labelled_state
 
 from analysis_helpers import CH4, require_auto  # this folder is on sys.path: see conftest.py
 
@@ -60,7 +61,7 @@ def test_auto_from_set_parameters_uses_u_and_par(auto_ok, thesis):
     """A start away from stpnt's parameters (mu = 0.04: another balanced state) through AUTO's U and PAR."""
     m = thesis[3]
     p = m.params({"Omega": 4.0, **CH4, "mu": 0.04})
-    y = closed_forms.state(m, "1", p)
+    y = labelled_state(m, "1", p)
     run = auto.continue_one(m, "Omega", p, y, to=1.5)
     hb = [pt.values["PAR(1)"] for pt in run.points if pt.kind == "HB"]
     ours = [b.value for b in continuation.scan(m, p, y, "Omega", 4.0, 1.5).points if b.kind == "hopf"]
@@ -157,7 +158,7 @@ def test_two_parameter_hopf_curves_are_hopf_points_of_the_analysis_layer(auto_ok
             if b < 0.0051:  # at mu_c = delta/2 the balanced state meets the coincident one (pitchfork)
                 continue
             p = m.params({**CH4, "Omega": a, "mu": b})
-            s = steady.analyse(m, p, closed_forms.state(m, "1", p))
+            s = steady.analyse(m, p, labelled_state(m, "1", p))
             near = s.transverse[np.argsort(np.abs(s.transverse.real))[:2]]
             assert np.all(np.abs(near.real) < 1e-6) and np.all(np.abs(near.imag) > 1e-3), (a, b, near)
 
@@ -165,7 +166,7 @@ def test_two_parameter_hopf_curves_are_hopf_points_of_the_analysis_layer(auto_ok
 def test_double_hopf_points_of_n3_are_two_pairs_on_the_axis(auto_ok, thesis):
     """n = 3, (Omega, mu): the Hopf curve crosses itself where two pairs of different frequency are on
     the imaginary axis (thesis: two H1 curves intersect, Fig. 4.5); checked on a fresh steady state."""
-    from adbgen.analysis.stability_commands import _follower
+    from adbgen.analysis.starts import follower as _follower
 
     m = thesis[3]
     res = auto.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
@@ -174,7 +175,7 @@ def test_double_hopf_points_of_n3_are_two_pairs_on_the_axis(auto_ok, thesis):
     assert len(hh) >= 1
     for point in hh:
         p = m.params({**CH4, "Omega": point["Omega"], "mu": point["mu"]})
-        state = closed_forms.state(m, "1", p)
+        state = labelled_state(m, "1", p)
         s = steady.analyse(m, p, state)
         pairs = s.transverse[s.transverse.imag > 0]
         near = pairs[np.argsort(np.abs(pairs.real))[:2]]
@@ -189,7 +190,7 @@ def test_fold_curve_of_the_coincident_state_passes_the_wedge_tip(auto_ok, thesis
     tip (4.1), (mu_c, Omega_c) = (delta/2, 1/sqrt(1 + 2 mu_c)) (to the curve's sampling)."""
     m = thesis[2]
     p = m.params({**CH4, "Omega": 0.5})
-    res = auto.continue_two(m, "Omega", "mu", p, closed_forms.state(m, "2-", p), to=1.5, range2=(0.001, 0.2))
+    res = auto.continue_two(m, "Omega", "mu", p, labelled_state(m, "2-", p), to=1.5, range2=(0.001, 0.2))
     assert [c.kind for c in res.curves] == ["fold"]
     pts = np.array(res.curves[0].points)
     tip = pts[np.argmin(pts[:, 1])]
@@ -200,7 +201,7 @@ def test_fold_curve_of_the_coincident_state_passes_the_wedge_tip(auto_ok, thesis
 def test_zeta_limit_of_n4_at_omega_3(auto_ok, thesis):
     """Fig. 4.13(b): at Omega = 3 the balanced state of n = 4 is stable only for zeta below about 0.1;
     the scan and AUTO-07p (started at Omega = 3 through U and PAR, the free angles pinned) agree."""
-    from adbgen.analysis.stability_commands import _pinned_start
+    from adbgen.analysis.starts import pinned_start as _pinned_start
 
     m = thesis[4]
     p = m.params({**CH4, "Omega": 3.0})

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from adbgen.analysis import closed_forms, continuation, steady
+from adbgen.analysis import continuation, steady
+from adbgen.analysis.starts import labelled_state
 from adbgen.analysis.loading import AnalysisError
 
 from analysis_helpers import CH4
@@ -72,7 +73,7 @@ def test_coincident_state_folds_at_the_critical_speeds(thesis):
 
     m = thesis[2]
     p = m.params({"Omega": 0.5, **CH4})
-    s = continuation.scan(m, p, closed_forms.state(m, "2-", p), "Omega", 0.5, 1.5)
+    s = continuation.scan(m, p, labelled_state(m, "2-", p), "Omega", 0.5, 1.5)
     folds = [b for b in s.points if b.kind == "fold"]
     assert len(folds) == 1 and folds[0].frequency is None
     expected = critical_speeds(2, 2, CH4["mu"], CH4["zeta"], CH4["delta"])[0]

@@ -73,7 +73,7 @@ def test_scene_and_folder(tmp_path, monkeypatch):
 def test_no_sympy_in_the_analysis_layer():
     """The analysis layer runs on generated code only: importing and simulating never imports SymPy."""
     code = ("import sys, math; from adbgen.analysis.loading import load_model; "
-            "from adbgen.analysis.simulate import simulate; import adbgen.analysis.commands; "
+            "from adbgen.analysis.simulate import simulate; import adbgen.cli.simulate; "
             "m = load_model('thesis_rotating_n2'); simulate(m, None, {'phi_1': 1.0}, t_end=10.0); "
             "print('sympy' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -11,7 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from adbgen.analysis import closed_forms, steady
+from adbgen.analysis import steady
+from adbgen.analysis.starts import labelled_state
 from adbgen.analysis.loading import AnalysisError, load_model
 
 from analysis_helpers import CH4  # this folder's helper (conftest.py puts it on sys.path)
@@ -136,21 +137,21 @@ def test_newton_converges_onto_the_family_from_a_perturbed_state(thesis):
 def test_isolated_states_have_no_neutral_directions(thesis):
     m = thesis[3]
     p = m.params({"Omega": 0.5, **CH4})
-    s = steady.refine(m, p, closed_forms.state(m, "2-", p), label="2-")
+    s = steady.refine(m, p, labelled_state(m, "2-", p), label="2-")
     assert s.tangent.shape[1] == 0 and s.neutral.size == 0 and s.classification == "stable"
 
 
 @pytest.mark.parametrize("n", [2, 3, 4])
 def test_closed_form_states_are_zeros_of_the_generated_rhs(thesis, n):
     m = thesis[n]
-    labels = closed_forms.labels(m)
+    labels = list(m.steady_states)
     assert labels[:3] == ["1", "2+", "2-"] and len(labels) == 3 + 2 * (n - 1)
     for omega in (0.5, 1.5, 4.0):
         p = m.params({"Omega": omega, **CH4})
         found = 0
         for label in labels:
             try:
-                y = closed_forms.state(m, label, p)
+                y = labelled_state(m, label, p)
             except AnalysisError:  # (3.16)/(3.18): absent between the critical speeds
                 continue
             found += 1
@@ -159,7 +160,7 @@ def test_closed_form_states_are_zeros_of_the_generated_rhs(thesis, n):
 
 
 def test_closed_forms_equal_the_symbolic_ones():
-    """The numpy transcription equals adbgen.families.single_plane.steady_states (SymPy), n = 3."""
+    """The generated module's closed forms equal adbgen.families.single_plane.steady_states (SymPy), n = 3."""
     from adbgen.families.single_plane import steady_states as ss
 
     m = load_model("thesis_rotating_n3")
@@ -168,12 +169,12 @@ def test_closed_forms_equal_the_symbolic_ones():
     for label, expr in (("2+", ss.coincident(3, 1)), ("2-", ss.coincident(3, -1)), ("3(1)+", ss.inline(3, 2, 1)),
                         ("3(2)-", ss.inline(3, 1, -1))):
         sym = ss.evaluate(expr, values)
-        y = closed_forms.state(m, label, p)
+        y = labelled_state(m, label, p)
         for name in ("x", "y"):
             assert math.isclose(y[m.index(name)], sym[name], rel_tol=1e-12, abs_tol=1e-12), (label, name)
         for name in ("phi_1", "phi_2", "phi_3"):  # the symbolic evaluation wraps angles into (-pi, pi]
             assert abs(np.exp(1j * y[m.index(name)]) - np.exp(1j * sym[name])) < 1e-12, (label, name)
-    y = closed_forms.state(m, "1", p)
+    y = labelled_state(m, "1", p)
     sym = ss.evaluate(ss.balanced(3, [ss.sp.pi]), values)
     assert np.allclose([y[m.index(k)] for k in ("phi_1", "phi_2", "phi_3")], [sym[k] for k in ("phi_1", "phi_2", "phi_3")])
 

@@ -316,24 +316,6 @@ def test_foreign_store_and_other_settings_are_refused(tmp_path):
     assert before == after
 
 
-def test_reproduce_cases_fig_5_4a_and_coincident_run():
-    """Two rows of docs/reproduction.md (adbgen reproduce): Fig. 5.4(a) within 0.5 % of the thesis and
-    converged in tolerance; (pi, pi, pi) ends at the coincident state 2- printed in the text of Fig. 5.7."""
-    from adbgen.analysis import reproduce
-
-    fig = next(c for c in reproduce.CASES if c.figure == "5.4(a)")
-    res = reproduce.study(fig)
-    best = res["sims"][1e-12]
-    assert best.r_max == pytest.approx(0.0483, rel=5e-3) and best.t_dec == pytest.approx(462.42, rel=5e-3)
-    assert res["sims"][1e-10].t_dec == pytest.approx(best.t_dec, rel=1e-7)
-    assert res["label"] == "balanced 1"
-    run = next(c for c in reproduce.CASES if c.figure == "5.7 text, 2-")
-    res = reproduce.study(run)
-    assert res["label"] == "coincident 2-"
-    y = res["sims"][1e-12].y_end
-    assert y[0] == pytest.approx(0.1285, abs=5e-5) and y[1] == pytest.approx(-0.0083, abs=5e-5)
-
-
 def test_tied_states_and_their_exchange_symmetry(tmp_path):
     """--tie phi_3=phi_1+pi --tie phi_4=phi_2+pi (thesis Fig. 5.19): the tied states follow their axes,
     and the exchange (1 2)(3 4) maps the grid onto itself, giving the full computation's results."""

@@ -30,7 +30,6 @@ Shown (issue 4, "AUTO-07p"), n = 2, mu = 0.05, zeta = beta = delta = 0.01:
 
 from __future__ import annotations
 
-import dataclasses
 
 import ctypes
 import re
@@ -44,7 +43,6 @@ from scipy.optimize import brentq
 
 from adbgen.families.single_plane import models
 from adbgen.codegen.regenerate import DEFAULT_OUT
-from adbgen.codegen.ir import Continuation
 from adbgen.codegen.render import render_model, skipped_targets
 from adbgen.families.single_plane.steady_states import critical_speeds
 from adbgen.codegen.spec import build as build_ir
@@ -444,10 +442,8 @@ def test_more_than_ten_parameters_skip_autos_own_par_slots(auto_toolchain, tmp_p
     spec = models.for_scene(Scene.from_mapping({"n": 3, "ball_mass": [0.05, 0.04, 0.03]}), "unequal_n3")
     ir = build_ir(spec)
     assert ir.autonomous and len(ir.parameters) == 12
-    assert ir.start is None and "auto" in skipped_targets(ir)  # no steady state known: no AUTO files
-    # the PAR layout does not depend on the start: give it one (not a steady state) to render the files
-    ir = dataclasses.replace(ir, start=(0.0,) * ir.n_states, start_label="U = 0 (not a steady state)",
-                             start_parameters=tuple(p.default for p in ir.parameters), continuation=Continuation("omega"))
+    # issue 24: a scene's unequal balls get the balanced state weighted by their masses as START
+    assert ir.start is not None and "masses" in ir.start_label and "auto" not in skipped_targets(ir)
     files = rendered_auto(ir)
     user = files["unequal_n3.c"]
     name10, name11 = ir.parameter_names[10], ir.parameter_names[11]

@@ -65,5 +65,11 @@ class SinglePlane:
 
         register(subparsers)
 
+    def reproductions(self) -> dict:
+        return {"thesis": "adbgen.families.single_plane.science.reproduce:REPRODUCTION"}
+
+    def science_commands(self) -> str:
+        return "adbgen.families.single_plane.science.commands:register"
+
 
 FAMILY = SinglePlane()

@@ -159,13 +159,78 @@ def default_set() -> list[ModelSpec]:
     return [kind(n) for kind in KINDS.values() for n in (2, 3, 4)]
 
 
+def mass_balanced_angles(masses, M: float, eps: float, R: float) -> tuple[float, ...] | None:
+    """Ball angles that cancel the rotor's imbalance, sum_i m_i R e^(i phi_i) = -M eps (the balanced
+    state (3.6) weighted by the masses, for unequal balls); None where no such state exists.
+
+    phi_3.. are set (pi, 0, pi, ...; all pi; all 0; or spread evenly) and phi_1,2 close the triangle
+    (law of cosines); of these the one farthest from a collinear (degenerate) triangle is taken, so the
+    family's tangent is regular there."""
+    n = len(masses)
+    if n < 2:
+        return None
+    m1, m2 = masses[0], masses[1]
+    patterns = [[math.pi if k % 2 == 0 else 0.0 for k in range(n - 2)], [math.pi] * (n - 2), [0.0] * (n - 2)]
+    if n >= 4:
+        patterns.append([2 * math.pi * k / (n - 2) for k in range(n - 2)])
+    best = None
+    for free in patterns:
+        c = complex(-M * eps / R) - sum(m * complex(math.cos(a), math.sin(a)) for m, a in zip(masses[2:], free))
+        size = abs(c)
+        margin = min(size - abs(m1 - m2), m1 + m2 - size) / (m1 + m2)
+        if margin <= 1e-9 or (best is not None and margin <= best[0]):
+            continue
+        a = math.acos(max(-1.0, min(1.0, (size**2 + m1**2 - m2**2) / (2 * m1 * size))))
+        b = math.atan2(m1 * math.sin(a), size - m1 * math.cos(a))
+        theta = math.atan2(c.imag, c.real)
+        best = (margin, (theta + a, theta - b, *free))
+    if best is None:
+        return None
+    return tuple(math.remainder(x, 2 * math.pi) for x in best[1])
+
+
+def _scene_balanced(system: FirstOrderSystem, scene: Scene, orbit: bool) -> tuple:
+    """A scene's balanced start: the steady state (rotating frame) or the exact periodic orbit of the
+    oscillator extension (fixed frame: rotor at rest, no support force, anisotropic or not; at g = 0,
+    from where AUTO-07p continues in g to the scene's value)."""
+    values = {p.name: p.default for p in system.parameters}
+    masses = [values.get(f"m_{i + 1}", values.get("m")) for i in range(scene.n)]
+    angles = mass_balanced_angles(masses, values["M"], values["eps"], values["R"])
+    if angles is None:
+        return None, "", {}
+    coords = [c.name for c in system.coordinates]
+    by_name = {f"phi_{i + 1}": a for i, a in enumerate(angles)}
+    positions = [by_name.get(name, 0.0) for name in coords]
+    start = tuple(float(v) for v in positions) + (0.0,) * len(positions) + ((0.0, 1.0) if orbit else ())
+    how = "balanced state (3.6) weighted by the ball masses" + (", phi_3.. = pi, 0, ..." if scene.n > 2 else "")
+    if not orbit:
+        return start, how, {}
+    at = {"g": 0.0} if "g" in values else {}
+    return start, f"{how}: periodic orbit with the rotor at rest" + (" at g = 0" if at else ""), at
+
+
 def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
-    """The smallest exact model of a scene (`adbgen regenerate --scene`)."""
+    """The smallest exact model of a scene (`adbgen regenerate --scene`), with a start for AUTO-07p
+    where one is known: the balanced state (rotating frame; for unequal balls weighted by the masses)
+    or, for a fixed-frame scene at constant speed, the balanced periodic orbit of its oscillator
+    extension (issue 24: forced scenes continue on the command line)."""
     selected = smallest_model(scene)
     name = name or f"scene_{selected.kind.replace('-', '_')}_n{scene.n}"
     rotating = selected.kind == "rotating-frame"
-    start = (lambda system: balanced_start(system, scene.n)) if rotating else (lambda system: (None, ""))
+    dimensional = selected.kind == "rotating-frame-dimensional"
+    forced = selected.kind == "fixed-frame" and scene.speed.law == "constant"
+    if rotating:
+        start = lambda system: balanced_start(system, scene.n)  # noqa: E731
+    elif dimensional:
+        start = lambda system: _scene_balanced(system, scene, orbit=False)  # noqa: E731
+    else:
+        start = lambda system: (None, "")  # noqa: E731
     kinds = ("fixed_frame", "prescribed_speed") + (("rotating", "appendix_a") if rotating else ())
+    orbit = None
+    if forced:
+        second = "omega" if scene.gravity else ""
+        orbit = Continuation("g" if scene.gravity else "omega", second=second, continuum=scene.n >= 3,
+                             note=_supercritical_note(scene))
     if selected.kind == "rotating-frame":
         describe = lambda system: description.describe(  # noqa: E731
             system, rotating=True, dimensionless=True, thesis_states=True, forcing="")
@@ -175,5 +240,7 @@ def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
         describe = description.fixed_frame
     return ModelSpec(name, f"Single-plane balancer with {scene.n} balls: {selected.reason}", scene.n,
                      lambda: selected.system, start, family=FAMILY, checks=checks(*kinds, n=scene.n),
-                     continuation=steady_continuation(("Omega", "omega")) if rotating else None, kind="scene",
-                     describe=describe)
+                     continuation=steady_continuation(("Omega", "omega")) if rotating or dimensional else None,
+                     kind="scene", describe=describe,
+                     orbit_start=(lambda system: _scene_balanced(system, scene, orbit=True)) if forced else None,
+                     orbit_continuation=orbit)

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Mapping
 
-from ...core.scene_fields import number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
+from ...core.scene_fields import Key, number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
 from ...errors import SceneError
 
 SPEED_LAWS = ("constant", "profile", "torque")
@@ -142,6 +142,32 @@ def profile_expression(text: str):
     if not value.is_real or not value.is_finite:
         raise SceneError("speed.omega", f"profile {text!r} is not finite and real at t = 0")
     return expr
+
+
+_TORQUE = {"speed": {"law": "torque"}}
+# every key of a single-plane scene file (the scene reference docs/scenes.md is generated from this and
+# the defaults below; tests/families/test_scene_reference.py checks each domain against from_mapping)
+KEYS = (
+    Key("n", "", "other", "number of balls", "a whole number >= 1"),
+    Key("rotor_mass", "kg", "positive", "M, the rotor (disc) mass"),
+    Key("eccentricity", "m", "nonnegative", "eps, distance from the rotor's centre C to its centre of mass W"),
+    Key("polar_inertia", "kg m^2", "positive", "I_z, the rotor's polar moment of inertia (used by law = \"torque\")"),
+    Key("race_radius", "m", "positive", "R, radius of the balls' race"),
+    Key("ball_mass", "kg", "positive", "m: one value (equal balls) or a list of n values (unequal balls)"),
+    Key("ball_damping", "N m s/rad", "nonnegative", "D, viscous drag on each ball: one value or a list of n"),
+    Key("stiffness", "N/m", "nonnegative", "k (isotropic support) or [k_X, k_Y] (anisotropic)"),
+    Key("damping", "N s/m", "nonnegative", "c (isotropic) or [c_X, c_Y]"),
+    Key("gravity", "", "other", "gravity in -Y on (the model keeps explicit time)", "true or false"),
+    Key("g", "m/s^2", "positive", "gravitational acceleration (used with gravity = true)"),
+    Key("speed.law", "", "other", "how the spin is governed", "\"constant\", \"profile\" or \"torque\""),
+    Key("speed.omega", "rad/s", "positive", "constant spin speed (law = \"constant\")"),
+    Key("speed.omega", "rad/s", "other", "run-up Omega(t) (law = \"profile\")",
+        "an expression in t of numbers, + - * / **, " + ", ".join(_PROFILE_FUNCTIONS), {"speed": {"law": "profile"}}),
+    Key("speed.tau0", "N m", "real", "stall torque of the drive, tau = tau0 - motor_slope psi' (law = \"torque\")",
+        context=_TORQUE),
+    Key("speed.motor_slope", "N m s/rad", "nonnegative", "slope of the drive's torque-speed line (law = \"torque\")",
+        context=_TORQUE),
+)
 
 
 @dataclass(frozen=True)

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 
+from ...cli_types import finite
+
 
 def _scene(args):
     from .scene import TwoPlaneScene
@@ -20,7 +22,7 @@ def _scene(args):
 
 def cmd_verify(args) -> int:
     from .. import get
-    from ..commands import run_verify
+    from ..verification import run_verify
 
     return run_verify((get("two-plane"),), ())
 
@@ -117,6 +119,6 @@ def register(sub) -> None:
                            default="first-order")
             p.add_argument("--format", choices=("text", "latex", "json"), default="text")
         else:
-            p.add_argument("--eps", type=float)
-            p.add_argument("--Omega", type=float)
-            p.add_argument("--m", type=float, help="ball mass (default: the scene's)")
+            p.add_argument("--eps", type=finite)
+            p.add_argument("--Omega", type=finite)
+            p.add_argument("--m", type=finite, help="ball mass (default: the scene's)")

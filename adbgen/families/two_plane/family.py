@@ -63,5 +63,11 @@ class TwoPlane:
 
         register(subparsers)
 
+    def reproductions(self) -> dict:
+        return {"two-plane": "adbgen.families.two_plane.science.reproduce:REPRODUCTION"}
+
+    def science_commands(self) -> str:
+        return ""
+
 
 FAMILY = TwoPlane()

@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ...errors import SceneError
-from ...core.scene_fields import number as _number, speed_law_name, xy as _xy
+from ...core.scene_fields import Key, number as _number, speed_law_name, xy as _xy
 
 _SPEED_FIELDS = {
     "constant": {"law", "omega"},
@@ -157,6 +157,46 @@ def _preset(name: str) -> dict:
 
 
 PRESETS = ("paper-10", "paper-41", "paper-42", "paper-43")
+DEFAULT_PRESET = "paper-10"
+KEY_DEFAULTS = {"preset": DEFAULT_PRESET}  # defaults that are no field of the scene (the reference reads them)
+
+_LAW = lambda law: {"speed": {"law": law}}  # noqa: E731
+# every key of a two-plane scene file (the scene reference docs/scenes.md is generated from this and the
+# defaults of the preset "paper-10"; tests/families/test_scene_reference.py checks each domain against
+# from_mapping).  The paper's sets are dimensionless; the units say what a consistent SI scene means.
+KEYS = (
+    Key("preset", "", "other", "start from a named parameter set, then override", " or ".join(f'"{p}"' for p in PRESETS)),
+    Key("rotor_mass", "kg", "positive", "M, the rotor mass"),
+    Key("transverse_inertia", "kg m^2", "positive", "J_t, transverse moment of inertia"),
+    Key("polar_inertia", "kg m^2", "positive", "J_p, polar moment of inertia"),
+    Key("eccentricity", "m", "nonnegative", "epsilon, C -> G (static imbalance)"),
+    Key("imbalance_phase", "rad", "real", "beta, phase of the static imbalance"),
+    Key("misalignment", "rad", "other", "chi, tilt of the principal axis (couple imbalance)", "|chi| < pi/4"),
+    Key("bearing_1.position", "m", "nonnegative", "l_1, axial position of bearing 1 (+l_1)"),
+    Key("bearing_1.stiffness", "N/m", "nonnegative", "k_1 or [k_1X, k_1Y]"),
+    Key("bearing_1.damping", "N s/m", "nonnegative", "c_1 or [c_1X, c_1Y]"),
+    Key("bearing_2.position", "m", "nonnegative", "l_2, axial position of bearing 2 (-l_2)"),
+    Key("bearing_2.stiffness", "N/m", "nonnegative", "k_2 or [k_2X, k_2Y]"),
+    Key("bearing_2.damping", "N s/m", "nonnegative", "c_2 or [c_2X, c_2Y]"),
+    Key("races[].z", "m", "real", "axial position of the race (exactly two races, in different planes)"),
+    Key("races[].radius", "m", "positive", "R, radius of the race"),
+    Key("races[].masses", "kg", "positive", "the ball masses of the race (a list; any number of balls)"),
+    Key("races[].damping", "N m s/rad", "nonnegative", "c_b, race damping of each ball"),
+    Key("speed.law", "", "other", "how the spin is governed", '"constant", "ramp", "hill" or "torque"'),
+    Key("speed.omega", "rad/s", "positive", "constant spin speed (law = \"constant\")"),
+    Key("speed.omega_max", "rad/s", "positive", "final spin speed of a run-up (law = \"ramp\" or \"hill\")",
+        context=_LAW("ramp")),
+    Key("speed.t_ramp", "s", "positive", "duration of the constant acceleration (law = \"ramp\")", context=_LAW("ramp")),
+    Key("speed.t_half", "s", "positive", "time of half the final speed, paper (45) (law = \"hill\")", context=_LAW("hill")),
+    Key("speed.n", "", "other", "Hill exponent, paper (45) (law = \"hill\")", "a whole number 1..7", _LAW("hill")),
+    Key("speed.omega_cyl", "1/s", "positive", "time scale of the Hill profile, paper (45) (law = \"hill\")",
+        context=_LAW("hill")),
+    Key("speed.tau0", "N m", "real", "stall torque of the drive (law = \"torque\")", context=_LAW("torque")),
+    Key("speed.motor_slope", "N m s/rad", "nonnegative", "slope of the drive's torque-speed line (law = \"torque\")",
+        context=_LAW("torque")),
+    Key("speed.torsion_damping", "N m s/rad", "nonnegative", "c_r, torsional damping (law = \"torque\")",
+        context=_LAW("torque")),
+)
 
 
 @dataclass(frozen=True)
@@ -188,7 +228,7 @@ class TwoPlaneScene:
         for key in sorted(map(str, data)):
             if key not in known:
                 raise SceneError(key, "unknown option")
-        preset = data.get("preset", "paper-10")
+        preset = data.get("preset", DEFAULT_PRESET)
         if not isinstance(preset, str):
             raise SceneError("preset", f"must be a name, got {preset!r}")
         raw = {**_preset(preset), **{k: v for k, v in data.items() if k != "preset"}}

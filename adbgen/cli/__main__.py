@@ -1,0 +1,7 @@
+"""`python -m adbgen.cli ...`: the command line (as the `adbgen` script)."""
+
+import sys
+
+from . import main
+
+sys.exit(main())

@@ -1,0 +1,64 @@
+"""`adbgen reproduce [--out FILE] [--figures DIR] [--only SECTION ...]`: every family's reproductions
+(`Family.reproductions()`, in the order of the family registry) recomputed into one document, by default
+docs/reproduction.md with its figures in docs/reproduction/ (`adbgen.analysis.reproduction`)."""
+
+from __future__ import annotations
+
+import importlib
+
+from .. import families
+from ..analysis.reproduction import Reproduction, build
+
+
+def references() -> dict[str, str]:
+    """Every section key -> "module:attribute" of its Reproduction, family by family (nothing imported); a
+    section two families share (one derived from the other) counts once."""
+    out: dict[str, str] = {}
+    for family in families.all_families():
+        hook = getattr(family, "reproductions", None)
+        for key, ref in (hook() if hook else {}).items():
+            if out.get(key, ref) != ref:
+                raise ValueError(f"two reproduction sections named {key!r} (family {family.name!r})")
+            out[key] = ref
+    return out
+
+
+def sections() -> list[Reproduction]:
+    out = []
+    for ref in references().values():
+        module, attr = ref.split(":")
+        out.append(getattr(importlib.import_module(module), attr))
+    return out
+
+
+def run_reproduce(args) -> int:
+    from ..outputs import output_file, output_folder
+    from ..progress import activity, wanted
+
+    keys = tuple(references())
+    only = tuple(k for k in keys if k in args.only)
+    every = only == keys
+    out = output_file(args.out or ("docs/reproduction.md" if every else f"docs/reproduction-{'-'.join(only)}.md"),
+                      "--out")
+    figs = output_folder(args.figures if args.figures else out.parent / "reproduction", "--figures")
+    command = "adbgen reproduce" + ("" if every else f" --only {' '.join(only)}")
+    with activity("reproduce: " + ", ".join(only), wanted(args.quiet)) as note:
+        def progress(line: str) -> None:
+            print(line, flush=True)
+            note(f"reproduce, after: {line.strip()[:60]}")
+        path = build(sections(), only, out, figs, command, progress=progress)
+    print(f"wrote {path}")
+    return 0
+
+
+def register(sub) -> None:
+    keys = list(references())
+    help_ = "recompute the published results (every family's: " + ", ".join(keys) + ") into docs/reproduction.md"
+    p = sub.add_parser("reproduce", help=help_, description=help_)
+    p.add_argument("--out", default=None, help="the document (default docs/reproduction.md; with --only a part, "
+                                               "docs/reproduction-PART.md, so the whole document is kept)")
+    p.add_argument("--figures", default=None, help="figure folder (default: docs/reproduction/ beside it)")
+    p.add_argument("--only", nargs="+", choices=keys, default=keys, metavar="SECTION",
+                   help=f"compute only these sections ({', '.join(keys)}); default all")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.set_defaults(fn=run_reproduce)

@@ -1,0 +1,124 @@
+"""`adbgen simulate`: one transient of a generated model (`adbgen.analysis.simulate`).
+
+    adbgen simulate MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-end T]
+                    [--rtol R] [--atol A] [--engine E] [--threshold H] [--angles wrapped|unwrapped]
+                    [--out DIR] [--json] [--quiet]
+
+With --json one JSON object on stdout.  Bad input: one line on stderr, exit 2; a failed integration:
+one line naming where it failed, exit 1.  Values take units where a user would type them (`--set
+omega=3000rpm`, `--t-end 20s`, `--t-end 640rev`, `--y0 X=1mm`; see `analysis.units`), and the defaults
+scale with the model (t_end in revolutions of the spin, t_dec's threshold a tenth of the eccentricity:
+what its generated module declares, `units.default_t_end`, `default_threshold`).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..analysis.loading import AnalysisError
+from ..analysis.units import show
+from ..progress import activity, wanted
+from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments, _positive_int, _quantity_text
+
+command = Commands()
+register = command.register
+
+
+# --------------------------------------------------------------------------------------- simulate
+
+@command("simulate", "integrate a transient of a generated model (compiled; thesis ch. 5)")
+def _add_simulate(p) -> None:
+    from ..analysis.engines import DEFAULT, ENGINES
+
+    _model_arguments(p)
+    p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
+                   help="an initial state by name (repeatable; with a unit if you like: X=1mm, phi_1=90deg); "
+                        "states not given are 0")
+    p.add_argument("--t-end", type=_quantity_text("--t-end"), metavar="T",
+                   help="end time: a number in the model's time unit, a time (20s, 2min) or revolutions of the "
+                        "spin (640rev); default 2000/pi = 636.6 revolutions (the thesis' t = 1000 at Omega = 4; "
+                        "10 s at 400 rad/s)")
+    p.add_argument("--rtol", type=_finite_positive, default=1e-8, help="relative tolerance (default 1e-8)")
+    p.add_argument("--atol", type=_finite_positive, default=1e-10, help="absolute tolerance (default 1e-10)")
+    p.add_argument("--engine", default=DEFAULT, choices=sorted(ENGINES), metavar="E",
+                   help=f"integration engine (default {DEFAULT}); one of: {', '.join(ENGINES)}")
+    p.add_argument("--threshold", type=_quantity_text("--threshold"), metavar="H",
+                   help="t_dec = last time r >= H: a number in the model's length unit or a length (0.05mm); "
+                        "default a tenth of the eccentricity (the thesis' 1e-3 at delta = 0.01)")
+    p.add_argument("--max-steps", type=_positive_int, default=10_000_000, help="step limit (default 10^7)")
+    p.add_argument("--angles", choices=("wrapped", "unwrapped"), default="wrapped",
+                   help="the plot's ball angles: wrapped into (-pi, pi] (default) or unwrapped")
+    p.add_argument("--out", help="folder for the trajectory (trajectory.npz, trajectory.csv) and a plot")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.set_defaults(fn=run_simulate)
+
+
+def run_simulate(args) -> int:
+    from ..analysis.results import IntegrationError
+    from ..analysis.simulate import simulate, simulation_units, write_trajectory
+    from ..analysis.units import assignments, default_t_end, default_threshold, duration, params, quantity, units
+    from ..outputs import output_folder
+
+    if args.out is not None:
+        output_folder(args.out, "--out")
+    show_progress = wanted(args.quiet, args.json)
+    model = _load(args, show_progress)
+    u = units(model)
+    values = assignments(args.set, "--set", u.params)
+    p = params(model, values)
+    y = model.state(assignments(args.y0, "--y0", u.states))
+    t_end, t_end_why = (duration(args.t_end, model, p), "given") if args.t_end else default_t_end(model, p)
+    if not t_end > 0:
+        raise AnalysisError(f"--t-end must be > 0, got {args.t_end}")
+    if args.threshold:
+        threshold, threshold_why = quantity(args.threshold, u.length, "--threshold"), ""
+        if not threshold > 0:
+            raise AnalysisError(f"--threshold must be > 0, got {args.threshold}")
+    else:
+        threshold, threshold_why = default_threshold(model, p)
+    with activity(f"{model.name}: integrating to t = {show(t_end, u.time)}", show_progress):
+        sim = simulate(model, p, y, t_end=t_end, rtol=args.rtol, atol=args.atol, engine=args.engine,
+                       threshold=threshold, keep_trajectory=args.out is not None, max_steps=args.max_steps,
+                       check=False)
+    defaults = {"t_end": t_end_why if not args.t_end else None, "threshold": threshold_why or None}
+    if args.out is not None and sim.ok:
+        write_trajectory(model, sim, Path(args.out), values=values, scene=args.scene,
+                         wrap_angles=args.angles == "wrapped", threshold_why=threshold_why)
+    if args.json:
+        _emit_json({**sim.to_json(), "out": args.out, "units": simulation_units(model, sim),
+                    "defaults": {k: v for k, v in defaults.items() if v}})
+    else:
+        _print_simulation(model, sim, args.out, defaults)
+    if not sim.ok:
+        err = IntegrationError(sim.status, sim.t_fail if sim.t_fail is not None else float("nan"), sim.engine,
+                               sim.message)
+        print(f"adbgen: error: {err}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _print_simulation(model, sim, out, defaults) -> None:
+    from ..analysis.units import show, units
+
+    u = units(model)
+    t_dec = "not settled by t_end" if sim.t_dec is None else show(sim.t_dec, u.time, 6)
+    note = {k: f" ({v})" for k, v in defaults.items() if v}
+    rows = [("model", model.name + (f" ({model.module.TITLE})" if getattr(model.module, "TITLE", "") else "")),
+            ("engine", sim.engine), ("rtol, atol", f"{sim.rtol:g}, {sim.atol:g}"),
+            ("t_end", show(sim.t_end, u.time, 6) + note.get("t_end", "")), ("status", sim.status),
+            ("r_max", show(sim.r_max, u.length, 7)),
+            (f"t_dec (r < {show(sim.threshold, u.length, 4)})", t_dec),
+            ("threshold", show(sim.threshold, u.length, 4) + note.get("threshold", "")),
+            ("rhs evaluations", str(sim.n_rhs)), ("steps", str(sim.n_steps)),
+            ("wall (integration)", f"{sim.wall_s * 1e3:.3f} ms")]
+    width = max(len(k) for k, _ in rows)
+    for k, v in rows:
+        print(f"{k:<{width}}  {v}")
+    print("final state:")
+    for name, v in zip(sim.state_names, sim.y_end):
+        unit = u.states.get(name, "1")
+        print(f"  {name:<{width - 2}}  {v: .10g}" + ("" if unit == "1" else f" {unit}"))
+    if out is not None and sim.ok:
+        print(f"wrote {out}/trajectory.npz, trajectory.csv, trajectory.png")

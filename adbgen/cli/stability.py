@@ -1,0 +1,399 @@
+"""`adbgen stability` and `adbgen continue`: steady states, their stability, and continuation.
+
+    adbgen stability MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... | [--state LABEL]
+                     [--scan NAME=FROM:TO] [--json]
+    adbgen continue MODEL --par NAME [--par2 NAME2] [--set NAME=VALUE]... [--to VALUE] [--range2 LO:HI] [--json]
+
+Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).  The states they
+start from are `adbgen.analysis.starts`'.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..analysis.loading import AnalysisError
+from ..analysis.units import assignments, show
+from ..outputs import output_folder
+from ..progress import activity, bar as progress_bar, wanted
+from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments, _positive_int
+
+command = Commands()
+register = command.register
+
+# the default largest continuation step (in (state, parameter)): the parameter's range in this many steps
+# (0.857 for omega from 400 to 100 rad/s), but at least STATE_STEP, what a step may move the state (the
+# angles, in rad) by, the step of before (the thesis' scans: Omega from 4 to 0.5 takes 350 steps either
+# way; a branch whose angles turn at a fold, mu from 0.05 to 0.002, needs the state's step, not 1/350 of
+# its parameter range); AUTO-07p's runs take five times as many
+STEPS_PER_RANGE = 350
+STATE_STEP = 0.01
+AUTO_STEPS_PER_RANGE = 1750
+ENDED_EARLY = 3  # exit status of a scan or continuation that stopped before its range (`adbgen --help`)
+
+
+def _fmt(z: complex) -> str:
+    return f"{z.real: .9f} {'+' if z.imag >= 0 else '-'} {abs(z.imag):.9f}i"
+
+
+def _start(model, args, p):
+    """(state vector, label): --y0 (states not given 0, values with units), --state LABEL, or START."""
+    from ..analysis.starts import start_state
+    from ..analysis.units import units
+
+    if args.y0 and args.state:
+        raise AnalysisError("give --y0 or --state, not both")
+    return start_state(model, p, assignments(args.y0, "--y0", units(model).states), args.state)
+
+
+def _scan_range(text: str, model) -> tuple[str, float, float]:
+    name, sep, rng = str(text).partition("=")
+    lo, sep2, hi = rng.partition(":")
+    if not sep or not sep2 or not name.strip():
+        raise AnalysisError(f"--scan: expected NAME=FROM:TO, got {text!r}")
+    name = name.strip()
+    if name not in model.param_names:
+        raise AnalysisError(f"--scan: {name!r} is not a parameter of {model.name}; parameters: "
+                            f"{', '.join(model.param_names)}")
+    from ..analysis.units import quantity, units
+
+    unit = units(model).params[name]
+    a, b = quantity(lo, unit, f"--scan {name} FROM"), quantity(hi, unit, f"--scan {name} TO")
+    if a == b:
+        raise AnalysisError(f"--scan: empty range {name}={lo}:{hi}")
+    return name, a, b
+
+
+# -------------------------------------------------------------------------------------- stability
+
+@command("stability", "refine a steady state of a generated model, its eigenvalues and stability; "
+                      "with --scan, Hopf points, folds and stable intervals along a parameter (thesis ch. 3-4); "
+                      "a forced model: its periodic response and Floquet multipliers (AUTO-07p, shooting); exit "
+                      "status 3: the scan ended before TO")
+def _add_stability(p) -> None:
+    _model_arguments(p)
+    p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
+                   help="the initial guess by state name (repeatable); states not given are 0")
+    p.add_argument("--state", metavar="LABEL",
+                   help="start from `start` (the model's START, default) or one of the model's closed-form steady "
+                        "states by label (its STEADY_STATES; the thesis models': 1 (balanced (3.6)), 2+, 2- (3.9), "
+                        "3(k)+, 3(k)- (3.10, k balls opposite))")
+    p.add_argument("--scan", metavar="NAME=FROM:TO",
+                   help="follow the state from NAME = FROM to TO (pseudo-arclength), locate Hopf points and folds")
+    p.add_argument("--ds-max", type=_finite_positive, metavar="DS",
+                   help="largest continuation step in (state, parameter) (default |TO - FROM| / "
+                        f"{STEPS_PER_RANGE}, at least {STATE_STEP}: 0.857 for omega from 400 to 100 rad/s)")
+    p.add_argument("--max-steps", type=_positive_int, default=20000,
+                   help="continuation steps at most (default 20000); a scan stopped by it exits with status 3")
+    p.add_argument("--out", help="with --scan: a folder for scan.csv (the branch: parameter, leading real part, "
+                                 "number unstable, rotor amplitude) and scan.png")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.set_defaults(fn=run_stability)
+
+
+def run_stability(args) -> int:
+    from ..analysis import continuation, steady
+    from ..analysis.continuation import write_scan
+    from ..analysis.units import params, units
+
+    if args.out is not None:
+        if not args.scan:
+            raise AnalysisError("--out needs --scan")
+        output_folder(args.out, "--out")
+    show_progress = wanted(args.quiet, args.json)
+    model = _load(args, show_progress)
+    values = assignments(args.set, "--set", units(model).params)
+    p = params(model, values)
+    if not model.autonomous:
+        return _forced_stability(model, p, args, show_progress)
+    scan = _scan_range(args.scan, model) if args.scan else None
+    if scan:
+        p[model.param_names.index(scan[0])] = scan[1]
+    y0, label = _start(model, args, p)
+    if scan is None:
+        st = steady.refine(model, p, y0, label=label)
+        u = units(model)
+        if args.json:
+            _emit_json({**st.to_json(), "units": {"state": u.states, "parameters": u.params,
+                                                  "eigenvalues": "1" if u.time == "1" else f"1/{u.time}"}})
+        else:
+            _print_steady(st)
+        return 0
+    name, a, b = scan
+    ds_max = args.ds_max if args.ds_max is not None else max(abs(b - a) / STEPS_PER_RANGE, STATE_STEP)
+    unit = units(model).params[name]
+    with progress_bar(abs(b - a), f"{model.name}: {name} from {show(a, unit)} to {show(b, unit)}",
+                      show_progress) as update:
+        result = continuation.scan(model, p, y0, name, a, b, ds=ds_max / 2, ds_max=ds_max, ds_min=ds_max * 1e-5,
+                                   max_steps=args.max_steps, progress=lambda lam: update(abs(lam - a)))
+    if args.out is not None:
+        write_scan(result, Path(args.out), values=values, scene=args.scene)
+    if args.json:
+        _emit_json({**result.to_json(), "state_label": label, "ds_max": ds_max, "max_steps": args.max_steps,
+                    "units": {name: unit, "amplitude": units(model).length}})
+    else:
+        _print_scan(result, unit)
+    if not result.complete:
+        print(f"adbgen: ended early: {_scan_end(result, ds_max, args.max_steps, unit)}", file=sys.stderr)
+        return ENDED_EARLY
+    return 0
+
+
+def _scan_end(result, ds_max: float, max_steps: int, unit: str) -> str:
+    """Why and where a scan stopped before TO."""
+    name, at = result.name, result.end_at
+    why = (f"the step limit ({max_steps} steps of at most {ds_max:.3g}; raise --max-steps or --ds-max)"
+           if result.end_reason == "step limit" else
+           "the step size fell below its minimum (Newton failed on shorter and shorter steps: a singular point?)")
+    return (f"{name} reached {show(at, unit, 8)} of {show(result.start, unit)} -> {show(result.stop, unit)}: stopped by "
+            f"{why}; the stable intervals cover only the part scanned")
+
+
+def _forced_stability(model, p, args, show_progress) -> int:
+    """`adbgen stability` on a periodically forced model: its periodic response at p and the response's
+    Floquet multipliers (`auto_orbits.forced_response`)."""
+    from ..analysis import auto_orbits
+
+    if args.scan:
+        raise AnalysisError(f"{model.name} is periodically forced: follow its response along a parameter with "
+                            f"`adbgen continue {model.name} --par NAME --to VALUE` (AUTO-07p, periodic orbits)")
+    if args.y0 or args.state:
+        raise AnalysisError(f"{model.name} is periodically forced: its response is found from its AUTO files' "
+                            f"start orbit; --y0 and --state do not apply")
+    with activity(f"{model.name}: the forced response (AUTO-07p, shooting)", show_progress):
+        try:
+            response = auto_orbits.forced_response(model, p)
+        except auto_orbits.ContinuationEnded as exc:
+            print(f"adbgen: ended early: {exc}", file=sys.stderr)
+            return ENDED_EARLY
+    if args.json:
+        _emit_json(response.to_json())
+    else:
+        _print_response(response)
+    return 0
+
+
+def _print_response(r) -> None:
+    from ..analysis.units import show, units
+
+    m, u = r.model, units(r.model)
+    print(f"model {m.name}: periodic response (period {show(r.period, u.time, 8)}), |y(T) - y(0)| = "
+          f"{r.closure:.1e} after {r.newton_steps} Newton steps on the period map")
+    if r.route:
+        print("reached by AUTO-07p: " + "; ".join(f"{s['parameter']} from {s['from']:g} to {s['to']:g} ({s['steps']} steps)"
+                                                  for s in r.route))
+    print(f"max r over the orbit: {show(_rounded(r.amplitude_max), u.length, 6)}")
+    extra = f", {r.n_unstable} unstable" if r.classification == "unstable" else ""
+    k = int(r.family.sum())
+    print(f"classification: {r.classification}{extra} (Floquet multipliers, |mu| < 1: stable"
+          + (f"; transverse to the {k}-dimensional family of balanced orbits)" if k else ")"))
+    print("multipliers (|mu|)" + (" (transverse)" if k else "") + ":")
+    for z in sorted(r.transverse, key=lambda z: -abs(z)):
+        print(f"  {_fmt(complex(z))}   ({abs(z):.9f})")
+    if k:
+        print(f"neutral (along the family): {k} x 1")
+
+
+def _rounded(value: float, floor: float = 1e-15) -> float:
+    """A length that is round-off (the rotor at rest on a balanced orbit) printed as 0."""
+    return 0.0 if abs(value) < floor else value
+
+
+def _print_steady(st) -> None:
+    from ..analysis.units import units
+
+    m = st.model
+    u = units(m)
+    print(f"model {m.name}: steady state ({st.label}), |rhs| = {st.residual:.2e} after {st.iterations} Newton steps")
+    print("parameters: " + ", ".join(f"{k} = {show(v, u.params[k], 6)}" for k, v in zip(m.param_names, st.p)))
+    for name, v in zip(m.state_names, st.y):
+        print(f"  {name:<12} {v: .12g}" + ("" if u.states[name] == "1" else f" {u.states[name]}"))
+    k = st.tangent.shape[1]
+    extra = f", {st.n_unstable} unstable" if st.classification == "unstable" else ""
+    print(f"classification: {st.classification}{extra}"
+          + (f" (transverse to the {k}-dimensional family of balanced states (3.6))" if k else ""))
+    print("eigenvalues" + (" (transverse)" if k else "") + ":")
+    for z in st.transverse:
+        print("  " + _fmt(z))
+    if k:
+        print(f"neutral (along the family, |J T| = {st.tangent_residual:.1e}):")
+        for z in st.neutral:
+            print("  " + _fmt(z))
+
+
+def _print_scan(result, unit: str = "1") -> None:
+    state = "" if result.complete else ", ENDED EARLY"
+    print(f"model {result.model.name}: {result.name} from {show(result.start, unit)} to {show(result.stop, unit)}, "
+          f"{len(result.branch)} steps ({result.end_reason}{state}; last step at {show(result.end_at, unit, 8)})")
+    for b in result.points:
+        freq = "" if b.frequency is None else f", frequency {b.frequency:.9g}"
+        print(f"  {b.kind:<5} {result.name} = {b.value:.10g}{freq}, {b.direction or 'stability unchanged'}")
+    for b in result.branch_points:
+        print(f"  branch point {result.name} = {b.value:.10g}")
+    intervals = ", ".join(f"[{a:.7g}, {b:.7g}]" for a, b in result.stable_intervals) or "none"
+    scanned = "" if result.complete else f" (of the part scanned, down to {result.end_at:.7g})"
+    print(f"stable for {result.name} in {intervals}" + ("" if unit == "1" else f" {unit}") + scanned)
+
+
+# --------------------------------------------------------------------------------------- continue
+
+@command("continue", "continue the model's START in one parameter with AUTO-07p (labelled points, stability); "
+                     "with --par2, curves of Hopf points and folds in two parameters and codimension-two points; a "
+                     "forced model: its periodic response (both stages of its AUTO files); exit status 3: the "
+                     "continuation ended before --to")
+def _add_continue(p) -> None:
+    _model_arguments(p)
+    p.add_argument("--par", required=True, metavar="NAME", help="the continuation parameter")
+    p.add_argument("--par2", metavar="NAME2", help="second parameter: continue each Hopf point and fold in (NAME, NAME2)")
+    p.add_argument("--to", metavar="VALUE", help="continue --par from its start value to VALUE, a number in the "
+                                                 "parameter's unit or a value with a unit (100rad/s) (default: half "
+                                                 "the start value)")
+    p.add_argument("--range2", metavar="LO:HI", help="bounds of --par2 (default 0 to ten times its value)")
+    p.add_argument("--state", metavar="LABEL",
+                   help="start from `start` (START, default) or one of the model's closed-form steady states at the "
+                        "--set parameters, by label (its STEADY_STATES; n >= 3 balls: only the balanced family's "
+                        "member of the AUTO files, whose func pins phi_3.. at START's values)")
+    p.add_argument("--keep", metavar="DIR", help="run AUTO in DIR and keep its files (fort.7, fort.8, ...)")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.set_defaults(fn=run_continue)
+
+
+def run_continue(args) -> int:
+    from ..analysis import auto, steady
+    from ..analysis.starts import follower, pinned_start
+    from ..analysis.units import params, quantity, units
+
+    if args.keep is not None:
+        output_folder(args.keep, "--keep")
+    show_progress = wanted(args.quiet, args.json)
+    model = _load(args, show_progress)
+    u = units(model)
+    for name in (args.par, args.par2):
+        if name is not None and name not in model.param_names:
+            raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: "
+                                f"{', '.join(model.param_names)}")
+    values = assignments(args.set, "--set", u.params)
+    to = quantity(args.to, u.params[args.par], "--to") if args.to is not None else None
+    if not model.autonomous:
+        return _continue_forced(model, params(model, values), args, to, show_progress)
+    if getattr(model.module, "START", None) is None:
+        raise AnalysisError(f"{model.name} has no START state to continue from")
+    params(model, values)  # each --set value within its domain
+    p = model.params({**dict(zip(model.param_names, model.module.START_PARAMETERS)), **values})
+    k = model.param_names.index(args.par)
+    if to is None:
+        to = 0.5 * p[k] if p[k] > 0 else p[k] - 1.0
+    range2 = None
+    if args.range2 is not None:
+        if args.par2 is None:
+            raise AnalysisError("--range2 needs --par2")
+        lo, sep, hi = args.range2.partition(":")
+        if not sep:
+            raise AnalysisError(f"--range2: expected LO:HI, got {args.range2!r}")
+        unit2 = u.params[args.par2]
+        range2 = (quantity(lo, unit2, "--range2 LO"), quantity(hi, unit2, "--range2 HI"))
+        if not range2[0] < range2[1]:
+            raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
+    if args.state in (None, "start"):
+        y = pinned_start(model, p)
+    else:
+        from ..analysis.starts import labelled_state
+
+        y = labelled_state(model, args.state, p)
+        y, _ = steady.newton(model, p, y)
+        start = np.asarray(model.module.START, float)
+        free = list(model.role_indices("ball_angle"))[2:] if steady.on_balanced_family(model, start) else []
+        if free and np.max(np.abs(np.angle(np.exp(1j * (y[free] - start[free]))))) > 1e-9:
+            raise AnalysisError(f"state {args.state}: {model.name}'s AUTO files pin the free angles "
+                                f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
+                                f"balanced continuum), which this state does not share; use stability --scan")
+    ds_max = abs(to - p[k]) / AUTO_STEPS_PER_RANGE
+    with activity(f"{model.name}: AUTO-07p in {args.par}", show_progress):
+        if args.par2 is None:
+            if args.keep:
+                with auto.Session(model, keep=args.keep) as session:
+                    run = auto.continue_one(model, args.par, p, y, to, ds=ds_max / 2, ds_max=ds_max, session=session)
+            else:
+                run = auto.continue_one(model, args.par, p, y, to, ds=ds_max / 2, ds_max=ds_max)
+            out = {"model": model.name, "parameter": args.par, "points": run.to_json()}
+            one = run
+        else:
+            curves = auto.continue_two(model, args.par, args.par2, p, y, to, range2)
+            curves.double_hopf = auto.double_hopf_points(model, curves.curves, p, args.par, args.par2,
+                                                         follower(model, y))
+            out = {"model": model.name, "parameter": args.par, "parameter2": args.par2,
+                   "points": curves.one.to_json(), **curves.to_json()}
+            one = curves.one
+    col = one.column()
+    last = one.points[-1] if one.points else None
+    end_at = last.values[col] if last is not None else float(p[k])
+    complete = bool(abs(end_at - to) <= 1e-6 * max(abs(to), abs(to - p[k])))
+    out.update({"to": float(to), "complete": complete, "end": last.type if last is not None else "none",
+                "end_at": float(end_at), "units": {args.par: u.params[args.par]}})
+    if args.json:
+        _emit_json(out)
+    else:
+        _print_continue(out, args.par, args.par2)
+    if not complete:
+        print(f"adbgen: ended early: AUTO-07p stopped at {args.par} = {show(end_at, u.params[args.par], 9)} before "
+              f"{show(to, u.params[args.par], 9)} ({out['end']})", file=sys.stderr)
+        return ENDED_EARLY
+    return 0
+
+
+def _continue_forced(model, p, args, to, show_progress) -> int:
+    """`adbgen continue` on a periodically forced model: its AUTO files' stages (`auto_orbits`)."""
+    from ..analysis import auto_orbits
+    from ..analysis.units import units
+
+    if args.par2 is not None or args.range2 is not None or args.state not in (None, "start"):
+        raise AnalysisError(f"{model.name} is periodically forced: `continue` follows its periodic response in one "
+                            f"parameter (--par2, --range2 and --state are for steady states)")
+    with activity(f"{model.name}: AUTO-07p, periodic orbits in {args.par}", show_progress):
+        try:
+            run = auto_orbits.continue_orbit(model, args.par, p, to, keep=args.keep)
+        except auto_orbits.ContinuationEnded as exc:
+            print(f"adbgen: ended early: {exc}", file=sys.stderr)
+            return ENDED_EARLY
+    out = run.to_json()
+    out["units"] = {args.par: units(model).params[args.par], "amplitude_max": units(model).length,
+                    "period": units(model).time}
+    if args.json:
+        _emit_json(out)
+    else:
+        _print_continue_forced(out, args.par, units(model))
+    if not run.complete:
+        print(f"adbgen: ended early: {auto_orbits.describe_stage_end(run)}", file=sys.stderr)
+        return ENDED_EARLY
+    return 0
+
+
+def _print_continue_forced(out, name, u) -> None:
+    unit = u.params[name]
+    print(f"model {out['model']}: AUTO-07p, periodic orbits (the forced response) in {name}")
+    for st in out["stages"]:
+        print(f"  stage in {st['parameter']} from {st['from']:.9g} to {st['to']:.9g}: {st['steps']} steps"
+              + ("" if st["reached"] else " (stopped early)"))
+    for pt in out["points"]:
+        amp = f", max r {show(_rounded(pt['amplitude_max']), u.length, 6)}" if "amplitude_max" in pt else ""
+        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {show(pt[name], unit, 10)}  {pt['stability']}{amp}")
+    for pt in out["unlabelled"]:
+        print(f"  {pt['type']} at {name} = {show(pt[name], unit, 10)} ({pt['direction']}; {pt['located']})")
+
+
+def _print_continue(out, name, name2) -> None:
+    print(f"model {out['model']}: AUTO-07p in {name}")
+    for pt in out["points"]:
+        freq = f", frequency {pt['frequency']:.9g}" if pt.get("frequency") else ""
+        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {pt['stability']}{freq}")
+    if name2:
+        for c in out["curves"]:
+            pts = c["points"]
+            print(f"  {c['kind']} curve from {name} = {c['origin'][name]:.8g}: {len(pts)} points")
+        for s in out["special"]:
+            print(f"  {s['type']} ({s['name']}) at {name} = {s[name]:.8g}, {name2} = {s[name2]:.8g}")

@@ -1,0 +1,245 @@
+"""Simulations of the two-plane paper on the generated models with the default engine
+(`adbgen.analysis.simulate`): the brute-force diagram of Figure 12(a) (section 4.2) and the run-ups of
+section 6 (Figures 15 and 16).
+
+Vibration measure of the paper: A = the average of the rotor's displacement amplitudes at the two
+points one unit length from the midspan, |q_1 +- q_2| with q_1 = X + iY, q_2 = phi_Y - i phi_X (the
+paper's complex coordinates (2)); A_bar = its maximum over the window looked at.
+
+* **Figure 12(a)** (`two_plane_fixed`, anisotropic supports (43), static imbalance eps/R = m/M = 1e-4,
+  chi = 0, c_b/m = 0.01): for each Omega the rotor starts at rest, the balls at rest relative to it on
+  opposite sides of each race (alpha = 0, pi); after the transient (a whole number of periods
+  2 pi/Omega, so that the restart at t = 0 keeps the forcing's phase) A_bar is the maximum of A over a
+  further 20 periods.  The plain rotor is the same model with balls of mass 1e-10 M (the rotor does not
+  feel them).  As the paper: "for each value of Omega we let the transients die away".
+* **Figures 15, 16** (`two_plane_ramp`, `two_plane_hill`, set-up (10), dynamic imbalance
+  eps/R = chi = 5e-5, beta = 1, m/M = eps/R + chi = 1e-4, c_b/m = 0.01 and 0.1): the rotor at rest,
+  undeflected, the balls at rest on opposite sides (theta = 0, pi in each race).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ....analysis.loading import AnalysisError, Model, load_model
+from ....analysis.simulate import simulate
+
+PLAIN_MASS = 1e-10  # "plain rotor": balls too light for the rotor to feel
+RTOL, ATOL = 1e-9, 1e-14
+
+
+def vibration(model: Model, t, y: np.ndarray, p) -> np.ndarray:
+    """A(t): mean of |q_1 + q_2| and |q_1 - q_2| (displacements at z = +-1), states on the rows: the
+    generated module's measure "A" (the family declares it once, `two_plane/description.py`)."""
+    return model.measure("A", t, y, p)
+
+
+def _ball_values(m: float, ratio: float) -> dict:
+    return {**{f"m_{k}": m for k in range(1, 5)}, "c_bt": ratio * m, "c_bb": ratio * m}
+
+
+# ------------------------------------------------------------------------------ Figure 12(a)
+
+FIG12_EPS = 1e-4
+FIG12_RATIO = 0.01
+
+
+@dataclass
+class Orbit:
+    Omega: float
+    A_bar: float
+    drift: float  # max |alpha_k'| over the window: 0 when the balls turn with the rotor
+
+
+def settled_vibration(model: Model, values: dict, Omega: float, t_transient: float, periods: int = 20,
+                      per_period: int = 64, rtol: float = RTOL) -> Orbit:
+    """A_bar after the transient at constant speed Omega (non-autonomous `two_plane_fixed`)."""
+    T = 2 * math.pi / Omega
+    p = model.params(dict(values, Omega=Omega))
+    y0 = model.state({"alpha_2": math.pi, "alpha_4": math.pi})
+    first = simulate(model, p, y0, t_end=math.ceil(t_transient / T) * T, rtol=rtol, atol=ATOL,
+                     keep_trajectory=False)
+    window = simulate(model, p, first.y_end, t_end=periods * T, rtol=rtol, atol=ATOL,
+                      samples=periods * per_period + 1)
+    rates = window.y[[model.rate_index(k) for k in model.role_indices("ball_angle")]]
+    return Orbit(Omega, float(vibration(model, window.t, window.y, p).max()), float(np.abs(rates).max()))
+
+
+def figure_12a(omegas, t_transient: float = 4000.0, rtol: float = RTOL, with_plain: bool = True) -> dict:
+    """A_bar of the balancer and (with_plain) of the plain rotor over the Omega grid."""
+    model = load_model("two_plane_fixed")
+    common = {"epsilon": FIG12_EPS, "chi": 0.0, "beta": 0.0}
+    abb = [settled_vibration(model, {**common, **_ball_values(FIG12_EPS, FIG12_RATIO)}, float(w), t_transient,
+                             rtol=rtol) for w in omegas]
+    plain = [settled_vibration(model, {**common, **_ball_values(PLAIN_MASS, FIG12_RATIO)}, float(w), t_transient,
+                               rtol=rtol) for w in omegas] if with_plain else []
+    return {"Omega": np.asarray(omegas, float), "abb": abb, "plain": plain, "model": model}
+
+
+def plain_limit(omegas=(10.0, 20.0, 40.0), t_transient: float = 2000.0) -> dict:
+    """A_bar of the plain rotor at high speed (the paper: A_bar -> eps/R as Omega -> infinity)."""
+    model = load_model("two_plane_fixed")
+    values = {"epsilon": FIG12_EPS, "chi": 0.0, "beta": 0.0, **_ball_values(PLAIN_MASS, FIG12_RATIO)}
+    return {float(w): settled_vibration(model, values, float(w), t_transient).A_bar for w in omegas}
+
+
+def balanced_orbit(model: Model, values: dict) -> np.ndarray:
+    """B of `two_plane_fixed` (static imbalance, two equal balls a race): the rotor at rest, the balls at
+    alpha = pi +- arccos(m_c/m), m_c = M eps/(4R) ((9)); a constant state, so a periodic orbit of the forced
+    system with any period (no support force acts)."""
+    p = model.params(values)
+    get = lambda name: p[model.param_names.index(name)]  # noqa: E731
+    a = math.acos(get("M") * get("epsilon") / (4 * get("R_t") * get("m_1")))
+    return model.state(dict(zip(model.leaves, (math.pi + a, math.pi - a, math.pi + a, math.pi - a))))
+
+
+def floquet(model: Model, values: dict, Omega: float, rtol: float = 1e-11) -> tuple[np.ndarray, np.ndarray]:
+    """Floquet multipliers and eigenvectors of B at constant speed Omega: the monodromy matrix over
+    T = 2 pi/Omega of Phi' = J(t) Phi, J the generated jac along the (constant) orbit (scipy DOP853)."""
+    from scipy.integrate import solve_ivp
+
+    p = model.params(dict(values, Omega=Omega))
+    y = balanced_orbit(model, values)
+    n = model.n_states
+    jac = model.module.jac
+    sol = solve_ivp(lambda t, z: (np.asarray(jac(t, y, p)) @ z.reshape(n, n)).ravel(), (0.0, 2 * math.pi / Omega),
+                    np.eye(n).ravel(), method="DOP853", rtol=rtol, atol=rtol * 1e-2)
+    return np.linalg.eig(sol.y[:, -1].reshape(n, n))
+
+
+def peaks(x: np.ndarray, y: np.ndarray) -> list[float]:
+    """Local maxima of y(x), each refined by the parabola through it and its neighbours."""
+    out = []
+    for i in range(1, len(x) - 1):
+        if y[i] > y[i - 1] and y[i] >= y[i + 1]:
+            h = x[i + 1] - x[i]
+            den = y[i - 1] - 2 * y[i] + y[i + 1]
+            out.append(float(x[i] + 0.5 * h * (y[i - 1] - y[i + 1]) / den) if den else float(x[i]))
+    return out
+
+
+# ------------------------------------------------------------------------------ Figures 15, 16
+
+RUNUP_EPS = 5e-5  # eps/R = chi, so m/M = eps/R + chi = 1e-4
+RUNUP_MASS = 1e-4
+RATIOS = (0.01, 0.1)  # c_b/m of Figures 15(a)/16 left and 15(b)/16 right
+
+
+@dataclass
+class RunUp:
+    name: str  # the model
+    ratio: float  # c_b/m
+    t: np.ndarray
+    spin: np.ndarray  # theta_0'(t) = Omega(t)
+    ball_speeds: np.ndarray  # theta_k'(t), 4 rows
+    angles: np.ndarray  # alpha_k = theta_k - theta_0, 4 rows
+    A: np.ndarray
+    end_speeds: np.ndarray
+    end_spin: float
+
+
+def spin_law(model: Model, p: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(theta_0, theta_0') of the prescribed run-up at the times t: the generated module's measures
+    "spin_angle" and "spin_rate" (the run-up law the family derived the model with: the ramp, or the
+    Hill profile (45)); they depend on t and p only."""
+    t = np.atleast_1d(np.asarray(t, float))
+    y = np.zeros((model.n_states, len(t)))
+    return model.measure("spin_angle", t, y, p), model.measure("spin_rate", t, y, p)
+
+
+def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples: int = 30001,
+           rtol: float = RTOL, phase: float = 0.0) -> RunUp:
+    """The run-up from rest, the balls of each race at `phase` and `phase` + pi."""
+    model = load_model(name)
+    p = model.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(m, ratio)})
+    y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi, "theta_3": phase, "theta_4": phase + math.pi})
+    sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples)
+    angle, spin = spin_law(model, p, sim.t)
+    balls = list(model.role_indices("ball_angle"))
+    rates = [model.rate_index(k) for k in balls]
+    _, end_spin = spin_law(model, p, np.array([t_end]))
+    return RunUp(name, ratio, sim.t, spin, sim.y[rates], sim.y[balls] - angle, vibration(model, sim.t, sim.y, p),
+                 sim.y_end[rates], float(end_spin[0]))
+
+
+def synchronised_from(run: RunUp, tol: float = 1e-3) -> float | None:
+    """The time from which every ball turns with the rotor (|theta_k' - Omega| <= tol Omega to the end);
+    None if they do not by the end."""
+    lag = np.max(np.abs(run.ball_speeds - run.spin), axis=0)
+    bad = np.nonzero(lag > tol * np.maximum(run.spin, 1e-12))[0]
+    if not bad.size:
+        return float(run.t[0])
+    if bad[-1] == len(run.t) - 1:
+        return None
+    return float(run.t[bad[-1] + 1])
+
+
+# ------------------------------------------------------------------ after the ramp: constant speed
+
+def to_rotating(fixed: Model, y: np.ndarray, theta0: float, omega: float, rotating: Model) -> np.ndarray:
+    """A state of a fixed-frame run-up model (X, Y, phi_X, phi_Y, theta_k and rates) as a state of the
+    rotating-frame model at spin angle theta0 and speed omega: r = q e^{-i theta0} ((5)-(6)), alpha_k =
+    theta_k - theta0."""
+    v = dict(zip(fixed.state_names, y))
+    turn = np.exp(-1j * theta0)
+    q1, q1d = v["X"] + 1j * v["Y"], v["X_dot"] + 1j * v["Y_dot"]
+    q2, q2d = v["phi_Y"] - 1j * v["phi_X"], v["phi_Y_dot"] - 1j * v["phi_X_dot"]
+    r1, r2 = q1 * turn, q2 * turn
+    r1d, r2d = (q1d - 1j * omega * q1) * turn, (q2d - 1j * omega * q2) * turn
+    out = {"x": r1.real, "y": r1.imag, "phi_y": r2.real, "phi_x": -r2.imag,
+           "x_dot": r1d.real, "y_dot": r1d.imag, "phi_y_dot": r2d.real, "phi_x_dot": -r2d.imag}
+    for k, name in enumerate(fixed.leaves):
+        out[rotating.leaves[k]] = v[name] - theta0
+        out[rotating.leaves[k] + "_dot"] = v[name + "_dot"] - omega
+    return rotating.state(out)
+
+
+def coincident_from(run: RunUp) -> float | None:
+    """The time from which the two balls of each race have exactly the same angle (to the last bit)."""
+    same = (run.angles[0] == run.angles[1]) & (run.angles[2] == run.angles[3])
+    bad = np.nonzero(~same)[0]
+    if bad.size and bad[-1] == len(run.t) - 1:
+        return None
+    return float(run.t[bad[-1] + 1]) if bad.size else float(run.t[0])
+
+
+def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: float = RTOL) -> dict:
+    """The ramp of Figure 15 continued at the constant speed Omega_max in the rotating frame
+    (`two_plane_rotating`, autonomous there): the end state's steady state and spectrum (Newton), and the
+    run from it as it is, then from where that settled with balls 1 and 3 (one in each race) moved by
+    `kick` rad."""
+    from ....analysis.steady import refine
+
+    fixed = load_model("two_plane_ramp")
+    rotating = load_model("two_plane_rotating")
+    run = run_up("two_plane_ramp", ratio, 6000.0, rtol=rtol)
+    theta0, _ = spin_law(fixed, fixed.params(), np.array([6000.0]))
+    omega = float(run.spin[-1])
+    values = {"Omega": omega, "epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(RUNUP_MASS, ratio)}
+    p = rotating.params(values)
+    y = to_rotating(fixed, _end_state(fixed, ratio, rtol), float(theta0[0]), omega, rotating)
+    out = {"coincident_from": coincident_from(run), "A_end_ramp": float(run.A[-1]), "kick": kick, "omega": omega}
+    sim = simulate(rotating, p, y, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
+    A = vibration(rotating, sim.t, sim.y, p)
+    out["as_is"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
+    try:  # where the run settled: a steady state of the rotating frame?
+        st = refine(rotating, p, sim.y_end)
+        out.update(unstable=st.n_unstable, leading=[complex(z) for z in st.transverse[:2]],
+                   moved=float(np.abs(st.y - sim.y_end).max()))
+    except AnalysisError as exc:
+        out.update(unstable=None, leading=[], moved=None, newton=str(exc))
+    y1 = sim.y_end.copy()
+    y1[[rotating.index(rotating.leaves[0]), rotating.index(rotating.leaves[2])]] += kick  # one ball a race
+    sim = simulate(rotating, p, y1, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
+    A = vibration(rotating, sim.t, sim.y, p)
+    out["kicked"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
+    return out
+
+
+def _end_state(fixed: Model, ratio: float, rtol: float) -> np.ndarray:
+    p = fixed.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(RUNUP_MASS, ratio)})
+    y0 = fixed.state({"theta_2": math.pi, "theta_4": math.pi})
+    return simulate(fixed, p, y0, t_end=6000.0, rtol=rtol, atol=ATOL, keep_trajectory=False).y_end

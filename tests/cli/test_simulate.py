@@ -1,0 +1,76 @@
+"""`adbgen simulate` (adbgen/cli/simulate.py): JSON keys, output files, errors."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from adbgen.cli import main
+
+pytestmark = pytest.mark.usefixtures("needs_gcc")
+
+KEYS = {"model", "engine", "rtol", "atol", "t_end", "status", "r_max", "t_dec", "y_end", "n_rhs", "wall_s", "picked"}
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_simulate_json(capsys):
+    code, out, err = run(capsys, "simulate", "thesis_rotating_n2", "--y0", "phi_1=pi/2", "--y0", "phi_2=-pi/2",
+                         "--t-end", "1000", "--json")
+    assert code == 0 and err == ""
+    data = json.loads(out)
+    assert KEYS <= set(data)
+    assert data["model"] == "thesis_rotating_n2" and data["engine"] == "auto" and data["status"] == "success"
+    assert data["picked"]["engine"] in ("taylor", "cyrk-dop853", "cyrk-vern8")  # the auto engine says what it ran
+    assert data["rtol"] == 1e-8 and data["atol"] == 1e-10 and data["t_end"] == 1000.0
+    assert set(data["y_end"]) == {"x", "y", "phi_1", "phi_2", "x_dot", "y_dot", "phi_1_dot", "phi_2_dot"}
+    assert data["r_max"] == pytest.approx(0.0483, rel=5e-3) and data["t_dec"] == pytest.approx(462.42, rel=5e-3)
+    assert data["n_rhs"] > 0 and 0 < data["wall_s"] < 10
+
+
+def test_simulate_not_settled_is_null(capsys):
+    code, out, _ = run(capsys, "simulate", "thesis_rotating_n2", "--y0", "phi_1=1", "--t-end", "20", "--json")
+    assert code == 0 and json.loads(out)["t_dec"] is None
+
+
+def test_simulate_table_and_files(capsys, tmp_path):
+    code, out, _ = run(capsys, "simulate", "thesis_rotating_n3", "--set", "Omega=3", "--y0", "phi_1=3*pi/4",
+                       "--t-end", "50", "--engine", "cvode-adams", "--out", str(tmp_path))
+    assert code == 0 and "r_max" in out and "cvode-adams" in out
+    data = np.load(tmp_path / "trajectory.npz")
+    meta = json.loads(str(data["metadata"]))
+    assert meta["parameters"]["Omega"] == 3.0 and data["y"].shape[0] == 10 and data["t"][-1] == 50.0
+    lines = (tmp_path / "trajectory.csv").read_text().splitlines()
+    assert lines[0].startswith("# model") and any(ln.startswith("t,r,x,y,phi_1") for ln in lines)
+    assert (tmp_path / "trajectory.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["simulate", "thesis_rotating_n2", "--set", "Omeg=3"], "'Omeg' is not a parameter"),
+    (["simulate", "thesis_rotating_n2", "--y0", "psi=1"], "'psi' is not a state"),
+    (["simulate", "thesis_rotating_n2", "--y0", "phi_1=nan"], "cannot read 'nan'"),
+    (["simulate", "thesis_rotating_n2", "--set", "mu=inf"], "cannot read 'inf'"),
+    (["simulate", "thesis_rotating_n2", "--set", "mu"], "expected NAME=VALUE"),
+    (["simulate", "thesis_rotating_n2", "--t-end", "-5"], "must be > 0"),
+    (["simulate", "thesis_rotating_n2", "--engine", "euler"], "invalid choice"),
+    (["simulate", "no_such_model"], "no generated model 'no_such_model'"),
+    (["simulate"], "no model given"),
+    (["simulate", "thesis_rotating_n2", "--bogus"], "unrecognized arguments"),
+])
+def test_bad_input_one_line_exit_2(capsys, argv, needle):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and err.startswith("adbgen: error: ") and needle in err
+
+
+def test_failed_integration_exit_1(capsys):
+    code, out, err = run(capsys, "simulate", "thesis_rotating_n2", "--y0", "phi_1=1", "--max-steps", "20", "--json")
+    assert code == 1
+    assert json.loads(out)["status"] == "max_steps"
+    assert err.startswith("adbgen: error: integration failed at t = ") and "step limit" in err
