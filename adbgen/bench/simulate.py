@@ -259,18 +259,26 @@ def evaluate_targets(result: dict) -> list[dict]:
 
 # ----------------------------------------------------------------------------------------- run
 
-def _cold_build(model, engine) -> float | None:
-    """Seconds to compile a compiled engine's library for the model from scratch (a scratch cache)."""
-    from ..analysis.engines import compiled
+def _cold_build(model, engine, rtol: float, atol: float) -> float | None:
+    """Seconds to compile a compiled engine's library for the model from scratch (a scratch cache); for
+    `auto`, the library of what it picks at (rtol, atol) (a Taylor engine: one library per order)."""
+    from ..analysis.engines import compiled, taylor
 
-    if not hasattr(engine, "driver"):
+    order = None
+    if hasattr(engine, "picked"):
+        engine, _, _, record = engine.picked(rtol, atol, model)
+        order = record.get("order")
+    if order is None and not hasattr(engine, "driver"):
         return None
     old = os.environ.get("ADBGEN_CACHE")
     with tempfile.TemporaryDirectory(prefix="adbgen-cold-") as tmp:
         os.environ["ADBGEN_CACHE"] = tmp
         try:
             start = time.perf_counter()
-            compiled.build(model, engine.driver, engine.libs)
+            if order is not None:
+                taylor.build(model, int(order))
+            else:
+                compiled.build(model, engine.driver, engine.libs)
             return round(time.perf_counter() - start, 3)
         except Exception:
             return None
@@ -361,7 +369,7 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
         except Exception as exc:
             warm[name] = f"error: {exc}"
     result["engine_setup_s"] = warm
-    result["default_engine_cold_build_s"] = _cold_build(model, ENGINES[DEFAULT])
+    result["default_engine_cold_build_s"] = _cold_build(model, ENGINES[DEFAULT], problem.rtol, problem.atol)
     say(f"engines built/loaded: {warm}; {DEFAULT} cold build {result['default_engine_cold_build_s']} s")
 
     ref = reference(model, problem)
