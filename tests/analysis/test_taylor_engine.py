@@ -156,6 +156,24 @@ def test_auto_follows_its_table(thesis, tmp_path):
     assert out["picked"]["order"] == 10 and out["picked"]["step_factor"] == 2.0
 
 
+def test_auto_runs_a_model_without_a_series_on_the_fallback(thesis, tmp_path):
+    """A model whose folder has no `<model>_taylor.c` (a model the taylor target skips) is run on CyRK's
+    DOP853 at the requested tolerance, and `picked` says why; the same model with its series runs on
+    Taylor (negative control).  (The model's folder is swapped for an empty one: loading a copy of a
+    generated module would compile its numba functions again.)"""
+    from types import SimpleNamespace
+
+    from adbgen.analysis.engines.auto import FALLBACK
+
+    m = thesis[2]
+    bare = SimpleNamespace(name=m.name, folder=tmp_path, module=m.module)
+    eng, rtol, atol, record = ENGINES["auto"].picked(1e-8, 1e-10, bare)
+    assert eng is ENGINES[FALLBACK] and FALLBACK == "cyrk-dop853" and (rtol, atol) == (1e-8, 1e-10)
+    assert record["engine"] == FALLBACK and record["reason"] == f"{m.name} has no Taylor series"
+    eng, rtol, atol, record = ENGINES["auto"].picked(1e-8, 1e-10, m)
+    assert record["engine"] == "taylor" and "reason" not in record and eng is not ENGINES[FALLBACK]
+
+
 def test_the_committed_table_is_measured():
     """The auto engine's table comes from `adbgen bench auto` (its rows name the measured candidate and
     its time relative to the fastest that reached the tolerance)."""

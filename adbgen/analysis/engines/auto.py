@@ -8,7 +8,9 @@ candidate that reached an error of at most R (relative to the state's size, see 
 fastest, per family (`by_family`, keyed by the model's FAMILY: the measured problem of that family) and
 jointly (`rows`, for a model of another family); it is run as engine E at rtol r (atol scaled by the same factor) with, for the Taylor engine,
 order p and step factor f.  A requested rtol takes the row of the largest R at or below it (so the
-measured error is at most the requested rtol); tighter than every row: the tightest row.
+measured error is at most the requested rtol); tighter than every row: the tightest row.  A model without a Taylor series (the `taylor` target
+skips a model whose kernel has a function without a recurrence) runs on `FALLBACK` (CyRK's DOP853) at
+the requested tolerance, `picked` saying why.
 """
 
 from __future__ import annotations
@@ -20,6 +22,11 @@ from pathlib import Path
 from ..loading import AnalysisError
 
 TABLE = Path(__file__).resolve().parent / "auto_table.json"
+FALLBACK = "cyrk-dop853"  # for a model without a Taylor series (`<model>_taylor.c`)
+
+
+def _has_series(model) -> bool:
+    return (Path(model.folder) / f"{model.name}_taylor.c").is_file()
 
 
 @lru_cache(maxsize=4)
@@ -59,12 +66,18 @@ class AutoEngine:
     def picked(self, rtol: float, atol: float, model=None):
         """(engine object, rtol, atol, picked record) to run for a requested tolerance (and model)."""
         row = self.choice(rtol, getattr(getattr(model, "module", None), "FAMILY", None))
+        if "order" in row and model is not None and not _has_series(model):
+            # a model the taylor target skipped (no recurrence for one of its functions): the RK engine
+            # that was the default before, at the requested tolerance, and the reason in `picked`
+            row = {"engine": FALLBACK, "rtol": rtol, "reason": f"{model.name} has no Taylor series"}
         name = row["engine"]
         if name not in self._engines or name == self.name:
             raise AnalysisError(f"the auto engine's table picks {name!r}, which is not an engine here")
         eng = self._engines[name]
         scale = row.get("rtol_run", rtol) / rtol
         record = {"engine": name, "rtol": rtol * scale, "atol": atol * scale}
+        if "reason" in row:
+            record["reason"] = row["reason"]
         if "order" in row:
             from .taylor import TaylorEngine
 
@@ -86,4 +99,4 @@ class AutoEngine:
         return {**out, "picked": record}
 
 
-__all__ = ["AutoEngine", "TABLE", "load_table"]
+__all__ = ["AutoEngine", "FALLBACK", "TABLE", "load_table"]
