@@ -43,6 +43,12 @@ def _program(ir):
 
 
 class TaylorTarget(Target):
+    max_order = MAX_ORDER
+
+    def program(self, ir):
+        """(series program, None) or (None, why not)."""
+        return _program(ir)
+
     def skip_reason(self, ir):
         prog, why = _program(ir)
         return None if prog is not None else f"no series form ({why})"
@@ -64,6 +70,13 @@ class TaylorTarget(Target):
             "n_constants": len(em.core_consts) + len(em.ball_consts),
             "n_balls": prog.n_balls, "n_ball_lanes": em.nbp,
         }
+
+    def prove(self, proof):
+        """Issue 20's proof of the rendered files (`prove.py`): compiled strictly, both exports compared with
+        the checked series program at the proof's samples."""
+        from .prove import prove
+
+        prove(self, proof)
 
 
 # It prints no kernel functions through a dialect (printer None): its C is the series program, printed by

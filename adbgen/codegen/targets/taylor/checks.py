@@ -23,7 +23,8 @@ import mpmath
 import numpy as np
 
 from ...checks import CheckFailed
-from . import pyeval, reference
+from .pyeval import flags as series_flags, taylor as series_taylor
+from .reference import lie_coefficients, odefun_step
 
 LIE_ORDER = 5
 LIE_TOLERANCE = 1e-11  # measured <= 1.5e-15 (autonomous models), 1.4e-12 (sin(omega t) at omega t ~ 2e3)
@@ -44,11 +45,11 @@ def _points(ir, samples: int, seed: int):
 def branch_times(prog, y, p) -> list[float]:
     """Times at which the Piecewise conditions take values they do not take at t = 0 (the run-ups'
     later branches), the first of each new combination along t = 10^k, k = 0..6."""
-    seen = {pyeval.flags(prog, 0.0, y, p)}
+    seen = {series_flags(prog, 0.0, y, p)}
     out = []
     for k in range(7):
         t = 10.0 ** k
-        f = pyeval.flags(prog, t, y, p)
+        f = series_flags(prog, t, y, p)
         if f not in seen:
             seen.add(f)
             out.append(t * 1.1)
@@ -64,8 +65,8 @@ def lie_errors(ir, prog, samples: int = 3, seed: int = 0, order: int = LIE_ORDER
         _, y, p = points[-1]
         points += [(t, y, p) for t in branch_times(prog, y, p)]
     for t, y, p in points:
-        ref = reference.lie_coefficients(ir, t, y, p, order)
-        got = np.array(pyeval.taylor(prog, t, y, p, order), dtype=float)
+        ref = lie_coefficients(ir, t, y, p, order)
+        got = np.array(series_taylor(prog, t, y, p, order), dtype=float)
         for k in range(order + 1):
             scale = max(1e-300, float(np.max(np.abs(ref[k]))))
             worst[k] = max(worst[k], float(np.max(np.abs(got[k] - ref[k]))) / scale)
@@ -86,13 +87,13 @@ def step_error(ir, prog, seed: int = 5) -> tuple[float, float]:
     t, y, p = next(_points(ir, 2, seed))
     t = 1.0
     with mpmath.workdps(30):
-        rows = pyeval.taylor(prog, mpmath.mpf(t), [mpmath.mpf(float(v)) for v in y],
+        rows = series_taylor(prog, mpmath.mpf(t), [mpmath.mpf(float(v)) for v in y],
                              [mpmath.mpf(float(v)) for v in p], STEP_ORDER, lib=mpmath)
         h = mpmath.mpf(jorba_step(np.array([[float(v) for v in row] for row in rows])))
         yh = [mpmath.mpf(0)] * ir.n_states
         for k in range(STEP_ORDER, -1, -1):
             yh = [a * h + b for a, b in zip(yh, rows[k])]
-        ref = reference.odefun_step(ir, t, y, p, float(h))
+        ref = odefun_step(ir, t, y, p, float(h))
         err = max(abs(float(a - b)) for a, b in zip(yh, ref))
     return err / max(1.0, float(np.max(np.abs(y)))), float(h)
 
