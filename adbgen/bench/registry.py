@@ -32,6 +32,7 @@ REGISTRY: dict[str, str] = {
     "precision": "adbgen.bench.precision:BENCHMARK",
     "mutation": "adbgen.bench.mutation:BENCHMARK",
     "orbits": "adbgen.bench.orbits:BENCHMARK",
+    "auto": "adbgen.bench.auto:BENCHMARK",
 }
 
 

@@ -54,6 +54,9 @@ class Orbit:
     drift: float  # max |alpha_k'| over the window: 0 when the balls turn with the rotor
 
 
+ENGINE = "cyrk-dop853"  # named: the document must not follow a change of the default engine
+
+
 def settled_vibration(model: Model, values: dict, Omega: float, t_transient: float, periods: int = 20,
                       per_period: int = 64, rtol: float = RTOL) -> Orbit:
     """A_bar after the transient at constant speed Omega (non-autonomous `two_plane_fixed`)."""
@@ -61,9 +64,9 @@ def settled_vibration(model: Model, values: dict, Omega: float, t_transient: flo
     p = model.params(dict(values, Omega=Omega))
     y0 = model.state({"alpha_2": math.pi, "alpha_4": math.pi})
     first = simulate(model, p, y0, t_end=math.ceil(t_transient / T) * T, rtol=rtol, atol=ATOL,
-                     keep_trajectory=False)
+                     keep_trajectory=False, engine=ENGINE)
     window = simulate(model, p, first.y_end, t_end=periods * T, rtol=rtol, atol=ATOL,
-                      samples=periods * per_period + 1)
+                      samples=periods * per_period + 1, engine=ENGINE)
     rates = window.y[[model.rate_index(k) for k in model.role_indices("ball_angle")]]
     return Orbit(Omega, float(vibration(model, window.t, window.y, p).max()), float(np.abs(rates).max()))
 
@@ -156,7 +159,7 @@ def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples
     model = load_model(name)
     p = model.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(m, ratio)})
     y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi, "theta_3": phase, "theta_4": phase + math.pi})
-    sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples)
+    sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples, engine=ENGINE)
     angle, spin = spin_law(model, p, sim.t)
     balls = list(model.role_indices("ball_angle"))
     rates = [model.rate_index(k) for k in balls]
@@ -222,7 +225,7 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
     p = rotating.params(values)
     y = to_rotating(fixed, _end_state(fixed, ratio, rtol), float(theta0[0]), omega, rotating)
     out = {"coincident_from": coincident_from(run), "A_end_ramp": float(run.A[-1]), "kick": kick, "omega": omega}
-    sim = simulate(rotating, p, y, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
+    sim = simulate(rotating, p, y, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1, engine=ENGINE)
     A = vibration(rotating, sim.t, sim.y, p)
     out["as_is"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
     try:  # where the run settled: a steady state of the rotating frame?
@@ -233,7 +236,7 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
         out.update(unstable=None, leading=[], moved=None, newton=str(exc))
     y1 = sim.y_end.copy()
     y1[[rotating.index(rotating.leaves[0]), rotating.index(rotating.leaves[2])]] += kick  # one ball a race
-    sim = simulate(rotating, p, y1, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
+    sim = simulate(rotating, p, y1, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1, engine=ENGINE)
     A = vibration(rotating, sim.t, sim.y, p)
     out["kicked"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
     return out
@@ -242,4 +245,4 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
 def _end_state(fixed: Model, ratio: float, rtol: float) -> np.ndarray:
     p = fixed.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(RUNUP_MASS, ratio)})
     y0 = fixed.state({"theta_2": math.pi, "theta_4": math.pi})
-    return simulate(fixed, p, y0, t_end=6000.0, rtol=rtol, atol=ATOL, keep_trajectory=False).y_end
+    return simulate(fixed, p, y0, t_end=6000.0, rtol=rtol, atol=ATOL, keep_trajectory=False, engine=ENGINE).y_end
