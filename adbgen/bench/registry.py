@@ -30,6 +30,8 @@ REGISTRY: dict[str, str] = {
     "failures": "adbgen.bench.failures:BENCHMARK",
     "smallest": "adbgen.bench.smallest:BENCHMARK",
     "precision": "adbgen.bench.precision:BENCHMARK",
+    "rk": "adbgen.bench.rk:BENCHMARK",
+    "ensemble": "adbgen.bench.ensemble:BENCHMARK",
 }
 
 

@@ -10,12 +10,14 @@ from __future__ import annotations
 
 from ..loading import AnalysisError
 from .compiled import CyRKEngine, SundialsEngine
+from .rk import RKBatchEngine, RKEngine
 from .scipy_ivp import ScipyEngine
 
 DEFAULT = "cyrk-dop853"
 
 ENGINES = {e.name: e for e in (
     CyRKEngine("DOP853"), CyRKEngine("Vern8"), CyRKEngine("Vern7"), CyRKEngine("RK45"), CyRKEngine("RK23"),
+    RKEngine(), RKBatchEngine(),
     SundialsEngine("cvode-bdf", 10, "SUNDIALS CVODE BDF, Newton, dense LU with the generated Jacobian (stiff)",
                    symmetric=False),
     SundialsEngine("cvode-adams", 11, "SUNDIALS CVODE Adams-Moulton, fixed-point iteration", symmetric=True),

@@ -31,6 +31,7 @@ REGISTRY: dict[str, str] = {
     "c": "adbgen.codegen.targets.c:TARGET",
     "cvode": "adbgen.codegen.targets.cvode:TARGET",
     "auto": "adbgen.codegen.targets.auto:TARGET",
+    "lanes": "adbgen.codegen.targets.lanes:TARGET",
 }
 _loaded: dict[str, "Target"] = {}
 
