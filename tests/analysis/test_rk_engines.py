@@ -16,7 +16,7 @@ from adbgen.analysis.engines.compiled import HERE
 from adbgen.analysis.engines.rk import RKBatchEngine, lanes, lanes_source
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.results import IntegrationError
-from adbgen.analysis.simulate import simulate, simulate_many
+from adbgen.analysis.simulate import simulate
 
 PHI_A = {"phi_1": math.pi / 3, "phi_2": -math.pi / 3, "phi_3": math.pi}
 

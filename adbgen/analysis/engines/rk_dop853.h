@@ -21,8 +21,11 @@ static inline void dop_step(RK_T t, RK_T h, const RK_T *y, RK_T (*K)[RK_NY], RK_
 {
     (void)ctx;
     RK_T z[RK_NY], acc[RK_NY];
+    /* unrolled: the tableau's entries become constants and its zeros vanish at compile time */
+#pragma GCC unroll 16
     for (int s = 1; s < DOP_STAGES; ++s) {
         for (int i = 0; i < RK_NY; ++i) acc[i] = dop_a[s][0] * K[0][i];
+#pragma GCC unroll 16
         for (int j = 1; j < s; ++j) {
             if (dop_a[s][j] == 0.0) continue;
             for (int i = 0; i < RK_NY; ++i) acc[i] += dop_a[s][j] * K[j][i];
@@ -31,6 +34,7 @@ static inline void dop_step(RK_T t, RK_T h, const RK_T *y, RK_T (*K)[RK_NY], RK_
         RK_RHS(t + dop_c[s] * h, z, K[s]);
     }
     for (int i = 0; i < RK_NY; ++i) acc[i] = dop_b[0] * K[0][i];
+#pragma GCC unroll 16
     for (int j = 1; j < DOP_STAGES; ++j) {
         if (dop_b[j] == 0.0) continue;
         for (int i = 0; i < RK_NY; ++i) acc[i] += dop_b[j] * K[j][i];
@@ -40,6 +44,7 @@ static inline void dop_step(RK_T t, RK_T h, const RK_T *y, RK_T (*K)[RK_NY], RK_
     RK_T s5 = 0.0 * h, s3 = 0.0 * h;
     for (int i = 0; i < RK_NY; ++i) {
         RK_T a5 = 0.0 * h, a3 = 0.0 * h;
+#pragma GCC unroll 16
         for (int j = 0; j <= DOP_STAGES; ++j) {
             if (dop_e5[j] != 0.0) a5 += dop_e5[j] * K[j][i];
             if (dop_e3[j] != 0.0) a3 += dop_e3[j] * K[j][i];
@@ -83,7 +88,9 @@ static inline void dop_dense(RK_T t, RK_T h, const RK_T *y, const RK_T *ynew, RK
 }
 
 /* scipy's step-size controller (safety 0.9, factors in [0.2, 10], exponent -1/8): the factor for the next
- * step from the error norm, and the norm from dop_step's sums */
+ * step from the error norm, and the norm from dop_step's sums.  err^(-1/8) as 1 / sqrt(sqrt(sqrt(err)))
+ * (three correctly rounded square roots instead of pow: a few ulp apart, a tenth of the time). */
+static inline double dop_root8(double err) { return 1.0 / sqrt(sqrt(sqrt(err))); }
 #define DOP_SAFETY 0.9
 #define DOP_MIN_FACTOR 0.2
 #define DOP_MAX_FACTOR 10.0
@@ -98,10 +105,10 @@ static inline double dop_factor(double err, int rejected)
 {
     double f;
     if (err < 1.0) {
-        f = err == 0.0 ? DOP_MAX_FACTOR : fmin(DOP_MAX_FACTOR, DOP_SAFETY * pow(err, -1.0 / 8.0));
+        f = err == 0.0 ? DOP_MAX_FACTOR : fmin(DOP_MAX_FACTOR, DOP_SAFETY * dop_root8(err));
         if (rejected) f = fmin(1.0, f);
     } else
-        f = fmax(DOP_MIN_FACTOR, DOP_SAFETY * pow(err, -1.0 / 8.0));
+        f = fmax(DOP_MIN_FACTOR, DOP_SAFETY * dop_root8(err));
     return f;
 }
 
