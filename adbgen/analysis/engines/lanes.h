@@ -5,10 +5,11 @@
  * chosen by adbgen.analysis.engines.rk from the CPU's flags when the library is built.  sin and cos are
  * glibc's libmvec (_ZGVeN8v_sin: 8 lanes in one call, _ZGVdN4v_sin: 4; within 4 ulp of the correctly
  * rounded value, glibc's scalar sin/cos within 1): libmvec because it ships with glibc (nothing to
- * install, the vector ABI GCC itself emits for `#pragma omp declare simd`) and it is as fast as SLEEF's
- * 3.5-ulp functions; SLEEF would only add a dependency.  ADB_EXACT_MATH=1 calls glibc's scalar
- * functions lane by lane instead: the ensemble then reproduces the scalar engine (rk_driver.c) bit for
- * bit (tested).  Every other function is computed lane by lane with libm (sqrt vectorises anyway).
+ * install, the vector ABI GCC itself emits for `#pragma omp declare simd`); SLEEF would add a
+ * dependency for the same job.  ADB_EXACT_MATH=1 calls glibc's scalar functions lane by lane instead:
+ * the ensemble then reproduces the scalar engine (rk_driver.c) bit for bit when both are built with
+ * sin and cos never merged into sincos (engines/rk.py SEPARATE_SINCOS; tested).  Every other function is
+ * computed lane by lane with libm (sqrt vectorises anyway).
  */
 #ifndef ADB_LANES_H
 #define ADB_LANES_H

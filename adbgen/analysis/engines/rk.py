@@ -31,6 +31,11 @@ from ..loading import AnalysisError, cache_dir
 from .compiled import HERE, CyRKEngine, _Compiled, compiler
 
 CFLAGS = ["-std=gnu99", "-O3", "-march=native", "-ffp-contract=off", "-fPIC", "-shared", "-fopenmp"]
+# glibc's sincos(x) and its sin(x), cos(x) can differ in the last bit, and GCC merges a sin and a cos of
+# one argument into sincos where it sees both: the scalar rhs and the lane-by-lane one give it different
+# chances.  The exact-math builds (the batch engine's bitwise twin of the scalar one, for tests) call
+# each function as written.
+SEPARATE_SINCOS = ["-fno-builtin-sin", "-fno-builtin-cos"]
 _lock = threading.Lock()
 
 
@@ -102,9 +107,10 @@ def _sizes(model) -> list[str]:
     return [f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}"]
 
 
-def scalar_library(model):
+def scalar_library(model, exact_math: bool = False):
     source = model.c_source()
-    defines = [f'-DADB_MODEL_SOURCE="{source.name}"', f"-DADB_RHS={model.name}_rhs", *_sizes(model)]
+    defines = [f'-DADB_MODEL_SOURCE="{source.name}"', f"-DADB_RHS={model.name}_rhs", *_sizes(model),
+               *(SEPARATE_SINCOS if exact_math else [])]
     with _lock:
         return _open(str(build(model, "rk_driver.c", source, defines, [])))
 
@@ -122,7 +128,8 @@ def batch_library(model, n_lanes: int | None = None, exact_math: bool = False):
         return None
     n_lanes = n_lanes or lanes()
     defines = [f'-DADB_LANES_SOURCE="{source.name}"', f"-DADB_RHS_LANES={model.name}_rhs_lanes", *_sizes(model),
-               f"-DADB_LANES={n_lanes}", f"-DADB_EXACT_MATH={1 if exact_math else 0}"]
+               f"-DADB_LANES={n_lanes}", f"-DADB_EXACT_MATH={1 if exact_math else 0}",
+               *(SEPARATE_SINCOS if exact_math else [])]
     with _lock:
         return _open(str(build(model, "rk_batch_driver.c", source, defines, ["-lmvec"])))
 
@@ -134,14 +141,15 @@ class RKEngine(CyRKEngine):
     prefix = "adb_rk"
     method_id = 0
 
-    def __init__(self, name: str = "rk-dop853", description: str = ""):
+    def __init__(self, name: str = "rk-dop853", description: str = "", exact_math: bool = False):
         self.method = "DOP853"
         self.name = name
+        self.exact_math = exact_math  # sin and cos as written, never merged into sincos (tests)
         self.description = description or ("DOP853 (Hairer) in C, compiled with the model's rhs in one translation "
                                            "unit; cyrk-dop853's method and reports without a call per stage")
 
     def library(self, model):
-        return scalar_library(model)
+        return scalar_library(model, self.exact_math)
 
     def time_rhs(self, model, p, y, calls: int = 200_000) -> float:
         """ns per evaluation of the rhs as this engine's library compiles it (the floor of item 3)."""
@@ -157,8 +165,8 @@ class RKBatchEngine(RKEngine):
 
     def __init__(self, name: str = "rk-dop853-batch", exact_math: bool = False, n_lanes: int | None = None):
         super().__init__(name, "DOP853 on SIMD lanes (4-8 trajectories per vector, per-lane steps; the lanes "
-                               "target's rhs, libmvec sin/cos) for ensembles without r_max/t_dec; else rk-dop853")
-        self.exact_math = exact_math
+                               "target's rhs, libmvec sin/cos) for ensembles without r_max/t_dec; else rk-dop853",
+                         exact_math)
         self.n_lanes = n_lanes
 
     def _many_call(self, model, rtol, atol):
@@ -169,9 +177,7 @@ class RKBatchEngine(RKEngine):
 
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
                  targets=(), measures=True):
-        engine = self if not measures else _SCALAR
+        engine = self if not measures else RKEngine(exact_math=self.exact_math)
         return _Compiled.run_many(engine, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=threads,
                                   check_dt=check_dt, targets=targets, measures=measures)
 
-
-_SCALAR = RKEngine()

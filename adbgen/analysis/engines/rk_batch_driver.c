@@ -14,9 +14,9 @@
  * computes a copy of a running lane (its results unused) until the group is done.
  *
  * Each lane's step is rk_driver.c's: the same tableau (rk_dop853.h), the same controller and statuses, the
- * same segments and target regions.  With ADB_EXACT_MATH=1 (glibc's scalar sin/cos) every trajectory is
- * bitwise the scalar engine's; with libmvec's sin/cos (the default) they differ by the functions' last
- * bits (4 ulp), i.e. within the tolerance's noise.  This engine reports no r_max/t_dec (sweeps' attractor
+ * same segments and target regions.  With ADB_EXACT_MATH=1 (glibc's scalar sin/cos, both libraries built
+ * without merging sin and cos into sincos) every trajectory is bitwise the scalar engine's; with libmvec's
+ * sin/cos (the default) they differ by the functions' last bits (4 ulp), i.e. within the tolerance's noise.  This engine reports no r_max/t_dec (sweeps' attractor
  * labels need neither): the Python side runs the scalar engine for those.
  */
 #include <stdlib.h>
