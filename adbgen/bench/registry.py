@@ -33,6 +33,8 @@ REGISTRY: dict[str, str] = {
     "mutation": "adbgen.bench.mutation:BENCHMARK",
     "orbits": "adbgen.bench.orbits:BENCHMARK",
     "auto": "adbgen.bench.auto:BENCHMARK",
+    "rk": "adbgen.bench.rk:BENCHMARK",
+    "ensemble": "adbgen.bench.ensemble:BENCHMARK",
 }
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 from ..loading import AnalysisError
 from .auto import AutoEngine
 from .compiled import CyRKEngine, SundialsEngine
+from .rk import RKBatchEngine, RKEngine
 from .scipy_ivp import ScipyEngine
 from .taylor import TaylorBatchEngine, TaylorEngine
 
@@ -21,6 +22,7 @@ ENGINES = {e.name: e for e in (
     TaylorEngine(),
     TaylorBatchEngine(),
     CyRKEngine("DOP853"), CyRKEngine("Vern8"), CyRKEngine("Vern7"), CyRKEngine("RK45"), CyRKEngine("RK23"),
+    RKEngine(), RKBatchEngine(),
     SundialsEngine("cvode-bdf", 10, "SUNDIALS CVODE BDF, Newton, dense LU with the generated Jacobian (stiff)",
                    symmetric=False),
     SundialsEngine("cvode-adams", 11, "SUNDIALS CVODE Adams-Moulton, fixed-point iteration", symmetric=True),

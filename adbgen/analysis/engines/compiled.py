@@ -228,9 +228,10 @@ class CyRKEngine(_Compiled):
         y_end = np.zeros(model.n_states)
         stats = np.zeros(4)
         counts = np.zeros(2, np.int64)
-        lib.adb_cyrk_integrate.argtypes = None
+        integrate = getattr(lib, self.prefix + "_integrate")
+        integrate.argtypes = None
         start = time.perf_counter()
-        code = lib.adb_cyrk_integrate(
+        code = integrate(
             _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id,
             ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold), ctypes.c_double(0.0), 0, None,
             None, None, None, None, 1 if keep_trajectory else 0, 1, ctypes.byref(traj), ctypes.byref(target), _ptr(y_end),
@@ -242,7 +243,7 @@ class CyRKEngine(_Compiled):
             y = np.ctypeslib.as_array(traj.y, (k, model.n_states)).T.copy() if k else np.zeros((model.n_states, 0))
         finally:
             if traj.k:
-                lib.adb_cyrk_release(ctypes.byref(traj))
+                getattr(lib, self.prefix + "_release")(ctypes.byref(traj))
         return _single(code, t, y, y_end, stats, counts, wall, "")
 
     def dense(self, model, p, t, y, times, rtol, atol) -> np.ndarray:
@@ -254,11 +255,11 @@ class CyRKEngine(_Compiled):
         Y = np.ascontiguousarray(np.asarray(y).T, dtype=float)
         times = np.ascontiguousarray(times, dtype=float)
         out = np.zeros((len(times), model.n_states))
-        code = lib.adb_cyrk_dense(_ptr(T), _ptr(Y), ctypes.c_long(len(T)), _ptr(np.ascontiguousarray(p, dtype=float)),
+        code = getattr(lib, self.prefix + "_dense")(_ptr(T), _ptr(Y), ctypes.c_long(len(T)), _ptr(np.ascontiguousarray(p, dtype=float)),
                                   ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id, len(times),
                                   _ptr(times), _ptr(out))
         if code:
-            raise AnalysisError("CyRK failed to integrate a step again for its dense output")
+            raise AnalysisError(f"{self.name} failed to integrate a step again for its dense output")
         return out.T
 
 

@@ -33,6 +33,7 @@ REGISTRY: dict[str, str] = {
     "cvode": "adbgen.codegen.targets.cvode:TARGET",
     "auto": "adbgen.codegen.targets.auto:TARGET",
     "taylor": "adbgen.codegen.targets.taylor:TARGET",
+    "lanes": "adbgen.codegen.targets.lanes:TARGET",
 }
 _loaded: dict[str, "Target"] = {}
 

@@ -1,0 +1,392 @@
+/* The DOP853 engine at its floor (issue 22 item 3): Hairer's 8(5,3) Runge-Kutta pair (rk_dop853.h)
+ * compiled in one translation unit with the model's generated C rhs, which every stage calls directly
+ * (no function pointer, no solver object, no copy of the arguments), compiled by
+ * adbgen.analysis.engines.rk with
+ *
+ *     -DADB_MODEL_SOURCE='"<model>.c"' -DADB_RHS=<model>_rhs -DADB_NY=<states> -DADB_NP=<parameters>
+ *
+ * It reports what cyrk_driver.c reports, with the same entry points (adb_rk_integrate, _integrate_many,
+ * _dense, _release; the same arguments): status codes, early stop in target regions at segment ends,
+ * r_max and t_dec on the continuous solution.  The continuous solution is the method's own 7th-order
+ * interpolant of each accepted step, rebuilt when needed from the stored step (t_k, y_k, t_{k+1}): the
+ * same arithmetic as the step itself, so the rebuilt step ends bitwise at y_{k+1}.  t_dec = sup{t : r(t)
+ * >= H} sees an excursion above H inside one step (both ends below H) as cyrk_driver.c does: steps with
+ * an interior maximum of r (x x' + y y' from + to -) whose Hermite estimate comes near H are searched on
+ * their interpolant, latest first.
+ *
+ * Step control is scipy's (CyRK's): first step by Hairer's estimate, safety 0.9, factor in [0.2, 10],
+ * no growth right after a rejection, a step below 10 ulp of t is an underflow.  Segments (check_dt): a
+ * step never crosses a segment's end (the run continues from it with the controller's next step), so
+ * runs with and without early stop see the same steps until a stop.
+ *
+ * Exact symmetry: every stage updates each component by the same element-wise operations and the
+ * generated rhs evaluates every ball in the same order, so identical balls stay together bit for bit.
+ */
+#include <stdlib.h>
+#include <time.h>
+#include <string.h>
+
+#include ADB_MODEL_SOURCE
+#include "driver_common.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define RK_T double
+#define RK_NY ADB_NY
+#define RK_ABS(x) fabs(x)
+#define RK_MAX(a, b) fmax(a, b)
+#define RK_RHS(t, y, f) ADB_RHS((t), (y), ((const double *)ctx), (f))
+#include "rk_dop853.h"
+
+typedef struct {
+    double t[2], y[ADB_NY], F[7][ADB_NY];
+} Dense;
+
+/* the interpolant of stored step k (T[k] -> T[k+1], from Y[k]) */
+static void dense_of(Dense *d, const double *p, const double *T, const double *Y, size_t k)
+{
+    double K[DOP_EXTENDED][ADB_NY], ynew[ADB_NY], e5, e3;
+    const double *y = Y + k * ADB_NY, *ctx = p;
+    double t = T[k], h = T[k + 1] - T[k];
+    RK_RHS(t, y, K[0]);
+    dop_step(t, h, y, K, ynew, 1.0, 1.0, &e5, &e3, ctx);
+    dop_dense(t, h, y, ynew, K, d->F, ctx);
+    d->t[0] = t, d->t[1] = T[k + 1];
+    memcpy(d->y, y, sizeof d->y);
+}
+
+static void dense_at(const Dense *d, double t, double *out)
+{
+    double x = (t - d->t[0]) / (d->t[1] - d->t[0]), w = 1.0 - x;
+    for (int i = 0; i < ADB_NY; ++i) {
+        double v = d->F[6][i];
+        v = v * x + d->F[5][i], v = v * w + d->F[4][i], v = v * x + d->F[3][i];
+        v = v * w + d->F[2][i], v = v * x + d->F[1][i], v = v * w + d->F[0][i];
+        out[i] = d->y[i] + v * x;
+    }
+}
+
+static double dense_r2(const Dense *d, double t, int ix, int iy)
+{
+    double y[ADB_NY];
+    dense_at(d, t, y);
+    return adb_r2(y, ix, iy);
+}
+
+/* the last t in [a, b] with r^2 >= H2, given r^2(a) >= H2 > r^2(b): bisection on the interpolant */
+static double bisect_down(const Dense *d, double a, double b, int ix, int iy, double H2)
+{
+    for (int it = 0; it < 200; ++it) {
+        double m = 0.5 * (a + b);
+        if (m <= a || m >= b) break;
+        if (dense_r2(d, m, ix, iy) >= H2) a = m;
+        else b = m;
+    }
+    return a;
+}
+
+/* largest r^2 of the interpolant on its step: a scan of ns intervals, golden section around the best */
+static double peak_on(const Dense *d, int ns, int ix, int iy, double *tm)
+{
+    double a0 = d->t[0], span = d->t[1] - d->t[0], tb = a0, best = -1.0;
+    for (int j = 0; j <= ns; ++j) {
+        double tt = j == ns ? d->t[1] : a0 + span * j / ns, v = dense_r2(d, tt, ix, iy);
+        if (v > best) best = v, tb = tt;
+    }
+    double a = fmax(a0, tb - span / ns), b = fmin(d->t[1], tb + span / ns), g = 0.5 * (sqrt(5.0) - 1.0);
+    double c = b - g * (b - a), e = a + g * (b - a), fc = dense_r2(d, c, ix, iy), fe = dense_r2(d, e, ix, iy);
+    for (int it = 0; it < 80; ++it) {
+        if (fc > fe) {
+            b = e, e = c, fe = fc;
+            c = b - g * (b - a);
+            fc = dense_r2(d, c, ix, iy);
+        } else {
+            a = c, c = e, fc = fe;
+            e = a + g * (b - a);
+            fe = dense_r2(d, e, ix, iy);
+        }
+    }
+    if (fc > best) best = fc, tb = c;
+    if (fe > best) best = fe, tb = e;
+    *tm = tb;
+    return best;
+}
+
+/* Can r exceed H inside step k although both ends are below?  Only at an interior maximum (r^2' = 2(x x'
+ * + y y') from + to -); the cubic Hermite estimate screens with a factor 2 of margin (cyrk_driver.c's
+ * screen, measured there). */
+static int may_exceed(const double *T, const double *Y, size_t k, const int *amp, double H2)
+{
+    const double *u = Y + k * ADB_NY, *v = Y + (k + 1) * ADB_NY;
+    int ix = amp[0], iy = amp[1], ixd = amp[2], iyd = amp[3];
+    double g0 = u[ix] * u[ixd] + u[iy] * u[iyd], g1 = v[ix] * v[ixd] + v[iy] * v[iyd];
+    if (!(g0 > 0.0 && g1 < 0.0)) return 0;
+    double h = T[k + 1] - T[k], f0 = adb_r2(u, ix, iy), f1 = adb_r2(v, ix, iy), d0 = 2.0 * h * g0, d1 = 2.0 * h * g1;
+    for (int j = 1; j < 16; ++j) {
+        double x = j / 16.0, x2 = x * x, x3 = x2 * x;
+        double q = (2 * x3 - 3 * x2 + 1) * f0 + (x3 - 2 * x2 + x) * d0 + (3 * x2 - 2 * x3) * f1 + (x3 - x2) * d1;
+        if (q >= 0.5 * H2) return 1;
+    }
+    return 0;
+}
+
+/* (r_max, t_dec) on the continuous solution; t_dec NaN when r(t_end) >= H, 0 when r never reaches H */
+static void measure(const double *p, const double *T, const double *Y, size_t K, const int *amp, double H,
+                    int n_peaks, double *r_max, double *t_dec)
+{
+    int ix = amp[0], iy = amp[1];
+    double H2 = H * H, best = 0.0;
+    size_t last = (size_t)-1;
+    Dense d;
+    for (size_t k = 0; k < K; ++k) {
+        double v = adb_r2(Y + k * ADB_NY, ix, iy);
+        if (v >= H2) last = k;
+        if (v > best) best = v;
+    }
+    if (adb_r2(Y + (K - 1) * ADB_NY, ix, iy) >= H2) *t_dec = NAN;
+    else {
+        double found = -1.0;
+        size_t first = last == (size_t)-1 ? 0 : last + 1;
+        for (size_t k = K - 1; found < 0.0 && k-- > first;) {
+            if (!may_exceed(T, Y, k, amp, H2)) continue;
+            double tm;
+            dense_of(&d, p, T, Y, k);
+            if (peak_on(&d, 16, ix, iy, &tm) >= H2) found = bisect_down(&d, tm, T[k + 1], ix, iy, H2);
+        }
+        if (found >= 0.0) *t_dec = found;
+        else if (last == (size_t)-1) *t_dec = 0.0;
+        else {
+            dense_of(&d, p, T, Y, last);
+            *t_dec = bisect_down(&d, T[last], T[last + 1], ix, iy, H2);
+        }
+    }
+    /* the n_peaks largest local maxima of r at step ends (at least a quarter of the largest): the two
+     * steps around each searched on their interpolants */
+    double floor_ = 0.25 * best, done_above = INFINITY, refined = best;
+    for (int q = 0; q < n_peaks; ++q) {
+        size_t kb = (size_t)-1;
+        double vb = -1.0;
+        for (size_t k = 0; k < K; ++k) {
+            double v = adb_r2(Y + k * ADB_NY, ix, iy);
+            if (v < floor_ || v >= done_above || v <= vb) continue;
+            if (k > 0 && adb_r2(Y + (k - 1) * ADB_NY, ix, iy) > v) continue;
+            if (k + 1 < K && adb_r2(Y + (k + 1) * ADB_NY, ix, iy) > v) continue;
+            kb = k, vb = v;
+        }
+        if (kb == (size_t)-1) break;
+        done_above = vb;
+        for (size_t k = kb > 0 ? kb - 1 : 0; k <= kb && k + 1 < K; ++k) {
+            double tm;
+            dense_of(&d, p, T, Y, k);
+            refined = fmax(refined, peak_on(&d, 32, ix, iy, &tm));
+        }
+    }
+    *r_max = sqrt(refined);
+}
+
+/* Hairer's initial step (scipy's select_initial_step; order 7 of the error estimator) */
+static double first_step(double t, const double *y, const double *f0, double t_bound, double rtol, double atol,
+                         const double *ctx)
+{
+    double d0 = 0.0, d1 = 0.0, d2 = 0.0, y1[ADB_NY], f1[ADB_NY], span = t_bound - t;
+    for (int i = 0; i < ADB_NY; ++i) {
+        double sc = atol + fabs(y[i]) * rtol;
+        d0 += (y[i] / sc) * (y[i] / sc), d1 += (f0[i] / sc) * (f0[i] / sc);
+    }
+    d0 = sqrt(d0 / ADB_NY), d1 = sqrt(d1 / ADB_NY);
+    double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+    h0 = fmin(h0, span);
+    for (int i = 0; i < ADB_NY; ++i) y1[i] = y[i] + h0 * f0[i];
+    RK_RHS(t + h0, y1, f1);
+    for (int i = 0; i < ADB_NY; ++i) {
+        double sc = atol + fabs(y[i]) * rtol, v = (f1[i] - f0[i]) / sc;
+        d2 += v * v;
+    }
+    d2 = sqrt(d2 / ADB_NY) / h0;
+    double h1 = (d1 <= 1e-15 && d2 <= 1e-15) ? fmax(1e-6, h0 * 1e-3) : pow(0.01 / fmax(d1, d2), 1.0 / 8.0);
+    return fmin(fmin(100.0 * h0, h1), span);
+}
+
+typedef struct {
+    double *t; /* accepted steps, malloc'd (adb_rk_release frees them) */
+    double *y;
+    long k;
+} Trajectory;
+
+/* One trajectory from t = 0 to t_end: cyrk_driver.c's adb_cyrk_integrate contract (method is unused:
+ * DOP853).  out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [rhs evaluations, steps]. */
+int adb_rk_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, int method,
+                     long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
+                     const double *centres, const double *weights, const double *cubics, const double *levels,
+                     const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target,
+                     double *y_end, double *out_stats, long *out_counts)
+{
+    (void)method;
+    const double *ctx = p;
+    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
+    out_counts[0] = out_counts[1] = 0;
+    if (target) *target = -1;
+    if (traj) traj->t = traj->y = NULL, traj->k = 0;
+    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
+    long evals = 2; /* f(0, y0) and the first step's estimate, then DOP_STAGES per step attempt */
+    int store = keep || measures, segmented = check_dt > 0.0, status = ADB_SUCCESS;
+    size_t cap = store ? 1024 : 1, K = 1;
+    double *T = malloc(cap * sizeof(double)), *Y = malloc(cap * ADB_NY * sizeof(double));
+    double y[ADB_NY], ynew[ADB_NY], Kst[DOP_EXTENDED][ADB_NY], t = 0.0;
+    memcpy(y, y0, sizeof y);
+    T[0] = 0.0;
+    memcpy(Y, y0, sizeof y);
+    RK_RHS(t, y, Kst[0]);
+    double seg_end = segmented ? fmin(t_end, check_dt) : t_end;
+    double h_abs = first_step(t, y, Kst[0], seg_end, rtol, atol, ctx);
+    long steps = 0;
+    double r2max = adb_r2(y, amp_idx[0], amp_idx[1]);
+    while (t < t_end) {
+        if (max_steps > 0 && steps >= max_steps) {
+            status = ADB_MAX_STEPS;
+            break;
+        }
+        double min_step = 10.0 * (nextafter(t, INFINITY) - t), t_new, h;
+        int rejected = 0;
+        if (h_abs < min_step) h_abs = min_step;
+        for (;;) {
+            if (h_abs < min_step) {
+                status = ADB_STEP_UNDERFLOW;
+                break;
+            }
+            t_new = t + h_abs;
+            if (t_new > seg_end) t_new = seg_end;
+            h = t_new - t;
+            double e5, e3;
+            dop_step(t, h, y, Kst, ynew, rtol, atol, &e5, &e3, ctx);
+            evals += DOP_STAGES;
+            double err = dop_norm(h, e5, e3);
+            if (!adb_all_finite(ynew, ADB_NY) || !adb_all_finite(Kst[DOP_STAGES], ADB_NY)) {
+                /* a non-finite state or derivative (an infinite error norm alone is a rejection) */
+                status = ADB_NONFINITE;
+                break;
+            }
+            double f = dop_factor(err, rejected);
+            h_abs = fabs(h) * f;
+            if (err < 1.0) break;
+            rejected = 1;
+        }
+        if (status != ADB_SUCCESS) break;
+        ++steps;
+        t = t_new;
+        memcpy(y, ynew, sizeof y);
+        memcpy(Kst[0], Kst[DOP_STAGES], sizeof Kst[0]); /* FSAL */
+        if (store) {
+            if (K == cap) {
+                cap *= 2;
+                T = realloc(T, cap * sizeof(double));
+                Y = realloc(Y, cap * ADB_NY * sizeof(double));
+            }
+            T[K] = t;
+            memcpy(Y + K * ADB_NY, y, sizeof y);
+            ++K;
+        } else {
+            T[0] = t;
+            memcpy(Y, y, sizeof y);
+            r2max = fmax(r2max, adb_r2(y, amp_idx[0], amp_idx[1]));
+        }
+        if (t >= seg_end && t < t_end) {
+            if (n_targets > 0) {
+                int k = adb_in_target(y, n_targets, centres, weights, cubics, levels, periodic);
+                if (k >= 0) {
+                    if (target) *target = k;
+                    status = ADB_STOPPED;
+                    break;
+                }
+            }
+            seg_end = fmin(t_end, seg_end + check_dt);
+        }
+    }
+    if (status != ADB_SUCCESS && status != ADB_STOPPED) out_stats[3] = t;
+    if (!measures) {
+        /* r_max and t_dec not asked for: NaN */
+    } else if (status == ADB_SUCCESS)
+        measure(p, T, Y, K, amp_idx, threshold, 8, &out_stats[0], &out_stats[1]);
+    else {
+        double best = r2max;
+        for (size_t k = 0; k < K; ++k) best = fmax(best, adb_r2(Y + k * ADB_NY, amp_idx[0], amp_idx[1]));
+        out_stats[0] = sqrt(best);
+    }
+    out_stats[2] = t;
+    memcpy(y_end, y, sizeof y);
+    out_counts[0] = evals;
+    out_counts[1] = steps;
+    if (traj && keep) {
+        traj->t = T, traj->y = Y, traj->k = (long)K;
+    } else {
+        free(T);
+        free(Y);
+    }
+    return status;
+}
+
+void adb_rk_release(Trajectory *traj)
+{
+    free(traj->t);
+    free(traj->y);
+    traj->t = traj->y = NULL;
+    traj->k = 0;
+}
+
+/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
+void adb_rk_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
+                           int method, long max_steps, const int *amp_idx, double threshold, int measures,
+                           double check_dt, int n_targets, const double *centres, const double *weights,
+                           const double *cubics, const double *levels, const unsigned char *periodic, int threads,
+                           int *status, int *target, double *Y_end, double *stats, long *counts)
+{
+#ifdef _OPENMP
+    if (threads < 1) threads = omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+    for (int k = 0; k < n; ++k)
+        status[k] = adb_rk_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, method,
+                                     max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights, cubics,
+                                     levels, periodic, 0, measures, NULL, target + k, Y_end + (size_t)k * ADB_NY,
+                                     stats + (size_t)k * 4, counts + (size_t)k * 2);
+}
+
+/* The continuous solution of a run (its stored steps T, Y) at `times` (increasing, in [T[0], T[K-1]])
+ * into out (n x ADB_NY): each step's interpolant, the one r_max and t_dec are located on.  Returns 0. */
+int adb_rk_dense(const double *T, const double *Y, long K, const double *p, double rtol, double atol, int method,
+                 int n, const double *times, double *out)
+{
+    (void)rtol, (void)atol, (void)method;
+    Dense d;
+    size_t k = 0, held = (size_t)-1;
+    for (int j = 0; j < n; ++j) {
+        while (k + 2 < (size_t)K && T[k + 1] < times[j]) ++k;
+        if (held != k) {
+            dense_of(&d, p, T, Y, k);
+            held = k;
+        }
+        dense_at(&d, times[j], out + (size_t)j * ADB_NY);
+    }
+    return 0;
+}
+
+/* CPU ns (this thread's clock: on a shared machine the wall clock counts other processes' time) per
+ * rhs evaluation of this library's rhs: `calls` evaluations along a moving state (each feeds the next,
+ * so none can be skipped), the floor the engine's time is compared against (bench rk) */
+double adb_rk_time_rhs(const double *y0, const double *p, long calls)
+{
+    double y[ADB_NY], f[ADB_NY];
+    memcpy(y, y0, sizeof y);
+    struct timespec a, b;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
+    for (long c = 0; c < calls; ++c) {
+        ADB_RHS(0.0, y, p, f);
+        for (int i = 0; i < ADB_NY; ++i) y[i] += 1e-9 * f[i];
+    }
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
+    volatile double sink = y[0];
+    (void)sink;
+    return ((b.tv_sec - a.tv_sec) * 1e9 + (b.tv_nsec - a.tv_nsec)) / (double)calls;
+}

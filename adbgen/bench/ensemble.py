@@ -1,0 +1,247 @@
+"""`adbgen bench ensemble`: the 100 x 100 basin map with full integration (issue 22 item 5, ensemble part).
+
+The sweep benchmark's map (`bench.sweep`: thesis_rotating_n2 at (5.1), phi_1(0), phi_2(0) on a 100 x 100
+grid over [0, 2 pi)^2, t_end = 2000, rtol 1e-8, atol 1e-10, segments of check_dt = 10) with no shortcut:
+no early stop, no symmetry, every trajectory integrated to t_end.  Two measurements, each configuration
+alternated `repeats` times, best kept:
+
+* sweeps: `run_sweep` (the local Dask cluster, stores, figures) with today's default ensemble engine
+  (cyrk-dop853: CyRK's solver per trajectory) and with rk-dop853-batch (SIMD lanes): trajectories per
+  second per core (integrated / (wall x workers), the sweep benchmark's own measure) and per CPU-second.
+* ensembles: the integration alone (simulate_many with the sweeps' segments, all workers' threads) for
+  cyrk-dop853, rk-dop853, rk-dop853-batch, and heyoka's batch mode as its users run it: the hand-written
+  thesis Appendix A equations (bench.handwritten), `taylor_adaptive_batch` of heyoka's recommended SIMD
+  width, `ensemble_propagate_until_batch` on `workers` threads, tol = the sweep's rtol (heyoka's one
+  tolerance); its compilation timed apart.  Every ensemble's final states are labelled by the same
+  classifier (attractors.classifier; its limit-cycle check integrates on with cyrk-dop853 for all) and
+  compared with the cyrk-dop853 sweep's labels.
+
+CPU seconds are the process's (every thread's): on a shared machine the per-CPU-second figures are the
+stable ones; wall-clock ones depend on the cores the run got (`effective_cores`).
+"""
+
+from __future__ import annotations
+
+import collections
+import json
+import math
+import os
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .registry import QUICK, REPEATS, Benchmark, option, require_positive_repeats
+from .report import closing, describe_targets, opening, target, write
+from .sweep import GRID
+
+MODEL = "thesis_rotating_n2"
+T_END, RTOL, ATOL, CHECK_DT = 2000.0, 1e-8, 1e-10, 10.0
+TODAY = "cyrk-dop853"
+OURS = ("cyrk-dop853", "rk-dop853", "rk-dop853-batch")
+
+
+def _spec(engine: str, grid=GRID, t_end: float = T_END):
+    from ..analysis.sweep import SweepSpec
+
+    return SweepSpec(model=MODEL, grid=list(grid), measure="attractor", t_end=t_end, rtol=RTOL, atol=ATOL,
+                     engine=engine, early_stop=False, symmetry=False, check_dt=CHECK_DT)
+
+
+def _timed(fn):
+    load = os.getloadavg()[0]
+    cpu0, wall0 = time.process_time(), time.perf_counter()
+    out = fn()
+    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+    return out, {"wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "effective_cores": round(cpu / wall, 2),
+                 "load_average_before": round(load, 2), "load_average_after": round(os.getloadavg()[0], 2)}
+
+
+def _rates(n: int, t: dict, workers: int) -> dict:
+    return {**t, "trajectories": n, "trajectories_per_s_per_core": round(n / (t["wall_s"] * workers), 2),
+            "trajectories_per_cpu_s": round(n / t["cpu_s"], 2) if t["cpu_s"] > 0 else None}
+
+
+def sweep_run(engine: str, workers: int, grid=GRID, t_end: float = T_END) -> tuple[dict, np.ndarray, list]:
+    import xarray as xr
+
+    from ..analysis.sweep import run_sweep
+
+    tmp = Path(tempfile.mkdtemp(prefix="adbgen-bench-ensemble-"))
+    try:
+        summary, t = _timed(lambda: run_sweep(_spec(engine, grid, t_end), tmp, workers=workers, progress=False,
+                                              figures=False))
+        ds = xr.open_zarr(tmp / "sweep.zarr", consolidated=False)
+        codes = ds["attractor"].values.ravel()
+        labels = json.loads(ds.attrs["labels"])
+        row = _rates(summary["integrated"], t, workers)
+        row.update({"engine": engine, "rhs_evaluations": summary["rhs_evaluations"],
+                    "timing": summary.get("timing", {})})
+        return row, codes, labels
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def points(grid=GRID):
+    from ..analysis.sweep import prepare
+
+    model, g = prepare(_spec(TODAY, grid))
+    flat = np.arange(int(np.prod(g.shape)))
+    P, Y0 = g.points(model, flat)
+    return model, P, Y0
+
+
+def ours(engine: str, model, P, Y0, workers: int, t_end: float = T_END) -> tuple[dict, np.ndarray, np.ndarray]:
+    from ..analysis.simulate import simulate_many
+
+    ens, t = _timed(lambda: simulate_many(model, P, Y0, t_end=t_end, rtol=RTOL, atol=ATOL, engine=engine,
+                                          threads=workers, check_dt=CHECK_DT, measures=False))
+    row = _rates(len(Y0), t, workers)
+    row.update({"engine": engine, "rhs_evaluations": int(ens.n_rhs.sum()), "steps": int(np.sum(ens.n_steps))})
+    return row, np.asarray(ens.status), np.asarray(ens.y_end)
+
+
+def heyoka_integrator(model, tol: float = RTOL, batch: int | None = None):
+    """heyoka's batch integrator on the hand-written Appendix A equations (parameters as heyoka.par)."""
+    import heyoka as hy
+
+    from .handwritten import thesis_appendix_a
+
+    batch = batch or hy.recommended_simd_size()
+    variables, rhs = thesis_appendix_a(hy, model.module)
+    ta = hy.taylor_adaptive_batch(list(zip(variables, rhs)), np.zeros((model.n_states, batch)), tol=tol,
+                                  pars=np.zeros((model.n_params, batch)))
+    return ta, batch
+
+
+def heyoka(model, P, Y0, workers: int, tol: float = RTOL, batch: int | None = None,
+           t_end: float = T_END) -> tuple[dict, np.ndarray, np.ndarray]:
+    import heyoka as hy
+
+    (ta, batch), compile_t = _timed(lambda: heyoka_integrator(model, tol, batch))
+    n = len(Y0)
+    groups = math.ceil(n / batch)
+    pad = groups * batch - n
+    Yp = np.vstack([Y0, np.repeat(Y0[-1:], pad, axis=0)])
+    Pp = np.vstack([P, np.repeat(P[-1:], pad, axis=0)])
+
+    def gen(local, i):
+        local.set_time(0.0)
+        local.state[:] = Yp[i * batch:(i + 1) * batch].T
+        local.pars[:] = Pp[i * batch:(i + 1) * batch].T
+        return local
+
+    res, t = _timed(lambda: hy.ensemble_propagate_until_batch(ta, t_end, groups, gen, max_workers=workers))
+    y_end = np.vstack([r[0].state.T for r in res])[:n]
+    ok = np.array([o[0] == hy.taylor_outcome.time_limit for r in res for o in r[0].propagate_res])[:n]
+    steps = sum(int(o[3]) for r in res for o in r[0].propagate_res[: batch])
+    row = _rates(n, t, workers)
+    row.update({"engine": f"heyoka batch {batch} (hand-written Appendix A)", "tol": tol, "batch": batch,
+                "compile_s": compile_t["wall_s"], "steps": steps, "order": int(ta.order)})
+    return row, np.where(ok, "success", "failed"), y_end
+
+
+def label(model, status, y_end) -> list[str]:
+    from ..analysis.attractors import classifier
+
+    clf = classifier(model, model.params(), "lyapunov")
+    return [clf.label(s, y, -1, engine=TODAY, rtol=RTOL, atol=ATOL) for s, y in zip(status, y_end)]
+
+
+def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_end: float = T_END, sweeps: bool = True,
+                   progress=print) -> dict:
+    from ..analysis.sweep import default_workers
+
+    workers = workers or default_workers()
+    result, started = opening("ensemble")
+    model, P, Y0 = points(grid)
+    runs: dict[str, dict] = {}
+    finals: dict[str, tuple] = {}
+    sweep_labels = None
+    every = []
+
+    def keep(key, row):
+        every.append({"run": key, **{k: row[k] for k in ("wall_s", "cpu_s", "load_average_before",
+                                                         "load_average_after")}})
+        if key not in runs or row["wall_s"] < runs[key]["wall_s"]:
+            runs[key] = row
+        if progress:
+            progress(f"{key:32s} wall {row['wall_s']:8.2f} s  cpu {row['cpu_s']:8.2f} s  "
+                     f"{row['trajectories_per_s_per_core']:8.1f} traj/s/core  {row['trajectories_per_cpu_s']:8.1f} "
+                     f"traj/CPU-s  load {row['load_average_before']}")
+
+    for _ in range(repeats):
+        if sweeps:
+            for engine in (TODAY, "rk-dop853-batch"):
+                row, codes, names = sweep_run(engine, workers, grid, t_end)
+                found = [names[c] for c in codes]
+                row["labels"] = dict(sorted(collections.Counter(found).items()))
+                if engine == TODAY:
+                    sweep_labels = found
+                else:
+                    row["labels_differing_from_today"] = int(sum(a != b for a, b in zip(found, sweep_labels)))
+                keep(f"sweep {engine}", row)
+        for engine in OURS:
+            row, status, y_end = ours(engine, model, P, Y0, workers, t_end)
+            finals[engine] = (status, y_end)
+            keep(f"ensemble {engine}", row)
+        row, status, y_end = heyoka(model, P, Y0, workers, t_end=t_end)
+        finals["heyoka"] = (status, y_end)
+        keep("ensemble heyoka", row)
+
+    # labels of each ensemble's final states by one classifier
+    labelled = {k: label(model, *v) for k, v in finals.items()}
+    base = sweep_labels if sweep_labels is not None else labelled[TODAY]
+    for k, found in labelled.items():
+        key = f"ensemble {k}"
+        runs[key]["labels"] = dict(sorted(collections.Counter(found).items()))
+        runs[key]["labels_differing_from_today"] = int(sum(a != b for a, b in zip(found, base)))
+
+    def rate(key):
+        return runs[key]["trajectories_per_cpu_s"] if key in runs else None
+
+    targets = []
+    if sweeps:
+        today, new = runs[f"sweep {TODAY}"], runs["sweep rk-dop853-batch"]
+        targets.append(target(
+            "basin map >= 3x today", "full-integration basin map: trajectories per second per core >= 3x today's "
+            "(cyrk-dop853 sweep), same labels", new["trajectories_per_cpu_s"] / today["trajectories_per_cpu_s"], 3.0,
+            f"per CPU-second {new['trajectories_per_cpu_s']} vs {today['trajectories_per_cpu_s']} (per wall-core "
+            f"{new['trajectories_per_s_per_core']} vs {today['trajectories_per_s_per_core']}); labels differing "
+            f"{new['labels_differing_from_today']}"))
+    hy_row = runs["ensemble heyoka"]
+    targets.append(target(
+        "ahead of heyoka's ensemble", "rk-dop853-batch integration >= heyoka batch ensemble (trajectories per CPU-s)",
+        rate("ensemble rk-dop853-batch") / rate("ensemble heyoka"), 1.0,
+        f"{rate('ensemble rk-dop853-batch')} vs {rate('ensemble heyoka')} trajectories per CPU-s; labels differing "
+        f"from today's: batch {runs['ensemble rk-dop853-batch']['labels_differing_from_today']}, heyoka "
+        f"{hy_row['labels_differing_from_today']}"))
+    result.update({
+        "model": MODEL, "grid": list(grid), "t_end": t_end, "rtol": RTOL, "atol": ATOL, "check_dt": CHECK_DT,
+        "early_stop": False, "symmetry": False, "workers": workers, "cores": os.cpu_count(), "repeats": repeats,
+        "runs": runs, "every_run": every, "targets": targets,
+    })
+    return closing(result, started)
+
+
+def run(args, out: str) -> int:
+    require_positive_repeats(args)
+    quick = bool(getattr(args, "quick", False))
+    grid = ["phi_1=0:2*pi*19/20:20", "phi_2=0:2*pi*19/20:20"] if quick else GRID
+    result = bench_ensemble(repeats=args.repeats or 1, grid=grid, t_end=200.0 if quick else T_END,
+                            sweeps=not getattr(args, "no_sweeps", False), progress=lambda s: print(s, flush=True))
+    path = write(result, out)
+    for line in describe_targets(result):
+        print(line)
+    print(f"wrote {path}")
+    return 0
+
+
+BENCHMARK = Benchmark("ensemble", run, (
+    REPEATS.but("each configuration N times, alternating (default 1)"),
+    QUICK.but("a 20 x 20 map to t = 200"),
+    option("--no-sweeps", action="store_true", help="only the ensembles (no run_sweep of cyrk-dop853 and the batch)"),
+))
+__all__ = ["BENCHMARK", "bench_ensemble", "heyoka", "heyoka_integrator", "ours", "points", "sweep_run"]

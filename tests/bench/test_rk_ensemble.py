@@ -1,0 +1,33 @@
+"""The rk and ensemble benchmarks' machinery on tiny problems (no timed assertions beyond sanity)."""
+
+from __future__ import annotations
+
+from toolchain import require_module
+
+from adbgen.bench.ensemble import bench_ensemble
+from adbgen.bench.rk import measure
+
+
+def test_bench_rk_row():
+    """One row: both engines' runs counted alike (same method: rhs counts within 2 %), the floor ratios
+    positive and the integration alone no dearer than with r_max/t_dec."""
+    [row] = measure("thesis_rotating_n2", rtols=(1e-6,), repeats=1)
+    assert row["ns_per_rhs"] > 0
+    assert abs(row["rk"]["n_rhs"] - row["cyrk"]["n_rhs"]) <= 0.02 * row["cyrk"]["n_rhs"]
+    for key in ("rk", "rk_simulate", "cyrk", "cyrk_simulate"):
+        assert row[key]["floor_ratio"] > 0.3 and row[key]["n_steps"] > 100
+
+
+def test_bench_ensemble_tiny_map():
+    """A 4 x 4 map to t = 100: every engine's final states labelled alike, heyoka's included."""
+    require_module("heyoka", "the peers extra")
+    r = bench_ensemble(workers=1, grid=["phi_1=0:2*pi*3/4:4", "phi_2=0:2*pi*3/4:4"], t_end=100.0, sweeps=False,
+                       progress=None)
+    runs = r["runs"]
+    assert set(runs) == {"ensemble cyrk-dop853", "ensemble rk-dop853", "ensemble rk-dop853-batch", "ensemble heyoka"}
+    for row in runs.values():
+        assert row["trajectories"] == 16 and row["labels_differing_from_today"] == 0
+        assert sum(row["labels"].values()) == 16
+    scalar, batch = runs["ensemble rk-dop853"]["rhs_evaluations"], runs["ensemble rk-dop853-batch"]["rhs_evaluations"]
+    assert abs(batch / scalar - 1) < 0.02  # the same steps but for libmvec's last bits
+    assert [t["target"] for t in r["targets"]] == ["ahead of heyoka's ensemble"]
