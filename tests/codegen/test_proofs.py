@@ -156,3 +156,24 @@ def test_exchange_symmetry_is_bitwise(thesis2):
         return f
     with pytest.raises(proofs.ProofFailed, match="breaks the exchange symmetry"):
         p.exchange_bitwise("rhs", nudged)
+
+
+def test_a_crash_in_compiled_code_is_refused_quoting_what_it_printed(thesis2, capfd):
+    """Emitted code that aborts (glibc's fortify check, say) is refused by name with the line it printed,
+    and nothing reaches regenerate's own stderr, whose one line is the refusal."""
+    ir, ref, files = thesis2
+    import ctypes
+    import tempfile
+    from pathlib import Path
+
+    p = proofs.Proof(ir, files, Path(tempfile.gettempdir()), ref, "loops", target="test")
+
+    def aborts():
+        libc = ctypes.CDLL(None)
+        libc.write(2, b"*** buffer overflow detected ***: terminated\n", 45)
+        libc.abort()
+    with pytest.raises(proofs.ProofFailed, match=r"the library crashed \(SIGABRT\), printing "
+                                                 r"'\*\*\* buffer overflow detected \*\*\*: terminated'$"):
+        p.isolated("the library", aborts)
+    assert capfd.readouterr() == ("", "")
+    p.isolated("the library", lambda: None)  # negative control: a clean run passes, silently
