@@ -177,3 +177,20 @@ def test_a_crash_in_compiled_code_is_refused_quoting_what_it_printed(thesis2, ca
         p.isolated("the library", aborts)
     assert capfd.readouterr() == ("", "")
     p.isolated("the library", lambda: None)  # negative control: a clean run passes, silently
+
+
+def test_a_continuum_without_its_regularisation_is_refused(monkeypatch):
+    """FAMILY_SIGMA = 0 writes AUTO's singular problem on thesis (3.6)'s continuum (n >= 3) while every
+    value func computes still matches: the proof refuses the decision itself (a mutant once survived)."""
+    _tools()
+    from adbgen.codegen.targets import auto
+
+    spec = models.thesis_rotating(3)
+    system = spec.system()
+    ir = build_ir(spec, system)
+    ref = Reference.of(system)
+    monkeypatch.setattr(auto, "FAMILY_SIGMA", 0.0)
+    with pytest.raises(proofs.ProofFailed, match=r"FAMILY_SIGMA = 0\.0 must be a positive number"):
+        proofs.prove_model(ir, render_model(ir), ("auto",), "loops", ref)
+    monkeypatch.setattr(auto, "FAMILY_SIGMA", 1.0)  # negative control: the committed value is proven
+    proofs.prove_model(ir, render_model(ir), ("auto",), "loops", ref)

@@ -123,6 +123,12 @@ def _func(proof, lib: UserFile, model, ctx) -> None:
     n, P, npar = model.n_states, len(model.parameters), lib.npar
     name = f"{model.name}.c func"
     columns = [par_index(k) for k in range(P)]
+    if ctx["family"]:
+        # thesis (3.6)'s continuum leaves n - 2 zero eigenvalues; the term moves them to -FAMILY_SIGMA, which
+        # AUTO's Newton steps need nonzero (sigma = 0 writes the singular problem) and negative (stable)
+        sigma = ctx["family_sigma"]
+        proof.require(np.isfinite(sigma) and sigma > 0, f"{name}: the continuum's regularisation FAMILY_SIGMA = "
+                      f"{sigma!r} must be a positive number (it moves the n - 2 zero eigenvalues to -FAMILY_SIGMA)")
     for t, u, p in proof.samples(model):
         par = _par(model, p, npar)
         rhs = proof.expected("rhs", t, u, p, model)
