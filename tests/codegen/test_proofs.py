@@ -194,3 +194,17 @@ def test_a_continuum_without_its_regularisation_is_refused(monkeypatch):
         proofs.prove_model(ir, render_model(ir), ("auto",), "loops", ref)
     monkeypatch.setattr(auto, "FAMILY_SIGMA", 1.0)  # negative control: the committed value is proven
     proofs.prove_model(ir, render_model(ir), ("auto",), "loops", ref)
+
+
+def test_an_array_the_header_does_not_declare_is_refused(thesis2):
+    """The library still exports it (ctypes finds it), but C code including the header cannot use it: the
+    probe refers to every array of the contract through a pointer of its declared type (a mutant once
+    survived dropping this declaration)."""
+    _tools()
+    ir, ref, files = thesis2
+    header = "thesis_rotating_n2/thesis_rotating_n2.h"
+    line = next(ln for ln in files[header].splitlines(keepends=True) if "_symmetry_params[" in ln)
+    dropped = {**files, header: files[header].replace(line, "")}
+    with pytest.raises(proofs.ProofFailed, match=r"thesis_rotating_n2: c files: .*thesis_rotating_n2_symmetry_params"):
+        proofs.prove_model(ir, dropped, ("c",), "loops", ref)
+    proofs.prove_model(ir, files, ("c",), "loops", ref)  # negative control: the header as rendered passes
