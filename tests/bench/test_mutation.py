@@ -2,7 +2,7 @@
 
 import json
 
-from adbgen.bench.mutation import Mutant, _resumed, files_of, interleaved
+from adbgen.bench.mutation import Mutant, _resumed, blank_hashes, files_of, interleaved
 
 
 def _m(file, k):
@@ -30,6 +30,7 @@ def test_the_source_hash_is_blanked_and_nothing_else(tmp_path):
     (tmp_path / "m").mkdir()
     (tmp_path / "m" / "m.h").write_text('#define M_SOURCE_HASH "0123456789abcdef"\n#define M_N 0123456789abcdef\n')
     (tmp_path / "m" / "__init__.py").write_text("SOURCE_HASH = '0123456789abcdef'\n")
-    files = files_of(tmp_path)
+    files = blank_hashes(files_of(tmp_path))
+    assert files_of(tmp_path)["m/__init__.py"] == "SOURCE_HASH = '0123456789abcdef'\n"  # raw unless blanked
     assert files == {"m/m.h": '#define M_SOURCE_HASH "<hash>"\n#define M_N 0123456789abcdef\n',
                      "m/__init__.py": "SOURCE_HASH = '<hash>'\n"}
