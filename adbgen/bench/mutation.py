@@ -474,9 +474,9 @@ def summarize(results: list[dict]) -> dict:
 
 
 def _report(results: list[dict], started: float, planned: int) -> dict:
-    from .report import load_average, machine, versions
+    from .report import load_average, machine, utc_now, versions
 
-    return {"benchmark": "mutation", "date": time.strftime("%Y-%m-%d"), "machine": machine(), "versions": versions(),
+    return {"benchmark": "mutation", "date": utc_now(), "machine": machine(), "versions": versions(),
             "load_average": load_average(), "seconds": round(time.time() - started),
             "complete": len(results) == planned, "planned": planned,
             "command": " ".join(["adbgen", "bench", "mutation", *sys.argv[3:]]),
