@@ -82,18 +82,27 @@ def central_difference(fn: Callable[[np.ndarray], np.ndarray], x: np.ndarray,
     needs 1e-6, a dimensionless model is best near 1e-3.
     """
     cols = []
-    for j in range(x.size):
-        def stencil(rel, j=j):
-            h = rel * max(abs(x[j]), 1e-2)
-            def at(s):
-                z = x.copy()
-                z[j] += s * h
-                return fn(z)
-            return (8 * (at(1) - at(-1)) - (at(2) - at(-2))) / (12 * h)
-        estimates = [stencil(rel) for rel in steps]
-        change = [float(np.max(np.abs(a - b))) for a, b in zip(estimates, estimates[1:])]
-        cols.append(estimates[int(np.argmin(change)) + 1])
+    # a wrong program can overflow here: its NaN or inf then fails the comparison (`not err <= tol`) with
+    # the one-line refusal, so numpy's warnings would only add lines to stderr
+    with np.errstate(all="ignore"):
+        for j in range(x.size):
+            cols.append(_column(fn, x, j, steps))
     return np.array(cols).T
+
+
+def _column(fn, x: np.ndarray, j: int, steps: tuple[float, ...]) -> np.ndarray:
+    """Column j of `central_difference`: the estimate of the step that changes least to the next one."""
+    def stencil(rel):
+        h = rel * max(abs(x[j]), 1e-2)
+
+        def at(s):
+            z = x.copy()
+            z[j] += s * h
+            return fn(z)
+        return (8 * (at(1) - at(-1)) - (at(2) - at(-2))) / (12 * h)
+    estimates = [stencil(rel) for rel in steps]
+    change = [float(np.max(np.abs(a - b))) for a, b in zip(estimates, estimates[1:])]
+    return estimates[int(np.argmin(change)) + 1]
 
 
 def _relative(a: np.ndarray, b: np.ndarray) -> float:

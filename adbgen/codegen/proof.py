@@ -25,6 +25,7 @@ one-line refusal ``<model>: <target> files: ...`` (`ProofFailed`).
 
 from __future__ import annotations
 
+import faulthandler
 import hashlib
 import os
 import re
@@ -184,11 +185,17 @@ class Proof:
         sys.stdout.flush()
         sys.stderr.flush()
         read, write = os.pipe()
+        # what the child's code prints (glibc's "*** buffer overflow detected ***", a sanitizer) is kept
+        # out of regenerate's output, whose stderr is the one-line refusal, and quoted in it instead
+        output = tempfile.TemporaryFile()
         pid = os.fork()
         if pid == 0:  # the child: run, report on the pipe, leave without any clean-up of the parent's
             code, message = 0, ""
             try:
                 os.close(read)
+                os.dup2(output.fileno(), 1)
+                os.dup2(output.fileno(), 2)
+                faulthandler.disable()  # its dump of a crash would go to a stderr of its own; the parent reports
                 fn()
             except ProofFailed as exc:
                 code, message = 1, str(exc)
@@ -211,10 +218,14 @@ class Proof:
                     self.fail(f"{what} does not return within {timeout:g} s")
                 time.sleep(0.002)
             message = os.read(read, MESSAGE_BYTES + 16).decode(errors="replace")
+            output.seek(0)
+            printed = [ln.strip() for ln in output.read(MESSAGE_BYTES).decode(errors="replace").splitlines() if ln.strip()]
         finally:
             os.close(read)
+            output.close()
         if os.WIFSIGNALED(status):
-            self.fail(f"{what} crashed ({signal.Signals(os.WTERMSIG(status)).name})")
+            self.fail(f"{what} crashed ({signal.Signals(os.WTERMSIG(status)).name})"
+                      + (f", printing {printed[-1][:200]!r}" if printed else ""))
         code = os.WEXITSTATUS(status)
         if code == 1:
             raise ProofFailed(message)

@@ -2,7 +2,7 @@
 
 import json
 
-from adbgen.bench.mutation import Mutant, _resumed, interleaved
+from adbgen.bench.mutation import Mutant, _resumed, blank_hashes, files_of, interleaved
 
 
 def _m(file, k):
@@ -17,8 +17,20 @@ def test_interleaved_takes_one_mutant_of_each_file_in_turn():
     assert interleaved([]) == []
 
 
-def test_a_resumed_run_keeps_what_the_file_holds(tmp_path):
+def test_a_resumed_run_keeps_what_the_file_holds_but_survivors_and_crashes(tmp_path):
     out = tmp_path / "mutation.json"
     assert _resumed(out) == []
-    out.write_text(json.dumps({"results": [{"id": "x.py:0", "status": "refused"}], "seconds": 3.0}))
-    assert _resumed(out) == [{"id": "x.py:0", "status": "refused"}]
+    results = [{"id": "x.py:0", "status": "refused"}, {"id": "x.py:1", "status": "survived"},
+               {"id": "x.py:2", "status": "crashed"}, {"id": "y.j2:0", "status": "equivalent"}]
+    out.write_text(json.dumps({"results": results, "seconds": 3.0}))
+    assert [r["id"] for r in _resumed(out)] == ["x.py:0", "y.j2:0"]
+
+
+def test_the_source_hash_is_blanked_and_nothing_else(tmp_path):
+    (tmp_path / "m").mkdir()
+    (tmp_path / "m" / "m.h").write_text('#define M_SOURCE_HASH "0123456789abcdef"\n#define M_N 0123456789abcdef\n')
+    (tmp_path / "m" / "__init__.py").write_text("SOURCE_HASH = '0123456789abcdef'\n")
+    files = blank_hashes(files_of(tmp_path))
+    assert files_of(tmp_path)["m/__init__.py"] == "SOURCE_HASH = '0123456789abcdef'\n"  # raw unless blanked
+    assert files == {"m/m.h": '#define M_SOURCE_HASH "<hash>"\n#define M_N 0123456789abcdef\n',
+                     "m/__init__.py": "SOURCE_HASH = '<hash>'\n"}

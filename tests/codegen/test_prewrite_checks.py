@@ -143,3 +143,20 @@ def test_a_wrong_oscillator_extension_is_refused():
                            lambda k, put: dataclasses.replace(put, expr=2 * put.expr) if k == middle else put)
     with pytest.raises(CheckFailed, match=r"oscillator extension\): program jac differs"):
         check_programs(dataclasses.replace(ir, autonomous_extension=ext), system)
+
+
+def test_an_overflowing_program_leaves_stderr_to_the_refusal():
+    """A wrong program may overflow in the difference stencil: the NaN/inf it gives fails the comparison,
+    and numpy warns nothing (the refusal is the one line on stderr; a mutant once added four)."""
+    import warnings
+
+    import numpy as np
+
+    from adbgen.codegen.checks import central_difference
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        d = central_difference(lambda z: np.array([1e308 * z[0] ** 3]), np.array([1e3]))
+        assert not np.all(np.isfinite(d))  # the wrong value is still there for the comparison to refuse
+        with pytest.raises(RuntimeWarning):  # negative control: unguarded, the same overflow warns
+            np.array([1e308]) * np.array([1e3])

@@ -156,3 +156,55 @@ def test_exchange_symmetry_is_bitwise(thesis2):
         return f
     with pytest.raises(proofs.ProofFailed, match="breaks the exchange symmetry"):
         p.exchange_bitwise("rhs", nudged)
+
+
+def test_a_crash_in_compiled_code_is_refused_quoting_what_it_printed(thesis2, capfd):
+    """Emitted code that aborts (glibc's fortify check, say) is refused by name with the line it printed,
+    and nothing reaches regenerate's own stderr, whose one line is the refusal."""
+    ir, ref, files = thesis2
+    import ctypes
+    import tempfile
+    from pathlib import Path
+
+    p = proofs.Proof(ir, files, Path(tempfile.gettempdir()), ref, "loops", target="test")
+
+    def aborts():
+        libc = ctypes.CDLL(None)
+        libc.write(2, b"*** buffer overflow detected ***: terminated\n", 45)
+        libc.abort()
+    with pytest.raises(proofs.ProofFailed, match=r"the library crashed \(SIGABRT\), printing "
+                                                 r"'\*\*\* buffer overflow detected \*\*\*: terminated'$"):
+        p.isolated("the library", aborts)
+    assert capfd.readouterr() == ("", "")
+    p.isolated("the library", lambda: None)  # negative control: a clean run passes, silently
+
+
+def test_a_continuum_without_its_regularisation_is_refused(monkeypatch):
+    """FAMILY_SIGMA = 0 writes AUTO's singular problem on thesis (3.6)'s continuum (n >= 3) while every
+    value func computes still matches: the proof refuses the decision itself (a mutant once survived)."""
+    _tools()
+    from adbgen.codegen.targets import auto
+
+    spec = models.thesis_rotating(3)
+    system = spec.system()
+    ir = build_ir(spec, system)
+    ref = Reference.of(system)
+    monkeypatch.setattr(auto, "FAMILY_SIGMA", 0.0)
+    with pytest.raises(proofs.ProofFailed, match=r"FAMILY_SIGMA = 0\.0 must be a positive number"):
+        proofs.prove_model(ir, render_model(ir), ("auto",), "loops", ref)
+    monkeypatch.setattr(auto, "FAMILY_SIGMA", 1.0)  # negative control: the committed value is proven
+    proofs.prove_model(ir, render_model(ir), ("auto",), "loops", ref)
+
+
+def test_an_array_the_header_does_not_declare_is_refused(thesis2):
+    """The library still exports it (ctypes finds it), but C code including the header cannot use it: the
+    probe refers to every array of the contract through a pointer of its declared type (a mutant once
+    survived dropping this declaration)."""
+    _tools()
+    ir, ref, files = thesis2
+    header = "thesis_rotating_n2/thesis_rotating_n2.h"
+    line = next(ln for ln in files[header].splitlines(keepends=True) if "_symmetry_params[" in ln)
+    dropped = {**files, header: files[header].replace(line, "")}
+    with pytest.raises(proofs.ProofFailed, match=r"thesis_rotating_n2: c files: .*thesis_rotating_n2_symmetry_params"):
+        proofs.prove_model(ir, dropped, ("c",), "loops", ref)
+    proofs.prove_model(ir, files, ("c",), "loops", ref)  # negative control: the header as rendered passes

@@ -123,6 +123,12 @@ def _func(proof, lib: UserFile, model, ctx) -> None:
     n, P, npar = model.n_states, len(model.parameters), lib.npar
     name = f"{model.name}.c func"
     columns = [par_index(k) for k in range(P)]
+    if ctx["family"]:
+        # thesis (3.6)'s continuum leaves n - 2 zero eigenvalues; the term moves them to -FAMILY_SIGMA, which
+        # AUTO's Newton steps need nonzero (sigma = 0 writes the singular problem) and negative (stable)
+        sigma = ctx["family_sigma"]
+        proof.require(np.isfinite(sigma) and sigma > 0, f"{name}: the continuum's regularisation FAMILY_SIGMA = "
+                      f"{sigma!r} must be a positive number (it moves the n - 2 zero eigenvalues to -FAMILY_SIGMA)")
     for t, u, p in proof.samples(model):
         par = _par(model, p, npar)
         rhs = proof.expected("rhs", t, u, p, model)
@@ -259,8 +265,10 @@ def _constants(proof, target, model, ctx) -> None:
         # IPLT = 0: fort.7's second column is AUTO's L2-NORM, which adbgen's readers of fort.7 expect (the
         # amplitude is the last ICP); JAC = 1: func fills dfdu and dfdp; NBC = NINT = 0: bcnd, icnd are empty
         proof.require(ctx["iplt"] == 0, f"the target decided IPLT = {ctx['iplt']}: fort.7 must keep its L2-NORM column")
+        # ILP = 1, ISP = 2: folds and every bifurcation detected (the LP/BP/HB/PD/TR labels adbgen's scans read);
+        # ISW = 1: a normal start (not a branch switch)
         expect = {"NDIM": model.n_states, "IPS": 2 if forced else 1, "IPLT": 0, "JAC": 1, "NBC": 0,
-                  "NINT": 0, "IRS": 0 if stage == 1 else ctx["restart_label"]}
+                  "NINT": 0, "IRS": 0 if stage == 1 else ctx["restart_label"], "ILP": 1, "ISP": 2, "ISW": 1}
         if forced:
             first = p1 if stage == 1 else par_index(ctx["stage2"]) + 1
             expect["ICP"] = [first, 11, amp]

@@ -33,8 +33,38 @@ DOUBLE_P = ctypes.c_void_p
 FUNCTIONS = ("rhs", "jac", "jac_p", "mass", "forcing")
 
 
+def declared_arrays(ir) -> list[tuple[str, str, tuple[str, ...]]]:
+    """(symbol suffix, element type, dimensions as the header's macros) of every array the header must
+    declare for this model (the self-description contract of issue 19)."""
+    STR, INT, DBL = "const char *const", "const int", "const double"
+    out = [("state_names", STR, ("N_STATES",)), ("param_names", STR, ("N_PARAMS",)), ("defaults", DBL, ("N_PARAMS",))]
+    if ir.start is not None:
+        out += [("start", DBL, ("N_STATES",)), ("start_parameters", DBL, ("N_PARAMS",))]
+    d = ir.description
+    if d is not None:
+        out += [("state_units", STR, ("N_STATES",)), ("state_roles", STR, ("N_STATES",)),
+                ("param_domains", STR, ("N_PARAMS",))]
+        if d.angles:
+            out.append(("angles", INT, ("N_ANGLES",)))
+        if d.measure_names:
+            out.append(("measure_names", STR, ("N_MEASURES",)))
+        if d.symmetries:
+            out += [("symmetry_names", STR, ("N_SYMMETRIES",)), ("symmetry_kinds", STR, ("N_SYMMETRIES",))]
+            out += [(f"symmetry_{key}", INT, ("N_SYMMETRIES", width))
+                    for key, width in (("states", "N_STATES"), ("signs", "N_STATES"), ("params", "N_PARAMS"),
+                                       ("param_signs", "N_PARAMS"))]
+        if d.parameter_sets:
+            out += [("parameter_set_names", STR, ("N_PARAMETER_SETS",)),
+                    ("parameter_sets", DBL, ("N_PARAMETER_SETS", "N_PARAMS"))]
+        if d.steady_states:
+            out += [("steady_state_labels", STR, ("N_STEADY_STATES",)), ("steady_state_notes", STR, ("N_STEADY_STATES",))]
+    return out
+
+
 def _probe(ir) -> str:
-    """C source: the header alone, its macros as data, every function through a pointer of its type."""
+    """C source: the header alone, its macros as data, every function through a pointer of its type and
+    every array through a pointer to an array of its declared type and size (an array the header does
+    not declare, or declares otherwise, does not compile)."""
     P, m = ir.name.upper(), ir.name
     lines = [f'#include "{m}.h"', f'#include "{m}.h"', "",
              f"const long proof_macros[] = {{ {P}_N_STATES, {P}_N_PARAMS, {P}_N_COORDINATES, {P}_N_BALLS, "
@@ -50,6 +80,9 @@ def _probe(ir) -> str:
                   f"void (*const proof_fn_measures)(double, const double *, const double *, double *) = {m}_measures;",
                   f"double (*const proof_fn_measure)(int, double, const double *, const double *) = {m}_measure;",
                   f"int (*const proof_fn_steady_state)(int, const double *, double *) = {m}_steady_state;"]
+    for symbol, ctype, dims in declared_arrays(ir):
+        shape = "".join(f"[{P}_{d}]" for d in dims)
+        lines.append(f"{ctype} (*const proof_array_{symbol}){shape} = &{m}_{symbol};")
     return "\n".join(lines) + "\n"
 
 
