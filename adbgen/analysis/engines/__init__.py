@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from ..loading import AnalysisError
 from .compiled import CyRKEngine, SundialsEngine
+from .matlab_ode45 import ENGINE as MATLAB_ODE45
 from .scipy_ivp import ScipyEngine
 
 DEFAULT = "cyrk-dop853"
@@ -24,6 +25,7 @@ ENGINES = {e.name: e for e in (
     SundialsEngine("arkode-erk6", 2, "SUNDIALS ARKODE ERKStep, Verner 5(6)", symmetric=True),
     ScipyEngine("dop853"), ScipyEngine("rk45"), ScipyEngine("radau"), ScipyEngine("lsoda"), ScipyEngine("bdf"),
     ScipyEngine("radau", use_jac=False), ScipyEngine("lsoda", use_jac=False),
+    MATLAB_ODE45,
 )}
 
 
