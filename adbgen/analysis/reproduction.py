@@ -9,11 +9,44 @@ section not chosen this run is named with a line saying so.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
 TITLE = "# Reproduction of the published results"
+
+# The document must come out byte-identical on any x86-64 machine (issue 23).  The compiled engines pin
+# their own elementary functions (engines/fixed_libm.h); code compiled elsewhere (CyRK's step-size control
+# calls glibc's pow, numba's code glibc's sin and cos) gets glibc's libm, whose ifunc picks FMA/AVX2
+# variants on processors that have them and SSE2 ones elsewhere, differing in the last bit.  With these
+# glibc hardware capabilities masked, every x86-64 processor runs the same (SSE2/AVX) variants.
+PINNED_HWCAPS = ("-AVX2", "-FMA", "-FMA4")
+
+
+def _hwcaps(tunables: str) -> list[str]:
+    for item in tunables.split(":"):
+        key, _, value = item.partition("=")
+        if key == "glibc.cpu.hwcaps":
+            return [v for v in value.split(",") if v]
+    return []
+
+
+def environment_pinned(env=None) -> bool:
+    """Does this process run with glibc's per-processor libm variants masked (`PINNED_HWCAPS`)?"""
+    env = os.environ if env is None else env
+    return set(PINNED_HWCAPS) <= set(_hwcaps(env.get("GLIBC_TUNABLES", "")))
+
+
+def pinned_environment(env=None) -> dict:
+    """`env` (default os.environ) with PINNED_HWCAPS added to GLIBC_TUNABLES (other tunables and masked
+    capabilities kept: a machine emulated by masking more stays emulated)."""
+    env = dict(os.environ if env is None else env)
+    items = [i for i in env.get("GLIBC_TUNABLES", "").split(":") if i and not i.startswith("glibc.cpu.hwcaps=")]
+    caps = _hwcaps(env.get("GLIBC_TUNABLES", ""))
+    caps += [c for c in PINNED_HWCAPS if c not in caps]
+    env["GLIBC_TUNABLES"] = ":".join(items + ["glibc.cpu.hwcaps=" + ",".join(caps)])
+    return env
 
 
 @dataclass(frozen=True)
@@ -60,4 +93,5 @@ def build(sections: list[Reproduction], chosen: tuple[str, ...], out_md: Path, f
     return write(out_md, document(sections, results, out_md.parent, command))
 
 
-__all__ = ["Reproduction", "TITLE", "build", "document", "write"]
+__all__ = ["PINNED_HWCAPS", "Reproduction", "TITLE", "build", "document", "environment_pinned", "pinned_environment",
+           "write"]
