@@ -30,7 +30,10 @@ ENGINES = {e.name: e for e in (
 
 
 def engine(name: str | None):
-    """The engine called `name` (None: the default)."""
+    """The engine called `name` (None: the default); an engine object (e.g. `symmetrized.symmetrized(...)`)
+    as it is."""
+    if name is not None and not isinstance(name, str):
+        return name
     key = DEFAULT if name in (None, "", "default") else name
     try:
         return ENGINES[key]

@@ -83,24 +83,28 @@ def libm() -> str:
     return "sleef-cinz" if pinned_libm() else "glibc"
 
 
-def build(model, driver: str, libs: list[str]) -> Path:
-    """Compile `driver` with the model's C source into a cached shared library; returns its path."""
+def build(model, driver: str, libs: list[str], extra: tuple[str, ...] = (), tag: str = "") -> Path:
+    """Compile `driver` with the model's C source into a cached shared library; returns its path.  `extra`:
+    more compiler arguments (a variant of the library, named by `tag` in the cache)."""
     source = model.c_source()
     drv = HERE / driver
-    flags = _CFLAGS + (PINNED_FLAGS if pinned_libm() else [])
+    flags = _CFLAGS + (PINNED_FLAGS if pinned_libm() else []) + list(extra)
     libs = list(libs) + (PINNED_LIBS if pinned_libm() else [])
     h = hashlib.sha256()
     for part in (drv.read_bytes(), (HERE / "driver_common.h").read_bytes(), (HERE / "fixed_libm.h").read_bytes(),
-                 source.read_bytes(), " ".join(flags + libs).encode(), model.name.encode()):
+                 (HERE / "symmetrize.h").read_bytes(), source.read_bytes(), " ".join(flags + libs).encode(),
+                 model.name.encode()):
         h.update(part)
         h.update(b"\0")
-    target = cache_dir() / "engines" / f"{model.name}-{drv.stem}-{h.hexdigest()[:16]}.so"
+    target = cache_dir() / "engines" / f"{model.name}-{drv.stem}{tag}-{h.hexdigest()[:16]}.so"
     if target.is_file():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
     name = model.name
-    defines = [f'-DADB_MODEL_SOURCE="{source}"', f"-DADB_RHS={name}_rhs", f"-DADB_JAC={name}_jac",
-               f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}"]
+    defines = [f'-DADB_MODEL_SOURCE="{source}"', f"-DADB_JAC={name}_jac", f"-DADB_NY={model.n_states}",
+               f"-DADB_NP={model.n_params}"]
+    if not any(e.startswith("-DADB_RHS=") for e in extra):
+        defines.append(f"-DADB_RHS={name}_rhs")
     fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
     os.close(fd)
     cmd = [compiler(), *flags, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, *libs, "-lm"]
@@ -124,6 +128,11 @@ class _Compiled:
     driver = ""
     libs: list[str] = []
     prefix = ""
+    tag = ""  # a variant's name in the library cache
+
+    def extra(self, model) -> tuple[str, ...]:
+        """More compiler arguments for this engine's library of `model` (a variant: symmetrized.py)."""
+        return ()
 
     def library(self, model):
         return _load(self, model.name, model.source_hash, str(model.folder), model)
@@ -196,7 +205,7 @@ def _load_cached(path: str, prefix: str):
 
 def _load(engine, name, source_hash, folder, model):
     with _lock:
-        lib = _load_cached(str(build(model, engine.driver, engine.libs)), engine.prefix)
+        lib = _load_cached(str(build(model, engine.driver, engine.libs, engine.extra(model), engine.tag)), engine.prefix)
         if engine.prefix == "adb_cyrk" and not getattr(lib, "_adbgen_ready", False):
             lib.adb_cyrk_init.restype = ctypes.c_int
             ptrs = (ctypes.c_void_p * 9)(*_cyrk_pointers())

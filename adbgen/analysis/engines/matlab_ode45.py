@@ -45,7 +45,7 @@ class MatlabOde45Engine(_Compiled):
     native_events = False
 
     def library(self, model):
-        return _load_cached(str(build(model, self.driver, self.libs)), self.prefix)
+        return _load_cached(str(build(model, self.driver, self.libs, self.extra(model), self.tag)), self.prefix)
 
     def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=0):
         lib = self.library(model)

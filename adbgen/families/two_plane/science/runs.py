@@ -54,28 +54,73 @@ class Orbit:
     drift: float  # max |alpha_k'| over the window: 0 when the balls turn with the rotor
 
 
+ENGINE = "cyrk-dop853"  # named: the document must not follow a change of the default engine
+
+
+def engine_for(model: Model, p) -> object:
+    """ENGINE, with the rhs symmetrized under the race swap gamma_r where the parameters are gamma_r-symmetric
+    (chi = 0, the races' balls alike: the static imbalance of Figure 12(a)), so that the symmetric start stays
+    symmetric to the last bit (engines.symmetrized); ENGINE as it is elsewhere (Figure 12(b))."""
+    from ....analysis.engines.symmetrized import symmetric_parameters, symmetrized
+
+    sym = next((s for s in model.symmetries if s["kind"] == "race-swap"), None)
+    if sym is not None and symmetric_parameters(model, sym, p):
+        return symmetrized(ENGINE, model, "race-swap")
+    return ENGINE
+
+
 def settled_vibration(model: Model, values: dict, Omega: float, t_transient: float, periods: int = 20,
                       per_period: int = 64, rtol: float = RTOL) -> Orbit:
     """A_bar after the transient at constant speed Omega (non-autonomous `two_plane_fixed`)."""
-    T = 2 * math.pi / Omega
-    p = model.params(dict(values, Omega=Omega))
+    return settled_many(model, values, [Omega], t_transient, periods, per_period, rtol)[0]
+
+
+def settled_many(model: Model, values: dict, omegas, t_transient: float, periods: int = 20, per_period: int = 64,
+                 rtol: float = RTOL, threads: int | None = None) -> list[Orbit]:
+    """`settled_vibration` at each Omega: the transients as one batch on the compiled path (`threads` cores),
+    each a whole number of periods 2 pi/Omega (so the window's restart at t = 0 keeps the forcing's phase),
+    then the windows."""
+    from ....analysis.simulate import simulate_many
+
+    omegas = [float(w) for w in omegas]
+    P = np.array([model.params(dict(values, Omega=w)) for w in omegas])
     y0 = model.state({"alpha_2": math.pi, "alpha_4": math.pi})
-    first = simulate(model, p, y0, t_end=math.ceil(t_transient / T) * T, rtol=rtol, atol=ATOL,
-                     keep_trajectory=False)
-    window = simulate(model, p, first.y_end, t_end=periods * T, rtol=rtol, atol=ATOL,
-                      samples=periods * per_period + 1)
-    rates = window.y[[model.rate_index(k) for k in model.role_indices("ball_angle")]]
-    return Orbit(Omega, float(vibration(model, window.t, window.y, p).max()), float(np.abs(rates).max()))
+    engine = engine_for(model, P[0])
+    ends = []
+    for w, p in zip(omegas, P):  # t_end differs per Omega (whole periods): one batch per distinct t_end
+        ends.append(math.ceil(t_transient / (2 * math.pi / w)) * (2 * math.pi / w))
+    Y = np.zeros((len(omegas), model.n_states))
+    for t_end in sorted(set(ends)):
+        rows = [i for i, e in enumerate(ends) if e == t_end]
+        ens = simulate_many(model, P[rows], np.repeat(y0[None], len(rows), axis=0), t_end=t_end, rtol=rtol, atol=ATOL,
+                            engine=engine, threads=threads, measures=False)
+        bad = [omegas[i] for i, st in zip(rows, ens.status) if st != "success"]
+        if bad:
+            raise AnalysisError(f"Figure 12 transient failed at Omega = {bad}")
+        Y[rows] = ens.y_end
+    out = []
+    for w, p, y in zip(omegas, P, Y):
+        T = 2 * math.pi / w
+        window = simulate(model, p, y, t_end=periods * T, rtol=rtol, atol=ATOL, samples=periods * per_period + 1,
+                          engine=engine)
+        rates = window.y[[model.rate_index(k) for k in model.role_indices("ball_angle")]]
+        out.append(Orbit(w, float(vibration(model, window.t, window.y, p).max()), float(np.abs(rates).max())))
+    return out
 
 
-def figure_12a(omegas, t_transient: float = 4000.0, rtol: float = RTOL, with_plain: bool = True) -> dict:
-    """A_bar of the balancer and (with_plain) of the plain rotor over the Omega grid."""
+def figure_12a(omegas, t_transient: float = 4000.0, rtol: float = RTOL, with_plain: bool = True,
+               dynamic: bool = False) -> dict:
+    """A_bar of the balancer and (with_plain) of the plain rotor over the Omega grid: the static imbalance of
+    Figure 12(a), or (dynamic) the dynamic imbalance of Figure 12(b) (eps/R = chi = 5e-5, beta = 1,
+    m/M = eps/R + chi)."""
     model = load_model("two_plane_fixed")
-    common = {"epsilon": FIG12_EPS, "chi": 0.0, "beta": 0.0}
-    abb = [settled_vibration(model, {**common, **_ball_values(FIG12_EPS, FIG12_RATIO)}, float(w), t_transient,
-                             rtol=rtol) for w in omegas]
-    plain = [settled_vibration(model, {**common, **_ball_values(PLAIN_MASS, FIG12_RATIO)}, float(w), t_transient,
-                               rtol=rtol) for w in omegas] if with_plain else []
+    if dynamic:
+        common, mass = {"epsilon": FIG12_EPS / 2, "chi": FIG12_EPS / 2, "beta": 1.0}, FIG12_EPS
+    else:
+        common, mass = {"epsilon": FIG12_EPS, "chi": 0.0, "beta": 0.0}, FIG12_EPS
+    abb = settled_many(model, {**common, **_ball_values(mass, FIG12_RATIO)}, omegas, t_transient, rtol=rtol)
+    plain = settled_many(model, {**common, **_ball_values(PLAIN_MASS, FIG12_RATIO)}, omegas, t_transient,
+                         rtol=rtol) if with_plain else []
     return {"Omega": np.asarray(omegas, float), "abb": abb, "plain": plain, "model": model}
 
 
@@ -156,7 +201,7 @@ def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples
     model = load_model(name)
     p = model.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(m, ratio)})
     y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi, "theta_3": phase, "theta_4": phase + math.pi})
-    sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples)
+    sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples, engine=ENGINE)
     angle, spin = spin_law(model, p, sim.t)
     balls = list(model.role_indices("ball_angle"))
     rates = [model.rate_index(k) for k in balls]
@@ -222,7 +267,7 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
     p = rotating.params(values)
     y = to_rotating(fixed, _end_state(fixed, ratio, rtol), float(theta0[0]), omega, rotating)
     out = {"coincident_from": coincident_from(run), "A_end_ramp": float(run.A[-1]), "kick": kick, "omega": omega}
-    sim = simulate(rotating, p, y, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
+    sim = simulate(rotating, p, y, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1, engine=ENGINE)
     A = vibration(rotating, sim.t, sim.y, p)
     out["as_is"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
     try:  # where the run settled: a steady state of the rotating frame?
@@ -233,7 +278,7 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
         out.update(unstable=None, leading=[], moved=None, newton=str(exc))
     y1 = sim.y_end.copy()
     y1[[rotating.index(rotating.leaves[0]), rotating.index(rotating.leaves[2])]] += kick  # one ball a race
-    sim = simulate(rotating, p, y1, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1)
+    sim = simulate(rotating, p, y1, t_end=t_more, rtol=rtol, atol=ATOL, samples=int(t_more) + 1, engine=ENGINE)
     A = vibration(rotating, sim.t, sim.y, p)
     out["kicked"] = {"A_end": float(A[-1]), "t": sim.t, "A": A}
     return out
@@ -242,4 +287,4 @@ def after_ramp(ratio: float, t_more: float = 6000.0, kick: float = 1e-9, rtol: f
 def _end_state(fixed: Model, ratio: float, rtol: float) -> np.ndarray:
     p = fixed.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(RUNUP_MASS, ratio)})
     y0 = fixed.state({"theta_2": math.pi, "theta_4": math.pi})
-    return simulate(fixed, p, y0, t_end=6000.0, rtol=rtol, atol=ATOL, keep_trajectory=False).y_end
+    return simulate(fixed, p, y0, t_end=6000.0, rtol=rtol, atol=ATOL, keep_trajectory=False, engine=ENGINE).y_end
