@@ -282,7 +282,7 @@ def _basins(fig_dir: Path, size: int = 40) -> list[dict]:
     return out
 
 
-FIG5_19_ZETAS = (0.01, 0.2)  # thesis Fig. 5.19(a), (c): n = 4, phi_3 = phi_1 + pi, phi_4 = phi_2 + pi
+FIG5_19_ZETAS = (0.01, 0.1, 0.2, 0.25)  # thesis Fig. 5.19(a)-(d): n = 4, phi_3 = phi_1 + pi, phi_4 = phi_2 + pi
 
 
 def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
@@ -298,7 +298,7 @@ def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
     out = []
     tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-n4-"))
     try:
-        for zeta, panel in zip(FIG5_19_ZETAS, "ac"):
+        for zeta, panel in zip(FIG5_19_ZETAS, "abcd"):
             grid = [f"phi_1=0:2*pi*{size - 1}/{size}:{size}", f"phi_2=0:2*pi*{size - 1}/{size}:{size}"]
             spec = SweepSpec(model="thesis_rotating_n4", grid=grid, measure="attractor", set=[f"zeta={zeta}"],
                              tie=["phi_3=phi_1+pi", "phi_4=phi_2+pi"], t_end=3000.0)
@@ -342,7 +342,7 @@ def _basin_n4_section(basins, root: Path) -> list[str]:
         others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if k != "balanced 1") or "none"
         L.append(f"| 5.19({b['panel']}) | {b['zeta']:g} | {100 * b['balanced']:.1f} % | "
                  f"{100 * b['diagonal']:.0f} % | {others} |")
-    a, c = basins[0], basins[-1]
+    a, b_, c, d = basins
     L += ["",
           "* Thesis (a), zeta = 0.01: \"the system reaches the balance from all the initial positions of the "
           f"balls, including phi_1(0) = phi_2(0)\".  Ours: {100 * a['balanced']:.1f} % of the grid, "
@@ -354,7 +354,12 @@ def _basin_n4_section(basins, root: Path) -> list[str]:
           f"3pi/2), discs that hold {100 * c['near_share_of_grid']:.0f} % of the off-diagonal grid; "
           f"{c['off_diagonal_on_shifted']} (some of them in those discs too) lie on the line phi_2(0) = "
           "phi_1(0) + pi, where with the ties ball 3 starts with ball 2 and ball 4 with ball 1: the diagonal "
-          "again, the balls renamed.", ""]
+          "again, the balls renamed.",
+          "* Thesis (b), zeta = 0.1: \"there are some irregularly distributed points from which the balance state is "
+          f"not attracting\".  Ours: {100 * b_['balanced']:.1f} % of the grid balances, "
+          f"{b_['size'] ** 2 - round(b_['balanced'] * b_['size'] ** 2)} points do not.",
+          "* Thesis (d), zeta = 0.25: like (c).  Ours: " f"{100 * d['balanced']:.1f} % of the grid balances "
+          f"({100 * d['diagonal']:.0f} % of the diagonal), against {100 * c['balanced']:.1f} % at zeta = 0.2.", ""]
     for b in basins:
         title = f"Fig. 5.19({b['panel']}), zeta = {b['zeta']:g}"
         L += [f"**{title}**", "", f"![{title}]({b['figure'].relative_to(root).as_posix()})", ""]
@@ -463,6 +468,13 @@ def compute(fig_dir: Path, progress=print) -> dict:
         for st, v in statements:
             progress(f"{st.source:22s} n = {st.n}: {st.kind} published {st.published:g}, ours "
                      f"{v if st.kind != 'line' else len(v['unstable'])}")
+    from . import sweeps
+
+    more = sweeps.compute(progress)
+    more_paths = sweeps.draw(more, fig_dir)
+    lyap = lyapunov_runs()
+    if progress:
+        progress("Omega = 1.6 Lyapunov exponents: " + ", ".join(f"{k} {v['exponent']:.3f}" for k, v in lyap.items()))
     pitchfork = {"damped": {n: pitchfork_hopf(n) for n in (2, 3, 4)},
                  "limit": {n: pitchfork_hopf(n, 1e-4) for n in (2, 3, 4)}, "tip": wedge_tip_spectrum(2),
                  "past": wedge_tip_spectrum(2, 0.001)}
@@ -475,12 +487,32 @@ def compute(fig_dir: Path, progress=print) -> dict:
         for b in basins_n4:
             progress(f"Fig. 5.19({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
     return {"transients": transients, "results": results, "figures": figures, "statements": statements,
-            "maps": maps, "basins": basins, "basins_n4": basins_n4, "pitchfork": pitchfork}
+            "maps": maps, "basins": basins, "basins_n4": basins_n4, "pitchfork": pitchfork, "sweeps": more,
+            "sweep_figures": more_paths, "lyapunov": lyap}
 
 
 def lines(res: dict, root: Path) -> list[str]:
-    return _document(res["transients"], res["results"], res["figures"], root, res["statements"], res["maps"],
-                     res["basins"], res["basins_n4"], res.get("pitchfork"))
+    from . import sweeps
+
+    L = _document(res["transients"], res["results"], res["figures"], root, res["statements"], res["maps"],
+                  res["basins"], res["basins_n4"], res.get("pitchfork"))
+    at = L.index("## Thesis, chapter 4: stability of the balanced state")
+    return L[:at] + sweeps.lines(res["sweeps"], res["sweep_figures"], root, res["lyapunov"]) + L[at:]
+
+
+def lyapunov_runs() -> dict:
+    """The largest Lyapunov exponent of Figs. 5.12-5.14 (b) (Omega = 1.6, starts (5.3)-(5.5)) and of the
+    limit cycle of Fig. 5.4(b) as the control."""
+    from .lyapunov import largest_exponent
+
+    out = {}
+    runs = [(f"5.{10 + n}(b), n = {n}", n, EQUIDISTANT[n][0], {"Omega": 1.6}) for n in (2, 3, 4)]
+    runs.append(("5.4(b), n = 2 (control: a limit cycle)", 2, (PI / 4, -PI / 4), {}))
+    for name, n, phi0, params in runs:
+        model = load_model(f"thesis_rotating_n{n}")
+        y0 = model.state({f"phi_{i + 1}": v for i, v in enumerate(phi0)})
+        out[name] = largest_exponent(model, model.params(params), y0, t_transient=1000.0, t_average=4000.0)
+    return out
 
 
 def _chapter4(statements, maps, root: Path, pitchfork=None) -> list[str]:

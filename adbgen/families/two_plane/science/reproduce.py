@@ -83,6 +83,41 @@ def exchange(fig_dir: Path) -> dict:
     return {"ex": ex, "figure": path, "even": dict(zip(w, even)), "odd": dict(zip(w, odd))}
 
 
+FIG5A_MASS = (1e-5, 40.0, 400)  # (m - m_c)/m_c from, to, count (logarithmic) for Figure 5(a)
+
+
+def figure_5a(Omega: float = 3.0) -> dict:
+    """Figure 5(a): the balanced state B of set-up (10) (static imbalance eps/R = 0.01, damped) as the ball mass
+    grows from m_c at Omega = 3: its spectrum from the generated Jacobian at the exact B (rotor at rest, the
+    balls at pi +- arccos(m_c/m)), the changes of stability located on a logarithmic grid of m and refined by
+    brentq on the largest real part; each change's pair (a Hopf point when the crossing pair is complex)."""
+    from scipy.optimize import brentq
+
+    from ....analysis.loading import load_model
+
+    model = load_model("two_plane_rotating")
+    pf = tx.Pitchfork(model, {"Omega": Omega})
+    mc = pf.m_c
+
+    def spectrum(m):
+        a = math.acos(mc / m)
+        ev = np.linalg.eigvals(np.asarray(model.module.jac(0.0, pf.state([math.pi + a, math.pi - a] * 2),
+                                                            pf.params(m))))
+        return ev
+
+    growth = lambda m: float(spectrum(m).real.max())  # noqa: E731
+    ms = mc * (1 + np.geomspace(*FIG5A_MASS[:2], FIG5A_MASS[2]))
+    g = [growth(m) for m in ms]
+    points = []
+    for i in range(len(ms) - 1):
+        if (g[i] < 0) != (g[i + 1] < 0):
+            m = brentq(growth, ms[i], ms[i + 1], xtol=1e-14, rtol=1e-12)
+            ev = spectrum(m)
+            lam = ev[np.argmax(ev.real)]
+            points.append({"m": m, "frequency": abs(lam.imag), "stable_after": g[i + 1] < 0})
+    return {"m_c": mc, "stable_at_pitchfork": g[0] < 0, "points": points, "m_max": float(ms[-1])}
+
+
 def figure_12a(fig_dir: Path) -> dict:
     from scipy.optimize import minimize_scalar
 
@@ -313,6 +348,9 @@ def compute(fig_dir: Path, progress=None) -> dict:
     if progress:
         ex = out["exchange"]["ex"]
         progress(f"two-plane 3.2.3: Omega_1 = {ex.omega_1:.9f}, Omega_2 = {ex.omega_2:.9f}")
+    out["fig5a"] = figure_5a()
+    if progress:
+        progress("two-plane Fig. 5(a): Hopf points of B at m = " + ", ".join(f"{p['m']:.6g}" for p in out["fig5a"]["points"]))
     out["fig12"] = figure_12a(fig_dir)
     if progress:
         f12 = out["fig12"]
@@ -331,6 +369,29 @@ SYNC = "t_sync: from then on every ball |theta_k' - Omega| <= 1e-3 Omega"
 
 def _stall_list(v) -> str:
     return "; ".join(f"{m:.4f} ({a:.2f}-{b:.2f})" for m, a, b in v) or "none"
+
+
+def _figure_5a_lines(r: dict) -> list[str]:
+    pts = r["points"]
+    first3 = [p for p in pts if p["m"] < 2.5 * r["m_c"]]
+    L = ["### Section 3.2, Figure 5(a): the balanced state's further Hopf points", "",
+         "The paper (Omega = 3, eps/R = 0.01, set-up (10)): \"the balanced state B is stable at the pitchfork and "
+         "then undergoes a series of stability changes at three further Hopf bifurcations\" (no values printed).  "
+         "Ours: B's spectrum from the generated Jacobian at the exact B, m from m_c (1 + 1e-5) to "
+         f"{r['m_max']:.3g} on 400 logarithmic steps, each change refined by brentq:", "",
+         "| | m | m / m_c | frequency of the crossing pair | B after it (growing m) |", "|---|---|---|---|---|",
+         f"| pitchfork | {r['m_c']:.6g} | 1 | — | {'stable' if r['stable_at_pitchfork'] else 'unstable'} |"]
+    for k, p in enumerate(pts):
+        L.append(f"| Hopf {k + 1} | {p['m']:.6g} | {p['m'] / r['m_c']:.4f} | {p['frequency']:.5f} | "
+                 f"{'stable' if p['stable_after'] else 'unstable'} |")
+    L += ["", f"B is {'stable' if r['stable_at_pitchfork'] else '**unstable**'} just above the pitchfork and "
+          f"changes stability at {len(first3)} Hopf points below m = {2.5 * r['m_c']:.4g} "
+          + ("(m/m_c = " + ", ".join(f"{p['m'] / r['m_c']:.3f}" for p in first3) + "), " if first3 else "")
+          + "each crossing pair complex: the paper's three further Hopf bifurcations"
+          + (f"; {len(pts) - len(first3)} more changes follow at much larger masses (m/m_c = "
+             + ", ".join(f"{p['m'] / r['m_c']:.1f}" for p in pts[len(first3):]) + "; the paper gives no axis range "
+             "to compare them with)." if len(pts) > len(first3) else "."), ""]
+    return L
 
 
 def _pct(x):
@@ -394,6 +455,7 @@ def section(res: dict, root: Path) -> list[str]:
           "are beyond the normal form, as the paper says.", "",
           f"![B/C3 exchange]({res['exchange']['figure'].relative_to(root).as_posix()})", ""]
 
+    L += _figure_5a_lines(res["fig5a"])
     f = res["fig12"]
     (p1g, p1), (p2g, p2) = f["peaks"][:2]
     lim = f["limit"]
