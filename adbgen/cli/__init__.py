@@ -9,6 +9,7 @@
     adbgen bench failures|smallest [--out FILE] [--quick]
     adbgen simulate | stability | continue | sweep | reproduce ...   the analysis layer (adbgen/cli/simulate.py, ...)
     adbgen notebooks [--check | --run] [--only NN ...]                 the derivation notebooks of derive/
+    adbgen docs [--out DIR]                                            the documentation site (Sphinx, -W)
 
 Every family in `families.REGISTRY` adds its own subcommands (`Family.register_commands`); other
 command groups are listed once in `COMMAND_GROUPS` as "module:function", each function taking the
@@ -44,6 +45,7 @@ COMMAND_GROUPS: list[str] = [
     "adbgen.cli.sweep:register",  # sweep
     "adbgen.cli.reproduce:register",  # reproduce (every family's reproductions)
     "adbgen.cli.notebooks:register",  # notebooks (execute and render derive/)
+    "adbgen.cli.docs:register",  # docs (build the documentation site)
 ]
 
 

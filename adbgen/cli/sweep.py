@@ -67,8 +67,8 @@ def _add_sweep(p) -> None:
 
 def _time_and_threshold(args) -> tuple[float, float]:
     """--t-end and --threshold in the model's units, or their defaults at the --set parameters."""
-    from .loading import load_model
-    from .units import assignments, default_t_end, default_threshold, duration, quantity, units
+    from ..analysis.loading import load_model
+    from ..analysis.units import assignments, default_t_end, default_threshold, duration, quantity, units
 
     model = load_model(args.model)
     u = units(model)
