@@ -31,7 +31,11 @@ def _augmented(module):
         rhs_inplace(t, z[:n], p, out[:n])
         J = np.empty((n, n))
         jac_inplace(t, z[:n], p, J)
-        out[n:] = J @ z[n:]
+        for i in range(n):  # a loop, not J @ v: numba's @ calls OpenBLAS, whose kernel follows the processor
+            acc = 0.0
+            for j in range(n):
+                acc += J[i, j] * z[n + j]
+            out[n + i] = acc
         return out
 
     return f

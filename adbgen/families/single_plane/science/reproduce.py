@@ -263,7 +263,7 @@ def _basins(fig_dir: Path, size: int = 40) -> list[dict]:
         for k, zeta in enumerate(BASIN_ZETAS):
             grid = [f"phi_1=0:2*pi*{size - 1}/{size}:{size}", f"phi_2=0:2*pi*{size - 1}/{size}:{size}"]
             spec = SweepSpec(model="thesis_rotating_n2", grid=grid, measure="attractor", set=[f"zeta={zeta}"],
-                             t_end=2000.0)
+                             t_end=2000.0, engine=ENGINE)
             run_sweep(spec, tmp / str(k), progress=False)
             ds = xr.open_zarr(tmp / str(k) / "sweep.zarr", consolidated=False)
             names = json.loads(ds.attrs["labels"])
@@ -301,7 +301,7 @@ def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
         for zeta, panel in zip(FIG5_19_ZETAS, "abcd"):
             grid = [f"phi_1=0:2*pi*{size - 1}/{size}:{size}", f"phi_2=0:2*pi*{size - 1}/{size}:{size}"]
             spec = SweepSpec(model="thesis_rotating_n4", grid=grid, measure="attractor", set=[f"zeta={zeta}"],
-                             tie=["phi_3=phi_1+pi", "phi_4=phi_2+pi"], t_end=3000.0)
+                             tie=["phi_3=phi_1+pi", "phi_4=phi_2+pi"], t_end=3000.0, engine=ENGINE)
             run_sweep(spec, tmp / panel, progress=False)
             ds = xr.open_zarr(tmp / panel / "sweep.zarr", consolidated=False)
             names = json.loads(ds.attrs["labels"])
@@ -653,7 +653,7 @@ def _transient_section(transients) -> list[str]:
                      f"{'—' if rel is None else f'{100 * rel:+.2f} %'} | {emu:.{digits}f} | {why} |")
     L += ["", "Published values: thesis sections 5.1.2 (Fig. 5.4, 5.6, 5.8), 5.2.1 (Fig. 5.12-5.14 (c)) and 5.2.2 "
           "(Fig. 5.15-5.17 (b), (c)), as printed (`adbgen/families/single_plane/science/published.py`).  "
-          "**ode45 emulation**: the engine `matlab-ode45` (see [MATLAB's ode45 emulated](matlab-ode45.md)) at "
+          "**ode45 emulation**: the engine `matlab-ode45` (see [How the reproduction is computed](reproduction-method.md)) at "
           "ode45's defaults RelTol 1e-3, AbsTol 1e-6, `tspan = [0 3000]`, r_max and t_dec read off its Refine = 4 "
           "output points (t_dec: the last output time with r >= 1e-3).  It gives "
           + f"{sum(_printed(t['ode45'].t_dec, t['row'].t_dec) for t in transients)} of the "

@@ -536,7 +536,8 @@ def section(res: dict, root: Path) -> list[str]:
     t = lambda v: "never" if v is None else f"{v:.0f}"  # noqa: E731
     cols = lambda key, f: " | ".join(f(study[r][key]) for r in RUN_RTOLS)  # noqa: E731
     L += ["### Section 6: run-ups (Figures 15, 16)", "",
-          f"Default engine (compiled DOP853), atol 1e-14; **converged** = rtol {RUN_RTOLS[-1]:g}, the study "
+          f"Engine `{tr.ENGINE}` (compiled DOP853, named: not the default), atol 1e-14; **converged** = rtol "
+          f"{RUN_RTOLS[-1]:g}, the study "
           "beside it at rtol " + ", ".join(f"{r:g}" for r in RUN_RTOLS) + ".  Set-up (10), dynamic imbalance "
           "eps/R = chi = 5e-5, beta = 1, m/M = 1e-4; the rotor at rest and undeflected, the balls at rest on "
           "opposite sides of each race (theta = 0, pi).  The ramp reaches Omega = 3.6 at t = 6000 (Figure 15), the "

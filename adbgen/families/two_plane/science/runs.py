@@ -1,6 +1,7 @@
-"""Simulations of the two-plane paper on the generated models with the default engine
-(`adbgen.analysis.simulate`): the brute-force diagram of Figure 12(a) (section 4.2) and the run-ups of
-section 6 (Figures 15 and 16).
+"""Simulations of the two-plane paper on the generated models (`adbgen.analysis.simulate`) with a named
+engine (`ENGINE`, compiled DOP853; not the default, so that the document does not follow a change of the
+default): the brute-force diagram of Figure 12(a) (section 4.2) and the run-ups of section 6 (Figures 15
+and 16).
 
 Vibration measure of the paper: A = the average of the rotor's displacement amplitudes at the two
 points one unit length from the midspan, |q_1 +- q_2| with q_1 = X + iY, q_2 = phi_Y - i phi_X (the
