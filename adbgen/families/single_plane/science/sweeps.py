@@ -143,7 +143,7 @@ def launches() -> dict:
         local = []
         h = phi[1] - phi[0]
         for k in changes[:3]:  # the basin about the first three such starts
-            grid = f"phi_1={phi[k] - h / 2!r}:{phi[k] + h / 2!r}:41"
+            grid = f"phi_1={float(phi[k] - h / 2)!r}:{float(phi[k] + h / 2)!r}:41"
             codes, labels, fine = sweep(model, [grid], "attractor", y0=y0, tie=ties, rtol=LAUNCH_RTOLS[-1])
             names = named(labels, codes)
             switches = sum(a != b for a, b in zip(names, names[1:]))
