@@ -1,5 +1,6 @@
 """Benchmark (not a test): the whole `adbgen reproduce`, timed, and its document compared with the committed
-one (issue 23).  `adbgen bench reproduce [--out FILE] [--sections SECTION ...] [--emulate-older]`
+one (issue 23).  `adbgen bench reproduce [--out FILE] [--sections SECTION ...] [--emulate-older]
+[--keep DIR]`
 -> ``benchmarks/reproduce.json``.
 
 The command runs in a child process (as a user runs it: it re-runs itself with glibc's libm variants
@@ -74,10 +75,12 @@ def run_reproduce(folder: Path, sections=None, emulate_older: bool = False, prog
             "exit_status": proc.returncode, "wall_s": round(wall, 1), "cpu_s": round(cpu, 1), "progress": lines}
 
 
-def bench_reproduce(sections=None, emulate_older: bool = False, progress=print) -> dict:
+def bench_reproduce(sections=None, emulate_older: bool = False, progress=print, keep: Path | None = None) -> dict:
+    """The timed run and the comparison; the document is written into `keep` (kept) or a temporary folder."""
     result, started = opening("reproduce")
     with tempfile.TemporaryDirectory(prefix="adbgen-bench-reproduce-") as tmp:
-        folder = Path(tmp)
+        folder = Path(keep) if keep else Path(tmp)
+        folder.mkdir(parents=True, exist_ok=True)
         result["run"] = run_reproduce(folder, sections, emulate_older, progress)
         result["emulated_older_processor"] = emulate_older
         document = folder / "reproduction.md"
@@ -87,7 +90,8 @@ def bench_reproduce(sections=None, emulate_older: bool = False, progress=print) 
 
 
 def run(args, out: str) -> int:
-    result = bench_reproduce(args.sections, args.emulate_older, progress=lambda line: print(line, flush=True))
+    result = bench_reproduce(args.sections, args.emulate_older, progress=lambda line: print(line, flush=True),
+                             keep=args.keep)
     path = write(result, out)
     same = result.get("against_committed", {}).get("document_identical")
     print(f"wrote {path}: adbgen reproduce {result['run']['wall_s']} s wall, {result['run']['cpu_s']} s CPU, "
@@ -100,6 +104,8 @@ BENCHMARK = Benchmark("reproduce", run, (
            help="only these sections of adbgen reproduce (default: all, compared with the committed document)"),
     option("--emulate-older", action="store_true",
            help="mask glibc's AVX variants too (a processor without AVX: the second-machine check)"),
+    option("--keep", default=None, metavar="DIR",
+           help="write the document and its figures into DIR and keep them (default: a temporary folder)"),
 ))
 
 
