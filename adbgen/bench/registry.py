@@ -30,6 +30,7 @@ REGISTRY: dict[str, str] = {
     "failures": "adbgen.bench.failures:BENCHMARK",
     "smallest": "adbgen.bench.smallest:BENCHMARK",
     "precision": "adbgen.bench.precision:BENCHMARK",
+    "mutation": "adbgen.bench.mutation:BENCHMARK",
     "reproduce": "adbgen.bench.reproduce:BENCHMARK",
 }
 

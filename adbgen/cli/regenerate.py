@@ -150,7 +150,7 @@ def register(sub) -> None:
     r.add_argument("--name", type=model_name, help="model name for --scene")
     r.add_argument("--out", help="output folder (default: the repository's generated/)")
     r.add_argument("--targets", nargs="+", choices=targets.names(), default=list(targets.names()))
-    r.add_argument("--skip-checks", action="store_true", help="skip the reduction checks (the lowering check stays)")
+    r.add_argument("--skip-checks", action="store_true", help="skip the reduction checks (the lowering check and the proofs of the emitted files stay)")
     r.add_argument("--full-checks", action="store_true",
                    help="run every reduction check in its exact form (default: proportionate forms at large n)")
     r.add_argument("--form", choices=FORMS, default=DEFAULT_FORM,

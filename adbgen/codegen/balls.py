@@ -103,10 +103,13 @@ def split(coordinates, core: Sequence[int], leaves: Sequence[int], mass: dict, f
     leaves = list(leaves)
     n = len(leaves)
     if n == 0 or leaves != list(range(leaves[0], leaves[0] + n)):
-        raise NoBallStructure("the balls are not consecutive coordinates")
+        raise NoBallStructure(f"the balls {[coordinates[k].name for k in leaves]} are not consecutive coordinates")
     slots = list(slots) if slots is not None else default_slots(parameters, n)
-    if len(slots) != n or any(set(s) != set(slots[0]) for s in slots):
-        raise NoBallStructure("every ball needs the same parameter slots")
+    if len(slots) != n:
+        raise NoBallStructure(f"{len(slots)} sets of ball parameters for {n} balls")
+    for i, s in enumerate(slots):
+        if set(s) != set(slots[0]):
+            raise NoBallStructure(f"ball {i + 1}'s parameter slots {sorted(s)} differ from ball 1's {sorted(slots[0])}")
     pindex = {p.symbol: k for k, p in enumerate(parameters)}
     names = sorted(slots[0])
     generic = {name: sp.Symbol(BALL_PREFIX + name, real=True) for name in names}

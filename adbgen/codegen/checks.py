@@ -164,10 +164,10 @@ _AGAINST_EXT = {"rhs": "the forced model's dense solve on the oscillator's cycle
                 "jac": "central differences of its rhs", "jac_p": "central differences of its rhs"}
 
 
-def check_programs(ir: ModelIR, system: FirstOrderSystem) -> dict[str, float]:
+def check_programs(ir: ModelIR, system: FirstOrderSystem, reference: Reference | None = None) -> dict[str, float]:
     """Every program of `ir` (and of its oscillator extension) within tolerance of its independent
     evaluation, or CheckFailed naming the program; returns the errors (the extension's as 'ext:...')."""
-    ref = Reference.of(system)
+    ref = reference or Reference.of(system)
     errors = program_errors(ir, system, reference=ref)
     _refuse(ir.name, errors, _AGAINST)
     if ir.autonomous_extension is not None:

@@ -28,6 +28,7 @@ import sympy as sp
 
 from ..core.first_order import FirstOrderSystem
 from ..core.oscillator import Oscillator
+from ..errors import AdbgenError
 from .balls import BALL_PREFIX, NoBallStructure, split as split_balls
 from .loops import build_loops
 from .names import validate_name
@@ -283,9 +284,14 @@ def _describe(name: str, leaves: set[str]) -> str:
 
 # The one switch between the two forms (issue 10): "loops" (the per-ball block once, loops over the
 # balls; the default) or "unrolled" (straight-line programs, every ball written out).  A model whose
-# balls are not alike (`balls.NoBallStructure`) gets the unrolled form whatever the switch says.
+# balls are not alike (`balls.NoBallStructure`) has no loop form: asked for it, the lowering refuses
+# (`LoopFormError`, naming the ball and the term; issue 20) rather than fall back to the unrolled form.
 FORMS = ("loops", "unrolled")
 DEFAULT_FORM = "loops"
+
+
+class LoopFormError(AdbgenError):
+    """The loop form was requested of a model whose balls have no common per-ball block."""
 
 
 def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
@@ -321,11 +327,11 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
     if form == "loops":
         try:
             split = split_balls(coords, blocks.core, blocks.leaves, blocks.mass, blocks.f, params, balls)
-        except NoBallStructure:
-            split = None
-        if split is not None:
-            loop_form = build_loops(split, coords, blocks.core, params, osc.rates() if osc is not None else (),
-                                    [osc.sin, osc.cos] if osc is not None else ())
+        except NoBallStructure as exc:  # never a silent fallback: the form produced is the form requested
+            raise LoopFormError(f"{name}: the loop form was requested, but the balls have no per-ball split: {exc} "
+                                "(--form unrolled writes every ball out)") from exc
+        loop_form = build_loops(split, coords, blocks.core, params, osc.rates() if osc is not None else (),
+                                [osc.sin, osc.cos] if osc is not None else ())
     if loop_form is not None:
         rhs = jac = jac_p = mass = forcing = None
         kernels = loop_form.kernels().values()

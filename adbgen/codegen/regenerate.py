@@ -15,7 +15,8 @@ from pathlib import Path
 from typing import Callable, Iterable
 
 from . import journal
-from .checks import CheckFailed, check_description, check_programs, check_start
+from .checks import CheckFailed, Reference, check_description, check_programs, check_start
+from .proof import prove_index, prove_model, refusal
 from .render import render_index, render_model, skipped_targets
 from .lowering import DEFAULT_FORM
 from ..core.model_spec import Check, ModelSpec
@@ -62,7 +63,8 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
     if run_checks:
         for check in _checks_for(specs):
             scaled = check.scaled is not None and not full_checks
-            r = (check.scaled if scaled else check.run)()
+            with refusal(f"check {check.key}"):
+                r = (check.scaled if scaled else check.run)()
             progress(f"check  {'ok  ' if r.passed else 'FAIL'} {r.name} [{r.reference}] ({r.seconds:.1f} s)"
                      + (" (proportionate form; --full-checks runs the exact one)" if scaled else ""))
             if not r.passed:
@@ -71,14 +73,17 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
     index = []
     for k, spec in enumerate(specs, 1):
         start = time.perf_counter()
-        system = spec.system()
-        ir = build(spec, system, form=form)
-        errors = check_programs(ir, system)
-        described = check_description(ir, system)
-        for model in (ir, ir.autonomous_extension):
-            if model is not None and model.start is not None:
-                check_start(model)
-        model_files = render_model(ir, targets)
+        with refusal(spec.name):
+            system = spec.system()
+            ir = build(spec, system, form=form)
+            reference = Reference.of(system)
+            errors = check_programs(ir, system, reference)
+            described = check_description(ir, system)
+            for model in (ir, ir.autonomous_extension):
+                if model is not None and model.start is not None:
+                    check_start(model)
+            model_files = render_model(ir, targets)
+            proven = prove_model(ir, model_files, targets, form, reference)
         files.update(model_files)
         index.append((ir.name, ir.title, ir.reference))
         progress(f"[{k}/{len(specs)}] {ir.name}: {ir.n_states} states, {ir.form}, rhs {ir.count_ops('rhs')} ops, "
@@ -86,10 +91,14 @@ def render_all(specs: list[ModelSpec], targets=None, run_checks: bool = True,
                  + (f"self-description checked ({len(ir.description.labels)} steady states"
                     + (f"; {', '.join(described['unexercised'])} given at no sampled parameters" if described
                        and described["unexercised"] else "") + "), " if described else "")
-                 + f"{len(model_files)} files "
-                 f"({time.perf_counter() - start:.1f} s)"
+                 + f"{len(model_files)} files, proven: {' '.join(proven['targets'])}"
+                 + (" (cached)" if proven["cached"] else f" ({proven['seconds']:.1f} s)")
+                 + f" ({time.perf_counter() - start:.1f} s)"
                  + "".join(f"; no {t}: {why}" for t, why in skipped_targets(ir, targets).items()))
-    files.update(render_index(index))
+    with refusal("the output's index"):
+        package = render_index(index)
+        prove_index(package, index)
+    files.update(package)
     return Rendered(files, tuple(name for name, _, _ in index))
 
 

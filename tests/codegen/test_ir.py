@@ -129,6 +129,7 @@ def test_a_four_by_four_core_lowers_too():
     from adbgen.families.two_plane.scene import TwoPlaneScene
 
     system = reductions.first_order(reductions.rotating_frame(TwoPlaneScene.from_mapping({"preset": "paper-10"})))
-    ir = I.build("two_plane_rotating", system, title="two-plane", n_balls=4)
+    # unrolled: without the race slots (two_plane.race_slots) the loop form is refused (issue 20)
+    ir = I.build("two_plane_rotating", system, title="two-plane", n_balls=4, form="unrolled")
     assert ir.autonomous and ir.core == ("x", "y", "phi_x", "phi_y") and len(ir.leaves) == 4
     assert lowering_error(ir, system, samples=50) < 1e-12

@@ -137,6 +137,13 @@ class Listing(targets.Target):
     def context(self, ir):
         return {"rhs_outputs": len(ir.rhs.outputs)}
 
+    def prove(self, proof):
+        """The listing names the model's states and parameters and counts its rhs's stores (issue 20)."""
+        ir = proof.model(self).as_unrolled()
+        listing = json.loads(proof.files[proof.file(self, "listing/listing.json.j2")])
+        proof.require(listing["states"] == list(ir.state_names) and listing["parameters"] == list(ir.parameter_names)
+                      and listing["outputs"] == len(ir.rhs.outputs) == len(listing["rhs"]), "the listing is not the model's")
+
 
 def load_pylist():
     """The toy target's folder, imported as a plug-in outside the package would be."""
@@ -246,18 +253,14 @@ def test_the_toy_target_prints_the_loop_form_and_it_runs(toy, tmp_path, capsys):
 
 
 def test_the_toy_targets_dialect_is_what_prints(toy, tmp_path, capsys, monkeypatch):
-    """Negative control: a pylist dialect that transposes matrix entries gives a wrong jac."""
+    """Negative control: a pylist dialect that transposes matrix entries gives a wrong jac, which the
+    target's own proof refuses before anything is written (issue 20)."""
     entry = toy.ListDialect.entry
     monkeypatch.setattr(toy.ListDialect, "entry",
                         lambda self, row, col: entry(self, row, col) if col is None else entry(self, col, row))
     out = tmp_path / "gen"
     assert main(["regenerate", "--family", "single-plane", "--n", "2", "--targets", "pylist", "numba",
-                 "--out", str(out), "--quiet", "--skip-checks"]) == 0, capsys.readouterr().err
-    name = "thesis_rotating_n2"
-    toy_module = _load_module(out / name / f"{name}_pylist.py", "_adbgen_pylist_transposed")
-    from adbgen.codegen.scratch import import_numba
-
-    ref = import_numba(out / name, "_adbgen_pylist_ref_transposed")
-    y = np.linspace(-0.5, 0.7, ref.N_STATES)
-    got = np.reshape(toy_module.jac(0.0, list(y), list(ref.DEFAULTS)), (ref.N_STATES, ref.N_STATES))
-    assert not np.allclose(got, ref.jac(0.0, y, ref.DEFAULTS), rtol=1e-6)
+                 "--out", str(out), "--quiet", "--skip-checks"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("adbgen: error: thesis_rotating_n2: pylist files: pylist jac differs"), err
+    assert not out.exists() or not any(out.rglob("*.py"))

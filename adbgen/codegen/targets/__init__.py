@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from ..emit import Dialect
     from ..ir import ModelIR
     from ..loops import Kernel
+    from ..proof import Proof
 
 # name -> "module:attribute", in rendering order; one line per target
 REGISTRY: dict[str, str] = {
@@ -91,6 +92,13 @@ class Target:
     def context(self, ir: "ModelIR") -> dict:
         """Template data beyond the common context (decisions made here, in Python)."""
         return {}
+
+    def prove(self, proof: "Proof") -> None:
+        """Prove this target's files before `regenerate` writes them (issue 20): they are written in
+        ``proof.folder``; compare what they compute with ``proof.expected`` at ``proof.samples`` and
+        refuse with ``proof.fail(...)``.  A target that does not override this is refused: nothing
+        unproven is written (`codegen.proof`)."""
+        raise NotImplementedError(f"target {self.name!r} has no proof")
 
 
 def columns(kernel: "Kernel") -> int:

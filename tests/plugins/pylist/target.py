@@ -56,6 +56,15 @@ class PyListTarget(targets.Target):
     def dialect(self, which, kernel):
         return ListDialect("y", "p", "out", targets.columns(kernel))
 
+    def prove(self, proof):
+        """Its module executed, rhs and jac against the model at the proof's sample points (issue 20)."""
+        rel = proof.file(self, "pylist/module.py.j2")
+        scope: dict = {}
+        exec(compile(proof.files[rel], rel, "exec"), scope)  # noqa: S102 - the file just rendered
+        for t, y, p in proof.samples():
+            for which in ("rhs", "jac"):
+                proof.compare(f"pylist {which}", scope[which](t, list(y), list(p)), proof.expected(which, t, y, p))
+
 
 TARGET = PyListTarget(
     name="pylist",

@@ -17,6 +17,9 @@ from .dialect import AutoDialect, par_index as apar
 
 # the output arrays of AUTO-07p's func: f = F(U), dfdu = dF/dU, dfdp = dF/dPAR
 _OUT = {"rhs": "f", "jac": "dfdu", "jac_p": "dfdp"}
+IPLT = 0
+FAMILY_SIGMA = 1.0
+RESTART_LABEL = 2  # stage 1 of a forced model ends on this label (UZ; label 1 is the start), stage 2 restarts there
 
 
 class AutoTarget(Target):
@@ -49,6 +52,13 @@ class AutoTarget(Target):
             "note": cont.note.splitlines(),
             "amplitude": tuple(ir.state_names.index(c) for c in ir.core[:2]) if len(ir.core) >= 2 else None,
             "npar_amp": apar(len(ir.parameters)),
+            # IPLT: fort.7's principal measure is AUTO's default norm; the amplitude is the last ICP
+            "iplt": IPLT,
+            # the regularised continuum of balanced states (thesis (3.6), templates/auto/_family.j2):
+            # autonomous starts on it only; its zero eigenvalues go to -family_sigma
+            "family": bool(cont.continuum) and not ir.forcing_frequency and ir.start_label.startswith("balanced"),
+            "family_sigma": FAMILY_SIGMA,
+            "restart_label": RESTART_LABEL,
         }
         if ir.forcing_frequency:
             # periodic orbits: either in the parameter the start moved, then (stage 2) in the forcing
@@ -61,6 +71,11 @@ class AutoTarget(Target):
             out.update(stages=stages, stage2=names.index(ir.forcing_frequency),
                        osc=(ir.state_names.index(OSC_SIN.name), ir.state_names.index(OSC_COS.name)))
         return out
+
+    def prove(self, proof):
+        from .prove import prove
+
+        prove(self, proof)
 
 
 TARGET = AutoTarget(

@@ -11,6 +11,11 @@ class NumbaTarget(Target):
     def dialect(self, which, kernel):
         return PythonDialect("y", "p", "out", columns(kernel), scratch=NUMBA_SCRATCH)
 
+    def prove(self, proof):
+        from .prove import prove
+
+        prove(self, proof)
+
 
 TARGET = NumbaTarget(
     name="numba",
