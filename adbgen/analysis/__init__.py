@@ -11,6 +11,7 @@ equations were derived, checked and emitted upstream; here they are only evaluat
     starts      the states stability and continuation start from (START, the module's closed forms)
     continuation  a steady state along a parameter: Hopf points, folds, stable intervals (ch. 4)
     auto        AUTO-07p on the emitted files: one- and two-parameter runs, fort.7/fort.8 readers
+    orbits      periodic orbits: shooting on the variational equations, continuation, bifurcations, charts
     attractors  where a trajectory ends: steady states named, stop regions (basin_regions), the classifier
     grid, sweep, sweep_figures   grids of trajectories or steady states on Dask, into Zarr, drawn
     results     what a simulation returns

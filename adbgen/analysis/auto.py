@@ -342,6 +342,24 @@ class AutoRun:
         return out
 
 
+def default_stop(model: Model, name: str, start: float) -> float | None:
+    """Where the model's own AUTO constants (c.<model>) end a run in `name`: the UZSTOP bound on the side its
+    DS points to (e.g. Omega = 0.5 for the thesis models, whose Hopf points lie between 1 and 2.2); None when
+    the file does not continue `name`."""
+    path = model.folder / "auto" / f"c.{model.name}"
+    if name not in model.param_names or not path.is_file():
+        return None
+    text = path.read_text()
+    a = auto_parameter(model.param_names.index(name))
+    ds = re.search(r"\bDS\s*=\s*([-+0-9.eE]+)", text)
+    bound = re.search(rf"UZSTOP\s*=\s*\{{[^}}]*\b{a}\s*:\s*\[\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)\s*\]", text)
+    if not ds or not bound:
+        return None
+    lo, hi = float(bound.group(1)), float(bound.group(2))
+    stop = lo if float(ds.group(1)) < 0 else hi
+    return stop if stop != start else None
+
+
 def _start_constants(model: Model, p: np.ndarray, y: np.ndarray) -> dict:
     """AUTO's U and PAR keys for a start other than stpnt's (PAR: every model parameter)."""
     return {"U": _mapping({i + 1: float(v) for i, v in enumerate(y)}),

@@ -13,12 +13,12 @@ continuation.  Stability along the branch is AUTO's (PT < 0: every Floquet multi
 structural ones of the extension inside the unit circle).
 
 At one parameter point (`forced_response`), the orbit AUTO reaches there is refined by Newton's
-method on the forced model's period map (shooting over one forcing period 2 pi / omega with the
-generated rhs and jac, minimum-norm steps, so a continuum of balanced orbits converges too), and
+method on the forced model's period map (the shooting system of `orbits.shooting` over one forcing
+period 2 pi / omega from the orbit's phase, the variational equations integrated in the compiled
+driver of `orbits.flow`; minimum-norm steps, so a continuum of balanced orbits converges too), and
 its Floquet multipliers are the eigenvalues of the monodromy matrix: the model's own, n_states of
-them (no structural ones: time is not a state of the forced model).  The periodic-orbit machinery
-of issue 21 (shooting, Floquet, continuation of cycles in adbgen/analysis/) had not landed on main
-when this was written; this module takes the AUTO path the issue allows.
+them (no structural ones: time is not a state of the forced model).  `adbgen continue --orbits`
+continues the same response by shooting alone (`orbits.branches`), without AUTO.
 
 A start orbit on a continuum (n >= 3 balanced balls) makes AUTO's continuation singular: it stops at
 its first steps (MX), which is reported as a continuation that ended early.
@@ -103,25 +103,11 @@ def _model_states(model: Model, u: np.ndarray) -> tuple[np.ndarray, float]:
 
 
 def _flow(model: Model, p: np.ndarray, y0: np.ndarray, t0: float, period: float, variational: bool):
-    from scipy.integrate import solve_ivp
+    """y(t0 + period) from y(t0) = y0 (and the monodromy with `variational`) on the compiled driver."""
+    from .orbits.flow import Flow
 
-    n = len(y0)
-    rhs, jac = model.module.rhs, model.module.jac
-    if variational:
-        def f(t, z):
-            y = z[:n]
-            phi = z[n:].reshape(n, n)
-            return np.concatenate([rhs(t, y, p), (np.asarray(jac(t, y, p)) @ phi).ravel()])
-        z0 = np.concatenate([y0, np.eye(n).ravel()])
-    else:
-        def f(t, z):
-            return rhs(t, z, p)
-        z0 = y0
-    sol = solve_ivp(f, (t0, t0 + period), z0, method="DOP853", rtol=1e-11, atol=1e-13)
-    if not sol.success:
-        raise AnalysisError(f"{model.name}: the period map failed ({sol.message})")
-    z = sol.y[:, -1]
-    return (z[:n], z[n:].reshape(n, n)) if variational else (z, None)
+    X, Phi, _ = Flow(model).arcs(y0, t0, period, p, phi=variational)
+    return X[0], (Phi[0] if variational else None)
 
 
 def _gap(model: Model, y1: np.ndarray, y0: np.ndarray) -> np.ndarray:
@@ -182,28 +168,34 @@ class Response:
 
 
 def refine_orbit(model: Model, p: np.ndarray, y0: np.ndarray, t0: float, period: float, max_steps: int = 8):
-    """Newton on y(t0 + T; y0) - y0 = 0 with the monodromy: (orbit state, monodromy, closure, steps)."""
+    """Newton on y(t0 + T; y0) - y0 = 0 (angles modulo 2 pi) by `orbits.shooting`: (orbit state, monodromy,
+    closure, steps); where Newton does not close the orbit in max_steps, the start's (the caller checks the
+    closure)."""
+    from .orbits.flow import Flow
+    from .orbits.shooting import Shooting, ShootingError
+
+    flow = Flow(model)
     y = np.array(y0, float)
-    scale = 1.0 + float(np.max(np.abs(y)))
-    step = 0
-    while True:
-        y1, mono = _flow(model, p, y, t0, period, variational=True)
-        gap = _gap(model, y1, y)
-        closure = float(np.max(np.abs(gap)))
-        if closure <= 1e-12 * scale or step == max_steps:
-            return y, mono, closure, step
-        y = y + np.linalg.lstsq(mono - np.eye(len(y)), -gap, rcond=1e-12)[0]
-        step += 1
+    y1, _ = _flow(model, p, y, t0, period, variational=False)
+    shift = np.zeros(len(y))  # the whole turns an angle gains over the period
+    for i in model.angle_indices:
+        shift[i] = y1[i] - y[i] - math.remainder(y1[i] - y[i], 2 * math.pi)
+    forcing = model.param_names.index(model.forcing_frequency)
+    sh = Shooting(model, flow, 1, shift, forcing, max(1, round(period * p[forcing] / (2 * math.pi))), t_start=t0)
+    try:
+        u, ev, steps = sh.solve(y, p, tol=1e-12, max_iter=max_steps, min_iter=0)
+    except ShootingError:
+        u, steps = y, max_steps
+        ev = sh.evaluate(u, p)
+    return np.array(u, float), ev.monodromy, float(np.max(np.abs(ev.F))), steps
 
 
 def _amplitude_max(model: Model, p, y0, t0, period) -> float:
-    from scipy.integrate import solve_ivp
+    from .orbits.flow import Flow
 
     ix, iy = model.amplitude_indices[:2]
-    ts = np.linspace(t0, t0 + period, 201)
-    sol = solve_ivp(lambda t, y: model.module.rhs(t, y, p), (t0, t0 + period), y0, method="DOP853", rtol=1e-10,
-                    atol=1e-13, t_eval=ts)
-    return float(np.max(np.hypot(sol.y[ix], sol.y[iy])))
+    Y = Flow(model).sample(y0, t0, np.linspace(t0, t0 + period, 201)[1:], p)
+    return float(max(np.hypot(y0[ix], y0[iy]), np.max(np.hypot(Y[:, ix], Y[:, iy]))))
 
 
 # --- running the stages ------------------------------------------------------------------------------

@@ -62,10 +62,11 @@ class Bifurcation:
     n_unstable_before: int
     n_unstable_after: int
     bracket: tuple[float, float] | None = None  # set when root finding failed: the step it lies in
+    extra: dict = field(default_factory=dict)  # e.g. first_lyapunov, criticality of a Hopf point
 
     def to_json(self, name: str) -> dict:
         out = {"kind": self.kind, name: self.value, "frequency": self.frequency, "direction": self.direction,
-               "n_unstable_before": self.n_unstable_before, "n_unstable_after": self.n_unstable_after}
+               "n_unstable_before": self.n_unstable_before, "n_unstable_after": self.n_unstable_after, **self.extra}
         if self.bracket is not None:
             out["bracket"] = list(self.bracket)
         return out
@@ -82,6 +83,7 @@ class Scan:
     stable_intervals: list[tuple[float, float]]
     end_reason: str
     extra: dict = field(default_factory=dict)
+    p: np.ndarray | None = None  # the parameters (the scanned one at its start)
 
     @property
     def complete(self) -> bool:
@@ -109,7 +111,8 @@ class Scan:
                 "branch_points": [b.to_json(self.name) for b in self.branch_points],
                 "stable_intervals": [list(iv) for iv in self.stable_intervals],
                 "steps": len(self.branch), "end": self.end_reason, "complete": self.complete, "end_at": self.end_at,
-                "range": [float(min(b.lam for b in self.branch)), float(max(b.lam for b in self.branch))]}
+                "range": [float(min(b.lam for b in self.branch)), float(max(b.lam for b in self.branch))],
+                **self.extra}
 
 
 class _Problem:
@@ -176,17 +179,63 @@ def _sorted_real(spectrum: np.ndarray) -> np.ndarray:
     return np.sort(spectrum.real)[::-1]
 
 
+LEADING = 4  # the leading real parts watched for the step bound and the extremum checks
+APPROACH = 0.5  # a leading real part heading for zero covers at most this part of its distance per step
+NEAR = 0.1  # an extremum of a leading real part within NEAR of its spread from zero is checked
+
+
+def _leading(b: BranchPoint) -> np.ndarray:
+    r = _sorted_real(b.spectrum)[:LEADING]
+    return np.pad(r, (0, LEADING - len(r)), constant_values=np.nan)
+
+
+def _arc(a: BranchPoint, b: BranchPoint) -> float:
+    return float(np.linalg.norm(np.r_[b.y - a.y, b.lam - a.lam]))
+
+
+def _extremum_inside(z: BranchPoint, a: BranchPoint, b: BranchPoint) -> float | None:
+    """Where (as a fraction of the step a -> b) a leading real part has an extremum that may reach the other
+    side of zero although both ends are on the same side: the parabola through z, a, b (in arclength) has its
+    vertex inside the step and its value there of the other sign, or within NEAR of its spread from zero."""
+    sz, sb = -_arc(z, a), _arc(a, b)
+    found = None
+    for vz, va, vb in zip(_leading(z), _leading(a), _leading(b)):
+        if not np.all(np.isfinite([vz, va, vb])) or va == 0 or np.sign(va) != np.sign(vb):
+            continue
+        c2, c1, c0 = np.polyfit([sz, 0.0, sb], [vz, va, vb], 2)
+        if c2 == 0:
+            continue
+        sx = -c1 / (2 * c2)
+        if not 0 < sx < sb:
+            continue
+        vx = c0 + c1 * sx + c2 * sx * sx
+        spread = max(abs(vz - va), abs(vb - va), abs(vx - va))
+        if np.sign(vx) != np.sign(va) or abs(vx) <= NEAR * spread:
+            found = sx / sb if found is None else min(found, sx / sb)
+    return found
+
+
 def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float,
-           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000, progress=None):
+           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000, progress=None,
+           ds_floor: float | None = None, watch: bool = True):
     """The branch through the steady state near y0 at name = start, continued towards `stop` (pseudo-
     arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop),
     or `max_steps` steps ("step limit") or a step below ds_min ("step size underflow") end it early.
-    `progress(lambda)` is called after each step."""
+    `progress(lambda)` is called after each step.
+
+    Steps that miss nothing (issue 21 item 5): each step is bounded by how fast the LEADING largest real
+    parts of the transverse spectrum move (one heading for zero may cover at most APPROACH of its distance
+    in a step, down to ds_floor, default ds_max / 50); and where one of them has an extremum inside a step
+    (the parabola through the last three points) that may reach the other side of zero, the branch is
+    corrected at that extremum too, so two crossings inside one step are seen (watch=False: neither, the
+    plain stepping of before).  Returns (problem, branch, end reason, statistics: the floor, the extremum
+    checks made and the largest parameter step)."""
     _require_autonomous(model)
     if name not in model.param_names:
         raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
     if not start != stop:
         raise AnalysisError(f"empty scan range {name}={start}:{stop}")
+    floor = ds_max / 50 if ds_floor is None else ds_floor
     k = model.param_names.index(name)
     prob = _Problem(model, p, k)
     first = refine(model, prob.at(start), y0)
@@ -199,7 +248,7 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
         raise AnalysisError(f"the start state is a fold in {name}: move {name} a little")
     branch = [prob.point(np.r_[first.y, start], t0)]
     branch[0].tangent = t0
-    h, reason = ds, "step limit"
+    h, reason, checks = ds, "step limit", 0
     for _ in range(max_steps):
         a = branch[-1]
         za = np.r_[a.y, a.lam]
@@ -214,6 +263,16 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
                 break
             continue
         b = prob.point(z, a.tangent)
+        frac = _extremum_inside(branch[-2], a, b) if watch and len(branch) >= 2 else None
+        if frac is not None:
+            checks += 1
+            zb = np.r_[b.y, b.lam]
+            d = (zb - za) / np.linalg.norm(zb - za)
+            try:
+                zm = prob.correct(za + frac * (zb - za), d, offset=frac * np.linalg.norm(zb - za), anchor=za)
+                branch.append(prob.point(zm, a.tangent))
+            except SteadyStateError:
+                pass
         branch.append(b)
         if progress is not None:
             progress(b.lam)
@@ -221,7 +280,18 @@ def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float,
             reason = "left the range"
             break
         h = min(ds_max, h * 1.3)
-    return prob, branch, reason
+        if not watch:
+            continue
+        prev, last = branch[-2], branch[-1]
+        dsl = max(_arc(prev, last), 1e-300)
+        for va, vb in zip(_leading(prev), _leading(last)):
+            rate = (vb - va) / dsl
+            if np.isfinite(rate) and rate * vb < 0:  # heading for zero
+                h = min(h, max(APPROACH * abs(vb) / abs(rate), floor))
+    lam = np.array([b.lam for b in branch])
+    stats = {"ds_floor": floor, "ds_max": ds_max, "extremum_checks": checks,
+             "largest_step": float(np.max(np.abs(np.diff(lam)))) if len(lam) > 1 else 0.0}
+    return prob, branch, reason, stats
 
 
 def _segment(prob: _Problem, a: BranchPoint, b: BranchPoint):
@@ -321,7 +391,7 @@ def _stable_intervals(branch: list[BranchPoint], bifurcations: list[tuple[int, B
 
 def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float, **options) -> Scan:
     """Follow the steady state near y0 from name = start to stop; Hopf points, folds, stable intervals."""
-    prob, branch, reason = follow(model, p, y0, name, start, stop, **options)
+    prob, branch, reason, stats = follow(model, p, y0, name, start, stop, **options)
     lo, hi = min(start, stop), max(start, stop)
     found: list[tuple[int, Bifurcation]] = []
     for i, (a, b) in enumerate(zip(branch, branch[1:])):
@@ -331,7 +401,21 @@ def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, s
                 if lo <= bif.value <= hi:
                     found.append((i, bif))
     return Scan(model, name, start, stop, branch, [b for _, b in found],
-                _stable_intervals(branch, found, lo, hi), reason)
+                _stable_intervals(branch, found, lo, hi), reason, {"resolution": _resolution(branch, stats)},
+                np.array(prob.p, float))
+
+
+def _resolution(branch: list[BranchPoint], stats: dict) -> dict:
+    """What the scan resolved: a window of the parameter wider than `largest_step` always holds a step end and
+    is seen; narrower ones are seen where the step bound shrank the steps around them (`step_near_axis`: the
+    largest parameter step taken while a leading real part was within 1e-2 of zero) or an extremum check
+    caught them."""
+    lam = np.array([b.lam for b in branch])
+    lead = np.array([float(np.max(b.spectrum.real)) if b.spectrum.size else 0.0 for b in branch])
+    near = [abs(lam[i + 1] - lam[i]) for i in range(len(lam) - 1)
+            if min(abs(lead[i]), abs(lead[i + 1])) < 1e-2 or np.sign(lead[i]) != np.sign(lead[i + 1])]
+    return {"largest_step": stats["largest_step"], "step_near_axis": float(max(near, default=0.0)),
+            "ds_max": stats["ds_max"], "ds_floor": stats["ds_floor"], "extremum_checks": stats["extremum_checks"]}
 
 
 def write_scan(result, out: Path, values: dict | None = None, scene: str | None = None) -> None:

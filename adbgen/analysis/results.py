@@ -81,6 +81,7 @@ class Simulation:
     parameters: dict = field(default_factory=dict)
     t_fail: float | None = None
     message: str = ""
+    picked: dict | None = None  # what the engine ran: the auto engine's choice, the Taylor engine's order
 
     @property
     def ok(self) -> bool:
@@ -99,6 +100,7 @@ class Simulation:
             "r_max": self.r_max, "t_dec": self.t_dec,
             "y_end": {name: float(v) for name, v in zip(self.state_names, self.y_end)},
             "n_rhs": self.n_rhs, "n_steps": self.n_steps, "wall_s": self.wall_s,
+            "picked": self.picked if self.picked is not None else {"engine": self.engine},
             "parameters": self.parameters, "t_fail": self.t_fail,
         }
 

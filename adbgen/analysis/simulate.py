@@ -59,7 +59,7 @@ def simulate(model: Model, params=None, y0=None, *, t_end: float = 1000.0, rtol:
         r_max=float(out["r_max"]), t_dec=None if t_dec is None or not math.isfinite(t_dec) else float(t_dec),
         y_end=np.asarray(out["y_end"], float), n_rhs=out["n_rhs"], n_steps=out["n_steps"], wall_s=out["wall_s"],
         state_names=model.state_names, parameters=dict(zip(model.param_names, map(float, p))),
-        t_fail=out["t_fail"], message=out.get("message", ""))
+        t_fail=out["t_fail"], message=out.get("message", ""), picked=out.get("picked"))
     return sim.raise_for_status() if check else sim
 
 

@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
+from .engines import DEFAULT as DEFAULT_ENGINE
 from .grid import Grid, axis_symbol, make_grid
 from .loading import AnalysisError, Model, load_model, parse_assignments
 
@@ -64,7 +65,7 @@ class SweepSpec:
     rtol: float = 1e-8
     atol: float = 1e-10
     threshold: float = 1e-3
-    engine: str = "cyrk-dop853"
+    engine: str = DEFAULT_ENGINE  # the command line's default too
     early_stop: bool = True
     symmetry: bool = True
     check_dt: float = 10.0

@@ -253,6 +253,7 @@ class Heyoka:
     """heyoka's adaptive Taylor integrator on the generated rhs (one integrator per tolerance)."""
 
     name = "heyoka"
+    label = "heyoka (the generated statements)"
 
     def __init__(self, module, compact_mode: bool = False):
         self.compact_mode = compact_mode  # heyoka's compact mode: fast builds of large systems, slower steps
@@ -261,16 +262,26 @@ class Heyoka:
         except ImportError as exc:
             raise PeerUnavailable(f"heyoka is not installed ({exc}); pip install 'adbgen[peers]'") from None
         self.hy = hy
-        self.vars = [hy.make_vars(name) for name in module.STATE_NAMES]
+        self.n_model = len(module.STATE_NAMES)
         start = time.perf_counter()
-        functions = {**_functions(hy), "select": hy.select, "less": hy.lt, "power": _power_by_products}
-        outputs = _translate(module, functions, self.vars, [hy.par[i] for i in range(len(module.PARAM_NAMES))],
-                             hy.time)
+        self.vars, outputs = self._equations(module, hy)
         self.translate_s = time.perf_counter() - start
         self.system = list(zip(self.vars, outputs))
         self.outputs = outputs
         self._integrators: dict[float, object] = {}
         self.compile_s: dict[float, float] = {}
+
+    def _equations(self, module, hy):
+        """(state variables, right-hand sides): the generated module's statements on heyoka expressions."""
+        variables = [hy.make_vars(name) for name in module.STATE_NAMES]
+        functions = {**_functions(hy), "select": hy.select, "less": hy.lt, "power": _power_by_products}
+        outputs = _translate(module, functions, variables, [hy.par[i] for i in range(len(module.PARAM_NAMES))],
+                             hy.time)
+        return variables, outputs
+
+    def full_state(self, y, t: float = 0.0):
+        """The peer's state for a model state (the hand-written run-up adds the spin angle)."""
+        return [float(v) for v in y]
 
     def integrator(self, tol: float, y0, p, cold: bool = True):
         """The compiled integrator for `tol`; its build is timed in compile_s[tol] (cold by default).
@@ -288,7 +299,7 @@ class Heyoka:
                 if cold:
                     state.clear_memcache()
                 start = time.perf_counter()
-                ta = self.hy.taylor_adaptive(self.system, list(map(float, y0)), tol=float(tol),
+                ta = self.hy.taylor_adaptive(self.system, self.full_state(y0), tol=float(tol),
                                              pars=list(map(float, p)), compact_mode=self.compact_mode)
                 self.compile_s[tol] = time.perf_counter() - start
             finally:
@@ -298,24 +309,66 @@ class Heyoka:
         return self._integrators[tol]
 
     def rhs(self, y, p, t=0.0):
-        """The rhs as heyoka evaluates it (a compiled function of the same expressions)."""
+        """The rhs as heyoka evaluates it (a compiled function of the same expressions), the model's rows."""
         cf = getattr(self, "_cfunc", None)
         if cf is None:
             cf = self._cfunc = self.hy.cfunc(self.outputs, vars=self.vars)
-        return np.asarray(cf(np.asarray(y, float), pars=np.asarray(p, float), time=float(t)), float)
+        out = cf(np.asarray(self.full_state(y, t), float), pars=np.asarray(p, float), time=float(t))
+        return np.asarray(out, float)[: self.n_model]
 
     def run(self, y0, p, t_end: float, tol: float) -> dict:
         ta = self.integrator(tol, y0, p)
         ta.time = 0.0
-        ta.state[:] = np.asarray(y0, float)
+        ta.state[:] = np.asarray(self.full_state(y0), float)
         ta.pars[:] = np.asarray(p, float)
         start = time.perf_counter()
         res = ta.propagate_until(float(t_end))
         wall = time.perf_counter() - start
         outcome = res[0]
         ok = outcome == self.hy.taylor_outcome.time_limit and np.all(np.isfinite(ta.state))
-        return {"wall_s": wall, "y_end": np.array(ta.state, float), "n_steps": int(res[3]), "n_rhs": None,
-                "order": int(ta.order), "status": "success" if ok else f"failed: {outcome}"}
+        return {"wall_s": wall, "y_end": np.array(ta.state, float)[: self.n_model], "n_steps": int(res[3]),
+                "n_rhs": None, "order": int(ta.order), "status": "success" if ok else f"failed: {outcome}"}
+
+
+class HeyokaHandwritten(Heyoka):
+    """heyoka on the equations a heyoka user writes by hand (`bench.handwritten`: thesis Appendix A for
+    problem A, the paper's (2), (4) for problem B), parameters as heyoka.par."""
+
+    name = "heyoka-hand"
+    label = "heyoka (hand-written: Appendix A / paper (2), (4))"
+
+    def _equations(self, module, hy):
+        from . import handwritten
+
+        form = handwritten.form_of(module.NAME)
+        if form is None:
+            raise PeerUnavailable(f"no hand-written form of {module.NAME} (only problems A and B have one)")
+        self.form = form
+        self._names = list(module.PARAM_NAMES)
+        return (handwritten.thesis_appendix_a if form == "A" else handwritten.two_plane_hill)(hy, module)
+
+    def full_state(self, y, t: float = 0.0):
+        y = [float(v) for v in y]
+        if self.form == "B":  # the spin angle theta_0(t) = integral of the Hill profile, 0 at t = 0
+            y.append(self._spin_angle(t))
+        return y
+
+    def _spin_angle(self, t: float) -> float:
+        if t == 0.0:
+            return 0.0
+        from scipy.integrate import quad
+
+        p = getattr(self, "_p", None)
+        if p is None:
+            raise RuntimeError("the run-up's spin angle needs the parameters: call rhs(y, p, t)")
+        names = self._names
+        om_max, om_cyl, t_half = (p[names.index(k)] for k in ("Omega_max", "Omega_cyl", "t_half"))
+        return quad(lambda s: om_max * (om_cyl * s) ** 3 / (t_half ** 3 + (om_cyl * s) ** 3), 0.0, t,
+                    epsabs=0.0, epsrel=1e-13, limit=200)[0]
+
+    def rhs(self, y, p, t=0.0):
+        self._p = list(map(float, p))
+        return super().rhs(y, p, t)
 
 
 # ------------------------------------------------------------------------------------- JiTCODE
@@ -398,7 +451,7 @@ class JiTCODE:
         return {"wall_s": wall, "y_end": np.array(y_end, float), "n_steps": None, "n_rhs": None, "status": status}
 
 
-PEERS = {"jitcode": JiTCODE, "heyoka": Heyoka}
+PEERS = {"jitcode": JiTCODE, "heyoka": Heyoka, "heyoka-hand": HeyokaHandwritten}
 
 
 def check_equations(peer, module, p, samples: int = 50, seed: int = 0) -> float:
@@ -415,4 +468,4 @@ def check_equations(peer, module, p, samples: int = 50, seed: int = 0) -> float:
     return worst
 
 
-__all__ = ["Heyoka", "JiTCODE", "PEERS", "PeerUnavailable", "check_equations", "generated_program", "peer_versions"]
+__all__ = ["Heyoka", "HeyokaHandwritten", "JiTCODE", "PEERS", "PeerUnavailable", "check_equations", "generated_program", "peer_versions"]

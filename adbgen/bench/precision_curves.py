@@ -216,7 +216,7 @@ def _peer_curves(model, pp: PrecisionProblem, want_t_dec: bool, say) -> list[Cur
     compact = heyoka_compact(model)
     for name, cls in bench_peers.PEERS.items():
         try:
-            peer = cls(model.module, compact_mode=compact) if name == "heyoka" else cls(model.module)
+            peer = cls(model.module, compact_mode=compact) if name.startswith("heyoka") else cls(model.module)
         except Exception as exc:  # not installed or failed to build: recorded, not fatal
             say(f"peer {name} unavailable: {exc}")
             continue
@@ -239,26 +239,27 @@ def _peer_curves(model, pp: PrecisionProblem, want_t_dec: bool, say) -> list[Cur
             out.append(Curve("peer:jitcode-dop853", "peer", "JiTCODE (helpers = the generated statements), "
                              "dop853 backend (scipy ode, a Python call per evaluation)", make, adbgen=False,
                              t_dec_of=t_dec_of if want_t_dec else None, setup=setup))
-        else:
+        else:  # heyoka on the generated statements ("heyoka") or on the hand-written form ("heyoka-hand")
             setup["compile_s"] = {}
             setup["compact_mode"] = compact
+            key = f"peer:{name}"
 
-            def make(tol, t_end, peer=peer, setup=setup):
+            def make(tol, t_end, peer=peer, setup=setup, key=key):
                 if tol not in peer._integrators:
                     peer.integrator(tol, y0, p, cold=False)
                     setup["compile_s"][f"{tol:g}"] = round(peer.compile_s[tol], 3)
-                return Pathway(f"peer:heyoka@{tol:g}", "peer", "peer:heyoka", tol, lambda: peer.run(y0, p, t_end, tol))
+                return Pathway(f"{key}@{tol:g}", "peer", key, tol, lambda: peer.run(y0, p, t_end, tol))
 
             def t_dec_of(tol, peer=peer):
                 ta = peer.integrator(tol, y0, p, cold=False)
                 ta.time = 0.0
-                ta.state[:] = np.asarray(y0, float)
+                ta.state[:] = np.asarray(peer.full_state(y0), float)
                 ta.pars[:] = np.asarray(p, float)
                 res = ta.propagate_grid(grid)
                 ys = np.asarray(res[-1])
                 return t_dec_grid(grid, np.hypot(ys[:, ix], ys[:, iy]))
 
-            out.append(Curve("peer:heyoka", "peer", "heyoka adaptive Taylor (LLVM), tol = rtol = atol; compiled per "
+            out.append(Curve(key, "peer", f"{peer.label}: adaptive Taylor (LLVM), tol = rtol = atol; compiled per "
                              "tolerance outside the timings (caches allowed)", make, adbgen=False,
                              t_dec_of=t_dec_of if want_t_dec else None, setup=setup))
         say(f"peer {name}: {setup}")

@@ -242,5 +242,56 @@ def precision_targets(prob: dict, default: str) -> list[dict]:
 
 
 
-__all__ = ["ATTRACTOR_TOL", "CHEAP_S", "PROBE_FRACTION", "SLOW_S", "TARGET_ERROR", "TDEC_REL", "TIME", "attractor_check",
+# issue 22: the default (auto) engine at or left of heyoka on the hand-written equations at every decade of
+# error, on problems A and B; at least 4x JiTCODE at 1e-8 on A
+AUTO_LEVELS = tuple(10.0 ** -k for k in range(6, 14))
+HAND = "peer:heyoka-hand"
+
+
+def auto_targets(problems: dict, default: str) -> list[dict]:
+    """The issue-22 targets from the work-precision curves (time interpolated log-log at each error, CPU
+    time).  At a level the peer's curve does not reach (its tightest tolerance errs more) and the default
+    reaches, the default counts as ahead ("peer does not reach"); the measured ratio is the smallest over
+    the levels both curves cover."""
+    out = []
+    for label in ("A", "B"):
+        prob = problems.get(label)
+        if not prob:
+            continue
+        recs = {r["name"]: r for r in prob["curves"]}
+        d, h = recs.get(default), recs.get(HAND)
+        rows, worst = [], None
+        for e in AUTO_LEVELS:
+            td = _interpolated(d, e) if d else None
+            th = _interpolated(h, e) if h else None
+            reach = min((x for x, _ in _curve_points(h)), default=None) if h else None
+            row = {"error": e, "default_s": td, "peer_s": th}
+            if td and th:
+                row["ratio"] = th / td
+                worst = th / td if worst is None else min(worst, th / td)
+            elif td and reach is not None and reach > e:
+                row["note"] = f"peer does not reach (its smallest error {reach:.1e})"
+            rows.append(row)
+        prob["auto_vs_heyoka_hand"] = rows
+        lost = [f"{r['error']:.0e} ({r['ratio']:.2f}x)" for r in rows if r.get("ratio", 1.0) < 1.0]
+        missing = [f"{r['error']:.0e}" for r in rows if "ratio" not in r and "note" not in r]
+        detail = ", ".join(f"{r['error']:.0e}: {r['ratio']:.2f}x" if "ratio" in r else f"{r['error']:.0e}: "
+                           + r.get("note", "not covered") for r in rows)
+        out.append(target(f"{label}: {default} at or left of heyoka on the hand-written equations, errors 1e-6..1e-13",
+                          "min over the decades of heyoka-hand time / default time >= 1", worst, 1.0,
+                          ("slower at " + ", ".join(lost) + "; " if lost else "")
+                          + ("not covered: " + ", ".join(missing) + "; " if missing else "") + detail))
+        if label == "A":
+            j = recs.get("peer:jitcode-dop853")
+            tj, td = (time_at_error(_curve_points(j), TARGET_ERROR) if j else None,
+                      time_at_error(_curve_points(d), TARGET_ERROR) if d else None)
+            ratio = tj["time_s"] / td["time_s"] if tj and td else None
+            out.append(target(f"A, error 1e-8: {default} vs JiTCODE dop853", "JiTCODE / default >= 4", ratio, 4.0,
+                              f"{default} {1e3 * td['time_s']:.3g} ms CPU ({td['how']}); JiTCODE "
+                              f"{1e3 * tj['time_s']:.3g} ms CPU ({tj['how']})" if ratio else "not measured"))
+    return out
+
+
+__all__ = ["ATTRACTOR_TOL", "AUTO_LEVELS", "CHEAP_S", "PROBE_FRACTION", "SLOW_S", "TARGET_ERROR", "TDEC_REL", "TIME",
+           "attractor_check", "auto_targets",
            "curve_record", "loosest_reliable", "precision_targets", "sweep", "track_cpu"]

@@ -31,6 +31,8 @@ REGISTRY: dict[str, str] = {
     "smallest": "adbgen.bench.smallest:BENCHMARK",
     "precision": "adbgen.bench.precision:BENCHMARK",
     "mutation": "adbgen.bench.mutation:BENCHMARK",
+    "orbits": "adbgen.bench.orbits:BENCHMARK",
+    "auto": "adbgen.bench.auto:BENCHMARK",
     "reproduce": "adbgen.bench.reproduce:BENCHMARK",
 }
 

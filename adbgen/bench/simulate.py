@@ -158,13 +158,13 @@ def peer_pathways(model, problem: Problem, tols, setup: dict, progress=None) -> 
             for tol in tols:
                 pathways.append(Pathway(f"jitcode@{tol:g}", "peer", "jitcode", tol,
                                         _jitcode_run(peer, y, p, problem.t_end, tol, tol * ratio)))
-        else:
-            rec["method"] = "adaptive Taylor (LLVM), tol = relative and absolute tolerance"
+        else:  # heyoka on the generated statements, or on the hand-written form (heyoka-hand)
+            rec["method"] = f"{peer.label}: adaptive Taylor (LLVM), tol = relative and absolute tolerance"
             rec["compile_s"] = {}
             for tol in tols:
                 peer.integrator(tol, y, p)  # compile now, outside the timings
                 rec["compile_s"][f"{tol:g}"] = round(peer.compile_s[tol], 3)
-                pathways.append(Pathway(f"heyoka@{tol:g}", "peer", "heyoka", tol,
+                pathways.append(Pathway(f"{name}@{tol:g}", "peer", name, tol,
                                         _heyoka_run(peer, y, p, problem.t_end, tol)))
         rec["_peer"] = peer
         setup[name] = rec
@@ -195,7 +195,7 @@ def _peer_symmetry(setup: dict, model, problem: Problem) -> dict:
     out = {}
     p, _ = problem.vectors(model)
     y = model.state(symmetric_y0(model))
-    for name in ("jitcode", "heyoka"):
+    for name in ("jitcode", "heyoka", "heyoka-hand"):
         peer = setup.get(name, {}).get("_peer")
         if peer is None:
             continue
@@ -259,18 +259,26 @@ def evaluate_targets(result: dict) -> list[dict]:
 
 # ----------------------------------------------------------------------------------------- run
 
-def _cold_build(model, engine) -> float | None:
-    """Seconds to compile a compiled engine's library for the model from scratch (a scratch cache)."""
-    from ..analysis.engines import compiled
+def _cold_build(model, engine, rtol: float, atol: float) -> float | None:
+    """Seconds to compile a compiled engine's library for the model from scratch (a scratch cache); for
+    `auto`, the library of what it picks at (rtol, atol) (a Taylor engine: one library per order)."""
+    from ..analysis.engines import compiled, taylor
 
-    if not hasattr(engine, "driver"):
+    order = None
+    if hasattr(engine, "picked"):
+        engine, _, _, record = engine.picked(rtol, atol, model)
+        order = record.get("order")
+    if order is None and not hasattr(engine, "driver"):
         return None
     old = os.environ.get("ADBGEN_CACHE")
     with tempfile.TemporaryDirectory(prefix="adbgen-cold-") as tmp:
         os.environ["ADBGEN_CACHE"] = tmp
         try:
             start = time.perf_counter()
-            compiled.build(model, engine.driver, engine.libs)
+            if order is not None:
+                taylor.build(model, int(order))
+            else:
+                compiled.build(model, engine.driver, engine.libs)
             return round(time.perf_counter() - start, 3)
         except Exception:
             return None
@@ -361,7 +369,7 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
         except Exception as exc:
             warm[name] = f"error: {exc}"
     result["engine_setup_s"] = warm
-    result["default_engine_cold_build_s"] = _cold_build(model, ENGINES[DEFAULT])
+    result["default_engine_cold_build_s"] = _cold_build(model, ENGINES[DEFAULT], problem.rtol, problem.atol)
     say(f"engines built/loaded: {warm}; {DEFAULT} cold build {result['default_engine_cold_build_s']} s")
 
     ref = reference(model, problem)

@@ -42,6 +42,7 @@ COMMAND_GROUPS: list[str] = [
     "adbgen.cli.bench:register",  # bench
     "adbgen.cli.simulate:register",  # simulate (the analysis layer over generated code)
     "adbgen.cli.stability:register",  # stability, continue
+    "adbgen.cli.orbit:register",  # orbit (periodic orbits by shooting)
     "adbgen.cli.sweep:register",  # sweep
     "adbgen.cli.reproduce:register",  # reproduce (every family's reproductions)
     "adbgen.cli.notebooks:register",  # notebooks (execute and render derive/)

@@ -20,6 +20,7 @@ from ..analysis.units import assignments, show
 from ..outputs import output_folder
 from ..progress import activity, bar as progress_bar, wanted
 from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments, _positive_int
+from .orbit import add_continue_options, print_orbits
 
 command = Commands()
 register = command.register
@@ -98,6 +99,7 @@ def _add_stability(p) -> None:
 def run_stability(args) -> int:
     from ..analysis import continuation, steady
     from ..analysis.continuation import write_scan
+    from ..analysis.orbits.lyapunov import add_to_scan
     from ..analysis.units import params, units
 
     if args.out is not None:
@@ -130,6 +132,7 @@ def run_stability(args) -> int:
                       show_progress) as update:
         result = continuation.scan(model, p, y0, name, a, b, ds=ds_max / 2, ds_max=ds_max, ds_min=ds_max * 1e-5,
                                    max_steps=args.max_steps, progress=lambda lam: update(abs(lam - a)))
+    add_to_scan(result)
     if args.out is not None:
         write_scan(result, Path(args.out), values=values, scene=args.scene)
     if args.json:
@@ -231,7 +234,8 @@ def _print_scan(result, unit: str = "1") -> None:
           f"{len(result.branch)} steps ({result.end_reason}{state}; last step at {show(result.end_at, unit, 8)})")
     for b in result.points:
         freq = "" if b.frequency is None else f", frequency {b.frequency:.9g}"
-        print(f"  {b.kind:<5} {result.name} = {b.value:.10g}{freq}, {b.direction or 'stability unchanged'}")
+        crit = f", {b.extra['criticality']} (l1 = {b.extra['first_lyapunov']:.6g})" if "criticality" in b.extra else ""
+        print(f"  {b.kind:<5} {result.name} = {b.value:.10g}{freq}, {b.direction or 'stability unchanged'}{crit}")
     for b in result.branch_points:
         print(f"  branch point {result.name} = {b.value:.10g}")
     intervals = ", ".join(f"[{a:.7g}, {b:.7g}]" for a, b in result.stable_intervals) or "none"
@@ -251,7 +255,8 @@ def _add_continue(p) -> None:
     p.add_argument("--par2", metavar="NAME2", help="second parameter: continue each Hopf point and fold in (NAME, NAME2)")
     p.add_argument("--to", metavar="VALUE", help="continue --par from its start value to VALUE, a number in the "
                                                  "parameter's unit or a value with a unit (100rad/s) (default: half "
-                                                 "the start value)")
+                                                 "the start value; with --par2, the end of the range the model's AUTO "
+                                                 "constants continue over, UZSTOP)")
     p.add_argument("--range2", metavar="LO:HI", help="bounds of --par2 (default 0 to ten times its value)")
     p.add_argument("--state", metavar="LABEL",
                    help="start from `start` (START, default) or one of the model's closed-form steady states at the "
@@ -260,12 +265,14 @@ def _add_continue(p) -> None:
     p.add_argument("--keep", metavar="DIR", help="run AUTO in DIR and keep its files (fort.7, fort.8, ...)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_continue_options(p)
     p.set_defaults(fn=run_continue)
 
 
 def run_continue(args) -> int:
     from ..analysis import auto, steady
-    from ..analysis.starts import follower, pinned_start
+    from ..analysis.orbits import continue_command
+    from ..analysis.starts import follower, pinned, pinned_start
     from ..analysis.units import params, quantity, units
 
     if args.keep is not None:
@@ -279,15 +286,27 @@ def run_continue(args) -> int:
                                 f"{', '.join(model.param_names)}")
     values = assignments(args.set, "--set", u.params)
     to = quantity(args.to, u.params[args.par], "--to") if args.to is not None else None
+
+    def emit(out):
+        _emit_json(out) if args.json else _print_continue(out, args.par, args.par2)
     if not model.autonomous:
+        if continue_command.wants_orbits(args) or args.par2 is not None:  # our own shooting (issue 21)
+            return continue_command.run_forced(args, model, emit)
         return _continue_forced(model, params(model, values), args, to, show_progress)
-    if getattr(model.module, "START", None) is None:
-        raise AnalysisError(f"{model.name} has no START state to continue from")
+    if getattr(model.module, "START", None) is None and not args.y0:
+        raise AnalysisError(f"{model.name} has no START state to continue from (give --y0)")
     params(model, values)  # each --set value within its domain
-    p = model.params({**dict(zip(model.param_names, model.module.START_PARAMETERS)), **values})
+    p = model.params({**continue_command._start_parameters(model), **values})
     k = model.param_names.index(args.par)
+    if to is None and args.par2 is not None:  # the whole range the model's AUTO constants continue over
+        to = auto.default_stop(model, args.par, float(p[k]))
     if to is None:
         to = 0.5 * p[k] if p[k] > 0 else p[k] - 1.0
+    pmap = continue_command.pmap_for(model, p, [args.par, args.par2], args)
+    p = pmap([p[j] for j in pmap.index])
+    if args.tie and args.par2 is None and np.any(pmap.direction(p[k], 0) != np.eye(model.n_params)[k]):
+        raise AnalysisError("--tie: a parameter tied to --par needs --par2 (AUTO-07p's one-parameter run cannot keep "
+                            "it tied)")
     range2 = None
     if args.range2 is not None:
         if args.par2 is None:
@@ -299,8 +318,11 @@ def run_continue(args) -> int:
         range2 = (quantity(lo, unit2, "--range2 LO"), quantity(hi, unit2, "--range2 HI"))
         if not range2[0] < range2[1]:
             raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
-    if args.state in (None, "start"):
-        y = pinned_start(model, p)
+    if args.y0 and getattr(model.module, "START", None) is None:
+        y, _ = steady.newton(model, p, model.state(assignments(args.y0, "--y0", u.states)))
+    elif args.state in (None, "start"):
+        y = continue_command.carried_start(model, p, pmap) if (continue_command.wants_chart(args) or args.tie) \
+            else pinned_start(model, p)
     else:
         from ..analysis.starts import labelled_state
 
@@ -312,6 +334,8 @@ def run_continue(args) -> int:
             raise AnalysisError(f"state {args.state}: {model.name}'s AUTO files pin the free angles "
                                 f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
                                 f"balanced continuum), which this state does not share; use stability --scan")
+    if continue_command.wants_chart(args):
+        return continue_command.chart_command(args, model, p, y, emit)
     ds_max = abs(to - p[k]) / AUTO_STEPS_PER_RANGE
     with activity(f"{model.name}: AUTO-07p in {args.par}", show_progress):
         if args.par2 is None:
@@ -335,10 +359,15 @@ def run_continue(args) -> int:
     complete = bool(abs(end_at - to) <= 1e-6 * max(abs(to), abs(to - p[k])))
     out.update({"to": float(to), "complete": complete, "end": last.type if last is not None else "none",
                 "end_at": float(end_at), "units": {args.par: u.params[args.par]}})
-    if args.json:
-        _emit_json(out)
-    else:
-        _print_continue(out, args.par, args.par2)
+    follow = lambda q, guess: pinned(model, y, q, guess)  # noqa: E731
+    continue_command.add_lyapunov(model, out["points"], args.par, p, follow, args)
+    if continue_command.wants_orbits(args):
+        with activity(f"{model.name}: periodic orbits in {args.par} (shooting)", show_progress):
+            result, branches = continue_command.continue_orbits(model, args, p, out["points"], args.par, to, follow)
+        out.update(result)
+        if args.plot and args.par2 is None:
+            continue_command.plot_branches(Path(args.plot), model, args.par, branches)
+    emit(out)
     if not complete:
         print(f"adbgen: ended early: AUTO-07p stopped at {args.par} = {show(end_at, u.params[args.par], 9)} before "
               f"{show(to, u.params[args.par], 9)} ({out['end']})", file=sys.stderr)
@@ -387,10 +416,13 @@ def _print_continue_forced(out, name, u) -> None:
 
 
 def _print_continue(out, name, name2) -> None:
-    print(f"model {out['model']}: AUTO-07p in {name}")
+    if out["points"]:
+        print(f"model {out['model']}: AUTO-07p in {name}")
     for pt in out["points"]:
         freq = f", frequency {pt['frequency']:.9g}" if pt.get("frequency") else ""
-        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {pt['stability']}{freq}")
+        crit = f", {pt['criticality']} (l1 = {pt['first_lyapunov']:.6g})" if "criticality" in pt else ""
+        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {pt['stability']}{freq}{crit}")
+    print_orbits(out, name)
     if name2:
         for c in out["curves"]:
             pts = c["points"]

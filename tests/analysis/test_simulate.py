@@ -36,12 +36,12 @@ def test_default_is_compiled_and_matches_solve_ivp(thesis, reference_a):
     m = thesis[3]
     fast = simulate(m, None, PHI_A, t_end=2000.0, rtol=1e-8, atol=1e-10)
     slow = simulate(m, None, PHI_A, t_end=2000.0, rtol=1e-8, atol=1e-10, engine="scipy-dop853")
-    assert fast.engine == DEFAULT == "cyrk-dop853"
+    assert fast.engine == DEFAULT == "auto" and fast.picked["engine"] in ENGINES
     assert _rel(fast.y_end, slow.y_end) < 1e-7
     assert _rel(fast.y_end, reference_a.y_end) < 1e-7
     assert fast.r_max == pytest.approx(reference_a.r_max, rel=1e-7)
     assert fast.t_dec == pytest.approx(reference_a.t_dec, abs=1e-3)
-    assert fast.n_rhs > 10_000 and fast.n_steps > 1_000 and fast.wall_s > 0
+    assert fast.n_rhs > 10_000 and fast.n_steps > 500 and fast.wall_s > 0
 
 
 @pytest.mark.parametrize("name", ["cyrk-vern8", "cvode-bdf", "cvode-adams", "arkode-erk8", "arkode-dp5"])
@@ -53,13 +53,14 @@ def test_every_compiled_engine(thesis, reference_a, name):
     assert s.t_dec == pytest.approx(reference_a.t_dec, abs=0.01)
 
 
-def test_decay_time_is_located_on_the_continuous_solution(thesis, reference_a):
+@pytest.mark.parametrize("engine", [DEFAULT, "cyrk-dop853"])
+def test_decay_time_is_located_on_the_continuous_solution(thesis, reference_a, engine):
     """t_dec is where r crosses the threshold on the solution, not the nearest accepted step."""
-    s = simulate(thesis[3], None, PHI_A, t_end=2000.0)
+    s = simulate(thesis[3], None, PHI_A, t_end=2000.0, engine=engine)
     r = np.hypot(s.y[0], s.y[1])
-    last = np.nonzero(r >= 1e-3)[0][-1]
-    assert s.t[last] < s.t_dec < s.t[last + 1]
-    assert abs(s.t_dec - reference_a.t_dec) < 1e-3 * (s.t[last + 1] - s.t[last])
+    k = int(np.searchsorted(s.t, s.t_dec))
+    assert s.t[k - 1] < s.t_dec < s.t[k] and np.all(r[k:] < 1e-3)
+    assert abs(s.t_dec - reference_a.t_dec) < 1e-3 * (s.t[k] - s.t[k - 1])
     # r_max: at least the largest step value, and the peak between steps
     assert s.r_max >= r.max()
 
@@ -141,19 +142,21 @@ def test_early_stop_in_a_target_region(thesis):
 
 
 def test_segments_and_ellipsoid_targets(thesis):
-    """check_dt segments the run with or without targets (bit-identical trajectories until a stop); an
-    ellipsoid target e'We <= 1 stops; measures=False gives the same states with r_max and t_dec NaN."""
+    """CyRK: check_dt segments the run with or without targets (bit-identical trajectories until a stop);
+    an ellipsoid target e'We <= 1 stops; measures=False gives the same states with r_max and t_dec NaN.
+    (The Taylor engine tests the state on its steps' polynomials instead: tests/analysis/test_taylor_engine.py.)"""
     m = thesis[2]
     start = np.array(m.module.START)
     Y0 = np.array([start + 1e-4, m.state({"phi_1": 3.0, "phi_2": 3.0})])
-    plain = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0)
-    lean = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0, measures=False)
+    cyrk = {"engine": "cyrk-dop853"}
+    plain = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0, **cyrk)
+    lean = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0, measures=False, **cyrk)
     assert np.array_equal(plain.y_end, lean.y_end) and np.array_equal(plain.n_rhs, lean.n_rhs)
     assert np.all(np.isnan(lean.r_max)) and np.all(np.isnan(lean.t_dec)) and not np.any(np.isnan(plain.r_max))
-    whole = simulate_many(m, m.params(), Y0, t_end=300.0)
+    whole = simulate_many(m, m.params(), Y0, t_end=300.0, **cyrk)
     assert not np.array_equal(whole.y_end, plain.y_end)  # the segments are real restarts
     W = np.eye(m.n_states) * 1e4  # |y - start| <= 1e-2 (Euclidean)
-    stop = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0, targets=[(start, W)], measures=False)
+    stop = simulate_many(m, m.params(), Y0, t_end=300.0, check_dt=10.0, targets=[(start, W)], measures=False, **cyrk)
     assert list(stop.status) == ["stopped", "success"] and stop.t_last[0] == pytest.approx(10.0)
     assert np.array_equal(stop.y_end[1], lean.y_end[1])
     with pytest.raises(AnalysisError, match="target region"):
@@ -168,7 +171,7 @@ def test_failures_name_the_time(thesis):
     with pytest.raises(IntegrationError, match="non-finite"):
         simulate(m, {"mu": 1e308}, y0, t_end=10.0)
     with pytest.raises(IntegrationError, match="step size underflow"):
-        simulate(m, None, y0, t_end=10.0, rtol=1e-15, atol=1e-300)
+        simulate(m, None, y0, t_end=10.0, rtol=1e-15, atol=1e-300, engine="cyrk-dop853")
     for engine in ("cvode-adams", "scipy-dop853"):
         with pytest.raises(IntegrationError, match="non-finite"):
             simulate(m, {"mu": 1e308}, y0, t_end=10.0, engine=engine)

@@ -11,7 +11,7 @@ from adbgen.cli import main
 
 pytestmark = pytest.mark.usefixtures("needs_gcc")
 
-KEYS = {"model", "engine", "rtol", "atol", "t_end", "status", "r_max", "t_dec", "y_end", "n_rhs", "wall_s"}
+KEYS = {"model", "engine", "rtol", "atol", "t_end", "status", "r_max", "t_dec", "y_end", "n_rhs", "wall_s", "picked"}
 
 
 def run(capsys, *argv):
@@ -26,7 +26,8 @@ def test_simulate_json(capsys):
     assert code == 0 and err == ""
     data = json.loads(out)
     assert KEYS <= set(data)
-    assert data["model"] == "thesis_rotating_n2" and data["engine"] == "cyrk-dop853" and data["status"] == "success"
+    assert data["model"] == "thesis_rotating_n2" and data["engine"] == "auto" and data["status"] == "success"
+    assert data["picked"]["engine"] in ("taylor", "cyrk-dop853", "cyrk-vern8")  # the auto engine says what it ran
     assert data["rtol"] == 1e-8 and data["atol"] == 1e-10 and data["t_end"] == 1000.0
     assert set(data["y_end"]) == {"x", "y", "phi_1", "phi_2", "x_dot", "y_dot", "phi_1_dot", "phi_2_dot"}
     assert data["r_max"] == pytest.approx(0.0483, rel=5e-3) and data["t_dec"] == pytest.approx(462.42, rel=5e-3)

@@ -50,7 +50,7 @@ def test_the_files_of_a_model_are_proven_and_the_verdict_cached(thesis2):
     _tools()
     ir, ref, files = thesis2
     first = proofs.prove_model(ir, files, None, "loops", ref)
-    assert first["targets"] == ("numba", "c", "cvode", "auto") and not first["cached"]
+    assert first["targets"] == ("numba", "c", "cvode", "auto", "taylor") and not first["cached"]
     assert proofs.prove_model(ir, files, None, "loops", ref)["cached"]
     # the key is the files' text: a changed file is proven again (and refused here)
     rel = f"{ir.name}/{ir.name}.c"

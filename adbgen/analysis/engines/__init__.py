@@ -1,5 +1,6 @@
 """Integration engines, registered in one place (`ENGINES`); `DEFAULT` is the one users get.
 
+`auto` (the default) picks one of the others per tolerance from measured work-precision data.
 Every engine runs a generated model from t = 0 to t_end and reports the same things (status, r_max,
 t_dec, final state, evaluations, steps, wall time); `symmetric` says whether it keeps identical balls
 that start together bit-for-bit together (tested).  To add an engine: a class with `name`,
@@ -9,13 +10,17 @@ that start together bit-for-bit together (tested).  To add an engine: a class wi
 from __future__ import annotations
 
 from ..loading import AnalysisError
+from .auto import AutoEngine
 from .compiled import CyRKEngine, SundialsEngine
 from .matlab_ode45 import ENGINE as MATLAB_ODE45
 from .scipy_ivp import ScipyEngine
+from .taylor import TaylorBatchEngine, TaylorEngine
 
-DEFAULT = "cyrk-dop853"
+DEFAULT = "auto"
 
 ENGINES = {e.name: e for e in (
+    TaylorEngine(),
+    TaylorBatchEngine(),
     CyRKEngine("DOP853"), CyRKEngine("Vern8"), CyRKEngine("Vern7"), CyRKEngine("RK45"), CyRKEngine("RK23"),
     SundialsEngine("cvode-bdf", 10, "SUNDIALS CVODE BDF, Newton, dense LU with the generated Jacobian (stiff)",
                    symmetric=False),
@@ -27,6 +32,7 @@ ENGINES = {e.name: e for e in (
     ScipyEngine("radau", use_jac=False), ScipyEngine("lsoda", use_jac=False),
     MATLAB_ODE45,
 )}
+ENGINES["auto"] = AutoEngine(ENGINES)  # picks one of the above per tolerance (auto_table.json)
 
 
 def engine(name: str | None):

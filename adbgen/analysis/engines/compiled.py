@@ -91,8 +91,8 @@ def build(model, driver: str, libs: list[str], extra: tuple[str, ...] = (), tag:
     flags = _CFLAGS + (PINNED_FLAGS if pinned_libm() else []) + list(extra)
     libs = list(libs) + (PINNED_LIBS if pinned_libm() else [])
     h = hashlib.sha256()
-    for part in (drv.read_bytes(), (HERE / "driver_common.h").read_bytes(), (HERE / "fixed_libm.h").read_bytes(),
-                 (HERE / "symmetrize.h").read_bytes(), source.read_bytes(), " ".join(flags + libs).encode(),
+    headers = [p.read_bytes() for p in sorted(HERE.glob("*.h"))]  # every header a driver may include
+    for part in (drv.read_bytes(), *headers, source.read_bytes(), " ".join(flags + libs).encode(),
                  model.name.encode()):
         h.update(part)
         h.update(b"\0")
@@ -165,9 +165,14 @@ class _Compiled:
         periodic[list(model.angle_indices)] = 1
         return len(targets), centres, weights, cubics, levels, periodic
 
+    def _many_call(self, model, rtol, atol):
+        """(library, entry point, method argument) of a batch call (the Taylor engine: its order's
+        library and its step factor)."""
+        return self.library(model), self.prefix + "_integrate_many", self.method_id
+
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
                  targets=(), measures=True):
-        lib = self.library(model)
+        lib, entry, method = self._many_call(model, rtol, atol)
         n = len(Y0)
         Y0 = np.ascontiguousarray(Y0, dtype=float)
         P = np.ascontiguousarray(P, dtype=float)
@@ -179,9 +184,9 @@ class _Compiled:
         stats = np.zeros((n, 4))
         counts = np.zeros((n, 2), np.int64)
         start = time.perf_counter()
-        getattr(lib, self.prefix + "_integrate_many")(
+        getattr(lib, entry)(
             n, _ptr(Y0), _ptr(P), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
-            self.method_id, ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
+            method, ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
             1 if measures else 0, ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
             None if weights is None else _ptr(weights), None if cubics is None else _ptr(cubics),
             None if levels is None else _ptr(levels), None if periodic is None else _ptr(periodic, U8),

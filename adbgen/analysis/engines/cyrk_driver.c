@@ -25,47 +25,16 @@
 
 #include ADB_MODEL_SOURCE
 #include "driver_common.h"
+#include "cyrk_bridge.h"
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
-typedef void (*PreEvalFn)(char *, double, double *, char *);
-typedef void (*DiffeqFn)(double *, double, double *, char *, PreEvalFn);
-typedef void *(*SolveFn)(DiffeqFn, double, double, double *, size_t, int, size_t, size_t, char *, size_t, size_t,
-                         size_t, bool, double *, size_t, PreEvalFn, void *, size_t, double *, size_t, double *, size_t,
-                         double, double, bool);
-typedef bool (*BoolFn)(void *);
-typedef int (*IntFn)(void *);
-typedef size_t (*SizeFn)(void *);
-typedef double *(*PtrFn)(void *);
-typedef int (*CallFn)(void *, double, double *);
-typedef void (*FreeFn)(void *);
-
-static struct {
-    SolveFn solve;
-    BoolFn success;
-    IntFn status;
-    SizeFn size;
-    PtrFn t;
-    PtrFn y;
-    SizeFn steps;
-    CallFn call;
-    FreeFn free;
-} cy;
-
-/* ptrs: solve, success, status, size, t, y, steps_taken, call, free (CyRK.nb.numba_c_api). */
+/* CyRK's function pointers, once per library (cyrk_bridge.h) */
 int adb_cyrk_init(void *const *ptrs)
 {
-    cy.solve = (SolveFn)ptrs[0];
-    cy.success = (BoolFn)ptrs[1];
-    cy.status = (IntFn)ptrs[2];
-    cy.size = (SizeFn)ptrs[3];
-    cy.t = (PtrFn)ptrs[4];
-    cy.y = (PtrFn)ptrs[5];
-    cy.steps = (SizeFn)ptrs[6];
-    cy.call = (CallFn)ptrs[7];
-    cy.free = (FreeFn)ptrs[8];
+    adb_cyrk_bind(ptrs);
     return ADB_NY;
 }
 
@@ -95,14 +64,6 @@ static void *solve(const Settings *s, double t0, double t1, double *y0, Args *ar
     if (first_step > 0.49 * (t1 - t0)) first_step = 0.49 * (t1 - t0);
     return cy.solve(diffeq, t0, t1, y0, ADB_NY, s->method, 0, 0, (char *)args, sizeof(Args), s->max_steps, 2000,
                     dense, NULL, 0, NULL, NULL, 0, (double *)&s->rtol, 1, (double *)&s->atol, 1, INFINITY, first_step, true);
-}
-
-/* CyRK status -> ours (CyrkErrorCodes: -51..-53 step limits, -54/-55/-80 step size) */
-static int decode(int code)
-{
-    if (code == -51 || code == -52 || code == -53) return ADB_MAX_STEPS;
-    if (code == -54 || code == -55 || code == -80) return ADB_STEP_UNDERFLOW;
-    return ADB_SOLVER_FAILURE;
 }
 
 /* r^2 at time t on the dense output of `res` */
@@ -366,7 +327,7 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
         cy.free(res);
         if (status != ADB_SUCCESS) break;
         if (!ok) {
-            status = decode(code);
+            status = adb_cyrk_decode(code);
             out_stats[3] = T[K - 1];
             break;
         }

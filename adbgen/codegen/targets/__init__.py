@@ -32,6 +32,7 @@ REGISTRY: dict[str, str] = {
     "c": "adbgen.codegen.targets.c:TARGET",
     "cvode": "adbgen.codegen.targets.cvode:TARGET",
     "auto": "adbgen.codegen.targets.auto:TARGET",
+    "taylor": "adbgen.codegen.targets.taylor:TARGET",
 }
 _loaded: dict[str, "Target"] = {}
 

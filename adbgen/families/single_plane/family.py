@@ -66,7 +66,8 @@ class SinglePlane:
         register(subparsers)
 
     def reproductions(self) -> dict:
-        return {"thesis": "adbgen.families.single_plane.science.reproduce:REPRODUCTION"}
+        return {"thesis": "adbgen.families.single_plane.science.reproduce:REPRODUCTION",
+                "thesis-orbits": "adbgen.families.single_plane.science.periodic_orbits:REPRODUCTION"}
 
     def science_commands(self) -> str:
         return "adbgen.families.single_plane.science.commands:register"

@@ -64,7 +64,8 @@ class TwoPlane:
         register(subparsers)
 
     def reproductions(self) -> dict:
-        return {"two-plane": "adbgen.families.two_plane.science.reproduce:REPRODUCTION"}
+        return {"two-plane": "adbgen.families.two_plane.science.reproduce:REPRODUCTION",
+                "two-plane-orbits": "adbgen.families.two_plane.science.periodic_orbits:REPRODUCTION"}
 
     def science_commands(self) -> str:
         return ""

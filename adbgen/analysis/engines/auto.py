@@ -1,0 +1,102 @@
+"""The `auto` engine (the default): per requested tolerance, the engine and settings that reached the
+tolerance fastest in the work-precision measurements of `adbgen bench auto` (`TABLE`, package data;
+the benchmark rewrites it).  It runs the chosen engine and says what it picked (`picked`, in
+`adbgen simulate --json`).
+
+The table's rows: {"rtol": R, "engine": E, "rtol_run": r, "order": p, "step_factor": f}: the
+candidate that reached an error of at most R (relative to the state's size, see `adbgen bench auto`)
+fastest, per family (`by_family`, keyed by the model's FAMILY: the measured problem of that family) and
+jointly (`rows`, for a model of another family); it is run as engine E at rtol r (atol scaled by the same factor) with, for the Taylor engine,
+order p and step factor f.  A requested rtol takes the row of the largest R at or below it (so the
+measured error is at most the requested rtol); tighter than every row: the tightest row.  A model without a Taylor series (the `taylor` target
+skips a model whose kernel has a function without a recurrence) runs on `FALLBACK` (CyRK's DOP853) at
+the requested tolerance, `picked` saying why.
+"""
+
+from __future__ import annotations
+
+import json
+from functools import lru_cache
+from pathlib import Path
+
+from ..loading import AnalysisError
+
+TABLE = Path(__file__).resolve().parent / "auto_table.json"
+FALLBACK = "cyrk-dop853"  # for a model without a Taylor series (`<model>_taylor.c`)
+
+
+def _has_series(model) -> bool:
+    return (Path(model.folder) / f"{model.name}_taylor.c").is_file()
+
+
+@lru_cache(maxsize=4)
+def load_table(path: str = str(TABLE)) -> dict:
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        raise AnalysisError(f"the auto engine's table {path} is unreadable ({exc}); run `adbgen bench auto`") from None
+    rows = sorted(data.get("rows", []), key=lambda r: r["rtol"])
+    if not rows:
+        raise AnalysisError(f"the auto engine's table {path} has no rows; run `adbgen bench auto`")
+    return {**data, "rows": rows}
+
+
+class AutoEngine:
+    """Picks an engine per tolerance from `TABLE` (see the module docstring)."""
+
+    name = "auto"
+    description = "the engine and settings that reached each tolerance fastest (adbgen bench auto's table)"
+    symmetric = True  # every engine the table may pick is (taylor, cyrk-*); tested
+    native_events = True
+
+    def __init__(self, engines: dict, table: str | None = None):
+        self._engines = engines
+        self._table = table
+
+    def table(self) -> dict:
+        return load_table(self._table or str(TABLE))
+
+    def choice(self, rtol: float, family: str | None = None) -> dict:
+        """The table's row for a requested rtol and a model's family (see the module docstring)."""
+        table = self.table()
+        rows = sorted(table.get("by_family", {}).get(family) or table["rows"], key=lambda r: r["rtol"])
+        fitting = [r for r in rows if r["rtol"] <= rtol * (1 + 1e-9)]
+        return dict(fitting[-1] if fitting else rows[0])
+
+    def picked(self, rtol: float, atol: float, model=None):
+        """(engine object, rtol, atol, picked record) to run for a requested tolerance (and model)."""
+        row = self.choice(rtol, getattr(getattr(model, "module", None), "FAMILY", None))
+        if "order" in row and model is not None and not _has_series(model):
+            # a model the taylor target skipped (no recurrence for one of its functions): the RK engine
+            # that was the default before, at the requested tolerance, and the reason in `picked`
+            row = {"engine": FALLBACK, "rtol": rtol, "reason": f"{model.name} has no Taylor series"}
+        name = row["engine"]
+        if name not in self._engines or name == self.name:
+            raise AnalysisError(f"the auto engine's table picks {name!r}, which is not an engine here")
+        eng = self._engines[name]
+        scale = row.get("rtol_run", rtol) / rtol
+        record = {"engine": name, "rtol": rtol * scale, "atol": atol * scale}
+        if "reason" in row:
+            record["reason"] = row["reason"]
+        if "order" in row:
+            from .taylor import TaylorEngine
+
+            eng = TaylorEngine(name, eng.description, table=[(0.0, int(row["order"]), float(row["step_factor"]))])
+            record.update(order=int(row["order"]), step_factor=float(row["step_factor"]))
+        return eng, rtol * scale, atol * scale, record
+
+    def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=2001):
+        eng, r, a, record = self.picked(rtol, atol, model)
+        out = eng.run(model, p, y0, t_end, r, a, threshold, max_steps, keep_trajectory=keep_trajectory,
+                      samples=samples)
+        return {**out, "picked": record}
+
+    def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
+                 targets=(), measures=True):
+        eng, r, a, record = self.picked(rtol, atol, model)
+        out = eng.run_many(model, P, Y0, t_end, r, a, threshold, max_steps, threads=threads, check_dt=check_dt,
+                           targets=targets, measures=measures)
+        return {**out, "picked": record}
+
+
+__all__ = ["AutoEngine", "FALLBACK", "TABLE", "load_table"]

@@ -1,0 +1,235 @@
+"""The Taylor engine: Taylor's method on the model's emitted series (the `taylor` target's
+`<model>_taylor.c`) in a compiled C driver (`taylor_driver.c`), called through ctypes like the other
+compiled engines.
+
+    taylor         order from the tolerance and Jorba & Zou's step (heyoka's rule: order
+                   ceil(-ln(rtol) / 2 + 1), step factor 1), or a tuned (order, factor) per tolerance
+                   (`TaylorEngine.settings`)
+    taylor-batch   the same stepper, a batch of trajectories on OpenMP threads per call (sweeps);
+                   its series program also compiles with TS_B trajectories per SIMD lane (`ts_*`)
+
+The order is fixed when the driver is compiled (every order of a step unrolled, each convolution a
+straight line), so each order is its own shared library, built once per model and order under
+``$ADBGEN_CACHE/engines`` (gcc -O3 -march=native: 2-10 s the first time, milliseconds after).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import math
+import os
+import platform
+import subprocess
+import tempfile
+import threading
+import time
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from ..loading import AnalysisError, cache_dir
+from .compiled import HERE, _Compiled, _ptr, _single, _Trajectory, compiler, I, L
+
+CFLAGS = ["-std=gnu99", "-O3", "-march=native", "-ffp-contract=off", "-fPIC", "-shared", "-fopenmp"]
+MIN_ORDER, MAX_ORDER = 2, 40
+_lock = threading.Lock()
+
+
+def heyoka_order(tol: float) -> int:
+    """Jorba & Zou's order for a tolerance, as heyoka computes it: ceil(-ln(tol) / 2 + 1), at least 2."""
+    return max(MIN_ORDER, min(MAX_ORDER, math.ceil(-math.log(tol) / 2 + 1)))
+
+
+def taylor_source(model) -> Path:
+    path = model.folder / f"{model.name}_taylor.c"
+    if not path.is_file():
+        raise AnalysisError(f"{model.name}: no Taylor series at {path} (regenerate with the 'taylor' target)")
+    return path
+
+
+@lru_cache(maxsize=1)
+def _machine() -> str:
+    """What -march=native compiles for (a cached library is only valid on the same kind of CPU)."""
+    flags = ""
+    try:
+        with open("/proc/cpuinfo") as fh:
+            for line in fh:
+                if line.startswith(("flags", "model name")):
+                    flags += line
+                if line.startswith("flags"):
+                    break
+    except OSError:
+        pass
+    return platform.machine() + hashlib.sha256(flags.encode()).hexdigest()[:12]
+
+
+def build(model, order: int, batch: int = 1) -> Path:
+    """Compile the driver with the model's series at `order` (and `batch` trajectories per lane group, the
+    batch variant) into a cached shared library."""
+    if not MIN_ORDER <= order <= MAX_ORDER:
+        raise AnalysisError(f"Taylor order {order} is not in {MIN_ORDER}..{MAX_ORDER}")
+    source = taylor_source(model)
+    drv = HERE / "taylor_driver.c"
+    h = hashlib.sha256()
+    for part in (drv.read_bytes(), (HERE / "driver_common.h").read_bytes(), source.read_bytes(),
+                 " ".join(CFLAGS).encode(), model.name.encode(), f"{order} {batch}".encode(), _machine().encode()):
+        h.update(part)
+        h.update(b"\0")
+    kind = f"taylor{order}" + (f"x{batch}" if batch > 1 else "")
+    target = cache_dir() / "engines" / f"{model.name}-{kind}-{h.hexdigest()[:16]}.so"
+    if target.is_file():
+        return target
+    target.parent.mkdir(parents=True, exist_ok=True)
+    name = model.name
+    defines = [f'-DADB_TS_SOURCE="{source}"', f"-DADB_TS_PREFIX={name}", f"-DADB_TS_ORDER={order}",
+               f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}", f"-DTS_B={batch}"]
+    fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
+    os.close(fd)
+    cmd = [compiler(), *CFLAGS, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, "-lm"]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        os.unlink(tmp)
+        first = next((ln for ln in proc.stderr.splitlines() if "error" in ln), proc.stderr.strip()[:300])
+        raise AnalysisError(f"building the Taylor engine (order {order}) for {name} failed: {first}")
+    os.replace(tmp, target)  # atomic: concurrent builders never see half a library
+    return target
+
+
+@lru_cache(maxsize=None)
+def _load_cached(path: str, batch: int):
+    lib = ctypes.CDLL(path)
+    if batch > 1:
+        lib.adb_taylor_batch_many.restype = None
+        return lib
+    lib.adb_taylor_integrate.restype = ctypes.c_int
+    lib.adb_taylor_integrate_many.restype = None
+    lib.adb_taylor_dense.restype = ctypes.c_int
+    lib.adb_taylor_jet.restype = ctypes.c_int
+    return lib
+
+
+_loaded: dict = {}
+
+
+def library(model, order: int, batch: int = 1):
+    """The loaded library of `build`.  A repeated call for the same model files (their path and
+    SOURCE_HASH), order, batch and cache folder skips build's reading and hashing (a tenth of a
+    millisecond under load, a twentieth of a short run)."""
+    key = (str(model.folder), model.name, getattr(model, "source_hash", None), order, batch,
+           os.environ.get("ADBGEN_CACHE"), os.environ.get("XDG_CACHE_HOME"))
+    with _lock:
+        lib = _loaded.get(key) if key[2] else None
+        if lib is None:
+            lib = _loaded[key] = _load_cached(str(build(model, order, batch)), batch)
+        return lib
+
+
+class TaylorEngine(_Compiled):
+    """Taylor's method, compiled per model and order (taylor_driver.c)."""
+
+    driver = "taylor_driver.c"
+    prefix = "adb_taylor"
+    native_events = True
+    symmetric = True
+
+    def __init__(self, name: str = "taylor", description: str = "", table=None):
+        self.name = name
+        self.description = description or (
+            "Taylor's method (order from the tolerance, Jorba & Zou's step) on the emitted series, compiled")
+        # (tol, order, factor) rows, ascending tol: a tuned choice (the auto engine's measurements); None:
+        # heyoka's rule
+        self.table = table
+
+    def settings(self, rtol: float, atol: float) -> tuple[int, float]:
+        """(order, step factor) for a tolerance: the table's row for the largest tol <= rtol, else
+        heyoka's rule with factor 1."""
+        if self.table:
+            rows = [r for r in self.table if r[0] <= rtol * (1 + 1e-9)]
+            if rows:
+                _, order, fac = max(rows, key=lambda r: r[0])
+                return int(order), float(fac)
+        return heyoka_order(rtol), 1.0
+
+    def library(self, model, order: int | None = None):
+        return library(model, order if order is not None else heyoka_order(1e-8))
+
+    def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=0):
+        order, fac = self.settings(rtol, atol)
+        lib = library(model, order)
+        y0 = np.ascontiguousarray(y0, dtype=float)
+        p = np.ascontiguousarray(p, dtype=float)
+        amp = self._common(model, threshold)
+        traj = _Trajectory()
+        target = ctypes.c_int(-1)
+        y_end = np.zeros(model.n_states)
+        stats = np.zeros(4)
+        counts = np.zeros(2, np.int64)
+        start = time.perf_counter()
+        code = lib.adb_taylor_integrate(
+            _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
+            ctypes.c_double(fac), ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
+            ctypes.c_double(0.0), 0, None, None, None, None, None, 1 if keep_trajectory else 0, 1, ctypes.byref(traj),
+            ctypes.byref(target), _ptr(y_end), _ptr(stats), _ptr(counts, L))
+        wall = time.perf_counter() - start
+        try:
+            k = traj.k
+            t = np.ctypeslib.as_array(traj.t, (k,)).copy() if k else np.zeros(0)
+            y = np.ctypeslib.as_array(traj.y, (k, model.n_states)).T.copy() if k else np.zeros((model.n_states, 0))
+        finally:
+            if traj.k:
+                lib.adb_taylor_release(ctypes.byref(traj))
+        out = _single(code, t, y, y_end, stats, counts, wall, "")
+        out["picked"] = {"engine": self.name, "rtol": rtol, "atol": atol, "order": order, "step_factor": fac}
+        return out
+
+    batch = 1  # trajectories per lane group of the compiled series (the batch variant: BATCH_LANES)
+    entry = "adb_taylor_integrate_many"
+
+    def _many_call(self, model, rtol, atol):
+        order, fac = self.settings(rtol, atol)
+        return library(model, order, self.batch), self.entry, ctypes.c_double(fac)
+
+    def dense(self, model, p, t, y, times, rtol, atol) -> np.ndarray:
+        """The continuous solution of a run (its steps t, y as `run` returns them) at `times` (increasing,
+        within [t[0], t[-1]]), states x times: each step's Taylor polynomial."""
+        order, _ = self.settings(rtol, atol)
+        lib = library(model, order)
+        T = np.ascontiguousarray(t, dtype=float)
+        Y = np.ascontiguousarray(np.asarray(y).T, dtype=float)
+        times = np.ascontiguousarray(times, dtype=float)
+        out = np.zeros((len(times), model.n_states))
+        lib.adb_taylor_dense(_ptr(T), _ptr(Y), ctypes.c_long(len(T)), _ptr(np.ascontiguousarray(p, dtype=float)),
+                             len(times), _ptr(times), _ptr(out))
+        return out.T
+
+    def jet(self, model, t: float, y, p, order: int) -> np.ndarray:
+        """The solution's Taylor coefficients (order + 1 rows of states) through (t, y), by the engine's
+        compiled stepper of that order."""
+        lib = library(model, order)
+        out = np.zeros((order + 1, model.n_states))
+        lib.adb_taylor_jet(ctypes.c_double(t), _ptr(np.ascontiguousarray(y, dtype=float)),
+                           _ptr(np.ascontiguousarray(p, dtype=float)), _ptr(out))
+        return out
+
+
+BATCH_LANES = 4  # AVX2's doubles per vector
+
+
+class TaylorBatchEngine(TaylorEngine):
+    """The batch variant: `run_many` advances BATCH_LANES trajectories per lane group (every operation of
+    a step on the group at once, SIMD; each trajectory its own step size, events and early stop), a
+    group per OpenMP thread; one trajectory (`run`) is the single stepper's."""
+
+    batch = BATCH_LANES
+    entry = "adb_taylor_batch_many"
+
+    def __init__(self, name: str = "taylor-batch", description: str = "", table=None):
+        super().__init__(name, description or (
+            f"Taylor's method, {BATCH_LANES} trajectories per SIMD lane group (ensembles, sweeps); one "
+            "trajectory as taylor"), table=table)
+
+
+__all__ = ["BATCH_LANES", "CFLAGS", "TaylorBatchEngine", "TaylorEngine", "build", "heyoka_order", "library",
+           "taylor_source"]

@@ -1,0 +1,1221 @@
+/* The Taylor engine: Taylor's method on a model's emitted series (<model>_taylor.c, the taylor target),
+ * adaptive step as in Jorba & Zou (2005) and heyoka, the order fixed per build (ADB_TS_ORDER).
+ *
+ * One translation unit per (model, order): it #includes the model's series source with TS_MAXO =
+ * ADB_TS_ORDER, so every order of a step is the always-inline series body with a constant K, every
+ * convolution unrolled; compiled by adbgen.analysis.engines.taylor with
+ *
+ *     -DADB_TS_SOURCE='"<model>_taylor.c"' -DADB_TS_PREFIX=<model> -DADB_TS_ORDER=<p> -DADB_NY=<states>
+ *     -DADB_NP=<parameters>   (gcc -O3 -march=native -ffp-contract=off)
+ *
+ * A step from (t, y): the coefficients y_0..y_p of the solution (y_{K+1} = f_K / (K + 1)); the step
+ * h = fac * rho exp(-0.7 / (p - 1)) / e^2 (Jorba & Zou's rule, heyoka's with fac = 1) with rho taken per
+ * component (`step_size`); clamped to t_end and to the first sign change of a Piecewise condition's
+ * series (the ramp's t - t_ramp: the branch never changes inside a step); the new state by Horner.
+ *
+ * r_max and t_dec (thesis ch. 5) are located on each step's polynomial r^2(s) = x(s)^2 + y(s)^2 (exact
+ * to the order of the method): a bound sum_k |x_k| h^k, sum_k |y_k| h^k screens the steps; r_max takes
+ * the polynomial's largest value on [0, h] (its ends and the roots of d r^2/ds), t_dec the last root of
+ * r^2 - H^2 in a step that ends below H.  Roots are isolated by Descartes' rule on the Bernstein
+ * coefficients (subdivision by de Casteljau) and refined by bisection.
+ *
+ * Exact symmetry: the series program evaluates every ball by the same lane operations, and the step
+ * (norms, Horner) treats every component alike, so identical balls stay together bit for bit.
+ */
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef ADB_TS_ORDER
+#error "ADB_TS_ORDER (the Taylor order) must be defined"
+#endif
+#define TS_MAXO ADB_TS_ORDER
+#include ADB_TS_SOURCE
+#include "driver_common.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define ADB_CAT2(a, b) a##b
+#define ADB_CAT(a, b) ADB_CAT2(a, b)
+#define TSF(x) ADB_CAT(ADB_TS_PREFIX, x)
+typedef TSF(_ts) TsWork;
+
+#define P ADB_TS_ORDER
+#define NY ADB_NY
+/* exp(-0.7 / (P - 1)) / e^2, Jorba & Zou's safety factor and scaling */
+#define ADB_JZ_FACTOR (exp(-0.7 / (P - 1)) / (M_E * M_E))
+#define DEG (2 * P) /* r^2's degree */
+
+#if TS_B == 1 /* the single trajectory (a batch build, TS_B > 1, has its own stepper below) */
+typedef struct {
+    double jet[P + 1][NY]; /* the solution's coefficients of the current step */
+    double f[NY];
+    TsWork w;
+} Stepper;
+
+/* Order K of the series program, K constant: one function per order (each compiled on its own, which
+ * keeps gcc's time linear in the order's size), its convolutions unrolled. */
+#define ADB_ORDER_FN(K)                                                                                      \
+    static __attribute__((noinline)) void order_##K(Stepper *S)                                              \
+    {                                                                                                        \
+        TSF(_ts_order)(&S->w, (K), S->f);                                                                    \
+        for (int r = 0; r < NY; ++r) S->jet[(K) + 1][r] = S->f[r] * ts_rec[(K) + 1];                           \
+        TSF(_ts_load)(&S->w, (K) + 1, S->jet[(K) + 1]);                                                      \
+    }
+
+/* The jet of the solution through (t, y): rows 0..P. */
+static void jet_of(Stepper *S, double t, const double *y);
+
+#if P > 40 || P < 2
+#error "ADB_TS_ORDER must be in 2..40"
+#endif
+#if P > 0
+ADB_ORDER_FN(0)
+#endif
+#if P > 1
+ADB_ORDER_FN(1)
+#endif
+#if P > 2
+ADB_ORDER_FN(2)
+#endif
+#if P > 3
+ADB_ORDER_FN(3)
+#endif
+#if P > 4
+ADB_ORDER_FN(4)
+#endif
+#if P > 5
+ADB_ORDER_FN(5)
+#endif
+#if P > 6
+ADB_ORDER_FN(6)
+#endif
+#if P > 7
+ADB_ORDER_FN(7)
+#endif
+#if P > 8
+ADB_ORDER_FN(8)
+#endif
+#if P > 9
+ADB_ORDER_FN(9)
+#endif
+#if P > 10
+ADB_ORDER_FN(10)
+#endif
+#if P > 11
+ADB_ORDER_FN(11)
+#endif
+#if P > 12
+ADB_ORDER_FN(12)
+#endif
+#if P > 13
+ADB_ORDER_FN(13)
+#endif
+#if P > 14
+ADB_ORDER_FN(14)
+#endif
+#if P > 15
+ADB_ORDER_FN(15)
+#endif
+#if P > 16
+ADB_ORDER_FN(16)
+#endif
+#if P > 17
+ADB_ORDER_FN(17)
+#endif
+#if P > 18
+ADB_ORDER_FN(18)
+#endif
+#if P > 19
+ADB_ORDER_FN(19)
+#endif
+#if P > 20
+ADB_ORDER_FN(20)
+#endif
+#if P > 21
+ADB_ORDER_FN(21)
+#endif
+#if P > 22
+ADB_ORDER_FN(22)
+#endif
+#if P > 23
+ADB_ORDER_FN(23)
+#endif
+#if P > 24
+ADB_ORDER_FN(24)
+#endif
+#if P > 25
+ADB_ORDER_FN(25)
+#endif
+#if P > 26
+ADB_ORDER_FN(26)
+#endif
+#if P > 27
+ADB_ORDER_FN(27)
+#endif
+#if P > 28
+ADB_ORDER_FN(28)
+#endif
+#if P > 29
+ADB_ORDER_FN(29)
+#endif
+#if P > 30
+ADB_ORDER_FN(30)
+#endif
+#if P > 31
+ADB_ORDER_FN(31)
+#endif
+#if P > 32
+ADB_ORDER_FN(32)
+#endif
+#if P > 33
+ADB_ORDER_FN(33)
+#endif
+#if P > 34
+ADB_ORDER_FN(34)
+#endif
+#if P > 35
+ADB_ORDER_FN(35)
+#endif
+#if P > 36
+ADB_ORDER_FN(36)
+#endif
+#if P > 37
+ADB_ORDER_FN(37)
+#endif
+#if P > 38
+ADB_ORDER_FN(38)
+#endif
+#if P > 39
+ADB_ORDER_FN(39)
+#endif
+
+static void (*const orders[P])(Stepper *) = {
+#if P > 0
+    order_0,
+#endif
+#if P > 1
+    order_1,
+#endif
+#if P > 2
+    order_2,
+#endif
+#if P > 3
+    order_3,
+#endif
+#if P > 4
+    order_4,
+#endif
+#if P > 5
+    order_5,
+#endif
+#if P > 6
+    order_6,
+#endif
+#if P > 7
+    order_7,
+#endif
+#if P > 8
+    order_8,
+#endif
+#if P > 9
+    order_9,
+#endif
+#if P > 10
+    order_10,
+#endif
+#if P > 11
+    order_11,
+#endif
+#if P > 12
+    order_12,
+#endif
+#if P > 13
+    order_13,
+#endif
+#if P > 14
+    order_14,
+#endif
+#if P > 15
+    order_15,
+#endif
+#if P > 16
+    order_16,
+#endif
+#if P > 17
+    order_17,
+#endif
+#if P > 18
+    order_18,
+#endif
+#if P > 19
+    order_19,
+#endif
+#if P > 20
+    order_20,
+#endif
+#if P > 21
+    order_21,
+#endif
+#if P > 22
+    order_22,
+#endif
+#if P > 23
+    order_23,
+#endif
+#if P > 24
+    order_24,
+#endif
+#if P > 25
+    order_25,
+#endif
+#if P > 26
+    order_26,
+#endif
+#if P > 27
+    order_27,
+#endif
+#if P > 28
+    order_28,
+#endif
+#if P > 29
+    order_29,
+#endif
+#if P > 30
+    order_30,
+#endif
+#if P > 31
+    order_31,
+#endif
+#if P > 32
+    order_32,
+#endif
+#if P > 33
+    order_33,
+#endif
+#if P > 34
+    order_34,
+#endif
+#if P > 35
+    order_35,
+#endif
+#if P > 36
+    order_36,
+#endif
+#if P > 37
+    order_37,
+#endif
+#if P > 38
+    order_38,
+#endif
+#if P > 39
+    order_39,
+#endif
+};
+
+static void jet_of(Stepper *S, double t, const double *y)
+{
+    TSF(_ts_time)(&S->w, &t, 1.0);
+    memcpy(S->jet[0], y, sizeof(double) * NY);
+    TSF(_ts_load)(&S->w, 0, S->jet[0]);
+    for (int K = 0; K < P; ++K) orders[K](S);
+}
+#endif
+
+/* Jorba & Zou's step (see the header), per component: rho = min over k = P - 1, P and i of
+ * (w_i / |y_k,i|)^(1/k) with w_i = |y_0,i| + atol / rtol, so |y_P,i| h^P ~ (atol + rtol |y_i|) e^(-2P) for
+ * every state (a small rotor coordinate beside large spin angles keeps its own accuracy).  fac scales
+ * the step (1: Jorba & Zou's). */
+typedef double Jet[P + 1][NY];
+
+static double step_size(const Jet jet, double rtol, double atol, double fac)
+{
+    const double a = atol / rtol;
+    double qp = 0.0, qm = 0.0;
+    for (int r = 0; r < NY; ++r) {
+        const double inv = 1.0 / (fabs(jet[0][r]) + a);
+        const double vp = fabs(jet[P][r]) * inv, vm = fabs(jet[P - 1][r]) * inv;
+        qp = vp > qp ? vp : qp;
+        qm = vm > qm ? vm : qm;
+    }
+    const double rp = pow(qp, -1.0 / P), rm = pow(qm, -1.0 / (P - 1));
+    const double rho = rp < rm ? rp : rm;
+    return fac * rho * ADB_JZ_FACTOR;
+}
+
+static void horner(const Jet jet, double h, double *y)
+{
+    for (int r = 0; r < NY; ++r) {
+        double s = jet[P][r];
+        for (int k = P - 1; k >= 0; --k) s = s * h + jet[k][r];
+        y[r] = s;
+    }
+}
+
+/* ------------------------------------------------------------------------------ polynomial roots */
+
+static double poly_at(const double *c, int d, double s)
+{
+    double v = c[d];
+    for (int k = d - 1; k >= 0; --k) v = v * s + c[k];
+    return v;
+}
+
+static int variations(const double *b, int d)
+{
+    int n = 0, last = 0;
+    for (int j = 0; j <= d; ++j) {
+        int sg = b[j] > 0.0 ? 1 : (b[j] < 0.0 ? -1 : 0);
+        if (sg && last && sg != last) ++n;
+        if (sg) last = sg;
+    }
+    return n;
+}
+
+/* the root of c (degree d, in u on [0, 1] after scaling) in [lo, hi] with a sign change: bisection */
+static double bisect(const double *c, int d, double lo, double hi)
+{
+    double flo = poly_at(c, d, lo);
+    for (int it = 0; it < 200; ++it) {
+        double m = 0.5 * (lo + hi);
+        if (m <= lo || m >= hi) break;
+        double fm = poly_at(c, d, m);
+        if ((fm > 0.0) == (flo > 0.0) && fm != 0.0) lo = m, flo = fm;
+        else hi = m;
+    }
+    return 0.5 * (lo + hi);
+}
+
+#define MAXR 64
+/* Roots of the polynomial c (degree d <= DEG, in u on [0, 1]) with Bernstein coefficients b on
+ * [lo, hi]: Descartes' rule (0 variations: none; 1: one, refined by bisection), else halves by
+ * de Casteljau.  Appends to roots (ascending), at most MAXR. */
+static void isolate(const double *c, int d, const double *b, double lo, double hi, int depth, double *roots, int *n)
+{
+    int v = variations(b, d);
+    if (v == 0 || *n >= MAXR) return;
+    if (v == 1 && (poly_at(c, d, lo) > 0.0) != (poly_at(c, d, hi) > 0.0)) {
+        roots[(*n)++] = bisect(c, d, lo, hi);
+        return;
+    }
+    if (depth > 48 || hi - lo < 1e-15) {
+        if ((poly_at(c, d, lo) > 0.0) != (poly_at(c, d, hi) > 0.0)) roots[(*n)++] = 0.5 * (lo + hi);
+        return;
+    }
+    double left[DEG + 1], right[DEG + 1], tmp[DEG + 1];
+    memcpy(tmp, b, sizeof(double) * (d + 1));
+    for (int k = 0; k <= d; ++k) {
+        left[k] = tmp[0];
+        right[d - k] = tmp[d - k];
+        for (int j = 0; j < d - k; ++j) tmp[j] = 0.5 * (tmp[j] + tmp[j + 1]);
+    }
+    double mid = 0.5 * (lo + hi);
+    isolate(c, d, left, lo, mid, depth + 1, roots, n);
+    isolate(c, d, right, mid, hi, depth + 1, roots, n);
+}
+
+static double binom_tab[DEG + 1][DEG + 1];
+static int binom_ready = 0;
+
+static void binoms(void)
+{
+    if (binom_ready) return;
+    for (int n = 0; n <= DEG; ++n) {
+        binom_tab[n][0] = binom_tab[n][n] = 1.0;
+        for (int k = 1; k < n; ++k) binom_tab[n][k] = binom_tab[n - 1][k - 1] + binom_tab[n - 1][k];
+    }
+    binom_ready = 1;
+}
+
+/* Roots in [0, h] of the polynomial sum_k c_k s^k (degree d), ascending, in s; returns their number */
+static int roots_on(const double *c, int d, double h, double *roots)
+{
+    double a[DEG + 1], b[DEG + 1];
+    double hk = 1.0;
+    for (int k = 0; k <= d; ++k) a[k] = c[k] * hk, hk *= h;
+    while (d > 0 && a[d] == 0.0) --d;
+    if (d == 0) return 0;
+    for (int j = 0; j <= d; ++j) {
+        double s = 0.0;
+        for (int k = 0; k <= j; ++k) s += binom_tab[j][k] / binom_tab[d][k] * a[k];
+        b[j] = s;
+    }
+    int n = 0;
+    isolate(a, d, b, 0.0, 1.0, 0, roots, &n);
+    for (int k = 0; k < n; ++k) roots[k] *= h;
+    return n;
+}
+
+/* r^2(s) of the step from the amplitude's series x, y: coefficients 0..DEG */
+static void r2_poly(const double *x, const double *y, double *q)
+{
+    for (int k = 0; k <= DEG; ++k) {
+        /* the products j, k - j and k - j, j are one: twice the sum below the middle, plus the middle */
+        double s = 0.0;
+        const int lo = k > P ? k - P : 0;
+        for (int j = lo; 2 * j < k; ++j) s += x[j] * x[k - j] + y[j] * y[k - j];
+        s += s;
+        if (!(k & 1)) s += x[k / 2] * x[k / 2] + y[k / 2] * y[k / 2];
+        q[k] = s;
+    }
+}
+
+/* sum_k |x_k| h^k and |y_k|'s: |r(s)| <= hypot of both on [0, h] */
+static double r2_bound(const Jet jet, const int *amp, double h)
+{
+    double bx = 0.0, by = 0.0, hk = 1.0;
+    for (int k = 0; k <= P; ++k) {
+        bx += fabs(jet[k][amp[0]]) * hk;
+        by += fabs(jet[k][amp[1]]) * hk;
+        hk *= h;
+    }
+    return bx * bx + by * by;
+}
+
+/* largest r^2 on [0, h]: the ends and the roots of d r^2 / ds */
+static double r2_max(const double *q, double h)
+{
+    double dq[DEG], roots[MAXR];
+    for (int k = 1; k <= DEG; ++k) dq[k - 1] = k * q[k];
+    double best = fmax(poly_at(q, DEG, 0.0), poly_at(q, DEG, h));
+    int n = roots_on(dq, DEG - 1, h, roots);
+    for (int k = 0; k < n; ++k) best = fmax(best, poly_at(q, DEG, roots[k]));
+    return best;
+}
+
+/* the last s in [0, h] with r^2(s) >= H2, given r^2(h) < H2; -1 if r^2 < H2 on [0, h] */
+static double r2_last_above(const double *q, double h, double H2)
+{
+    double c[DEG + 1], roots[MAXR];
+    memcpy(c, q, sizeof c);
+    c[0] -= H2;
+    int n = roots_on(c, DEG, h, roots);
+    return n ? roots[n - 1] : -1.0;
+}
+
+/* the first sign change in (0, h] of the Piecewise conditions' series (lane b): h itself if none */
+static double switch_limit(const TsWork *w, int b, double t, double h)
+{
+#if TS_N_SWITCH > 0
+    double c[P + 1], roots[MAXR];
+    for (int which = 0; which < TS_N_SWITCH; ++which) {
+        for (int k = 0; k < P; ++k) c[k] = TSF(_ts_switch)(w, which, k, b);
+        c[P] = 0.0; /* (the body computes a switch's coefficients to order P - 1) */
+        int n = roots_on(c, P - 1, h, roots);
+        for (int k = 0; k < n; ++k)
+            if (roots[k] > 0.0) {
+                /* a change within an ulp of t: step one ulp, past it (the next step takes the other branch) */
+                h = fmin(h, t + roots[k] > t ? roots[k] : nextafter(t, INFINITY) - t);
+                break;
+            }
+    }
+#else
+    (void)w;
+    (void)b;
+    (void)t;
+#endif
+    return h;
+}
+
+/* ------------------------------------------------------------------------------ integration */
+
+typedef struct {
+    double *t; /* step ends, malloc'd (adb_taylor_release frees them) */
+    double *y;
+    long k;
+} Trajectory;
+
+/* What a run is asked (shared by the trajectories of a batch) */
+typedef struct {
+    double t_end, rtol, atol, fac, H2, check_dt;
+    long max_steps;
+    const int *amp;
+    int measures, n_targets;
+    const double *centres, *weights, *cubics, *levels;
+    const unsigned char *periodic;
+} Settings;
+
+/* A step kept for r_max or t_dec (its start, length, screen bound and the amplitude's two series): the
+ * root finding on r^2 is deferred, as most such steps are superseded (a later step reaches higher, or
+ * crosses the threshold later) and never need it */
+#define PEND 16
+typedef struct {
+    double t, h, bound, x[P + 1], y[P + 1];
+} Pending;
+
+/* One trajectory's state between steps (a lane of a batch, or the single run) */
+typedef struct {
+    double t, y[NY], r2max, last_above, next_check;
+    Pending pmax[PEND], pdec[PEND];
+    int n_max, n_dec;
+    long steps;
+    int status, target, running;
+    int keep; /* the single run: every step end into T, Y */
+    size_t cap, K;
+    double *T, *Y;
+    double t_fail;
+} Lane;
+
+static void lane_start(Lane *L, const Settings *st, const double *y0, int keep)
+{
+    memset(L, 0, sizeof *L);
+    memcpy(L->y, y0, sizeof L->y);
+    L->r2max = adb_r2(y0, st->amp[0], st->amp[1]);
+    L->last_above = L->r2max >= st->H2 ? 0.0 : -1.0;
+    L->next_check = st->check_dt > 0.0 ? st->check_dt : INFINITY;
+    L->status = ADB_SUCCESS;
+    L->target = -1;
+    L->running = 1;
+    L->t_fail = NAN;
+    L->keep = keep;
+    if (keep) {
+        L->cap = 1024;
+        L->T = malloc(L->cap * sizeof(double));
+        L->Y = malloc(L->cap * NY * sizeof(double));
+        L->T[0] = 0.0;
+        memcpy(L->Y, y0, sizeof(double) * NY);
+        L->K = 1;
+    }
+}
+
+static void lane_store(Lane *L)
+{
+    if (!L->keep) return;
+    if (L->K + 1 > L->cap) {
+        L->cap *= 2;
+        L->T = realloc(L->T, L->cap * sizeof(double));
+        L->Y = realloc(L->Y, L->cap * NY * sizeof(double));
+    }
+    L->T[L->K] = L->t;
+    memcpy(L->Y + L->K * NY, L->y, sizeof L->y);
+    ++L->K;
+}
+
+static void pend(Pending *c, const Jet jet, const int *amp, double t, double h, double bound)
+{
+    c->t = t;
+    c->h = h;
+    c->bound = bound;
+    for (int k = 0; k <= P; ++k) {
+        c->x[k] = jet[k][amp[0]];
+        c->y[k] = jet[k][amp[1]];
+    }
+}
+
+/* r^2's own screen, r^2_0 + sum_k |r^2_k| h^k (tight where x, y turn while r changes slowly) */
+static double q_bound(const double *q, double h)
+{
+    double tail = 0.0, hk = h;
+    for (int k = 1; k <= DEG; ++k, hk *= h) tail += fabs(q[k]) * hk;
+    return q[0] + tail;
+}
+
+/* r_max over the pending steps, highest screen bound first, until the bound is below r_max */
+static void resolve_max(Lane *L)
+{
+    double q[DEG + 1];
+    for (;;) {
+        int best = -1;
+        for (int i = 0; i < L->n_max; ++i)
+            if (L->pmax[i].bound > L->r2max && (best < 0 || L->pmax[i].bound > L->pmax[best].bound)) best = i;
+        if (best < 0) break;
+        Pending *c = &L->pmax[best];
+        r2_poly(c->x, c->y, q);
+        if (q_bound(q, c->h) > L->r2max) L->r2max = fmax(L->r2max, r2_max(q, c->h));
+        c->bound = -INFINITY;
+    }
+    L->n_max = 0;
+}
+
+/* t_dec over the pending steps (all after the last step ending at or above the threshold), latest
+ * first: the first with r^2 reaching H2 gives the last time above it */
+static void resolve_dec(Lane *L, double H2)
+{
+    double q[DEG + 1];
+    for (int i = L->n_dec - 1; i >= 0; --i) {
+        const Pending *c = &L->pdec[i];
+        r2_poly(c->x, c->y, q);
+        if (q_bound(q, c->h) < H2) continue;
+        const double sl = r2_last_above(q, c->h, H2);
+        if (sl >= 0.0) {
+            L->last_above = c->t + sl;
+            break;
+        }
+    }
+    L->n_dec = 0;
+}
+
+static void lane_fail(Lane *L, int status)
+{
+    L->status = status;
+    L->t_fail = L->t;
+    L->running = 0;
+}
+
+/* One step of a lane from the jet of its state (lane b of the workspace w for the Piecewise switches):
+ * the step size, the new state, r_max and t_dec on the step's polynomial, early stop. */
+static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *w, int b)
+{
+    const double t = L->t;
+    double ynew[NY];
+    if (st->max_steps > 0 && L->steps >= st->max_steps) {
+        lane_fail(L, ADB_MAX_STEPS);
+        return;
+    }
+    double h = step_size(jet, st->rtol, st->atol, st->fac);
+    if (!(h > 0.0) || !isfinite(h)) {
+        /* a zero or non-finite coefficient norm: a non-finite state, or an exactly polynomial solution */
+        if (!adb_all_finite(jet[P], NY) || !adb_all_finite(jet[P - 1], NY)) {
+            lane_fail(L, ADB_NONFINITE);
+            return;
+        }
+        h = st->t_end - t;
+    }
+    if (t + h > st->t_end) h = st->t_end - t;
+    h = switch_limit(w, b, t, h);
+    if (!(t + h > t)) {
+        lane_fail(L, ADB_STEP_UNDERFLOW);
+        return;
+    }
+    horner(jet, h, ynew);
+    if (!adb_all_finite(ynew, NY)) {
+        lane_fail(L, ADB_NONFINITE);
+        return;
+    }
+    const double t1 = (t + h >= st->t_end) ? st->t_end : t + h;
+    ++L->steps;
+    if (st->measures) {
+        /* a screen, (sum |x_k| h^k)^2 + (sum |y_k| h^k)^2 >= r^2 on the step, keeps the steps that may
+         * raise r_max or hold t_dec (pending, resolved when full and at the end); r_max meanwhile is the
+         * largest r^2 at a step end */
+        const double end2 = adb_r2(ynew, st->amp[0], st->amp[1]), H2 = st->H2;
+        const double bound = r2_bound(jet, st->amp, h);
+        if (bound > L->r2max) {
+            if (L->n_max == PEND) resolve_max(L);
+            pend(&L->pmax[L->n_max++], jet, st->amp, t, h, bound);
+        }
+        if (end2 < H2 && bound >= H2) {
+            if (L->n_dec == PEND) resolve_dec(L, H2);
+            pend(&L->pdec[L->n_dec++], jet, st->amp, t, h, bound);
+        }
+        L->r2max = fmax(L->r2max, end2);
+        if (end2 >= H2) {
+            L->last_above = t1;
+            L->n_dec = 0; /* every pending step is earlier */
+        }
+    }
+    /* early stop: the state at each multiple of check_dt inside this step, on its polynomial (the steps
+     * are the same with or without targets) */
+    while (st->n_targets > 0 && L->next_check <= t1 && L->next_check < st->t_end) {
+        double yc[NY];
+        horner(jet, L->next_check - t, yc);
+        int k = adb_in_target(yc, st->n_targets, st->centres, st->weights, st->cubics, st->levels, st->periodic);
+        if (k >= 0) {
+            L->target = k;
+            L->status = ADB_STOPPED;
+            L->t = L->next_check;
+            memcpy(L->y, yc, sizeof yc);
+            lane_store(L);
+            L->running = 0;
+            return;
+        }
+        L->next_check += st->check_dt;
+    }
+    L->t = t1;
+    memcpy(L->y, ynew, sizeof ynew);
+    lane_store(L);
+    if (L->t >= st->t_end) L->running = 0;
+}
+
+/* A finished lane's outputs (out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [order passes
+ * (steps x P, the analogue of rhs evaluations), steps]) */
+static void lane_finish(Lane *L, const Settings *st, int *target, double *y_end, double *out_stats,
+                        long *out_counts)
+{
+    out_stats[0] = out_stats[1] = NAN;
+    if (st->measures) {
+        resolve_max(L);
+        resolve_dec(L, st->H2);
+        out_stats[0] = sqrt(L->r2max);
+        if (L->status == ADB_SUCCESS)
+            out_stats[1] = adb_r2(L->y, st->amp[0], st->amp[1]) >= st->H2 ? NAN
+                           : (L->last_above < 0.0 ? 0.0 : L->last_above);
+    }
+    out_stats[2] = L->t;
+    out_stats[3] = L->t_fail;
+    memcpy(y_end, L->y, sizeof L->y);
+    out_counts[0] = L->steps * P;
+    out_counts[1] = L->steps;
+    if (target) *target = L->target;
+}
+
+static int bad_settings(double t_end, double rtol, double atol, double fac)
+{
+    return !(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !(fac > 0.0);
+}
+
+#if TS_B == 1
+/* One trajectory from t = 0 to t_end (the contract of cyrk_driver.c's adb_cyrk_integrate, with fac, the
+ * step factor, in place of the method).  With check_dt > 0 the state is tested at every multiple of
+ * check_dt (on the step's polynomial: the steps are the same with or without targets) and the run
+ * stops in the first target region holding it. */
+int adb_taylor_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, double fac,
+                         long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
+                         const double *centres, const double *weights, const double *cubics, const double *levels,
+                         const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target,
+                         double *y_end, double *out_stats, long *out_counts)
+{
+    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
+    out_counts[0] = out_counts[1] = 0;
+    if (target) *target = -1;
+    if (traj) traj->t = traj->y = NULL, traj->k = 0;
+    if (bad_settings(t_end, rtol, atol, fac) || !adb_all_finite(y0, NY)) return ADB_BAD_INPUT;
+    binoms();
+    Stepper *S = malloc(sizeof(Stepper));
+    if (!S) return ADB_SOLVER_FAILURE;
+    const Settings st = {t_end, rtol, atol, fac, threshold * threshold, check_dt, max_steps, amp_idx, measures,
+                         n_targets, centres, weights, cubics, levels, periodic};
+    TSF(_ts_setup)(&S->w, p);
+    Lane L;
+    lane_start(&L, &st, y0, keep && traj != NULL);
+    while (L.running) {
+        jet_of(S, L.t, L.y);
+        lane_step(&L, &st, (const double(*)[NY])S->jet, &S->w, 0);
+    }
+    lane_finish(&L, &st, target, y_end, out_stats, out_counts);
+    free(S);
+    if (traj && L.keep) {
+        traj->t = L.T, traj->y = L.Y, traj->k = (long)L.K;
+    } else {
+        free(L.T);
+        free(L.Y);
+    }
+    return L.status;
+}
+
+void adb_taylor_release(Trajectory *traj)
+{
+    free(traj->t);
+    free(traj->y);
+    traj->t = traj->y = NULL;
+    traj->k = 0;
+}
+
+/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
+void adb_taylor_integrate_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
+                               double fac, long max_steps, const int *amp_idx, double threshold, int measures,
+                               double check_dt, int n_targets, const double *centres, const double *weights,
+                               const double *cubics, const double *levels, const unsigned char *periodic,
+                               int threads, int *status, int *target, double *Y_end, double *stats, long *counts)
+{
+    binoms();
+#ifdef _OPENMP
+    if (threads < 1) threads = omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#else
+    (void)threads;
+#endif
+    for (int k = 0; k < n; ++k)
+        status[k] = adb_taylor_integrate(Y0 + (size_t)k * NY, Pm + (size_t)k * ADB_NP, t_end, rtol, atol, fac,
+                                         max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights,
+                                         cubics, levels, periodic, 0, measures, NULL, target + k,
+                                         Y_end + (size_t)k * NY, stats + (size_t)k * 4, counts + (size_t)k * 2);
+}
+
+#endif
+
+#if TS_B > 1
+/* ---------------------------------------------------------------------- the batch variant (TS_B > 1)
+ * TS_B trajectories at once, one per lane of every series (the series program's batch dimension): every
+ * operation of a step runs on the TS_B lanes together (SIMD), then each lane takes its own step (its own
+ * time, step size, events, switches, early stop).  A finished trajectory's lane takes the next one from
+ * the queue; a lane with nothing left to run copies a running lane (its results are not used). */
+typedef struct {
+    double jet[P + 1][NY * TS_B]; /* row k: state r of lane b at r * TS_B + b (the series' load layout) */
+    double f[NY * TS_B];
+    TsWork w;
+} BStepper;
+
+#define ADB_BORDER_FN(K)                                                                                     \
+    static __attribute__((noinline)) void border_##K(BStepper *S)                                            \
+    {                                                                                                        \
+        TSF(_ts_order)(&S->w, (K), S->f);                                                                    \
+        for (int i = 0; i < NY * TS_B; ++i) S->jet[(K) + 1][i] = S->f[i] * ts_rec[(K) + 1];                   \
+        TSF(_ts_load)(&S->w, (K) + 1, S->jet[(K) + 1]);                                                      \
+    }
+#if P > 0
+ADB_BORDER_FN(0)
+#endif
+#if P > 1
+ADB_BORDER_FN(1)
+#endif
+#if P > 2
+ADB_BORDER_FN(2)
+#endif
+#if P > 3
+ADB_BORDER_FN(3)
+#endif
+#if P > 4
+ADB_BORDER_FN(4)
+#endif
+#if P > 5
+ADB_BORDER_FN(5)
+#endif
+#if P > 6
+ADB_BORDER_FN(6)
+#endif
+#if P > 7
+ADB_BORDER_FN(7)
+#endif
+#if P > 8
+ADB_BORDER_FN(8)
+#endif
+#if P > 9
+ADB_BORDER_FN(9)
+#endif
+#if P > 10
+ADB_BORDER_FN(10)
+#endif
+#if P > 11
+ADB_BORDER_FN(11)
+#endif
+#if P > 12
+ADB_BORDER_FN(12)
+#endif
+#if P > 13
+ADB_BORDER_FN(13)
+#endif
+#if P > 14
+ADB_BORDER_FN(14)
+#endif
+#if P > 15
+ADB_BORDER_FN(15)
+#endif
+#if P > 16
+ADB_BORDER_FN(16)
+#endif
+#if P > 17
+ADB_BORDER_FN(17)
+#endif
+#if P > 18
+ADB_BORDER_FN(18)
+#endif
+#if P > 19
+ADB_BORDER_FN(19)
+#endif
+#if P > 20
+ADB_BORDER_FN(20)
+#endif
+#if P > 21
+ADB_BORDER_FN(21)
+#endif
+#if P > 22
+ADB_BORDER_FN(22)
+#endif
+#if P > 23
+ADB_BORDER_FN(23)
+#endif
+#if P > 24
+ADB_BORDER_FN(24)
+#endif
+#if P > 25
+ADB_BORDER_FN(25)
+#endif
+#if P > 26
+ADB_BORDER_FN(26)
+#endif
+#if P > 27
+ADB_BORDER_FN(27)
+#endif
+#if P > 28
+ADB_BORDER_FN(28)
+#endif
+#if P > 29
+ADB_BORDER_FN(29)
+#endif
+#if P > 30
+ADB_BORDER_FN(30)
+#endif
+#if P > 31
+ADB_BORDER_FN(31)
+#endif
+#if P > 32
+ADB_BORDER_FN(32)
+#endif
+#if P > 33
+ADB_BORDER_FN(33)
+#endif
+#if P > 34
+ADB_BORDER_FN(34)
+#endif
+#if P > 35
+ADB_BORDER_FN(35)
+#endif
+#if P > 36
+ADB_BORDER_FN(36)
+#endif
+#if P > 37
+ADB_BORDER_FN(37)
+#endif
+#if P > 38
+ADB_BORDER_FN(38)
+#endif
+#if P > 39
+ADB_BORDER_FN(39)
+#endif
+
+static void (*const borders[P])(BStepper *) = {
+#if P > 0
+    border_0,
+#endif
+#if P > 1
+    border_1,
+#endif
+#if P > 2
+    border_2,
+#endif
+#if P > 3
+    border_3,
+#endif
+#if P > 4
+    border_4,
+#endif
+#if P > 5
+    border_5,
+#endif
+#if P > 6
+    border_6,
+#endif
+#if P > 7
+    border_7,
+#endif
+#if P > 8
+    border_8,
+#endif
+#if P > 9
+    border_9,
+#endif
+#if P > 10
+    border_10,
+#endif
+#if P > 11
+    border_11,
+#endif
+#if P > 12
+    border_12,
+#endif
+#if P > 13
+    border_13,
+#endif
+#if P > 14
+    border_14,
+#endif
+#if P > 15
+    border_15,
+#endif
+#if P > 16
+    border_16,
+#endif
+#if P > 17
+    border_17,
+#endif
+#if P > 18
+    border_18,
+#endif
+#if P > 19
+    border_19,
+#endif
+#if P > 20
+    border_20,
+#endif
+#if P > 21
+    border_21,
+#endif
+#if P > 22
+    border_22,
+#endif
+#if P > 23
+    border_23,
+#endif
+#if P > 24
+    border_24,
+#endif
+#if P > 25
+    border_25,
+#endif
+#if P > 26
+    border_26,
+#endif
+#if P > 27
+    border_27,
+#endif
+#if P > 28
+    border_28,
+#endif
+#if P > 29
+    border_29,
+#endif
+#if P > 30
+    border_30,
+#endif
+#if P > 31
+    border_31,
+#endif
+#if P > 32
+    border_32,
+#endif
+#if P > 33
+    border_33,
+#endif
+#if P > 34
+    border_34,
+#endif
+#if P > 35
+    border_35,
+#endif
+#if P > 36
+    border_36,
+#endif
+#if P > 37
+    border_37,
+#endif
+#if P > 38
+    border_38,
+#endif
+#if P > 39
+    border_39,
+#endif
+};
+
+static int take_next(int *next, int n)
+{
+    int k;
+#ifdef _OPENMP
+#pragma omp atomic capture
+#endif
+    k = (*next)++;
+    return k < n ? k : -1;
+}
+
+/* The contract of adb_taylor_integrate_many; `threads` OpenMP threads, each with its own batch. */
+void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
+                           double fac, long max_steps, const int *amp_idx, double threshold, int measures,
+                           double check_dt, int n_targets, const double *centres, const double *weights,
+                           const double *cubics, const double *levels, const unsigned char *periodic, int threads,
+                           int *status, int *target, double *Y_end, double *stats, long *counts)
+{
+    binoms();
+    const Settings st = {t_end, rtol, atol, fac, threshold * threshold, check_dt, max_steps, amp_idx, measures,
+                         n_targets, centres, weights, cubics, levels, periodic};
+    for (int k = 0; k < n; ++k) {
+        status[k] = ADB_BAD_INPUT;
+        target[k] = -1;
+        for (int i = 0; i < 4; ++i) stats[(size_t)k * 4 + i] = NAN;
+        counts[(size_t)k * 2] = counts[(size_t)k * 2 + 1] = 0;
+    }
+    if (bad_settings(t_end, rtol, atol, fac)) return;
+    int next = 0;
+#ifdef _OPENMP
+    if (threads < 1) threads = omp_get_max_threads();
+#pragma omp parallel num_threads(threads)
+#else
+    (void)threads;
+#endif
+    {
+        BStepper *S = malloc(sizeof(BStepper));
+        Lane L[TS_B];
+        int traj[TS_B];
+        double params[TS_B * ADB_NP], tl[TS_B];
+        double lj[P + 1][NY];
+        int dirty = 1;
+        for (int b = 0; b < TS_B; ++b) {
+            traj[b] = -1;
+            L[b].running = 0;
+        }
+        for (;;) {
+            /* fill idle lanes from the queue (a bad initial state is reported and skipped) */
+            for (int b = 0; b < TS_B; ++b) {
+                while (!L[b].running) {
+                    int k = take_next(&next, n);
+                    traj[b] = k;
+                    if (k < 0) break;
+                    if (!adb_all_finite(Y0 + (size_t)k * NY, NY)) continue;
+                    lane_start(&L[b], &st, Y0 + (size_t)k * NY, 0);
+                    memcpy(params + b * ADB_NP, Pm + (size_t)k * ADB_NP, sizeof(double) * ADB_NP);
+                    dirty = 1;
+                }
+            }
+            int live = -1;
+            for (int b = 0; b < TS_B; ++b)
+                if (L[b].running) live = b;
+            if (live < 0 || !S) break;
+            for (int b = 0; b < TS_B; ++b)
+                if (!L[b].running) { /* an idle lane computes a copy of a running one */
+                    memcpy(params + b * ADB_NP, params + live * ADB_NP, sizeof(double) * ADB_NP);
+                    L[b].t = L[live].t;
+                    memcpy(L[b].y, L[live].y, sizeof L[b].y);
+                    dirty = 1;
+                }
+            if (dirty) TSF(_ts_setup)(&S->w, params);
+            dirty = 0;
+            for (int b = 0; b < TS_B; ++b) {
+                tl[b] = L[b].t;
+                for (int r = 0; r < NY; ++r) S->jet[0][r * TS_B + b] = L[b].y[r];
+            }
+            TSF(_ts_time)(&S->w, tl, 1.0);
+            TSF(_ts_load)(&S->w, 0, S->jet[0]);
+            for (int K = 0; K < P; ++K) borders[K](S);
+            for (int b = 0; b < TS_B; ++b) {
+                if (!L[b].running || traj[b] < 0) continue;
+                for (int k = 0; k <= P; ++k)
+                    for (int r = 0; r < NY; ++r) lj[k][r] = S->jet[k][r * TS_B + b];
+                lane_step(&L[b], &st, (const double(*)[NY])lj, &S->w, b);
+                if (!L[b].running) {
+                    const int k = traj[b];
+                    lane_finish(&L[b], &st, target + k, Y_end + (size_t)k * NY, stats + (size_t)k * 4,
+                                counts + (size_t)k * 2);
+                    status[k] = L[b].status;
+                }
+            }
+        }
+        free(S);
+    }
+}
+#endif
+
+#if TS_B == 1
+/* The continuous solution of a run at `times` (n, increasing, within [T[0], T[K-1]]) into out (n x NY):
+ * each step's polynomial, computed again from its start (the same coefficients as in the run). */
+int adb_taylor_dense(const double *T, const double *Y, long K, const double *p, int n, const double *times,
+                     double *out)
+{
+    Stepper *S = malloc(sizeof(Stepper));
+    if (!S) return ADB_SOLVER_FAILURE;
+    TSF(_ts_setup)(&S->w, p);
+    long k = 0, held = -1;
+    for (int j = 0; j < n; ++j) {
+        while (k + 2 < K && T[k + 1] <= times[j]) ++k; /* a step end belongs to the next step: y itself */
+        if (held != k) {
+            jet_of(S, T[k], Y + k * NY);
+            held = k;
+        }
+        horner((const double(*)[NY])S->jet, times[j] - T[k], out + (size_t)j * NY);
+    }
+    free(S);
+    return 0;
+}
+
+/* The jet (P + 1 rows of NY) of the solution through (t, y): for tests and the orbits' users */
+int adb_taylor_jet(double t, const double *y, const double *p, double *jet)
+{
+    Stepper *S = malloc(sizeof(Stepper));
+    if (!S) return ADB_SOLVER_FAILURE;
+    TSF(_ts_setup)(&S->w, p);
+    jet_of(S, t, y);
+    memcpy(jet, S->jet, sizeof(S->jet));
+    free(S);
+    return P;
+}
+#endif

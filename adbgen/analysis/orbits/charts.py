@@ -1,0 +1,372 @@
+"""Stability charts in two parameters: where the followed solution (a steady state, or a forced model's
+periodic response) is stable, and the curves of bifurcations that bound it (e.g. an imbalance against the speed with the
+balls' mass tied to the imbalance, on a log scale).
+
+    chart = compute(model, pmap, start, (lo1, hi1), (lo2, hi2), log2=True)
+    chart.to_json(); plot(chart, "chart.png")
+
+1. A grid: rows of lambda_2 (log-spaced if log2), each marched along lambda_1 by Newton from its
+   neighbour (steady state, or orbit by shooting), the stability of every grid point (the transverse
+   spectrum; the multipliers).
+2. Seeds: wherever stability changes between neighbours of a row, the kind of the change is read off the
+   two spectra (a complex pair: hopf / torus; a real eigenvalue: fold; a real multiplier through -1:
+   period-doubling, through +1: fold of cycles) and the point is located on the row (Brent's method on
+   that kind's critical quantity).
+3. Curves: each seed not already on a curve of its kind is continued both ways by the generic continuer
+   on the kind's defining system (`boundary`, `hopf`, `torus`, `period_doubling`, `fold_cycle`), to the
+   chart's edges, with the kind's codimension-two points.
+
+The curves go through every row they cross and beyond, so a boundary missed between two grid columns on
+one row is found from another; a closed curve lying between two rows would be missed (the rows' spacing
+is the resolution in lambda_2, reported).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .. import steady
+from ..loading import AnalysisError, Model
+from . import continuer
+from .boundary import FoldCurve, OrbitFollower, follower_for
+from .fold_cycle import FoldCycleCurve
+from .hopf import HopfCurve
+from .parameters import ParameterMap
+from .period_doubling import PeriodDoublingCurve
+from .torus import TorusCurve
+
+# the curve of each kind of stability change (one place: a new kind is a module and a line here)
+CURVES = {"hopf": HopfCurve, "fold": FoldCurve, "torus": TorusCurve, "period-doubling": PeriodDoublingCurve,
+          "fold of cycles": FoldCycleCurve}
+
+UNIT_TOL = 1e-7
+
+
+@dataclass
+class Curve:
+    kind: str
+    points: list  # (lambda_1, lambda_2)
+    special: list
+    end: str
+    seed: tuple
+
+
+@dataclass
+class Chart:
+    model: Model
+    names: tuple[str, str]
+    log2: bool
+    lam1: np.ndarray
+    lam2: np.ndarray
+    stable: np.ndarray  # rows x columns: 1 stable, 0 unstable, -1 not found
+    curves: list[Curve]
+    seeds: list[dict]
+    ties: list[str]
+    wall_s: float = 0.0
+    extra: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        n1, n2 = self.names
+        return {"model": self.model.name, "parameter": n1, "parameter2": n2, "ties": list(self.ties),
+                "log2": self.log2,
+                "grid": {n1: self.lam1.tolist(), n2: self.lam2.tolist(), "stable": self.stable.astype(int).tolist()},
+                "curves": [{"kind": c.kind, "points": [[float(a), float(b)] for a, b in c.points], "special": c.special,
+                            "end": c.end, "seed": {n1: c.seed[0], n2: c.seed[1]}} for c in self.curves],
+                "special": [s | {"curve": i} for i, c in enumerate(self.curves) for s in c.special],
+                "resolution": {n1: float(np.max(np.diff(self.lam1))), n2: float(np.max(np.diff(
+                    np.log10(self.lam2) if self.log2 else self.lam2))), "scale2": "log10" if self.log2 else "linear"},
+                "wall_s": self.wall_s}
+
+
+# ---------------------------------------------------------------------------------------- the grid
+
+def chart_start(model: Model, pmap: ParameterMap, lam):
+    """The followed solution at the chart's start pmap(lam): an autonomous model's START carried along the ties
+    (a state); a forced model's first labelled steady state that exists there (a constant solution, e.g. the
+    balanced state with the rotor at rest), refined as its periodic response by shooting (a PeriodicOrbit)."""
+    from .equilibrium import carried_start
+    from .orbit import refine
+
+    p = pmap(lam)
+    if model.autonomous:
+        return carried_start(model, p, pmap)
+    for label in model.steady_states:
+        y = model.steady_state(label, p)
+        if y is not None:
+            return refine(model, p, np.asarray(y, float), None)
+    raise AnalysisError(f"{model.name}: no labelled steady state exists at the chart's start to begin from")
+
+
+def _unstable(spectrum: np.ndarray, orbit: bool) -> int:
+    if orbit:
+        return int(np.sum(np.abs(spectrum) > 1.0 + UNIT_TOL))
+    return steady.classify(spectrum)[1]
+
+
+def _ordered(ev: np.ndarray, orbit: bool) -> np.ndarray:
+    """Real parts (multipliers: moduli - 1), largest first: the (m+1)-th changes sign where the number of
+    unstable ones goes from m to more."""
+    ev = np.asarray(ev, complex)
+    return np.sort(np.abs(ev) - 1.0 if orbit else ev.real)[::-1]
+
+
+def _critical(ev: np.ndarray, orbit: bool, m: int) -> complex:
+    """The eigenvalue (multiplier) at the (m+1)-th place of `_ordered`."""
+    ev = np.asarray(ev, complex)
+    key = np.abs(ev) - 1.0 if orbit else ev.real
+    return complex(ev[np.argsort(key)[::-1][m]])
+
+
+def _kind_of(z: complex, orbit: bool) -> str:
+    """The kind of stability change a critical eigenvalue (multiplier) z makes."""
+    cx = abs(z.imag) > 1e-9 * (1 + abs(z))
+    if not orbit:
+        return "hopf" if cx else "fold"
+    return "torus" if cx else ("period-doubling" if z.real < 0 else "fold of cycles")
+
+
+JUMP = 0.2  # a solution that moved this much (max norm, angles wrapped) between neighbours is re-found in halves
+
+
+def _moved(a, b) -> float:
+    if isinstance(a, tuple):  # an orbit: (arcs, period)
+        a, b = a[0].ravel(), b[0].ravel()
+    d = np.asarray(a, float) - np.asarray(b, float)
+    return float(np.max(np.abs(np.remainder(d + math.pi, 2 * math.pi) - math.pi)))
+
+
+def _step(follower, pmap, lam_from, lam_to, depth: int = 0):
+    """The solution at lam_to from the follower's (at lam_from): re-found in halves where it would jump (Newton
+    landing on another solution), up to 5 halvings."""
+    prev = follower.last
+    state, ev = follower.solve(pmap(lam_to))
+    if depth < 5 and _moved(state, prev) > JUMP:
+        mid = tuple(0.5 * (np.asarray(lam_from) + np.asarray(lam_to)))
+        follower.accept(prev)
+        s_mid, _ = _step(follower, pmap, lam_from, mid, depth + 1)
+        follower.accept(s_mid)
+        state, ev = _step(follower, pmap, mid, lam_to, depth + 1)
+    return state, ev
+
+
+def _row(follower, pmap, lam1, lam2, j0, state0):
+    """March one row from column j0 (where `state0` is the solution) to both ends; (spectra, states)."""
+    n = len(lam1)
+    spectra, states = [None] * n, [None] * n
+    for direction in (1, -1):
+        follower.accept(state0)
+        j = j0 if direction == 1 else j0 - 1
+        prev = lam1[j0]
+        while 0 <= j < n:
+            try:
+                state, ev = _step(follower, pmap, (prev, lam2), (lam1[j], lam2))
+            except (AnalysisError, ArithmeticError):
+                break
+            follower.accept(state)
+            spectra[j], states[j] = ev, state
+            prev = lam1[j]
+            j += direction
+    return spectra, states
+
+
+def grid(model, pmap: ParameterMap, start, lam1: np.ndarray, lam2: np.ndarray, lam1_0: float, lam2_0: float,
+         threads: int = 2):
+    """The stability of the followed solution on the grid: the start carried to the column nearest lam1_0 on
+    its own row, then row to row along that column, then every row marched from there both ways (rows on
+    `threads` threads: the compiled integrations release the GIL)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    follower = follower_for(model, start)
+    orbit = isinstance(follower, OrbitFollower)
+    state = (start.arcs, start.period) if orbit else np.asarray(start, float)
+    j0 = int(np.argmin(np.abs(lam1 - lam1_0)))
+    i0 = int(np.argmin(np.abs(lam2 - lam2_0)))
+    follower.accept(state)
+    state, _ = follower.solve(pmap((lam1[j0], lam2_0)))
+    column = {}
+    for order in (range(i0, len(lam2)), range(i0 - 1, -1, -1)):
+        follower.accept(state)
+        for i in order:
+            try:
+                s, _ = follower.solve(pmap((lam1[j0], lam2[i])))
+            except (AnalysisError, ArithmeticError):
+                break
+            follower.accept(s)
+            column[i] = s
+
+    def row(i):
+        f = follower_for(model, start)
+        return i, _row(f, pmap, lam1, lam2[i], j0, column[i])
+    with ThreadPoolExecutor(max_workers=max(1, threads)) as pool:
+        rows = dict(pool.map(row, sorted(column)))
+    stable = np.full((len(lam2), len(lam1)), -1, dtype=int)
+    for i, (spectra, _) in rows.items():
+        for j, ev in enumerate(spectra):
+            if ev is not None:
+                stable[i, j] = int(_unstable(ev, orbit) == 0)
+    return rows, stable, orbit
+
+
+# --------------------------------------------------------------------------------------- curves
+
+def _on_curve(curve: Curve, x, log2: bool, tol: float) -> bool:
+    pts = np.array(curve.points)
+    if not len(pts):
+        return False
+    if log2:
+        pts = np.column_stack([pts[:, 0], np.log10(pts[:, 1])])
+        x = (x[0], math.log10(x[1]))
+    d = np.hypot(pts[:, 0] - x[0], pts[:, 1] - x[1])
+    return bool(d.min() <= tol)
+
+
+def compute(model: Model, pmap: ParameterMap, start, range1, range2, log2: bool = False, n1: int = 81, n2: int = 25,
+            kinds=None, max_points: int = 400, lam1_0: float | None = None, lam2_0: float | None = None) -> Chart:
+    t0 = time.perf_counter()
+    lo1, hi1 = range1
+    lo2, hi2 = range2
+    if log2 and not lo2 > 0:
+        raise AnalysisError("a log scale needs the second parameter's range above 0")
+    lam1 = np.linspace(lo1, hi1, n1)
+    lam2 = np.logspace(math.log10(lo2), math.log10(hi2), n2) if log2 else np.linspace(lo2, hi2, n2)
+    lam1_0 = float(pmap.base[pmap.index[0]]) if lam1_0 is None else lam1_0
+    lam2_0 = float(pmap.base[pmap.index[1]]) if lam2_0 is None else lam2_0
+    rows, stable, orbit = grid(model, pmap, start, lam1, lam2, lam1_0, lam2_0)
+    seeds = []
+    for i, (spectra, states) in sorted(rows.items()):
+        for j in range(n1 - 1):
+            a, b = spectra[j], spectra[j + 1]
+            if a is None or b is None or _unstable(a, orbit) == _unstable(b, orbit):
+                continue
+            seeds.append({"row": i, "col": j, "state": states[j], "along": 0,
+                          "m": min(_unstable(a, orbit), _unstable(b, orbit))})
+    # and between rows, column by column: a curve that runs between two rows without crossing either
+    for i in sorted(rows):
+        if i + 1 not in rows:
+            continue
+        for j in range(n1):
+            a, b = rows[i][0][j], rows[i + 1][0][j]
+            if a is None or b is None or _unstable(a, orbit) == _unstable(b, orbit):
+                continue
+            seeds.append({"row": i, "col": j, "state": rows[i][1][j], "along": 1,
+                          "m": min(_unstable(a, orbit), _unstable(b, orbit))})
+    span1 = hi1 - lo1
+    span2 = (math.log10(hi2) - math.log10(lo2)) if log2 else (hi2 - lo2)
+    ds_max = max(span1, span2) / 80
+    curves: list[Curve] = []
+    located = []
+    for sd in seeds:
+        follower = follower_for(model, start)
+        follower.accept(sd["state"])
+        x2 = math.log10(lam2[sd["row"]]) if log2 else lam2[sd["row"]]
+        lam_of = (lambda x: (float(x[0]), float(10.0 ** x[1] if log2 else x[1])))
+        m_ = sd["m"]
+
+        def g(x):  # the (m+1)-th eigenvalue's real part (multiplier's modulus - 1): it changes sign there
+            _, ev = follower.solve(pmap(lam_of(x)))
+            return _ordered(ev, orbit)[m_]
+        try:
+            if sd["along"] == 0:  # along the row
+                v = brentq(lambda v: g((v, x2)), lam1[sd["col"]], lam1[sd["col"] + 1], xtol=1e-12)
+                x_seed = np.array([v, x2])
+            else:  # along the column
+                x2b = math.log10(lam2[sd["row"] + 1]) if log2 else lam2[sd["row"] + 1]
+                x_seed = np.array([lam1[sd["col"]], brentq(lambda v: g((lam1[sd["col"]], v)), x2, x2b, xtol=1e-12)])
+            _, ev = follower.solve(pmap(lam_of(x_seed)))
+        except (AnalysisError, ArithmeticError, ValueError):
+            continue
+        z = _critical(ev, orbit, m_)
+        kind = _kind_of(z, orbit)
+        if kinds is not None and kind not in kinds:
+            continue
+        cls = CURVES[kind]
+        cv = cls(model, pmap, follower, log2=log2, range2=(lo2, hi2))
+        cv.crit = z
+        seed = cv.lam(x_seed)
+        located.append({"kind": kind, pmap.free[0]: seed[0], pmap.free[1]: seed[1]})
+        if any(c.kind == kind and _on_curve(c, seed, log2, 3 * ds_max) for c in curves):
+            continue
+        halves, specials, ends = [], [], []
+        state_seed = cv._solve(x_seed)[0]
+        _, grad = cv.evaluate(x_seed)
+        along = np.array([-grad[0, 1], grad[0, 0]])  # the curve's direction: normal to the gradient of g
+        for direction in (1.0, -1.0):
+            cv = cls(model, pmap, follower_for(model, start), log2=log2, range2=(lo2, hi2))
+            cv.follower.accept(state_seed)
+            cv.crit = z
+            settings = continuer.Settings(ds=ds_max / 4, ds_max=ds_max, ds_min=1e-6 * ds_max, max_points=max_points,
+                                          bounds=(lo1, hi1), newton_tol=1e-10, fold_test=False)
+            try:
+                br = continuer.run(cv, x_seed, direction * along, settings)
+            except AnalysisError as exc:
+                ends.append(f"failed: {exc}")
+                continue
+            halves.append([cv.lam(pt.x) for pt in br.points])
+            ends.append(br.end)
+            for sp in br.specials:
+                l1v, l2v = cv.lam(sp.x)
+                specials.append({"type": sp.info["kind"], pmap.free[0]: l1v, pmap.free[1]: l2v,
+                                 **{k: v for k, v in sp.info.items() if k != "kind"}})
+        if not halves:
+            continue
+        pts = (list(reversed(halves[1])) + halves[0][1:]) if len(halves) == 2 else halves[0]
+        curves.append(Curve(kind, pts, specials, "; ".join(ends), seed))
+    chart = Chart(model, tuple(pmap.free), log2, lam1, lam2, stable, curves, located, list(pmap.tie_text))
+    chart.wall_s = time.perf_counter() - t0
+    return chart
+
+
+# ------------------------------------------------------------------------------------------ output
+
+STYLE = {"hopf": ("C3", "-"), "fold": ("C0", "--"), "torus": ("C1", "-"), "period-doubling": ("C2", "-."),
+         "fold of cycles": ("C4", ":")}
+
+
+def plot(chart: Chart, path: Path, title: str | None = None, scale2: float = 1.0, label2: str | None = None) -> None:
+    """The chart as the paper draws it: stable region shaded, curves by kind, lambda_2 on a log axis if asked;
+    the curves also written as data (<path>.json beside the figure)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n1, n2 = chart.names
+    fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+    S = np.where(chart.stable < 0, np.nan, chart.stable.astype(float))
+    ax.contourf(chart.lam1, chart.lam2 * scale2, S, levels=[0.5, 1.5], colors=["0.8"])
+    seen = set()
+    for c in chart.curves:
+        color, ls = STYLE.get(c.kind, ("k", "-"))
+        pts = np.array(c.points)
+        ax.plot(pts[:, 0], pts[:, 1] * scale2, ls, color=color, lw=1.3, label=None if c.kind in seen else c.kind)
+        seen.add(c.kind)
+        for s in c.special:
+            ax.plot(s[n1], s[n2] * scale2, "o", color=color, ms=4)
+    if chart.log2:
+        ax.set_yscale("log")
+    ax.set_xlim(chart.lam1[0], chart.lam1[-1])
+    ax.set_ylim(chart.lam2[0] * scale2, chart.lam2[-1] * scale2)
+    ax.set_xlabel(n1)
+    ax.set_ylabel(label2 or n2)
+    ax.legend(fontsize=8, loc="best")
+    ax.set_title(title or f"{chart.model.name}: stable region shaded" + (f"; tied: {', '.join(chart.ties)}" if chart.ties
+                                                                          else ""), fontsize=8)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name("." + path.name + ".tmp")
+    fig.savefig(tmp, dpi=130, format=path.suffix.lstrip(".") or "png")
+    plt.close(fig)
+    import json
+
+    data = path.with_suffix(".json")
+    tmpd = data.with_name("." + data.name + ".tmp")
+    tmpd.write_text(json.dumps(chart.to_json()))
+    os.replace(tmp, path)
+    os.replace(tmpd, data)

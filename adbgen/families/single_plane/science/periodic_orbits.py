@@ -1,0 +1,281 @@
+"""The thesis' periodic orbits recomputed (issue 21 item 6): the Fig. 5.4(b) limit cycle, the cycles born at
+H1 for n = 2, 3, 4 at (5.1)'s other parameters, and the desynchronised orbits of section 5.2.2.
+
+    section(out_dir) -> markdown      (figures written into out_dir)
+
+On the generated models through the analysis layer's orbit machinery (`adbgen.analysis.orbits`); this
+module only knows which of the thesis' cases to run and what the thesis says about them.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ....analysis.reproduction import Reproduction
+
+PI = math.pi
+CH4 = {"mu": 0.05, "zeta": 0.01, "beta": 0.01, "delta": 0.01}  # (5.1) without Omega: the ch. 4 parameters
+FIG54B = {"phi_1": PI / 4, "phi_2": -PI / 4}
+ENGINE = "cyrk-dop853"  # named: the document must not follow a change of the default engine (issue 23)
+
+
+def _model(n: int):
+    from ....analysis.loading import load_model
+
+    return load_model(f"thesis_rotating_n{n}")
+
+
+def simulated_period(model, p, y0, o, t_end: float = 6000.0, t_from: float = 4000.0) -> tuple[float, int]:
+    """The period a long run of ENGINE (named: not the default) settles on: its returns to the orbit's section
+    (through o.y, normal to the flow), located by cubic Hermite interpolation between accepted steps, over
+    [t_from, t_end]; (period, returns counted)."""
+    from scipy.optimize import brentq
+
+    from ....analysis.orbits.orbit import wrapped
+    from ....analysis.simulate import simulate
+
+    sim = simulate(model, p, y0, t_end=t_end, rtol=1e-12, atol=1e-13, engine=ENGINE)
+    t, Y = sim.t, sim.y.T
+    f0 = np.asarray(model.module.rhs(0.0, o.y, o.p))
+    D = wrapped(model, Y - o.y)
+    g = D @ f0
+    cross = []
+    for i in np.nonzero((g[:-1] < 0) & (g[1:] >= 0) & (t[:-1] > t_from))[0]:
+        w = g[i] / (g[i] - g[i + 1])
+        if np.linalg.norm(D[i] + w * (D[i + 1] - D[i])) > 0.1:
+            continue
+        h = t[i + 1] - t[i]
+        d0 = f0 @ np.asarray(model.module.rhs(0.0, Y[i], p)) * h
+        d1 = f0 @ np.asarray(model.module.rhs(0.0, Y[i + 1], p)) * h
+        a, b = g[i], g[i + 1]
+        cross.append(t[i] + h * brentq(lambda s: (2 * s**3 - 3 * s**2 + 1) * a + (s**3 - 2 * s**2 + s) * d0
+                                       + (3 * s**2 - 2 * s**3) * b + (s**3 - s**2) * d1, 0.0, 1.0, xtol=1e-15))
+    cross = np.array(cross)
+    count = int(round((cross[-1] - cross[0]) / o.period))
+    return float((cross[-1] - cross[0]) / count), count
+
+
+def fig54b(out: Path, progress=print) -> dict:
+    """Fig. 5.4(b): the n = 2 run from (pi/4, -pi/4) at (5.1) ends on a limit cycle."""
+    from ....analysis import auto
+    from ....analysis.orbits import auto_cycles, orbit
+    from ....analysis.orbits.flow import Flow
+
+    m = _model(2)
+    p = m.params()
+    y0 = m.state(FIG54B)
+    t0 = time.perf_counter()
+    o = orbit.find(m, p, y0, 2000.0)
+    wall = time.perf_counter() - t0
+    T_sim, count = simulated_period(m, p, y0, o)
+    res = {"orbit": o, "wall": wall, "T_sim": T_sim, "returns": count}
+    if not auto.missing_tools():
+        a = auto_cycles.auto_orbit(m, o, "Omega")
+        ours = orbit.refine(m, m.params({"Omega": a["Omega"]}), o.y, o.period)
+        res["auto"] = a
+        res["auto_ours"] = ours
+    progress(f"Fig. 5.4(b): period {o.period:.10f}, simulate {T_sim:.10f}")
+    # figure: one period of the orbit and the long simulation's last stretch, r and the x-y whirl
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ....analysis.simulate import simulate
+
+    t, Y = orbit.trace(o, Flow(m), 800)
+    sim = simulate(m, p, y0, t_end=2000.0 + 3 * o.period, rtol=1e-10, atol=1e-12, samples=4001, engine=ENGINE)
+    keep = sim.t > 2000.0
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True)
+    a1.plot(sim.t[keep] - sim.t[keep][0], np.hypot(sim.y[0, keep], sim.y[1, keep]), color="0.6", lw=3,
+            label="simulate, t > 2000")
+    a1.plot(t, np.hypot(Y[:, 0], Y[:, 1]), "C3", lw=1, label=f"orbit, T = {o.period:.6f}")
+    a1.set_xlabel("t (from a point on the orbit)")
+    a1.set_ylabel("r")
+    a1.legend(fontsize=7)
+    a2.plot(sim.y[0, keep], sim.y[1, keep], color="0.6", lw=3)
+    a2.plot(Y[:, 0], Y[:, 1], "C3", lw=1)
+    a2.set_xlabel("x")
+    a2.set_ylabel("y")
+    a2.set_aspect("equal", "datalim")
+    fig.suptitle("Fig. 5.4(b): n = 2, (5.1), phi(0) = (pi/4, -pi/4): the limit cycle", fontsize=9)
+    fig.savefig(out / "orbits_fig5_4b.png", dpi=110)
+    plt.close(fig)
+    return res
+
+
+def h1_cycles(out: Path, progress=print) -> list[dict]:
+    """The cycles born at H1 (the Hopf point where the balanced state stabilises as Omega grows) for n = 2, 3,
+    4 at mu = 0.05, zeta = beta = delta = 0.01."""
+    from ....analysis import continuation
+    from ....analysis.orbits import branches, continuer, hopf
+    from ....analysis.orbits.flow import Flow
+    from ....analysis.orbits.parameters import ParameterMap
+
+    rows = []
+    for n in (2, 3, 4):
+        m = _model(n)
+        p = m.params({"Omega": 4.0, **CH4})
+        sc = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
+        h1 = sc.points[0]
+        pm = ParameterMap(m, p, ["Omega"])
+        hp = hopf.HopfPoint.at(m, pm, h1.y, h1.value)
+        t0 = time.perf_counter()
+        br = branches.from_hopf(m, pm, hp, continuer.Settings(ds=0.01, ds_max=0.05, max_points=300, bounds=(0.5, 4.0)))
+        row = {"n": n, "hopf": hp, "branch": br, "wall": time.perf_counter() - t0}
+        if len(br.orbits) <= 1:
+            # the free angles drift: a run just past H1 from the balanced state, perturbed
+            fl = Flow(m)
+            q = pm(hp.lam - 0.01)
+            y = h1.y.copy()
+            y[0] += 1e-3
+            times = np.linspace(1.0, 20000.0, 200)
+            Y = fl.sample(y, 0.0, times, q)
+            free = list(m.angle_indices)[2:]
+            row["drift"] = {"Omega": hp.lam - 0.01, "r_end": float(np.hypot(Y[-1, 0], Y[-1, 1])),
+                            "angle_change": float(np.max(np.abs(Y[-1, free] - y[free])))}
+        rows.append(row)
+        progress(f"H1 n = {n}: Omega = {hp.lam:.8f}, l1 = {hp.l1:.4g}, {len(br.orbits)} orbits ({br.end})")
+    _plot_h1(rows, out)
+    return rows
+
+
+def _plot_h1(rows, out: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True)
+    for row in rows:
+        br = row["branch"]
+        if len(br.orbits) <= 1:
+            continue
+        j = br.to_json()
+        lam, amp, per, st = (np.array(j[k]) for k in ("parameter", "amplitude", "period", "stable"))
+        for ax, v in ((a1, amp), (a2, per)):
+            ax.plot(lam, v, "-", color=f"C{row['n']}", lw=0.7)
+            ax.plot(lam, np.where(st, v, np.nan), "-", color=f"C{row['n']}", lw=2.4, label=f"n = {row['n']}")
+        for s in br.specials:
+            k = int(np.argmin(np.abs(lam - s["Omega"])))
+            mk = {"torus": "*", "period-doubling": "D", "fold": "s"}[s["kind"]]
+            a1.plot(s["Omega"], amp[k], mk, color="k", ms=6)
+            a2.plot(s["Omega"], s["period"], mk, color="k", ms=6)
+    a1.set_xlabel("Omega")
+    a1.set_ylabel("r_max")
+    a2.set_xlabel("Omega")
+    a2.set_ylabel("period")
+    a1.legend(fontsize=7)
+    fig.suptitle("Cycles born at H1 (mu = 0.05, zeta = beta = delta = 0.01): thick stable; * torus, D period-doubling, "
+                 "s fold", fontsize=8)
+    fig.savefig(out / "orbits_h1.png", dpi=110)
+    plt.close(fig)
+
+
+def desynchronised(out: Path, progress=print) -> list[dict]:
+    """Section 5.2.2 (Fig. 5.16(a), 5.17(a)): zeta = 0.25, the n = 3 and n = 4 runs end on limit cycles; here
+    the balls lap the rotor on them (windings), and the orbits are continued in Omega."""
+    from ....analysis.orbits import branches, continuer, orbit
+    from ....analysis.orbits.parameters import ParameterMap
+
+    rows = []
+    for n, phi in ((3, (PI / 3, -PI / 3, PI)), (4, (PI / 2, -PI / 2, PI, 0.0))):
+        m = _model(n)
+        p = m.params({"zeta": 0.25})
+        o = orbit.find(m, p, m.state({f"phi_{i + 1}": v for i, v in enumerate(phi)}), 3000.0)
+        br = branches.from_orbit(m, ParameterMap(m, p, ["Omega"]), o, -1.0,
+                                 continuer.Settings(ds=0.02, ds_max=0.1, max_points=150, bounds=(1.0, 6.0)))
+        rows.append({"n": n, "orbit": o, "branch": br})
+        progress(f"desynchronised n = {n}: period {o.period:.8f}, windings {o.windings}")
+    return rows
+
+
+def section(out: Path, progress=print) -> str:
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    a = fig54b(out, progress)
+    h1 = h1_cycles(out, progress)
+    ds = desynchronised(out, progress)
+    o = a["orbit"]
+    L = ["## Periodic orbits of the single-plane balancer (thesis ch. 4-6)", "",
+         "Computed by `adbgen orbit` / `adbgen continue --orbits` (Newton shooting on the compiled variational "
+         "equations, `adbgen.analysis.orbits`); see [Periodic orbits](@DOCS@/orbits.md).", "",
+         "### Fig. 5.4(b): the limit cycle", "",
+         "Thesis: \"The balance is achieved in all the panels of Fig.5.4 except in (b1)-(b2), in which the system "
+         "reaches a stable limit cycle ... r keeps vibrating around a high value.\"", "",
+         f"`adbgen orbit thesis_rotating_n2 --y0 phi_1=pi/4 --y0 phi_2=-pi/4` (t_transient 2000, {a['wall']:.1f} s): "
+         f"period **{o.period:.10f}**, r in [{o.r_min:.6f}, {o.r_max:.6f}], windings 0 (the balls oscillate, no "
+         f"lap), trivial multiplier |mu - 1| = {o.trivial_multiplier_error:.1e}, the other multipliers' moduli "
+         + ", ".join(f"{abs(z):.6f}" for z in o.nontrivial) + " (all inside the unit circle: **stable**).", "",
+         f"The same orbit from a long `simulate` (`{ENGINE}`, rtol 1e-12, t to 6000; {a['returns']} returns to "
+         f"the orbit's section after t = 4000): period {a['T_sim']:.10f}, relative difference "
+         f"{abs(a['T_sim'] - o.period) / o.period:.1e}."]
+    if "auto" in a:
+        au, ours = a["auto"], a["auto_ours"]
+        mu = np.sort(np.abs([complex(x, y) for x, y in au["multipliers"]]))[::-1]
+        L += ["", f"AUTO-07p (collocation, NTST 60, NCOL 4) started from the orbit as data, one step along the "
+              f"branch to Omega = {au['Omega']:.10f}: period {au['period']:.10f} against shooting's "
+              f"{ours.period:.10f} there ({abs(au['period'] - ours.period) / ours.period:.1e}); AUTO's multipliers' "
+              "moduli " + ", ".join(f"{v:.6f}" for v in mu) + "."]
+    L += ["", "![Fig. 5.4(b)](@FIGURES@/orbits_fig5_4b.png)", "",
+          "### The cycles born at H1, n = 2, 3, 4 (mu = 0.05, zeta = beta = delta = 0.01)", "",
+          "Thesis ch. 6: \"we have not undertaken continuation of limit cycles from the Hopf bifurcation curves ... "
+          "a future work could be to obtain limit cycles with AUTO for the ADB with three and four balls.\"", "",
+          "| n | H1 (Omega) | frequency | l1 | criticality | cycles | what happens |", "|---|---|---|---|---|---|---|"]
+    for row in h1:
+        hp, br = row["hopf"], row["branch"]
+        if len(br.orbits) > 1:
+            j = br.to_json()
+            stable = [lam for lam, s in zip(j["parameter"], j["stable"]) if s]
+            what = (f"stable for Omega in [{min(stable):.6f}, {max(stable):.6f}]; " if stable else "") + \
+                "; ".join(f"{s['kind']} at {s['Omega']:.6f} (T = {s['period']:.5f})" for s in br.specials[:6])
+            cyc = f"{len(br.orbits)} orbits, Omega {j['parameter'][0]:.4f} to {j['parameter'][-1]:.4f}"
+        else:
+            d = row["drift"]
+            what = (f"no small cycle: the oscillation drifts along the continuum of balanced states "
+                    f"(|L^T B(q, q-bar)| = {hp.info['drift']:.3g}); from the balanced state at Omega = {d['Omega']:.4f}, "
+                    f"perturbed, a run of t = 20000 ends with r = {d['r_end']:.2e} and the free angle moved by "
+                    f"{d['angle_change']:.3f}")
+            cyc = "none"
+        L.append(f"| {row['n']} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | {hp.criticality} | {cyc} | {what} |")
+    L += ["", "For n >= 3 the balanced states form a continuum (the thesis' (3.6) leaves n - 2 angles free); H1 is a "
+          "Hopf point of one member, the oscillation's second-order mean (the term L^T B(q, q-bar) of the normal form) "
+          "pushes the state along the continuum, so no cycle closes near the Hopf point: the continuation finds no "
+          "branch there (`adbgen continue --orbits` says so).  AUTO-07p's emitted files for n >= 3 pin the free angles "
+          "by a regularising term that vanishes on the pinned equilibrium but not along a cycle, so cycles AUTO would "
+          "compute from their HB labels belong to the regularised system, not to the model.", "",
+          "![H1 cycles](@FIGURES@/orbits_h1.png)", "",
+          "### Desynchronised orbits (section 5.2.2, zeta = 0.25)", "",
+          "Thesis: Fig. 5.16(a), 5.17(a): with zeta = 0.25 the n = 3 and n = 4 runs \"reach a limit cycle with r values "
+          "around 0.1 and 0.15\".  Found from the thesis' starts (`adbgen orbit ... --set zeta=0.25`) and continued in "
+          "Omega downwards:", "", "| n | period | windings | r range | stable | continued in Omega to | period there |",
+          "|---|---|---|---|---|---|---|"]
+    for row in ds:
+        o2, j = row["orbit"], row["branch"].to_json()
+        L.append(f"| {row['n']} | {o2.period:.8f} | {', '.join(f'{k} {v:+d}' for k, v in o2.windings.items())} | "
+                 f"[{o2.r_min:.4f}, {o2.r_max:.4f}] | {o2.stable} | {j['parameter'][-1]:.4f} | {j['period'][-1]:.4f} |")
+    L += ["", "Every ball loses one revolution per period relative to the rotor (the balls lag it: a desynchronised "
+          "orbit); on these orbits the balls move together.", "",
+          f"(this section: {time.perf_counter() - t0:.0f} s)", ""]
+    return "\n".join(L)
+
+
+def _compute(fig_dir: Path, progress=None) -> dict:
+    return {"text": section(fig_dir, progress or (lambda *_: None)), "figures": Path(fig_dir)}
+
+
+def _lines(results: dict, root: Path) -> list[str]:
+    """The section's markdown with its figure links relative to the document's folder `root`."""
+    import os
+
+    figures = Path(os.path.relpath(results["figures"], root)).as_posix()
+    docs = Path(os.path.relpath(Path(__file__).resolve().parents[4] / "docs", root)).as_posix()
+    return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
+
+
+REPRODUCTION = Reproduction("thesis-orbits", "Thesis: periodic orbits (issue 21)", _compute, _lines)

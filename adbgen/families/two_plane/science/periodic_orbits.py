@@ -1,0 +1,287 @@
+"""The two-plane paper's periodic orbits and stability charts recomputed (issue 21 item 6): the criticality of
+Fig. 14(a)'s Hopf point, Fig. 14(c, d)'s branch of limit cycles with its inset points, and the charts of
+Figs. 10(a), 11, 13(a-d), 14(a, b), each beside the paper's description of it.
+
+    section(out_dir) -> markdown      (figures and the charts' curves as data written into out_dir)
+
+On the generated models through `adbgen.analysis.orbits` (charts: `orbits.charts.compute`); the paper's
+parameter sets and ties are stated here, as the command line would give them (`--set`, `--tie`).
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ....analysis.reproduction import Reproduction
+
+from ..charts import CHARTS, ChartCase, ties  # noqa: F401  (the paper's charts as data; bench times them too)
+
+
+def chart(case: ChartCase, out: Path, n1: int = 81, n2: int = 25, progress=print):
+    from ....analysis.loading import load_model
+    from ....analysis.orbits import charts
+    from ....analysis.orbits.parameters import ParameterMap
+
+    m = load_model(case.model)
+    pmap = ParameterMap(m, m.params(case.sets), ["Omega", "epsilon"], case.ties)
+    lam0 = (3.0, 1e-3)
+    start = charts.chart_start(m, pmap, lam0)
+    c = charts.compute(m, pmap, start, case.range1, case.range2, log2=True, n1=n1, n2=n2, lam1_0=lam0[0],
+                       lam2_0=lam0[1])
+    name = f"orbits_chart_{case.figure.replace('(', '').replace(')', '')}.png"
+    charts.plot(c, out / name, title=f"Fig. {case.figure}: {case.model}, stable region shaded", scale2=case.scale2,
+                label2=case.label2)
+    progress(f"Fig. {case.figure}: {len(c.curves)} curves, {c.wall_s:.0f} s")
+    return c, name
+
+
+def criticality(progress=print) -> list[dict]:
+    """The boundary Hopf point of Fig. 14(a) (B losing stability as Omega falls) at eps/R + chi = 0.01 and 1e-4."""
+    from ....analysis import continuation
+    from ....analysis.loading import load_model
+    from ....analysis.orbits import hopf
+    from ....analysis.orbits.equilibrium import carried_start
+    from ....analysis.orbits.parameters import ParameterMap
+
+    m = load_model("two_plane_rotating")
+    rows = []
+    for total in (0.01, 1e-4):
+        eps = total / 2
+        pm2 = ParameterMap(m, m.params({"beta": 1.0}), ["Omega", "epsilon"], ties(dynamic=True))
+        y = carried_start(m, pm2((4.0, eps)), pm2)
+        pm = ParameterMap(m, pm2((4.0, eps)), ["Omega"], ties(dynamic=True))
+        sc = continuation.scan(m, pm(4.0), y, "Omega", 4.0, 1.5)
+        hp = hopf.HopfPoint.at(m, pm, sc.points[0].y, sc.points[0].value)
+        rows.append({"total": total, "hopf": hp, "pm": pm})
+        progress(f"Fig. 14(a) Hopf at eps/R + chi = {total:g}: Omega = {hp.lam:.8f}, l1 = {hp.l1:.5g} ({hp.criticality})")
+    return rows
+
+
+INSETS = [(3.386, 7.081, True), (3.127, 9.856, False), (2.475, 32.453, False)]
+
+
+def vibration(model, t, Y, p) -> np.ndarray:
+    """The paper's A along samples (times t, states on the rows of Y): the module's "A" measure."""
+    from ....analysis.orbits import describe
+
+    return describe.measure(model, "A", t, Y, p)
+
+
+def fig14cd(hopf_row: dict, out: Path, max_points: int = 3000, progress=print) -> dict:
+    """The cycles born at the marked Hopf point (eps/R + chi = 0.01), continued to long periods."""
+    from ....analysis.loading import load_model
+    from ....analysis.orbits import branches, continuer
+    from ....analysis.orbits.flow import Flow
+    from ....analysis.orbits.orbit import trace
+
+    m = load_model("two_plane_rotating")
+    t0 = time.perf_counter()
+    br = branches.from_hopf(m, hopf_row["pm"], hopf_row["hopf"],
+                            continuer.Settings(ds=0.01, ds_max=0.05, max_points=max_points, bounds=(1.5, 4.0)))
+    wall = time.perf_counter() - t0
+    flow = Flow(m)
+    lam = np.array([o.p_value for o in br.orbits])
+    T = np.array([o.period for o in br.orbits])
+    st = np.array([o.stable for o in br.orbits])
+    A = []
+    for o in br.orbits:
+        t, Y = trace(o, flow, 400)
+        A.append(float(np.max(vibration(m, t, Y, o.p))))
+    A = np.array(A)
+    near = []
+    for Om, Tp, stab in INSETS:
+        d = np.hypot(lam - Om, (T - Tp) / Tp)
+        i = int(np.argmin(d))
+        near.append({"paper": (Om, Tp, stab), "ours": (float(lam[i]), float(T[i]), bool(st[i])), "index": i,
+                     "distance": float(d[i])})
+    _plot_14cd(m, br, lam, T, st, A, near, flow, out)
+    progress(f"Fig. 14(c, d): {len(br.orbits)} orbits, {wall:.0f} s, {br.end}")
+    return {"branch": br, "lam": lam, "T": T, "stable": st, "A": A, "near": near, "wall": wall}
+
+
+def _plot_14cd(m, br, lam, T, st, A, near, flow, out: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ....analysis.orbits.orbit import trace
+
+    fig = plt.figure(figsize=(10, 6.5), constrained_layout=True)
+    gs = fig.add_gridspec(2, 3)
+    ax_c = fig.add_subplot(gs[0, :2])
+    ax_d = fig.add_subplot(gs[1, :2])
+    zoom = lam > 3.2
+    ax_c.plot(lam[zoom], A[zoom], "k-", lw=0.7)
+    ax_c.plot(lam[zoom], np.where(st[zoom], A[zoom], np.nan), "k-", lw=2.5)
+    ax_d.plot(lam, T, "k-", lw=0.7)
+    ax_d.plot(lam, np.where(st, T, np.nan), "k-", lw=2.5)
+    for s in br.specials:
+        mk = {"torus": "*", "period-doubling": "D", "fold": None}[s["kind"]]
+        if mk:
+            ax_d.plot(s["Omega"], s["period"], mk, color="C3", ms=8)
+            k = int(np.argmin(np.abs(lam - s["Omega"]) + np.abs(T - s["period"])))
+            if zoom[k]:
+                ax_c.plot(s["Omega"], A[k], mk, color="C3", ms=8)
+    for j, nr in enumerate(near):
+        Om, Tp, _ = nr["paper"]
+        ax_d.plot(Om, Tp, "o", mfc="none", mec="C0", ms=10)
+        ax_d.annotate("(" + "i" * (j + 1) + ")", (Om, Tp), textcoords="offset points", xytext=(6, 6), fontsize=8)
+    ax_c.set_ylabel("A-bar")
+    ax_c.set_title("(c) near the Hopf point: thick stable", fontsize=8)
+    ax_d.set_xlabel("Omega")
+    ax_d.set_ylabel("period T")
+    ax_d.set_title("(d) the branch continued: * torus, D period-doubling, o the paper's insets", fontsize=8)
+    # the insets' whirl orbits (rotating x-y plane of C) at the branch points nearest the paper's
+    axes = [fig.add_subplot(gs[0, 2]), fig.add_subplot(gs[1, 2])]
+    for j, nr in enumerate(near):
+        o = br.orbits[nr["index"]]
+        _, Y = trace(o, flow, 1500)
+        ax = axes[0] if j == 0 else axes[1]
+        ax.plot(Y[:, 0], Y[:, 1], lw=0.8, label="(" + "i" * (j + 1) + f") Omega {o.p_value:.3f}, T {o.period:.3f}")
+    for ax in axes:
+        ax.set_aspect("equal", "datalim")
+        ax.legend(fontsize=6)
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+    fig.suptitle("Fig. 14(c, d): limit cycles from the Hopf point at eps/R + chi = 0.01 (two_plane_rotating)", fontsize=9)
+    fig.savefig(out / "orbits_fig14cd.png", dpi=110)
+    plt.close(fig)
+
+
+def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: int = 3000) -> str:
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    crit = criticality(progress)
+    f14 = fig14cd(crit[0], out, max_points, progress)
+    L = ["## Periodic orbits and stability charts of the two-plane balancer (paper sections 4, 5)", "",
+         "### Criticality of the Hopf point of Fig. 14(a)", "",
+         "Paper: \"We find that the Hopf bifurcation is supercritical ... For smaller values of the imbalance, say "
+         "eps/R + chi = 1e-4, we have found that the Hopf bifurcation is subcritical.\"  The Hopf point where B "
+         "loses stability as Omega falls (two_plane_rotating, eps/R = chi, m/M = eps/R + chi, c_b/m = 0.01, beta = 1, "
+         "by `--tie`), its first Lyapunov coefficient from the exact jets:", "",
+         "| eps/R + chi | Omega at the Hopf point | frequency | l1 | criticality |", "|---|---|---|---|---|"]
+    for r in crit:
+        hp = r["hopf"]
+        L.append(f"| {r['total']:g} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | **{hp.criticality}** |")
+    br = f14["branch"]
+    L += ["", "### Fig. 14(c, d): the limit cycles born there", "",
+          "Paper: \"there is a small region, as indicated by the bold curve, in which the limit cycle is stable ... "
+          "the solution 'cuts-back' on itself so that the period of the orbit does not increase monotonically\"; "
+          "insets at (Omega, T) = (3.386, 7.081) stable, (3.127, 9.856) unstable, (2.475, 32.453) unstable.", "",
+          f"{len(br.orbits)} orbits by `continue --orbits` ({f14['wall']:.0f} s, {br.end}); the branch points nearest "
+          "the insets:", "", "| inset | paper (Omega, T, stability) | ours (Omega, T, stability) | distance |",
+          "|---|---|---|---|"]
+    for j, nr in enumerate(f14["near"]):
+        Om, Tp, s = nr["paper"]
+        o1, t1, s1 = nr["ours"]
+        L.append(f"| ({'i' * (j + 1)}) | ({Om}, {Tp}, {'stable' if s else 'unstable'}) | ({o1:.4f}, {t1:.4f}, "
+                 f"{'stable' if s1 else 'unstable'}) | {nr['distance']:.1e} |")
+    stab = f14["lam"][f14["stable"]]
+    L += ["", (f"Stable for Omega in [{stab.min():.6f}, {stab.max():.6f}] (from the Hopf point to the first fold of "
+               "cycles)." if len(stab) else "No stable cycles."), "", "Special points (located by test functions):", "",
+          "| kind | Omega | period |", "|---|---|---|"]
+    for s in br.specials:
+        L.append(f"| {s['kind']} | {s['Omega']:.7f} | {s['period']:.5f} |")
+    L += ["", "![Fig. 14(c, d)](@FIGURES@/orbits_fig14cd.png)", "", "### Stability charts", "",
+          "Each chart: `adbgen continue MODEL --par Omega --par2 epsilon --tie ... --log2 --plot FILE` (grid "
+          f"{n1} x {n2}, curves continued from every change of stability on the grid; the curves as data in the "
+          "figure's .json).  Grey: B stable.", ""]
+    done: dict = {}
+    for case in CHARTS:
+        if case.same_as and case.same_as in done:
+            c, name = done[case.same_as]
+        else:
+            c, name = chart(case, out, n1, n2, progress)
+            done[case.figure] = (c, name)
+        kinds = {}
+        for cv in c.curves:
+            kinds[cv.kind] = kinds.get(cv.kind, 0) + 1
+        L += [f"#### Fig. {case.figure}", "", f"Paper: {case.text}", "",
+              f"Ours ({case.model}{'; ' + case.note if case.note else ''}; ties: `{' '.join(case.ties)}`; "
+              f"{c.wall_s:.0f} s): " + (", ".join(f"{v} {k} curve(s)" for k, v in kinds.items()) or "no curve") + "; "
+              + _chart_summary(c, case), ""]
+        if case.figure in ("10(a)", "11", "13(b)"):
+            lim = limit(case, progress=progress)
+            L += ["As the imbalance vanishes (the same ties, B followed from Omega = 5 down to 0.5), its stability "
+                  "changes at: " + "; ".join(f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
+                                            for eps, pts in lim) + ".", ""]
+        L += [f"![Fig. {case.figure}](@FIGURES@/{name})", ""]
+    L.append(f"(this section: {time.perf_counter() - t0:.0f} s)")
+    return "\n".join(L)
+
+
+def _runs(x: np.ndarray, mask: np.ndarray) -> list[tuple[float, float]]:
+    """The stretches of x where mask holds (first and last grid point of each)."""
+    out, start = [], None
+    for i, ok in enumerate(mask):
+        if ok and start is None:
+            start = i
+        if not ok and start is not None:
+            out.append((float(x[start]), float(x[i - 1])))
+            start = None
+    if start is not None:
+        out.append((float(x[start]), float(x[-1])))
+    return out
+
+
+def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[tuple[float, list]]:
+    """Where B's stability changes along Omega (from the range's top down) at imbalances below the chart's:
+    the values the curves tend to as eps/R = m/M -> 0 (the paper: the critical speeds).  A steady state's Hopf
+    points and folds (autonomous model), or the torus and period-doubling points of the forced response."""
+    from ....analysis import continuation
+    from ....analysis.loading import load_model
+    from ....analysis.orbits import branches, continuer
+    from ....analysis.orbits.parameters import ParameterMap
+
+    m = load_model(case.model)
+    pm2 = ParameterMap(m, m.params(case.sets), ["Omega", "epsilon"], case.ties)
+    top, bottom = case.range1[1], case.range1[0]
+    out = []
+    for eps in epsilons:
+        start = _start(m, pm2, (top, eps))
+        pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
+        if m.autonomous:
+            sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
+            out.append((eps, [(b.kind, b.value) for b in sc.points]))
+        else:
+            br = branches.from_orbit(m, pm, start, -1.0, continuer.Settings(ds=0.02, ds_max=0.05, max_points=2000,
+                                                                             bounds=(bottom, top)), amplitude=False)
+            out.append((eps, [(sp["kind"], sp["Omega"]) for sp in br.specials]))
+        progress(f"Fig. {case.figure} limit eps = {eps:g}: " + ", ".join(f"{k} {v:.5f}" for k, v in out[-1][1]))
+    return out
+
+
+def _chart_summary(c, case: ChartCase) -> str:
+    """Where the grid found B stable at the smallest and the largest eccentricity row, and the curves' lowest
+    points (what the curves asymptote to as the imbalance vanishes)."""
+    found = c.stable >= 0
+    parts = [f"B found at {int(found.sum())} of {c.stable.size} grid points, stable at {int((c.stable == 1).sum())}"]
+    for i, what in ((0, "smallest"), (len(c.lam2) - 1, "largest")):
+        runs = _runs(c.lam1, c.stable[i] == 1)
+        parts.append(f"at the {what} imbalance ({c.lam2[i] * case.scale2:.1e}) stable for Omega in "
+                     + (", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in runs) if runs else "no grid point"))
+    lows = sorted(pt[0] for cv in c.curves for pt in [min(cv.points, key=lambda q: q[1])] if pt[1] <= 1.01 * c.lam2[0])
+    if lows:
+        parts.append("curves reaching the smallest imbalance at Omega = " + ", ".join(f"{v:.3f}" for v in lows))
+    return "; ".join(parts) + "."
+
+
+def _compute(fig_dir: Path, progress=None) -> dict:
+    return {"text": section(fig_dir, progress or (lambda *_: None)), "figures": Path(fig_dir)}
+
+
+def _lines(results: dict, root: Path) -> list[str]:
+    """The section's markdown with its figure links relative to the document's folder `root`."""
+    import os
+
+    figures = Path(os.path.relpath(results["figures"], root)).as_posix()
+    docs = Path(os.path.relpath(Path(__file__).resolve().parents[4] / "docs", root)).as_posix()
+    return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
+
+
+REPRODUCTION = Reproduction("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)", _compute, _lines)

@@ -1,0 +1,360 @@
+"""Periodic orbits (issue 21 items 1-3): the variational driver, Newton shooting, `adbgen orbit`, branches,
+their detectors on systems with known bifurcations, the first Lyapunov coefficient, and AUTO-07p as the
+independent method."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from adbgen.analysis.loading import load_model
+from adbgen.analysis.orbits import auto_cycles, branches, continuer, hopf, jets, lyapunov, orbit
+from adbgen.analysis.orbits.cycle import torus_test
+from adbgen.analysis.orbits.flow import Flow
+from adbgen.analysis.orbits.parameters import ParameterMap
+from adbgen.analysis.orbits.shooting import Shooting
+from adbgen.analysis.simulate import simulate
+from adbgen.cli import main
+
+import orbit_toys as toys
+from analysis_helpers import CH4, require_auto
+
+PI = math.pi
+FIG54B = {"phi_1": PI / 4, "phi_2": -PI / 4}  # thesis Fig. 5.4(b): the n = 2 run that ends on a limit cycle
+
+
+@pytest.fixture(scope="module")
+def n2():
+    return load_model("thesis_rotating_n2")
+
+
+@pytest.fixture(scope="module")
+def fig54b(n2):
+    return orbit.find(n2, n2.params(), n2.state(FIG54B), 2000.0)
+
+
+# ------------------------------------------------------------------------------ the variational driver
+
+def test_variational_equations_match_differences_of_the_flow(n2):
+    """Phi and w of the compiled driver against central differences of the end state (every column)."""
+    flow = Flow(n2)
+    p = n2.params({"Omega": 1.8})
+    y = n2.state({"x": 0.01, "phi_1": 1.0, "phi_2": -2.0, "phi_1_dot": 0.1})
+    dp = np.eye(n2.n_params)[0]
+    X, Phi, W = flow.arcs(y, 0.0, 7.0, p, phi=True, dp=dp)
+    h = 1e-6
+    fd = np.column_stack([(flow.end(y + h * e, 0.0, 7.0, p) - flow.end(y - h * e, 0.0, 7.0, p)) / (2 * h)
+                          for e in np.eye(n2.n_states)])
+    assert np.max(np.abs(fd - Phi[0])) < 1e-6 * max(1.0, np.max(np.abs(Phi[0])))
+    fdp = (flow.end(y, 0.0, 7.0, p + h * dp) - flow.end(y, 0.0, 7.0, p - h * dp)) / (2 * h)
+    assert np.max(np.abs(fdp - W[0])) < 1e-6 * max(1.0, np.max(np.abs(W[0])))
+    # negative control: Phi is not the identity's flow of a shorter arc
+    _, Phi_short, _ = flow.arcs(y, 0.0, 6.0, p, phi=True)
+    assert np.max(np.abs(Phi_short[0] - Phi[0])) > 1e-2
+
+
+def test_shooting_jacobian_is_exact_with_arcs_and_forcing(tmp_path):
+    """The multiple-shooting Jacobian (arcs, period, parameter; a forced model's arcs moving with its
+    forcing frequency) against central differences of the residual."""
+    m = load_model(toys.duffing_toy(tmp_path))
+    flow = Flow(m)
+    k = m.param_names.index("w")
+    sh = Shooting(m, flow, arcs=3, forcing=k)
+    p = m.params({"g": 0.25})
+    X = np.array([[1.1, 0.2], [0.7, -0.3], [1.3, 0.1]])
+    u = sh.pack(X, 0.0)
+    dp = np.eye(m.n_params)[k]
+    ev = sh.evaluate(u, p, dp=dp)
+    h = 1e-6
+    num = np.column_stack([(sh.evaluate(u + h * e, p, jacobian=False).F - sh.evaluate(u - h * e, p, jacobian=False).F)
+                           / (2 * h) for e in np.eye(len(u))])
+    assert np.max(np.abs(num - ev.A)) < 1e-6
+    numk = (sh.evaluate(u, p + h * dp, jacobian=False).F - sh.evaluate(u, p - h * dp, jacobian=False).F) / (2 * h)
+    assert np.max(np.abs(numk - ev.Fk)) < 1e-6
+    # without the forcing-time term the parameter column is wrong (negative control)
+    assert np.max(np.abs(numk - sh.evaluate(u, p, dp=np.eye(m.n_params)[m.param_names.index("g")]).Fk)) > 1e-3
+
+
+# ------------------------------------------------------------------------------ Fig. 5.4(b)
+
+def test_fig54b_limit_cycle(fig54b):
+    o = fig54b
+    assert o.period == pytest.approx(6.2105202807, rel=1e-9)
+    assert o.trivial_multiplier_error < 1e-8
+    assert np.all(np.abs(o.nontrivial) < 1.0) and o.stable
+    assert o.windings == {"phi_1": 0, "phi_2": 0}
+    assert 0.0178 < o.r_min < 0.0180 and 0.1609 < o.r_max < 0.1611
+
+
+def test_fig54b_period_agrees_with_a_long_simulation(n2, fig54b):
+    """The default engine's long run from the thesis' start reaches the same orbit: its returns to the
+    orbit's section (t in [4000, 6000], located by cubic Hermite interpolation between accepted steps) come
+    every `period` to 1e-8 relative."""
+    o = fig54b
+    sim = simulate(n2, n2.params(), n2.state(FIG54B), t_end=6000.0, rtol=1e-12, atol=1e-13)
+    t, Y = sim.t, sim.y.T
+    f0 = np.asarray(n2.module.rhs(0.0, o.y, o.p))
+    D = orbit.wrapped(n2, Y - o.y)
+    g = D @ f0
+    crossings = []
+    for i in np.nonzero((g[:-1] < 0) & (g[1:] >= 0) & (t[:-1] > 4000))[0]:
+        w = g[i] / (g[i] - g[i + 1])
+        if np.linalg.norm(D[i] + w * (D[i + 1] - D[i])) > 0.1:  # a crossing far from the orbit's point
+            continue
+        h = t[i + 1] - t[i]
+        d0 = f0 @ np.asarray(n2.module.rhs(0.0, Y[i], o.p)) * h
+        d1 = f0 @ np.asarray(n2.module.rhs(0.0, Y[i + 1], o.p)) * h
+
+        def herm(s, a=g[i], b=g[i + 1]):
+            return (2 * s**3 - 3 * s**2 + 1) * a + (s**3 - 2 * s**2 + s) * d0 + (3 * s**2 - 2 * s**3) * b + (s**3 - s**2) * d1
+        from scipy.optimize import brentq
+        crossings.append(t[i] + h * brentq(herm, 0.0, 1.0, xtol=1e-15))
+    crossings = np.array(crossings)
+    assert len(crossings) > 200
+    # every return is one period after the previous one (or a whole number of them: steps are long)
+    gaps = np.diff(crossings) / o.period
+    assert np.max(np.abs(gaps - np.round(gaps))) < 1e-3
+    count = int(round((crossings[-1] - crossings[0]) / o.period))
+    period = (crossings[-1] - crossings[0]) / count
+    assert abs(period - o.period) / o.period < 1e-8
+    # one period more or less over the window is far off (the check can fail)
+    assert abs((crossings[-1] - crossings[0]) / (count + 1) - o.period) / o.period > 1e-4
+
+
+def test_fig54b_by_auto_agrees(n2, fig54b):
+    """AUTO-07p's collocation from the orbit (as data) to its own solution one small step along the branch:
+    the same period (1e-9 relative) and multipliers (1e-5) as Newton shooting at that parameter."""
+    require_auto()
+    r = auto_cycles.auto_orbit(n2, fig54b, "Omega")
+    ours = orbit.refine(n2, n2.params({"Omega": r["Omega"]}), fig54b.y, fig54b.period)
+    assert r["Omega"] != 4.0
+    assert abs(r["period"] - ours.period) / ours.period < 1e-9
+    mu = np.sort(np.abs([complex(a, b) for a, b in r["multipliers"]]))
+    assert np.max(np.abs(mu - np.sort(np.abs(ours.multipliers)))) < 1e-5
+    assert r["stable"] and ours.stable
+
+
+# ------------------------------------------------------------------------------ the command
+
+def test_orbit_command_json(capsys):
+    code = main(["orbit", "thesis_rotating_n2", "--y0", "phi_1=pi/4", "--y0", "phi_2=-pi/4", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    for key in ("period", "multipliers", "trivial_multiplier_error", "stable", "windings", "r_min", "r_max", "y",
+                "residual"):
+        assert key in out
+    assert all(len(pair) == 2 for pair in out["multipliers"]) and len(out["multipliers"]) == 8
+    assert set(out["y"]) == set(load_model("thesis_rotating_n2").state_names)
+    assert out["windings"] == {"phi_1": 0, "phi_2": 0} and out["stable"] is True
+
+
+@pytest.mark.parametrize("argv, text", [
+    (["--t-transient", "-1"], "--t-transient"),
+    (["--arcs", "0"], "--arcs"),
+    (["--set", "nope=1"], "'nope' is not a parameter"),
+])
+def test_orbit_command_bad_input(capsys, argv, text):
+    code = main(["orbit", "thesis_rotating_n2", *argv])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and err[0].startswith("adbgen: error:") and text in err[0]
+
+
+def test_orbit_on_a_steady_state_is_refused(capsys):
+    code = main(["orbit", "thesis_rotating_n2", "--y0", "phi_1=pi/2", "--y0", "phi_2=-pi/2"])
+    assert code == 2 and "steady state" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------------------ desynchronised orbits
+
+def test_desynchronised_orbit_found_and_continued():
+    """thesis Fig. 5.16(a) (n = 3, zeta = 0.25): the balls lap the rotor (each angle loses 2 pi a period);
+    the orbit is found, and continued in Omega with its windings."""
+    m = load_model("thesis_rotating_n3")
+    p = m.params({"zeta": 0.25})
+    o = orbit.find(m, p, m.state({"phi_1": PI / 3, "phi_2": -PI / 3, "phi_3": PI}), 3000.0)
+    assert o.windings == {"phi_1": -1, "phi_2": -1, "phi_3": -1}
+    assert o.period == pytest.approx(1.8935742248, rel=1e-8) and o.stable and o.trivial_multiplier_error < 1e-8
+    br = branches.from_orbit(m, ParameterMap(m, p, ["Omega"]), o, -1.0,
+                             continuer.Settings(ds=0.02, ds_max=0.1, max_points=12, bounds=(3.0, 4.0)))
+    j = br.to_json()
+    assert j["windings"] == o.windings and len(j["parameter"]) == 12
+    assert j["parameter"][-1] < 3.7 and all(np.diff(j["period"]) > 0)
+    for pt in br.orbits:  # each a closed orbit modulo 2 pi k
+        end = Flow(m).end(pt.arcs[0], 0.0, pt.period, pt.p)
+        assert np.max(np.abs(end - pt.arcs[0] - orbit.shift_vector(m, o.windings))) < 1e-7
+    # negative control: without the windings the same point is no orbit
+    end = Flow(m).end(o.y, 0.0, o.period, o.p)
+    assert np.max(np.abs(end - o.y)) > 6.0
+
+
+# ------------------------------------------------------------------------------ detectors
+
+def _branch(m, lo, hi, start, ds=0.05):
+    p = m.params({"mu": start})
+    o = orbit.refine(m, p, np.array([1.0, 0.0, 0.0, 0.0]), 2 * PI)
+    return branches.from_orbit(m, ParameterMap(m, p, ["mu"]), o, 1.0,
+                               continuer.Settings(ds=ds, ds_max=0.1, max_points=60, bounds=(lo, hi)), amplitude=False)
+
+
+def test_period_doubling_located_exactly(tmp_path):
+    """Multipliers -exp(2 pi (mu +- d)): period-doubling at mu = -d and d (d = 0.1)."""
+    m = load_model(toys.pd_toy(tmp_path))
+    br = _branch(m, -0.3, 0.3, -0.3)
+    pd = sorted(s["mu"] for s in br.specials if s["kind"] == "period-doubling")
+    assert pd == pytest.approx([-0.1, 0.1], abs=1e-9)
+    assert not [s for s in br.specials if s["kind"] != "period-doubling"]
+    # negative control: a range without a crossing
+    assert not _branch(m, -0.3, -0.15, -0.3).specials
+
+
+def test_torus_located_exactly_and_neutral_saddle_refused(tmp_path):
+    """Multipliers exp(2 pi (mu +- i w2)): a torus point at mu = 0 with angle 2 pi w2 (w2 = 0.3); the
+    saddle version (mu + 1, mu - 1) changes the torus test's sign at mu = 0 too, and is no torus."""
+    m = load_model(toys.torus_toy(tmp_path))
+    br = _branch(m, -0.2, 0.2, -0.2)
+    assert [s["kind"] for s in br.specials] == ["torus"]
+    assert br.specials[0]["mu"] == pytest.approx(0.0, abs=1e-9)
+    assert br.specials[0]["angle"] == pytest.approx(2 * PI * 0.3, abs=1e-7)
+    sad = load_model(toys.torus_toy(tmp_path, saddle=True))
+    br = _branch(sad, -0.2, 0.2, -0.2)
+    assert br.specials == []
+    mu0 = br.orbits[0].nontrivial
+    mu1 = br.orbits[-1].nontrivial
+    assert torus_test(mu0) * torus_test(mu1) < 0  # the test function did change sign
+
+
+def test_forced_duffing_period_doubling(tmp_path):
+    """x'' + 0.3 x' - x + x^3 = g cos(1.2 t): the forced response's period-doubling is located on its branch,
+    and simulations on either side settle on the orbit of one forcing period and of two."""
+    m = load_model(toys.duffing_toy(tmp_path))
+    p = m.params({"g": 0.2})
+    o = orbit.find(m, p, np.array([1.0, 0.0]), 200.0)
+    assert o.forced and o.subharmonic == 1 and o.trivial is None
+    br = branches.from_orbit(m, ParameterMap(m, p, ["g"]), o, 1.0,
+                             continuer.Settings(ds=0.01, ds_max=0.02, max_points=100, bounds=(0.2, 0.3)))
+    pd = [s for s in br.specials if s["kind"] == "period-doubling"]
+    assert len(pd) == 1
+    g_pd = pd[0]["g"]
+    mu = np.array([complex(a, b) for a, b in pd[0]["multipliers"]])
+    assert np.min(np.abs(mu + 1)) < 1e-6
+    assert orbit.find(m, m.params({"g": g_pd - 0.005}), np.array([1.0, 0.0]), 600.0).subharmonic == 1
+    assert orbit.find(m, m.params({"g": g_pd + 0.005}), np.array([1.0, 0.0]), 600.0).subharmonic == 2
+
+
+# ------------------------------------------------------------------------------ Lyapunov coefficient
+
+@pytest.mark.parametrize("l", [-0.5, 0.7])
+def test_first_lyapunov_of_the_normal_form(tmp_path, l):
+    """z' = (a + i) z + l |z|^2 z: l1 = 2 l in Kuznetsov's normalisation (<q, q> = 1); sign decides."""
+    m = load_model(toys.hopf_toy(tmp_path / str(l), l=l))
+    p = m.params({"l": l})
+    for kind in ("jet", "differences"):
+        l1, info = lyapunov.first_lyapunov(m, p, np.zeros(2), derivatives=kind)
+        assert l1 == pytest.approx(2 * l, rel=1e-12 if kind == "jet" else 1e-6)
+        assert info["frequency"] == pytest.approx(1.0)
+    assert lyapunov.criticality(2 * l) == ("supercritical" if l < 0 else "subcritical")
+
+
+def test_jets_equal_differences_of_the_exact_jacobian():
+    """B and C from the jet against central differences of the generated Jacobian (random state, complex
+    direction), on a thesis and a two-plane model."""
+    rng = np.random.default_rng(3)
+    for name in ("thesis_rotating_n3", "two_plane_rotating"):
+        m = load_model(name)
+        y = rng.normal(scale=0.3, size=m.n_states)
+        q = rng.normal(size=m.n_states) + 1j * rng.normal(size=m.n_states)
+        J = jets.jacobian_jet(m, 0.0, y, m.params(), q)
+        D = jets.differences(m, 0.0, y, m.params(), q)
+        J0 = m.module.jac(0.0, y, m.params())
+        assert np.max(np.abs(J[0] - J0)) <= 1e-14 * np.max(np.abs(J0))  # numba's compiled rounding aside
+        for a, b in zip(J[1:], D[1:]):
+            assert np.max(np.abs(a - b)) < 1e-6 * np.max(np.abs(a))
+        # negative control: the second coefficient is not the first
+        assert np.max(np.abs(J[2] - J[1])) > 1e-3
+
+
+def test_hopf_cycle_amplitude_grows_as_predicted(n2):
+    """n = 2, H1 at Omega = 1.8822 (thesis (5.1)'s other parameters): supercritical; near it the cycle's
+    r_max^2 grows linearly in the distance from the Hopf point, with the slope -4 s Re lambda' / (w l1)
+    predicted by l1 (s the largest squared rotor part of Re(e^(i theta) q))."""
+    from adbgen.analysis import continuation
+
+    p = n2.params({"Omega": 4.0, **CH4})
+    sc = continuation.scan(n2, p, n2.module.START, "Omega", 4.0, 1.5)
+    b = sc.points[0]
+    pm = ParameterMap(n2, p, ["Omega"])
+    hp = hopf.HopfPoint.at(n2, pm, b.y, b.value)
+    l1d, _ = lyapunov.first_lyapunov(n2, hp.p, hp.y, derivatives="differences")
+    assert hp.l1 == pytest.approx(l1d, rel=1e-5) and hp.criticality == "supercritical"
+    br = branches.from_hopf(n2, pm, hp, continuer.Settings(ds=0.002, ds_max=0.004, max_points=8, bounds=(1.5, 4.0)))
+    lam = np.array([o.p_value for o in br.orbits[1:]])
+    r2 = np.array([o.r_max ** 2 for o in br.orbits[1:]])
+    slope, icpt = np.polyfit(lam - hp.lam, r2, 1)
+    assert np.max(np.abs(np.polyval([slope, icpt], lam - hp.lam) - r2)) < 0.02 * r2.max()  # linear
+    # the prediction
+    ev = lambda lam_: lyapunov.hopf_vectors(np.asarray(n2.module.jac(0.0, hp.y, pm(lam_))), hp.omega)[0]  # noqa: E731
+    dre = (ev(hp.lam + 1e-6).real - ev(hp.lam - 1e-6).real) / 2e-6
+    th = np.linspace(0, 2 * PI, 721)
+    s = max(float(np.sum(np.real(np.exp(1j * a) * hp.q[:2]) ** 2)) for a in th)
+    predicted = -4 * s * dre / (hp.omega * hp.l1)
+    assert slope == pytest.approx(predicted, rel=0.05)
+    assert all(o.stable for o in br.orbits[1:])  # supercritical: the small cycles are stable
+
+
+# ------------------------------------------------------------------------------ AUTO: the same branch
+
+def test_cycle_branch_agrees_with_auto(n2):
+    """The n = 2 branch from H1 by Newton shooting and by AUTO-07p's collocation (IPS = 2 from the HB label,
+    NTST = 60, NCOL = 4): at AUTO's points our orbits refined there have the same period to 1e-9 relative (AUTO prints 11 digits), and
+    the torus point is the same to 1e-6 in Omega."""
+    require_auto()
+    from adbgen.analysis import continuation
+
+    p = n2.params({"Omega": 4.0, **CH4})
+    sc = continuation.scan(n2, p, n2.module.START, "Omega", 4.0, 1.7)
+    pm = ParameterMap(n2, p, ["Omega"])
+    hp = hopf.HopfPoint.at(n2, pm, sc.points[0].y, sc.points[0].value)
+    ours = branches.from_hopf(n2, pm, hp, continuer.Settings(ds=0.01, ds_max=0.05, max_points=40, bounds=(1.7, 4.0)),
+                              amplitude=False)
+    theirs = auto_cycles.auto_branches(n2, "Omega", p, [hp.lam], 1.7, nmx=60)[0]
+    cmp = auto_cycles.compare(ours, theirs, pm)
+    assert len(cmp["points"]) >= 6 and cmp["period_rel"] < 1e-9
+    tr = [s["Omega"] for s in ours.specials if s["kind"] == "torus"]
+    assert tr and auto_cycles.nearest_special(theirs["points"], "torus", tr[0], "Omega") < 1e-6
+
+
+def test_continue_orbits_json(capsys):
+    """`continue --from-hopf`: the HB points carry first_lyapunov and criticality; `orbits` holds one branch of
+    arrays (parameter, period, stable, amplitude) starting at that Hopf point; `orbit_points` the torus."""
+    require_auto()
+    code = main(["continue", "thesis_rotating_n2", "--par", "Omega", "--to", "1.8", "--from-hopf", "1.88",
+                 "--max-points", "25", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    hb = [pt for pt in out["points"] if pt["type"] == "HB"]
+    assert hb and all(pt["criticality"] == "supercritical" and pt["first_lyapunov"] < 0 for pt in hb)
+    (br,) = out["orbits"]
+    assert {"parameter", "period", "stable", "amplitude"} <= set(br) and len(br["parameter"]) == 25
+    assert br["from"]["Omega"] == pytest.approx(1.8822393490, abs=1e-8) and br["stable"][1] is True
+    assert br["period"][0] == pytest.approx(2 * PI / 0.7431172783, rel=1e-8)
+    tr = [pt for pt in out["orbit_points"] if pt["kind"] == "torus"]
+    assert tr and tr[0]["Omega"] == pytest.approx(1.867449636, abs=1e-8) and len(tr[0]["multipliers"]) == 8
+
+
+def test_orbit_code_names_no_family_or_model():
+    """analysis/orbits reads models through their self-description: no family's or model's name in it (the
+    negative control: the family folders do name them)."""
+    import re
+    from pathlib import Path
+
+    import adbgen
+
+    root = Path(adbgen.__file__).parent
+    pattern = re.compile(r"thesis_rotating|single_plane|two_plane|single-plane|two-plane|scene_two", re.I)
+    files = sorted((root / "analysis" / "orbits").glob("*.py")) + [root / "analysis" / "engines" / "variational_driver.c"]
+    assert len(files) > 15
+    assert [f.name for f in files if pattern.search(f.read_text())] == []
+    assert pattern.search((root / "families" / "two_plane" / "science" / "periodic_orbits.py").read_text())

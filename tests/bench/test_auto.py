@@ -1,0 +1,85 @@
+"""`adbgen bench auto` (the auto engine's table) and the hand-written heyoka peer of the benchmarks."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from toolchain import require_module
+
+from adbgen.analysis.loading import load_model
+from adbgen.bench import auto as bench_auto
+from adbgen.bench import peers as bench_peers
+from adbgen.cli import main
+
+
+def _problem(runs: dict, scale: float = 1.0) -> dict:
+    return {"scale": scale, "runs": {k: {"error": e, "cpu_s": t} for k, (e, t) in runs.items()}}
+
+
+def test_choose_keeps_the_fastest_that_reaches_each_tolerance():
+    """Per tolerance: the fastest candidate whose error is at most T x scale on every problem, by the
+    worse of its time ratios to each problem's fastest; a tolerance nothing reaches has no row."""
+    cands = [{"key": k, "engine": "taylor", "order": o, "step_factor": 1.0} for k, o in (("a", 8), ("b", 12))]
+    problems = {"A": _problem({"a": (1e-6, 1.0), "b": (1e-9, 3.0)}),
+                "B": _problem({"a": (5e-7, 2.0), "b": (1e-10, 2.5)}, scale=10.0)}
+    rows = bench_auto.choose(problems, cands, (1e-5, 1e-7, 1e-9, 1e-12))
+    assert [(r["rtol"], r["key"]) for r in rows] == [(1e-5, "a"), (1e-7, "b"), (1e-9, "b")]
+    assert rows[1]["time_ratio_to_fastest"] == pytest.approx(1.25)  # max(3.0 / 3.0, 2.5 / 2.0)
+    only_a = bench_auto.choose({"A": problems["A"]}, cands, (1e-5,))
+    assert only_a[0]["key"] == "a" and only_a[0]["order"] == 8
+
+
+@pytest.fixture(scope="module")
+def hy():
+    return require_module("heyoka", "the peers extra")
+
+
+@pytest.mark.parametrize("name", ["thesis_rotating_n2", "thesis_rotating_n3", "thesis_rotating_n4", "two_plane_hill"])
+def test_the_hand_written_equations_are_the_models(hy, name):
+    """heyoka-hand (Appendix A; the paper's (2), (4) with the Hill run-up and the spin angle as a state)
+    equals the generated rhs at random states, parameters and times to 1e-13 (measured <= 5e-15)."""
+    model = load_model(name)
+    peer = bench_peers.HeyokaHandwritten(model.module)
+    rng = np.random.default_rng(3)
+    p = np.array(model.module.DEFAULTS) * rng.uniform(0.5, 1.5, model.n_params)
+    worst = 0.0
+    for t in (0.0, 7.0, 120.0, 450.0):
+        y = rng.uniform(-1, 1, model.n_states)
+        y[: model.n_states // 2] *= 0.1
+        ref = np.asarray(model.module.rhs(t, y, p))
+        worst = max(worst, float(np.max(np.abs(peer.rhs(y, p, t) - ref)) / np.max(np.abs(ref))))
+    assert worst < 1e-13
+    if name == "two_plane_hill":  # negative control: the spin angle off by 0.1 rad is seen
+        y = rng.uniform(-1, 1, model.n_states)
+        full = peer.full_state(y, 120.0)
+        full[-1] += 0.1
+        cf = peer.hy.cfunc(peer.outputs, vars=peer.vars)
+        off = np.asarray(cf(np.asarray(full), pars=p, time=120.0))[: model.n_states]
+        assert np.max(np.abs(off - np.asarray(model.module.rhs(120.0, y, p)))) > 1e-5  # (agreement: 1e-13)
+
+
+def test_a_model_without_a_hand_written_form_is_refused(hy):
+    with pytest.raises(bench_peers.PeerUnavailable, match="no hand-written form"):
+        bench_peers.HeyokaHandwritten(load_model("two_plane_rotating").module)
+
+
+def test_bench_auto_quick(tmp_path, capsys):
+    """The quick benchmark on problem A (2 orders x 2 factors, 2 rtols, t_end 200): results, a table
+    with rows per family, and the cost-per-step target line; --table-only remakes the table."""
+    out, table = tmp_path / "auto.json", tmp_path / "table.json"
+    assert main(["bench", "auto", "--quick", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
+    res = json.loads(out.read_text())
+    assert res["quick"] and set(res["problems"]) == {"A"} and len(res["candidates"]) == 2 * 2 + 2 * 2
+    runs = res["problems"]["A"]["runs"]
+    assert all(r["status"] == "success" and r["error"] < 1e-2 for r in runs.values())
+    made = json.loads(table.read_text())
+    assert made["by_family"]["single-plane"] and made["rows"]
+    cost = res["cost_per_step"][0]
+    assert cost["flops_per_step"] > 1000 and 0 < cost["ns_per_flop_scalar"] < 10 and cost["ratio_to_scalar_flop_time"] > 0
+    assert "Taylor's cost per step" in capsys.readouterr().out
+    table.unlink()
+    assert main(["bench", "auto", "--table-only", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
+    assert json.loads(table.read_text())["rows"] == made["rows"]
