@@ -68,20 +68,27 @@ def parse_axis(text: str, model: Model) -> Axis:
 
 @dataclass(frozen=True)
 class Tie:
-    """An initial state that follows a grid axis: state = axis value + offset (``--tie phi_3=phi_1+pi``)."""
+    """An initial state that follows a grid axis: state = sign * axis value + offset (``--tie phi_3=phi_1+pi``,
+    ``--tie phi_2=-phi_1``: the balls opposite about the x-axis of thesis Figs. 5.5(a), 5.7(a), 5.9(a))."""
 
     state: str
     axis: str
     offset: float
+    sign: float = 1.0
 
 
 def parse_tie(text: str, model: Model, axes: tuple[Axis, ...]) -> Tie:
-    """``NAME=AXIS``, ``NAME=AXIS+OFFSET`` or ``NAME=AXIS-OFFSET`` (OFFSET a number or an expression in pi)."""
+    """``NAME=AXIS``, ``NAME=AXIS+OFFSET`` or ``NAME=AXIS-OFFSET`` (OFFSET a number or an expression in pi), each
+    also with the axis negated (``NAME=-AXIS+OFFSET``)."""
     name, sep, rest = str(text).partition("=")
     name, rest = name.strip(), rest.strip()
     if not sep or not name or not rest:
         raise AnalysisError(f"--tie {text!r}: expected NAME=AXIS+OFFSET, e.g. phi_3=phi_1+pi")
     model.index(name)  # a state of the model, or one clear line
+    sign = 1.0
+    if rest.startswith("-") and any(rest[1:] == a.name or rest[1:].startswith((a.name + "+", a.name + "-"))
+                                    for a in axes):
+        sign, rest = -1.0, rest[1:]
     axis = next((a for a in axes if rest == a.name or rest.startswith(a.name + "+") or rest.startswith(a.name + "-")),
                 None)
     if axis is None or axis.kind != "state":
@@ -89,7 +96,7 @@ def parse_tie(text: str, model: Model, axes: tuple[Axis, ...]) -> Tie:
                             f"({', '.join(a.name for a in axes if a.kind == 'state') or 'none'})")
     tail = rest[len(axis.name):]
     offset = parse_value(tail, f"--tie {name} offset") if tail else 0.0
-    return Tie(name, axis.name, offset)
+    return Tie(name, axis.name, offset, sign)
 
 
 @dataclass(frozen=True)
@@ -124,7 +131,7 @@ class Grid:
             else:
                 Y0[:, model.index(axis.name)] = column
         for tie in self.ties:
-            Y0[:, model.index(tie.state)] = Y0[:, model.index(tie.axis)] + tie.offset
+            Y0[:, model.index(tie.state)] = tie.sign * Y0[:, model.index(tie.axis)] + tie.offset
         return P, Y0
 
 

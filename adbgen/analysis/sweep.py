@@ -148,11 +148,11 @@ def find_swap(model: Model, grid: Grid) -> Swap | None:
             if not (A.name in leaves and B.name in leaves and (A.start, A.stop, A.count) == (B.start, B.stop, B.count)):
                 continue
             pairs = [(A.name, B.name)]
-            tied_a = sorted((t.offset, t.state) for t in grid.ties if t.axis == A.name)
-            tied_b = sorted((t.offset, t.state) for t in grid.ties if t.axis == B.name)
-            if [o for o, _ in tied_a] != [o for o, _ in tied_b]:
+            tied_a = sorted((t.sign, t.offset, t.state) for t in grid.ties if t.axis == A.name)
+            tied_b = sorted((t.sign, t.offset, t.state) for t in grid.ties if t.axis == B.name)
+            if [o[:2] for o in tied_a] != [o[:2] for o in tied_b]:
                 continue
-            pairs += [(ka, kb) for (_, ka), (_, kb) in zip(tied_a, tied_b)]
+            pairs += [(ka, kb) for (*_, ka), (*_, kb) in zip(tied_a, tied_b)]
             if any(t.axis not in (A.name, B.name) and t.state in {x for pr in pairs for x in pr} for t in grid.ties):
                 continue
             perm = list(range(model.n_states))
@@ -461,7 +461,7 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
         SETTINGS_ATTR: json.dumps(settings(spec, model), sort_keys=True),
         "parameters": json.dumps(dict(zip(model.param_names, map(float, grid.base_params)))),
         "initial_state": json.dumps(dict(zip(model.state_names, map(float, grid.base_state)))),
-        "ties": json.dumps([[t.state, t.axis, t.offset] for t in grid.ties]),
+        "ties": json.dumps([[t.state, t.axis if t.sign > 0 else "-" + t.axis, t.offset] for t in grid.ties]),
         "versions": json.dumps({"adbgen": __version__, "numpy": np.__version__, "xarray": xarray.__version__,
                                 "zarr": zarr.__version__, "dask": dask.__version__,
                                 "distributed": distributed.__version__, "python": sys.version.split()[0]}),

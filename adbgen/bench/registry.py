@@ -35,6 +35,7 @@ REGISTRY: dict[str, str] = {
     "auto": "adbgen.bench.auto:BENCHMARK",
     "rk": "adbgen.bench.rk:BENCHMARK",
     "ensemble": "adbgen.bench.ensemble:BENCHMARK",
+    "reproduce": "adbgen.bench.reproduce:BENCHMARK",
 }
 
 

@@ -31,13 +31,36 @@ def sections() -> list[Reproduction]:
     return out
 
 
+def _pinned_rerun(args, only: tuple[str, ...]) -> int:
+    """The same command in a child process with glibc's libm variants pinned (see
+    `reproduction.PINNED_HWCAPS`): glibc reads its tunables only when a process starts."""
+    import subprocess
+    import sys
+
+    from ..analysis.reproduction import pinned_environment
+
+    cmd = [sys.executable, "-m", "adbgen.cli", "reproduce", "--only", *only]
+    cmd += ["--out", str(args.out)] if args.out else []
+    cmd += ["--figures", str(args.figures)] if args.figures else []
+    cmd += ["--quiet"] if args.quiet else []
+    return subprocess.call(cmd, env=pinned_environment())
+
+
 def run_reproduce(args) -> int:
+    from ..analysis.engines.compiled import libm
+    from ..analysis.loading import AnalysisError
+    from ..analysis.reproduction import environment_pinned
     from ..outputs import output_file, output_folder
     from ..progress import activity, wanted
 
     keys = tuple(references())
     only = tuple(k for k in keys if k in args.only)
     every = only == keys
+    if libm() != "sleef-cinz":
+        raise AnalysisError("adbgen reproduce needs the compiled engines' pinned libm (SLEEF; apt-get install "
+                            "libsleef-dev): without it the document depends on the processor")
+    if not environment_pinned():
+        return _pinned_rerun(args, only)
     out = output_file(args.out or ("docs/reproduction.md" if every else f"docs/reproduction-{'-'.join(only)}.md"),
                       "--out")
     figs = output_folder(args.figures if args.figures else out.parent / "reproduction", "--figures")

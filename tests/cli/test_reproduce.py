@@ -6,9 +6,32 @@ from __future__ import annotations
 import pytest
 
 from adbgen import families
-from adbgen.analysis.reproduction import Reproduction
+from adbgen.analysis.reproduction import Reproduction, environment_pinned, pinned_environment
 from adbgen.cli import build_parser, main
 from adbgen.cli import reproduce as cli_reproduce
+
+
+@pytest.fixture(autouse=True)
+def pinned(monkeypatch):
+    """These tests run in a pinned process, as `adbgen reproduce` re-runs itself (else the command would
+    re-run itself in a child, where the monkeypatches below do not reach)."""
+    for key, value in pinned_environment().items():
+        monkeypatch.setenv(key, value)
+
+
+def test_an_unpinned_process_reruns_itself_pinned_with_the_same_arguments(monkeypatch, tmp_path):
+    """Negative control of the fixture: without the pin, the command runs nothing here but itself, pinned."""
+    import subprocess
+
+    monkeypatch.delenv("OPENBLAS_CORETYPE")
+    calls = []
+    monkeypatch.setattr(subprocess, "call", lambda cmd, env: calls.append((cmd, env)) or 0)
+    monkeypatch.setattr(cli_reproduce, "build", lambda *a, **k: pytest.fail("built in the unpinned process"))
+    out = tmp_path / "r.md"
+    assert main(["reproduce", "--only", "two-plane", "--out", str(out), "--quiet"]) == 0
+    (cmd, env), = calls
+    assert cmd[1:] == ["-m", "adbgen.cli", "reproduce", "--only", "two-plane", "--out", str(out), "--quiet"]
+    assert environment_pinned(env) and not out.exists()
 
 
 def test_sections_are_the_families_reproductions_in_registry_order():

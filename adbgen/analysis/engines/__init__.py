@@ -12,6 +12,7 @@ from __future__ import annotations
 from ..loading import AnalysisError
 from .auto import AutoEngine
 from .compiled import CyRKEngine, SundialsEngine
+from .matlab_ode45 import ENGINE as MATLAB_ODE45
 from .rk import RKBatchEngine, RKEngine
 from .scipy_ivp import ScipyEngine
 from .taylor import TaylorBatchEngine, TaylorEngine
@@ -31,12 +32,16 @@ ENGINES = {e.name: e for e in (
     SundialsEngine("arkode-erk6", 2, "SUNDIALS ARKODE ERKStep, Verner 5(6)", symmetric=True),
     ScipyEngine("dop853"), ScipyEngine("rk45"), ScipyEngine("radau"), ScipyEngine("lsoda"), ScipyEngine("bdf"),
     ScipyEngine("radau", use_jac=False), ScipyEngine("lsoda", use_jac=False),
+    MATLAB_ODE45,
 )}
 ENGINES["auto"] = AutoEngine(ENGINES)  # picks one of the above per tolerance (auto_table.json)
 
 
 def engine(name: str | None):
-    """The engine called `name` (None: the default)."""
+    """The engine called `name` (None: the default); an engine object (e.g. `symmetrized.symmetrized(...)`)
+    as it is."""
+    if name is not None and not isinstance(name, str):
+        return name
     key = DEFAULT if name in (None, "", "default") else name
     try:
         return ENGINES[key]

@@ -38,6 +38,10 @@ STATUS = {0: SUCCESS, 1: "max_steps", 2: "step_underflow", 3: "nonfinite", 4: "s
 SUNDIALS_LIBS = ["-lsundials_arkode", "-lsundials_cvode", "-lsundials_nvecserial", "-lsundials_sunmatrixdense",
                  "-lsundials_sunlinsoldense", "-lsundials_sunnonlinsolfixedpoint"]
 _CFLAGS = ["-std=gnu99", "-O2", "-fPIC", "-shared", "-fopenmp"]
+# Machine independence (issue 23): no fused multiply-add the source does not write, and the elementary
+# functions from SLEEF's consistent scalar path instead of glibc's per-CPU variants (fixed_libm.h).
+PINNED_FLAGS = ["-ffp-contract=off", "-include", "fixed_libm.h"]
+PINNED_LIBS = ["-lsleef"]
 _lock = threading.Lock()
 
 D = ctypes.POINTER(ctypes.c_double)
@@ -57,26 +61,53 @@ def compiler() -> str:
     return cc
 
 
-def build(model, driver: str, libs: list[str]) -> Path:
-    """Compile `driver` with the model's C source into a cached shared library; returns its path."""
+@lru_cache(maxsize=1)
+def pinned_libm() -> bool:
+    """Is SLEEF (the pinned libm of fixed_libm.h) there to link against?  Without it the engines fall back
+    to glibc's libm, whose results depend on the processor (`adbgen reproduce` refuses to run so)."""
+    probe = "#include <stddef.h>\ndouble Sleef_cinz_sind1_u10purec(double);\n" \
+            "int main(void) { return Sleef_cinz_sind1_u10purec(0.5) > 0.0 ? 0 : 1; }\n"
+    with tempfile.TemporaryDirectory() as tmp:
+        src = Path(tmp) / "probe.c"
+        src.write_text(probe)
+        try:
+            proc = subprocess.run([compiler(), str(src), "-o", str(Path(tmp) / "probe"), *PINNED_LIBS],
+                                  capture_output=True, text=True)
+        except (OSError, AnalysisError):
+            return False
+        return proc.returncode == 0
+
+
+def libm() -> str:
+    """Which libm the compiled engines use: "sleef-cinz" (pinned) or "glibc" (machine-dependent)."""
+    return "sleef-cinz" if pinned_libm() else "glibc"
+
+
+def build(model, driver: str, libs: list[str], extra: tuple[str, ...] = (), tag: str = "") -> Path:
+    """Compile `driver` with the model's C source into a cached shared library; returns its path.  `extra`:
+    more compiler arguments (a variant of the library, named by `tag` in the cache)."""
     source = model.c_source()
     drv = HERE / driver
+    flags = _CFLAGS + (PINNED_FLAGS if pinned_libm() else []) + list(extra)
+    libs = list(libs) + (PINNED_LIBS if pinned_libm() else [])
     h = hashlib.sha256()
     headers = [p.read_bytes() for p in sorted(HERE.glob("*.h"))]  # every header a driver may include
-    for part in (drv.read_bytes(), *headers, source.read_bytes(), " ".join(_CFLAGS + libs).encode(),
+    for part in (drv.read_bytes(), *headers, source.read_bytes(), " ".join(flags + libs).encode(),
                  model.name.encode()):
         h.update(part)
         h.update(b"\0")
-    target = cache_dir() / "engines" / f"{model.name}-{drv.stem}-{h.hexdigest()[:16]}.so"
+    target = cache_dir() / "engines" / f"{model.name}-{drv.stem}{tag}-{h.hexdigest()[:16]}.so"
     if target.is_file():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
     name = model.name
-    defines = [f'-DADB_MODEL_SOURCE="{source}"', f"-DADB_RHS={name}_rhs", f"-DADB_JAC={name}_jac",
-               f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}"]
+    defines = [f'-DADB_MODEL_SOURCE="{source}"', f"-DADB_JAC={name}_jac", f"-DADB_NY={model.n_states}",
+               f"-DADB_NP={model.n_params}"]
+    if not any(e.startswith("-DADB_RHS=") for e in extra):
+        defines.append(f"-DADB_RHS={name}_rhs")
     fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
     os.close(fd)
-    cmd = [compiler(), *_CFLAGS, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, *libs, "-lm"]
+    cmd = [compiler(), *flags, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, *libs, "-lm"]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         os.unlink(tmp)
@@ -97,6 +128,11 @@ class _Compiled:
     driver = ""
     libs: list[str] = []
     prefix = ""
+    tag = ""  # a variant's name in the library cache
+
+    def extra(self, model) -> tuple[str, ...]:
+        """More compiler arguments for this engine's library of `model` (a variant: symmetrized.py)."""
+        return ()
 
     def library(self, model):
         return _load(self, model.name, model.source_hash, str(model.folder), model)
@@ -174,7 +210,7 @@ def _load_cached(path: str, prefix: str):
 
 def _load(engine, name, source_hash, folder, model):
     with _lock:
-        lib = _load_cached(str(build(model, engine.driver, engine.libs)), engine.prefix)
+        lib = _load_cached(str(build(model, engine.driver, engine.libs, engine.extra(model), engine.tag)), engine.prefix)
         if engine.prefix == "adb_cyrk" and not getattr(lib, "_adbgen_ready", False):
             lib.adb_cyrk_init.restype = ctypes.c_int
             ptrs = (ctypes.c_void_p * 9)(*_cyrk_pointers())

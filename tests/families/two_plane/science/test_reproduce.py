@@ -28,3 +28,28 @@ def test_synchronised_from_is_the_last_time_a_ball_lags():
     assert tr.synchronised_from(_run(spin, balls)) == 6.0
     balls[2, -1] = 1.9
     assert tr.synchronised_from(_run(spin, balls)) is None
+
+
+def test_every_stall_is_reported_not_one_median():
+    """Figure 15(b) has two stalls: each stretch of lagging balls is its own entry (speed, Omega from, to)."""
+    spin = np.linspace(0, 3, 3001)
+    ball = spin.copy()
+    ball[500:900] = 0.5  # lags from Omega = 0.5 to 0.9
+    ball[1800:2400] = 1.8  # again from 1.8 to 2.4
+    found = rtp.stalls(_run(spin, np.tile(ball, (4, 1))))
+    assert [(round(s, 3), round(a, 2), round(b, 2)) for s, a, b in found] == [(0.5, 0.53, 0.9), (1.8, 1.9, 2.4)]
+    ball[1800:2400] = spin[1800:2400]  # negative control: one stall left
+    assert len(rtp.stalls(_run(spin, np.tile(ball, (4, 1))))) == 1
+
+
+def test_B_at_the_critical_mass_is_not_hyperbolic():
+    """The slow eigenvalues of B vanish as m -> m_c (proportional to m - m_c, (38)): at m = m_c B is
+    non-hyperbolic, neither stable nor unstable (the document no longer calls it stable there)."""
+    from adbgen.analysis.loading import load_model
+    from adbgen.families.two_plane.science import exchange as tx
+
+    damped = tx.Pitchfork(load_model(tx.MODEL), {})
+    near, nearer = damped.slow_spectrum(2.2, rel=1e-6), damped.slow_spectrum(2.2, rel=1e-7)
+    for part in ("even", "odd"):
+        assert near[part].real < 0 and abs(near[part]) > 1e-6  # just above m_c: stable (Omega > Omega_con)
+        assert abs(nearer[part]) == pytest.approx(abs(near[part]) / 10, rel=0.05)  # -> 0 linearly in m - m_c

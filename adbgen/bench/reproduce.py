@@ -1,0 +1,112 @@
+"""Benchmark (not a test): the whole `adbgen reproduce`, timed, and its document compared with the committed
+one (issue 23).  `adbgen bench reproduce [--out FILE] [--sections SECTION ...] [--emulate-older]
+[--keep DIR]`
+-> ``benchmarks/reproduce.json``.
+
+The command runs in a child process (as a user runs it: it re-runs itself with glibc's libm variants
+pinned) into a temporary folder, never into docs/.  Recorded: the wall time and the child's CPU time, the
+time at which each progress line arrived (which parts are slow), the load average before and after, and
+whether the document and each figure are byte-identical to the committed docs/reproduction.md and
+docs/reproduction/*.png (the second-run check of "byte-identical on a second run"; with
+``--emulate-older`` glibc's AVX variants are masked as well, a processor without AVX: the second-machine
+check).  With ``--sections`` only those sections run (a partial document, compared with nothing).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from .registry import Benchmark, option
+from .report import closing, opening, write
+
+ROOT = Path(__file__).resolve().parents[2]
+DOCUMENT = ROOT / "docs" / "reproduction.md"
+OLDER = ",-AVX"  # masked beside the pinned capabilities: the emulated processor has no AVX
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def compare(document: Path, figures: Path, committed: Path = DOCUMENT) -> dict:
+    """The written document and figures against the committed ones: identical or not, the lines that
+    differ (first ten, as (line number, committed, new)), the figures that differ or are missing."""
+    new, old = document.read_text().splitlines(), committed.read_text().splitlines()
+    differ = [(i + 1, a, b) for i, (a, b) in enumerate(zip(old, new)) if a != b]
+    figs = sorted(p.name for p in figures.glob("*.png"))
+    committed_figs = committed.parent / "reproduction"
+    changed = [name for name in figs if not (committed_figs / name).is_file()
+               or _digest(committed_figs / name) != _digest(figures / name)]
+    return {"document_identical": new == old and document.read_bytes() == committed.read_bytes(),
+            "lines": len(new), "committed_lines": len(old), "lines_differing": len(differ)
+            + abs(len(new) - len(old)), "first_differences": differ[:10], "figures": len(figs),
+            "figures_differing": changed}
+
+
+def run_reproduce(folder: Path, sections=None, emulate_older: bool = False, progress=print) -> dict:
+    """`adbgen reproduce` in a child process writing into `folder`: wall and CPU seconds, the progress
+    lines with the seconds at which they came, the exit status."""
+    from ..analysis.reproduction import pinned_environment
+
+    env = pinned_environment({k: v for k, v in os.environ.items() if k != "GLIBC_TUNABLES"})
+    if emulate_older:
+        env["GLIBC_TUNABLES"] += OLDER
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + [p for p in [os.environ.get("PYTHONPATH")] if p])
+    cmd = [sys.executable, "-m", "adbgen.cli", "reproduce", "--quiet", "--out", str(folder / "reproduction.md")]
+    cmd += ["--only", *sections] if sections else []
+    cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    lines = []
+    with subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True, cwd=ROOT) as proc:
+        for line in proc.stdout:
+            lines.append((round(time.perf_counter() - start, 1), line.rstrip()))
+            progress(f"[{lines[-1][0]:8.1f} s] {line.rstrip()}")
+    wall = time.perf_counter() - start
+    cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (cpu1.ru_utime - cpu0.ru_utime) + (cpu1.ru_stime - cpu0.ru_stime)
+    return {"command": " ".join(["adbgen", *cmd[3:]]), "glibc_tunables": env["GLIBC_TUNABLES"],
+            "exit_status": proc.returncode, "wall_s": round(wall, 1), "cpu_s": round(cpu, 1), "progress": lines}
+
+
+def bench_reproduce(sections=None, emulate_older: bool = False, progress=print, keep: Path | None = None) -> dict:
+    """The timed run and the comparison; the document is written into `keep` (kept) or a temporary folder."""
+    result, started = opening("reproduce")
+    with tempfile.TemporaryDirectory(prefix="adbgen-bench-reproduce-") as tmp:
+        folder = Path(keep) if keep else Path(tmp)
+        folder.mkdir(parents=True, exist_ok=True)
+        result["run"] = run_reproduce(folder, sections, emulate_older, progress)
+        result["emulated_older_processor"] = emulate_older
+        document = folder / "reproduction.md"
+        if result["run"]["exit_status"] == 0 and not sections and DOCUMENT.is_file():
+            result["against_committed"] = compare(document, folder / "reproduction")
+    return closing(result, started)
+
+
+def run(args, out: str) -> int:
+    result = bench_reproduce(args.sections, args.emulate_older, progress=lambda line: print(line, flush=True),
+                             keep=args.keep)
+    path = write(result, out)
+    same = result.get("against_committed", {}).get("document_identical")
+    print(f"wrote {path}: adbgen reproduce {result['run']['wall_s']} s wall, {result['run']['cpu_s']} s CPU, "
+          f"exit {result['run']['exit_status']}" + ("" if same is None else f", document identical: {same}"))
+    return 0 if result["run"]["exit_status"] == 0 and same is not False else 1
+
+
+BENCHMARK = Benchmark("reproduce", run, (
+    option("--sections", nargs="+", default=None, metavar="SECTION",
+           help="only these sections of adbgen reproduce (default: all, compared with the committed document)"),
+    option("--emulate-older", action="store_true",
+           help="mask glibc's AVX variants too (a processor without AVX: the second-machine check)"),
+    option("--keep", default=None, metavar="DIR",
+           help="write the document and its figures into DIR and keep them (default: a temporary folder)"),
+))
+
+
+__all__ = ["BENCHMARK", "bench_reproduce", "compare", "run_reproduce"]

@@ -1,0 +1,530 @@
+"""The thesis' chapter-5 experiments over many starts or parameters, each a sweep on the Dask machinery
+(`adbgen.analysis.sweep`): the r_max scans of Figs. 5.5, 5.7, 5.9, the launches at phi' = -Omega of
+Figs. 5.10-5.11 (with a tolerance study and the basin's local structure), the n = 3 basin experiment and
+Fig. 5.19 (b), (d), the (zeta, beta) maps of Figs. 5.20-5.22, the sweeps in Omega and delta of
+Figs. 5.23-5.25.  Every sweep is the command line `adbgen sweep` runs (`command`), run into a temporary
+folder and read back.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ....analysis.sweep import SweepSpec, run_sweep
+
+PI = math.pi
+BALANCED = "balanced 1"
+RTOL = 1e-8  # the sweeps' tolerance (atol rtol/100), as the basin maps of Figs. 5.18, 5.19
+
+
+def sweep(model: str, grid: list[str], measure: str, *, set_=(), y0=(), tie=(), t_end: float = 3000.0,
+          rtol: float = RTOL, atol: float | None = None, engine: str = "cyrk-dop853", early_stop: bool = True):
+    """(values over the grid, labels or None, coordinates {axis: values}) of one sweep."""
+    import xarray as xr
+
+    spec = SweepSpec(model=model, grid=list(grid), measure=measure, set=list(set_), y0=list(y0), tie=list(tie),
+                     t_end=t_end, rtol=rtol, atol=rtol * 1e-2 if atol is None else atol, engine=engine,
+                     early_stop=early_stop)
+    tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-sweep-"))
+    try:
+        run_sweep(spec, tmp, progress=False, figures=False)
+        ds = xr.open_zarr(tmp / "sweep.zarr", consolidated=False)
+        values = np.asarray(ds[measure].values)
+        labels = json.loads(ds.attrs["labels"]) if measure == "attractor" else None
+        coords = {a.split("=")[0]: np.asarray(ds[a.split("=")[0]].values) for a in grid}
+        ds.close()
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return values, labels, coords
+
+
+def command(model: str, grid, measure: str, set_=(), y0=(), tie=(), t_end: float = 3000.0) -> str:
+    parts = [f"adbgen sweep {model}", *(f"--grid {g}" for g in grid), *(f"--set {s}" for s in set_),
+             *(f"--y0 {v}" for v in y0), *(f"--tie {t}" for t in tie), f"--measure {measure}", f"--t-end {t_end:g}"]
+    return " ".join(parts)
+
+
+def named(labels, codes) -> list[str]:
+    return [labels[int(c)] if c >= 0 else "not computed" for c in np.ravel(codes)]
+
+
+# ------------------------------------------------------------------- Figs. 5.5, 5.7, 5.9: r_max scans
+
+@dataclass(frozen=True)
+class Panel:
+    figure: str
+    n: int
+    tie: tuple[str, ...]
+    y0: tuple[str, ...] = ()
+    text: str = ""
+
+
+SCAN_GRID = "phi_1=0:pi:100"  # phi_1(0) = pi k/99: the grid of the starts the thesis names (23 pi/99, 83 pi/99)
+PANELS = (
+    Panel("5.5(a)", 2, ("phi_2=-phi_1",), text="phi_2 = -phi_1"),
+    Panel("5.5(b)", 2, ("phi_2=phi_1+pi",), text="phi_2 = phi_1 + pi"),
+    Panel("5.7(a1)", 3, ("phi_2=-phi_1",), ("phi_3=0",), "phi_2 = -phi_1, phi_3 = 0"),
+    Panel("5.7(a2)", 3, ("phi_2=-phi_1",), ("phi_3=pi",), "phi_2 = -phi_1, phi_3 = pi"),
+    Panel("5.7(b1)", 3, ("phi_2=phi_1+pi",), ("phi_3=0",), "phi_2 = phi_1 + pi, phi_3 = 0"),
+    Panel("5.7(b2)", 3, ("phi_2=phi_1+pi",), ("phi_3=pi",), "phi_2 = phi_1 + pi, phi_3 = pi"),
+    Panel("5.7(c)", 3, ("phi_2=phi_1+pi/3", "phi_3=phi_1-pi/3"), text="phi_2 = phi_1 + pi/3, phi_3 = phi_1 - pi/3 "
+          "(as printed)"),
+    Panel("5.7(c), 2pi/3", 3, ("phi_2=phi_1+2*pi/3", "phi_3=phi_1-2*pi/3"), text="phi_2 = phi_1 + 2pi/3, phi_3 = "
+          "phi_1 - 2pi/3 (equidistant)"),
+    Panel("5.9(a1)", 4, ("phi_2=-phi_1",), ("phi_3=0", "phi_4=0"), "phi_2 = -phi_1, phi_3 = phi_4 = 0"),
+    Panel("5.9(a2)", 4, ("phi_2=-phi_1",), ("phi_3=pi", "phi_4=pi"), "phi_2 = -phi_1, phi_3 = phi_4 = pi"),
+    Panel("5.9(a3)", 4, ("phi_2=-phi_1",), ("phi_3=0", "phi_4=pi"), "phi_2 = -phi_1, phi_3 = 0, phi_4 = pi"),
+    Panel("5.9(b1)", 4, ("phi_2=phi_1+pi",), ("phi_3=0", "phi_4=0"), "phi_2 = phi_1 + pi, phi_3 = phi_4 = 0"),
+    Panel("5.9(b2)", 4, ("phi_2=phi_1+pi",), ("phi_3=pi", "phi_4=pi"), "phi_2 = phi_1 + pi, phi_3 = phi_4 = pi"),
+    Panel("5.9(b3)", 4, ("phi_2=phi_1+pi",), ("phi_3=0", "phi_4=pi"), "phi_2 = phi_1 + pi, phi_3 = 0, phi_4 = pi"),
+    Panel("5.9(c)", 4, ("phi_2=phi_1+pi/2", "phi_3=phi_1+pi", "phi_4=phi_1+3*pi/2"), text="equidistant"),
+    Panel("5.9(d)", 4, ("phi_2=-phi_1", "phi_3=-phi_1+pi", "phi_4=phi_1-pi"), text="phi_2 = -phi_1, phi_3 = pi - "
+          "phi_1, phi_4 = phi_1 - pi"),
+)
+
+# the starts the thesis names, with what it says they reach: (panel, phi_1(0), its words, our label to expect)
+NAMED = (
+    ("5.7(a1)", 0.0, "phi_1 = phi_2 = phi_3 = 0: a limit cycle", "limit cycle"),
+    ("5.7(a2)", PI, "all at pi: the coincident state 2-", "coincident 2-"),
+    ("5.7(a2)", 0.0, "(0, 0, pi): the in-line state 3(3-2)-", "in-line 3(3-2)-"),
+    ("5.7(b2)", 0.0, "(0, pi, pi): the in-line state 3(3-1)+ (= 3(3-2)- with the balls renamed)", "in-line 3(3-2)-"),
+    ("5.9(a1)", 0.0, "all at 0: a limit cycle", "limit cycle"),
+    ("5.9(a1)", 23 * PI / 99, "phi_1 = -phi_2 = 0.72986495992490, phi_3 = phi_4 = 0: a limit cycle", "limit cycle"),
+    ("5.9(a2)", 83 * PI / 99, "phi_1 = -phi_2 = 2.63386050755508, phi_3 = phi_4 = pi: a limit cycle", "limit cycle"),
+    ("5.9(a2)", PI, "all at pi: the coincident state 2-", "coincident 2-"),
+    ("5.9(a3)", 0.0, "(0, 0, 0, pi): the in-line state 3(4-3)-", "in-line 3(4-3)-"),
+    ("5.9(b1)", 0.0, "(0, pi, 0, 0): the in-line state 3(4-3)-", "in-line 3(4-3)-"),
+    ("5.9(b2)", 0.0, "(0, pi, pi, pi): the in-line state 3(4-1)+ (3(4-3)+ renamed)", "in-line 3(4-3)+"),
+)
+
+
+def scan(panel: Panel) -> dict:
+    model = f"thesis_rotating_n{panel.n}"
+    r_max, _, coords = sweep(model, [SCAN_GRID], "r_max", y0=panel.y0, tie=panel.tie)
+    codes, labels, _ = sweep(model, [SCAN_GRID], "attractor", y0=panel.y0, tie=panel.tie)
+    return {"panel": panel, "phi_1": coords["phi_1"], "r_max": r_max, "labels": named(labels, codes),
+            "command": command(model, [SCAN_GRID], "r_max", y0=panel.y0, tie=panel.tie)}
+
+
+def scans() -> list[dict]:
+    return [scan(p) for p in PANELS]
+
+
+# ------------------------------------------------------------- Figs. 5.10-5.11: launches at -Omega
+
+LAUNCH_TIES = {2: ("phi_2=phi_1+pi",), 3: ("phi_2=phi_1+2*pi/3", "phi_3=phi_1-2*pi/3"),
+               4: ("phi_2=phi_1+pi/2", "phi_3=phi_1+pi", "phi_4=phi_1+3*pi/2")}
+LAUNCH_PUBLISHED = {2: 32, 3: 28, 4: 24}  # balanced runs of 100 (section 5.1.3)
+LAUNCH_GRID = "phi_1=0:2*pi*99/100:100"
+LAUNCH_RTOLS = (1e-6, 1e-8, 1e-10)
+
+
+def launches() -> dict:
+    """Fig. 5.11: 100 equidistant starts with every ball at phi' = -Omega (at rest in the fixed frame);
+    the balanced count at each tolerance, and where the label changes with the tolerance, a fine scan of
+    phi_1(0) around that start (the basin's local structure)."""
+    out = {}
+    for n, ties in LAUNCH_TIES.items():
+        model = f"thesis_rotating_n{n}"
+        y0 = tuple(f"phi_{k}_dot=-4" for k in range(1, n + 1))
+        by_tol = {}
+        for rtol in LAUNCH_RTOLS:
+            codes, labels, coords = sweep(model, [LAUNCH_GRID], "attractor", y0=y0, tie=ties, rtol=rtol)
+            by_tol[rtol] = named(labels, codes)
+        phi = coords["phi_1"]
+        changes = [k for k in range(len(phi)) if len({by_tol[r][k] for r in LAUNCH_RTOLS}) > 1]
+        local = []
+        h = phi[1] - phi[0]
+        for k in changes[:3]:  # the basin about the first three such starts
+            grid = f"phi_1={float(phi[k] - h / 2)!r}:{float(phi[k] + h / 2)!r}:41"
+            codes, labels, fine = sweep(model, [grid], "attractor", y0=y0, tie=ties, rtol=LAUNCH_RTOLS[-1])
+            names = named(labels, codes)
+            switches = sum(a != b for a, b in zip(names, names[1:]))
+            local.append({"phi_1": float(phi[k]), "balanced": names.count(BALANCED), "points": len(names),
+                          "switches": switches})
+        out[n] = {"phi_1": phi, "labels": by_tol, "changes": [float(phi[k]) for k in changes], "local": local,
+                  "command": command(model, [LAUNCH_GRID], "attractor", y0=y0, tie=ties)}
+    return out
+
+
+# ---------------------------------------------------- n = 3 basin experiment, Fig. 5.19 (b), (d)
+
+BASIN_ZETAS = (0.01, 0.1, 0.2, 0.25)
+N3_PUBLISHED = {0.01: "all but phi_1(0) = phi_2(0)", 0.1: "2 of 1600", 0.2: "none", 0.25: "none"}
+# long enough for the runs to settle: at zeta = 0.01 the balls creep along the n = 3 family of balanced states
+# (a neutral direction), so at t = 2000 all but 18 of 1600 runs were still "unsettled" and at t = 3000 455
+# were (1104 balanced, 41 in-line): the count is the run length's, not the basin's, until the runs settle
+N3_T_END = 6000.0
+
+
+def basins_n3(size: int = 40) -> list[dict]:
+    """The thesis' n = 3 experiment (section 5.2.2, described in words): phi_1(0), phi_2(0) over [0, pi] on 40
+    equidistant values each, phi_3(0) = phi_1(0) + pi, beta = 0.01."""
+    out = []
+    grid = [f"phi_1=0:pi:{size}", f"phi_2=0:pi:{size}"]
+    for zeta in BASIN_ZETAS:
+        codes, labels, _ = sweep("thesis_rotating_n3", grid, "attractor", set_=(f"zeta={zeta}",),
+                                 tie=("phi_3=phi_1+pi",), t_end=N3_T_END)
+        names = np.array(named(labels, codes)).reshape(codes.shape)
+        diag = np.eye(size, dtype=bool)
+        out.append({"zeta": zeta, "balanced": int((names == BALANCED).sum()), "points": names.size,
+                    "off_diagonal_balanced": int(((names == BALANCED) & ~diag).sum()),
+                    "diagonal_balanced": int(((names == BALANCED) & diag).sum()),
+                    "counts": {k: int((names == k).sum()) for k in sorted(set(names.ravel()))}})
+    return out
+
+
+# ----------------------------------------------------------------- Figs. 5.20-5.22: (zeta, beta)
+
+ZB_GRID = ["zeta=0.01:0.25:13", "beta=0.01:0.25:13"]
+EQUIDISTANT_Y0 = {2: ("phi_1=pi/2", "phi_2=-pi/2"), 3: ("phi_1=pi/3", "phi_2=-pi/3", "phi_3=pi"),
+                  4: ("phi_1=pi/2", "phi_2=-pi/2", "phi_3=pi", "phi_4=0")}
+
+
+def zeta_beta() -> dict:
+    out = {}
+    for n in (2, 3, 4):
+        model = f"thesis_rotating_n{n}"
+        codes, labels, coords = sweep(model, ZB_GRID, "attractor", y0=EQUIDISTANT_Y0[n])
+        r_max, _, _ = sweep(model, ZB_GRID, "r_max", y0=EQUIDISTANT_Y0[n])
+        t_dec, _, _ = sweep(model, ZB_GRID, "t_dec", y0=EQUIDISTANT_Y0[n])
+        out[n] = {"labels": np.array(named(labels, codes)).reshape(codes.shape), "r_max": r_max, "t_dec": t_dec,
+                  "zeta": coords["zeta"], "beta": coords["beta"],
+                  "command": command(model, ZB_GRID, "attractor", y0=EQUIDISTANT_Y0[n])}
+    return out
+
+
+# ------------------------------------------------------ Figs. 5.23-5.25: sweeps in Omega and delta
+
+STARTS = "phi_1=0:{top}*{k}/10:10"  # ten equidistant configurations, phi_1(0) over the symmetry period 2 pi/n
+EQUI_TIES = LAUNCH_TIES
+TOP = {2: "pi", 3: "2*pi/3", 4: "pi/2"}
+
+
+def _starts(n: int) -> str:
+    return f"phi_1=0:{TOP[n]}*9/10:10"
+
+
+def omega_sweep(omegas: str = "Omega=0.5:20:40") -> dict:
+    """Fig. 5.23: r_max and t_dec over Omega for ten equidistant starts, mu = 6 mu_c = 0.06/n."""
+    out = {}
+    for n in (2, 3, 4):
+        model = f"thesis_rotating_n{n}"
+        grid = [omegas, _starts(n)]
+        set_ = (f"mu={0.06 / n!r}",)
+        r_max, _, coords = sweep(model, grid, "r_max", set_=set_, tie=EQUI_TIES[n])
+        t_dec, _, _ = sweep(model, grid, "t_dec", set_=set_, tie=EQUI_TIES[n])
+        codes, labels, _ = sweep(model, grid, "attractor", set_=set_, tie=EQUI_TIES[n])
+        out[n] = {"Omega": coords["Omega"], "r_max": r_max, "t_dec": t_dec,
+                  "labels": np.array(named(labels, codes)).reshape(codes.shape),
+                  "command": command(model, grid, "r_max", set_=set_, tie=EQUI_TIES[n])}
+    return out
+
+
+def delta_sweep(total: float, count: int = 20) -> dict:
+    """Figs. 5.24 (total ball mass 0.03), 5.25 (0.12): r_max and t_dec over delta in (0, total] for ten
+    equidistant starts, mu = total/n, Omega = 4."""
+    out = {}
+    for n in (2, 3, 4):
+        model = f"thesis_rotating_n{n}"
+        grid = [f"delta={total / count!r}:{total!r}:{count}", _starts(n)]
+        set_ = (f"mu={total / n!r}",)
+        r_max, _, coords = sweep(model, grid, "r_max", set_=set_, tie=EQUI_TIES[n])
+        t_dec, _, _ = sweep(model, grid, "t_dec", set_=set_, tie=EQUI_TIES[n])
+        out[n] = {"delta": coords["delta"], "r_max": r_max, "t_dec": t_dec,
+                  "command": command(model, grid, "r_max", set_=set_, tie=EQUI_TIES[n])}
+    return out
+
+
+@dataclass
+class Everything:
+    scans: list = field(default_factory=list)
+    launches: dict = field(default_factory=dict)
+    basins_n3: list = field(default_factory=list)
+    zeta_beta: dict = field(default_factory=dict)
+    omega: dict = field(default_factory=dict)
+    delta: dict = field(default_factory=dict)
+
+
+# ----------------------------------------------------------------------------- Omega < 2.04 (Fig. 5.23)
+
+def stability_onset(n: int, mu: float, lo: float = 0.5, hi: float = 6.0, count: int = 111) -> float | None:
+    """The largest Omega in [lo, hi] at which the balanced state (START's family member) changes stability
+    (the last Hopf point H1 of thesis ch. 4), refined by bisection; None if it does not change."""
+    from ....analysis.loading import load_model
+    from .reproduce import _balanced_stable
+
+    model = load_model(f"thesis_rotating_n{n}")
+    ws = np.linspace(lo, hi, count)
+    st = [bool(_balanced_stable(model, {"Omega": float(w), "mu": mu})) for w in ws]
+    ch = [i for i in range(count - 1) if st[i] != st[i + 1]]
+    if not ch:
+        return None
+    a, b = ws[ch[-1]], ws[ch[-1] + 1]
+    sa = st[ch[-1]]
+    for _ in range(40):
+        m = 0.5 * (a + b)
+        if bool(_balanced_stable(model, {"Omega": float(m), "mu": mu})) == sa:
+            a = m
+        else:
+            b = m
+    return 0.5 * (a + b)
+
+
+# ------------------------------------------------------------------------------------------- compute
+
+def compute(progress=None) -> Everything:
+    def say(text):
+        if progress:
+            progress(text)
+
+    out = Everything()
+    out.scans = scans()
+    say("Figs. 5.5, 5.7, 5.9: r_max scans done")
+    out.launches = launches()
+    say("Figs. 5.10-5.11: " + ", ".join(f"n = {n}: {v['labels'][LAUNCH_RTOLS[-1]].count(BALANCED)} balanced"
+                                         for n, v in out.launches.items()))
+    for n, v in out.launches.items():
+        v["r_max"] = sweep(f"thesis_rotating_n{n}", [LAUNCH_GRID], "r_max",
+                           y0=tuple(f"phi_{k}_dot=-4" for k in range(1, n + 1)), tie=LAUNCH_TIES[n])[0]
+    out.basins_n3 = basins_n3()
+    say("n = 3 basins: " + ", ".join(f"zeta {b['zeta']:g}: {b['balanced']}" for b in out.basins_n3))
+    out.zeta_beta = zeta_beta()
+    say("Figs. 5.20-5.22 done")
+    out.omega = omega_sweep()
+    for n in (2, 3, 4):
+        out.omega[n]["onset"] = stability_onset(n, 0.06 / n)
+    say("Fig. 5.23: onsets " + ", ".join(f"{out.omega[n]['onset']}" for n in (2, 3, 4)))
+    out.delta = {0.03: delta_sweep(0.03), 0.12: delta_sweep(0.12)}
+    say("Figs. 5.24, 5.25 done")
+    return out
+
+
+# ------------------------------------------------------------------------------------------- figures
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _dots(ax, x, y, labels):
+    """The thesis' markers: '.' where the run balances, 'x' where it does not."""
+    ok = np.array([lab == BALANCED for lab in labels])
+    ax.plot(np.asarray(x)[ok], np.asarray(y)[ok], "k.", ms=3)
+    ax.plot(np.asarray(x)[~ok], np.asarray(y)[~ok], "kx", ms=4)
+
+
+def draw(res: Everything, fig_dir: Path) -> dict[str, Path]:
+    plt = _plt()
+    paths = {}
+    for fig_name in ("5.5", "5.7", "5.9"):
+        panels = [s for s in res.scans if s["panel"].figure.startswith(fig_name + "(")]
+        cols = min(len(panels), 4)
+        rows = math.ceil(len(panels) / cols)
+        fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), constrained_layout=True, squeeze=False)
+        for ax, s in zip(axes.ravel(), panels):
+            _dots(ax, s["phi_1"], s["r_max"], s["labels"])
+            ax.set_title(f"({s['panel'].figure.split('(')[1]} {s['panel'].text}", fontsize=7)
+            ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
+            ax.set_ylabel(r"$r_{max}$", fontsize=8)
+        for ax in axes.ravel()[len(panels):]:
+            ax.set_visible(False)
+        fig.suptitle(f"thesis Fig. {fig_name}: n = {panels[0]['panel'].n}, (5.1); '.' balanced, 'x' not "
+                     "(rtol 1e-8)", fontsize=9)
+        paths[fig_name] = fig_dir / f"fig{fig_name.replace('.', '_')}.png"
+        fig.savefig(paths[fig_name], dpi=110)
+        plt.close(fig)
+    fig, axes = plt.subplots(1, 3, figsize=(9, 2.8), constrained_layout=True)
+    for ax, (n, v) in zip(axes, res.launches.items()):
+        _dots(ax, v["phi_1"], v["r_max"], v["labels"][LAUNCH_RTOLS[-1]])
+        ax.set_title(f"({'abc'[n - 2]}) n = {n}", fontsize=8)
+        ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
+    axes[0].set_ylabel(r"$r_{max}$")
+    fig.suptitle(r"thesis Fig. 5.11: balls released at $\dot\phi_i(0) = -\Omega$, equidistant; '.' balanced, 'x' "
+                 "not (rtol 1e-10)", fontsize=9)
+    paths["5.11"] = fig_dir / "fig5_11.png"
+    fig.savefig(paths["5.11"], dpi=110)
+    plt.close(fig)
+    fig, axes = plt.subplots(3, 3, figsize=(9, 8), constrained_layout=True)
+    for col, (n, v) in enumerate(res.zeta_beta.items()):
+        Z, B = np.meshgrid(v["zeta"], v["beta"], indexing="ij")
+        ok = v["labels"] == BALANCED
+        axes[0, col].plot(Z[ok], B[ok], "k.", ms=4)
+        axes[0, col].set_title(f"5.{20}({'abc'[col]}): n = {n}, balanced", fontsize=8)
+        for row, (key, fig_no) in enumerate((("r_max", 21), ("t_dec", 22)), start=1):
+            im = axes[row, col].pcolormesh(v["zeta"], v["beta"], np.asarray(v[key]).T, shading="nearest")
+            fig.colorbar(im, ax=axes[row, col])
+            axes[row, col].set_title(f"5.{fig_no}({'abc'[col]}): {key}", fontsize=8)
+        for row in range(3):
+            axes[row, col].set_xlabel(r"$\zeta$", fontsize=8)
+            axes[row, col].set_ylabel(r"$\beta$", fontsize=8)
+    fig.suptitle(r"thesis Figs. 5.20-5.22: $\Omega$ = 4, $\delta$ = 0.01, $\mu$ = 0.05, starts (5.3)-(5.5)", fontsize=9)
+    paths["5.20"] = fig_dir / "fig5_20_22.png"
+    fig.savefig(paths["5.20"], dpi=110)
+    plt.close(fig)
+    for key, title, data, xname in (("5.23", r"Fig. 5.23: $\mu = 6\mu_c$", res.omega, "Omega"),
+                                    ("5.24", r"Fig. 5.24: $n\mu$ = 0.03", res.delta[0.03], "delta"),
+                                    ("5.25", r"Fig. 5.25: $n\mu$ = 0.12", res.delta[0.12], "delta")):
+        fig, axes = plt.subplots(2, 3, figsize=(9, 5), constrained_layout=True, sharex=True)
+        for col, (n, v) in enumerate(data.items()):
+            x = np.repeat(v[xname][:, None], v["r_max"].shape[1], axis=1)
+            axes[0, col].plot(x.ravel(), v["r_max"].ravel(), "k.", ms=2)
+            axes[1, col].plot(x.ravel(), v["t_dec"].ravel(), "k.", ms=2)
+            axes[0, col].set_title(f"n = {n}", fontsize=8)
+            axes[1, col].set_xlabel(r"$\Omega$" if xname == "Omega" else r"$\delta$")
+            axes[0, col].set_yscale("log")
+        axes[0, 0].set_ylabel(r"$r_{max}$")
+        axes[1, 0].set_ylabel(r"$t_{dec}$")
+        fig.suptitle(f"thesis {title}, ten equidistant starts per point", fontsize=9)
+        paths[key] = fig_dir / f"fig{key.replace('.', '_')}.png"
+        fig.savefig(paths[key], dpi=110)
+        plt.close(fig)
+    return paths
+
+
+# ------------------------------------------------------------------------------------------- document
+
+def _rel_link(path: Path, root: Path) -> str:
+    return path.relative_to(root).as_posix()
+
+
+def _stats(values) -> str:
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    return "—" if not len(v) else f"{v.min():.4g} / {np.median(v):.4g} / {v.max():.4g}"
+
+
+def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None) -> list[str]:
+    L = ["## Thesis, Figs. 5.5, 5.7, 5.9: r_max against the starting position", "",
+         f"Each panel: `{res.scans[0]['command']}` (with the panel's `--tie`/`--y0`) and the same with "
+         "`--measure attractor`; phi_1(0) on 100 points of [0, pi] (pi k/99: the grid of the starts the thesis "
+         "names, 0.72986495992490 = 23 pi/99 and 2.63386050755508 = 83 pi/99), parameters (5.1), rtol 1e-8.  By "
+         "the identical balls' symmetry [0, pi] covers every configuration of these families.", "",
+         "| panel | starts | balanced of 100 | not balanced | r_max of the balanced runs: min / median / max |",
+         "|---|---|---|---|---|"]
+    for s in res.scans:
+        lab = s["labels"]
+        bad = {k: lab.count(k) for k in sorted(set(lab)) if k != BALANCED}
+        ok = [r for r, k in zip(s["r_max"], lab) if k == BALANCED]
+        L.append(f"| {s['panel'].figure} | {s['panel'].text} | {lab.count(BALANCED)} | "
+                 + (", ".join(f"{k} {v}" for k, v in bad.items()) or "none") + f" | {_stats(ok)} |")
+    by = {s["panel"].figure: s for s in res.scans}
+    L += ["", "The starts the thesis names (section 5.1.2):", "", "| panel | thesis | ours | same |", "|---|---|---|---|"]
+    for fig, phi, words, expect in NAMED:
+        s = by[fig]
+        k = int(np.argmin(np.abs(s["phi_1"] - phi)))
+        got = s["labels"][k]
+        L.append(f"| {fig} | {words} | {got} (phi_1(0) = {s['phi_1'][k]:.14f}) | {'yes' if got == expect else '**no**'} |")
+    eq = [("5.5(b)", "n = 2, in line"), ("5.7(c), 2pi/3", "n = 3, equidistant"), ("5.9(c)", "n = 4, equidistant")]
+    L += ["", "Thesis: \"the r_max values for equidistant initial positions of the balls are almost the same in the "
+          "three cases (0.045)\"; ours (median over the panel): "
+          + ", ".join(f"{t} {np.median(by[f]['r_max']):.4f}" for f, t in eq)
+          + ".  Thesis Fig. 5.5: in (a) r_max rises to about 0.5 away from the balanced position and some starts "
+          "end on limit cycles, in (b) r_max hardly varies and no limit cycle is reached; Fig. 5.7(c) is printed "
+          "with phi_2 = phi_1 + pi/3, phi_3 = phi_1 - pi/3, which is not equidistant (both rows are computed).", ""]
+    for key in ("5.5", "5.7", "5.9"):
+        L += [f"![Fig. {key}]({_rel_link(paths[key], root)})", ""]
+
+    L += ["## Thesis, Figs. 5.10-5.11: balls released at rest in the fixed frame", "",
+          f"`{res.launches[2]['command']}` (and n = 3, 4 with their equidistant ties): 100 equidistant starts, "
+          "every ball at phi'(0) = -Omega = -4, (5.1).  The thesis counts the balanced runs of 100: the outcome "
+          "of these launches depends on the tolerance at some starts, so the count is given at three tolerances, "
+          "and about the first starts whose outcome changes, the basin's local structure: a scan of 41 starts "
+          "over one grid step at rtol 1e-10, its balanced share and the number of label changes along it.", "",
+          "| n | published balanced of 100 | rtol 1e-6 | 1e-8 | 1e-10 | starts whose outcome changes with rtol | "
+          "local structure (start: balanced of 41, label changes) |", "|---|---|---|---|---|---|---|"]
+    for n, v in res.launches.items():
+        counts = [v["labels"][r].count(BALANCED) for r in LAUNCH_RTOLS]
+        local = "; ".join(f"{x['phi_1']:.4f}: {x['balanced']}, {x['switches']}" for x in v["local"]) or "—"
+        L.append(f"| {n} | {LAUNCH_PUBLISHED[n]} | " + " | ".join(map(str, counts))
+                 + f" | {len(v['changes'])} | {local} |")
+    L += ["", "The thesis' counts are of its ode45 runs at an unstated (default) tolerance; where a start's outcome "
+          "changes between tolerances, its basin boundary is finer than the integration error there, and the "
+          "local scans show the balanced and unbalanced outcomes interleaved on a scale below the grid step.  "
+          "The published count is compared with the range ours spans over the tolerances.", "",
+          f"![Fig. 5.11]({_rel_link(paths['5.11'], root)})", ""]
+
+    if lyapunov:
+        L += ["## Thesis, Figs. 5.12-5.14 (b): the motion at Omega = 1.6", "",
+              "The thesis: \"the rotor with the ADB ... appears now to exhibit chaotic motion ... r reaches "
+              "approximately similar high values around 0.4\" (Omega = 1.6, mu = 0.05, starts (5.3)-(5.5)).  "
+              "Decided by the largest Lyapunov exponent from the variational equations (generated Jacobian, "
+              "DOP853 rtol 1e-10, renormalised every time unit, averaged over t in [1000, 5000]; the two halves "
+              "of the window beside it); control: the limit cycle of Fig. 5.4(b).", "",
+              "| run | largest Lyapunov exponent | first half | second half | max r over the window | verdict |",
+              "|---|---|---|---|---|---|"]
+        for name, v in lyapunov.items():
+            lam = v["exponent"]
+            verdict = "chaotic (positive exponent)" if min(v["first_half"], v["second_half"]) > 0.01 else (
+                "not chaotic (exponent ~ 0: a cycle or torus)" if abs(lam) < 0.005 else "undecided")
+            L.append(f"| {name} | {lam:.3f} | {v['first_half']:.3f} | {v['second_half']:.3f} | {v['r_window']:.3f} | "
+                     f"{verdict} |")
+        L.append("")
+
+    L += ["## Thesis, section 5.2.2: the n = 3 basin experiment", "",
+          "`adbgen sweep thesis_rotating_n3 --grid phi_1=0:pi:40 --grid phi_2=0:pi:40 --tie phi_3=phi_1+pi --set "
+          f"zeta=Z --measure attractor --t-end {N3_T_END:g}` (Omega = 4, beta = delta = 0.01, mu = 0.05): the thesis' "
+          "experiment, described only in words.", "",
+          "| zeta | published | balanced of 1600 | of them on the diagonal | other attractors |", "|---|---|---|---|---|"]
+    for b in res.basins_n3:
+        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if k != BALANCED) or "none"
+        L.append(f"| {b['zeta']:g} | {N3_PUBLISHED[b['zeta']]} | {b['balanced']} | {b['diagonal_balanced']} | {others} |")
+    at = {b["zeta"]: b for b in res.basins_n3}
+    L += ["", f"Ours: {at[0.01]['balanced']} of 1600 balance at zeta = 0.01 ({at[0.01]['diagonal_balanced']} of the 40 "
+          f"diagonal starts phi_1(0) = phi_2(0)), {at[0.1]['balanced']} at zeta = 0.1 (published: 2), "
+          f"{at[0.2]['balanced']} and {at[0.25]['balanced']} at 0.2 and 0.25 (published: none).  The balanced state of "
+          "the chapter 4 analysis (phi_3 = pi) is linearly unstable for n = 3 at Omega = 4, beta = 0.01 from zeta "
+          "= 0.0206 on (chapter 4 below); other members of the n = 3 family of balanced states are reached where "
+          "balancing runs remain.", ""]
+
+    L += ["## Thesis, Figs. 5.20-5.22: damping maps", "",
+          f"`{res.zeta_beta[2]['command']}` and the same with `--measure r_max`, `--measure t_dec`, for n = 2, 3, 4 "
+          "with the starts (5.3)-(5.5); zeta, beta on 13 values each of [0.01, 0.25].", "",
+          "| n | balanced of 169 | not balanced where | r_max at (zeta, beta) = (0.01, 0.01) / (0.25, 0.01) / (0.01, 0.25) "
+          "/ (0.25, 0.25) | t_dec at the same corners |", "|---|---|---|---|---|"]
+    for n, v in res.zeta_beta.items():
+        ok = v["labels"] == BALANCED
+        where = "—" if ok.all() else (f"zeta >= {v['zeta'][np.nonzero(~ok)[0]].min():.2f} (at beta <= "
+                                      f"{v['beta'][np.nonzero(~ok)[1]].max():.2f})")
+        corners = [(0, 0), (-1, 0), (0, -1), (-1, -1)]
+        L.append(f"| {n} | {int(ok.sum())} | {where} | " + " / ".join(f"{v['r_max'][i, j]:.4f}" for i, j in corners)
+                 + " | " + " / ".join(f"{v['t_dec'][i, j]:.1f}" for i, j in corners) + " |")
+    L += ["", "Thesis: (5.20) n = 2 balances on the whole square, n = 3 loses the balance in a large region (for low "
+          "beta only up to a zeta that grows with beta), n = 4 fails only for a few zeta at very small beta; (5.21) "
+          "r_max grows as zeta and beta decrease, far more sensitive to zeta; (5.22) for n = 2 t_dec decreases "
+          "as zeta and beta increase.", "", f"![Figs. 5.20-5.22]({_rel_link(paths['5.20'], root)})", ""]
+
+    L += ["## Thesis, Figs. 5.23-5.25: sweeps in Omega and delta", "",
+          f"`{res.omega[2]['command']}` (and `--measure t_dec`, `--measure attractor`; n = 3, 4 with their ties): "
+          "ten equidistant starts at each Omega (phi_1(0) on ten points of the symmetry period 2 pi/n), "
+          "mu = 6 mu_c = 0.06/n, zeta = beta = delta = 0.01.  The thesis: \"For Omega < 2.04, r_max takes very high "
+          "values since in these cases the balance is not stable\".", "",
+          "| n | published threshold | balanced state stable from Omega (last Hopf point H1, eigenvalues) | "
+          "largest grid Omega with a start not balancing | rel. diff. of H1 |", "|---|---|---|---|---|"]
+    for n, v in res.omega.items():
+        bad = v["Omega"][np.any(v["labels"] != BALANCED, axis=1)]
+        onset = v["onset"]
+        L.append(f"| {n} | 2.04 | {'—' if onset is None else f'{onset:.4f}'} | "
+                 f"{'none' if not len(bad) else f'{bad.max():.2f}'} | "
+                 f"{'—' if onset is None else f'{100 * (onset - 2.04) / 2.04:+.1f} %'} |")
+    L += ["", "Thesis (5.23): r_max grows linearly with Omega and is alike for n = 2, 3, 4; t_dec varies more "
+          "between the starts, least for n = 4.  (5.24, 5.25): r_max grows linearly with delta, the spread over the "
+          "starts grows with delta and is smallest for n = 4; with the total ball mass 0.12 the values on [0, 0.03] "
+          "are those of 0.03.  Ours (spread = max - min of t_dec over the ten starts, median over the grid):", "",
+          "| figure | n | r_max at the grid's largest value (median) | t_dec spread (median) |", "|---|---|---|---|"]
+    for fig, data in (("5.23", res.omega), ("5.24", res.delta[0.03]), ("5.25", res.delta[0.12])):
+        for n, v in data.items():
+            spread = np.nanmax(v["t_dec"], axis=1) - np.nanmin(v["t_dec"], axis=1)
+            L.append(f"| {fig} | {n} | {np.nanmedian(v['r_max'][-1]):.4f} | {np.nanmedian(spread):.1f} |")
+    L += [""] + [f"![Fig. {k}]({_rel_link(paths[k], root)})" for k in ("5.23", "5.24", "5.25")] + [""]
+    return L

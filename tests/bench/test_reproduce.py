@@ -1,0 +1,32 @@
+"""`adbgen bench reproduce`: the comparison of a fresh document with the committed one (the full run is the
+benchmark itself; here the machinery, on small stand-ins)."""
+
+from __future__ import annotations
+
+from adbgen.bench import reproduce
+
+
+def _doc(folder, text: str, png: bytes):
+    (folder / "reproduction").mkdir(parents=True)
+    (folder / "reproduction.md").write_text(text)
+    (folder / "reproduction" / "a.png").write_bytes(png)
+    return folder / "reproduction.md"
+
+
+def test_an_identical_document_and_figures_compare_identical(tmp_path):
+    old = _doc(tmp_path / "old", "# T\n\nrow 1\nrow 2\n", b"png")
+    new = _doc(tmp_path / "new", "# T\n\nrow 1\nrow 2\n", b"png")
+    res = reproduce.compare(new, new.parent / "reproduction", committed=old)
+    assert res["document_identical"] and res["lines_differing"] == 0 and res["figures_differing"] == []
+
+
+def test_a_changed_line_or_figure_is_reported(tmp_path):
+    """Negative control: one digit and one figure's bytes differ."""
+    old = _doc(tmp_path / "old", "# T\n\nrow 1\nrow 2\n", b"png")
+    new = _doc(tmp_path / "new", "# T\n\nrow 1\nrow 3\n", b"pnG")
+    res = reproduce.compare(new, new.parent / "reproduction", committed=old)
+    assert not res["document_identical"]
+    assert res["lines_differing"] == 1 and res["first_differences"] == [(4, "row 2", "row 3")]
+    assert res["figures_differing"] == ["a.png"]
+    short = _doc(tmp_path / "short", "# T\n\nrow 1\n", b"png")
+    assert reproduce.compare(short, short.parent / "reproduction", committed=old)["lines_differing"] == 1
