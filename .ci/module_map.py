@@ -5,8 +5,9 @@
 
 Layers, bottom to top (issue 19 item 5): 0 core, errors, cli_types, references, the package's
 __init__; 1 the families' derivations; 2 codegen; 3 analysis; 4 the families' science packages,
-bench, notebooks; 5 cli.  A module counts in the layer of the folder it sits in (a command module
-inside codegen/ is codegen's).  An upward import is an import, at module level or inside a function
+bench, notebooks; 5 cli and docsite (the documentation build reads the command line and the bench
+registry).  A module counts in the layer of the folder it sits in (a command module inside codegen/ is
+codegen's).  An upward import is an import, at module level or inside a function
 (not under `if TYPE_CHECKING:`), from a module to one in a higher layer; "family names in generic
 layers" are imports of adbgen.families by core, codegen or analysis.
 """
@@ -28,7 +29,7 @@ def layer(module: str) -> int:
         return 0
     if top == "families":
         return 4 if "science" in parts else 1
-    return {"codegen": 2, "analysis": 3, "bench": 4, "notebooks": 4, "cli": 5}.get(top, 0)
+    return {"codegen": 2, "analysis": 3, "bench": 4, "notebooks": 4, "cli": 5, "docsite": 5}.get(top, 0)
 
 
 def main(root: Path) -> None:
