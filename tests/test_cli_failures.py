@@ -97,10 +97,15 @@ def test_ctrl_c_is_one_line_and_exit_130(tmp_path):
     """A real SIGINT to a running command (the scipy engine: Python runs between steps)."""
     proc = subprocess.Popen(ADBGEN + ["simulate", "thesis_rotating_n2", "--y0", "phi_1=1", "--engine", "scipy-dop853",
                                       "--t-end", "1e7", "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, env=dict(os.environ, ADBGEN_PROGRESS="0"))
+                            text=True, env=dict(os.environ, ADBGEN_PROGRESS="0"),
+                            # a shell's background job inherits SIGINT ignored: give the command a terminal's default
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     time.sleep(6)  # past the imports, inside the integration
     proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=60)
+    try:
+        out, err = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
     assert proc.returncode == 130, err
     assert err == "adbgen: error: interrupted\n", err
 

@@ -45,7 +45,7 @@ def stubbed(monkeypatch, tmp_path):
     from adbgen.analysis import auto, auto_orbits, continuation, loading, sweep
     from adbgen.analysis import engines
     from adbgen.bench import registry
-    from adbgen.cli import notebooks as cli_notebooks, reproduce as cli_reproduce, verify as fam_commands
+    from adbgen.cli import docs as cli_docs, notebooks as cli_notebooks, reproduce as cli_reproduce, verify as fam_commands
     from adbgen.codegen import regenerate
     from adbgen.core import linearisation
     from adbgen.families.single_plane import commands as sp_commands, verify as sp_verify
@@ -54,6 +54,8 @@ def stubbed(monkeypatch, tmp_path):
 
     for module, name in [(regenerate, "render_all"), (continuation, "scan"), (auto.Session, "__init__"),
                          (auto_orbits, "refine_orbit"), (sweep, "run_sweep"), (cli_reproduce, "build"),
+                         (cli_reproduce, "_pinned_rerun"),  # the pinned child process would escape the stubs
+                         (cli_docs, "build"),
                          (loading, "_scene_model"), (sp_commands, "_form"), (sp_verify, "rotating"),
                          (linearisation, "Linearisation"), (tp_commands, "cmd_derive"), (tp_commands, "cmd_steady"),
                          (tp_commands, "cmd_verify"), (fam_commands, "cmd_verify")]:

@@ -133,5 +133,6 @@ def test_the_wheel_holds_the_benchmarks_c_programs(installed):
     r = _run([python, "-c", code], elsewhere, env)
     assert r.returncode == 0, r.stderr
     names, folder = r.stdout.splitlines()
-    assert names == "['midpoint.c', 'omp_control.c', 'rhs_timer.c']"
+    shipped = sorted(p.name for p in (Path(__file__).resolve().parents[1] / "adbgen" / "bench" / "c").glob("*.c"))
+    assert len(shipped) >= 3 and names == str(shipped)
     assert Path(folder).resolve().is_relative_to((elsewhere.parent / "venv").resolve())

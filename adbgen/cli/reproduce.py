@@ -59,11 +59,12 @@ def run_reproduce(args) -> int:
     if libm() != "sleef-cinz":
         raise AnalysisError("adbgen reproduce needs the compiled engines' pinned libm (SLEEF; apt-get install "
                             "libsleef-dev): without it the document depends on the processor")
-    if not environment_pinned():
-        return _pinned_rerun(args, only)
+    # the outputs are checked here, before a pinned child process would start the long work
     out = output_file(args.out or ("docs/reproduction.md" if every else f"docs/reproduction-{'-'.join(only)}.md"),
                       "--out")
     figs = output_folder(args.figures if args.figures else out.parent / "reproduction", "--figures")
+    if not environment_pinned():
+        return _pinned_rerun(args, only)
     command = "adbgen reproduce" + ("" if every else f" --only {' '.join(only)}")
     with activity("reproduce: " + ", ".join(only), wanted(args.quiet)) as note:
         def progress(line: str) -> None:

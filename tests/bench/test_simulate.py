@@ -10,6 +10,7 @@ import pytest
 
 from toolchain import require_tool
 
+from adbgen.analysis.engines import DEFAULT
 from adbgen.bench import pathways, problems, simulate as bs
 from adbgen.bench.report import describe_targets, write
 from adbgen.cli import main
@@ -34,7 +35,7 @@ def test_result_has_every_part(tiny_result, tmp_path):
                 "engines", "equal_error", "peers", "default_sweep", "baselines", "floor", "symmetry", "many", "targets",
                 "seconds"):
         assert key in r, key
-    assert r["problem"]["t_end"] == 20.0 and r["default_engine"] == "cyrk-dop853"
+    assert r["problem"]["t_end"] == 20.0 and r["default_engine"] == DEFAULT
     assert r["machine"]["load_average_at_start"] is not None
     assert r["default_engine_cold_build_s"] > 0
     json.dumps(r)  # JSON-ready as returned
@@ -49,7 +50,8 @@ def test_errors_against_a_converged_reference(tiny_result):
     ref = r["reference"]
     assert ref["converged"] and 0 <= ref["check_difference"] < 1e-10
     engines = {e["key"]: e for e in r["engines"]}
-    assert set(engines) == {"cyrk-dop853", "cyrk-rk45", "scipy-dop853"}
+    # the default engine is always measured beside the ones asked for
+    assert set(engines) == {"cyrk-dop853", "cyrk-rk45", "scipy-dop853", DEFAULT}
     for e in engines.values():
         assert e["status"] == "success"
         assert 0 < e["error"] < 1e-4, e  # rtol 1e-6 over t = 20
@@ -61,7 +63,7 @@ def test_errors_against_a_converged_reference(tiny_result):
     assert base["baseline:solve_ivp-dop853"]["n_steps"] == engines["cyrk-dop853"]["n_steps"]
     assert all(0 < b["error"] < 1e-4 and b["n_rhs"] > 0 for b in base.values())
     # a tighter tolerance gives a smaller error on the default engine's sweep
-    curve = r["equal_error"]["curves"]["cyrk-dop853"]
+    curve = r["equal_error"]["curves"][DEFAULT]
     assert [c["tol"] for c in curve] == [1e-5, 1e-6]
     assert curve[1]["error"] < curve[0]["error"]
 

@@ -7,7 +7,7 @@
  * two numbers added (addition commutes, sign changes and halving are exact), so f_S(S y) = S f_S(y) bit for
  * bit.  Where the parameters are S-symmetric f_S = f in exact arithmetic; in floating point it differs from f
  * by rounding only.  A Runge-Kutta step updates every component by the same element-wise operations, so a
- * state with S y = y keeps S y = y exactly (the tilt of a race-symmetric two-plane run stays 0, not 1e-17
+ * state with S y = y keeps S y = y exactly (the tilt of a race-symmetric run of a model with a race swap stays 0, not 1e-17
  * growing to 1e-4).  Defines expected: ADB_NY, ADB_MODEL_RHS, ADB_SYM_STATES, ADB_SYM_SIGNS.
  */
 #ifndef ADB_SYMMETRIZE_H

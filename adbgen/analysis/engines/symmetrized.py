@@ -4,7 +4,7 @@
     sim = simulate(model, p, y0, engine=eng)        # any engine name or engine object
 
 The generated rhs is equivariant under its declared symmetries only up to rounding where the symmetry
-maps one expression onto a differently ordered one (the two-plane race swap gamma_r exchanges the races
+maps one expression onto a differently ordered one (a race swap such as the paper's gamma_r exchanges the races
 and reverses the tilt: sums of the four balls' terms in another order), so a run started on the symmetric
 subspace leaves it by rounding (a tilt of 1e-17 that an unstable odd mode grows to 1e-4, issue 23).  This
 engine compiles the model with f_S(y) = (f(y) + S f(S y))/2 in place of f (symmetrize.h): bit-exactly

@@ -23,6 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .balanced import balanced_stable
+
 from ....analysis.loading import load_model
 from ....analysis.reproduction import Reproduction
 from .published import EQUIDISTANT, TRANSIENTS, Transient, printed_half_unit
@@ -112,22 +114,10 @@ SMALL_ZETA = np.geomspace(1e-7, 2.5e-3, 30)  # the scan in zeta starts here: the
 # zeta below a bound of order 1e-4 at every beta (the thesis' "whole range 0 < zeta" included)
 
 
-def _balanced_stable(model, values: dict) -> bool | None:
-    """Is the balanced state (continued by Newton from START, the member of the n >= 3 family with
-    phi_3 (, phi_4) = pi) stable at these parameters?  Deflated spectrum; None if Newton fails."""
-    from ....analysis.attractors import amplitude_of, newton, spectrum
-
-    p = model.params(values)
-    y = newton(model, np.array(model.module.START, float), p)
-    if y is None or amplitude_of(model, y) > 1e-8:
-        return None
-    return spectrum(model, y, p).unstable() == 0
-
-
 def _bisect(model, values: dict, a: float, b: float, stable_at_a: bool) -> float:
     for _ in range(40):
         m = 0.5 * (a + b)
-        if bool(_balanced_stable(model, {**values, "zeta": m})) == stable_at_a:
+        if bool(balanced_stable(model, {**values, "zeta": m})) == stable_at_a:
             a = m
         else:
             b = m
@@ -140,7 +130,7 @@ def zeta_window(model, Omega: float, beta: float, zmax: float = 0.5) -> tuple[fl
     zmax, lower None when stable down to the scan's 1e-7."""
     zs = np.concatenate([SMALL_ZETA, np.linspace(zmax / 200, zmax, 200)])
     values = {"Omega": Omega, "beta": beta}
-    stable = [bool(_balanced_stable(model, {**values, "zeta": z})) for z in zs]
+    stable = [bool(balanced_stable(model, {**values, "zeta": z})) for z in zs]
     if not any(stable):
         return None, 0.0
     first = stable.index(True)
@@ -169,7 +159,7 @@ def line_check(model, st: Statement) -> dict:
     bad = []
     for u in np.linspace(a0, a1, na):
         for v in np.linspace(b0, b1, nb):
-            if not _balanced_stable(model, {pa: float(u), pb: float(v)}):
+            if not balanced_stable(model, {pa: float(u), pb: float(v)}):
                 bad.append((float(u), float(v)))
     return {"points": na * nb, "unstable": bad, "planes": (pa, pb), "ranges": ((a0, a1, na), (b0, b1, nb))}
 

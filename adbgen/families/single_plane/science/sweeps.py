@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ....analysis.sweep import SweepSpec, run_sweep
+from .balanced import balanced_stable
 
 PI = math.pi
 BALANCED = "balanced 1"
@@ -259,11 +260,10 @@ def stability_onset(n: int, mu: float, lo: float = 0.5, hi: float = 6.0, count: 
     """The largest Omega in [lo, hi] at which the balanced state (START's family member) changes stability
     (the last Hopf point H1 of thesis ch. 4), refined by bisection; None if it does not change."""
     from ....analysis.loading import load_model
-    from .reproduce import _balanced_stable
 
     model = load_model(f"thesis_rotating_n{n}")
     ws = np.linspace(lo, hi, count)
-    st = [bool(_balanced_stable(model, {"Omega": float(w), "mu": mu})) for w in ws]
+    st = [bool(balanced_stable(model, {"Omega": float(w), "mu": mu})) for w in ws]
     ch = [i for i in range(count - 1) if st[i] != st[i + 1]]
     if not ch:
         return None
@@ -271,7 +271,7 @@ def stability_onset(n: int, mu: float, lo: float = 0.5, hi: float = 6.0, count: 
     sa = st[ch[-1]]
     for _ in range(40):
         m = 0.5 * (a + b)
-        if bool(_balanced_stable(model, {"Omega": float(m), "mu": mu})) == sa:
+        if bool(balanced_stable(model, {"Omega": float(m), "mu": mu})) == sa:
             a = m
         else:
             b = m
