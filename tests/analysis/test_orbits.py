@@ -175,8 +175,14 @@ def test_desynchronised_orbit_found_and_continued():
     m = load_model("thesis_rotating_n3")
     p = m.params({"zeta": 0.25})
     o = orbit.find(m, p, m.state({"phi_1": PI / 3, "phi_2": -PI / 3, "phi_3": PI}), 3000.0)
-    assert o.windings == {"phi_1": -1, "phi_2": -1, "phi_3": -1}
-    assert o.period == pytest.approx(1.8935742248, rel=1e-8) and o.stable and o.trivial_multiplier_error < 1e-8
+    # Two stable desynchronised orbits coexist here: all three balls lapping (period 1.8935742248) and two of
+    # them (1.9159166203).  Which one this 3000-long transient reaches depends on the last bits of the
+    # engines' sin/cos (glibc's libm gave the first, the pinned SLEEF libm gives the second): the windings
+    # must match the period of the orbit found.
+    known = {(-1, -1, -1): 1.8935742248, (0, -1, -1): 1.9159166203}
+    key = tuple(o.windings[f"phi_{i}"] for i in (1, 2, 3))
+    assert key in known, o.windings
+    assert o.period == pytest.approx(known[key], rel=1e-8) and o.stable and o.trivial_multiplier_error < 1e-8
     br = branches.from_orbit(m, ParameterMap(m, p, ["Omega"]), o, -1.0,
                              continuer.Settings(ds=0.02, ds_max=0.1, max_points=12, bounds=(3.0, 4.0)))
     j = br.to_json()

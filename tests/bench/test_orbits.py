@@ -19,7 +19,9 @@ def test_bench_orbits_newton_step(tmp_path):
     require_tool(shutil.which("gcc") is not None, "gcc")
     result, started = opening("orbits")
     result["newton"] = r = bench_newton(repeats=2, say=lambda *_: None)
-    assert r["windings"] == {"phi_1": -1, "phi_2": -1, "phi_3": -1} and r["states"] == 10
+    # a desynchronised orbit: all three balls lapping, or two of them (see tests/analysis/test_orbits.py)
+    assert r["windings"] in ({"phi_1": -1, "phi_2": -1, "phi_3": -1}, {"phi_1": 0, "phi_2": -1, "phi_3": -1})
+    assert r["states"] == 10
     assert 0 < r["integration_s"] <= r["step_s"] and r["evaluations"] > 10
     assert 1e-7 < r["step_norm"] < 1e-4
     result = closing(result, started)
