@@ -16,6 +16,7 @@ import pytest
 
 from adbgen.analysis.loading import load_model
 from adbgen.families.single_plane.science import reproduce as r
+from adbgen.families.single_plane.science.balanced import balanced_stable
 
 THESIS_FORMULA = 1.0 / math.sqrt(1.0 + 0.01)  # (4.1)-(4.2) at delta = n mu_c = 0.01: 0.9950372
 
@@ -41,6 +42,6 @@ def test_the_formulas_point_is_a_double_zero_point_not_a_hopf_point():
 @pytest.mark.parametrize("n, beta", [(3, 0.3), (4, 0.1)])
 def test_the_whole_range_of_zeta_claim_fails_at_small_rotor_damping(n, beta):
     model = load_model(f"thesis_rotating_n{n}")
-    at = lambda zeta: r._balanced_stable(model, {"Omega": 4.0, "beta": beta, "zeta": zeta})  # noqa: E731
+    at = lambda zeta: balanced_stable(model, {"Omega": 4.0, "beta": beta, "zeta": zeta})  # noqa: E731
     assert at(1e-4) is False and at(1e-6) is False  # the thesis: stable for every 0 < zeta < 0.5
     assert at(1e-2) is True and at(0.45) is True  # negative control: stable where the scan used to start
