@@ -405,6 +405,11 @@ REVIEWED_EQUIVALENTS = {
     "py:lowering.py:NumberReplacer:27": "writes the oscillator extension's zero Jacobian entries explicitly (`!= 0` "
                                         "-> `!= -1`): every jac kernel sets all its entries (the numba one writes "
                                         "each, the C ones memset first), so the same values",
+    "tpl:auto/user.c.j2:105:operator": "stpnt's copy length `ndim < NSTATES ? ndim : NSTATES` -> `<=`: the two differ "
+                                       "only where ndim == NSTATES, and there both give NSTATES",
+    "tpl:auto/constants_stage2.j2:5:constant": "forced_constants(2) -> (3) in the stage-2 file: the macro tests "
+                                               "`stage == 1` only, so every constant takes the same (restart) branch; "
+                                               "the one difference is the comment line 'stage 3 of 2'",
 }
 
 

@@ -103,10 +103,12 @@ def bench_branch(points: int = 200, say=print) -> dict:
     theirs = auto_cycles._branch_json(pts, "Omega", f"PAR({a})", f"PAR({amp})", hb.values[f"PAR({a})"], False)
     cmp = auto_cycles.compare(ours, theirs, pm)
     out.update({"auto_s": auto_s, "auto_cpu_s": auto_cpu, "cpu_ratio": auto_cpu / ours_cpu, "auto_points": len(pts), "auto_range": [theirs["parameter"][0], theirs["parameter"][-1]],
-                "auto_specials": theirs["points"], "agreement_period_rel": cmp["period_rel"], "ratio": auto_s / ours_s})
+                "auto_specials": theirs["points"], "agreement_period_rel": cmp["period_rel"], "agreement_points": cmp["points"],
+                "agreement_unrefined": cmp["unrefined"], "ratio": auto_s / ours_s})
     say(f"branch: AUTO {len(pts)} points in {auto_s:.2f} s wall, {auto_cpu:.2f} s CPU (shooting {ours_cpu:.2f} s CPU; "
         f"ratio AUTO/shooting {auto_s / ours_s:.2f} wall, {auto_cpu / ours_cpu:.2f} CPU); periods agree to "
-        f"{cmp['period_rel']:.1e}")
+        f"{cmp['period_rel']:.1e} at {len(cmp['points']) - cmp['unrefined']} of AUTO's points "
+        f"({cmp['unrefined']} not reached by refining our nearest orbits)")
     return out
 
 

@@ -209,3 +209,29 @@ def test_the_unrolled_form_is_one_switch_away(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "thesis_rotating_n2: 8 states, unrolled," in r.stderr
     assert "for i in range" not in (out / "thesis_rotating_n2" / "__init__.py").read_text()
+
+
+def test_the_source_hash_covers_every_templates_name_and_bytes(tmp_path, monkeypatch):
+    """A generated file's SOURCE_HASH changes with any template: its bytes, its name, a new template (so
+    `regenerate --check` sees a template edit even where the rendered text happens not to change)."""
+    from types import SimpleNamespace
+
+    from adbgen.codegen import render
+
+    toy, package = tmp_path / "toy", tmp_path / "package"
+    toy.mkdir(), package.mkdir()
+    (toy / "a.j2").write_text("{{ x }}\n")
+    (package / "index.j2").write_text("index\n")
+    monkeypatch.setattr(render.targets, "all_targets", lambda: [SimpleNamespace(name="toy", template_folder=toy)])
+    monkeypatch.setattr(render, "package_templates", lambda: package)
+    digest = render._template_digest.__wrapped__  # past the cache: each call reads the folders again
+
+    first = digest(0)
+    assert digest(0) == first
+    (toy / "a.j2").write_text("{{ x }} \n")
+    edited = digest(0)
+    (toy / "a.j2").rename(toy / "b.j2")
+    renamed = digest(0)
+    (package / "extra.j2").write_text("")
+    added = digest(0)
+    assert len({first, edited, renamed, added}) == 4

@@ -99,10 +99,13 @@ def auto_orbit(model: Model, orbit, name: str, samples: int = 400) -> dict:
             "multipliers": [[float(z.real), float(z.imag)] for z in mu]}
 
 
-def compare(branch, theirs: dict, pmap, samples: int = 8) -> dict:
+def compare(branch, theirs: dict, pmap, samples: int = 8, tries: int = 3) -> dict:
     """Our branch against AUTO's at AUTO's own points: at `samples` of AUTO's steps spread along the common
     range, our nearest orbit is refined by Newton shooting at AUTO's parameter value, and the periods are
-    compared (no interpolation between either method's steps)."""
+    compared (no interpolation between either method's steps).  Near a fold of cycles the nearest orbit may
+    not converge at AUTO's value (two cycles there, or none within Newton's reach): the next nearest are
+    tried, up to `tries`; a point none of them reaches is listed with ``shooting: None`` and counted in
+    ``unrefined``, not compared."""
     from .orbit import refine
 
     name = pmap.free[0]
@@ -110,16 +113,26 @@ def compare(branch, theirs: dict, pmap, samples: int = 8) -> dict:
     lam = np.array([v for v, _ in ours])
     per = np.array([o.period for _, o in ours])
     idx = [i for i, v in enumerate(theirs["parameter"]) if lam.min() <= v <= lam.max()]
-    worst, rows = 0.0, []
+    worst, rows, unrefined = 0.0, [], 0
     for i in np.unique(np.linspace(1, len(idx) - 1, min(samples, max(len(idx) - 1, 0))).astype(int)) if idx else []:
         v, T = theirs["parameter"][idx[i]], theirs["period"][idx[i]]
-        j = int(np.argmin(np.hypot(lam - v, (per - T) / max(1.0, T))))
-        o = ours[j][1]
-        mine = refine(branch_model(o), pmap(v), o.arcs[0], o.period, o.windings, arcs=len(o.arcs), amplitude=False)
+        mine = None
+        for j in np.argsort(np.hypot(lam - v, (per - T) / max(1.0, T)))[:tries]:
+            o = ours[int(j)][1]
+            try:
+                mine = refine(branch_model(o), pmap(v), o.arcs[0], o.period, o.windings, arcs=len(o.arcs),
+                              amplitude=False)
+                break
+            except AnalysisError:
+                continue
+        if mine is None:
+            unrefined += 1
+            rows.append({name: v, "auto": T, "shooting": None, "rel": None})
+            continue
         rel = abs(mine.period - T) / T
         worst = max(worst, rel)
         rows.append({name: v, "auto": T, "shooting": mine.period, "rel": rel})
-    return {"period_rel": worst, "points": rows}
+    return {"period_rel": worst, "points": rows, "unrefined": unrefined}
 
 
 def branch_model(o):
