@@ -35,16 +35,24 @@ def _digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
-def compare(document: Path, figures: Path, committed: Path = DOCUMENT) -> dict:
-    """The written document and figures against the committed ones: identical or not, the lines that
-    differ (first ten, as (line number, committed, new)), the figures that differ or are missing."""
-    new, old = document.read_text().splitlines(), committed.read_text().splitlines()
+def snapshot(committed: Path = DOCUMENT) -> dict:
+    """The committed document's text and its figures' digests, read before a run (a run kept into docs/
+    overwrites them)."""
+    figures = committed.parent / "reproduction"
+    return {"text": committed.read_bytes() if committed.is_file() else b"",
+            "figures": {p.name: _digest(p) for p in figures.glob("*.png")} if figures.is_dir() else {}}
+
+
+def compare(document: Path, figures: Path, committed: Path | dict = DOCUMENT) -> dict:
+    """The written document and figures against the committed ones (a path, or its `snapshot` taken before
+    the run): identical or not, the lines that differ (first ten, as (line number, committed, new)), the
+    figures that differ or are missing."""
+    before = committed if isinstance(committed, dict) else snapshot(committed)
+    new, old = document.read_text().splitlines(), before["text"].decode().splitlines()
     differ = [(i + 1, a, b) for i, (a, b) in enumerate(zip(old, new)) if a != b]
     figs = sorted(p.name for p in figures.glob("*.png"))
-    committed_figs = committed.parent / "reproduction"
-    changed = [name for name in figs if not (committed_figs / name).is_file()
-               or _digest(committed_figs / name) != _digest(figures / name)]
-    return {"document_identical": new == old and document.read_bytes() == committed.read_bytes(),
+    changed = [name for name in figs if before["figures"].get(name) != _digest(figures / name)]
+    return {"document_identical": new == old and document.read_bytes() == before["text"],
             "lines": len(new), "committed_lines": len(old), "lines_differing": len(differ)
             + abs(len(new) - len(old)), "first_differences": differ[:10], "figures": len(figs),
             "figures_differing": changed}
@@ -81,11 +89,12 @@ def bench_reproduce(sections=None, emulate_older: bool = False, progress=print, 
     with tempfile.TemporaryDirectory(prefix="adbgen-bench-reproduce-") as tmp:
         folder = Path(keep) if keep else Path(tmp)
         folder.mkdir(parents=True, exist_ok=True)
+        before = snapshot()  # before the run: --keep docs/ writes over the committed document
         result["run"] = run_reproduce(folder, sections, emulate_older, progress)
         result["emulated_older_processor"] = emulate_older
         document = folder / "reproduction.md"
         if result["run"]["exit_status"] == 0 and not sections and DOCUMENT.is_file():
-            result["against_committed"] = compare(document, folder / "reproduction")
+            result["against_committed"] = compare(document, folder / "reproduction", before)
     return closing(result, started)
 
 
@@ -109,4 +118,4 @@ BENCHMARK = Benchmark("reproduce", run, (
 ))
 
 
-__all__ = ["BENCHMARK", "bench_reproduce", "compare", "run_reproduce"]
+__all__ = ["BENCHMARK", "bench_reproduce", "compare", "run_reproduce", "snapshot"]

@@ -30,3 +30,15 @@ def test_a_changed_line_or_figure_is_reported(tmp_path):
     assert res["figures_differing"] == ["a.png"]
     short = _doc(tmp_path / "short", "# T\n\nrow 1\n", b"png")
     assert reproduce.compare(short, short.parent / "reproduction", committed=old)["lines_differing"] == 1
+
+
+def test_a_run_kept_into_the_committed_folder_is_compared_with_what_was_there_before(tmp_path):
+    """`--keep docs/` writes over the committed document: the comparison uses the snapshot taken before the
+    run, not the file it has just written (which would always compare identical)."""
+    doc = _doc(tmp_path / "docs", "# T\n\nrow 1\nrow 2\n", b"png")
+    before = reproduce.snapshot(doc)
+    doc.write_text("# T\n\nrow 1\nrow 3\n")  # the run, kept in place
+    (doc.parent / "reproduction" / "a.png").write_bytes(b"pnG")
+    res = reproduce.compare(doc, doc.parent / "reproduction", before)
+    assert not res["document_identical"] and res["figures_differing"] == ["a.png"]
+    assert reproduce.compare(doc, doc.parent / "reproduction", doc)["document_identical"]  # the trap it avoids
