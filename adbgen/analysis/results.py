@@ -119,6 +119,7 @@ class Ensemble:
     n_rhs: np.ndarray
     n_steps: np.ndarray
     wall_s: float
+    picked: dict | None = None  # the auto engine's choice (engine, tolerances, reason), as Simulation's
 
     def __len__(self) -> int:
         return len(self.status)

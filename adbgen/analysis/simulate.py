@@ -91,7 +91,8 @@ def simulate_many(model: Model, P, Y0, *, t_end: float = 1000.0, rtol: float = 1
     return Ensemble(engine=eng.name, status=out["status"], r_max=np.asarray(out["r_max"], float),
                     t_dec=np.asarray(out["t_dec"], float), y_end=np.asarray(out["y_end"], float),
                     t_last=np.asarray(out["t_last"], float), target=np.asarray(out["target"]),
-                    n_rhs=np.asarray(out["n_rhs"]), n_steps=np.asarray(out["n_steps"]), wall_s=out["wall_s"])
+                    n_rhs=np.asarray(out["n_rhs"]), n_steps=np.asarray(out["n_steps"]), wall_s=out["wall_s"],
+                    picked=out.get("picked"))
 
 
 def amplitude(model: Model, y: np.ndarray) -> np.ndarray:

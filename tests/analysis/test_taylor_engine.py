@@ -174,6 +174,30 @@ def test_auto_runs_a_model_without_a_series_on_the_fallback(thesis, tmp_path):
     assert record["engine"] == "taylor" and "reason" not in record and eng is not ENGINES[FALLBACK]
 
 
+def test_auto_runs_ensembles_without_measures_on_the_batch_engine(thesis, tmp_path):
+    """Sweeps' ensembles (measures=False) go to the SIMD batch engine at the requested tolerance, and the
+    ensemble says so; with measures, or for a model without a lanes header, the table's pick as for one run
+    (negative controls)."""
+    from types import SimpleNamespace
+
+    from adbgen.analysis.engines.auto import ENSEMBLE
+    from adbgen.analysis.simulate import simulate_many
+
+    m = thesis[2]
+    auto = ENGINES["auto"]
+    eng, rtol, atol, record = auto.picked_many(1e-8, 1e-10, m, measures=False)
+    assert eng is ENGINES[ENSEMBLE] and ENSEMBLE == "rk-dop853-batch" and (rtol, atol) == (1e-8, 1e-10)
+    assert record["engine"] == ENSEMBLE and "reason" in record
+    assert auto.picked_many(1e-8, 1e-10, m, measures=True)[3] == auto.picked(1e-8, 1e-10, m)[3]
+    bare = SimpleNamespace(name=m.name, folder=tmp_path, module=m.module)
+    assert auto.picked_many(1e-8, 1e-10, bare, measures=False)[3]["engine"] != ENSEMBLE
+    Y0 = np.array([m.state({"phi_1": a, "phi_2": -a}) for a in (0.3, 1.0, 2.0, 2.5, 3.0)])
+    ens = simulate_many(m, m.params()[None], Y0, t_end=30.0, rtol=1e-8, atol=1e-10, engine="auto", measures=False)
+    batch = simulate_many(m, m.params()[None], Y0, t_end=30.0, rtol=1e-8, atol=1e-10, engine=ENSEMBLE, measures=False)
+    assert ens.picked["engine"] == ENSEMBLE and np.array_equal(ens.y_end, batch.y_end)
+    assert simulate_many(m, m.params()[None], Y0[:2], t_end=30.0, rtol=1e-8, atol=1e-10, engine="auto").picked["engine"] != ENSEMBLE
+
+
 def test_the_committed_table_is_measured():
     """The auto engine's table comes from `adbgen bench auto` (its rows name the measured candidate and
     its time relative to the fastest that reached the tolerance)."""

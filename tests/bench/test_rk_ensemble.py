@@ -24,7 +24,9 @@ def test_bench_ensemble_tiny_map():
     r = bench_ensemble(workers=1, grid=["phi_1=0:2*pi*3/4:4", "phi_2=0:2*pi*3/4:4"], t_end=100.0, sweeps=False,
                        progress=None)
     runs = r["runs"]
-    assert set(runs) == {"ensemble cyrk-dop853", "ensemble rk-dop853", "ensemble rk-dop853-batch", "ensemble heyoka"}
+    assert set(runs) == {f"ensemble {e}" for e in ("cyrk-dop853", "rk-dop853", "rk-dop853-batch", "taylor",
+                                                     "taylor-batch", "auto", "heyoka")}
+    assert runs["ensemble auto"]["picked"]["engine"] == "rk-dop853-batch"  # the default's pick for ensembles
     for row in runs.values():
         assert row["trajectories"] == 16 and row["labels_differing_from_today"] == 0
         assert sum(row["labels"].values()) == 16

@@ -11,6 +11,13 @@ order p and step factor f.  A requested rtol takes the row of the largest R at o
 measured error is at most the requested rtol); tighter than every row: the tightest row.  A model without a Taylor series (the `taylor` target
 skips a model whose kernel has a function without a recurrence) runs on `FALLBACK` (CyRK's DOP853) at
 the requested tolerance, `picked` saying why.
+
+Ensembles without r_max/t_dec (`run_many(..., measures=False)`: the sweeps' attractor labels, basin maps)
+run on `ENSEMBLE`, the DOP853 step on SIMD lanes, at the requested tolerance (as the sweeps ran before the
+auto engine): on the basin map of `adbgen bench ensemble` it integrates several times as many trajectories
+per CPU-second as the single-trajectory pick of the table (benchmarks/ensemble.json, the `auto` and
+`rk-dop853-batch` rows).  A model without a lanes header (the lanes target skips rhs that branch) and
+ensembles with measures take the table's pick as a single run does.
 """
 
 from __future__ import annotations
@@ -23,10 +30,15 @@ from ..loading import AnalysisError
 
 TABLE = Path(__file__).resolve().parent / "auto_table.json"
 FALLBACK = "cyrk-dop853"  # for a model without a Taylor series (`<model>_taylor.c`)
+ENSEMBLE = "rk-dop853-batch"  # for ensembles without measures, where the model has a lanes header
 
 
 def _has_series(model) -> bool:
     return (Path(model.folder) / f"{model.name}_taylor.c").is_file()
+
+
+def _has_lanes(model) -> bool:
+    return (Path(model.folder) / f"{model.name}_lanes.h").is_file()
 
 
 @lru_cache(maxsize=4)
@@ -91,12 +103,20 @@ class AutoEngine:
                       samples=samples)
         return {**out, "picked": record}
 
+    def picked_many(self, rtol: float, atol: float, model=None, measures: bool = True):
+        """As `picked`, for an ensemble: `ENSEMBLE` where no measures are asked and the model has lanes."""
+        if not measures and ENSEMBLE in self._engines and model is not None and _has_lanes(model):
+            return self._engines[ENSEMBLE], rtol, atol, {
+                "engine": ENSEMBLE, "rtol": rtol, "atol": atol,
+                "reason": "an ensemble without r_max/t_dec: the SIMD batch engine (adbgen bench ensemble)"}
+        return self.picked(rtol, atol, model)
+
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
                  targets=(), measures=True):
-        eng, r, a, record = self.picked(rtol, atol, model)
+        eng, r, a, record = self.picked_many(rtol, atol, model, measures)
         out = eng.run_many(model, P, Y0, t_end, r, a, threshold, max_steps, threads=threads, check_dt=check_dt,
                            targets=targets, measures=measures)
         return {**out, "picked": record}
 
 
-__all__ = ["AutoEngine", "FALLBACK", "TABLE", "load_table"]
+__all__ = ["AutoEngine", "ENSEMBLE", "FALLBACK", "TABLE", "load_table"]
