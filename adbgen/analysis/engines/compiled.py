@@ -83,28 +83,23 @@ def libm() -> str:
     return "sleef-cinz" if pinned_libm() else "glibc"
 
 
-def build(model, driver: str, libs: list[str], extra: tuple[str, ...] = (), tag: str = "") -> Path:
-    """Compile `driver` with the model's C source into a cached shared library; returns its path.  `extra`:
-    more compiler arguments (a variant of the library, named by `tag` in the cache)."""
-    source = model.c_source()
-    drv = HERE / driver
-    flags = _CFLAGS + (PINNED_FLAGS if pinned_libm() else []) + list(extra)
-    libs = list(libs) + (PINNED_LIBS if pinned_libm() else [])
+def compile_cached(model, drv: Path, source: Path, flags, defines, libs, kind: str, what: str,
+                   key: tuple = ()) -> Path:
+    """Compile the driver `drv` (which #includes the model's generated `source`) with `flags`, `defines` and
+    `libs` into a shared library under $ADBGEN_CACHE/engines, named by the model and `kind` and keyed by the
+    driver, every header beside it, the model's file, the arguments and `key` (e.g. the CPU that
+    -march=native compiles for).  Every compiled engine's library is made here; `what` names it in the
+    one-line error of a failed build."""
     h = hashlib.sha256()
     headers = [p.read_bytes() for p in sorted(HERE.glob("*.h"))]  # every header a driver may include
-    for part in (drv.read_bytes(), *headers, source.read_bytes(), " ".join(flags + libs).encode(),
-                 model.name.encode()):
+    for part in (drv.read_bytes(), *headers, source.read_bytes(), " ".join([*flags, *defines, *libs]).encode(),
+                 model.name.encode(), *(str(k).encode() for k in key)):
         h.update(part)
         h.update(b"\0")
-    target = cache_dir() / "engines" / f"{model.name}-{drv.stem}{tag}-{h.hexdigest()[:16]}.so"
+    target = cache_dir() / "engines" / f"{model.name}-{kind}-{h.hexdigest()[:16]}.so"
     if target.is_file():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
-    name = model.name
-    defines = [f'-DADB_MODEL_SOURCE="{source}"', f"-DADB_JAC={name}_jac", f"-DADB_NY={model.n_states}",
-               f"-DADB_NP={model.n_params}"]
-    if not any(e.startswith("-DADB_RHS=") for e in extra):
-        defines.append(f"-DADB_RHS={name}_rhs")
     fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
     os.close(fd)
     cmd = [compiler(), *flags, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, *libs, "-lm"]
@@ -112,9 +107,24 @@ def build(model, driver: str, libs: list[str], extra: tuple[str, ...] = (), tag:
     if proc.returncode != 0:
         os.unlink(tmp)
         first = next((ln for ln in proc.stderr.splitlines() if "error" in ln), proc.stderr.strip()[:300])
-        raise AnalysisError(f"building the {drv.stem} engine for {name} failed: {first}")
+        raise AnalysisError(f"building the {what} for {model.name} failed: {first}")
     os.replace(tmp, target)  # atomic: concurrent builders (sweep workers) never see half a library
     return target
+
+
+def build(model, driver: str, libs: list[str], extra: tuple[str, ...] = (), tag: str = "") -> Path:
+    """Compile `driver` with the model's C source into a cached shared library; returns its path.  `extra`:
+    more compiler arguments (a variant of the library, named by `tag` in the cache)."""
+    source = model.c_source()
+    flags = _CFLAGS + (PINNED_FLAGS if pinned_libm() else []) + list(extra)
+    libs = list(libs) + (PINNED_LIBS if pinned_libm() else [])
+    name = model.name
+    defines = [f'-DADB_MODEL_SOURCE="{source}"', f"-DADB_JAC={name}_jac", f"-DADB_NY={model.n_states}",
+               f"-DADB_NP={model.n_params}"]
+    if not any(e.startswith("-DADB_RHS=") for e in extra):
+        defines.append(f"-DADB_RHS={name}_rhs")
+    return compile_cached(model, HERE / driver, source, flags, defines, libs, f"{Path(driver).stem}{tag}",
+                          f"{Path(driver).stem} engine")
 
 
 def _ptr(a: np.ndarray, kind=D):

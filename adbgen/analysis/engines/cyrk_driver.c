@@ -90,17 +90,8 @@ static void *redo_step(const Settings *s, Args *args, const double *t, const dou
     return res;
 }
 
-/* the last t in [a, b] with r^2 >= H2 on the interpolant, given r^2(a) >= H2 > r^2(b): bisection */
-static double bisect_down(void *res, double a, double b, int ix, int iy, double H2)
-{
-    for (int it = 0; it < 200; ++it) {
-        double m = 0.5 * (a + b);
-        if (m <= a || m >= b) break;
-        if (dense_r2(res, m, ix, iy) >= H2) a = m;
-        else b = m;
-    }
-    return a;
-}
+#define ADB_DENSE void *
+#include "dense_search.h"
 
 /* t_dec in (t[k], t[k+1]]: r(t[k]) >= H > r(t[k+1]) */
 static double locate_crossing(const Settings *s, Args *args, const double *t, const double *Y, size_t k, int ix,
@@ -108,57 +99,9 @@ static double locate_crossing(const Settings *s, Args *args, const double *t, co
 {
     void *res = redo_step(s, args, t, Y, k);
     if (!res) return t[k];
-    double a = bisect_down(res, t[k], t[k + 1], ix, iy, H2);
+    double a = adb_bisect_down(res, t[k], t[k + 1], ix, iy, H2);
     cy.free(res);
     return a;
-}
-
-/* largest r^2 on [a, b] of the interpolant `res`: a scan of ns intervals, then golden section around its
- * best; its time in *tm */
-static double peak_on(void *res, double a0, double b0, int ns, int ix, int iy, double *tm)
-{
-    double span = b0 - a0, tb = a0, best = -1.0;
-    for (int j = 0; j <= ns; ++j) {
-        double tt = a0 + span * j / ns, v = dense_r2(res, tt, ix, iy);
-        if (v > best) best = v, tb = tt;
-    }
-    double a = fmax(a0, tb - span / ns), b = fmin(b0, tb + span / ns), g = 0.5 * (sqrt(5.0) - 1.0);
-    double c = b - g * (b - a), d = a + g * (b - a), fc = dense_r2(res, c, ix, iy), fd = dense_r2(res, d, ix, iy);
-    for (int it = 0; it < 80; ++it) {
-        if (fc > fd) {
-            b = d, d = c, fd = fc;
-            c = b - g * (b - a);
-            fc = dense_r2(res, c, ix, iy);
-        } else {
-            a = c, c = d, fc = fd;
-            d = a + g * (b - a);
-            fd = dense_r2(res, d, ix, iy);
-        }
-    }
-    if (fc > best) best = fc, tb = c;
-    if (fd > best) best = fd, tb = d;
-    *tm = tb;
-    return best;
-}
-
-/* Can r exceed H inside step k although r(t[k]), r(t[k+1]) < H?  Only at an interior maximum: r^2' =
- * 2 (x x' + y y') (the rates are states) goes from + to -.  A cubic Hermite estimate of r^2 from the
- * step's ends and slopes screens the candidates: it is within 15 % of the interpolant's maximum on
- * problem A at rtol 1e-3 (measured), and a step is only passed over when the estimate stays below
- * H^2 / 2 (a factor 2 of margin; H^2 / 4 re-integrated twice as many steps, 8 % more time at rtol 1e-8). */
-static int may_exceed(const double *t, const double *Y, size_t k, const int *amp, double H2)
-{
-    const double *u = Y + k * ADB_NY, *v = Y + (k + 1) * ADB_NY;
-    int ix = amp[0], iy = amp[1], ixd = amp[2], iyd = amp[3];
-    double g0 = u[ix] * u[ixd] + u[iy] * u[iyd], g1 = v[ix] * v[ixd] + v[iy] * v[iyd];
-    if (!(g0 > 0.0 && g1 < 0.0)) return 0;
-    double h = t[k + 1] - t[k], f0 = adb_r2(u, ix, iy), f1 = adb_r2(v, ix, iy), d0 = 2.0 * h * g0, d1 = 2.0 * h * g1;
-    for (int j = 1; j < 16; ++j) {
-        double x = j / 16.0, x2 = x * x, x3 = x2 * x;
-        double p = (2 * x3 - 3 * x2 + 1) * f0 + (x3 - 2 * x2 + x) * d0 + (3 * x2 - 2 * x3) * f1 + (x3 - x2) * d1;
-        if (p >= 0.5 * H2) return 1;
-    }
-    return 0;
 }
 
 /* the latest excursion of r above H inside a step after step `after` whose ends are both below H: its
@@ -168,11 +111,11 @@ static double hidden_excursion(const Settings *s, Args *args, const double *t, c
 {
     size_t first = after == (size_t)-1 ? 0 : after + 1;
     for (size_t k = K - 1; k-- > first;) {
-        if (!may_exceed(t, Y, k, amp, H2)) continue;
+        if (!adb_may_exceed(t, Y, k, amp, H2)) continue;
         void *res = redo_step(s, args, t, Y, k);
         if (!res) continue;
-        double tm, v = peak_on(res, t[k], t[k + 1], 16, amp[0], amp[1], &tm);
-        double found = v >= H2 ? bisect_down(res, tm, t[k + 1], amp[0], amp[1], H2) : -1.0;
+        double tm, v = adb_peak_on(res, t[k], t[k + 1], 16, 0, amp[0], amp[1], &tm);
+        double found = v >= H2 ? adb_bisect_down(res, tm, t[k + 1], amp[0], amp[1], H2) : -1.0;
         cy.free(res);
         if (found >= 0.0) return found;
     }
@@ -192,7 +135,7 @@ static double refine_peak(const Settings *s, Args *args, const double *t, const 
         return best;
     }
     double tm;
-    best = fmax(best, peak_on(res, t[lo], t[hi], 32, ix, iy, &tm));
+    best = fmax(best, adb_peak_on(res, t[lo], t[hi], 32, 0, ix, iy, &tm));
     cy.free(res);
     return best;
 }

@@ -17,18 +17,15 @@ drivers' sources, the model's file, the flags and the CPU the code is compiled f
 from __future__ import annotations
 
 import ctypes
-import hashlib
 import os
-import subprocess
-import tempfile
 import threading
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
-from ..loading import AnalysisError, cache_dir
-from .compiled import HERE, CyRKEngine, _Compiled, compiler
+from ..loading import AnalysisError
+from .compiled import HERE, CyRKEngine, _Compiled, compile_cached
 
 CFLAGS = ["-std=gnu99", "-O3", "-march=native", "-ffp-contract=off", "-fPIC", "-shared", "-fopenmp"]
 # glibc's sincos(x) and its sin(x), cos(x) can differ in the last bit, and GCC merges a sin and a cos of
@@ -68,28 +65,10 @@ def lanes() -> int:
 
 
 def build(model, driver: str, source: Path, defines: list[str], libs: list[str]) -> Path:
-    """Compile `driver` with the model's `source` (included by the driver) into a cached shared library."""
-    drv = HERE / driver
-    h = hashlib.sha256()
-    headers = [p.read_bytes() for p in sorted(HERE.glob("*.h"))]  # every header a driver may include
-    for part in (drv.read_bytes(), *headers, source.read_bytes(), " ".join(CFLAGS + defines + libs).encode(),
-                 model.name.encode(), " ".join(sorted(cpu_flags())).encode()):
-        h.update(part)
-        h.update(b"\0")
-    target = cache_dir() / "engines" / f"{model.name}-{drv.stem}-{h.hexdigest()[:16]}.so"
-    if target.is_file():
-        return target
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
-    os.close(fd)
-    cmd = [compiler(), *CFLAGS, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, *libs, "-lm"]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    if proc.returncode != 0:
-        os.unlink(tmp)
-        first = next((ln for ln in proc.stderr.splitlines() if "error" in ln), proc.stderr.strip()[:300])
-        raise AnalysisError(f"building the {drv.stem} engine for {model.name} failed: {first}")
-    os.replace(tmp, target)  # atomic: concurrent builders (sweep workers) never see half a library
-    return target
+    """Compile `driver` with the model's `source` (included by the driver) into a cached shared library (keyed
+    by the CPU too: -march=native)."""
+    return compile_cached(model, HERE / driver, source, CFLAGS, defines, libs, Path(driver).stem,
+                          f"{Path(driver).stem} engine", key=(" ".join(sorted(cpu_flags())),))
 
 
 @lru_cache(maxsize=None)

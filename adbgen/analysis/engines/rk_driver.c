@@ -75,62 +75,8 @@ static double dense_r2(const Dense *d, double t, int ix, int iy)
     return adb_r2(y, ix, iy);
 }
 
-/* the last t in [a, b] with r^2 >= H2, given r^2(a) >= H2 > r^2(b): bisection on the interpolant */
-static double bisect_down(const Dense *d, double a, double b, int ix, int iy, double H2)
-{
-    for (int it = 0; it < 200; ++it) {
-        double m = 0.5 * (a + b);
-        if (m <= a || m >= b) break;
-        if (dense_r2(d, m, ix, iy) >= H2) a = m;
-        else b = m;
-    }
-    return a;
-}
-
-/* largest r^2 of the interpolant on its step: a scan of ns intervals, golden section around the best */
-static double peak_on(const Dense *d, int ns, int ix, int iy, double *tm)
-{
-    double a0 = d->t[0], span = d->t[1] - d->t[0], tb = a0, best = -1.0;
-    for (int j = 0; j <= ns; ++j) {
-        double tt = j == ns ? d->t[1] : a0 + span * j / ns, v = dense_r2(d, tt, ix, iy);
-        if (v > best) best = v, tb = tt;
-    }
-    double a = fmax(a0, tb - span / ns), b = fmin(d->t[1], tb + span / ns), g = 0.5 * (sqrt(5.0) - 1.0);
-    double c = b - g * (b - a), e = a + g * (b - a), fc = dense_r2(d, c, ix, iy), fe = dense_r2(d, e, ix, iy);
-    for (int it = 0; it < 80; ++it) {
-        if (fc > fe) {
-            b = e, e = c, fe = fc;
-            c = b - g * (b - a);
-            fc = dense_r2(d, c, ix, iy);
-        } else {
-            a = c, c = e, fc = fe;
-            e = a + g * (b - a);
-            fe = dense_r2(d, e, ix, iy);
-        }
-    }
-    if (fc > best) best = fc, tb = c;
-    if (fe > best) best = fe, tb = e;
-    *tm = tb;
-    return best;
-}
-
-/* Can r exceed H inside step k although both ends are below?  Only at an interior maximum (r^2' = 2(x x'
- * + y y') from + to -); the cubic Hermite estimate screens with a factor 2 of margin (cyrk_driver.c's
- * screen, measured there). */
-static int may_exceed(const double *T, const double *Y, size_t k, const int *amp, double H2)
-{
-    const double *u = Y + k * ADB_NY, *v = Y + (k + 1) * ADB_NY;
-    int ix = amp[0], iy = amp[1], ixd = amp[2], iyd = amp[3];
-    double g0 = u[ix] * u[ixd] + u[iy] * u[iyd], g1 = v[ix] * v[ixd] + v[iy] * v[iyd];
-    if (!(g0 > 0.0 && g1 < 0.0)) return 0;
-    double h = T[k + 1] - T[k], f0 = adb_r2(u, ix, iy), f1 = adb_r2(v, ix, iy), d0 = 2.0 * h * g0, d1 = 2.0 * h * g1;
-    for (int j = 1; j < 16; ++j) {
-        double x = j / 16.0, x2 = x * x, x3 = x2 * x;
-        double q = (2 * x3 - 3 * x2 + 1) * f0 + (x3 - 2 * x2 + x) * d0 + (3 * x2 - 2 * x3) * f1 + (x3 - x2) * d1;
-        if (q >= 0.5 * H2) return 1;
-    }
-    return 0;
-}
+#define ADB_DENSE const Dense *
+#include "dense_search.h"
 
 /* (r_max, t_dec) on the continuous solution; t_dec NaN when r(t_end) >= H, 0 when r never reaches H */
 static void measure(const double *p, const double *T, const double *Y, size_t K, const int *amp, double H,
@@ -150,16 +96,16 @@ static void measure(const double *p, const double *T, const double *Y, size_t K,
         double found = -1.0;
         size_t first = last == (size_t)-1 ? 0 : last + 1;
         for (size_t k = K - 1; found < 0.0 && k-- > first;) {
-            if (!may_exceed(T, Y, k, amp, H2)) continue;
+            if (!adb_may_exceed(T, Y, k, amp, H2)) continue;
             double tm;
             dense_of(&d, p, T, Y, k);
-            if (peak_on(&d, 16, ix, iy, &tm) >= H2) found = bisect_down(&d, tm, T[k + 1], ix, iy, H2);
+            if (adb_peak_on(&d, d.t[0], d.t[1], 16, 1, ix, iy, &tm) >= H2) found = adb_bisect_down(&d, tm, T[k + 1], ix, iy, H2);
         }
         if (found >= 0.0) *t_dec = found;
         else if (last == (size_t)-1) *t_dec = 0.0;
         else {
             dense_of(&d, p, T, Y, last);
-            *t_dec = bisect_down(&d, T[last], T[last + 1], ix, iy, H2);
+            *t_dec = adb_bisect_down(&d, T[last], T[last + 1], ix, iy, H2);
         }
     }
     /* the n_peaks largest local maxima of r at step ends (at least a quarter of the largest): the two
@@ -180,7 +126,7 @@ static void measure(const double *p, const double *T, const double *Y, size_t K,
         for (size_t k = kb > 0 ? kb - 1 : 0; k <= kb && k + 1 < K; ++k) {
             double tm;
             dense_of(&d, p, T, Y, k);
-            refined = fmax(refined, peak_on(&d, 32, ix, iy, &tm));
+            refined = fmax(refined, adb_peak_on(&d, d.t[0], d.t[1], 32, 1, ix, iy, &tm));
         }
     }
     *r_max = sqrt(refined);

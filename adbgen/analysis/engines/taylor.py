@@ -20,8 +20,6 @@ import hashlib
 import math
 import os
 import platform
-import subprocess
-import tempfile
 import threading
 import time
 from functools import lru_cache
@@ -29,8 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..loading import AnalysisError, cache_dir
-from .compiled import HERE, _Compiled, _ptr, _single, _Trajectory, compiler, I, L
+from ..loading import AnalysisError
+from .compiled import HERE, I, L, _Compiled, _ptr, _single, _Trajectory, compile_cached
 
 CFLAGS = ["-std=gnu99", "-O3", "-march=native", "-ffp-contract=off", "-fPIC", "-shared", "-fopenmp"]
 MIN_ORDER, MAX_ORDER = 2, 40
@@ -71,30 +69,11 @@ def build(model, order: int, batch: int = 1) -> Path:
     if not MIN_ORDER <= order <= MAX_ORDER:
         raise AnalysisError(f"Taylor order {order} is not in {MIN_ORDER}..{MAX_ORDER}")
     source = taylor_source(model)
-    drv = HERE / "taylor_driver.c"
-    h = hashlib.sha256()
-    for part in (drv.read_bytes(), (HERE / "driver_common.h").read_bytes(), source.read_bytes(),
-                 " ".join(CFLAGS).encode(), model.name.encode(), f"{order} {batch}".encode(), _machine().encode()):
-        h.update(part)
-        h.update(b"\0")
-    kind = f"taylor{order}" + (f"x{batch}" if batch > 1 else "")
-    target = cache_dir() / "engines" / f"{model.name}-{kind}-{h.hexdigest()[:16]}.so"
-    if target.is_file():
-        return target
-    target.parent.mkdir(parents=True, exist_ok=True)
-    name = model.name
-    defines = [f'-DADB_TS_SOURCE="{source}"', f"-DADB_TS_PREFIX={name}", f"-DADB_TS_ORDER={order}",
+    defines = [f'-DADB_TS_SOURCE="{source}"', f"-DADB_TS_PREFIX={model.name}", f"-DADB_TS_ORDER={order}",
                f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}", f"-DTS_B={batch}"]
-    fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
-    os.close(fd)
-    cmd = [compiler(), *CFLAGS, f"-I{source.parent}", f"-I{HERE}", *defines, str(drv), "-o", tmp, "-lm"]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    if proc.returncode != 0:
-        os.unlink(tmp)
-        first = next((ln for ln in proc.stderr.splitlines() if "error" in ln), proc.stderr.strip()[:300])
-        raise AnalysisError(f"building the Taylor engine (order {order}) for {name} failed: {first}")
-    os.replace(tmp, target)  # atomic: concurrent builders never see half a library
-    return target
+    kind = f"taylor{order}" + (f"x{batch}" if batch > 1 else "")
+    return compile_cached(model, HERE / "taylor_driver.c", source, CFLAGS, defines, [], kind,
+                          f"Taylor engine (order {order})", key=(_machine(),))
 
 
 @lru_cache(maxsize=None)
