@@ -7,12 +7,21 @@ import numpy as np
 
 
 def balanced_stable(model, values: dict) -> bool | None:
-    """Is the balanced state (continued by Newton from START, the member of the n >= 3 family with
-    phi_3 (, phi_4) = pi) stable at these parameters?  Deflated spectrum; None if Newton fails."""
+    """Is the balanced state (3.6) stable at these parameters?  The member of the n >= 3 family that the
+    model's closed form gives (phi_3.. = pi where that has a solution: the generated module's
+    `steady_state("1", p)`), polished by Newton; deflated spectrum.  None where the state does not exist
+    (mu < delta/n, (3.14)) or Newton fails.
+
+    Seeded at the parameters themselves: Newton from START (the member at the defaults (5.1)) wanders off
+    the continuum where the member has moved far (n = 4 at mu = 0.015: phi_1 = 0.841 against START's 0.451),
+    which an earlier version counted as unstable."""
     from ....analysis.attractors import amplitude_of, newton, spectrum
 
     p = model.params(values)
-    y = newton(model, np.array(model.module.START, float), p)
+    seed = model.steady_state("1", p) if "1" in model.steady_states else np.array(model.module.START, float)
+    if seed is None:
+        return None
+    y = newton(model, np.asarray(seed, float), p)
     if y is None or amplitude_of(model, y) > 1e-8:
         return None
     return spectrum(model, y, p).unstable() == 0

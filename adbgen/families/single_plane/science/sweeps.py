@@ -257,13 +257,18 @@ class Everything:
 # ----------------------------------------------------------------------------- Omega < 2.04 (Fig. 5.23)
 
 def stability_onset(n: int, mu: float, lo: float = 0.5, hi: float = 6.0, count: int = 111) -> float | None:
-    """The largest Omega in [lo, hi] at which the balanced state (START's family member) changes stability
-    (the last Hopf point H1 of thesis ch. 4), refined by bisection; None if it does not change."""
-    from ....analysis.loading import load_model
+    """The largest Omega in [lo, hi] at which the balanced state (the closed form's family member, see
+    `balanced_stable`) changes stability (the last Hopf point H1 of thesis ch. 4), refined by bisection; None
+    if it does not change.  A grid point where the state is not found is an error, not "unstable"."""
+    from ....analysis.loading import AnalysisError, load_model
 
     model = load_model(f"thesis_rotating_n{n}")
     ws = np.linspace(lo, hi, count)
-    st = [bool(balanced_stable(model, {"Omega": float(w), "mu": mu})) for w in ws]
+    found = [balanced_stable(model, {"Omega": float(w), "mu": mu}) for w in ws]
+    if any(v is None for v in found):
+        raise AnalysisError(f"the balanced state of n = {n} at mu = {mu:g} was not found at Omega = "
+                            f"{ws[[v is None for v in found]][0]:g}")
+    st = [bool(v) for v in found]
     ch = [i for i in range(count - 1) if st[i] != st[i + 1]]
     if not ch:
         return None

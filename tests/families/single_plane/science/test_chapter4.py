@@ -45,3 +45,24 @@ def test_the_whole_range_of_zeta_claim_fails_at_small_rotor_damping(n, beta):
     at = lambda zeta: balanced_stable(model, {"Omega": 4.0, "beta": beta, "zeta": zeta})  # noqa: E731
     assert at(1e-4) is False and at(1e-6) is False  # the thesis: stable for every 0 < zeta < 0.5
     assert at(1e-2) is True and at(0.45) is True  # negative control: stable where the scan used to start
+
+
+def test_the_balanced_state_is_found_where_its_member_has_moved_far_from_start():
+    """n = 4 at mu = 6 mu_c = 0.015 (Fig. 5.23): the member phi_3 = phi_4 = pi has phi_1 = 0.841, far from
+    START's 0.451 (mu = 0.05).  Seeded by the closed form at the parameters it is found at every Omega and
+    changes stability once, at H1 ~ 1.588; negative control: Newton from START does not reach it (the
+    earlier version counted that as "unstable" and put the onset at 5.87)."""
+    import numpy as np
+
+    from adbgen.analysis.attractors import amplitude_of, newton
+    from adbgen.families.single_plane.science.sweeps import stability_onset
+
+    model = load_model("thesis_rotating_n4")
+    onset = stability_onset(4, 0.015)
+    assert 1.5 < onset < 1.7
+    assert balanced_stable(model, {"Omega": onset + 0.01, "mu": 0.015}) is True
+    assert balanced_stable(model, {"Omega": onset - 0.01, "mu": 0.015}) is False
+    p = model.params({"Omega": 3.0, "mu": 0.015})
+    y = newton(model, np.array(model.module.START, float), p)
+    assert y is None or amplitude_of(model, y) > 1e-8
+    assert balanced_stable(model, {"Omega": 3.0, "mu": 0.002}) is None  # mu < mu_c = delta/n = 0.0025: none
