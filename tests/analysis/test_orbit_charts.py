@@ -153,3 +153,43 @@ def test_chart_command_writes_the_figure_and_its_data(tmp_path, capsys):
     saved = json.loads((tmp_path / "chart.json").read_text())
     assert saved["curves"] == out["curves"] and out["parameter2"] == "epsilon" and out["ties"] == TIES_STATIC
     assert any(c["kind"] == "torus" for c in out["curves"])
+
+
+def test_the_critical_member_of_a_pair_does_not_depend_on_the_sort():
+    """A complex pair ties in the real part: whichever member a sort puts first (numpy's SIMD sorts and its
+    portable one break the tie differently, the pinned environment of `adbgen reproduce` switches the
+    former off), the curves are given the member with the positive imaginary part; the Hopf curve tracks
+    the candidates above the axis, and the conjugate made it follow another eigenvalue (no curve found)."""
+    pair = [complex(-1e-3, 2.0), complex(-1e-3, -2.0)]
+    others = [complex(-0.5, 0.1), complex(-0.5, -0.1), complex(-2.0, 0.0)]
+    for ev in (pair + others, pair[::-1] + others, others + pair[::-1]):
+        assert charts._critical(np.array(ev), False, 0) == complex(-1e-3, 2.0)
+    mult = [complex(0.3, 0.9), complex(0.3, -0.9), complex(0.2, 0.0)]
+    for ev in (mult, [mult[1], mult[0], mult[2]]):
+        assert charts._critical(np.array(ev), True, 0) == complex(0.3, 0.9)
+
+
+def test_a_chart_in_the_pinned_environment_finds_the_curves_it_finds_unpinned():
+    """Fig. 10(a) on a 21 x 7 grid in a child with `adbgen reproduce`'s pinned environment (numpy's SIMD
+    loops off, OpenBLAS Prescott): the same curves as here (before the fix: none there, four here)."""
+    import os
+    import subprocess
+    import sys
+
+    from adbgen.analysis.reproduction import pinned_environment
+
+    code = ("from adbgen.families.two_plane.charts import CHARTS\n"
+            "from adbgen.analysis.loading import load_model\n"
+            "from adbgen.analysis.orbits import charts\n"
+            "from adbgen.analysis.orbits.parameters import ParameterMap\n"
+            "case = CHARTS[0]\n"
+            "m = load_model(case.model)\n"
+            "pm = ParameterMap(m, m.params(case.sets), ['Omega', 'epsilon'], case.ties)\n"
+            "c = charts.compute(m, pm, charts.chart_start(m, pm, (3.0, 1e-3)), case.range1, case.range2, log2=True,"
+            " n1=21, n2=7, lam1_0=3.0, lam2_0=1e-3)\n"
+            "print(sorted(cv.kind for cv in c.curves), int((c.stable == 1).sum()))\n")
+    env = pinned_environment({k: v for k, v in os.environ.items() if k != "GLIBC_TUNABLES"})
+    pinned = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
+    plain = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert pinned.returncode == 0 and plain.returncode == 0, pinned.stderr[-500:] + plain.stderr[-500:]
+    assert pinned.stdout == plain.stdout and "hopf" in pinned.stdout

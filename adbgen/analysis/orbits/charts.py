@@ -118,10 +118,15 @@ def _ordered(ev: np.ndarray, orbit: bool) -> np.ndarray:
 
 
 def _critical(ev: np.ndarray, orbit: bool, m: int) -> complex:
-    """The eigenvalue (multiplier) at the (m+1)-th place of `_ordered`."""
+    """The eigenvalue (multiplier) at the (m+1)-th place of `_ordered`; of a complex pair, the member with
+    the positive imaginary part (the one the curves track).  The two members of a pair tie in the key, and
+    which of them a sort puts first depends on the sort's implementation (numpy's SIMD sorts, switched
+    off in `adbgen reproduce`'s pinned environment, break the tie the other way): the conjugate of the
+    tracked member made the curves follow another eigenvalue, and no curve was found there."""
     ev = np.asarray(ev, complex)
     key = np.abs(ev) - 1.0 if orbit else ev.real
-    return complex(ev[np.argsort(key)[::-1][m]])
+    z = complex(ev[np.argsort(key, kind="stable")[::-1][m]])
+    return complex(z.real, abs(z.imag))
 
 
 def _kind_of(z: complex, orbit: bool) -> str:

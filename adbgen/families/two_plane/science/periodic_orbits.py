@@ -235,7 +235,7 @@ def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[
     points and folds (autonomous model), or the torus and period-doubling points of the forced response."""
     from ....analysis import continuation
     from ....analysis.loading import load_model
-    from ....analysis.orbits import branches, continuer
+    from ....analysis.orbits import branches, charts, continuer
     from ....analysis.orbits.parameters import ParameterMap
 
     m = load_model(case.model)
@@ -243,7 +243,7 @@ def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[
     top, bottom = case.range1[1], case.range1[0]
     out = []
     for eps in epsilons:
-        start = _start(m, pm2, (top, eps))
+        start = charts.chart_start(m, pm2, (top, eps))
         pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
         if m.autonomous:
             sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
