@@ -40,7 +40,7 @@ suppress_warnings = [
 exclude_patterns = [
     "_build",
     # `adbgen reproduce --only PART` writes partial documents docs/reproduction-<parts>.md locally (the parts
-    # are the families' keys); reproduction-orbits.md and reproduction-method.md are pages
+    # are the families' keys); reproduction-method.md is a page
     "reproduction-thesis*.md",
     "reproduction-two-plane*.md",
     "derive/*.py",

@@ -14,12 +14,24 @@ only.
 
 from __future__ import annotations
 
+import importlib.util
+import sys
 from pathlib import Path
 
 _ROOT = Path(__file__).resolve().parents[2]
 CHECKOUT = _ROOT / "generated"
 if (_ROOT / "pyproject.toml").is_file() and (_ROOT / "adbgen").is_dir():  # a source checkout
     __path__.insert(0, str(CHECKOUT))  # noqa: F821 (a package's __path__)
+    # numba's cache (generated/<model>/__pycache__) is keyed by the file, not the module's name, and an
+    # entry rebuilds its environment by importing the name it was compiled under: an entry written by a
+    # process that imported `generated.<model>` (the README's SciPy example) crashed a later `adbgen`
+    # run ("No module named 'generated'").  So the checkout's `generated` stays importable by that name
+    # (unless another package of that name is there).
+    if "generated" not in sys.modules and importlib.util.find_spec("generated") is None:
+        _spec = importlib.util.spec_from_file_location("generated", CHECKOUT / "__init__.py",
+                                                       submodule_search_locations=[str(CHECKOUT)])
+        sys.modules["generated"] = importlib.util.module_from_spec(_spec)
+        _spec.loader.exec_module(sys.modules["generated"])
 
 
 def names() -> list[str]:

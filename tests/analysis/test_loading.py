@@ -78,3 +78,30 @@ def test_no_sympy_in_the_analysis_layer():
             "print('sympy' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_a_numba_cache_written_under_the_generated_name_loads_in_adbgen(tmp_path):
+    """numba keys its cache by the file and rebuilds an entry's environment by importing the name it was
+    compiled under: the README's example (`import generated.thesis_rotating_n2`, from the checkout's root)
+    wrote entries that crashed a later `adbgen` run elsewhere ("No module named 'generated'").  Both
+    processes share a fresh cache folder here; the second runs from another folder, as the CLI does."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import adbgen
+
+    root = Path(adbgen.__file__).resolve().parents[1]
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    env.pop("PYTHONPATH", None)
+    call = "import numpy as np; y = np.zeros(len(m.STATE_NAMES)); print(float(np.sum(m.rhs(0.0, y, m.DEFAULTS))))"
+    first = subprocess.run([sys.executable, "-c", f"import generated.thesis_rotating_n2 as m; {call}"], cwd=root,
+                           env=env, capture_output=True, text=True, timeout=600)
+    assert first.returncode == 0, first.stderr[-800:]
+    second = subprocess.run([sys.executable, "-c", "from adbgen.analysis.loading import load_model; "
+                             f"m = load_model('thesis_rotating_n2').module; {call}"], cwd=tmp_path, env=env,
+                            capture_output=True, text=True, timeout=600)
+    assert second.returncode == 0, second.stderr[-800:]
+    assert first.stdout == second.stdout
+    assert any((tmp_path / "numba").rglob("*.nbi"))  # the first process did write the cache the second read
