@@ -100,39 +100,73 @@ def auto_orbit(model: Model, orbit, name: str, samples: int = 400) -> dict:
 
 
 def compare(branch, theirs: dict, pmap, samples: int = 8, tries: int = 3) -> dict:
-    """Our branch against AUTO's at AUTO's own points: at `samples` of AUTO's steps spread along the common
-    range, our nearest orbit is refined by Newton shooting at AUTO's parameter value, and the periods are
-    compared (no interpolation between either method's steps).  Near a fold of cycles the nearest orbit may
-    not converge at AUTO's value (two cycles there, or none within Newton's reach): the next nearest are
-    tried, up to `tries`; a point none of them reaches is listed with ``shooting: None`` and counted in
-    ``unrefined``, not compared."""
+    """Our branch against AUTO's at AUTO's own points (no interpolation between either method's steps): at
+    `samples` of AUTO's steps spread along the common range, our nearest orbit is refined onto AUTO's point
+    and the other coordinate compared.  Where the branch runs more in the parameter than in the period, at
+    AUTO's parameter value (Newton shooting, `refine`): the periods are compared (`period_rel`); where it
+    runs more in the period (about a fold of cycles, where one parameter value holds several cycles and a
+    refine at fixed parameter may land on another of them), at AUTO's period (the continuation's corrector
+    with the period's row): the parameter values are compared (`parameter_rel`).  The next nearest orbits
+    are tried, up to `tries`; a point none of them reaches is listed with ``shooting: None`` and counted in
+    ``unrefined``."""
+    from . import continuer
+    from .cycle import CycleCurve
+    from .flow import Flow
     from .orbit import refine
 
     name = pmap.free[0]
     ours = [(o.p_value, o) for o in branch.orbits if o.period > 0]
     lam = np.array([v for v, _ in ours])
     per = np.array([o.period for _, o in ours])
-    idx = [i for i, v in enumerate(theirs["parameter"]) if lam.min() <= v <= lam.max()]
-    worst, rows, unrefined = 0.0, [], 0
+    # AUTO's points on the stretch both branches cover: AUTO's points are in branch order and its steps may
+    # run on past our last point (longer steps, the same number of them; past a fold of cycles the branch
+    # comes back over parameter values and periods ours had), so its points up to the one nearest our end
+    tp, tT = np.asarray(theirs["parameter"], float), np.asarray(theirs["period"], float)
+    end = int(np.argmin(np.hypot(tp - lam[-1], (tT - per[-1]) / max(1.0, per[-1])))) if len(tp) else -1
+    idx = [i for i in range(end + 1) if lam.min() <= tp[i] <= lam.max()]
+    worst_T, worst_p, rows, unrefined = 0.0, 0.0, [], 0
+    flow = None
     for i in np.unique(np.linspace(1, len(idx) - 1, min(samples, max(len(idx) - 1, 0))).astype(int)) if idx else []:
         v, T = theirs["parameter"][idx[i]], theirs["period"][idx[i]]
-        mine = None
-        for j in np.argsort(np.hypot(lam - v, (per - T) / max(1.0, T)))[:tries]:
-            o = ours[int(j)][1]
+        row = None
+        for j in (int(k) for k in np.argsort(np.hypot(lam - v, (per - T) / max(1.0, T)))[:tries]):
+            o = ours[j][1]
+            lo, hi = max(j - 1, 0), min(j + 1, len(ours) - 1)
+            fix_period = abs(per[hi] - per[lo]) / max(1.0, T) > abs(lam[hi] - lam[lo])
             try:
-                mine = refine(branch_model(o), pmap(v), o.arcs[0], o.period, o.windings, arcs=len(o.arcs),
-                              amplitude=False)
+                if not fix_period:
+                    mine = refine(branch_model(o), pmap(v), o.arcs[0], o.period, o.windings, arcs=len(o.arcs),
+                                  amplitude=False)
+                    row = {name: v, "auto": T, "fixed": "parameter", "shooting": mine.period,
+                           "rel": abs(mine.period - T) / T}
+                else:
+                    flow = flow or Flow(branch_model(o))
+                    curve = CycleCurve(branch_model(o), pmap, flow, arcs=len(o.arcs), windings=o.windings,
+                                       subharmonic=getattr(o, "subharmonic", 1))
+                    curve.shooting.set_reference(o.arcs[0], o.p)
+                    x0 = curve.pack(o.arcs, o.period, o.p_value)
+                    corr = continuer._Corrector(curve, continuer.Settings(newton_max=12, newton_tol=1e-11))
+                    e = np.zeros(curve.size)
+                    e[-2] = 1.0 / corr.w2[-2]  # the corrector's row is this times the weights: T = AUTO's T
+                    anchor = x0.copy()
+                    anchor[-2] = T
+                    x = corr.solve(x0, e, anchor, 0.0, radius=1.0 + corr.norm(x0))
+                    row = {name: v, "auto": T, "fixed": "period", "shooting": float(x[-1]),
+                           "rel": abs(float(x[-1]) - v) / abs(v)}
                 break
             except AnalysisError:
                 continue
-        if mine is None:
+        if row is None:
             unrefined += 1
             rows.append({name: v, "auto": T, "shooting": None, "rel": None})
             continue
-        rel = abs(mine.period - T) / T
-        worst = max(worst, rel)
-        rows.append({name: v, "auto": T, "shooting": mine.period, "rel": rel})
-    return {"period_rel": worst, "points": rows, "unrefined": unrefined}
+        if row["fixed"] == "parameter":
+            worst_T = max(worst_T, row["rel"])
+        else:
+            worst_p = max(worst_p, row["rel"])
+        rows.append(row)
+    return {"period_rel": worst_T, "parameter_rel": worst_p, "points": rows, "unrefined": unrefined,
+            "common": len(idx), "auto_points": len(theirs["parameter"])}
 
 
 def branch_model(o):
