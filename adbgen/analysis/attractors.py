@@ -423,15 +423,23 @@ class Classifier:
 
     def _oscillation(self, y_end, engine, rtol, atol) -> str:
         """limit cycle: over a further window r keeps one band (its max and min in both halves agree to
-        1 % of the max); otherwise unsettled."""
-        from .simulate import amplitude, simulate
+        1 % of the max); otherwise unsettled.  r is read between the engine's step points too, on the cubic
+        Hermite interpolant of x and y (their rates are states), ten points a step: on the step points alone
+        the band depended on where an engine's steps fell (long Taylor steps put a cycle's band over 1 %)."""
+        from scipy.interpolate import CubicHermiteSpline
+
+        from .simulate import simulate
 
         sim = simulate(self.model, self.p, np.asarray(y_end, float), t_end=self.window, rtol=rtol, atol=atol,
                        engine=engine, keep_trajectory=True, check=False)
         if not sim.ok or sim.t.size < 8:
             return "unsettled"
-        r = amplitude(self.model, sim.y)
-        half = sim.t >= 0.5 * self.window
+        t, keep = np.unique(sim.t, return_index=True)
+        Y = sim.y[:, keep]
+        ix, iy, ixd, iyd = self.model.amplitude_indices
+        fine = np.linspace(t[0], t[-1], 10 * t.size)
+        r = np.hypot(CubicHermiteSpline(t, Y[ix], Y[ixd])(fine), CubicHermiteSpline(t, Y[iy], Y[iyd])(fine))
+        half = fine >= 0.5 * self.window
         a, b = r[~half], r[half]
         top = max(a.max(), b.max())
         if abs(a.max() - b.max()) <= 0.01 * top and abs(a.min() - b.min()) <= 0.01 * top:
