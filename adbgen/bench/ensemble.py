@@ -42,7 +42,6 @@ MODEL = "thesis_rotating_n2"
 T_END, RTOL, ATOL, CHECK_DT = 2000.0, 1e-8, 1e-10, 10.0
 TODAY = "cyrk-dop853"
 OURS = ("cyrk-dop853", "rk-dop853", "rk-dop853-batch", "taylor", "taylor-batch", "auto")
-DEFAULT = "auto"  # the sweeps' default engine (analysis.engines.DEFAULT; tested)
 
 
 def _spec(engine: str, grid=GRID, t_end: float = T_END):
@@ -155,6 +154,7 @@ def label(model, status, y_end) -> list[str]:
 
 def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_end: float = T_END, sweeps: bool = True,
                    progress=print) -> dict:
+    from ..analysis.engines import DEFAULT  # the sweeps' default engine, measured beside today's
     from ..analysis.sweep import default_workers
 
     workers = workers or default_workers()

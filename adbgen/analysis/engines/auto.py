@@ -27,6 +27,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from ..loading import AnalysisError
+from .rk import lanes_source
 
 TABLE = Path(__file__).resolve().parent / "auto_table.json"
 FALLBACK = "cyrk-dop853"  # for a model without a Taylor series (`<model>_taylor.c`)
@@ -35,10 +36,6 @@ ENSEMBLE = "rk-dop853-batch"  # for ensembles without measures, where the model 
 
 def _has_series(model) -> bool:
     return (Path(model.folder) / f"{model.name}_taylor.c").is_file()
-
-
-def _has_lanes(model) -> bool:
-    return (Path(model.folder) / f"{model.name}_lanes.h").is_file()
 
 
 @lru_cache(maxsize=4)
@@ -105,7 +102,8 @@ class AutoEngine:
 
     def picked_many(self, rtol: float, atol: float, model=None, measures: bool = True):
         """As `picked`, for an ensemble: `ENSEMBLE` where no measures are asked and the model has lanes."""
-        if not measures and ENSEMBLE in self._engines and model is not None and _has_lanes(model):
+        has_lanes = model is not None and lanes_source(model) is not None
+        if not measures and ENSEMBLE in self._engines and has_lanes:
             return self._engines[ENSEMBLE], rtol, atol, {
                 "engine": ENSEMBLE, "rtol": rtol, "atol": atol,
                 "reason": "an ensemble without r_max/t_dec: the SIMD batch engine (adbgen bench ensemble)"}

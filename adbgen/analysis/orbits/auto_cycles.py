@@ -142,7 +142,7 @@ def compare(branch, theirs: dict, pmap, samples: int = 8, tries: int = 3) -> dic
                 else:
                     flow = flow or Flow(branch_model(o))
                     curve = CycleCurve(branch_model(o), pmap, flow, arcs=len(o.arcs), windings=o.windings,
-                                       subharmonic=getattr(o, "subharmonic", 1))
+                                       subharmonic=o.subharmonic)
                     curve.shooting.set_reference(o.arcs[0], o.p)
                     x0 = curve.pack(o.arcs, o.period, o.p_value)
                     corr = continuer._Corrector(curve, continuer.Settings(newton_max=12, newton_tol=1e-11))
