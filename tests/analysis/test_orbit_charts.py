@@ -115,6 +115,8 @@ def test_hopf_chart_with_ties_is_exact_on_its_curves():
             assert np.min(np.abs(ev[ev.imag > 1e-6].real)) < 1e-7
     j = chart.to_json()
     assert j["ties"] == ties and j["log2"] and len(j["grid"]["stable"]) == 5 and "resolution" in j
+    # the reproduction's copy leaves the wall time out (it must come out byte-identical run to run)
+    assert j["wall_s"] > 0 and chart.to_json(timing=False) == {k: v for k, v in j.items() if k != "wall_s"}
 
 
 def test_torus_curve_of_the_forced_model_against_auto():

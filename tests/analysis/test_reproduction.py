@@ -30,3 +30,23 @@ def test_build_computes_only_the_chosen_sections(tmp_path):
     out = build([A, C], ("c",), tmp_path / "doc" / "r.md", tmp_path / "figs", "adbgen reproduce --only c")
     assert calls == [tmp_path / "figs"] and (tmp_path / "figs").is_dir()
     assert out.read_text().endswith("c = 3\n") and not list(out.parent.glob("*.tmp"))
+
+
+def test_the_committed_document_and_its_figure_data_carry_no_wall_clock_time():
+    """docs/reproduction.md must come out byte-identical from a second run (issue 23): wall times go to the
+    progress lines that `adbgen bench reproduce` records, never into the document or its figures' data.  The
+    patterns are the ones earlier documents printed ("(t_transient 2000, 0.1 s)", "(this section: 5 s)",
+    "(691 s, max_points)", "ties: `...`; 3 s)"); the negative control is such a line."""
+    import json
+    import re
+    from pathlib import Path
+
+    timing = re.compile(r"(this section: \d|\d s(, [a-z_]+)?\)|; \d+ s\)|\"wall_s\")")
+    assert timing.search("`adbgen orbit thesis_rotating_n2` (t_transient 2000, 0.1 s): period")
+    assert timing.search("3000 orbits by `continue --orbits` (691 s, max_points); the branch")
+    assert timing.search("ties: `m_2=M*epsilon/R_t c_bb=c_bt`; 3 s): 4 hopf curve(s)")
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    text = (docs / "reproduction.md").read_text()
+    assert not [line for line in text.splitlines() if timing.search(line)]
+    for data in sorted((docs / "reproduction").glob("*.json")):
+        assert "wall_s" not in json.loads(data.read_text()), data.name

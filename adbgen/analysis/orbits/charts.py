@@ -72,7 +72,9 @@ class Chart:
     wall_s: float = 0.0
     extra: dict = field(default_factory=dict)
 
-    def to_json(self) -> dict:
+    def to_json(self, timing: bool = True) -> dict:
+        """The chart as data; `timing=False` leaves out the wall time, for documents that must come out
+        byte-identical from run to run (docs/reproduction.md's figures)."""
         n1, n2 = self.names
         return {"model": self.model.name, "parameter": n1, "parameter2": n2, "ties": list(self.ties),
                 "log2": self.log2,
@@ -81,8 +83,8 @@ class Chart:
                             "end": c.end, "seed": {n1: c.seed[0], n2: c.seed[1]}} for c in self.curves],
                 "special": [s | {"curve": i} for i, c in enumerate(self.curves) for s in c.special],
                 "resolution": {n1: float(np.max(np.diff(self.lam1))), n2: float(np.max(np.diff(
-                    np.log10(self.lam2) if self.log2 else self.lam2))), "scale2": "log10" if self.log2 else "linear"},
-                "wall_s": self.wall_s}
+                    np.log10(self.lam2) if self.log2 else self.lam2))), "scale2": "log10" if self.log2 else "linear"}
+                } | ({"wall_s": self.wall_s} if timing else {})
 
 
 # ---------------------------------------------------------------------------------------- the grid
@@ -334,9 +336,10 @@ STYLE = {"hopf": ("C3", "-"), "fold": ("C0", "--"), "torus": ("C1", "-"), "perio
          "fold of cycles": ("C4", ":")}
 
 
-def plot(chart: Chart, path: Path, title: str | None = None, scale2: float = 1.0, label2: str | None = None) -> None:
+def plot(chart: Chart, path: Path, title: str | None = None, scale2: float = 1.0, label2: str | None = None,
+         timing: bool = True) -> None:
     """The chart as the paper draws it: stable region shaded, curves by kind, lambda_2 on a log axis if asked;
-    the curves also written as data (<path>.json beside the figure)."""
+    the curves also written as data (<path>.json beside the figure; its wall time only with `timing`)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -372,6 +375,6 @@ def plot(chart: Chart, path: Path, title: str | None = None, scale2: float = 1.0
 
     data = path.with_suffix(".json")
     tmpd = data.with_name("." + data.name + ".tmp")
-    tmpd.write_text(json.dumps(chart.to_json()))
+    tmpd.write_text(json.dumps(chart.to_json(timing)))
     os.replace(tmp, path)
     os.replace(tmpd, data)

@@ -19,3 +19,20 @@ def test_reproduce_cases_fig_5_4a_and_coincident_run():
     assert res["label"] == "coincident 2-"
     y = res["sims"][1e-12].y_end
     assert y[0] == pytest.approx(0.1285, abs=5e-5) and y[1] == pytest.approx(-0.0083, abs=5e-5)
+
+
+def test_fig_5_14d_balances_algebraically_and_the_text_says_why():
+    """Fig. 5.14(d) (n = 4 at mu = mu_c): unsettled at t = 3000 by the classifier, but integrated on r falls
+    like a power of t (not exponentially) towards the balls together, a steady state with one neutral
+    direction more than the balanced family's free angles; the document explains the row so.  Negative
+    control: a run whose r stops falling is said not to balance."""
+    case = next(c for c in reproduce.CASES if c.figure == "5.14(d)")
+    res = reproduce.study(case)
+    assert res["label"] == "unsettled"
+    slow = res["slow"]
+    assert 0.8 < slow["exponent"] < 1.2 and slow["neutral"] == slow["free_angles"] + 1 == 3
+    assert abs(abs(slow["limit_angle"]) - 3.141592653589793) < 1e-6 and slow["limit_residual"] < 1e-9
+    assert "does balance" in reproduce._slow_text(case, slow)
+    stuck = dict(slow, checkpoints=[dict(q, r_max=1e-3) for q in slow["checkpoints"]])
+    assert "does balance" not in reproduce._slow_text(case, stuck)
+    assert "the difference stands" in reproduce._slow_text(case, stuck)
