@@ -40,7 +40,12 @@ def snapshot(committed: Path = DOCUMENT) -> dict:
     overwrites them)."""
     figures = committed.parent / "reproduction"
     return {"text": committed.read_bytes() if committed.is_file() else b"",
-            "figures": {p.name: _digest(p) for p in figures.glob("*.png")} if figures.is_dir() else {}}
+            "figures": {p.name: _digest(p) for p in _figure_files(figures)} if figures.is_dir() else {}}
+
+
+def _figure_files(folder: Path) -> list[Path]:
+    """The figures and the data written beside them (the charts' curves as .json)."""
+    return sorted(p for p in folder.iterdir() if p.suffix in (".png", ".json"))
 
 
 def compare(document: Path, figures: Path, committed: Path | dict = DOCUMENT) -> dict:
@@ -50,7 +55,7 @@ def compare(document: Path, figures: Path, committed: Path | dict = DOCUMENT) ->
     before = committed if isinstance(committed, dict) else snapshot(committed)
     new, old = document.read_text().splitlines(), before["text"].decode().splitlines()
     differ = [(i + 1, a, b) for i, (a, b) in enumerate(zip(old, new)) if a != b]
-    figs = sorted(p.name for p in figures.glob("*.png"))
+    figs = [p.name for p in _figure_files(figures)]
     changed = [name for name in figs if before["figures"].get(name) != _digest(figures / name)]
     return {"document_identical": new == old and document.read_bytes() == before["text"],
             "lines": len(new), "committed_lines": len(old), "lines_differing": len(differ)

@@ -42,3 +42,14 @@ def test_a_run_kept_into_the_committed_folder_is_compared_with_what_was_there_be
     res = reproduce.compare(doc, doc.parent / "reproduction", before)
     assert not res["document_identical"] and res["figures_differing"] == ["a.png"]
     assert reproduce.compare(doc, doc.parent / "reproduction", doc)["document_identical"]  # the trap it avoids
+
+
+def test_the_figures_data_is_compared_too(tmp_path):
+    """The charts' curves are written as .json beside their figures: a difference there (a timing once crept
+    in) is reported like a figure's."""
+    old = _doc(tmp_path / "old", "# T\n", b"png")
+    new = _doc(tmp_path / "new", "# T\n", b"png")
+    (old.parent / "reproduction" / "a.json").write_text('{"curves": []}')
+    (new.parent / "reproduction" / "a.json").write_text('{"curves": [], "wall_s": 3.1}')
+    res = reproduce.compare(new, new.parent / "reproduction", committed=old)
+    assert res["figures"] == 2 and res["figures_differing"] == ["a.json"]
