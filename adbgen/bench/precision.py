@@ -4,8 +4,11 @@ Work-precision: for each problem, every pathway integrates from t = 0 to t_end a
 `TOLS` (rtol = tol, atol = tol x the problem's `atol_ratio`); its global error is the largest
 absolute difference of the final state from a reference, plotted against the CPU time of the
 integration (`TIME`; wall time recorded beside it; one curve per pathway, `chart`).  The reference
-is CyRK's Verner 8(7) at rtol 1e-14 (not the default's method), checked by heyoka's Taylor method at
-tol 1e-15 (another method, another implementation; CyRK's DOP853 where heyoka fails): their
+is computed in extended precision (heyoka's Taylor method in long double at tol 1e-19 on the
+hand-written equations, checked by the same on the generated statements, `reference`): a double-precision
+reference's own round-off over the horizon (1.5e-13 on problem A) had left the tightest levels
+unmeasurable.  The stiff problem C (or a machine without heyoka) keeps CyRK's Verner 8(7) at rtol 1e-14,
+checked by heyoka's Taylor method at tol 1e-15 (CyRK's DOP853 where heyoka fails).  The check's
 difference is the reference's resolution, recorded, and errors below ten times it are marked as such.
 
 Problems (`PROBLEMS`):
@@ -97,6 +100,7 @@ TOLS = tuple(10.0 ** -k for k in range(3, 15))  # to 1e-14: the peers' curves re
 QUICK_TOLS = (1e-4, 1e-7)
 REF_TOL = 1e-14
 CHECK_TOL = 1e-15
+EXTENDED_TOL = 1e-19  # heyoka in long double (eps 1.1e-19)
 MAX_RUN_S = 20.0
 QUICK_MAX_RUN_S = 0.5
 BUDGET_S = 480.0
@@ -109,6 +113,9 @@ class PrecisionProblem:
     atol_ratio: float
     what: str
     thesis_model: bool = True  # the hand-written baseline applies
+    # the reference in extended precision (heyoka, long double); not for the stiff problem, where an
+    # explicit Taylor method's steps are held to its stability interval
+    extended_reference: bool = True
 
     @property
     def label(self) -> str:
@@ -126,7 +133,8 @@ PROBLEMS = {
                                   {"theta_2": math.pi, "theta_4": math.pi}, 1000.0), 1e-5,
                           "two-plane Hill run-up (45), paper section 6, c_b/m = 0.1", thesis_model=False),
     "C": PrecisionProblem(Problem("C", "thesis_rotating_n3", {"beta": 1000.0, "mu": 0.01}, dict(_PHI0), 2000.0),
-                          1e-2, "stiff: thesis n = 3, beta = 1000, mu = 0.01, else (5.1), phi(0) as A"),
+                          1e-2, "stiff: thesis n = 3, beta = 1000, mu = 0.01, else (5.1), phi(0) as A",
+                          extended_reference=False),
 }
 
 
@@ -136,8 +144,16 @@ PROBLEMS = {
 
 def reference(model, pp: PrecisionProblem, t_end: float, ref_tol: float = REF_TOL,
               check_tol: float = CHECK_TOL) -> dict:
-    """Final state by CyRK Vern8 at rtol ref_tol, checked by heyoka's Taylor method at check_tol (or, if
-    heyoka is missing, CyRK DOP853 at ref_tol): their difference is the reference's resolution."""
+    """The final state every pathway's error is measured against, and its resolution.
+
+    In extended precision where the problem allows (`extended`): heyoka's Taylor method in long double at
+    tol EXTENDED_TOL on the hand-written equations, checked by the same on the generated statements (another
+    formulation of the model); their difference is the resolution.  A double-precision reference cannot
+    resolve the tightest levels: its own round-off over the horizon is the floor (measured on problem A:
+    CyRK Vern8 at rtol 1e-14 is 1.5e-13 from the extended one, which two formulations agree on to 3e-17).
+    Otherwise (the stiff problem, or heyoka missing): CyRK Vern8 at rtol ref_tol, checked by heyoka's Taylor
+    method at check_tol (or CyRK DOP853 at ref_tol).  The Vern8 run is always made: problem A's t_dec and
+    r_max come from it, and its distance from an extended reference is recorded."""
     from ..analysis.simulate import simulate
 
     p, y0 = pp.problem.vectors(model)
@@ -147,6 +163,11 @@ def reference(model, pp: PrecisionProblem, t_end: float, ref_tol: float = REF_TO
     out = {"method": "cyrk-vern8 (CyRK Verner 8(7), compiled)", "rtol": ref_tol, "atol": ref_tol * pp.atol_ratio,
            "seconds": round(time.perf_counter() - start, 3), "n_rhs": int(ref.n_rhs), "y_end": ref.y_end.copy(),
            "t_dec": ref.t_dec, "r_max": ref.r_max}
+    if pp.extended_reference:
+        try:
+            return {**out, **extended(model, pp, y0, p, t_end, ref.y_end)}
+        except Exception as exc:  # heyoka missing, no wider long double, a failed run: the double reference
+            out["extended_fallback_because"] = f"{type(exc).__name__}: {exc}"
     start = time.perf_counter()
     try:
         from . import peers as bench_peers
@@ -167,6 +188,34 @@ def reference(model, pp: PrecisionProblem, t_end: float, ref_tol: float = REF_TO
     return out
 
 
+def extended(model, pp: PrecisionProblem, y0, p, t_end: float, double_y) -> dict:
+    """`reference`'s extended-precision part: heyoka in long double on the hand-written equations (the
+    generated statements where the model has none) and, as the check, on the generated statements."""
+    from . import handwritten, peers as bench_peers
+
+    hand = handwritten.form_of(model.module.NAME) is not None
+    first = (bench_peers.HeyokaHandwritten if hand else bench_peers.Heyoka)(model.module)
+    start = time.perf_counter()
+    a = first.run_extended(y0, p, t_end, EXTENDED_TOL)
+    seconds = time.perf_counter() - start
+    start = time.perf_counter()
+    # the check: the other formulation; with one formulation only, the same at a tolerance ten times looser
+    b = (bench_peers.Heyoka(model.module).run_extended(y0, p, t_end, EXTENDED_TOL) if hand
+         else first.run_extended(y0, p, t_end, 10 * EXTENDED_TOL))
+    for run in (a, b):
+        if run["status"] != "success":
+            raise RuntimeError(f"heyoka in long double: {run['status']}")
+    what = "the hand-written equations" if hand else "the generated statements"
+    return {"method": f"heyoka adaptive Taylor in extended precision (long double), tol {EXTENDED_TOL:g}, on {what}",
+            "rtol": EXTENDED_TOL, "atol": EXTENDED_TOL, "seconds": round(seconds, 3), "n_rhs": None,
+            "order": a["order"], "n_steps": a["n_steps"], "y_end": a["y_end"],
+            "check_method": ("the same on the generated statements" if hand else
+                             f"the same at tol {10 * EXTENDED_TOL:g}"),
+            "check_seconds": round(time.perf_counter() - start, 3), "check_difference": error(b["y_end"], a["y_end"]),
+            "double_reference": f"cyrk-vern8 at rtol {REF_TOL:g}: its difference from this reference below",
+            "double_reference_difference": error(double_y, a["y_end"])}
+
+
 def stiffness(model, pp: PrecisionProblem) -> dict:
     """Eigenvalues of the generated Jacobian at the initial state: the stiffness ratio
     max |Re lambda| / min |Re lambda| over the eigenvalues with |Re lambda| > 1e-12."""
@@ -183,9 +232,10 @@ def stiffness(model, pp: PrecisionProblem) -> dict:
 # ----------------------------------------------------------------------------------------- run
 
 NOTES = (
-    "error: largest absolute difference of the final state from the reference (CyRK Vern8 at rtol 1e-14), "
-    "whose resolution is reference.check_difference (heyoka Taylor at tol 1e-15); below_resolution: error < 10x "
-    "that. cpu_s (charts and targets): CPU seconds of the run (process and children; runs_cpu_s: all), the "
+    "error: largest absolute difference of the final state from the reference (reference.method: heyoka's "
+    "Taylor method in extended precision, long double at tol 1e-19, where the problem allows; else CyRK Vern8 at "
+    "rtol 1e-14), whose resolution is reference.check_difference (reference.check_method); below_resolution: "
+    "error < 10x that. cpu_s (charts and targets): CPU seconds of the run (process and children; runs_cpu_s: all), the "
     "integration call with its small Python wrapper; wall_s: the integration alone (best of the repeats when "
     "faster than slow_s; runs_s: all), no builds "
     "(engines built, numba compiled, peers compiled beforehand; cvode-main is a process and includes its "
