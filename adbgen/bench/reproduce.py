@@ -14,6 +14,7 @@ check).  With ``--sections`` only those sections run (a partial document, compar
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import os
 import resource
@@ -54,12 +55,18 @@ def compare(document: Path, figures: Path, committed: Path | dict = DOCUMENT) ->
     figures that differ or are missing."""
     before = committed if isinstance(committed, dict) else snapshot(committed)
     new, old = document.read_text().splitlines(), before["text"].decode().splitlines()
-    differ = [(i + 1, a, b) for i, (a, b) in enumerate(zip(old, new)) if a != b]
+    # matched as a diff does (an inserted line does not make every later line "differ"): each changed
+    # stretch counts its longer side, reported at its first line (new document's numbering)
+    differ, count = [], 0
+    for op, i1, i2, j1, j2 in difflib.SequenceMatcher(None, old, new, autojunk=False).get_opcodes():
+        if op != "equal":
+            count += max(i2 - i1, j2 - j1)
+            differ.append((j1 + 1, old[i1] if i1 < i2 else "", new[j1] if j1 < j2 else ""))
     figs = [p.name for p in _figure_files(figures)]
     changed = [name for name in figs if before["figures"].get(name) != _digest(figures / name)]
     return {"document_identical": new == old and document.read_bytes() == before["text"],
-            "lines": len(new), "committed_lines": len(old), "lines_differing": len(differ)
-            + abs(len(new) - len(old)), "first_differences": differ[:10], "figures": len(figs),
+            "lines": len(new), "committed_lines": len(old), "lines_differing": count,
+            "first_differences": differ[:10], "figures": len(figs),
             "figures_differing": changed}
 
 

@@ -53,3 +53,12 @@ def test_the_figures_data_is_compared_too(tmp_path):
     (new.parent / "reproduction" / "a.json").write_text('{"curves": [], "wall_s": 3.1}')
     res = reproduce.compare(new, new.parent / "reproduction", committed=old)
     assert res["figures"] == 2 and res["figures_differing"] == ["a.json"]
+
+
+def test_an_inserted_line_is_one_difference_not_every_line_after_it(tmp_path):
+    """A paragraph added in the middle: one changed stretch, reported where it starts; the lines after it
+    are matched as a diff matches them (a line-by-line zip had counted all of them)."""
+    old = _doc(tmp_path / "old", "# T\n\nrow 1\nrow 2\nrow 3\nrow 4\n", b"png")
+    new = _doc(tmp_path / "new", "# T\n\nrow 1\nnew row\nrow 2\nrow 3\nrow 4\n", b"png")
+    res = reproduce.compare(new, new.parent / "reproduction", committed=old)
+    assert res["lines_differing"] == 1 and res["first_differences"] == [(4, "", "new row")]
