@@ -49,12 +49,22 @@ def _figure_files(folder: Path) -> list[Path]:
     return sorted(p for p in folder.iterdir() if p.suffix in (".png", ".json"))
 
 
-def compare(document: Path, figures: Path, committed: Path | dict = DOCUMENT) -> dict:
+def relocated(text: str, written_in: Path, docs: Path = DOCUMENT.parent) -> str:
+    """The document as `adbgen reproduce` would have written it into docs/: its links to the documentation
+    pages are relative to the folder it is written in (`[Periodic orbits](../../x/docs/orbits.md)` from a
+    temporary folder, `(./orbits.md)` in docs/), the only text that depends on where it is written; the
+    figures' links are relative to their own folder beside the document and do not change."""
+    rel = Path(os.path.relpath(docs, written_in)).as_posix()
+    return text if rel == "." else text.replace(f"]({rel}/", "](./")
+
+
+def compare(document: Path, figures: Path, committed: Path | dict = DOCUMENT, docs: Path = DOCUMENT.parent) -> dict:
     """The written document and figures against the committed ones (a path, or its `snapshot` taken before
     the run): identical or not, the lines that differ (first ten, as (line number, committed, new)), the
-    figures that differ or are missing."""
+    figures that differ or are missing.  The document is compared as written into docs/ (`relocated`)."""
     before = committed if isinstance(committed, dict) else snapshot(committed)
-    new, old = document.read_text().splitlines(), before["text"].decode().splitlines()
+    text = relocated(document.read_text(), document.parent, docs)
+    new, old = text.splitlines(), before["text"].decode().splitlines()
     # matched as a diff does (an inserted line does not make every later line "differ"): each changed
     # stretch counts its longer side, reported at its first line (new document's numbering)
     differ, count = [], 0
@@ -64,7 +74,7 @@ def compare(document: Path, figures: Path, committed: Path | dict = DOCUMENT) ->
             differ.append((j1 + 1, old[i1] if i1 < i2 else "", new[j1] if j1 < j2 else ""))
     figs = [p.name for p in _figure_files(figures)]
     changed = [name for name in figs if before["figures"].get(name) != _digest(figures / name)]
-    return {"document_identical": new == old and document.read_bytes() == before["text"],
+    return {"document_identical": new == old and text.encode() == before["text"],
             "lines": len(new), "committed_lines": len(old), "lines_differing": count,
             "first_differences": differ[:10], "figures": len(figs),
             "figures_differing": changed}

@@ -62,3 +62,21 @@ def test_an_inserted_line_is_one_difference_not_every_line_after_it(tmp_path):
     new = _doc(tmp_path / "new", "# T\n\nrow 1\nnew row\nrow 2\nrow 3\nrow 4\n", b"png")
     res = reproduce.compare(new, new.parent / "reproduction", committed=old)
     assert res["lines_differing"] == 1 and res["first_differences"] == [(4, "", "new row")]
+
+
+def test_a_document_written_elsewhere_is_compared_as_written_into_docs(tmp_path):
+    """The benchmark writes into a temporary folder, from which the links to the documentation pages read
+    `../../<checkout>/docs/orbits.md` where the committed document has `./orbits.md` (the only differing
+    line of the run of 2026-11-27 18:19): compared as if written into docs/, identical.  Negative control:
+    the same document with one number changed still differs."""
+    docs = tmp_path / "repo" / "docs"
+    committed = _doc(docs, "# T\n\nsee [Periodic orbits](./orbits.md).\nr = 0.05\n", b"png")
+    away = tmp_path / "tmp" / "run"
+    rel = reproduce.os.path.relpath(docs, away)
+    assert rel.startswith("../")
+    written = _doc(away, f"# T\n\nsee [Periodic orbits]({rel}/orbits.md).\nr = 0.05\n", b"png")
+    res = reproduce.compare(written, away / "reproduction", committed, docs)
+    assert res["document_identical"] and res["lines_differing"] == 0
+    written.write_text(f"# T\n\nsee [Periodic orbits]({rel}/orbits.md).\nr = 0.06\n")
+    res = reproduce.compare(written, away / "reproduction", committed, docs)
+    assert not res["document_identical"] and res["first_differences"] == [(4, "r = 0.05", "r = 0.06")]
