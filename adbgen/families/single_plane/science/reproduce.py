@@ -447,25 +447,25 @@ def slow_approach(model, p, y_end, checkpoints=SLOW_CHECKPOINTS) -> dict:
     from ....analysis.simulate import simulate
 
     ix, iy, _, _ = model.amplitude_indices
+    angles = balls(model)
     rows, y, t = [], np.asarray(y_end, float), T_END
     for t_next in checkpoints:
         sim = simulate(model, p, y, t_end=t_next - t, rtol=RTOLS[-1], atol=RTOLS[-1] * 1e-2, engine=ENGINE,
                        keep_trajectory=True, check=False)
         r = np.hypot(sim.y[ix], sim.y[iy])[sim.t >= 0.9 * (t_next - t)]
-        phi = _wrap_array(sim.y_end[balls(model)] - sim.y_end[balls(model)][0])
+        phi = _wrap_array(sim.y_end[angles] - sim.y_end[angles[0]])
         rows.append({"t": t_next, "r_max": float(r.max()), "r_min": float(r.min()),
                      "spread": float(phi.max() - phi.min())})
         y, t = sim.y_end, t_next
-    a, b = rows[-2], rows[-1]
-    k = -math.log(b["r_max"] / a["r_max"]) / math.log(b["t"] / a["t"])
+    first, last = rows[-2], rows[-1]
+    k = -math.log(last["r_max"] / first["r_max"]) / math.log(last["t"] / first["t"])
     # the state the run tends to: the rotor at rest at the centre, every ball at the balls' mean angle
-    ang = y[balls(model)]
-    mean = float(np.angle(np.exp(1j * ang).mean()))
+    mean = float(np.angle(np.exp(1j * y[angles]).mean()))
     limit = np.zeros_like(y)
-    limit[balls(model)] = mean
+    limit[angles] = mean
     return {"checkpoints": rows, "exponent": k, "limit_angle": mean,
             "limit_residual": float(np.max(np.abs(steady.residual(model, limit, p)))),
-            "neutral": spectrum(model, limit, p).neutral, "free_angles": len(balls(model)) - 2,
+            "neutral": spectrum(model, limit, p).neutral, "free_angles": len(angles) - 2,
             "r_start": float(np.hypot(y_end[ix], y_end[iy]))}
 
 

@@ -202,7 +202,8 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
         for cv in c.curves:
             kinds[cv.kind] = kinds.get(cv.kind, 0) + 1
         L += [f"#### Fig. {case.figure}", "", f"Paper: {case.text}", "",
-              f"Ours ({case.model}{'; ' + case.note if case.note else ''}; ties: `{' '.join(case.ties)}`): " + (", ".join(f"{v} {k} curve(s)" for k, v in kinds.items()) or "no curve") + "; "
+              f"Ours ({case.model}{'; ' + case.note if case.note else ''}; ties: `{' '.join(case.ties)}`): "
+              + (", ".join(f"{v} {k} curve(s)" for k, v in kinds.items()) or "no curve") + "; "
               + _chart_summary(c, case), ""]
         if case.figure in ("10(a)", "11", "13(b)"):
             lim = limit(case, progress=progress)
