@@ -25,11 +25,29 @@ def test_choose_keeps_the_fastest_that_reaches_each_tolerance():
     cands = [{"key": k, "engine": "taylor", "order": o, "step_factor": 1.0} for k, o in (("a", 8), ("b", 12))]
     problems = {"A": _problem({"a": (1e-6, 1.0), "b": (1e-9, 3.0)}),
                 "B": _problem({"a": (5e-7, 2.0), "b": (1e-10, 2.5)}, scale=10.0)}
-    rows = bench_auto.choose(problems, cands, (1e-5, 1e-7, 1e-9, 1e-12))
+    every = 1e-30  # every candidate admissible: the measured errors alone decide
+    rows = bench_auto.choose(problems, cands, (1e-5, 1e-7, 1e-9, 1e-12), safety=every)
     assert [(r["rtol"], r["key"]) for r in rows] == [(1e-5, "a"), (1e-7, "b"), (1e-9, "b")]
     assert rows[1]["time_ratio_to_fastest"] == pytest.approx(1.25)  # max(3.0 / 3.0, 2.5 / 2.0)
-    only_a = bench_auto.choose({"A": problems["A"]}, cands, (1e-5,))
+    only_a = bench_auto.choose({"A": problems["A"]}, cands, (1e-5,), safety=every)
     assert only_a[0]["key"] == "a" and only_a[0]["order"] == 8
+
+
+def test_choose_takes_only_candidates_whose_step_aims_below_a_tenth_of_the_tolerance():
+    """Order 8 with factor 3 aims each step at 3.3e-4 of the weights (`taylor.nominal_error`): though
+    fastest and within 1e-6 on the problem, it may not stand for 1e-6; order 20 with factor 1.5 (aim
+    6.8e-15) may.  An RK candidate run at a looser rtol than requested may not either."""
+    from adbgen.analysis.engines.taylor import nominal_error
+
+    assert nominal_error(8, 3.0) == pytest.approx(3.3e-4, rel=0.05)
+    assert nominal_error(20, 1.5) == pytest.approx(6.8e-15, rel=0.05)
+    cands = [{"key": "fast", "engine": "taylor", "order": 8, "step_factor": 3.0},
+             {"key": "safe", "engine": "taylor", "order": 20, "step_factor": 1.5},
+             {"key": "rk", "engine": "cyrk-dop853", "rtol_run": 1e-5}]
+    problems = {"A": _problem({"fast": (1e-7, 1.0), "safe": (1e-12, 2.0), "rk": (1e-7, 0.5)})}
+    assert [r["key"] for r in bench_auto.choose(problems, cands, (1e-6, 1e-3))] == ["safe", "rk"]
+    assert bench_auto.choose(problems, cands, (1e-6,), safety=1e-30)[0]["key"] == "fast"  # no margin: the fastest Taylor
+    assert bench_auto.admissible(cands[0], 1e-2) and not bench_auto.admissible(cands[0], 1e-3)
 
 
 @pytest.fixture(scope="module")

@@ -40,6 +40,14 @@ def heyoka_order(tol: float) -> int:
     return max(MIN_ORDER, min(MAX_ORDER, math.ceil(-math.log(tol) / 2 + 1)))
 
 
+def nominal_error(order: int, factor: float) -> float:
+    """The truncation term of one step relative to the component's weight, as the step rule aims it:
+    h = factor rho exp(-0.7 / (p - 1)) / e^2 with |y_p| rho^p = w gives |y_p| h^p = w (factor
+    exp(-0.7 / (p - 1)) / e^2)^p (Jorba & Zou 2005, sec. 3.3).  heyoka's rule (factor 1, order
+    ceil(-ln(tol) / 2 + 1)) makes it tol / 15 or less; a larger factor trades it for longer steps."""
+    return (factor * math.exp(-0.7 / (order - 1)) / math.e ** 2) ** order
+
+
 def taylor_source(model) -> Path:
     path = model.folder / f"{model.name}_taylor.c"
     if not path.is_file():
@@ -211,4 +219,4 @@ class TaylorBatchEngine(TaylorEngine):
 
 
 __all__ = ["BATCH_LANES", "CFLAGS", "TaylorBatchEngine", "TaylorEngine", "build", "heyoka_order", "library",
-           "taylor_source"]
+           "nominal_error", "taylor_source"]
