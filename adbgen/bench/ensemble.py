@@ -41,7 +41,8 @@ from .sweep import GRID
 MODEL = "thesis_rotating_n2"
 T_END, RTOL, ATOL, CHECK_DT = 2000.0, 1e-8, 1e-10, 10.0
 TODAY = "cyrk-dop853"
-OURS = ("cyrk-dop853", "rk-dop853", "rk-dop853-batch", "taylor", "taylor-batch", "auto")
+OURS = ("cyrk-dop853", "rk-dop853", "rk-dop853-batch", "taylor", "taylor-batch", "taylor-batch-inf", "auto")
+SIMD = ("rk-dop853-batch", "taylor-batch-inf")  # our ensemble engines set against heyoka's batch mode
 
 
 def _spec(engine: str, grid=GRID, t_end: float = T_END):
@@ -215,12 +216,17 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
             f"{new['trajectories_per_s_per_core']} vs {today['trajectories_per_s_per_core']}); labels differing "
             f"{new['labels_differing_from_today']}"))
     hy_row = runs["ensemble heyoka"]
+    # at equal labels: an engine counts if its map is at least as close to today's as heyoka's is
+    fair = [e for e in SIMD if runs[f"ensemble {e}"]["labels_differing_from_today"]
+            <= hy_row["labels_differing_from_today"]]
+    best = max(fair or SIMD, key=lambda e: rate(f"ensemble {e}"))
     targets.append(target(
-        "ahead of heyoka's ensemble", "rk-dop853-batch integration >= heyoka batch ensemble (trajectories per CPU-s)",
-        rate("ensemble rk-dop853-batch") / rate("ensemble heyoka"), 1.0,
-        f"{rate('ensemble rk-dop853-batch')} vs {rate('ensemble heyoka')} trajectories per CPU-s; labels differing "
-        f"from today's: batch {runs['ensemble rk-dop853-batch']['labels_differing_from_today']}, heyoka "
-        f"{hy_row['labels_differing_from_today']}"))
+        "ahead of heyoka's ensemble", "our fastest SIMD ensemble (rk-dop853-batch, taylor-batch-inf) whose labels "
+        "differ from today's map at no more points than heyoka's >= heyoka batch ensemble (trajectories per CPU-s)",
+        rate(f"ensemble {best}") / rate("ensemble heyoka") if fair else 0.0, 1.0,
+        f"{best}: {rate(f'ensemble {best}')} vs {rate('ensemble heyoka')} trajectories per CPU-s; labels differing "
+        f"from today's: " + ", ".join(f"{e} {runs[f'ensemble {e}']['labels_differing_from_today']}" for e in SIMD)
+        + f", heyoka {hy_row['labels_differing_from_today']}"))
     result.update({
         "model": MODEL, "grid": list(grid), "t_end": t_end, "rtol": RTOL, "atol": ATOL, "check_dt": CHECK_DT,
         "early_stop": False, "symmetry": False, "workers": workers, "cores": os.cpu_count(), "repeats": repeats,

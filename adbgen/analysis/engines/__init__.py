@@ -22,6 +22,9 @@ DEFAULT = "auto"
 ENGINES = {e.name: e for e in (
     TaylorEngine(),
     TaylorBatchEngine(),
+    TaylorBatchEngine("taylor-batch-inf", norm="max", tuned=True, description=(
+        "Taylor's method on SIMD lanes with the step rule in the state's inf norm (Jorba & Zou's, heyoka's) "
+        "and the auto table's order and factor; ensembles of labels (sweeps, basin maps)")),
     CyRKEngine("DOP853"), CyRKEngine("Vern8"), CyRKEngine("Vern7"), CyRKEngine("RK45"), CyRKEngine("RK23"),
     RKEngine(), RKBatchEngine(),
     SundialsEngine("cvode-bdf", 10, "SUNDIALS CVODE BDF, Newton, dense LU with the generated Jacobian (stiff)",

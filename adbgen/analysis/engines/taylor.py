@@ -71,17 +71,28 @@ def _machine() -> str:
     return platform.machine() + hashlib.sha256(flags.encode()).hexdigest()[:12]
 
 
-def build(model, order: int, batch: int = 1) -> Path:
+NORMS = {"component": 0, "max": 1}  # the step rule's norm (taylor_driver.c ADB_TS_NORM)
+
+
+def build(model, order: int, batch: int = 1, vector_math: bool = False, norm: str = "component") -> Path:
     """Compile the driver with the model's series at `order` (and `batch` trajectories per lane group, the
-    batch variant) into a cached shared library."""
+    batch variant; `vector_math`: sin, cos and pow from libmvec over the lanes) into a cached shared
+    library."""
     if not MIN_ORDER <= order <= MAX_ORDER:
         raise AnalysisError(f"Taylor order {order} is not in {MIN_ORDER}..{MAX_ORDER}")
     source = taylor_source(model)
+    vector_math = vector_math and batch > 1
     defines = [f'-DADB_TS_SOURCE="{source}"', f"-DADB_TS_PREFIX={model.name}", f"-DADB_TS_ORDER={order}",
-               f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}", f"-DTS_B={batch}"]
-    kind = f"taylor{order}" + (f"x{batch}" if batch > 1 else "")
-    return compile_cached(model, HERE / "taylor_driver.c", source, CFLAGS, defines, [], kind,
-                          f"Taylor engine (order {order})", key=(_machine(),))
+               f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}", f"-DTS_B={batch}",
+               f"-DTS_VECTOR_MATH={1 if vector_math else 0}", f"-DADB_TS_NORM={NORMS[norm]}"]
+    kind = f"taylor{order}" + (f"x{batch}" if batch > 1 else "") + ("v" if vector_math else "") + \
+        ("m" if norm == "max" else "")
+    # not builtins: GCC would merge sin and cos into a scalar sincos per lane before the vectoriser sees the
+    # simd declarations (taylor_driver.c)
+    flags = CFLAGS + (["-fno-builtin-sin", "-fno-builtin-cos", "-fno-builtin-pow"] if vector_math else [])
+    return compile_cached(model, HERE / "taylor_driver.c", source, flags, defines,
+                          ["-lmvec"] if vector_math else [], kind, f"Taylor engine (order {order})",
+                          key=(_machine(),))
 
 
 @lru_cache(maxsize=None)
@@ -100,16 +111,16 @@ def _load_cached(path: str, batch: int):
 _loaded: dict = {}
 
 
-def library(model, order: int, batch: int = 1):
+def library(model, order: int, batch: int = 1, vector_math: bool = False, norm: str = "component"):
     """The loaded library of `build`.  A repeated call for the same model files (their path and
     SOURCE_HASH), order, batch and cache folder skips build's reading and hashing (a tenth of a
     millisecond under load, a twentieth of a short run)."""
-    key = (str(model.folder), model.name, getattr(model, "source_hash", None), order, batch,
+    key = (str(model.folder), model.name, getattr(model, "source_hash", None), order, batch, vector_math, norm,
            os.environ.get("ADBGEN_CACHE"), os.environ.get("XDG_CACHE_HOME"))
     with _lock:
         lib = _loaded.get(key) if key[2] else None
         if lib is None:
-            lib = _loaded[key] = _load_cached(str(build(model, order, batch)), batch)
+            lib = _loaded[key] = _load_cached(str(build(model, order, batch, vector_math, norm)), batch)
         return lib
 
 
@@ -139,12 +150,26 @@ class TaylorEngine(_Compiled):
                 return int(order), float(fac)
         return heyoka_order(rtol), 1.0
 
+    norm = "component"  # the step rule's norm (NORMS)
+    tuned = False  # order and step factor from the auto engine's table for the model's family
+
+    def order_factor(self, model, rtol: float, atol: float) -> tuple[int, float]:
+        """`settings`, or with `tuned` the auto engine's Taylor row for the tolerance and model family."""
+        order, fac = self.settings(rtol, atol)
+        if self.tuned:
+            from .auto import AutoEngine
+
+            row = AutoEngine({}).choice(rtol, getattr(getattr(model, "module", None), "FAMILY", None))
+            if "order" in row:
+                order, fac = int(row["order"]), float(row["step_factor"])
+        return order, fac
+
     def library(self, model, order: int | None = None):
-        return library(model, order if order is not None else heyoka_order(1e-8))
+        return library(model, order if order is not None else heyoka_order(1e-8), norm=self.norm)
 
     def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=0):
-        order, fac = self.settings(rtol, atol)
-        lib = library(model, order)
+        order, fac = self.order_factor(model, rtol, atol)
+        lib = library(model, order, norm=self.norm)
         y0 = np.ascontiguousarray(y0, dtype=float)
         p = np.ascontiguousarray(p, dtype=float)
         amp = self._common(model, threshold)
@@ -171,18 +196,19 @@ class TaylorEngine(_Compiled):
         out["picked"] = {"engine": self.name, "rtol": rtol, "atol": atol, "order": order, "step_factor": fac}
         return out
 
-    batch = 1  # trajectories per lane group of the compiled series (the batch variant: BATCH_LANES)
+    batch = 1  # trajectories per lane group of the compiled series (the batch variant: the CPU's lanes)
+    vector_math = False
     entry = "adb_taylor_integrate_many"
 
     def _many_call(self, model, rtol, atol):
-        order, fac = self.settings(rtol, atol)
-        return library(model, order, self.batch), self.entry, ctypes.c_double(fac)
+        order, fac = self.order_factor(model, rtol, atol)
+        return library(model, order, self.batch, self.vector_math, self.norm), self.entry, ctypes.c_double(fac)
 
     def dense(self, model, p, t, y, times, rtol, atol) -> np.ndarray:
         """The continuous solution of a run (its steps t, y as `run` returns them) at `times` (increasing,
         within [t[0], t[-1]]), states x times: each step's Taylor polynomial."""
-        order, _ = self.settings(rtol, atol)
-        lib = library(model, order)
+        order, _ = self.order_factor(model, rtol, atol)
+        lib = library(model, order, norm=self.norm)
         T = np.ascontiguousarray(t, dtype=float)
         Y = np.ascontiguousarray(np.asarray(y).T, dtype=float)
         times = np.ascontiguousarray(times, dtype=float)
@@ -201,22 +227,41 @@ class TaylorEngine(_Compiled):
         return out
 
 
-BATCH_LANES = 4  # AVX2's doubles per vector
-
-
 class TaylorBatchEngine(TaylorEngine):
-    """The batch variant: `run_many` advances BATCH_LANES trajectories per lane group (every operation of
-    a step on the group at once, SIMD; each trajectory its own step size, events and early stop), a
-    group per OpenMP thread; one trajectory (`run`) is the single stepper's."""
+    """The batch variant: `run_many` advances a vector of trajectories per lane group (the CPU's doubles per
+    SIMD register, `rk.lanes()`: 8 with AVX-512, 4 with AVX2; every operation of a step on the group at
+    once; each trajectory its own step size, events and early stop), a group per OpenMP thread; one
+    trajectory (`run`) is the single stepper's.  sin, cos and pow come from libmvec over the lanes
+    (`exact_math=True`: libm lane by lane, each trajectory bit for bit the single stepper's).
 
-    batch = BATCH_LANES
+    `norm="max"` with `tuned=True` is `taylor-batch-inf`: Jorba & Zou's step rule in the state's inf
+    norm, as heyoka applies it (at heyoka's order and factor 1 it takes heyoka's steps: 5870 per
+    trajectory on the basin map, heyoka 5870), with the auto table's order and factor for the requested
+    tolerance.  Each step then holds the error of every component to the largest one's scale (the
+    rotor's x, y beside the balls' angles), which suits ensembles that ask for attractors (labels),
+    not for r_max/t_dec of small whirls."""
+
     entry = "adb_taylor_batch_many"
 
-    def __init__(self, name: str = "taylor-batch", description: str = "", table=None):
+    def __init__(self, name: str = "taylor-batch", description: str = "", table=None, exact_math: bool = False,
+                 n_lanes: int | None = None, norm: str = "component", tuned: bool = False):
         super().__init__(name, description or (
-            f"Taylor's method, {BATCH_LANES} trajectories per SIMD lane group (ensembles, sweeps); one "
-            "trajectory as taylor"), table=table)
+            "Taylor's method on SIMD lanes (4-8 trajectories per vector, libmvec sin/cos/pow; ensembles, "
+            "sweeps); one trajectory as taylor"), table=table)
+        if norm not in NORMS:
+            raise AnalysisError(f"unknown step norm {norm!r}; norms: {', '.join(NORMS)}")
+        self.exact_math = exact_math
+        self.vector_math = not exact_math
+        self.norm = norm
+        self.tuned = tuned  # order and step factor from the auto engine's table (else heyoka's rule)
+        self._n_lanes = n_lanes
+
+    @property
+    def batch(self) -> int:
+        from .rk import lanes
+
+        return max(2, self._n_lanes or lanes())
 
 
-__all__ = ["BATCH_LANES", "CFLAGS", "TaylorBatchEngine", "TaylorEngine", "build", "heyoka_order", "library",
+__all__ = ["CFLAGS", "TaylorBatchEngine", "TaylorEngine", "build", "heyoka_order", "library",
            "nominal_error", "taylor_source"]

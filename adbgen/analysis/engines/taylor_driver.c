@@ -30,6 +30,18 @@
 #error "ADB_TS_ORDER (the Taylor order) must be defined"
 #endif
 #define TS_MAXO ADB_TS_ORDER
+#if defined(TS_B) && TS_B > 1 && defined(TS_VECTOR_MATH) && TS_VECTOR_MATH
+/* The ensemble build: sin, cos (the series' order 0) and pow (the step) have SIMD variants in glibc's
+ * libmvec (within 4 ulp; the vector ABI GCC emits for `simd` functions), so the loops over a batch's
+ * lanes call _ZGVeN8v_sin etc. once per vector instead of libm once per lane (link -lmvec; built with
+ * -fno-builtin-sin etc., and `const` since errno is never read, else GCC merges sin and cos into a scalar
+ * sincos per lane or keeps the calls for their errno).  Without
+ * TS_VECTOR_MATH every lane calls libm, bit for bit the single stepper (tested). */
+#include <math.h>
+double sin(double) __attribute__((simd("notinbranch"), const));
+double cos(double) __attribute__((simd("notinbranch"), const));
+double pow(double, double) __attribute__((simd("notinbranch"), const));
+#endif
 #include ADB_TS_SOURCE
 #include "driver_common.h"
 
@@ -44,6 +56,13 @@ typedef TSF(_ts) TsWork;
 
 #define P ADB_TS_ORDER
 #define NY ADB_NY
+/* The norm of the step rule: 0, per component (each state's own weight |y_i| + atol / rtol, the default);
+ * 1, the state's inf norm (weight max(|y|_inf, atol / rtol) for every component: Jorba & Zou's rule as
+ * they and heyoka use it, longer steps where a small component (the rotor's x, y) has relatively large
+ * coefficients, its error then held to the largest state's scale) */
+#ifndef ADB_TS_NORM
+#define ADB_TS_NORM 0
+#endif
 /* exp(-0.7 / (P - 1)) / e^2, Jorba & Zou's safety factor and scaling */
 #define ADB_JZ_FACTOR (exp(-0.7 / (P - 1)) / (M_E * M_E))
 #define DEG (2 * P) /* r^2's degree */
@@ -334,12 +353,25 @@ static double step_size(const Jet jet, double rtol, double atol, double fac)
 {
     const double a = atol / rtol;
     double qp = 0.0, qm = 0.0;
+#if ADB_TS_NORM == 1
+    double m0 = 0.0;
+    for (int r = 0; r < NY; ++r) {
+        const double v0 = fabs(jet[0][r]), vp = fabs(jet[P][r]), vm = fabs(jet[P - 1][r]);
+        m0 = v0 > m0 ? v0 : m0;
+        qp = vp > qp ? vp : qp;
+        qm = vm > qm ? vm : qm;
+    }
+    const double inv = 1.0 / (m0 > a ? m0 : a);
+    qp *= inv;
+    qm *= inv;
+#else
     for (int r = 0; r < NY; ++r) {
         const double inv = 1.0 / (fabs(jet[0][r]) + a);
         const double vp = fabs(jet[P][r]) * inv, vm = fabs(jet[P - 1][r]) * inv;
         qp = vp > qp ? vp : qp;
         qm = vm > qm ? vm : qm;
     }
+#endif
     const double rp = pow(qp, -1.0 / P), rm = pow(qm, -1.0 / (P - 1));
     const double rho = rp < rm ? rp : rm;
     return fac * rho * ADB_JZ_FACTOR;
@@ -1099,6 +1131,107 @@ static int take_next(int *next, int n)
     return k < n ? k : -1;
 }
 
+/* r[b] = x[b]^e over the lanes: libmvec's vector pow in the ensemble build (GCC does not vectorise the
+ * loop over a `simd` pow by itself), else libm lane by lane */
+#if TS_VECTOR_MATH && TS_B == 8 && defined(__AVX512F__)
+typedef double ts_vec __attribute__((vector_size(8 * sizeof(double))));
+ts_vec _ZGVeN8vv_pow(ts_vec, ts_vec);
+#define TS_VPOW _ZGVeN8vv_pow
+#elif TS_VECTOR_MATH && TS_B == 4 && defined(__AVX2__)
+typedef double ts_vec __attribute__((vector_size(4 * sizeof(double))));
+ts_vec _ZGVdN4vv_pow(ts_vec, ts_vec);
+#define TS_VPOW _ZGVdN4vv_pow
+#endif
+static inline void batch_pow(const double *x, double e, double *r)
+{
+#ifdef TS_VPOW
+    ts_vec xv, ev;
+    memcpy(&xv, x, sizeof xv);
+    for (int b = 0; b < TS_B; ++b) ev[b] = e;
+    const ts_vec rv = TS_VPOW(xv, ev);
+    memcpy(r, &rv, sizeof rv);
+#else
+    for (int b = 0; b < TS_B; ++b) r[b] = pow(x[b], e);
+#endif
+}
+
+/* Every lane's step at once, where no lane asks for more than its end state (no r_max/t_dec, early stop,
+ * Piecewise switches or kept steps): step_size and horner's operations in their order over the lanes
+ * (SIMD), so each lane's step is bit for bit the single stepper's when pow is libm's (tested). */
+static void batch_step_sizes(const BStepper *S, const Settings *st, double *h)
+{
+    const double a = st->atol / st->rtol;
+    double qp[TS_B], qm[TS_B];
+    for (int b = 0; b < TS_B; ++b) qp[b] = qm[b] = 0.0;
+#if ADB_TS_NORM == 1
+    double m0[TS_B];
+    for (int b = 0; b < TS_B; ++b) m0[b] = 0.0;
+    for (int r = 0; r < NY; ++r)
+        for (int b = 0; b < TS_B; ++b) {
+            const double v0 = fabs(S->jet[0][r * TS_B + b]), vp = fabs(S->jet[P][r * TS_B + b]),
+                         vm = fabs(S->jet[P - 1][r * TS_B + b]);
+            m0[b] = v0 > m0[b] ? v0 : m0[b];
+            qp[b] = vp > qp[b] ? vp : qp[b];
+            qm[b] = vm > qm[b] ? vm : qm[b];
+        }
+    for (int b = 0; b < TS_B; ++b) {
+        const double inv = 1.0 / (m0[b] > a ? m0[b] : a);
+        qp[b] *= inv;
+        qm[b] *= inv;
+    }
+#else
+    for (int r = 0; r < NY; ++r)
+        for (int b = 0; b < TS_B; ++b) {
+            const double inv = 1.0 / (fabs(S->jet[0][r * TS_B + b]) + a);
+            const double vp = fabs(S->jet[P][r * TS_B + b]) * inv, vm = fabs(S->jet[P - 1][r * TS_B + b]) * inv;
+            qp[b] = vp > qp[b] ? vp : qp[b];
+            qm[b] = vm > qm[b] ? vm : qm[b];
+        }
+#endif
+    double rp[TS_B], rm[TS_B];
+    batch_pow(qp, -1.0 / P, rp);
+    batch_pow(qm, -1.0 / (P - 1), rm);
+    for (int b = 0; b < TS_B; ++b) {
+        const double rho = rp[b] < rm[b] ? rp[b] : rm[b];
+        h[b] = st->fac * rho * ADB_JZ_FACTOR;
+    }
+}
+
+static void batch_horner(const BStepper *S, const double *h, double *y)
+{
+    for (int r = 0; r < NY; ++r) {
+        double s[TS_B];
+        for (int b = 0; b < TS_B; ++b) s[b] = S->jet[P][r * TS_B + b];
+        for (int k = P - 1; k >= 0; --k)
+            for (int b = 0; b < TS_B; ++b) s[b] = s[b] * h[b] + S->jet[k][r * TS_B + b];
+        for (int b = 0; b < TS_B; ++b) y[r * TS_B + b] = s[b];
+    }
+}
+
+/* lane_step's checks before the state moves, for lane b with the batch's step size h (as lane_step) */
+static double batch_lane_h(Lane *L, const Settings *st, const BStepper *S, int b, double h)
+{
+    const double t = L->t;
+    if (st->max_steps > 0 && L->steps >= st->max_steps) {
+        lane_fail(L, ADB_MAX_STEPS);
+        return 0.0;
+    }
+    if (!(h > 0.0) || !isfinite(h)) {
+        for (int r = 0; r < NY; ++r)
+            if (!isfinite(S->jet[P][r * TS_B + b]) || !isfinite(S->jet[P - 1][r * TS_B + b])) {
+                lane_fail(L, ADB_NONFINITE);
+                return 0.0;
+            }
+        h = st->t_end - t;
+    }
+    if (t + h > st->t_end) h = st->t_end - t;
+    if (!(t + h > t)) {
+        lane_fail(L, ADB_STEP_UNDERFLOW);
+        return 0.0;
+    }
+    return h;
+}
+
 /* The contract of adb_taylor_integrate_many; `threads` OpenMP threads, each with its own batch. */
 void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
                            double fac, long max_steps, const int *amp_idx, double threshold, int measures,
@@ -1116,6 +1249,8 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
         counts[(size_t)k * 2] = counts[(size_t)k * 2 + 1] = 0;
     }
     if (bad_settings(t_end, rtol, atol, fac)) return;
+    /* nothing asked of a lane but its end state: every step over the lanes at once */
+    const int whole = !measures && n_targets == 0 && TS_N_SWITCH == 0;
     int next = 0;
 #ifdef _OPENMP
     if (threads < 1) threads = omp_get_max_threads();
@@ -1167,6 +1302,36 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
             TSF(_ts_time)(&S->w, tl, 1.0);
             TSF(_ts_load)(&S->w, 0, S->jet[0]);
             for (int K = 0; K < P; ++K) borders[K](S);
+            if (whole) {
+                double h[TS_B], ynew[NY * TS_B];
+                batch_step_sizes(S, &st, h);
+                for (int b = 0; b < TS_B; ++b)
+                    h[b] = L[b].running && traj[b] >= 0 ? batch_lane_h(&L[b], &st, S, b, h[b]) : 0.0;
+                batch_horner(S, h, ynew);
+                for (int b = 0; b < TS_B; ++b) {
+                    if (traj[b] < 0) continue;
+                    Lane *Lb = &L[b];
+                    if (Lb->running) {
+                        for (int r = 0; r < NY; ++r) lj[0][r] = ynew[r * TS_B + b];
+                        if (!adb_all_finite(lj[0], NY)) {
+                            lane_fail(Lb, ADB_NONFINITE);
+                        } else {
+                            const double t1 = (Lb->t + h[b] >= st.t_end) ? st.t_end : Lb->t + h[b];
+                            ++Lb->steps;
+                            Lb->t = t1;
+                            memcpy(Lb->y, lj[0], sizeof Lb->y);
+                            if (Lb->t >= st.t_end) Lb->running = 0;
+                        }
+                    }
+                    if (!Lb->running) {
+                        const int k = traj[b];
+                        lane_finish(Lb, &st, target + k, Y_end + (size_t)k * NY, stats + (size_t)k * 4,
+                                    counts + (size_t)k * 2);
+                        status[k] = Lb->status;
+                    }
+                }
+                continue;
+            }
             for (int b = 0; b < TS_B; ++b) {
                 if (!L[b].running || traj[b] < 0) continue;
                 for (int k = 0; k <= P; ++k)
