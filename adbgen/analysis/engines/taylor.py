@@ -5,8 +5,10 @@ compiled engines.
     taylor         order from the tolerance and Jorba & Zou's step (heyoka's rule: order
                    ceil(-ln(rtol) / 2 + 1), step factor 1), or a tuned (order, factor) per tolerance
                    (`TaylorEngine.settings`)
-    taylor-batch   the same stepper, a batch of trajectories on OpenMP threads per call (sweeps);
-                   its series program also compiles with TS_B trajectories per SIMD lane (`ts_*`)
+    taylor-batch   the same stepper on a vector of trajectories per SIMD lane group (the series program
+                   compiled with TS_B = the CPU's lanes), groups on OpenMP threads (ensembles, sweeps)
+    taylor-batch-inf  taylor-batch with the step rule in the state's inf norm (Jorba & Zou's and heyoka's
+                   rule, `NORMS`) and the auto table's order and factor
 
 The order is fixed when the driver is compiled (every order of a step unrolled, each convolution a
 straight line), so each order is its own shared library, built once per model and order under
