@@ -10,7 +10,7 @@ that start together bit-for-bit together (tested).  To add an engine: a class wi
 from __future__ import annotations
 
 from ..loading import AnalysisError
-from .auto import AutoEngine
+from .auto import AutoEngine, table_choice
 from .compiled import CyRKEngine, SundialsEngine
 from .matlab_ode45 import ENGINE as MATLAB_ODE45
 from .rk import RKBatchEngine, RKEngine
@@ -22,7 +22,7 @@ DEFAULT = "auto"
 ENGINES = {e.name: e for e in (
     TaylorEngine(),
     TaylorBatchEngine(),
-    TaylorBatchEngine("taylor-batch-inf", norm="max", tuned=True, description=(
+    TaylorBatchEngine("taylor-batch-inf", norm="max", tuned=table_choice, description=(
         "Taylor's method on SIMD lanes with the step rule in the state's inf norm (Jorba & Zou's, heyoka's) "
         "and the auto table's order and factor; ensembles of labels (sweeps, basin maps)")),
     CyRKEngine("DOP853"), CyRKEngine("Vern8"), CyRKEngine("Vern7"), CyRKEngine("RK45"), CyRKEngine("RK23"),

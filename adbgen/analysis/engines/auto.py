@@ -19,8 +19,9 @@ per CPU-second as the single-trajectory pick of the table (benchmarks/ensemble.j
 `rk-dop853-batch` rows).  `taylor-batch-inf` integrates that map 1.12x faster (2026-11-27: 984 against 877
 trajectories per CPU-s) but controls each step in the state's inf norm, holding the rotor's small x, y only
 to the ball angles' scale (its map differs from today's at 14 points, the DOP853 batch's at 4), so the
-sweeps keep the per-component error control of every other engine.  A model without a lanes header (the lanes target skips rhs that branch) and
-ensembles with measures take the table's pick as a single run does.
+sweeps keep the per-component error control of every other engine.  A model without a lanes header
+(the lanes target skips rhs that branch) and ensembles with measures take the table's pick as a single
+run does.
 """
 
 from __future__ import annotations
@@ -53,6 +54,15 @@ def load_table(path: str = str(TABLE)) -> dict:
     return {**data, "rows": rows}
 
 
+def table_choice(rtol: float, family: str | None = None, path: str | None = None) -> dict:
+    """The table's row for a requested rtol and a model's family: the row of the largest tolerance at or
+    below rtol (tighter than every row: the tightest row)."""
+    table = load_table(path or str(TABLE))
+    rows = sorted(table.get("by_family", {}).get(family) or table["rows"], key=lambda r: r["rtol"])
+    fitting = [r for r in rows if r["rtol"] <= rtol * (1 + 1e-9)]
+    return dict(fitting[-1] if fitting else rows[0])
+
+
 class AutoEngine:
     """Picks an engine per tolerance from `TABLE` (see the module docstring)."""
 
@@ -70,10 +80,7 @@ class AutoEngine:
 
     def choice(self, rtol: float, family: str | None = None) -> dict:
         """The table's row for a requested rtol and a model's family (see the module docstring)."""
-        table = self.table()
-        rows = sorted(table.get("by_family", {}).get(family) or table["rows"], key=lambda r: r["rtol"])
-        fitting = [r for r in rows if r["rtol"] <= rtol * (1 + 1e-9)]
-        return dict(fitting[-1] if fitting else rows[0])
+        return table_choice(rtol, family, self._table)
 
     def picked(self, rtol: float, atol: float, model=None):
         """(engine object, rtol, atol, picked record) to run for a requested tolerance (and model)."""
@@ -120,4 +127,4 @@ class AutoEngine:
         return {**out, "picked": record}
 
 
-__all__ = ["AutoEngine", "ENSEMBLE", "FALLBACK", "TABLE", "load_table"]
+__all__ = ["AutoEngine", "ENSEMBLE", "FALLBACK", "TABLE", "load_table", "table_choice"]

@@ -153,15 +153,13 @@ class TaylorEngine(_Compiled):
         return heyoka_order(rtol), 1.0
 
     norm = "component"  # the step rule's norm (NORMS)
-    tuned = False  # order and step factor from the auto engine's table for the model's family
+    tuned = None  # (rtol, family) -> a table row: order and step factor per tolerance and model family
 
     def order_factor(self, model, rtol: float, atol: float) -> tuple[int, float]:
-        """`settings`, or with `tuned` the auto engine's Taylor row for the tolerance and model family."""
+        """`settings`, or with `tuned` its row's order and factor (where the row is a Taylor one)."""
         order, fac = self.settings(rtol, atol)
-        if self.tuned:
-            from .auto import AutoEngine
-
-            row = AutoEngine({}).choice(rtol, getattr(getattr(model, "module", None), "FAMILY", None))
+        if self.tuned is not None:
+            row = self.tuned(rtol, getattr(getattr(model, "module", None), "FAMILY", None))
             if "order" in row:
                 order, fac = int(row["order"]), float(row["step_factor"])
         return order, fac
@@ -236,7 +234,7 @@ class TaylorBatchEngine(TaylorEngine):
     trajectory (`run`) is the single stepper's.  sin, cos and pow come from libmvec over the lanes
     (`exact_math=True`: libm lane by lane, each trajectory bit for bit the single stepper's).
 
-    `norm="max"` with `tuned=True` is `taylor-batch-inf`: Jorba & Zou's step rule in the state's inf
+    `norm="max"` with `tuned=auto.table_choice` is `taylor-batch-inf`: Jorba & Zou's step rule in the state's inf
     norm, as heyoka applies it (at heyoka's order and factor 1 it takes heyoka's steps: 5870 per
     trajectory on the basin map, heyoka 5870), with the auto table's order and factor for the requested
     tolerance.  Each step then holds the error of every component to the largest one's scale (the
@@ -246,7 +244,7 @@ class TaylorBatchEngine(TaylorEngine):
     entry = "adb_taylor_batch_many"
 
     def __init__(self, name: str = "taylor-batch", description: str = "", table=None, exact_math: bool = False,
-                 n_lanes: int | None = None, norm: str = "component", tuned: bool = False):
+                 n_lanes: int | None = None, norm: str = "component", tuned=None):
         super().__init__(name, description or (
             "Taylor's method on SIMD lanes (4-8 trajectories per vector, libmvec sin/cos/pow; ensembles, "
             "sweeps); one trajectory as taylor"), table=table)
@@ -255,7 +253,7 @@ class TaylorBatchEngine(TaylorEngine):
         self.exact_math = exact_math
         self.vector_math = not exact_math
         self.norm = norm
-        self.tuned = tuned  # order and step factor from the auto engine's table (else heyoka's rule)
+        self.tuned = tuned  # (rtol, family) -> row: the auto engine's table_choice (else `table`/heyoka's rule)
         self._n_lanes = n_lanes
 
     @property
