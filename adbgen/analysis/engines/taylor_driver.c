@@ -35,8 +35,8 @@
  * libmvec (within 4 ulp; the vector ABI GCC emits for `simd` functions), so the loops over a batch's
  * lanes call _ZGVeN8v_sin etc. once per vector instead of libm once per lane (link -lmvec; built with
  * -fno-builtin-sin etc., and `const` since errno is never read, else GCC merges sin and cos into a scalar
- * sincos per lane or keeps the calls for their errno).  Without
- * TS_VECTOR_MATH every lane calls libm, bit for bit the single stepper (tested). */
+ * sincos per lane or keeps the calls for their errno).  Without TS_VECTOR_MATH every lane calls libm, bit
+ * for bit the single stepper (tested). */
 #include <math.h>
 double sin(double) __attribute__((simd("notinbranch"), const));
 double cos(double) __attribute__((simd("notinbranch"), const));
