@@ -222,8 +222,7 @@ def test_the_batch_variant_is_bitwise_the_single_engine(thesis, norm):
     Y0[:, 2:4] = rng.uniform(0.0, 2 * math.pi, (n, 2))
     P = np.repeat(m.params()[None], n, axis=0)
     P[:, 0] = rng.uniform(2.0, 4.0, n)
-    one, batch = TaylorEngine(), TaylorBatchEngine(exact_math=True, norm=norm)
-    one.norm = norm
+    one, batch = TaylorEngine(norm=norm), TaylorBatchEngine(exact_math=True, norm=norm)
     start = np.array(m.module.START)
     for kw in ({}, {"measures": False, "check_dt": 10.0, "targets": [(start, np.full(m.n_states, 1e2))]},
                {"measures": False, "check_dt": 10.0}):
@@ -255,10 +254,11 @@ def test_the_inf_norm_step_is_longer_where_the_rotor_is_small(thesis):
     y0 = np.zeros(m.n_states)
     y0[2:4] = (0.3, 2.0)
     comp = ENGINES["taylor"].run_many(m, m.params()[None], y0[None], 200.0, 1e-10, 1e-12, 1e-3, 10**7, threads=1)
-    inf = TaylorEngine()
-    inf.norm = "max"
+    inf = TaylorEngine(norm="max")
     out = inf.run_many(m, m.params()[None], y0[None], 200.0, 1e-10, 1e-12, 1e-3, 10**7, threads=1)
     assert out["n_steps"][0] < 0.9 * comp["n_steps"][0]
     assert np.max(np.abs(out["y_end"][0] - comp["y_end"][0])) < 1e-6
     with pytest.raises(Exception, match="unknown step norm"):
         TaylorBatchEngine(norm="euclid")
+    with pytest.raises(Exception, match="unknown step norm"):
+        TaylorEngine(norm="euclid")

@@ -31,6 +31,7 @@ import numpy as np
 
 from ..loading import AnalysisError
 from .compiled import HERE, I, L, _Compiled, _ptr, _single, _Trajectory, compile_cached
+from .rk import lanes
 
 CFLAGS = ["-std=gnu99", "-O3", "-march=native", "-ffp-contract=off", "-fPIC", "-shared", "-fopenmp"]
 MIN_ORDER, MAX_ORDER = 2, 40
@@ -134,13 +135,20 @@ class TaylorEngine(_Compiled):
     native_events = True
     symmetric = True
 
-    def __init__(self, name: str = "taylor", description: str = "", table=None):
+    def __init__(self, name: str = "taylor", description: str = "", table=None, norm: str = "component",
+                 tuned=None):
+        if norm not in NORMS:
+            raise AnalysisError(f"unknown step norm {norm!r}; norms: {', '.join(NORMS)}")
         self.name = name
         self.description = description or (
             "Taylor's method (order from the tolerance, Jorba & Zou's step) on the emitted series, compiled")
         # (tol, order, factor) rows, ascending tol: a tuned choice (the auto engine's measurements); None:
         # heyoka's rule
         self.table = table
+        self.norm = norm  # the step rule's norm (NORMS)
+        # (rtol, family) -> a table row (the auto engine's table_choice): order and step factor per tolerance
+        # and model family, over `table`
+        self.tuned = tuned
 
     def settings(self, rtol: float, atol: float) -> tuple[int, float]:
         """(order, step factor) for a tolerance: the table's row for the largest tol <= rtol, else
@@ -151,9 +159,6 @@ class TaylorEngine(_Compiled):
                 _, order, fac = max(rows, key=lambda r: r[0])
                 return int(order), float(fac)
         return heyoka_order(rtol), 1.0
-
-    norm = "component"  # the step rule's norm (NORMS)
-    tuned = None  # (rtol, family) -> a table row: order and step factor per tolerance and model family
 
     def order_factor(self, model, rtol: float, atol: float) -> tuple[int, float]:
         """`settings`, or with `tuned` its row's order and factor (where the row is a Taylor one)."""
@@ -197,7 +202,7 @@ class TaylorEngine(_Compiled):
         return out
 
     batch = 1  # trajectories per lane group of the compiled series (the batch variant: the CPU's lanes)
-    vector_math = False
+    vector_math = False  # sin, cos and pow from libmvec over the lanes (the batch variant unless exact_math)
     entry = "adb_taylor_integrate_many"
 
     def _many_call(self, model, rtol, atol):
@@ -234,8 +239,8 @@ class TaylorBatchEngine(TaylorEngine):
     trajectory (`run`) is the single stepper's.  sin, cos and pow come from libmvec over the lanes
     (`exact_math=True`: libm lane by lane, each trajectory bit for bit the single stepper's).
 
-    `norm="max"` with `tuned=auto.table_choice` is `taylor-batch-inf`: Jorba & Zou's step rule in the state's inf
-    norm, as heyoka applies it (at heyoka's order and factor 1 it takes heyoka's steps: 5870 per
+    `norm="max"` with `tuned=auto.table_choice` is `taylor-batch-inf`: Jorba & Zou's step rule in the
+    state's inf norm, as heyoka applies it (at heyoka's order and factor 1 it takes heyoka's steps: 5870 per
     trajectory on the basin map, heyoka 5870), with the auto table's order and factor for the requested
     tolerance.  Each step then holds the error of every component to the largest one's scale (the
     rotor's x, y beside the balls' angles), which suits ensembles that ask for attractors (labels),
@@ -247,19 +252,16 @@ class TaylorBatchEngine(TaylorEngine):
                  n_lanes: int | None = None, norm: str = "component", tuned=None):
         super().__init__(name, description or (
             "Taylor's method on SIMD lanes (4-8 trajectories per vector, libmvec sin/cos/pow; ensembles, "
-            "sweeps); one trajectory as taylor"), table=table)
-        if norm not in NORMS:
-            raise AnalysisError(f"unknown step norm {norm!r}; norms: {', '.join(NORMS)}")
+            "sweeps); one trajectory as taylor"), table=table, norm=norm, tuned=tuned)
         self.exact_math = exact_math
-        self.vector_math = not exact_math
-        self.norm = norm
-        self.tuned = tuned  # (rtol, family) -> row: the auto engine's table_choice (else `table`/heyoka's rule)
         self._n_lanes = n_lanes
 
     @property
-    def batch(self) -> int:
-        from .rk import lanes
+    def vector_math(self) -> bool:
+        return not self.exact_math
 
+    @property
+    def batch(self) -> int:
         return max(2, self._n_lanes or lanes())
 
 

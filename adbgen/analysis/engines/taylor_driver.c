@@ -686,31 +686,44 @@ static void lane_fail(Lane *L, int status)
     L->running = 0;
 }
 
-/* One step of a lane from the jet of its state (lane b of the workspace w for the Piecewise switches):
- * the step size, the new state, r_max and t_dec on the step's polynomial, early stop. */
-static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *w, int b)
+/* The step a lane may take from the rule's size h: clamped to t_end and to the first Piecewise switch
+ * (lane b of the workspace w); 0 with the lane failed at the step limit, on non-finite last coefficients
+ * (cp, cm: rows P and P - 1, NY values `stride` apart) or when the step underflows.  The single stepper
+ * and the batch's whole-step path both admit their steps here. */
+static double lane_admit(Lane *L, const Settings *st, const TsWork *w, int b, double h, const double *cp,
+                         const double *cm, int stride)
 {
     const double t = L->t;
-    double ynew[NY];
     if (st->max_steps > 0 && L->steps >= st->max_steps) {
         lane_fail(L, ADB_MAX_STEPS);
-        return;
+        return 0.0;
     }
-    double h = step_size(jet, st->rtol, st->atol, st->fac);
     if (!(h > 0.0) || !isfinite(h)) {
         /* a zero or non-finite coefficient norm: a non-finite state, or an exactly polynomial solution */
-        if (!adb_all_finite(jet[P], NY) || !adb_all_finite(jet[P - 1], NY)) {
-            lane_fail(L, ADB_NONFINITE);
-            return;
-        }
+        for (int r = 0; r < NY; ++r)
+            if (!isfinite(cp[r * stride]) || !isfinite(cm[r * stride])) {
+                lane_fail(L, ADB_NONFINITE);
+                return 0.0;
+            }
         h = st->t_end - t;
     }
     if (t + h > st->t_end) h = st->t_end - t;
     h = switch_limit(w, b, t, h);
     if (!(t + h > t)) {
         lane_fail(L, ADB_STEP_UNDERFLOW);
-        return;
+        return 0.0;
     }
+    return h;
+}
+
+/* One step of a lane from the jet of its state (lane b of the workspace w for the Piecewise switches):
+ * the step size, the new state, r_max and t_dec on the step's polynomial, early stop. */
+static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *w, int b)
+{
+    const double t = L->t;
+    double ynew[NY];
+    const double h = lane_admit(L, st, w, b, step_size(jet, st->rtol, st->atol, st->fac), jet[P], jet[P - 1], 1);
+    if (!L->running) return;
     horner(jet, h, ynew);
     if (!adb_all_finite(ynew, NY)) {
         lane_fail(L, ADB_NONFINITE);
@@ -1208,30 +1221,6 @@ static void batch_horner(const BStepper *S, const double *h, double *y)
     }
 }
 
-/* lane_step's checks before the state moves, for lane b with the batch's step size h (as lane_step) */
-static double batch_lane_h(Lane *L, const Settings *st, const BStepper *S, int b, double h)
-{
-    const double t = L->t;
-    if (st->max_steps > 0 && L->steps >= st->max_steps) {
-        lane_fail(L, ADB_MAX_STEPS);
-        return 0.0;
-    }
-    if (!(h > 0.0) || !isfinite(h)) {
-        for (int r = 0; r < NY; ++r)
-            if (!isfinite(S->jet[P][r * TS_B + b]) || !isfinite(S->jet[P - 1][r * TS_B + b])) {
-                lane_fail(L, ADB_NONFINITE);
-                return 0.0;
-            }
-        h = st->t_end - t;
-    }
-    if (t + h > st->t_end) h = st->t_end - t;
-    if (!(t + h > t)) {
-        lane_fail(L, ADB_STEP_UNDERFLOW);
-        return 0.0;
-    }
-    return h;
-}
-
 /* The contract of adb_taylor_integrate_many; `threads` OpenMP threads, each with its own batch. */
 void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
                            double fac, long max_steps, const int *amp_idx, double threshold, int measures,
@@ -1306,7 +1295,8 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
                 double h[TS_B], ynew[NY * TS_B];
                 batch_step_sizes(S, &st, h);
                 for (int b = 0; b < TS_B; ++b)
-                    h[b] = L[b].running && traj[b] >= 0 ? batch_lane_h(&L[b], &st, S, b, h[b]) : 0.0;
+                    h[b] = L[b].running && traj[b] >= 0
+                           ? lane_admit(&L[b], &st, &S->w, b, h[b], &S->jet[P][b], &S->jet[P - 1][b], TS_B) : 0.0;
                 batch_horner(S, h, ynew);
                 for (int b = 0; b < TS_B; ++b) {
                     if (traj[b] < 0) continue;
