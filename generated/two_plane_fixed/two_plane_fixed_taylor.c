@@ -212,49 +212,49 @@ typedef struct {
     double v23[TS_MAXO + 2][TS_B];
     double v26[TS_MAXO + 2][TS_B];
     double v27[TS_MAXO + 2][TS_B];
-    double v28[TS_MAXO + 2][TS_B];
+    double v28[1][TS_B];
     double v29[TS_MAXO + 2][TS_B];
-    double v30[TS_MAXO + 2][TS_B];
+    double v30[1][TS_B];
     double v31[TS_MAXO + 2][TS_B];
-    double v32[TS_MAXO + 2][TS_B];
+    double v32[1][TS_B];
     double v33[TS_MAXO + 2][TS_B];
-    double v34[TS_MAXO + 2][TS_B];
+    double v34[1][TS_B];
     double v35[TS_MAXO + 2][TS_B];
     double b36[TS_MAXO + 2][TS_LB];
     double b37[TS_MAXO + 2][TS_LB];
     double b38[TS_MAXO + 2][TS_LB];
     double b39[TS_MAXO + 2][TS_LB];
     double b40[TS_MAXO + 2][TS_LB];
-    double b41[TS_MAXO + 2][TS_LB];
+    double b41[1][TS_LB];
     double b42[TS_MAXO + 2][TS_LB];
-    double b43[TS_MAXO + 2][TS_LB];
-    double b44[TS_MAXO + 2][TS_LB];
-    double b45[TS_MAXO + 2][TS_LB];
-    double b46[TS_MAXO + 2][TS_LB];
-    double b47[TS_MAXO + 2][TS_LB];
-    double b48[TS_MAXO + 2][TS_LB];
-    double b49[TS_MAXO + 2][TS_LB];
-    double b50[TS_MAXO + 2][TS_LB];
-    double b51[TS_MAXO + 2][TS_LB];
-    double b52[TS_MAXO + 2][TS_LB];
-    double b53[TS_MAXO + 2][TS_LB];
-    double b54[TS_MAXO + 2][TS_LB];
-    double b55[TS_MAXO + 2][TS_LB];
-    double b56[TS_MAXO + 2][TS_LB];
-    double b57[TS_MAXO + 2][TS_LB];
-    double b58[TS_MAXO + 2][TS_LB];
-    double b59[TS_MAXO + 2][TS_LB];
-    double b60[TS_MAXO + 2][TS_LB];
-    double b61[TS_MAXO + 2][TS_LB];
+    double b43[1][TS_LB];
+    double b44[1][TS_LB];
+    double b45[1][TS_LB];
+    double b46[1][TS_LB];
+    double b47[1][TS_LB];
+    double b48[1][TS_LB];
+    double b49[1][TS_LB];
+    double b50[1][TS_LB];
+    double b51[1][TS_LB];
+    double b52[1][TS_LB];
+    double b53[1][TS_LB];
+    double b54[1][TS_LB];
+    double b55[1][TS_LB];
+    double b56[1][TS_LB];
+    double b57[1][TS_LB];
+    double b58[1][TS_LB];
+    double b59[1][TS_LB];
+    double b60[1][TS_LB];
+    double b61[1][TS_LB];
     double v62[TS_MAXO + 2][TS_B];
     double v63[TS_MAXO + 2][TS_B];
     double v64[TS_MAXO + 2][TS_B];
     double v65[TS_MAXO + 2][TS_B];
-    double b66[TS_MAXO + 2][TS_LB];
-    double b67[TS_MAXO + 2][TS_LB];
-    double b68[TS_MAXO + 2][TS_LB];
-    double b69[TS_MAXO + 2][TS_LB];
-    double b70[TS_MAXO + 2][TS_LB];
+    double b70[1][TS_LB];
+    double b71[TS_MAXO + 2][TS_LB];
+    double b72[1][TS_LB];
+    double b73[TS_MAXO + 2][TS_LB];
+    double b74[1][TS_LB];
     double kc_0[TS_B];
     double kc_1[TS_B];
     double kc_2[TS_B];
@@ -379,8 +379,8 @@ static void two_plane_fixed_ts_setup(two_plane_fixed_ts *w, const double *p)
         w->kb_15[TS_L] = 1.0*ball_R*ball_m*ball_z;
         w->kb_16[TS_L] = 1.0*pb[3]*pb[3]*ball_R*ball_m*ball_z;
         w->kb_17[TS_L] = 2.0*pb[3]*ball_R*ball_m*ball_z;
-        w->kb_18[TS_L] = -1.0*ball_c_b;
-        w->kb_19[TS_L] = -1.0*ball_R*ball_m;
+        w->kb_18[TS_L] = -1.0*ball_R*ball_m;
+        w->kb_19[TS_L] = -1.0*ball_c_b;
         w->kb_20[TS_L] = 1.0/(ball_R*ball_R*ball_m);
     }
 }
@@ -443,52 +443,52 @@ TS_INLINE void two_plane_fixed_ts_order(two_plane_fixed_ts *w, const int K, doub
     TS_CORE w->v23[K][b] = 0.0;
     TS_CORE w->v26[K][b] = 0.0;
     TS_CORE w->v27[K][b] = 0.0 + (K == 0 ? w->kc_2[b] : 0.0);
-    TS_CORE w->v28[K][b] = w->kc_3[b] * w->v7[K][b] + w->kc_4[b] * w->v1[K][b] + w->kc_5[b] * w->v2[K][b] + w->kc_6[b] * w->v3[K][b] + w->kc_7[b] * w->v0[K][b] + w->kc_8[b] * w->v6[K][b];
-    TS_CORE w->v29[K][b] = w->v28[K][b];
-    TS_CORE w->v30[K][b] = w->kc_9[b] * w->v9[K][b] + w->kc_10[b] * w->v8[K][b] + w->kc_11[b] * w->v11[K][b] + w->kc_12[b] * w->v10[K][b] + w->kc_13[b] * w->v7[K][b] + w->kc_3[b] * w->v6[K][b];
-    TS_CORE w->v31[K][b] = w->v30[K][b];
-    TS_CORE w->v32[K][b] = w->kc_14[b] * w->v10[K][b] + w->kc_15[b] * w->v6[K][b] + w->kc_16[b] * w->v11[K][b] + w->kc_12[b] * w->v9[K][b] + w->kc_11[b] * w->v8[K][b] + w->kc_17[b] * w->v2[K][b];
-    TS_CORE w->v33[K][b] = w->v32[K][b];
-    TS_CORE w->v34[K][b] = w->kc_5[b] * w->v1[K][b] + w->kc_18[b] * w->v2[K][b] + w->kc_6[b] * w->v0[K][b] + w->kc_19[b] * w->v10[K][b] + w->kc_20[b] * w->v3[K][b] + w->kc_21[b] * w->v7[K][b];
-    TS_CORE w->v35[K][b] = w->v34[K][b];
+    TS_CORE w->v28[0][b] = w->kc_3[b] * w->v7[K][b] + w->kc_4[b] * w->v1[K][b] + w->kc_5[b] * w->v2[K][b] + w->kc_6[b] * w->v3[K][b] + w->kc_7[b] * w->v0[K][b] + w->kc_8[b] * w->v6[K][b];
+    TS_CORE w->v29[K][b] = w->v28[0][b];
+    TS_CORE w->v30[0][b] = w->kc_9[b] * w->v9[K][b] + w->kc_10[b] * w->v8[K][b] + w->kc_11[b] * w->v11[K][b] + w->kc_12[b] * w->v10[K][b] + w->kc_13[b] * w->v7[K][b] + w->kc_3[b] * w->v6[K][b];
+    TS_CORE w->v31[K][b] = w->v30[0][b];
+    TS_CORE w->v32[0][b] = w->kc_14[b] * w->v10[K][b] + w->kc_15[b] * w->v6[K][b] + w->kc_16[b] * w->v11[K][b] + w->kc_12[b] * w->v9[K][b] + w->kc_11[b] * w->v8[K][b] + w->kc_17[b] * w->v2[K][b];
+    TS_CORE w->v33[K][b] = w->v32[0][b];
+    TS_CORE w->v34[0][b] = w->kc_5[b] * w->v1[K][b] + w->kc_18[b] * w->v2[K][b] + w->kc_6[b] * w->v0[K][b] + w->kc_19[b] * w->v10[K][b] + w->kc_20[b] * w->v3[K][b] + w->kc_21[b] * w->v7[K][b];
+    TS_CORE w->v35[K][b] = w->v34[0][b];
     TS_BALLS w->b37[K][TS_L] = w->kc_0[b] * w->v4[K][b] + w->b36[K][TS_L];
     TS_BALLS ts_sincos(&w->b37[0][TS_L], TS_LB, &w->b38[0][TS_L], TS_LB, &w->b39[0][TS_L], TS_LB, K);
-    TS_BALLS w->b41[K][TS_L] = ts_dot(&w->b40[0][TS_L], TS_LB, &w->b39[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b41[0][TS_L] = ts_dot(&w->b40[0][TS_L], TS_LB, &w->b39[0][TS_L], TS_LB, 0, K, K);
     TS_BALLS w->b42[K][TS_L] = ts_sqr(&w->b40[0][TS_L], TS_LB, K);
-    TS_BALLS w->b43[K][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->b40[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b44[K][TS_L] = ts_sqr(&w->b38[0][TS_L], TS_LB, K);
-    TS_BALLS w->b45[K][TS_L] = w->kb_0[TS_L] * w->b44[K][TS_L] + (K == 0 ? w->kb_1[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v12[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b45[K][TS_L]; w->v12[K][b] = s_; }
-    TS_BALLS w->b46[K][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->b39[0][TS_L], TS_LB, 0, K, K);
-    TS_CORE { double s_ = w->v13[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_1[TS_L] * w->b46[K][TS_L]; w->v13[K][b] = s_; }
-    TS_CORE { double s_ = w->v14[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_2[TS_L] * w->b46[K][TS_L]; w->v14[K][b] = s_; }
-    TS_BALLS w->b47[K][TS_L] = w->kb_2[TS_L] * w->b44[K][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v15[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b47[K][TS_L]; w->v15[K][b] = s_; }
-    TS_BALLS w->b48[K][TS_L] = ts_sqr(&w->b39[0][TS_L], TS_LB, K);
-    TS_BALLS w->b49[K][TS_L] = w->kb_0[TS_L] * w->b48[K][TS_L] + (K == 0 ? w->kb_1[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v17[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b49[K][TS_L]; w->v17[K][b] = s_; }
-    TS_BALLS w->b50[K][TS_L] = w->kb_3[TS_L] * w->b48[K][TS_L] + (K == 0 ? w->kb_2[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v18[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b50[K][TS_L]; w->v18[K][b] = s_; }
-    TS_CORE { double s_ = w->v19[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_3[TS_L] * w->b46[K][TS_L]; w->v19[K][b] = s_; }
-    TS_BALLS w->b51[K][TS_L] = w->kb_4[TS_L] * w->b48[K][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v22[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b51[K][TS_L]; w->v22[K][b] = s_; }
-    TS_CORE { double s_ = w->v23[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b46[K][TS_L]; w->v23[K][b] = s_; }
-    TS_BALLS w->b52[K][TS_L] = ts_dot(&w->b39[0][TS_L], TS_LB, &w->b38[0][TS_L], TS_LB, 0, K, K);
-    TS_CORE { double s_ = w->v26[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b52[K][TS_L]; w->v26[K][b] = s_; }
-    TS_BALLS w->b53[K][TS_L] = w->kb_4[TS_L] * w->b44[K][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v27[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b53[K][TS_L]; w->v27[K][b] = s_; }
-    TS_BALLS w->b54[K][TS_L] = ts_dot(&w->b42[0][TS_L], TS_LB, &w->b39[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b55[K][TS_L] = w->kb_6[TS_L] * w->b43[K][TS_L] + w->kb_7[TS_L] * w->b39[K][TS_L] + w->kb_8[TS_L] * w->b41[K][TS_L] + w->kb_9[TS_L] * w->b54[K][TS_L];
-    TS_CORE { double s_ = w->v29[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b55[K][TS_L]; w->v29[K][b] = s_; }
-    TS_BALLS w->b56[K][TS_L] = ts_dot(&w->b39[0][TS_L], TS_LB, &w->b40[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b57[K][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->b42[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b58[K][TS_L] = w->kb_10[TS_L] * w->b56[K][TS_L] + w->kb_7[TS_L] * w->b38[K][TS_L] + w->kb_9[TS_L] * w->b57[K][TS_L] + w->kb_8[TS_L] * w->b43[K][TS_L];
-    TS_CORE { double s_ = w->v31[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b58[K][TS_L]; w->v31[K][b] = s_; }
-    TS_BALLS w->b59[K][TS_L] = ts_dot(&w->b42[0][TS_L], TS_LB, &w->b38[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b60[K][TS_L] = w->kb_11[TS_L] * w->b41[K][TS_L] + w->kb_12[TS_L] * w->b43[K][TS_L] + w->kb_13[TS_L] * w->b38[K][TS_L] + w->kb_14[TS_L] * w->b59[K][TS_L];
-    TS_CORE { double s_ = w->v33[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b60[K][TS_L]; w->v33[K][b] = s_; }
-    TS_BALLS w->b61[K][TS_L] = w->kb_15[TS_L] * w->b54[K][TS_L] + w->kb_16[TS_L] * w->b39[K][TS_L] + w->kb_11[TS_L] * w->b43[K][TS_L] + w->kb_17[TS_L] * w->b41[K][TS_L];
-    TS_CORE { double s_ = w->v35[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b61[K][TS_L]; w->v35[K][b] = s_; }
+    TS_BALLS w->b43[0][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->b40[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b44[0][TS_L] = ts_sqr(&w->b38[0][TS_L], TS_LB, K);
+    TS_BALLS w->b45[0][TS_L] = w->kb_0[TS_L] * w->b44[0][TS_L] + (K == 0 ? w->kb_1[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v12[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b45[0][TS_L]; w->v12[K][b] = s_; }
+    TS_BALLS w->b46[0][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->b39[0][TS_L], TS_LB, 0, K, K);
+    TS_CORE { double s_ = w->v13[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_1[TS_L] * w->b46[0][TS_L]; w->v13[K][b] = s_; }
+    TS_CORE { double s_ = w->v14[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_2[TS_L] * w->b46[0][TS_L]; w->v14[K][b] = s_; }
+    TS_BALLS w->b47[0][TS_L] = w->kb_2[TS_L] * w->b44[0][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v15[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b47[0][TS_L]; w->v15[K][b] = s_; }
+    TS_BALLS w->b48[0][TS_L] = ts_sqr(&w->b39[0][TS_L], TS_LB, K);
+    TS_BALLS w->b49[0][TS_L] = w->kb_0[TS_L] * w->b48[0][TS_L] + (K == 0 ? w->kb_1[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v17[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b49[0][TS_L]; w->v17[K][b] = s_; }
+    TS_BALLS w->b50[0][TS_L] = w->kb_3[TS_L] * w->b48[0][TS_L] + (K == 0 ? w->kb_2[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v18[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b50[0][TS_L]; w->v18[K][b] = s_; }
+    TS_CORE { double s_ = w->v19[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_3[TS_L] * w->b46[0][TS_L]; w->v19[K][b] = s_; }
+    TS_BALLS w->b51[0][TS_L] = w->kb_4[TS_L] * w->b48[0][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v22[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b51[0][TS_L]; w->v22[K][b] = s_; }
+    TS_CORE { double s_ = w->v23[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b46[0][TS_L]; w->v23[K][b] = s_; }
+    TS_BALLS w->b52[0][TS_L] = ts_dot(&w->b39[0][TS_L], TS_LB, &w->b38[0][TS_L], TS_LB, 0, K, K);
+    TS_CORE { double s_ = w->v26[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b52[0][TS_L]; w->v26[K][b] = s_; }
+    TS_BALLS w->b53[0][TS_L] = w->kb_4[TS_L] * w->b44[0][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v27[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b53[0][TS_L]; w->v27[K][b] = s_; }
+    TS_BALLS w->b54[0][TS_L] = ts_dot(&w->b42[0][TS_L], TS_LB, &w->b39[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b55[0][TS_L] = w->kb_6[TS_L] * w->b43[0][TS_L] + w->kb_7[TS_L] * w->b39[K][TS_L] + w->kb_8[TS_L] * w->b41[0][TS_L] + w->kb_9[TS_L] * w->b54[0][TS_L];
+    TS_CORE { double s_ = w->v29[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b55[0][TS_L]; w->v29[K][b] = s_; }
+    TS_BALLS w->b56[0][TS_L] = ts_dot(&w->b39[0][TS_L], TS_LB, &w->b40[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b57[0][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->b42[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b58[0][TS_L] = w->kb_10[TS_L] * w->b56[0][TS_L] + w->kb_7[TS_L] * w->b38[K][TS_L] + w->kb_9[TS_L] * w->b57[0][TS_L] + w->kb_8[TS_L] * w->b43[0][TS_L];
+    TS_CORE { double s_ = w->v31[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b58[0][TS_L]; w->v31[K][b] = s_; }
+    TS_BALLS w->b59[0][TS_L] = ts_dot(&w->b42[0][TS_L], TS_LB, &w->b38[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b60[0][TS_L] = w->kb_11[TS_L] * w->b41[0][TS_L] + w->kb_12[TS_L] * w->b43[0][TS_L] + w->kb_13[TS_L] * w->b38[K][TS_L] + w->kb_14[TS_L] * w->b59[0][TS_L];
+    TS_CORE { double s_ = w->v33[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b60[0][TS_L]; w->v33[K][b] = s_; }
+    TS_BALLS w->b61[0][TS_L] = w->kb_15[TS_L] * w->b54[0][TS_L] + w->kb_16[TS_L] * w->b39[K][TS_L] + w->kb_11[TS_L] * w->b43[0][TS_L] + w->kb_17[TS_L] * w->b41[0][TS_L];
+    TS_CORE { double s_ = w->v35[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b61[0][TS_L]; w->v35[K][b] = s_; }
     if (K == 0) TS_CORE {
         w->sf_LU_1_0[b] = w->v13[0][b]/w->v12[0][b];
         w->sf_LU_1_1_0[b] = -w->sf_LU_1_0[b]*w->v13[0][b] + w->v17[0][b];
@@ -553,12 +553,12 @@ TS_INLINE void two_plane_fixed_ts_order(two_plane_fixed_ts *w, const int K, doub
     TS_CORE f[10 * TS_B + b] = w->v64[K][b];
     TS_CORE f[11 * TS_B + b] = w->v65[K][b];
     for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(4 + i) * TS_B + b] = w->b40[K][TS_L];
-    TS_BALLS w->b66[K][TS_L] = ts_dot(&w->v64[0][b], TS_B, &w->b39[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b67[K][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->v65[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b68[K][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->v62[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b69[K][TS_L] = ts_dot(&w->b39[0][TS_L], TS_LB, &w->v63[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b70[K][TS_L] = w->kb_15[TS_L] * w->b66[K][TS_L] + w->kb_15[TS_L] * w->b67[K][TS_L] + w->kb_18[TS_L] * w->b40[K][TS_L] + w->kb_9[TS_L] * w->b68[K][TS_L] + w->kb_19[TS_L] * w->b69[K][TS_L];
-    for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(12 + i) * TS_B + b] = w->kb_20[TS_L] * w->b70[K][TS_L];
+    TS_BALLS w->b71[K][TS_L] = w->kb_15[TS_L] * w->v64[K][b] + w->kb_18[TS_L] * w->v63[K][b];
+    TS_BALLS w->b72[0][TS_L] = ts_dot(&w->b39[0][TS_L], TS_LB, &w->b71[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b73[K][TS_L] = w->kb_15[TS_L] * w->v65[K][b] + w->kb_9[TS_L] * w->v62[K][b];
+    TS_BALLS w->b74[0][TS_L] = ts_dot(&w->b38[0][TS_L], TS_LB, &w->b73[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b70[0][TS_L] = w->b72[0][TS_L] + w->b74[0][TS_L] + w->kb_19[TS_L] * w->b40[K][TS_L];
+    for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(12 + i) * TS_B + b] = w->kb_20[TS_L] * w->b70[0][TS_L];
 }
 
 #if TS_B == 1

@@ -194,37 +194,37 @@ typedef struct {
     double v2[TS_MAXO + 2][TS_B];
     double v3[TS_MAXO + 2][TS_B];
     double v4[TS_MAXO + 2][TS_B];
-    double v5[TS_MAXO + 2][TS_B];
-    double v6[TS_MAXO + 2][TS_B];
-    double v7[TS_MAXO + 2][TS_B];
-    double v8[TS_MAXO + 2][TS_B];
-    double v9[TS_MAXO + 2][TS_B];
-    double v10[TS_MAXO + 2][TS_B];
-    double v11[TS_MAXO + 2][TS_B];
-    double v12[TS_MAXO + 2][TS_B];
-    double v13[TS_MAXO + 2][TS_B];
-    double v14[TS_MAXO + 2][TS_B];
-    double v15[TS_MAXO + 2][TS_B];
-    double v16[TS_MAXO + 2][TS_B];
-    double v17[TS_MAXO + 2][TS_B];
-    double v18[TS_MAXO + 2][TS_B];
-    double v19[TS_MAXO + 2][TS_B];
-    double v20[TS_MAXO + 2][TS_B];
-    double v21[TS_MAXO + 2][TS_B];
-    double v22[TS_MAXO + 2][TS_B];
-    double v23[TS_MAXO + 2][TS_B];
-    double v24[TS_MAXO + 2][TS_B];
-    double v25[TS_MAXO + 2][TS_B];
+    double v5[1][TS_B];
+    double v6[1][TS_B];
+    double v7[1][TS_B];
+    double v8[1][TS_B];
+    double v9[1][TS_B];
+    double v10[1][TS_B];
+    double v11[1][TS_B];
+    double v12[1][TS_B];
+    double v13[1][TS_B];
+    double v14[1][TS_B];
+    double v15[1][TS_B];
+    double v16[1][TS_B];
+    double v17[1][TS_B];
+    double v18[1][TS_B];
+    double v19[1][TS_B];
+    double v20[1][TS_B];
+    double v21[1][TS_B];
+    double v22[1][TS_B];
+    double v23[1][TS_B];
+    double v24[1][TS_B];
+    double v25[1][TS_B];
     double v26[TS_MAXO + 2][TS_B];
     double v27[TS_MAXO + 2][TS_B];
     double v28[TS_MAXO + 2][TS_B];
     double v29[TS_MAXO + 2][TS_B];
     double v30[TS_MAXO + 2][TS_B];
-    double v31[TS_MAXO + 2][TS_B];
+    double v31[1][TS_B];
     double v32[TS_MAXO + 2][TS_B];
     double v33[TS_MAXO + 2][TS_B];
-    double v34[TS_MAXO + 2][TS_B];
-    double v35[TS_MAXO + 2][TS_B];
+    double v34[1][TS_B];
+    double v35[1][TS_B];
     double v36[TS_MAXO + 2][TS_B];
     double v37[TS_MAXO + 2][TS_B];
     double v38[TS_MAXO + 2][TS_B];
@@ -236,8 +236,8 @@ typedef struct {
     double v44[TS_MAXO + 2][TS_B];
     double v45[TS_MAXO + 2][TS_B];
     double v46[TS_MAXO + 2][TS_B];
-    double v47[TS_MAXO + 2][TS_B];
-    double v48[TS_MAXO + 2][TS_B];
+    double v47[1][TS_B];
+    double v48[1][TS_B];
     double v49[TS_MAXO + 2][TS_B];
     double v50[TS_MAXO + 2][TS_B];
     double v51[TS_MAXO + 2][TS_B];
@@ -255,27 +255,27 @@ typedef struct {
     double v67[TS_MAXO + 2][TS_B];
     double v68[TS_MAXO + 2][TS_B];
     double v69[TS_MAXO + 2][TS_B];
-    double v70[TS_MAXO + 2][TS_B];
-    double v71[TS_MAXO + 2][TS_B];
-    double v72[TS_MAXO + 2][TS_B];
+    double v70[1][TS_B];
+    double v71[1][TS_B];
+    double v72[1][TS_B];
     double v73[TS_MAXO + 2][TS_B];
-    double v74[TS_MAXO + 2][TS_B];
-    double v75[TS_MAXO + 2][TS_B];
+    double v74[1][TS_B];
+    double v75[1][TS_B];
     double v76[TS_MAXO + 2][TS_B];
     double v77[TS_MAXO + 2][TS_B];
-    double v78[TS_MAXO + 2][TS_B];
+    double v78[1][TS_B];
     double v79[TS_MAXO + 2][TS_B];
-    double v80[TS_MAXO + 2][TS_B];
+    double v80[1][TS_B];
     double v81[TS_MAXO + 2][TS_B];
-    double v82[TS_MAXO + 2][TS_B];
+    double v82[1][TS_B];
     double v83[TS_MAXO + 2][TS_B];
-    double v84[TS_MAXO + 2][TS_B];
-    double v85[TS_MAXO + 2][TS_B];
+    double v84[1][TS_B];
+    double v85[1][TS_B];
     double v86[TS_MAXO + 2][TS_B];
-    double v87[TS_MAXO + 2][TS_B];
-    double v88[TS_MAXO + 2][TS_B];
-    double v89[TS_MAXO + 2][TS_B];
-    double v90[TS_MAXO + 2][TS_B];
+    double v87[1][TS_B];
+    double v88[1][TS_B];
+    double v89[1][TS_B];
+    double v90[1][TS_B];
     double v91[TS_MAXO + 2][TS_B];
     double b92[TS_MAXO + 2][TS_LB];
     double b93[TS_MAXO + 2][TS_LB];
@@ -284,35 +284,35 @@ typedef struct {
     double b96[TS_MAXO + 2][TS_LB];
     double v97[TS_MAXO + 2][TS_B];
     double b98[TS_MAXO + 2][TS_LB];
-    double b99[TS_MAXO + 2][TS_LB];
-    double b100[TS_MAXO + 2][TS_LB];
-    double b101[TS_MAXO + 2][TS_LB];
-    double b102[TS_MAXO + 2][TS_LB];
-    double b103[TS_MAXO + 2][TS_LB];
-    double b104[TS_MAXO + 2][TS_LB];
-    double b105[TS_MAXO + 2][TS_LB];
-    double b106[TS_MAXO + 2][TS_LB];
-    double b107[TS_MAXO + 2][TS_LB];
-    double b108[TS_MAXO + 2][TS_LB];
-    double b109[TS_MAXO + 2][TS_LB];
-    double b110[TS_MAXO + 2][TS_LB];
-    double b111[TS_MAXO + 2][TS_LB];
-    double b112[TS_MAXO + 2][TS_LB];
-    double b113[TS_MAXO + 2][TS_LB];
-    double b114[TS_MAXO + 2][TS_LB];
-    double b115[TS_MAXO + 2][TS_LB];
-    double b116[TS_MAXO + 2][TS_LB];
-    double b117[TS_MAXO + 2][TS_LB];
-    double b118[TS_MAXO + 2][TS_LB];
+    double b99[1][TS_LB];
+    double b100[1][TS_LB];
+    double b101[1][TS_LB];
+    double b102[1][TS_LB];
+    double b103[1][TS_LB];
+    double b104[1][TS_LB];
+    double b105[1][TS_LB];
+    double b106[1][TS_LB];
+    double b107[1][TS_LB];
+    double b108[1][TS_LB];
+    double b109[1][TS_LB];
+    double b110[1][TS_LB];
+    double b111[1][TS_LB];
+    double b112[1][TS_LB];
+    double b113[1][TS_LB];
+    double b114[1][TS_LB];
+    double b115[1][TS_LB];
+    double b116[1][TS_LB];
+    double b117[1][TS_LB];
+    double b118[1][TS_LB];
     double v119[TS_MAXO + 2][TS_B];
     double v120[TS_MAXO + 2][TS_B];
     double v121[TS_MAXO + 2][TS_B];
     double v122[TS_MAXO + 2][TS_B];
-    double b123[TS_MAXO + 2][TS_LB];
-    double b124[TS_MAXO + 2][TS_LB];
-    double b125[TS_MAXO + 2][TS_LB];
-    double b126[TS_MAXO + 2][TS_LB];
-    double b127[TS_MAXO + 2][TS_LB];
+    double b127[1][TS_LB];
+    double b128[TS_MAXO + 2][TS_LB];
+    double b129[1][TS_LB];
+    double b130[TS_MAXO + 2][TS_LB];
+    double b131[1][TS_LB];
     double kc_0[TS_B];
     double kc_1[TS_B];
     double kc_2[TS_B];
@@ -554,30 +554,30 @@ TS_INLINE void two_plane_hill_ts_order(two_plane_hill_ts *w, const int K, double
     if (K == 0) TS_CORE w->flag0[b] = w->kc_0[b] * w->v2[0][b] < 0.5;
 #if TS_B == 1
     if (w->flag0[0]) {
-        TS_CORE w->v5[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 43, K);
-        TS_CORE w->v6[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 19, K);
-        TS_CORE w->v7[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 58, K);
-        TS_CORE w->v8[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 40, K);
-        TS_CORE w->v9[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 61, K);
-        TS_CORE w->v10[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 7, K);
-        TS_CORE w->v11[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 49, K);
-        TS_CORE w->v12[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 31, K);
-        TS_CORE w->v13[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 10, K);
-        TS_CORE w->v14[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 55, K);
-        TS_CORE w->v15[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 25, K);
-        TS_CORE w->v16[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 4, K);
-        TS_CORE w->v17[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 16, K);
-        TS_CORE w->v18[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 34, K);
-        TS_CORE w->v19[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 52, K);
-        TS_CORE w->v20[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 37, K);
-        TS_CORE w->v21[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 22, K);
-        TS_CORE w->v22[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 46, K);
-        TS_CORE w->v23[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 28, K);
-        TS_CORE w->v24[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 13, K);
+        TS_CORE w->v5[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 43, K);
+        TS_CORE w->v6[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 19, K);
+        TS_CORE w->v7[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 58, K);
+        TS_CORE w->v8[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 40, K);
+        TS_CORE w->v9[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 61, K);
+        TS_CORE w->v10[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 7, K);
+        TS_CORE w->v11[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 49, K);
+        TS_CORE w->v12[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 31, K);
+        TS_CORE w->v13[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 10, K);
+        TS_CORE w->v14[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 55, K);
+        TS_CORE w->v15[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 25, K);
+        TS_CORE w->v16[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 4, K);
+        TS_CORE w->v17[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 16, K);
+        TS_CORE w->v18[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 34, K);
+        TS_CORE w->v19[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 52, K);
+        TS_CORE w->v20[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 37, K);
+        TS_CORE w->v21[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 22, K);
+        TS_CORE w->v22[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 46, K);
+        TS_CORE w->v23[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 28, K);
+        TS_CORE w->v24[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 13, K);
         if (K <= 61) {
-            TS_CORE w->v25[K][b] = w->kc_1[b] * w->v5[K][b] + w->kc_2[b] * w->v6[K][b] + w->kc_3[b] * w->v7[K][b] + w->kc_4[b] * w->v8[K][b] + w->kc_5[b] * w->v9[K][b] + w->kc_6[b] * w->v10[K][b] + w->kc_7[b] * w->v11[K][b] + w->kc_8[b] * w->v12[K][b] + w->kc_9[b] * w->v13[K][b] + w->kc_10[b] * w->v14[K][b] + w->kc_11[b] * w->v15[K][b] + w->kc_12[b] * w->v16[K][b] + w->kc_13[b] * w->v17[K][b] + w->kc_14[b] * w->v18[K][b] + w->kc_15[b] * w->v19[K][b] + w->kc_16[b] * w->v20[K][b] + w->kc_17[b] * w->v21[K][b] + w->kc_18[b] * w->v22[K][b] + w->kc_19[b] * w->v23[K][b] + w->kc_20[b] * w->v24[K][b];
+            TS_CORE w->v25[0][b] = w->kc_1[b] * w->v5[0][b] + w->kc_2[b] * w->v6[0][b] + w->kc_3[b] * w->v7[0][b] + w->kc_4[b] * w->v8[0][b] + w->kc_5[b] * w->v9[0][b] + w->kc_6[b] * w->v10[0][b] + w->kc_7[b] * w->v11[0][b] + w->kc_8[b] * w->v12[0][b] + w->kc_9[b] * w->v13[0][b] + w->kc_10[b] * w->v14[0][b] + w->kc_11[b] * w->v15[0][b] + w->kc_12[b] * w->v16[0][b] + w->kc_13[b] * w->v17[0][b] + w->kc_14[b] * w->v18[0][b] + w->kc_15[b] * w->v19[0][b] + w->kc_16[b] * w->v20[0][b] + w->kc_17[b] * w->v21[0][b] + w->kc_18[b] * w->v22[0][b] + w->kc_19[b] * w->v23[0][b] + w->kc_20[b] * w->v24[0][b];
         } else {
-            TS_CORE w->v25[K][b] = 0.0;
+            TS_CORE w->v25[0][b] = 0.0;
         }
     } else {
         if (K <= 1) {
@@ -598,43 +598,43 @@ TS_INLINE void two_plane_hill_ts_order(two_plane_hill_ts *w, const int K, double
             TS_CORE w->v30[K][b] = 0.0;
         }
         if (K <= 2) {
-            TS_CORE w->v31[K][b] = ts_sqr(&w->v30[0][b], TS_B, K);
+            TS_CORE w->v31[0][b] = ts_sqr(&w->v30[0][b], TS_B, K);
         } else {
-            TS_CORE w->v31[K][b] = 0.0;
+            TS_CORE w->v31[0][b] = 0.0;
         }
         if (K <= 2) {
-            TS_CORE w->v32[K][b] = w->v31[K][b] + (K == 0 ? 1.0 : 0.0);
+            TS_CORE w->v32[K][b] = w->v31[0][b] + (K == 0 ? 1.0 : 0.0);
         } else {
             TS_CORE w->v32[K][b] = 0.0;
         }
         TS_CORE ts_atan(&w->v30[0][b], TS_B, &w->v32[0][b], TS_B, &w->v33[0][b], TS_B, K);
-        TS_CORE w->v34[K][b] = w->kc_0[b] * w->v2[K][b] + -0.3333333333333333 * w->v27[K][b] + 0.16666666666666666 * w->v29[K][b] + -0.5773502691896257 * w->v33[K][b] + (K == 0 ? -0.3022998940390363 : 0.0);
+        TS_CORE w->v34[0][b] = w->kc_0[b] * w->v2[K][b] + -0.3333333333333333 * w->v27[K][b] + 0.16666666666666666 * w->v29[K][b] + -0.5773502691896257 * w->v33[K][b] + (K == 0 ? -0.3022998940390363 : 0.0);
     }
 #else
-    TS_CORE w->v5[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 43, K);
-    TS_CORE w->v6[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 19, K);
-    TS_CORE w->v7[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 58, K);
-    TS_CORE w->v8[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 40, K);
-    TS_CORE w->v9[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 61, K);
-    TS_CORE w->v10[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 7, K);
-    TS_CORE w->v11[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 49, K);
-    TS_CORE w->v12[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 31, K);
-    TS_CORE w->v13[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 10, K);
-    TS_CORE w->v14[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 55, K);
-    TS_CORE w->v15[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 25, K);
-    TS_CORE w->v16[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 4, K);
-    TS_CORE w->v17[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 16, K);
-    TS_CORE w->v18[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 34, K);
-    TS_CORE w->v19[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 52, K);
-    TS_CORE w->v20[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 37, K);
-    TS_CORE w->v21[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 22, K);
-    TS_CORE w->v22[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 46, K);
-    TS_CORE w->v23[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 28, K);
-    TS_CORE w->v24[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 13, K);
+    TS_CORE w->v5[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 43, K);
+    TS_CORE w->v6[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 19, K);
+    TS_CORE w->v7[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 58, K);
+    TS_CORE w->v8[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 40, K);
+    TS_CORE w->v9[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 61, K);
+    TS_CORE w->v10[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 7, K);
+    TS_CORE w->v11[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 49, K);
+    TS_CORE w->v12[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 31, K);
+    TS_CORE w->v13[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 10, K);
+    TS_CORE w->v14[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 55, K);
+    TS_CORE w->v15[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 25, K);
+    TS_CORE w->v16[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 4, K);
+    TS_CORE w->v17[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 16, K);
+    TS_CORE w->v18[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 34, K);
+    TS_CORE w->v19[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 52, K);
+    TS_CORE w->v20[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 37, K);
+    TS_CORE w->v21[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 22, K);
+    TS_CORE w->v22[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 46, K);
+    TS_CORE w->v23[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 28, K);
+    TS_CORE w->v24[0][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 13, K);
     if (K <= 61) {
-        TS_CORE w->v25[K][b] = w->kc_1[b] * w->v5[K][b] + w->kc_2[b] * w->v6[K][b] + w->kc_3[b] * w->v7[K][b] + w->kc_4[b] * w->v8[K][b] + w->kc_5[b] * w->v9[K][b] + w->kc_6[b] * w->v10[K][b] + w->kc_7[b] * w->v11[K][b] + w->kc_8[b] * w->v12[K][b] + w->kc_9[b] * w->v13[K][b] + w->kc_10[b] * w->v14[K][b] + w->kc_11[b] * w->v15[K][b] + w->kc_12[b] * w->v16[K][b] + w->kc_13[b] * w->v17[K][b] + w->kc_14[b] * w->v18[K][b] + w->kc_15[b] * w->v19[K][b] + w->kc_16[b] * w->v20[K][b] + w->kc_17[b] * w->v21[K][b] + w->kc_18[b] * w->v22[K][b] + w->kc_19[b] * w->v23[K][b] + w->kc_20[b] * w->v24[K][b];
+        TS_CORE w->v25[0][b] = w->kc_1[b] * w->v5[0][b] + w->kc_2[b] * w->v6[0][b] + w->kc_3[b] * w->v7[0][b] + w->kc_4[b] * w->v8[0][b] + w->kc_5[b] * w->v9[0][b] + w->kc_6[b] * w->v10[0][b] + w->kc_7[b] * w->v11[0][b] + w->kc_8[b] * w->v12[0][b] + w->kc_9[b] * w->v13[0][b] + w->kc_10[b] * w->v14[0][b] + w->kc_11[b] * w->v15[0][b] + w->kc_12[b] * w->v16[0][b] + w->kc_13[b] * w->v17[0][b] + w->kc_14[b] * w->v18[0][b] + w->kc_15[b] * w->v19[0][b] + w->kc_16[b] * w->v20[0][b] + w->kc_17[b] * w->v21[0][b] + w->kc_18[b] * w->v22[0][b] + w->kc_19[b] * w->v23[0][b] + w->kc_20[b] * w->v24[0][b];
     } else {
-        TS_CORE w->v25[K][b] = 0.0;
+        TS_CORE w->v25[0][b] = 0.0;
     }
     if (K <= 1) {
         TS_CORE w->v26[K][b] = w->kc_0[b] * w->v2[K][b] + (K == 0 ? 1.0 : 0.0);
@@ -654,20 +654,20 @@ TS_INLINE void two_plane_hill_ts_order(two_plane_hill_ts *w, const int K, double
         TS_CORE w->v30[K][b] = 0.0;
     }
     if (K <= 2) {
-        TS_CORE w->v31[K][b] = ts_sqr(&w->v30[0][b], TS_B, K);
+        TS_CORE w->v31[0][b] = ts_sqr(&w->v30[0][b], TS_B, K);
     } else {
-        TS_CORE w->v31[K][b] = 0.0;
+        TS_CORE w->v31[0][b] = 0.0;
     }
     if (K <= 2) {
-        TS_CORE w->v32[K][b] = w->v31[K][b] + (K == 0 ? 1.0 : 0.0);
+        TS_CORE w->v32[K][b] = w->v31[0][b] + (K == 0 ? 1.0 : 0.0);
     } else {
         TS_CORE w->v32[K][b] = 0.0;
     }
     TS_CORE ts_atan(&w->v30[0][b], TS_B, &w->v32[0][b], TS_B, &w->v33[0][b], TS_B, K);
-    TS_CORE w->v34[K][b] = w->kc_0[b] * w->v2[K][b] + -0.3333333333333333 * w->v27[K][b] + 0.16666666666666666 * w->v29[K][b] + -0.5773502691896257 * w->v33[K][b] + (K == 0 ? -0.3022998940390363 : 0.0);
+    TS_CORE w->v34[0][b] = w->kc_0[b] * w->v2[K][b] + -0.3333333333333333 * w->v27[K][b] + 0.16666666666666666 * w->v29[K][b] + -0.5773502691896257 * w->v33[K][b] + (K == 0 ? -0.3022998940390363 : 0.0);
 #endif
-    TS_CORE w->v35[K][b] = w->flag0[b] ? w->v25[K][b] : w->v34[K][b];
-    TS_CORE w->v36[K][b] = w->kc_24[b] * w->v35[K][b];
+    TS_CORE w->v35[0][b] = w->flag0[b] ? w->v25[0][b] : w->v34[0][b];
+    TS_CORE w->v36[K][b] = w->kc_24[b] * w->v35[0][b];
     TS_CORE ts_sincos(&w->v36[0][b], TS_B, &w->v37[0][b], TS_B, &w->v38[0][b], TS_B, K);
     TS_CORE w->v39[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 6, K);
     TS_CORE w->v40[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 3, K);
@@ -685,9 +685,9 @@ TS_INLINE void two_plane_hill_ts_order(two_plane_hill_ts *w, const int K, double
     TS_CORE w->v44[K][b] = ts_dot(&w->v43[0][b], TS_B, &w->v39[0][b], TS_B, TS_MAX(0, K - 6), K, K);
     TS_CORE { if (K == 0) w->rc_v45[b] = 1.0 / w->v41[0][b]; w->v45[K][b] = ((K == 0 ? 1.0 : 0.0) - ts_dot(&w->v41[0][b], TS_B, &w->v45[0][b], TS_B, 1, K, K)) * w->rc_v45[b]; }
     TS_CORE w->v46[K][b] = ts_ipow_affine(&w->v2[0][b], TS_B, 5, K);
-    TS_CORE w->v47[K][b] = ts_dot(&w->v43[0][b], TS_B, &w->v46[0][b], TS_B, TS_MAX(0, K - 5), K, K);
-    TS_CORE w->v48[K][b] = ts_dot(&w->v45[0][b], TS_B, &w->v3[0][b], TS_B, TS_MAX(0, K - 2), K, K);
-    TS_CORE w->v49[K][b] = w->kc_27[b] * w->v47[K][b] + w->kc_28[b] * w->v48[K][b];
+    TS_CORE w->v47[0][b] = ts_dot(&w->v43[0][b], TS_B, &w->v46[0][b], TS_B, TS_MAX(0, K - 5), K, K);
+    TS_CORE w->v48[0][b] = ts_dot(&w->v45[0][b], TS_B, &w->v3[0][b], TS_B, TS_MAX(0, K - 2), K, K);
+    TS_CORE w->v49[K][b] = w->kc_27[b] * w->v47[0][b] + w->kc_28[b] * w->v48[0][b];
     TS_CORE w->v52[K][b] = 0.0 + (K == 0 ? w->kc_29[b] : 0.0);
     TS_CORE w->v53[K][b] = 0.0;
     TS_CORE w->v54[K][b] = 0.0;
@@ -700,66 +700,66 @@ TS_INLINE void two_plane_hill_ts_order(two_plane_hill_ts *w, const int K, double
     TS_CORE w->v63[K][b] = 0.0;
     TS_CORE w->v65[K][b] = 0.0;
     TS_CORE w->v67[K][b] = 0.0 + (K == 0 ? w->kc_30[b] : 0.0);
-    TS_CORE w->v70[K][b] = ts_dot(&w->v49[0][b], TS_B, &w->v38[0][b], TS_B, 0, K, K);
-    TS_CORE w->v71[K][b] = ts_dot(&w->v44[0][b], TS_B, &w->v37[0][b], TS_B, 0, K, K);
-    TS_CORE w->v72[K][b] = ts_dot(&w->v49[0][b], TS_B, &w->v37[0][b], TS_B, 0, K, K);
+    TS_CORE w->v70[0][b] = ts_dot(&w->v49[0][b], TS_B, &w->v38[0][b], TS_B, 0, K, K);
+    TS_CORE w->v71[0][b] = ts_dot(&w->v44[0][b], TS_B, &w->v37[0][b], TS_B, 0, K, K);
+    TS_CORE w->v72[0][b] = ts_dot(&w->v49[0][b], TS_B, &w->v37[0][b], TS_B, 0, K, K);
     TS_CORE w->v73[K][b] = ts_dot(&w->v39[0][b], TS_B, &w->v43[0][b], TS_B, 0, TS_MIN(K, 6), K);
-    TS_CORE w->v74[K][b] = ts_dot(&w->v73[0][b], TS_B, &w->v38[0][b], TS_B, 0, K, K);
-    TS_CORE w->v75[K][b] = w->kc_31[b] * w->v68[K][b] + w->kc_32[b] * w->v69[K][b] + w->kc_33[b] * w->v0[K][b] + w->kc_34[b] * w->v1[K][b] + w->kc_35[b] * w->v70[K][b] + w->kc_36[b] * w->v71[K][b] + w->kc_37[b] * w->v72[K][b] + w->kc_38[b] * w->v74[K][b];
-    TS_CORE w->v76[K][b] = w->v75[K][b];
-    TS_CORE w->v78[K][b] = ts_dot(&w->v73[0][b], TS_B, &w->v37[0][b], TS_B, 0, K, K);
-    TS_CORE w->v80[K][b] = w->kc_39[b] * w->v77[K][b] + w->kc_33[b] * w->v50[K][b] + w->kc_38[b] * w->v78[K][b] + w->kc_40[b] * w->v79[K][b] + w->kc_41[b] * w->v70[K][b] + w->kc_34[b] * w->v51[K][b] + w->kc_35[b] * w->v72[K][b] + w->kc_42[b] * w->v74[K][b];
-    TS_CORE w->v81[K][b] = w->v80[K][b];
-    TS_CORE w->v82[K][b] = ts_dot(&w->v38[0][b], TS_B, &w->v49[0][b], TS_B, 0, K, K);
+    TS_CORE w->v74[0][b] = ts_dot(&w->v73[0][b], TS_B, &w->v38[0][b], TS_B, 0, K, K);
+    TS_CORE w->v75[0][b] = w->kc_31[b] * w->v68[K][b] + w->kc_32[b] * w->v69[K][b] + w->kc_33[b] * w->v0[K][b] + w->kc_34[b] * w->v1[K][b] + w->kc_35[b] * w->v70[0][b] + w->kc_36[b] * w->v71[0][b] + w->kc_37[b] * w->v72[0][b] + w->kc_38[b] * w->v74[0][b];
+    TS_CORE w->v76[K][b] = w->v75[0][b];
+    TS_CORE w->v78[0][b] = ts_dot(&w->v73[0][b], TS_B, &w->v37[0][b], TS_B, 0, K, K);
+    TS_CORE w->v80[0][b] = w->kc_39[b] * w->v77[K][b] + w->kc_33[b] * w->v50[K][b] + w->kc_38[b] * w->v78[0][b] + w->kc_40[b] * w->v79[K][b] + w->kc_41[b] * w->v70[0][b] + w->kc_34[b] * w->v51[K][b] + w->kc_35[b] * w->v72[0][b] + w->kc_42[b] * w->v74[0][b];
+    TS_CORE w->v81[K][b] = w->v80[0][b];
+    TS_CORE w->v82[0][b] = ts_dot(&w->v38[0][b], TS_B, &w->v49[0][b], TS_B, 0, K, K);
     TS_CORE w->v83[K][b] = ts_dot(&w->v40[0][b], TS_B, &w->v45[0][b], TS_B, 0, TS_MIN(K, 3), K);
-    TS_CORE w->v84[K][b] = ts_dot(&w->v83[0][b], TS_B, &w->v68[0][b], TS_B, 0, K, K);
-    TS_CORE w->v85[K][b] = w->kc_43[b] * w->v71[K][b] + w->kc_44[b] * w->v79[K][b] + w->kc_39[b] * w->v51[K][b] + w->kc_45[b] * w->v70[K][b] + w->kc_46[b] * w->v82[K][b] + w->kc_47[b] * w->v84[K][b] + w->kc_48[b] * w->v77[K][b] + w->kc_49[b] * w->v78[K][b] + w->kc_40[b] * w->v50[K][b];
-    TS_CORE w->v86[K][b] = w->v85[K][b];
-    TS_CORE w->v87[K][b] = ts_dot(&w->v44[0][b], TS_B, &w->v38[0][b], TS_B, 0, K, K);
-    TS_CORE w->v88[K][b] = ts_dot(&w->v83[0][b], TS_B, &w->v77[0][b], TS_B, 0, K, K);
-    TS_CORE w->v89[K][b] = ts_dot(&w->v37[0][b], TS_B, &w->v49[0][b], TS_B, 0, K, K);
-    TS_CORE w->v90[K][b] = w->kc_44[b] * w->v69[K][b] + w->kc_50[b] * w->v74[K][b] + w->kc_31[b] * w->v1[K][b] + w->kc_51[b] * w->v87[K][b] + w->kc_52[b] * w->v88[K][b] + w->kc_32[b] * w->v0[K][b] + w->kc_46[b] * w->v89[K][b] + w->kc_45[b] * w->v72[K][b] + w->kc_48[b] * w->v68[K][b];
-    TS_CORE w->v91[K][b] = w->v90[K][b];
+    TS_CORE w->v84[0][b] = ts_dot(&w->v83[0][b], TS_B, &w->v68[0][b], TS_B, 0, K, K);
+    TS_CORE w->v85[0][b] = w->kc_43[b] * w->v71[0][b] + w->kc_44[b] * w->v79[K][b] + w->kc_39[b] * w->v51[K][b] + w->kc_45[b] * w->v70[0][b] + w->kc_46[b] * w->v82[0][b] + w->kc_47[b] * w->v84[0][b] + w->kc_48[b] * w->v77[K][b] + w->kc_49[b] * w->v78[0][b] + w->kc_40[b] * w->v50[K][b];
+    TS_CORE w->v86[K][b] = w->v85[0][b];
+    TS_CORE w->v87[0][b] = ts_dot(&w->v44[0][b], TS_B, &w->v38[0][b], TS_B, 0, K, K);
+    TS_CORE w->v88[0][b] = ts_dot(&w->v83[0][b], TS_B, &w->v77[0][b], TS_B, 0, K, K);
+    TS_CORE w->v89[0][b] = ts_dot(&w->v37[0][b], TS_B, &w->v49[0][b], TS_B, 0, K, K);
+    TS_CORE w->v90[0][b] = w->kc_44[b] * w->v69[K][b] + w->kc_50[b] * w->v74[0][b] + w->kc_31[b] * w->v1[K][b] + w->kc_51[b] * w->v87[0][b] + w->kc_52[b] * w->v88[0][b] + w->kc_32[b] * w->v0[K][b] + w->kc_46[b] * w->v89[0][b] + w->kc_45[b] * w->v72[0][b] + w->kc_48[b] * w->v68[K][b];
+    TS_CORE w->v91[K][b] = w->v90[0][b];
     TS_CORE { if (K == 0) w->rc_v97[b] = 1.0 / w->v41[0][b]; w->v97[K][b] = (w->v40[K][b] - ts_dot(&w->v41[0][b], TS_B, &w->v97[0][b], TS_B, 1, K, K)) * w->rc_v97[b]; }
     TS_BALLS w->b93[K][TS_L] = ts_sqr(&w->b92[0][TS_L], TS_LB, K);
     TS_BALLS ts_sincos(&w->b94[0][TS_L], TS_LB, &w->b95[0][TS_L], TS_LB, &w->b96[0][TS_L], TS_LB, K);
     TS_BALLS w->b98[K][TS_L] = w->kb_0[TS_L] * w->v97[K][b] + w->kb_1[TS_L] * w->b92[K][TS_L];
-    TS_BALLS w->b99[K][TS_L] = ts_sqr(&w->b95[0][TS_L], TS_LB, K);
-    TS_BALLS w->b100[K][TS_L] = w->kb_2[TS_L] * w->b99[K][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v52[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b100[K][TS_L]; w->v52[K][b] = s_; }
-    TS_BALLS w->b101[K][TS_L] = ts_dot(&w->b95[0][TS_L], TS_LB, &w->b96[0][TS_L], TS_LB, 0, K, K);
-    TS_CORE { double s_ = w->v53[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_3[TS_L] * w->b101[K][TS_L]; w->v53[K][b] = s_; }
-    TS_BALLS w->b102[K][TS_L] = ts_dot(&w->b96[0][TS_L], TS_LB, &w->b95[0][TS_L], TS_LB, 0, K, K);
-    TS_CORE { double s_ = w->v54[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b102[K][TS_L]; w->v54[K][b] = s_; }
-    TS_BALLS w->b103[K][TS_L] = w->kb_4[TS_L] * w->b99[K][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v55[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b103[K][TS_L]; w->v55[K][b] = s_; }
-    TS_BALLS w->b104[K][TS_L] = ts_sqr(&w->b96[0][TS_L], TS_LB, K);
-    TS_BALLS w->b105[K][TS_L] = w->kb_2[TS_L] * w->b104[K][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v57[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b105[K][TS_L]; w->v57[K][b] = s_; }
-    TS_BALLS w->b106[K][TS_L] = w->kb_5[TS_L] * w->b104[K][TS_L] + (K == 0 ? w->kb_4[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v58[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b106[K][TS_L]; w->v58[K][b] = s_; }
-    TS_CORE { double s_ = w->v59[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b101[K][TS_L]; w->v59[K][b] = s_; }
-    TS_CORE { double s_ = w->v60[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b101[K][TS_L]; w->v60[K][b] = s_; }
-    TS_BALLS w->b107[K][TS_L] = w->kb_6[TS_L] * w->b104[K][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v62[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b107[K][TS_L]; w->v62[K][b] = s_; }
-    TS_CORE { double s_ = w->v63[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_6[TS_L] * w->b102[K][TS_L]; w->v63[K][b] = s_; }
-    TS_CORE { double s_ = w->v65[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b102[K][TS_L]; w->v65[K][b] = s_; }
-    TS_BALLS w->b108[K][TS_L] = w->kb_6[TS_L] * w->b99[K][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v67[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b108[K][TS_L]; w->v67[K][b] = s_; }
-    TS_BALLS w->b109[K][TS_L] = ts_dot(&w->b95[0][TS_L], TS_LB, &w->b98[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b110[K][TS_L] = ts_dot(&w->b96[0][TS_L], TS_LB, &w->b93[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b111[K][TS_L] = w->kb_8[TS_L] * w->b109[K][TS_L] + w->kb_9[TS_L] * w->b110[K][TS_L];
-    TS_CORE { double s_ = w->v76[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b111[K][TS_L]; w->v76[K][b] = s_; }
-    TS_BALLS w->b112[K][TS_L] = ts_dot(&w->b93[0][TS_L], TS_LB, &w->b95[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b113[K][TS_L] = ts_dot(&w->b98[0][TS_L], TS_LB, &w->b96[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b114[K][TS_L] = w->kb_9[TS_L] * w->b112[K][TS_L] + w->kb_10[TS_L] * w->b113[K][TS_L];
-    TS_CORE { double s_ = w->v81[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b114[K][TS_L]; w->v81[K][b] = s_; }
-    TS_BALLS w->b115[K][TS_L] = ts_dot(&w->b96[0][TS_L], TS_LB, &w->b98[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b116[K][TS_L] = w->kb_11[TS_L] * w->b112[K][TS_L] + w->kb_12[TS_L] * w->b115[K][TS_L];
-    TS_CORE { double s_ = w->v86[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b116[K][TS_L]; w->v86[K][b] = s_; }
-    TS_BALLS w->b117[K][TS_L] = ts_dot(&w->b93[0][TS_L], TS_LB, &w->b96[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b118[K][TS_L] = w->kb_12[TS_L] * w->b109[K][TS_L] + w->kb_13[TS_L] * w->b117[K][TS_L];
-    TS_CORE { double s_ = w->v91[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b118[K][TS_L]; w->v91[K][b] = s_; }
+    TS_BALLS w->b99[0][TS_L] = ts_sqr(&w->b95[0][TS_L], TS_LB, K);
+    TS_BALLS w->b100[0][TS_L] = w->kb_2[TS_L] * w->b99[0][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v52[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b100[0][TS_L]; w->v52[K][b] = s_; }
+    TS_BALLS w->b101[0][TS_L] = ts_dot(&w->b95[0][TS_L], TS_LB, &w->b96[0][TS_L], TS_LB, 0, K, K);
+    TS_CORE { double s_ = w->v53[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_3[TS_L] * w->b101[0][TS_L]; w->v53[K][b] = s_; }
+    TS_BALLS w->b102[0][TS_L] = ts_dot(&w->b96[0][TS_L], TS_LB, &w->b95[0][TS_L], TS_LB, 0, K, K);
+    TS_CORE { double s_ = w->v54[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b102[0][TS_L]; w->v54[K][b] = s_; }
+    TS_BALLS w->b103[0][TS_L] = w->kb_4[TS_L] * w->b99[0][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v55[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b103[0][TS_L]; w->v55[K][b] = s_; }
+    TS_BALLS w->b104[0][TS_L] = ts_sqr(&w->b96[0][TS_L], TS_LB, K);
+    TS_BALLS w->b105[0][TS_L] = w->kb_2[TS_L] * w->b104[0][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v57[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b105[0][TS_L]; w->v57[K][b] = s_; }
+    TS_BALLS w->b106[0][TS_L] = w->kb_5[TS_L] * w->b104[0][TS_L] + (K == 0 ? w->kb_4[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v58[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b106[0][TS_L]; w->v58[K][b] = s_; }
+    TS_CORE { double s_ = w->v59[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b101[0][TS_L]; w->v59[K][b] = s_; }
+    TS_CORE { double s_ = w->v60[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b101[0][TS_L]; w->v60[K][b] = s_; }
+    TS_BALLS w->b107[0][TS_L] = w->kb_6[TS_L] * w->b104[0][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v62[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b107[0][TS_L]; w->v62[K][b] = s_; }
+    TS_CORE { double s_ = w->v63[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_6[TS_L] * w->b102[0][TS_L]; w->v63[K][b] = s_; }
+    TS_CORE { double s_ = w->v65[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b102[0][TS_L]; w->v65[K][b] = s_; }
+    TS_BALLS w->b108[0][TS_L] = w->kb_6[TS_L] * w->b99[0][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v67[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b108[0][TS_L]; w->v67[K][b] = s_; }
+    TS_BALLS w->b109[0][TS_L] = ts_dot(&w->b95[0][TS_L], TS_LB, &w->b98[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b110[0][TS_L] = ts_dot(&w->b96[0][TS_L], TS_LB, &w->b93[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b111[0][TS_L] = w->kb_8[TS_L] * w->b109[0][TS_L] + w->kb_9[TS_L] * w->b110[0][TS_L];
+    TS_CORE { double s_ = w->v76[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b111[0][TS_L]; w->v76[K][b] = s_; }
+    TS_BALLS w->b112[0][TS_L] = ts_dot(&w->b93[0][TS_L], TS_LB, &w->b95[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b113[0][TS_L] = ts_dot(&w->b98[0][TS_L], TS_LB, &w->b96[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b114[0][TS_L] = w->kb_9[TS_L] * w->b112[0][TS_L] + w->kb_10[TS_L] * w->b113[0][TS_L];
+    TS_CORE { double s_ = w->v81[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b114[0][TS_L]; w->v81[K][b] = s_; }
+    TS_BALLS w->b115[0][TS_L] = ts_dot(&w->b96[0][TS_L], TS_LB, &w->b98[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b116[0][TS_L] = w->kb_11[TS_L] * w->b112[0][TS_L] + w->kb_12[TS_L] * w->b115[0][TS_L];
+    TS_CORE { double s_ = w->v86[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b116[0][TS_L]; w->v86[K][b] = s_; }
+    TS_BALLS w->b117[0][TS_L] = ts_dot(&w->b93[0][TS_L], TS_LB, &w->b96[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b118[0][TS_L] = w->kb_12[TS_L] * w->b109[0][TS_L] + w->kb_13[TS_L] * w->b117[0][TS_L];
+    TS_CORE { double s_ = w->v91[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b118[0][TS_L]; w->v91[K][b] = s_; }
     if (K == 0) TS_CORE {
         w->sf_LU_1_0[b] = w->v53[0][b]/w->v52[0][b];
         w->sf_LU_1_1_0[b] = -w->sf_LU_1_0[b]*w->v53[0][b] + w->v57[0][b];
@@ -824,12 +824,12 @@ TS_INLINE void two_plane_hill_ts_order(two_plane_hill_ts *w, const int K, double
     TS_CORE f[10 * TS_B + b] = w->v121[K][b];
     TS_CORE f[11 * TS_B + b] = w->v122[K][b];
     for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(4 + i) * TS_B + b] = w->b92[K][TS_L];
-    TS_BALLS w->b123[K][TS_L] = ts_dot(&w->b96[0][TS_L], TS_LB, &w->v121[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b124[K][TS_L] = ts_dot(&w->b95[0][TS_L], TS_LB, &w->v119[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b125[K][TS_L] = ts_dot(&w->v122[0][b], TS_B, &w->b95[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b126[K][TS_L] = ts_dot(&w->v120[0][b], TS_B, &w->b96[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b127[K][TS_L] = w->kb_13[TS_L] * w->b123[K][TS_L] + w->kb_9[TS_L] * w->b124[K][TS_L] + w->kb_13[TS_L] * w->b125[K][TS_L] + w->b98[K][TS_L] + w->kb_14[TS_L] * w->b126[K][TS_L];
-    for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(12 + i) * TS_B + b] = w->kb_15[TS_L] * w->b127[K][TS_L];
+    TS_BALLS w->b128[K][TS_L] = w->kb_13[TS_L] * w->v121[K][b] + w->kb_14[TS_L] * w->v120[K][b];
+    TS_BALLS w->b129[0][TS_L] = ts_dot(&w->b96[0][TS_L], TS_LB, &w->b128[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b130[K][TS_L] = w->kb_9[TS_L] * w->v119[K][b] + w->kb_13[TS_L] * w->v122[K][b];
+    TS_BALLS w->b131[0][TS_L] = ts_dot(&w->b95[0][TS_L], TS_LB, &w->b130[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b127[0][TS_L] = w->b129[0][TS_L] + w->b131[0][TS_L] + w->b98[K][TS_L];
+    for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(12 + i) * TS_B + b] = w->kb_15[TS_L] * w->b127[0][TS_L];
 }
 
 #if TS_B == 1

@@ -193,25 +193,25 @@ typedef struct {
     double v1[TS_MAXO + 2][TS_B];
     double v2[TS_MAXO + 2][TS_B];
     double v3[TS_MAXO + 2][TS_B];
-    double v4[TS_MAXO + 2][TS_B];
-    double v5[TS_MAXO + 2][TS_B];
+    double v4[1][TS_B];
+    double v5[1][TS_B];
     double v6[TS_MAXO + 2][TS_B];
-    double v7[TS_MAXO + 2][TS_B];
-    double v8[TS_MAXO + 2][TS_B];
-    double v9[TS_MAXO + 2][TS_B];
-    double v10[TS_MAXO + 2][TS_B];
+    double v7[1][TS_B];
+    double v8[1][TS_B];
+    double v9[1][TS_B];
+    double v10[1][TS_B];
     double v11[TS_MAXO + 2][TS_B];
     double v12[TS_MAXO + 2][TS_B];
     double v13[TS_MAXO + 2][TS_B];
-    double v14[TS_MAXO + 2][TS_B];
-    double v15[TS_MAXO + 2][TS_B];
+    double v14[1][TS_B];
+    double v15[1][TS_B];
     double v16[TS_MAXO + 2][TS_B];
-    double v17[TS_MAXO + 2][TS_B];
+    double v17[1][TS_B];
     double v18[TS_MAXO + 2][TS_B];
     double v19[TS_MAXO + 2][TS_B];
-    double v20[TS_MAXO + 2][TS_B];
-    double v21[TS_MAXO + 2][TS_B];
-    double v22[TS_MAXO + 2][TS_B];
+    double v20[1][TS_B];
+    double v21[1][TS_B];
+    double v22[1][TS_B];
     double v23[TS_MAXO + 2][TS_B];
     double v24[TS_MAXO + 2][TS_B];
     double v25[TS_MAXO + 2][TS_B];
@@ -227,57 +227,57 @@ typedef struct {
     double v39[TS_MAXO + 2][TS_B];
     double v40[TS_MAXO + 2][TS_B];
     double v41[TS_MAXO + 2][TS_B];
-    double v42[TS_MAXO + 2][TS_B];
-    double v43[TS_MAXO + 2][TS_B];
-    double v44[TS_MAXO + 2][TS_B];
+    double v42[1][TS_B];
+    double v43[1][TS_B];
+    double v44[1][TS_B];
     double v45[TS_MAXO + 2][TS_B];
     double v46[TS_MAXO + 2][TS_B];
     double v47[TS_MAXO + 2][TS_B];
-    double v48[TS_MAXO + 2][TS_B];
+    double v48[1][TS_B];
     double v49[TS_MAXO + 2][TS_B];
-    double v50[TS_MAXO + 2][TS_B];
-    double v51[TS_MAXO + 2][TS_B];
+    double v50[1][TS_B];
+    double v51[1][TS_B];
     double v52[TS_MAXO + 2][TS_B];
-    double v53[TS_MAXO + 2][TS_B];
-    double v54[TS_MAXO + 2][TS_B];
+    double v53[1][TS_B];
+    double v54[1][TS_B];
     double v55[TS_MAXO + 2][TS_B];
     double b56[TS_MAXO + 2][TS_LB];
     double b57[TS_MAXO + 2][TS_LB];
     double b58[TS_MAXO + 2][TS_LB];
     double b59[TS_MAXO + 2][TS_LB];
     double b60[TS_MAXO + 2][TS_LB];
-    double v61[TS_MAXO + 2][TS_B];
-    double v62[TS_MAXO + 2][TS_B];
-    double v63[TS_MAXO + 2][TS_B];
+    double v61[1][TS_B];
+    double v62[1][TS_B];
+    double v63[1][TS_B];
     double b64[TS_MAXO + 2][TS_LB];
-    double b65[TS_MAXO + 2][TS_LB];
-    double b66[TS_MAXO + 2][TS_LB];
-    double b67[TS_MAXO + 2][TS_LB];
-    double b68[TS_MAXO + 2][TS_LB];
-    double b69[TS_MAXO + 2][TS_LB];
-    double b70[TS_MAXO + 2][TS_LB];
-    double b71[TS_MAXO + 2][TS_LB];
-    double b72[TS_MAXO + 2][TS_LB];
-    double b73[TS_MAXO + 2][TS_LB];
-    double b74[TS_MAXO + 2][TS_LB];
-    double b75[TS_MAXO + 2][TS_LB];
-    double b76[TS_MAXO + 2][TS_LB];
-    double b77[TS_MAXO + 2][TS_LB];
-    double b78[TS_MAXO + 2][TS_LB];
-    double b79[TS_MAXO + 2][TS_LB];
-    double b80[TS_MAXO + 2][TS_LB];
-    double b81[TS_MAXO + 2][TS_LB];
-    double b82[TS_MAXO + 2][TS_LB];
-    double b83[TS_MAXO + 2][TS_LB];
+    double b65[1][TS_LB];
+    double b66[1][TS_LB];
+    double b67[1][TS_LB];
+    double b68[1][TS_LB];
+    double b69[1][TS_LB];
+    double b70[1][TS_LB];
+    double b71[1][TS_LB];
+    double b72[1][TS_LB];
+    double b73[1][TS_LB];
+    double b74[1][TS_LB];
+    double b75[1][TS_LB];
+    double b76[1][TS_LB];
+    double b77[1][TS_LB];
+    double b78[1][TS_LB];
+    double b79[1][TS_LB];
+    double b80[1][TS_LB];
+    double b81[1][TS_LB];
+    double b82[1][TS_LB];
+    double b83[1][TS_LB];
     double v84[TS_MAXO + 2][TS_B];
     double v85[TS_MAXO + 2][TS_B];
     double v86[TS_MAXO + 2][TS_B];
     double v87[TS_MAXO + 2][TS_B];
-    double b88[TS_MAXO + 2][TS_LB];
-    double b89[TS_MAXO + 2][TS_LB];
-    double b90[TS_MAXO + 2][TS_LB];
-    double b91[TS_MAXO + 2][TS_LB];
-    double b92[TS_MAXO + 2][TS_LB];
+    double b92[1][TS_LB];
+    double b93[TS_MAXO + 2][TS_LB];
+    double b94[1][TS_LB];
+    double b95[TS_MAXO + 2][TS_LB];
+    double b96[1][TS_LB];
     double kc_0[TS_B];
     double kc_1[TS_B];
     double kc_2[TS_B];
@@ -460,77 +460,77 @@ TS_INLINE void two_plane_ramp_ts_order(two_plane_ramp_ts *w, const int K, double
 #if TS_B == 1
     if (w->flag0[0]) {
         if (K <= 0) {
-            TS_CORE w->v4[K][b] = 0.0 + (K == 0 ? w->kc_2[b] : 0.0);
+            TS_CORE w->v4[0][b] = 0.0 + (K == 0 ? w->kc_2[b] : 0.0);
         } else {
-            TS_CORE w->v4[K][b] = 0.0;
+            TS_CORE w->v4[0][b] = 0.0;
         }
     } else {
         if (K <= 0) {
-            TS_CORE w->v5[K][b] = 0.0;
+            TS_CORE w->v5[0][b] = 0.0;
         } else {
-            TS_CORE w->v5[K][b] = 0.0;
+            TS_CORE w->v5[0][b] = 0.0;
         }
     }
 #else
     if (K <= 0) {
-        TS_CORE w->v4[K][b] = 0.0 + (K == 0 ? w->kc_2[b] : 0.0);
+        TS_CORE w->v4[0][b] = 0.0 + (K == 0 ? w->kc_2[b] : 0.0);
     } else {
-        TS_CORE w->v4[K][b] = 0.0;
+        TS_CORE w->v4[0][b] = 0.0;
     }
     if (K <= 0) {
-        TS_CORE w->v5[K][b] = 0.0;
+        TS_CORE w->v5[0][b] = 0.0;
     } else {
-        TS_CORE w->v5[K][b] = 0.0;
+        TS_CORE w->v5[0][b] = 0.0;
     }
 #endif
     if (K <= 0) {
-        TS_CORE w->v6[K][b] = w->flag0[b] ? w->v4[K][b] : w->v5[K][b];
+        TS_CORE w->v6[K][b] = w->flag0[b] ? w->v4[0][b] : w->v5[0][b];
     } else {
         TS_CORE w->v6[K][b] = 0.0;
     }
     if (K <= 2) {
-        TS_CORE w->v7[K][b] = ts_sqr(&w->v2[0][b], TS_B, K);
+        TS_CORE w->v7[0][b] = ts_sqr(&w->v2[0][b], TS_B, K);
     } else {
-        TS_CORE w->v7[K][b] = 0.0;
+        TS_CORE w->v7[0][b] = 0.0;
     }
 #if TS_B == 1
     if (w->flag0[0]) {
         if (K <= 2) {
-            TS_CORE w->v8[K][b] = w->kc_3[b] * w->v7[K][b];
+            TS_CORE w->v8[0][b] = w->kc_3[b] * w->v7[0][b];
         } else {
-            TS_CORE w->v8[K][b] = 0.0;
+            TS_CORE w->v8[0][b] = 0.0;
         }
     } else {
         if (K <= 1) {
-            TS_CORE w->v9[K][b] = w->v2[K][b] + (K == 0 ? w->kc_4[b] : 0.0);
+            TS_CORE w->v9[0][b] = w->v2[K][b] + (K == 0 ? w->kc_4[b] : 0.0);
         } else {
-            TS_CORE w->v9[K][b] = 0.0;
+            TS_CORE w->v9[0][b] = 0.0;
         }
         if (K <= 1) {
-            TS_CORE w->v10[K][b] = w->kc_5[b] * w->v9[K][b];
+            TS_CORE w->v10[0][b] = w->kc_5[b] * w->v9[0][b];
         } else {
-            TS_CORE w->v10[K][b] = 0.0;
+            TS_CORE w->v10[0][b] = 0.0;
         }
     }
 #else
     if (K <= 2) {
-        TS_CORE w->v8[K][b] = w->kc_3[b] * w->v7[K][b];
+        TS_CORE w->v8[0][b] = w->kc_3[b] * w->v7[0][b];
     } else {
-        TS_CORE w->v8[K][b] = 0.0;
+        TS_CORE w->v8[0][b] = 0.0;
     }
     if (K <= 1) {
-        TS_CORE w->v9[K][b] = w->v2[K][b] + (K == 0 ? w->kc_4[b] : 0.0);
+        TS_CORE w->v9[0][b] = w->v2[K][b] + (K == 0 ? w->kc_4[b] : 0.0);
     } else {
-        TS_CORE w->v9[K][b] = 0.0;
+        TS_CORE w->v9[0][b] = 0.0;
     }
     if (K <= 1) {
-        TS_CORE w->v10[K][b] = w->kc_5[b] * w->v9[K][b];
+        TS_CORE w->v10[0][b] = w->kc_5[b] * w->v9[0][b];
     } else {
-        TS_CORE w->v10[K][b] = 0.0;
+        TS_CORE w->v10[0][b] = 0.0;
     }
 #endif
     if (K <= 2) {
-        TS_CORE w->v11[K][b] = w->flag0[b] ? w->v8[K][b] : w->v10[K][b];
+        TS_CORE w->v11[K][b] = w->flag0[b] ? w->v8[0][b] : w->v10[0][b];
     } else {
         TS_CORE w->v11[K][b] = 0.0;
     }
@@ -538,64 +538,64 @@ TS_INLINE void two_plane_ramp_ts_order(two_plane_ramp_ts *w, const int K, double
 #if TS_B == 1
     if (w->flag0[0]) {
         if (K <= 2) {
-            TS_CORE w->v14[K][b] = w->kc_6[b] * w->v7[K][b];
+            TS_CORE w->v14[0][b] = w->kc_6[b] * w->v7[0][b];
         } else {
-            TS_CORE w->v14[K][b] = 0.0;
+            TS_CORE w->v14[0][b] = 0.0;
         }
     } else {
         if (K <= 0) {
-            TS_CORE w->v15[K][b] = 0.0 + (K == 0 ? w->kc_7[b] : 0.0);
+            TS_CORE w->v15[0][b] = 0.0 + (K == 0 ? w->kc_7[b] : 0.0);
         } else {
-            TS_CORE w->v15[K][b] = 0.0;
+            TS_CORE w->v15[0][b] = 0.0;
         }
     }
 #else
     if (K <= 2) {
-        TS_CORE w->v14[K][b] = w->kc_6[b] * w->v7[K][b];
+        TS_CORE w->v14[0][b] = w->kc_6[b] * w->v7[0][b];
     } else {
-        TS_CORE w->v14[K][b] = 0.0;
+        TS_CORE w->v14[0][b] = 0.0;
     }
     if (K <= 0) {
-        TS_CORE w->v15[K][b] = 0.0 + (K == 0 ? w->kc_7[b] : 0.0);
+        TS_CORE w->v15[0][b] = 0.0 + (K == 0 ? w->kc_7[b] : 0.0);
     } else {
-        TS_CORE w->v15[K][b] = 0.0;
+        TS_CORE w->v15[0][b] = 0.0;
     }
 #endif
     if (K <= 2) {
-        TS_CORE w->v16[K][b] = w->flag0[b] ? w->v14[K][b] : w->v15[K][b];
+        TS_CORE w->v16[K][b] = w->flag0[b] ? w->v14[0][b] : w->v15[0][b];
     } else {
         TS_CORE w->v16[K][b] = 0.0;
     }
-    TS_CORE w->v17[K][b] = ts_dot(&w->v12[0][b], TS_B, &w->v16[0][b], TS_B, TS_MAX(0, K - 2), K, K);
-    TS_CORE w->v20[K][b] = ts_dot(&w->v13[0][b], TS_B, &w->v6[0][b], TS_B, TS_MAX(0, K - 0), K, K);
+    TS_CORE w->v17[0][b] = ts_dot(&w->v12[0][b], TS_B, &w->v16[0][b], TS_B, TS_MAX(0, K - 2), K, K);
+    TS_CORE w->v20[0][b] = ts_dot(&w->v13[0][b], TS_B, &w->v6[0][b], TS_B, TS_MAX(0, K - 0), K, K);
 #if TS_B == 1
     if (w->flag0[0]) {
         if (K <= 1) {
-            TS_CORE w->v21[K][b] = w->kc_2[b] * w->v2[K][b];
+            TS_CORE w->v21[0][b] = w->kc_2[b] * w->v2[K][b];
         } else {
-            TS_CORE w->v21[K][b] = 0.0;
+            TS_CORE w->v21[0][b] = 0.0;
         }
     } else {
         if (K <= 0) {
-            TS_CORE w->v22[K][b] = 0.0 + (K == 0 ? w->kc_5[b] : 0.0);
+            TS_CORE w->v22[0][b] = 0.0 + (K == 0 ? w->kc_5[b] : 0.0);
         } else {
-            TS_CORE w->v22[K][b] = 0.0;
+            TS_CORE w->v22[0][b] = 0.0;
         }
     }
 #else
     if (K <= 1) {
-        TS_CORE w->v21[K][b] = w->kc_2[b] * w->v2[K][b];
+        TS_CORE w->v21[0][b] = w->kc_2[b] * w->v2[K][b];
     } else {
-        TS_CORE w->v21[K][b] = 0.0;
+        TS_CORE w->v21[0][b] = 0.0;
     }
     if (K <= 0) {
-        TS_CORE w->v22[K][b] = 0.0 + (K == 0 ? w->kc_5[b] : 0.0);
+        TS_CORE w->v22[0][b] = 0.0 + (K == 0 ? w->kc_5[b] : 0.0);
     } else {
-        TS_CORE w->v22[K][b] = 0.0;
+        TS_CORE w->v22[0][b] = 0.0;
     }
 #endif
     if (K <= 1) {
-        TS_CORE w->v23[K][b] = w->flag0[b] ? w->v21[K][b] : w->v22[K][b];
+        TS_CORE w->v23[K][b] = w->flag0[b] ? w->v21[0][b] : w->v22[0][b];
     } else {
         TS_CORE w->v23[K][b] = 0.0;
     }
@@ -611,88 +611,88 @@ TS_INLINE void two_plane_ramp_ts_order(two_plane_ramp_ts *w, const int K, double
     TS_CORE w->v35[K][b] = 0.0;
     TS_CORE w->v37[K][b] = 0.0;
     TS_CORE w->v39[K][b] = 0.0 + (K == 0 ? w->kc_9[b] : 0.0);
-    TS_CORE w->v42[K][b] = ts_dot(&w->v12[0][b], TS_B, &w->v6[0][b], TS_B, TS_MAX(0, K - 0), K, K);
-    TS_CORE w->v43[K][b] = ts_dot(&w->v16[0][b], TS_B, &w->v13[0][b], TS_B, 0, TS_MIN(K, 2), K);
-    TS_CORE w->v44[K][b] = w->kc_10[b] * w->v40[K][b] + w->kc_11[b] * w->v41[K][b] + w->kc_12[b] * w->v0[K][b] + w->kc_13[b] * w->v42[K][b] + w->kc_14[b] * w->v1[K][b] + w->kc_15[b] * w->v20[K][b] + w->kc_13[b] * w->v43[K][b] + w->kc_16[b] * w->v17[K][b];
-    TS_CORE w->v45[K][b] = w->v44[K][b];
-    TS_CORE w->v48[K][b] = w->kc_17[b] * w->v46[K][b] + w->kc_15[b] * w->v43[K][b] + w->kc_12[b] * w->v18[K][b] + w->kc_18[b] * w->v47[K][b] + w->kc_19[b] * w->v20[K][b] + w->kc_15[b] * w->v42[K][b] + w->kc_14[b] * w->v19[K][b] + w->kc_13[b] * w->v17[K][b];
-    TS_CORE w->v49[K][b] = w->v48[K][b];
-    TS_CORE w->v50[K][b] = ts_dot(&w->v23[0][b], TS_B, &w->v40[0][b], TS_B, 0, TS_MIN(K, 1), K);
-    TS_CORE w->v51[K][b] = w->kc_20[b] * w->v20[K][b] + w->kc_21[b] * w->v47[K][b] + w->kc_17[b] * w->v19[K][b] + w->kc_22[b] * w->v46[K][b] + w->kc_23[b] * w->v17[K][b] + w->kc_24[b] * w->v50[K][b] + w->kc_18[b] * w->v18[K][b];
-    TS_CORE w->v52[K][b] = w->v51[K][b];
-    TS_CORE w->v53[K][b] = ts_dot(&w->v23[0][b], TS_B, &w->v46[0][b], TS_B, 0, TS_MIN(K, 1), K);
-    TS_CORE w->v54[K][b] = w->kc_21[b] * w->v41[K][b] + w->kc_10[b] * w->v1[K][b] + w->kc_20[b] * w->v42[K][b] + w->kc_20[b] * w->v43[K][b] + w->kc_11[b] * w->v0[K][b] + w->kc_25[b] * w->v53[K][b] + w->kc_22[b] * w->v40[K][b];
-    TS_CORE w->v55[K][b] = w->v54[K][b];
+    TS_CORE w->v42[0][b] = ts_dot(&w->v12[0][b], TS_B, &w->v6[0][b], TS_B, TS_MAX(0, K - 0), K, K);
+    TS_CORE w->v43[0][b] = ts_dot(&w->v16[0][b], TS_B, &w->v13[0][b], TS_B, 0, TS_MIN(K, 2), K);
+    TS_CORE w->v44[0][b] = w->kc_10[b] * w->v40[K][b] + w->kc_11[b] * w->v41[K][b] + w->kc_12[b] * w->v0[K][b] + w->kc_13[b] * w->v42[0][b] + w->kc_14[b] * w->v1[K][b] + w->kc_15[b] * w->v20[0][b] + w->kc_13[b] * w->v43[0][b] + w->kc_16[b] * w->v17[0][b];
+    TS_CORE w->v45[K][b] = w->v44[0][b];
+    TS_CORE w->v48[0][b] = w->kc_17[b] * w->v46[K][b] + w->kc_15[b] * w->v43[0][b] + w->kc_12[b] * w->v18[K][b] + w->kc_18[b] * w->v47[K][b] + w->kc_19[b] * w->v20[0][b] + w->kc_15[b] * w->v42[0][b] + w->kc_14[b] * w->v19[K][b] + w->kc_13[b] * w->v17[0][b];
+    TS_CORE w->v49[K][b] = w->v48[0][b];
+    TS_CORE w->v50[0][b] = ts_dot(&w->v23[0][b], TS_B, &w->v40[0][b], TS_B, 0, TS_MIN(K, 1), K);
+    TS_CORE w->v51[0][b] = w->kc_20[b] * w->v20[0][b] + w->kc_21[b] * w->v47[K][b] + w->kc_17[b] * w->v19[K][b] + w->kc_22[b] * w->v46[K][b] + w->kc_23[b] * w->v17[0][b] + w->kc_24[b] * w->v50[0][b] + w->kc_18[b] * w->v18[K][b];
+    TS_CORE w->v52[K][b] = w->v51[0][b];
+    TS_CORE w->v53[0][b] = ts_dot(&w->v23[0][b], TS_B, &w->v46[0][b], TS_B, 0, TS_MIN(K, 1), K);
+    TS_CORE w->v54[0][b] = w->kc_21[b] * w->v41[K][b] + w->kc_10[b] * w->v1[K][b] + w->kc_20[b] * w->v42[0][b] + w->kc_20[b] * w->v43[0][b] + w->kc_11[b] * w->v0[K][b] + w->kc_25[b] * w->v53[0][b] + w->kc_22[b] * w->v40[K][b];
+    TS_CORE w->v55[K][b] = w->v54[0][b];
     if (K == 0) TS_CORE w->flag1[b] = 1.0 * w->v2[0][b] < w->kc_1[b];
 #if TS_B == 1
     if (w->flag1[0]) {
         if (K <= 1) {
-            TS_CORE w->v61[K][b] = w->kc_2[b] * w->v2[K][b];
+            TS_CORE w->v61[0][b] = w->kc_2[b] * w->v2[K][b];
         } else {
-            TS_CORE w->v61[K][b] = 0.0;
+            TS_CORE w->v61[0][b] = 0.0;
         }
     } else {
         if (K <= 0) {
-            TS_CORE w->v62[K][b] = 0.0 + (K == 0 ? w->kc_5[b] : 0.0);
+            TS_CORE w->v62[0][b] = 0.0 + (K == 0 ? w->kc_5[b] : 0.0);
         } else {
-            TS_CORE w->v62[K][b] = 0.0;
+            TS_CORE w->v62[0][b] = 0.0;
         }
     }
 #else
     if (K <= 1) {
-        TS_CORE w->v61[K][b] = w->kc_2[b] * w->v2[K][b];
+        TS_CORE w->v61[0][b] = w->kc_2[b] * w->v2[K][b];
     } else {
-        TS_CORE w->v61[K][b] = 0.0;
+        TS_CORE w->v61[0][b] = 0.0;
     }
     if (K <= 0) {
-        TS_CORE w->v62[K][b] = 0.0 + (K == 0 ? w->kc_5[b] : 0.0);
+        TS_CORE w->v62[0][b] = 0.0 + (K == 0 ? w->kc_5[b] : 0.0);
     } else {
-        TS_CORE w->v62[K][b] = 0.0;
+        TS_CORE w->v62[0][b] = 0.0;
     }
 #endif
     if (K <= 1) {
-        TS_CORE w->v63[K][b] = w->flag1[b] ? w->v61[K][b] : w->v62[K][b];
+        TS_CORE w->v63[0][b] = w->flag1[b] ? w->v61[0][b] : w->v62[0][b];
     } else {
-        TS_CORE w->v63[K][b] = 0.0;
+        TS_CORE w->v63[0][b] = 0.0;
     }
     TS_BALLS w->b57[K][TS_L] = ts_sqr(&w->b56[0][TS_L], TS_LB, K);
     TS_BALLS ts_sincos(&w->b58[0][TS_L], TS_LB, &w->b59[0][TS_L], TS_LB, &w->b60[0][TS_L], TS_LB, K);
-    TS_BALLS w->b64[K][TS_L] = w->kb_0[TS_L] * w->b56[K][TS_L] + w->kb_1[TS_L] * w->v63[K][b];
-    TS_BALLS w->b65[K][TS_L] = ts_sqr(&w->b59[0][TS_L], TS_LB, K);
-    TS_BALLS w->b66[K][TS_L] = w->kb_2[TS_L] * w->b65[K][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v24[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b66[K][TS_L]; w->v24[K][b] = s_; }
-    TS_BALLS w->b67[K][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b60[0][TS_L], TS_LB, 0, K, K);
-    TS_CORE { double s_ = w->v25[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_3[TS_L] * w->b67[K][TS_L]; w->v25[K][b] = s_; }
-    TS_BALLS w->b68[K][TS_L] = ts_dot(&w->b60[0][TS_L], TS_LB, &w->b59[0][TS_L], TS_LB, 0, K, K);
-    TS_CORE { double s_ = w->v26[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b68[K][TS_L]; w->v26[K][b] = s_; }
-    TS_BALLS w->b69[K][TS_L] = w->kb_4[TS_L] * w->b65[K][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v27[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b69[K][TS_L]; w->v27[K][b] = s_; }
-    TS_BALLS w->b70[K][TS_L] = ts_sqr(&w->b60[0][TS_L], TS_LB, K);
-    TS_BALLS w->b71[K][TS_L] = w->kb_2[TS_L] * w->b70[K][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v29[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b71[K][TS_L]; w->v29[K][b] = s_; }
-    TS_BALLS w->b72[K][TS_L] = w->kb_5[TS_L] * w->b70[K][TS_L] + (K == 0 ? w->kb_4[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v30[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b72[K][TS_L]; w->v30[K][b] = s_; }
-    TS_CORE { double s_ = w->v31[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b67[K][TS_L]; w->v31[K][b] = s_; }
-    TS_CORE { double s_ = w->v32[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b67[K][TS_L]; w->v32[K][b] = s_; }
-    TS_BALLS w->b73[K][TS_L] = w->kb_6[TS_L] * w->b70[K][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v34[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b73[K][TS_L]; w->v34[K][b] = s_; }
-    TS_CORE { double s_ = w->v35[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_6[TS_L] * w->b68[K][TS_L]; w->v35[K][b] = s_; }
-    TS_CORE { double s_ = w->v37[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b68[K][TS_L]; w->v37[K][b] = s_; }
-    TS_BALLS w->b74[K][TS_L] = w->kb_6[TS_L] * w->b65[K][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v39[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b74[K][TS_L]; w->v39[K][b] = s_; }
-    TS_BALLS w->b75[K][TS_L] = ts_dot(&w->b60[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b76[K][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b64[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b77[K][TS_L] = w->kb_8[TS_L] * w->b75[K][TS_L] + w->kb_9[TS_L] * w->b76[K][TS_L];
-    TS_CORE { double s_ = w->v45[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b77[K][TS_L]; w->v45[K][b] = s_; }
-    TS_BALLS w->b78[K][TS_L] = ts_dot(&w->b64[0][TS_L], TS_LB, &w->b60[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b79[K][TS_L] = ts_dot(&w->b57[0][TS_L], TS_LB, &w->b59[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b80[K][TS_L] = w->kb_10[TS_L] * w->b78[K][TS_L] + w->kb_8[TS_L] * w->b79[K][TS_L];
-    TS_CORE { double s_ = w->v49[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b80[K][TS_L]; w->v49[K][b] = s_; }
-    TS_BALLS w->b81[K][TS_L] = w->kb_11[TS_L] * w->b79[K][TS_L] + w->kb_12[TS_L] * w->b78[K][TS_L];
-    TS_CORE { double s_ = w->v52[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b81[K][TS_L]; w->v52[K][b] = s_; }
-    TS_BALLS w->b82[K][TS_L] = ts_dot(&w->b57[0][TS_L], TS_LB, &w->b60[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b83[K][TS_L] = w->kb_12[TS_L] * w->b76[K][TS_L] + w->kb_13[TS_L] * w->b82[K][TS_L];
-    TS_CORE { double s_ = w->v55[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b83[K][TS_L]; w->v55[K][b] = s_; }
+    TS_BALLS w->b64[K][TS_L] = w->kb_0[TS_L] * w->b56[K][TS_L] + w->kb_1[TS_L] * w->v63[0][b];
+    TS_BALLS w->b65[0][TS_L] = ts_sqr(&w->b59[0][TS_L], TS_LB, K);
+    TS_BALLS w->b66[0][TS_L] = w->kb_2[TS_L] * w->b65[0][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v24[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b66[0][TS_L]; w->v24[K][b] = s_; }
+    TS_BALLS w->b67[0][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b60[0][TS_L], TS_LB, 0, K, K);
+    TS_CORE { double s_ = w->v25[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_3[TS_L] * w->b67[0][TS_L]; w->v25[K][b] = s_; }
+    TS_BALLS w->b68[0][TS_L] = ts_dot(&w->b60[0][TS_L], TS_LB, &w->b59[0][TS_L], TS_LB, 0, K, K);
+    TS_CORE { double s_ = w->v26[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b68[0][TS_L]; w->v26[K][b] = s_; }
+    TS_BALLS w->b69[0][TS_L] = w->kb_4[TS_L] * w->b65[0][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v27[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b69[0][TS_L]; w->v27[K][b] = s_; }
+    TS_BALLS w->b70[0][TS_L] = ts_sqr(&w->b60[0][TS_L], TS_LB, K);
+    TS_BALLS w->b71[0][TS_L] = w->kb_2[TS_L] * w->b70[0][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v29[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b71[0][TS_L]; w->v29[K][b] = s_; }
+    TS_BALLS w->b72[0][TS_L] = w->kb_5[TS_L] * w->b70[0][TS_L] + (K == 0 ? w->kb_4[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v30[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b72[0][TS_L]; w->v30[K][b] = s_; }
+    TS_CORE { double s_ = w->v31[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b67[0][TS_L]; w->v31[K][b] = s_; }
+    TS_CORE { double s_ = w->v32[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b67[0][TS_L]; w->v32[K][b] = s_; }
+    TS_BALLS w->b73[0][TS_L] = w->kb_6[TS_L] * w->b70[0][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v34[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b73[0][TS_L]; w->v34[K][b] = s_; }
+    TS_CORE { double s_ = w->v35[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_6[TS_L] * w->b68[0][TS_L]; w->v35[K][b] = s_; }
+    TS_CORE { double s_ = w->v37[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b68[0][TS_L]; w->v37[K][b] = s_; }
+    TS_BALLS w->b74[0][TS_L] = w->kb_6[TS_L] * w->b65[0][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v39[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b74[0][TS_L]; w->v39[K][b] = s_; }
+    TS_BALLS w->b75[0][TS_L] = ts_dot(&w->b60[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b76[0][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b64[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b77[0][TS_L] = w->kb_8[TS_L] * w->b75[0][TS_L] + w->kb_9[TS_L] * w->b76[0][TS_L];
+    TS_CORE { double s_ = w->v45[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b77[0][TS_L]; w->v45[K][b] = s_; }
+    TS_BALLS w->b78[0][TS_L] = ts_dot(&w->b64[0][TS_L], TS_LB, &w->b60[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b79[0][TS_L] = ts_dot(&w->b57[0][TS_L], TS_LB, &w->b59[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b80[0][TS_L] = w->kb_10[TS_L] * w->b78[0][TS_L] + w->kb_8[TS_L] * w->b79[0][TS_L];
+    TS_CORE { double s_ = w->v49[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b80[0][TS_L]; w->v49[K][b] = s_; }
+    TS_BALLS w->b81[0][TS_L] = w->kb_11[TS_L] * w->b79[0][TS_L] + w->kb_12[TS_L] * w->b78[0][TS_L];
+    TS_CORE { double s_ = w->v52[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b81[0][TS_L]; w->v52[K][b] = s_; }
+    TS_BALLS w->b82[0][TS_L] = ts_dot(&w->b57[0][TS_L], TS_LB, &w->b60[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b83[0][TS_L] = w->kb_12[TS_L] * w->b76[0][TS_L] + w->kb_13[TS_L] * w->b82[0][TS_L];
+    TS_CORE { double s_ = w->v55[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b83[0][TS_L]; w->v55[K][b] = s_; }
     if (K == 0) TS_CORE {
         w->sf_LU_1_0[b] = w->v25[0][b]/w->v24[0][b];
         w->sf_LU_1_1_0[b] = -w->sf_LU_1_0[b]*w->v25[0][b] + w->v29[0][b];
@@ -757,12 +757,12 @@ TS_INLINE void two_plane_ramp_ts_order(two_plane_ramp_ts *w, const int K, double
     TS_CORE f[10 * TS_B + b] = w->v86[K][b];
     TS_CORE f[11 * TS_B + b] = w->v87[K][b];
     for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(4 + i) * TS_B + b] = w->b56[K][TS_L];
-    TS_BALLS w->b88[K][TS_L] = ts_dot(&w->b60[0][TS_L], TS_LB, &w->v86[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b89[K][TS_L] = ts_dot(&w->v87[0][b], TS_B, &w->b59[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b90[K][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->v84[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b91[K][TS_L] = ts_dot(&w->b60[0][TS_L], TS_LB, &w->v85[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b92[K][TS_L] = w->kb_13[TS_L] * w->b88[K][TS_L] + w->kb_13[TS_L] * w->b89[K][TS_L] + w->kb_8[TS_L] * w->b90[K][TS_L] + w->kb_14[TS_L] * w->b91[K][TS_L] + w->b64[K][TS_L];
-    for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(12 + i) * TS_B + b] = w->kb_15[TS_L] * w->b92[K][TS_L];
+    TS_BALLS w->b93[K][TS_L] = w->kb_13[TS_L] * w->v86[K][b] + w->kb_14[TS_L] * w->v85[K][b];
+    TS_BALLS w->b94[0][TS_L] = ts_dot(&w->b60[0][TS_L], TS_LB, &w->b93[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b95[K][TS_L] = w->kb_13[TS_L] * w->v87[K][b] + w->kb_8[TS_L] * w->v84[K][b];
+    TS_BALLS w->b96[0][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b95[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b92[0][TS_L] = w->b94[0][TS_L] + w->b96[0][TS_L] + w->b64[K][TS_L];
+    for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(12 + i) * TS_B + b] = w->kb_15[TS_L] * w->b92[0][TS_L];
 }
 
 #if TS_B == 1

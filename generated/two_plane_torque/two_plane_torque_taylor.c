@@ -192,8 +192,8 @@ typedef struct {
     double v0[TS_MAXO + 2][TS_B];
     double v1[TS_MAXO + 2][TS_B];
     double v2[TS_MAXO + 2][TS_B];
-    double v3[TS_MAXO + 2][TS_B];
-    double v4[TS_MAXO + 2][TS_B];
+    double v3[1][TS_B];
+    double v4[1][TS_B];
     double v5[TS_MAXO + 2][TS_B];
     double v6[TS_MAXO + 2][TS_B];
     double v7[TS_MAXO + 2][TS_B];
@@ -219,21 +219,21 @@ typedef struct {
     double v35[TS_MAXO + 2][TS_B];
     double v36[TS_MAXO + 2][TS_B];
     double v37[TS_MAXO + 2][TS_B];
-    double v38[TS_MAXO + 2][TS_B];
-    double v39[TS_MAXO + 2][TS_B];
-    double v40[TS_MAXO + 2][TS_B];
+    double v38[1][TS_B];
+    double v39[1][TS_B];
+    double v40[1][TS_B];
     double v41[TS_MAXO + 2][TS_B];
     double v42[TS_MAXO + 2][TS_B];
     double v43[TS_MAXO + 2][TS_B];
-    double v44[TS_MAXO + 2][TS_B];
+    double v44[1][TS_B];
     double v45[TS_MAXO + 2][TS_B];
-    double v46[TS_MAXO + 2][TS_B];
-    double v47[TS_MAXO + 2][TS_B];
+    double v46[1][TS_B];
+    double v47[1][TS_B];
     double v48[TS_MAXO + 2][TS_B];
-    double v49[TS_MAXO + 2][TS_B];
-    double v50[TS_MAXO + 2][TS_B];
+    double v49[1][TS_B];
+    double v50[1][TS_B];
     double v51[TS_MAXO + 2][TS_B];
-    double v52[TS_MAXO + 2][TS_B];
+    double v52[1][TS_B];
     double v53[TS_MAXO + 2][TS_B];
     double b54[TS_MAXO + 2][TS_LB];
     double b55[TS_MAXO + 2][TS_LB];
@@ -241,35 +241,35 @@ typedef struct {
     double b57[TS_MAXO + 2][TS_LB];
     double b58[TS_MAXO + 2][TS_LB];
     double b59[TS_MAXO + 2][TS_LB];
-    double b60[TS_MAXO + 2][TS_LB];
-    double b61[TS_MAXO + 2][TS_LB];
-    double b62[TS_MAXO + 2][TS_LB];
-    double b63[TS_MAXO + 2][TS_LB];
-    double b64[TS_MAXO + 2][TS_LB];
-    double b65[TS_MAXO + 2][TS_LB];
-    double b66[TS_MAXO + 2][TS_LB];
-    double b67[TS_MAXO + 2][TS_LB];
-    double b68[TS_MAXO + 2][TS_LB];
-    double b69[TS_MAXO + 2][TS_LB];
-    double b70[TS_MAXO + 2][TS_LB];
-    double b71[TS_MAXO + 2][TS_LB];
-    double b72[TS_MAXO + 2][TS_LB];
-    double b73[TS_MAXO + 2][TS_LB];
-    double b74[TS_MAXO + 2][TS_LB];
-    double b75[TS_MAXO + 2][TS_LB];
-    double b76[TS_MAXO + 2][TS_LB];
-    double b77[TS_MAXO + 2][TS_LB];
-    double b78[TS_MAXO + 2][TS_LB];
+    double b60[1][TS_LB];
+    double b61[1][TS_LB];
+    double b62[1][TS_LB];
+    double b63[1][TS_LB];
+    double b64[1][TS_LB];
+    double b65[1][TS_LB];
+    double b66[1][TS_LB];
+    double b67[1][TS_LB];
+    double b68[1][TS_LB];
+    double b69[1][TS_LB];
+    double b70[1][TS_LB];
+    double b71[1][TS_LB];
+    double b72[1][TS_LB];
+    double b73[1][TS_LB];
+    double b74[1][TS_LB];
+    double b75[1][TS_LB];
+    double b76[1][TS_LB];
+    double b77[1][TS_LB];
+    double b78[1][TS_LB];
     double v79[TS_MAXO + 2][TS_B];
     double v80[TS_MAXO + 2][TS_B];
     double v81[TS_MAXO + 2][TS_B];
     double v82[TS_MAXO + 2][TS_B];
     double v83[TS_MAXO + 2][TS_B];
-    double b84[TS_MAXO + 2][TS_LB];
-    double b85[TS_MAXO + 2][TS_LB];
-    double b86[TS_MAXO + 2][TS_LB];
-    double b87[TS_MAXO + 2][TS_LB];
-    double b88[TS_MAXO + 2][TS_LB];
+    double b88[1][TS_LB];
+    double b89[TS_MAXO + 2][TS_LB];
+    double b90[1][TS_LB];
+    double b91[TS_MAXO + 2][TS_LB];
+    double b92[1][TS_LB];
     double kc_0[TS_B];
     double kc_1[TS_B];
     double kc_2[TS_B];
@@ -451,18 +451,18 @@ TS_INLINE double two_plane_torque_ts_switch(const two_plane_torque_ts *w, const 
 TS_INLINE void two_plane_torque_ts_order(two_plane_torque_ts *w, const int K, double *f)
 {
     TS_CORE ts_sincos(&w->v0[0][b], TS_B, &w->v1[0][b], TS_B, &w->v2[0][b], TS_B, K);
-    TS_CORE w->v3[K][b] = w->kc_0[b] * w->v2[K][b] + w->kc_1[b] * w->v1[K][b];
-    TS_CORE w->v4[K][b] = w->kc_0[b] * w->v1[K][b] + w->kc_2[b] * w->v2[K][b];
+    TS_CORE w->v3[0][b] = w->kc_0[b] * w->v2[K][b] + w->kc_1[b] * w->v1[K][b];
+    TS_CORE w->v4[0][b] = w->kc_0[b] * w->v1[K][b] + w->kc_2[b] * w->v2[K][b];
     TS_CORE w->v8[K][b] = ts_sqr(&w->v7[0][b], TS_B, K);
     TS_CORE w->v11[K][b] = 0.0 + (K == 0 ? w->kc_3[b] : 0.0);
     TS_CORE w->v12[K][b] = 0.0;
     TS_CORE w->v13[K][b] = 0.0;
     TS_CORE w->v14[K][b] = 0.0;
-    TS_CORE w->v15[K][b] = w->v3[K][b];
+    TS_CORE w->v15[K][b] = w->v3[0][b];
     TS_CORE w->v17[K][b] = 0.0 + (K == 0 ? w->kc_3[b] : 0.0);
     TS_CORE w->v18[K][b] = 0.0;
     TS_CORE w->v19[K][b] = 0.0;
-    TS_CORE w->v20[K][b] = w->v4[K][b];
+    TS_CORE w->v20[K][b] = w->v4[0][b];
     TS_CORE w->v21[K][b] = 0.0;
     TS_CORE w->v23[K][b] = 0.0 + (K == 0 ? w->kc_4[b] : 0.0);
     TS_CORE w->v24[K][b] = 0.0;
@@ -475,63 +475,63 @@ TS_INLINE void two_plane_torque_ts_order(two_plane_torque_ts *w, const int K, do
     } else {
         TS_CORE w->v35[K][b] = 0.0;
     }
-    TS_CORE w->v38[K][b] = ts_dot(&w->v2[0][b], TS_B, &w->v8[0][b], TS_B, 0, K, K);
-    TS_CORE w->v39[K][b] = ts_dot(&w->v1[0][b], TS_B, &w->v8[0][b], TS_B, 0, K, K);
-    TS_CORE w->v40[K][b] = w->kc_7[b] * w->v36[K][b] + w->kc_8[b] * w->v37[K][b] + w->kc_9[b] * w->v5[K][b] + w->kc_10[b] * w->v6[K][b] + w->kc_2[b] * w->v38[K][b] + w->kc_0[b] * w->v39[K][b];
-    TS_CORE w->v41[K][b] = w->v40[K][b];
-    TS_CORE w->v44[K][b] = w->kc_11[b] * w->v42[K][b] + w->kc_9[b] * w->v9[K][b] + w->kc_12[b] * w->v43[K][b] + w->kc_2[b] * w->v39[K][b] + w->kc_13[b] * w->v38[K][b] + w->kc_10[b] * w->v10[K][b];
-    TS_CORE w->v45[K][b] = w->v44[K][b];
-    TS_CORE w->v46[K][b] = ts_dot(&w->v36[0][b], TS_B, &w->v7[0][b], TS_B, 0, K, K);
-    TS_CORE w->v47[K][b] = w->kc_14[b] * w->v43[K][b] + w->kc_11[b] * w->v10[K][b] + w->kc_5[b] * w->v39[K][b] + w->kc_15[b] * w->v42[K][b] + w->kc_16[b] * w->v46[K][b] + w->kc_12[b] * w->v9[K][b];
-    TS_CORE w->v48[K][b] = w->v47[K][b];
-    TS_CORE w->v49[K][b] = ts_dot(&w->v42[0][b], TS_B, &w->v7[0][b], TS_B, 0, K, K);
-    TS_CORE w->v50[K][b] = w->kc_17[b] * w->v38[K][b] + w->kc_14[b] * w->v37[K][b] + w->kc_7[b] * w->v6[K][b] + w->kc_8[b] * w->v5[K][b] + w->kc_18[b] * w->v49[K][b] + w->kc_15[b] * w->v36[K][b];
-    TS_CORE w->v51[K][b] = w->v50[K][b];
-    TS_CORE w->v52[K][b] = w->kc_19[b] * w->v7[K][b] + (K == 0 ? w->kc_20[b] : 0.0);
-    TS_CORE w->v53[K][b] = w->v52[K][b];
+    TS_CORE w->v38[0][b] = ts_dot(&w->v2[0][b], TS_B, &w->v8[0][b], TS_B, 0, K, K);
+    TS_CORE w->v39[0][b] = ts_dot(&w->v1[0][b], TS_B, &w->v8[0][b], TS_B, 0, K, K);
+    TS_CORE w->v40[0][b] = w->kc_7[b] * w->v36[K][b] + w->kc_8[b] * w->v37[K][b] + w->kc_9[b] * w->v5[K][b] + w->kc_10[b] * w->v6[K][b] + w->kc_2[b] * w->v38[0][b] + w->kc_0[b] * w->v39[0][b];
+    TS_CORE w->v41[K][b] = w->v40[0][b];
+    TS_CORE w->v44[0][b] = w->kc_11[b] * w->v42[K][b] + w->kc_9[b] * w->v9[K][b] + w->kc_12[b] * w->v43[K][b] + w->kc_2[b] * w->v39[0][b] + w->kc_13[b] * w->v38[0][b] + w->kc_10[b] * w->v10[K][b];
+    TS_CORE w->v45[K][b] = w->v44[0][b];
+    TS_CORE w->v46[0][b] = ts_dot(&w->v36[0][b], TS_B, &w->v7[0][b], TS_B, 0, K, K);
+    TS_CORE w->v47[0][b] = w->kc_14[b] * w->v43[K][b] + w->kc_11[b] * w->v10[K][b] + w->kc_5[b] * w->v39[0][b] + w->kc_15[b] * w->v42[K][b] + w->kc_16[b] * w->v46[0][b] + w->kc_12[b] * w->v9[K][b];
+    TS_CORE w->v48[K][b] = w->v47[0][b];
+    TS_CORE w->v49[0][b] = ts_dot(&w->v42[0][b], TS_B, &w->v7[0][b], TS_B, 0, K, K);
+    TS_CORE w->v50[0][b] = w->kc_17[b] * w->v38[0][b] + w->kc_14[b] * w->v37[K][b] + w->kc_7[b] * w->v6[K][b] + w->kc_8[b] * w->v5[K][b] + w->kc_18[b] * w->v49[0][b] + w->kc_15[b] * w->v36[K][b];
+    TS_CORE w->v51[K][b] = w->v50[0][b];
+    TS_CORE w->v52[0][b] = w->kc_19[b] * w->v7[K][b] + (K == 0 ? w->kc_20[b] : 0.0);
+    TS_CORE w->v53[K][b] = w->v52[0][b];
     TS_BALLS w->b55[K][TS_L] = ts_sqr(&w->b54[0][TS_L], TS_LB, K);
     TS_BALLS ts_sincos(&w->b56[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, &w->b58[0][TS_L], TS_LB, K);
     TS_BALLS w->b59[K][TS_L] = w->kb_0[TS_L] * w->b54[K][TS_L] + w->kb_1[TS_L] * w->v7[K][b];
-    TS_BALLS w->b60[K][TS_L] = ts_sqr(&w->b57[0][TS_L], TS_LB, K);
-    TS_BALLS w->b61[K][TS_L] = w->kb_2[TS_L] * w->b60[K][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v11[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b61[K][TS_L]; w->v11[K][b] = s_; }
-    TS_BALLS w->b62[K][TS_L] = ts_dot(&w->b57[0][TS_L], TS_LB, &w->b58[0][TS_L], TS_LB, 0, K, K);
-    TS_CORE { double s_ = w->v12[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_3[TS_L] * w->b62[K][TS_L]; w->v12[K][b] = s_; }
-    TS_BALLS w->b63[K][TS_L] = ts_dot(&w->b58[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, 0, K, K);
-    TS_CORE { double s_ = w->v13[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b63[K][TS_L]; w->v13[K][b] = s_; }
-    TS_BALLS w->b64[K][TS_L] = w->kb_4[TS_L] * w->b60[K][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v14[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b64[K][TS_L]; w->v14[K][b] = s_; }
+    TS_BALLS w->b60[0][TS_L] = ts_sqr(&w->b57[0][TS_L], TS_LB, K);
+    TS_BALLS w->b61[0][TS_L] = w->kb_2[TS_L] * w->b60[0][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v11[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b61[0][TS_L]; w->v11[K][b] = s_; }
+    TS_BALLS w->b62[0][TS_L] = ts_dot(&w->b57[0][TS_L], TS_LB, &w->b58[0][TS_L], TS_LB, 0, K, K);
+    TS_CORE { double s_ = w->v12[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_3[TS_L] * w->b62[0][TS_L]; w->v12[K][b] = s_; }
+    TS_BALLS w->b63[0][TS_L] = ts_dot(&w->b58[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, 0, K, K);
+    TS_CORE { double s_ = w->v13[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b63[0][TS_L]; w->v13[K][b] = s_; }
+    TS_BALLS w->b64[0][TS_L] = w->kb_4[TS_L] * w->b60[0][TS_L] + (K == 0 ? w->kb_5[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v14[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b64[0][TS_L]; w->v14[K][b] = s_; }
     TS_CORE { double s_ = w->v15[K][b]; for (int i = 0; i < 4; ++i) s_ += 0.0 * w->b57[K][TS_L]; w->v15[K][b] = s_; }
-    TS_BALLS w->b65[K][TS_L] = ts_sqr(&w->b58[0][TS_L], TS_LB, K);
-    TS_BALLS w->b66[K][TS_L] = w->kb_2[TS_L] * w->b65[K][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v17[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b66[K][TS_L]; w->v17[K][b] = s_; }
-    TS_BALLS w->b67[K][TS_L] = w->kb_5[TS_L] * w->b65[K][TS_L] + (K == 0 ? w->kb_4[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v18[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b67[K][TS_L]; w->v18[K][b] = s_; }
-    TS_CORE { double s_ = w->v19[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b62[K][TS_L]; w->v19[K][b] = s_; }
+    TS_BALLS w->b65[0][TS_L] = ts_sqr(&w->b58[0][TS_L], TS_LB, K);
+    TS_BALLS w->b66[0][TS_L] = w->kb_2[TS_L] * w->b65[0][TS_L] + (K == 0 ? w->kb_3[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v17[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b66[0][TS_L]; w->v17[K][b] = s_; }
+    TS_BALLS w->b67[0][TS_L] = w->kb_5[TS_L] * w->b65[0][TS_L] + (K == 0 ? w->kb_4[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v18[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b67[0][TS_L]; w->v18[K][b] = s_; }
+    TS_CORE { double s_ = w->v19[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b62[0][TS_L]; w->v19[K][b] = s_; }
     TS_CORE { double s_ = w->v20[K][b]; for (int i = 0; i < 4; ++i) s_ += 0.0 * w->b58[K][TS_L]; w->v20[K][b] = s_; }
-    TS_CORE { double s_ = w->v21[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b62[K][TS_L]; w->v21[K][b] = s_; }
-    TS_BALLS w->b68[K][TS_L] = w->kb_6[TS_L] * w->b65[K][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v23[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b68[K][TS_L]; w->v23[K][b] = s_; }
-    TS_CORE { double s_ = w->v24[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_6[TS_L] * w->b63[K][TS_L]; w->v24[K][b] = s_; }
+    TS_CORE { double s_ = w->v21[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_4[TS_L] * w->b62[0][TS_L]; w->v21[K][b] = s_; }
+    TS_BALLS w->b68[0][TS_L] = w->kb_6[TS_L] * w->b65[0][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v23[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b68[0][TS_L]; w->v23[K][b] = s_; }
+    TS_CORE { double s_ = w->v24[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_6[TS_L] * w->b63[0][TS_L]; w->v24[K][b] = s_; }
     TS_CORE { double s_ = w->v25[K][b]; for (int i = 0; i < 4; ++i) s_ += 0.0 * w->b58[K][TS_L]; w->v25[K][b] = s_; }
-    TS_CORE { double s_ = w->v27[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b63[K][TS_L]; w->v27[K][b] = s_; }
-    TS_BALLS w->b69[K][TS_L] = w->kb_6[TS_L] * w->b60[K][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
-    TS_CORE { double s_ = w->v29[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b69[K][TS_L]; w->v29[K][b] = s_; }
+    TS_CORE { double s_ = w->v27[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_5[TS_L] * w->b63[0][TS_L]; w->v27[K][b] = s_; }
+    TS_BALLS w->b69[0][TS_L] = w->kb_6[TS_L] * w->b60[0][TS_L] + (K == 0 ? w->kb_7[TS_L] : 0.0);
+    TS_CORE { double s_ = w->v29[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b69[0][TS_L]; w->v29[K][b] = s_; }
     TS_CORE { double s_ = w->v30[K][b]; for (int i = 0; i < 4; ++i) s_ += 0.0 * w->b57[K][TS_L]; w->v30[K][b] = s_; }
     if (K == 0) TS_CORE for (int i = 0; i < 4; ++i) w->v35[0][b] += 0.0;
-    TS_BALLS w->b70[K][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b71[K][TS_L] = ts_dot(&w->b58[0][TS_L], TS_LB, &w->b55[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b72[K][TS_L] = w->kb_8[TS_L] * w->b70[K][TS_L] + w->kb_9[TS_L] * w->b71[K][TS_L];
-    TS_CORE { double s_ = w->v41[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b72[K][TS_L]; w->v41[K][b] = s_; }
-    TS_BALLS w->b73[K][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b58[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b74[K][TS_L] = ts_dot(&w->b55[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b75[K][TS_L] = w->kb_10[TS_L] * w->b73[K][TS_L] + w->kb_9[TS_L] * w->b74[K][TS_L];
-    TS_CORE { double s_ = w->v45[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b75[K][TS_L]; w->v45[K][b] = s_; }
-    TS_BALLS w->b76[K][TS_L] = w->kb_11[TS_L] * w->b74[K][TS_L] + w->kb_12[TS_L] * w->b73[K][TS_L];
-    TS_CORE { double s_ = w->v48[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b76[K][TS_L]; w->v48[K][b] = s_; }
-    TS_BALLS w->b77[K][TS_L] = ts_dot(&w->b55[0][TS_L], TS_LB, &w->b58[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b78[K][TS_L] = w->kb_12[TS_L] * w->b70[K][TS_L] + w->kb_13[TS_L] * w->b77[K][TS_L];
-    TS_CORE { double s_ = w->v51[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b78[K][TS_L]; w->v51[K][b] = s_; }
+    TS_BALLS w->b70[0][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b71[0][TS_L] = ts_dot(&w->b58[0][TS_L], TS_LB, &w->b55[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b72[0][TS_L] = w->kb_8[TS_L] * w->b70[0][TS_L] + w->kb_9[TS_L] * w->b71[0][TS_L];
+    TS_CORE { double s_ = w->v41[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b72[0][TS_L]; w->v41[K][b] = s_; }
+    TS_BALLS w->b73[0][TS_L] = ts_dot(&w->b59[0][TS_L], TS_LB, &w->b58[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b74[0][TS_L] = ts_dot(&w->b55[0][TS_L], TS_LB, &w->b57[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b75[0][TS_L] = w->kb_10[TS_L] * w->b73[0][TS_L] + w->kb_9[TS_L] * w->b74[0][TS_L];
+    TS_CORE { double s_ = w->v45[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b75[0][TS_L]; w->v45[K][b] = s_; }
+    TS_BALLS w->b76[0][TS_L] = w->kb_11[TS_L] * w->b74[0][TS_L] + w->kb_12[TS_L] * w->b73[0][TS_L];
+    TS_CORE { double s_ = w->v48[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b76[0][TS_L]; w->v48[K][b] = s_; }
+    TS_BALLS w->b77[0][TS_L] = ts_dot(&w->b55[0][TS_L], TS_LB, &w->b58[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b78[0][TS_L] = w->kb_12[TS_L] * w->b70[0][TS_L] + w->kb_13[TS_L] * w->b77[0][TS_L];
+    TS_CORE { double s_ = w->v51[K][b]; for (int i = 0; i < 4; ++i) s_ += w->b78[0][TS_L]; w->v51[K][b] = s_; }
     TS_CORE { double s_ = w->v53[K][b]; for (int i = 0; i < 4; ++i) s_ += w->kb_1[TS_L] * w->b54[K][TS_L]; w->v53[K][b] = s_; }
     if (K == 0) TS_CORE {
         w->sf_LU_1_0[b] = w->v12[0][b]/w->v11[0][b];
@@ -627,12 +627,12 @@ TS_INLINE void two_plane_torque_ts_order(two_plane_torque_ts *w, const int K, do
     TS_CORE f[12 * TS_B + b] = w->v82[K][b];
     TS_CORE f[13 * TS_B + b] = w->v83[K][b];
     for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(5 + i) * TS_B + b] = w->b54[K][TS_L];
-    TS_BALLS w->b84[K][TS_L] = ts_dot(&w->b57[0][TS_L], TS_LB, &w->v79[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b85[K][TS_L] = ts_dot(&w->b58[0][TS_L], TS_LB, &w->v80[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b86[K][TS_L] = ts_dot(&w->b58[0][TS_L], TS_LB, &w->v81[0][b], TS_B, 0, K, K);
-    TS_BALLS w->b87[K][TS_L] = ts_dot(&w->v82[0][b], TS_B, &w->b57[0][TS_L], TS_LB, 0, K, K);
-    TS_BALLS w->b88[K][TS_L] = w->b59[K][TS_L] + w->kb_9[TS_L] * w->b84[K][TS_L] + w->kb_14[TS_L] * w->b85[K][TS_L] + w->kb_13[TS_L] * w->b86[K][TS_L] + w->kb_13[TS_L] * w->b87[K][TS_L];
-    for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(14 + i) * TS_B + b] = w->kb_15[TS_L] * w->b88[K][TS_L];
+    TS_BALLS w->b89[K][TS_L] = w->kb_9[TS_L] * w->v79[K][b] + w->kb_13[TS_L] * w->v82[K][b];
+    TS_BALLS w->b90[0][TS_L] = ts_dot(&w->b57[0][TS_L], TS_LB, &w->b89[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b91[K][TS_L] = w->kb_14[TS_L] * w->v80[K][b] + w->kb_13[TS_L] * w->v81[K][b];
+    TS_BALLS w->b92[0][TS_L] = ts_dot(&w->b58[0][TS_L], TS_LB, &w->b91[0][TS_L], TS_LB, 0, K, K);
+    TS_BALLS w->b88[0][TS_L] = w->b90[0][TS_L] + w->b92[0][TS_L] + w->b59[K][TS_L];
+    for (int i = 0; i < 4; ++i) for (int b = 0; b < TS_B; ++b) f[(14 + i) * TS_B + b] = w->kb_15[TS_L] * w->b88[0][TS_L];
 }
 
 #if TS_B == 1

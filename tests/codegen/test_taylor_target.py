@@ -241,3 +241,63 @@ def test_the_series_files_are_proven_and_a_wrong_recurrence_refused(tmp_path, mo
     with pytest.raises(proofs.ProofFailed, match=r"^thesis_rotating_n2: taylor files: thesis_rotating_n2_taylor "
                                                  r"row 2 differs from the model"):
         proofs.prove_model(ir, wrong, ("taylor",), "loops", ref)
+
+
+@pytest.mark.parametrize("name", KINDS)
+def test_a_series_keeps_rows_only_where_its_past_is_read(name):
+    """A series read only at the order being computed has one row (row 0), never reached through a
+    pointer (a convolution's operand) or at another order; the rest keep TS_MAXO + 2 rows.  The values
+    are test_c_equals_the_series_program's to check; this checks the layout that makes the difference:
+    the two-ball rotor's workspace for an order-20 batch of 8 trajectories fits a 48 kB first-level
+    cache (it was 86 kB with every series kept)."""
+    text = (DEFAULT_OUT / name / f"{name}_taylor.c").read_text()
+    fields = dict(re.findall(r"double ([vb]\d+)\[(TS_MAXO \+ 2|1)\]\[", text))
+    single = {k for k, rows in fields.items() if rows == "1"}
+    body = text[text.index("_ts_order("):]
+    assert single, "every series kept its history"
+    for s in single:
+        assert f"&w->{s}[0]" not in body and not re.search(rf"w->{s}\[(?!0\])", body), s
+    for s in set(fields) - single:
+        assert f"&w->{s}[0]" in body or re.search(rf"w->{s}\[(?!K\])", body) or s in text[:text.index("_ts_order(")]
+
+
+def test_the_batch_workspace_fits_the_first_level_cache():
+    text = (DEFAULT_OUT / "thesis_rotating_n2" / "thesis_rotating_n2_taylor.c").read_text()
+    nbp, maxo, lanes = 2, 20, 8
+    size = 0
+    for _, rows, width in re.findall(r"double ([vb]\d+)\[(TS_MAXO \+ 2|1)\]\[(TS_LB|TS_B)\]", text):
+        size += (maxo + 2 if rows != "1" else 1) * (nbp * lanes if width == "TS_LB" else lanes) * 8
+    assert 20_000 < size < 48 * 1024, size
+
+
+@pytest.mark.parametrize("name", ["thesis_rotating_n2", "two_plane_rotating", "two_plane_torque"])
+def test_products_sharing_an_operand_are_factored(name, monkeypatch):
+    """sum_j c_j u v_j is computed as u (sum_j c_j v_j): no linear combination keeps two single-use
+    products with a common operand, the ball products drop (two-ball rotor: 13 -> 9 per ball), and the
+    series equal the unfactored program's to rounding (order 12, random states, 1e-12 of each row)."""
+    from adbgen.codegen.targets.taylor import series
+
+    ir, prog = ir_of(name)
+    monkeypatch.setattr(series, "_factor_products", lambda body, nodes, count, ball_const: (body, count))
+    plain = decompose(ir)
+    monkeypatch.undo()
+    muls = lambda q: sum(1 for st in q.walk() if isinstance(st, series.Def) and st.node.op == "mul")  # noqa: E731
+    assert muls(prog) < muls(plain)
+    if name == "thesis_rotating_n2":
+        assert (muls(plain), muls(prog)) == (13, 9)
+    uses = series._uses(prog.body, prog.nodes)
+    for st in prog.walk():
+        if isinstance(st, series.Def) and st.node.op == "lin":
+            single = [prog.nodes[a].args for a in st.node.args
+                      if prog.nodes[a].op == "mul" and uses.get(a) == 1 and len(set(prog.nodes[a].args)) == 2]
+            shared = [u for args in single for u in args]
+            assert len(shared) == len(set(shared)), st.node.name
+    rng = np.random.default_rng(11)
+    p = np.array([q.default for q in ir.parameters])
+    for _ in range(3):
+        y = rng.uniform(-1, 1, ir.n_states)
+        y[: ir.n_coordinates] *= 0.1
+        got = np.array(pyeval.taylor(prog, 0.0, y, p, 12))
+        want = np.array(pyeval.taylor(plain, 0.0, y, p, 12))
+        scale = np.maximum(np.max(np.abs(want), axis=1, keepdims=True), 1e-300)
+        assert np.max(np.abs(got - want) / scale) < 1e-12
