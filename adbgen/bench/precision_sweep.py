@@ -252,7 +252,9 @@ def auto_targets(problems: dict, default: str) -> list[dict]:
     """The issue-22 targets from the work-precision curves (time interpolated log-log at each error, CPU
     time).  At a level the peer's curve does not reach (its tightest tolerance errs more) and the default
     reaches, the default counts as ahead ("peer does not reach"); the measured ratio is the smallest over
-    the levels both curves cover."""
+    the levels both curves cover.  At a level above the default's whole curve (its loosest run errs less),
+    the default's time is that of its cheapest run reaching the level: an upper bound, so the ratio is a
+    lower bound."""
     out = []
     for label in ("A", "B"):
         prob = problems.get(label)
@@ -266,6 +268,11 @@ def auto_targets(problems: dict, default: str) -> list[dict]:
             th = _interpolated(h, e) if h else None
             reach = min((x for x, _ in _curve_points(h)), default=None) if h else None
             row = {"error": e, "default_s": td, "peer_s": th}
+            if td is None and th and d and _curve_points(d) and max(x for x, _ in _curve_points(d)) < e:
+                # the default's loosest run already errs less than e: its cheapest run at or below e (an
+                # upper bound of its time at e) against the peer's interpolated time
+                td = min(t for x, t in _curve_points(d) if x <= e)
+                row.update(default_s=td, note="the default's loosest run errs less: its cheapest run reaching it")
             if td and th:
                 row["ratio"] = th / td
                 worst = th / td if worst is None else min(worst, th / td)
@@ -275,7 +282,9 @@ def auto_targets(problems: dict, default: str) -> list[dict]:
         prob["auto_vs_heyoka_hand"] = rows
         lost = [f"{r['error']:.0e} ({r['ratio']:.2f}x)" for r in rows if r.get("ratio", 1.0) < 1.0]
         missing = [f"{r['error']:.0e}" for r in rows if "ratio" not in r and "note" not in r]
-        detail = ", ".join(f"{r['error']:.0e}: {r['ratio']:.2f}x" if "ratio" in r else f"{r['error']:.0e}: "
+        detail = ", ".join(f"{r['error']:.0e}: {r['ratio']:.2f}x" + (" (cheapest run reaching it)" if "note" in r
+                                                                       else "")
+                           if "ratio" in r else f"{r['error']:.0e}: "
                            + r.get("note", "not covered") for r in rows)
         out.append(target(f"{label}: {default} at or left of heyoka on the hand-written equations, errors 1e-6..1e-13",
                           "min over the decades of heyoka-hand time / default time >= 1", worst, 1.0,

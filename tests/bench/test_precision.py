@@ -177,3 +177,22 @@ def test_the_reference_is_computed_in_extended_precision_where_the_problem_allow
     assert np.max(np.abs(ref["y_end"] - exact)) < 1e-15 and ref["check_difference"] < 1e-16
     plain = bp.reference(model, bp.PrecisionProblem(pp.problem, 1e-2, "known", extended_reference=False), t_end)
     assert plain["method"].startswith("cyrk-vern8") and "double_reference_difference" not in plain
+
+
+def test_auto_targets_count_a_level_above_the_defaults_curve():
+    """At an error the default's loosest run already beats, its time there is its cheapest run reaching
+    it (an upper bound); at an error the peer never reaches, the default is ahead by note; elsewhere the
+    curves are interpolated.  A slower default fails."""
+    def curve(name, pts):
+        return {"name": name, "points": [{"error": e, precision_sweep.TIME: t, "status": "success"} for e, t in pts]}
+
+    auto = curve("auto", [(3e-7, 0.002), (1e-9, 0.003), (1e-14, 0.008)])
+    hand = curve("peer:heyoka-hand", [(1e-5, 0.004), (1e-8, 0.006), (1e-11, 0.012)])
+    prob = {"A": {"curves": [auto, hand]}}
+    out = precision_sweep.auto_targets(prob, "auto")
+    rows = {round(-math.log10(r["error"])): r for r in prob["A"]["auto_vs_heyoka_hand"]}
+    assert rows[6]["default_s"] == 0.002 and "cheapest run" in rows[6]["note"] and rows[6]["ratio"] > 1
+    assert "ratio" in rows[9] and "peer does not reach" in rows[12]["note"]
+    assert out[0]["passed"] and "not covered" not in out[0]["detail"]
+    slow = curve("auto", [(3e-7, 0.02), (1e-14, 0.08)])
+    assert precision_sweep.auto_targets({"A": {"curves": [slow, hand]}}, "auto")[0]["passed"] is False

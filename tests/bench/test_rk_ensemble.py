@@ -33,10 +33,14 @@ def test_bench_ensemble_tiny_map():
     scalar, batch = runs["ensemble rk-dop853"]["rhs_evaluations"], runs["ensemble rk-dop853-batch"]["rhs_evaluations"]
     assert abs(batch / scalar - 1) < 0.02  # the same steps but for libmvec's last bits
     assert [t["target"] for t in r["targets"]] == ["ahead of heyoka's ensemble"]
+    # labels judged against the converged maps, on the map and on the map shifted by half a cell
+    assert r["reference"]["shifted_grid"][0].startswith("phi_1=0.785398") and r["reference"]["unresolved"]["map"] == 0
+    for e in ("rk-dop853-batch", "taylor-batch-inf", "heyoka"):
+        assert runs[f"ensemble {e}"]["label_errors"] == {"map": 0, "shifted_map": 0, "total": 0}
 
 
 def test_the_inf_norm_rule_takes_heyokas_steps():
-    """taylor-batch-inf's step rule at heyoka's order and factor 1, with heyoka's one tolerance (rtol = atol =
+    """taylor-batch-inf (heyoka's step rule, order and factor 1), with heyoka's one tolerance (rtol = atol =
     1e-8), takes heyoka's steps on the hand-written equations, trajectory by trajectory (measured: 1027 to
     1253 steps to t = 200, all equal); the per-component rule with atol 1e-10 takes more (negative control)."""
     import numpy as np
@@ -57,7 +61,7 @@ def test_the_inf_norm_rule_takes_heyokas_steps():
     ta.propagate_until(200.0)
     theirs = [int(o[3]) for o in ta.propagate_res]
     ours = simulate_many(model, P, Y0, t_end=200.0, rtol=1e-8, atol=1e-8, threads=1, measures=False,
-                         engine=TaylorBatchEngine("inf", norm="max", table=row))
+                         engine="taylor-batch-inf")
     assert list(ours.n_steps) == theirs
     component = simulate_many(model, P, Y0, t_end=200.0, rtol=1e-8, atol=1e-10, threads=1, measures=False,
                               engine=TaylorBatchEngine("component", table=row))

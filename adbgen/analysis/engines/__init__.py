@@ -10,7 +10,7 @@ that start together bit-for-bit together (tested).  To add an engine: a class wi
 from __future__ import annotations
 
 from ..loading import AnalysisError
-from .auto import AutoEngine, table_choice
+from .auto import AutoEngine
 from .compiled import CyRKEngine, SundialsEngine
 from .matlab_ode45 import ENGINE as MATLAB_ODE45
 from .rk import RKBatchEngine, RKEngine
@@ -22,9 +22,9 @@ DEFAULT = "auto"
 ENGINES = {e.name: e for e in (
     TaylorEngine(),
     TaylorBatchEngine(),
-    TaylorBatchEngine("taylor-batch-inf", norm="max", tuned=table_choice, description=(
-        "Taylor's method on SIMD lanes with the step rule in the state's inf norm (Jorba & Zou's, heyoka's) "
-        "and the auto table's order and factor; ensembles of labels (sweeps, basin maps)")),
+    TaylorBatchEngine("taylor-batch-inf", norm="max", description=(
+        "Taylor's method on SIMD lanes with heyoka's rule (the step in the state's inf norm, order from the "
+        "tolerance, factor 1: heyoka's steps); ensembles of labels (sweeps, basin maps)")),
     CyRKEngine("DOP853"), CyRKEngine("Vern8"), CyRKEngine("Vern7"), CyRKEngine("RK45"), CyRKEngine("RK23"),
     RKEngine(), RKBatchEngine(),
     SundialsEngine("cvode-bdf", 10, "SUNDIALS CVODE BDF, Newton, dense LU with the generated Jacobian (stiff)",

@@ -16,10 +16,11 @@ Ensembles without r_max/t_dec (`run_many(..., measures=False)`: the sweeps' attr
 run on `ENSEMBLE`, the DOP853 step on SIMD lanes, at the requested tolerance (as the sweeps ran before the
 auto engine): on the basin map of `adbgen bench ensemble` it integrates several times as many trajectories
 per CPU-second as the single-trajectory pick of the table (benchmarks/ensemble.json, the `auto` and
-`rk-dop853-batch` rows).  `taylor-batch-inf` is not faster on that map (2026-11-27: 893 against 895
-trajectories per CPU-s at 21:46, 984 against 877 at 20:49) and controls each step in the state's inf
-norm, holding the rotor's small x, y only to the ball angles' scale (its map differs from today's at 14-17
-points, the DOP853 batch's at 4), so the sweeps keep the per-component error control of every other
+`rk-dop853-batch` rows).  `taylor-batch-inf` (heyoka's step rule and order in the emitted series) is
+faster on that map (2026-11-27 23:55 UTC: 1365 against 885 trajectories per CPU-s, labels off a
+converged map at 17 against 21 points) but controls each step in the state's inf norm, holding every
+component only to the largest one's scale: in an SI scene (metres beside radians) the rotor's
+displacement would go uncontrolled, so the sweeps keep the per-component error control of every other
 engine.  A model without a lanes header
 (the lanes target skips rhs that branch) and ensembles with measures take the table's pick as a single
 run does.
