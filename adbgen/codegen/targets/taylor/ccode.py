@@ -15,8 +15,8 @@ flag<N>; the Schur complement's LU factors (the kernel's own statements, once pe
 Only a series whose past coefficients are read (a convolution's operand or result, one read at order 0
 from a later order, a state, the time, a switch) keeps all its rows; every other one is written and read
 at order K only and has one row, always row 0.  The series of an order-20 batch of 8 trajectories of the
-two-ball rotor shrink from 86 kB to 35 kB (with the stepper's jet, 97 kB to 46 kB; at order 11, 57 kB to
-28 kB): a step's series then stay in a 48 kB first-level cache instead of being evicted while the step
+two-ball rotor shrink from 86 kB to 37 kB (with the stepper's jet, 97 kB to 48 kB; at order 11, 57 kB to
+29 kB): a step's series then stay in a 48 kB first-level cache instead of being evicted while the step
 still needs them.  The order-11 batch on 1024 basin-map starts had run at 952-970 trajectories per CPU-s in
 most runs and 1134-1152 in some, by where the workspace happened to lie; with the rows cut, 1133-1139 in
 every run, the results bit for bit the same.
