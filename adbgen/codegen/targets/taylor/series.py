@@ -738,7 +738,7 @@ def _factor_products(body: list, nodes: dict, count: int, ball_const) -> tuple[l
                             made[key if comb.ball or hoist is None else (id(hoist), None, key[2])] = comb
                             (out if comb.ball or hoist is None else hoist).append(Def(comb))
                         prod = new("mul", [u, comb.name], degree=_deg_mul(nodes[u].degree, comb.degree))
-                        out.append(Def(prod))
+                        (out if prod.ball or hoist is None else hoist).append(Def(prod))  # rotor-only: before the loop
                         drop |= {p for _, _, p in members}
                         coefs.append(sp.S.One), args.append(prod.name)
                     for c, a in zip(nd.coefs, nd.args):
