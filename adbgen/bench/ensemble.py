@@ -113,19 +113,16 @@ def shifted(grid=GRID) -> list[str]:
 
 def reference_labels(model, P, Y0, workers: int, t_end: float = T_END) -> tuple[list[str], np.ndarray]:
     """The converged map: REFERENCES' labels at REF_RTOL, and where the two agree (resolved points)."""
-    from ..analysis.simulate import simulate_many
-
-    found = []
-    for engine in REFERENCES:
-        ens = simulate_many(model, P, Y0, t_end=t_end, rtol=REF_RTOL, atol=REF_ATOL, engine=engine, threads=workers,
-                            check_dt=CHECK_DT, measures=False)
-        found.append(label(model, np.asarray(ens.status), np.asarray(ens.y_end)))
+    found = [label(model, *ours(engine, model, P, Y0, workers, t_end, REF_RTOL, REF_ATOL)[1:])
+             for engine in REFERENCES]
     return found[0], np.array([a == b for a, b in zip(*found)])
 
 
-def label_errors(found, reference, resolved) -> int:
-    """Points of a map whose label differs from the converged map's, counting resolved points only."""
-    return int(sum(r and a != b for a, b, r in zip(found, reference, resolved)))
+def differing(found, other, counted=None) -> int:
+    """Points of a map whose label differs from another map's (where `counted`, if given, is true)."""
+    if counted is None:
+        return int(sum(a != b for a, b in zip(found, other)))
+    return int(sum(r and a != b for a, b, r in zip(found, other, counted)))
 
 
 def points(grid=GRID):
@@ -137,10 +134,11 @@ def points(grid=GRID):
     return model, P, Y0
 
 
-def ours(engine: str, model, P, Y0, workers: int, t_end: float = T_END) -> tuple[dict, np.ndarray, np.ndarray]:
+def ours(engine: str, model, P, Y0, workers: int, t_end: float = T_END, rtol: float = RTOL,
+         atol: float = ATOL) -> tuple[dict, np.ndarray, np.ndarray]:
     from ..analysis.simulate import simulate_many
 
-    ens, t = _timed(lambda: simulate_many(model, P, Y0, t_end=t_end, rtol=RTOL, atol=ATOL, engine=engine,
+    ens, t = _timed(lambda: simulate_many(model, P, Y0, t_end=t_end, rtol=rtol, atol=atol, engine=engine,
                                           threads=workers, check_dt=CHECK_DT, measures=False))
     row = _rates(len(Y0), t, workers)
     row.update({"engine": engine, "rhs_evaluations": int(ens.n_rhs.sum()), "steps": int(np.sum(ens.n_steps)),
@@ -227,7 +225,7 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
                 if engine == TODAY:
                     sweep_labels = found
                 else:
-                    row["labels_differing_from_today"] = int(sum(a != b for a, b in zip(found, sweep_labels)))
+                    row["labels_differing_from_today"] = differing(found, sweep_labels)
                 keep(f"sweep {engine}", row)
         for engine in OURS:
             row, status, y_end = ours(engine, model, P, Y0, workers, t_end)
@@ -243,8 +241,8 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
     for k, found in labelled.items():
         key = f"ensemble {k}"
         runs[key]["labels"] = dict(sorted(collections.Counter(found).items()))
-        runs[key]["labels_differing_from_today"] = int(sum(a != b for a, b in zip(found, base)))
-        runs[key]["labels_differing_from_heyoka"] = int(sum(a != b for a, b in zip(found, labelled["heyoka"])))
+        runs[key]["labels_differing_from_today"] = differing(found, base)
+        runs[key]["labels_differing_from_heyoka"] = differing(found, labelled["heyoka"])
 
     # label errors against the converged map, on this map and on the shifted one (one map's boundary
     # points are few: 2026-11-27, heyoka and taylor-batch-inf at the same steps were 9 and 11 off on this
@@ -258,9 +256,9 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
     ref, resolved = reference_labels(model, P, Y0, workers, t_end)
     ref2, resolved2 = reference_labels(model2, P2, Y2, workers, t_end)
     for k, found in labelled.items():
-        errors = {"map": label_errors(found, ref, resolved)}
+        errors = {"map": differing(found, ref, resolved)}
         if k in checked:
-            errors["shifted_map"] = label_errors(label(model2, *checked[k]), ref2, resolved2)
+            errors["shifted_map"] = differing(label(model2, *checked[k]), ref2, resolved2)
             errors["total"] = errors["map"] + errors["shifted_map"]
         runs[f"ensemble {k}"]["label_errors"] = errors
 

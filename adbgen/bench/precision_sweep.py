@@ -262,16 +262,17 @@ def auto_targets(problems: dict, default: str) -> list[dict]:
             continue
         recs = {r["name"]: r for r in prob["curves"]}
         d, h = recs.get(default), recs.get(HAND)
+        pts_d = _curve_points(d) if d else []
         rows, worst = [], None
         for e in AUTO_LEVELS:
             td = _interpolated(d, e) if d else None
             th = _interpolated(h, e) if h else None
             reach = min((x for x, _ in _curve_points(h)), default=None) if h else None
             row = {"error": e, "default_s": td, "peer_s": th}
-            if td is None and th and d and _curve_points(d) and max(x for x, _ in _curve_points(d)) < e:
+            if td is None and th and pts_d and max(x for x, _ in pts_d) < e:
                 # the default's loosest run already errs less than e: its cheapest run at or below e (an
                 # upper bound of its time at e) against the peer's interpolated time
-                td = min(t for x, t in _curve_points(d) if x <= e)
+                td = min(t for x, t in pts_d if x <= e)
                 row.update(default_s=td, note="the default's loosest run errs less: its cheapest run reaching it")
             if td and th:
                 row["ratio"] = th / td

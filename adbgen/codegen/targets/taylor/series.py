@@ -687,14 +687,16 @@ def _factor_products(body: list, nodes: dict, count: int, ball_const) -> tuple[l
     of rotor series only goes before the ball loop; the terms keep the combination's (ball-invariant)
     order, so exchange symmetry is kept.  Not inside a Piecewise branch."""
     uses = _uses(body, nodes)
-    made: dict = {}  # (key of the combination) -> node name, per statement list
+    made: dict = {}  # (id of the statement list, the combination's sorted terms) -> (that list, node)
+
+    def is_ball(args, coefs=()) -> bool:
+        return any(nodes[a].ball for a in args) or any(ball_const(c) for c in coefs)
 
     def new(op, args, coefs=(), const=0, degree=INF):
         nonlocal count
-        ball = any(nodes[a].ball for a in args) or any(ball_const(c) for c in coefs)
-        name = f"{'b' if ball else 'v'}{count}"
+        name = f"{'b' if is_ball(args, coefs) else 'v'}{count}"
         count += 1
-        nodes[name] = Node(name, op, tuple(args), tuple(coefs), const, ball, degree)
+        nodes[name] = Node(name, op, tuple(args), tuple(coefs), const, is_ball(args, coefs), degree)
         return nodes[name]
 
     def group(nd):
@@ -716,6 +718,10 @@ def _factor_products(body: list, nodes: dict, count: int, ball_const) -> tuple[l
 
     def go(stmts, hoist):
         out = []
+
+        def place(ball: bool) -> list:  # a rotor-only node inside the ball loop goes before the loop
+            return out if ball or hoist is None else hoist
+
         for st in stmts:
             if isinstance(st, Loop):
                 before: list = []
@@ -728,17 +734,16 @@ def _factor_products(body: list, nodes: dict, count: int, ball_const) -> tuple[l
                     drop = set()
                     coefs, args = [], []
                     for u, members in groups:
-                        key = (id(hoist), id(out), tuple(sorted((v, sp.srepr(sp.sympify(c))) for c, v, _ in members)))
-                        comb = made.get(key)
-                        if comb is None and hoist is not None:  # a combination of rotor series made before
-                            comb = made.get((id(hoist), None, key[2]))
-                        if comb is None:
-                            comb = new("lin", [v for _, v, _ in members], [c for c, _, _ in members], sp.S.Zero,
-                                       max(nodes[v].degree for _, v, _ in members))
-                            made[key if comb.ball or hoist is None else (id(hoist), None, key[2])] = comb
-                            (out if comb.ball or hoist is None else hoist).append(Def(comb))
+                        vs, cs = [v for _, v, _ in members], [c for c, _, _ in members]
+                        where = place(is_ball(vs, cs))
+                        key = (id(where), tuple(sorted((v, sp.srepr(sp.sympify(c))) for c, v in zip(cs, vs))))
+                        if key not in made:  # (the list is kept in the value: its id cannot be reused)
+                            comb = new("lin", vs, cs, sp.S.Zero, max(nodes[v].degree for v in vs))
+                            where.append(Def(comb))
+                            made[key] = (where, comb)
+                        comb = made[key][1]
                         prod = new("mul", [u, comb.name], degree=_deg_mul(nodes[u].degree, comb.degree))
-                        (out if prod.ball or hoist is None else hoist).append(Def(prod))  # rotor-only: before the loop
+                        place(prod.ball).append(Def(prod))
                         drop |= {p for _, _, p in members}
                         coefs.append(sp.S.One), args.append(prod.name)
                     for c, a in zip(nd.coefs, nd.args):
