@@ -192,3 +192,40 @@ def test_every_lanes_header_is_its_models_c_rhs():
         batch = RKBatchEngine(exact_math=True, n_lanes=4).run_many(m, P, Y0, **kw)
         assert list(one["status"]) == ["success"] * 5, name
         assert np.array_equal(one["y_end"], batch["y_end"]), name
+
+
+def test_rhs_timed_along_a_runs_states():
+    """bench rk's floor: the rhs timed once at each state of a run (positive, per call); a state array of
+    the wrong shape is refused (negative control)."""
+    model = load_model("thesis_rotating_n2")
+    p = model.params()
+    y0 = np.array(model.module.START, float)
+    y0[list(model.angle_indices)] = (math.pi / 3, -math.pi / 3)
+    rk = ENGINES["rk-dop853"]
+    run = rk.run(model, p, y0, 50.0, 1e-8, 1e-10, 1e-3, 10**6, keep_trajectory=True)
+    states = run["y"].T
+    assert len(states) == run["n_steps"] + 1 > 50
+    ns = rk.time_rhs_along(model, p, states)
+    assert 0 < ns < 1e5
+    with pytest.raises(ValueError):
+        rk.time_rhs_along(model, p, states[:, :-1])
+    with pytest.raises(ValueError):
+        rk.time_rhs_along(model, p, states[:0])
+
+
+def test_a_files_digest_follows_its_bytes(tmp_path):
+    """The engines' cache key hashes a file once per (size, modification time): a changed file, even of the
+    same size, gets a new digest."""
+    import hashlib
+    import os
+
+    from adbgen.analysis.engines.compiled import _digest
+
+    f = tmp_path / "driver.c"
+    f.write_text("int a;\n")
+    first = _digest(f)
+    assert first == hashlib.sha256(b"int a;\n").digest() and _digest(f) == first
+    f.write_text("int b;\n")
+    st = f.stat()
+    os.utime(f, ns=(st.st_atime_ns, st.st_mtime_ns + 1_000_000))  # a coarse clock could leave the time as it was
+    assert _digest(f) == hashlib.sha256(b"int b;\n").digest()

@@ -83,6 +83,19 @@ def libm() -> str:
     return "sleef-cinz" if pinned_libm() else "glibc"
 
 
+def _digest(path: Path) -> bytes:
+    """The SHA-256 of a file's bytes, read again only when its size or modification time changes: the key
+    of every engine call (reading and hashing the driver, its headers and the model's source on each call
+    cost 0.25-0.3 ms, 7 % of a 3.4 ms run in `bench rk`)."""
+    st = path.stat()
+    return _digest_of(str(path), st.st_mtime_ns, st.st_size)
+
+
+@lru_cache(maxsize=256)
+def _digest_of(path: str, mtime_ns: int, size: int) -> bytes:
+    return hashlib.sha256(Path(path).read_bytes()).digest()
+
+
 def compile_cached(model, drv: Path, source: Path, flags, defines, libs, kind: str, what: str,
                    key: tuple = ()) -> Path:
     """Compile the driver `drv` (which #includes the model's generated `source`) with `flags`, `defines` and
@@ -91,8 +104,8 @@ def compile_cached(model, drv: Path, source: Path, flags, defines, libs, kind: s
     -march=native compiles for).  Every compiled engine's library is made here; `what` names it in the
     one-line error of a failed build."""
     h = hashlib.sha256()
-    headers = [p.read_bytes() for p in sorted(HERE.glob("*.h"))]  # every header a driver may include
-    for part in (drv.read_bytes(), *headers, source.read_bytes(), " ".join([*flags, *defines, *libs]).encode(),
+    headers = [_digest(p) for p in sorted(HERE.glob("*.h"))]  # every header a driver may include
+    for part in (_digest(drv), *headers, _digest(source), " ".join([*flags, *defines, *libs]).encode(),
                  model.name.encode(), *(str(k).encode() for k in key)):
         h.update(part)
         h.update(b"\0")

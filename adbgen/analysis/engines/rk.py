@@ -79,6 +79,8 @@ def _open(path: str):
             getattr(lib, name).restype = ctypes.c_int
     if hasattr(lib, "adb_rk_time_rhs"):
         lib.adb_rk_time_rhs.restype = ctypes.c_double
+    if hasattr(lib, "adb_rk_time_rhs_along"):
+        lib.adb_rk_time_rhs_along.restype = ctypes.c_double
     return lib
 
 
@@ -137,6 +139,17 @@ class RKEngine(CyRKEngine):
         p = np.ascontiguousarray(p, dtype=float)
         return float(lib.adb_rk_time_rhs(y.ctypes.data_as(ctypes.POINTER(ctypes.c_double)),
                                          p.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), ctypes.c_long(calls)))
+
+    def time_rhs_along(self, model, p, states) -> float:
+        """ns per evaluation of the rhs at each of `states` (rows: a run's accepted steps, in order), chained
+        as a run's stages are: the floor of item 3 at the states the run visits."""
+        lib = self.library(model)
+        Y = np.ascontiguousarray(states, dtype=float)
+        if Y.ndim != 2 or Y.shape[1] != model.n_states or len(Y) == 0:
+            raise ValueError(f"states must be a non-empty (k, {model.n_states}) array, not {Y.shape}")
+        p = np.ascontiguousarray(p, dtype=float)
+        return float(lib.adb_rk_time_rhs_along(Y.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), ctypes.c_long(len(Y)),
+                                               p.ctypes.data_as(ctypes.POINTER(ctypes.c_double))))
 
 
 class RKBatchEngine(RKEngine):

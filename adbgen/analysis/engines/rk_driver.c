@@ -336,3 +336,23 @@ double adb_rk_time_rhs(const double *y0, const double *p, long calls)
     (void)sink;
     return ((b.tv_sec - a.tv_sec) * 1e9 + (b.tv_nsec - a.tv_nsec)) / (double)calls;
 }
+
+/* CPU ns per rhs evaluation at the run's own states: one evaluation at each of the K states of Y (K x
+ * ADB_NY, a run's accepted steps in order), each input chained to the previous output by an addition that
+ * leaves it unchanged (1e-300 f: the evaluations cannot overlap, as a run's stages cannot).  The floor of
+ * bench rk: the rhs's cost depends on the state (libm's sin and cos take longer paths for larger angles),
+ * so the states a run visits are the ones its evaluations are timed at. */
+double adb_rk_time_rhs_along(const double *Y, long K, const double *p)
+{
+    double y[ADB_NY], f[ADB_NY] = {0.0};
+    struct timespec a, b;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
+    for (long k = 0; k < K; ++k) {
+        for (int i = 0; i < ADB_NY; ++i) y[i] = Y[k * ADB_NY + i] + 1e-300 * f[i];
+        ADB_RHS(0.0, y, p, f);
+    }
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
+    volatile double sink = f[0];
+    (void)sink;
+    return ((b.tv_sec - a.tv_sec) * 1e9 + (b.tv_nsec - a.tv_nsec)) / (double)K;
+}
