@@ -25,16 +25,16 @@ and 11 points of one map and 12 and 9 of the other).  The counts against today's
 solution itself, off the converged map at 10-13 points) are reported too.
 
 "At equal labels" is the work-precision rule of `bench precision` ("the fastest run reaching the error")
-with the label errors as the error: the SIMD engines also run one and two decades tighter (LADDER, atol
-= rtol / 100) on both maps, and an engine's rate at heyoka's label error is that of its fastest run off
-the converged maps at no more points (map + shifted map) than heyoka's batch ensemble at the sweep's
-tolerance, and heyoka's is likewise its fastest run reaching that error: heyoka runs the ladder too (its
-order rises with the tolerance and its steps hardly change: 58.76, 57.87 and 57.42 million from 1e-8 to
-1e-10; in one run of 2026-11-28 its run at 1e-9 was faster than its run at 1e-8).  `at_equal_labels` in the results
-reports the same comparison at the label error of each of heyoka's runs.  A label error is a chaotic long transient landing on one side or the other, so the
-counts at one tolerance differ between two codes at the same steps by a few points either way (15 and
-17 on 2026-11-28); the ladder compares the codes where their label accuracy is matched, not where one
-tolerance happens to put them.
+with the label errors as the error: the SIMD engines also run one and two decades tighter (LADDER, atol =
+rtol / 100) on both maps, and an engine's rate at heyoka's label error is that of its fastest run off the
+converged maps at no more points (map + shifted map) than heyoka's batch ensemble at the sweep's tolerance,
+and heyoka's is likewise its fastest run reaching that error: heyoka runs the ladder too (its order rises
+with the tolerance and its steps hardly change: 58.76, 57.87 and 57.42 million from 1e-8 to 1e-10; in one
+run of 2026-11-28 its run at 1e-9 was faster than its run at 1e-8). `at_equal_labels` in the results reports
+the same comparison at the label error of each of heyoka's runs. A label error is a chaotic long transient
+landing on one side or the other, so the counts at one tolerance differ between two codes at the same steps
+by a few points either way (15 and 17 on 2026-11-28); the ladder compares the codes where their label
+accuracy is matched, not where one tolerance happens to put them.
 
 CPU seconds are the process's (every thread's): on a shared machine the per-CPU-second figures are the
 stable ones; wall-clock ones depend on the cores the run got (`effective_cores`).
@@ -337,8 +337,7 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
         f"{first['ours_fastest']}: {first['ours_rate']} vs {first['heyoka_fastest']}: {first['heyoka_rate']} "
         f"trajectories per CPU-s at {first['label_errors']} points off; labels off the "
         "converged maps (map + shifted map): " + ", ".join(
-            f"{e} {runs[f'ensemble {e}']['label_errors']['map']} + {runs[f'ensemble {e}']['label_errors']['shifted_map']}"
-            f" ({rate(f'ensemble {e}')})"
+            "{} {map} + {shifted_map}".format(e, **runs[f"ensemble {e}"]["label_errors"]) + f" ({rate(f'ensemble {e}')})"
             for e in (*candidates, *peers))
         + "; differing from today's: " + ", ".join(f"{e} {runs[f'ensemble {e}']['labels_differing_from_today']}"
                                                    for e in (*SIMD, "heyoka"))

@@ -7,8 +7,8 @@ each call fed by the previous one as a run's stages are), in the same process an
 runs, so both see the same machine state (the ratio, not the times, is the result on a shared machine).
 The rhs's cost depends on the state: glibc's sin and cos take longer paths for larger arguments, and
 the earlier floor (20000 calls near each of 4 states of one run, the cheapest state's cost, kept as
-`floor_ratio_fixed_states`) timed the rhs where it is cheapest: on the four-ball model 76 ns against
-84-88 ns along the run (measured 2026-11-28).  Both sides are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID,
+`floor_ratio_fixed_states`) timed the rhs where it is cheapest: on the four-ball model 76-78 ns against
+87-92 ns along its runs (measured 2026-11-28).  Both sides are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID,
 time.thread_time around the call, which runs in the calling thread): on a loaded machine a wall clock
 counts the time other processes hold the core, and a short rhs loop fits in one time slice where a run
 does not (wall-clock ratios of 7-15 were measured at load 11).  Each model runs problem A's kind of
