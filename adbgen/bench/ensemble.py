@@ -198,9 +198,14 @@ def heyoka(model, P, Y0, workers: int, tol: float = RTOL, batch: int | None = No
     return row, np.where(ok, "success", "failed"), y_end
 
 
-def tighter() -> list[tuple[str, float]]:
-    """The SIMD engines' runs beyond the sweep's tolerance: (engine, rtol) over LADDER."""
-    return [(e, rtol) for e in SIMD for rtol in LADDER]
+def tighter() -> list[tuple[str, str, float]]:
+    """The SIMD engines' runs beyond the sweep's tolerance: (run name, engine, rtol) over LADDER."""
+    return [(f"{e} rtol {rtol:g}", e, rtol) for e in SIMD for rtol in LADDER]
+
+
+def heyoka_tighter() -> list[tuple[str, float]]:
+    """heyoka's runs beyond the sweep's tolerance: (run name, tol) over LADDER."""
+    return [(f"heyoka tol {rtol:g}", rtol) for rtol in LADDER]
 
 
 def at_equal_labels(runs: dict[str, tuple[int, float]], limit: int) -> str | None:
@@ -255,18 +260,18 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
             row, status, y_end = ours(engine, model, P, Y0, workers, t_end)
             finals[engine] = (status, y_end)
             keep(f"ensemble {engine}", row)
-        for engine, rtol in tighter():
+        for name, engine, rtol in tighter():
             row, status, y_end = ours(engine, model, P, Y0, workers, t_end, rtol, rtol / 100)
             row["rtol"] = rtol
-            finals[f"{engine} rtol {rtol:g}"] = (status, y_end)
-            keep(f"ensemble {engine} rtol {rtol:g}", row)
+            finals[name] = (status, y_end)
+            keep(f"ensemble {name}", row)
         row, status, y_end = heyoka(model, P, Y0, workers, t_end=t_end)
         finals["heyoka"] = (status, y_end)
         keep("ensemble heyoka", row)
-        for rtol in LADDER:
+        for name, rtol in heyoka_tighter():
             row, status, y_end = heyoka(model, P, Y0, workers, tol=rtol, t_end=t_end)
-            finals[f"heyoka tol {rtol:g}"] = (status, y_end)
-            keep(f"ensemble heyoka tol {rtol:g}", row)
+            finals[name] = (status, y_end)
+            keep(f"ensemble {name}", row)
 
     # labels of each ensemble's final states by one classifier
     labelled = {k: label(model, *v) for k, v in finals.items()}
@@ -285,11 +290,11 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
     check_grid = shifted(grid)
     model2, P2, Y2 = points(check_grid)
     checked = {e: ours(e, model2, P2, Y2, workers, t_end)[1:] for e in SIMD}
-    checked.update({f"{e} rtol {rtol:g}": ours(e, model2, P2, Y2, workers, t_end, rtol, rtol / 100)[1:]
-                    for e, rtol in tighter()})
+    checked.update({name: ours(e, model2, P2, Y2, workers, t_end, rtol, rtol / 100)[1:]
+                    for name, e, rtol in tighter()})
     checked["heyoka"] = heyoka(model2, P2, Y2, workers, t_end=t_end)[1:]
-    checked.update({f"heyoka tol {rtol:g}": heyoka(model2, P2, Y2, workers, tol=rtol, t_end=t_end)[1:]
-                    for rtol in LADDER})
+    checked.update({name: heyoka(model2, P2, Y2, workers, tol=rtol, t_end=t_end)[1:]
+                    for name, rtol in heyoka_tighter()})
     ref, resolved = reference_labels(model, P, Y0, workers, t_end)
     ref2, resolved2 = reference_labels(model2, P2, Y2, workers, t_end)
     for k, found in labelled.items():
@@ -316,12 +321,14 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
 
     # at equal labels: at the label error of heyoka's run at the sweep's tolerance (the target; then at each of
     # heyoka's other runs', reported), each side's fastest run reaching it, every tolerance of the ladders
-    candidates = [*SIMD, *(f"{e} rtol {rtol:g}" for e, rtol in tighter())]
-    peers = ["heyoka", *(f"heyoka tol {rtol:g}" for rtol in LADDER)]
+    candidates = [*SIMD, *(name for name, _, _ in tighter())]
+    peers = ["heyoka", *(name for name, _ in heyoka_tighter())]
+    mine_runs = {e: (errors(e), rate(f"ensemble {e}")) for e in candidates}
+    peer_runs = {k: (errors(k), rate(f"ensemble {k}")) for k in peers}
     levels = []
     for h in peers:
-        mine = at_equal_labels({e: (errors(e), rate(f"ensemble {e}")) for e in candidates}, errors(h))
-        theirs = at_equal_labels({k: (errors(k), rate(f"ensemble {k}")) for k in peers}, errors(h))
+        mine = at_equal_labels(mine_runs, errors(h))
+        theirs = at_equal_labels(peer_runs, errors(h))
         levels.append({"heyoka_run": h, "label_errors": errors(h), "heyoka_fastest": theirs,
                        "heyoka_rate": rate(f"ensemble {theirs}"), "ours_fastest": mine,
                        "ours_rate": rate(f"ensemble {mine}") if mine else None,

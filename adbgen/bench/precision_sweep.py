@@ -263,11 +263,11 @@ def auto_targets(problems: dict, default: str) -> list[dict]:
         recs = {r["name"]: r for r in prob["curves"]}
         d, h = recs.get(default), recs.get(HAND)
         pts_d = _curve_points(d) if d else []
+        reach = min((x for x, _ in _curve_points(h)), default=None) if h else None
         rows, worst = [], None
         for e in AUTO_LEVELS:
             td = _interpolated(d, e) if d else None
             th = _interpolated(h, e) if h else None
-            reach = min((x for x, _ in _curve_points(h)), default=None) if h else None
             row = {"error": e, "default_s": td, "peer_s": th}
             if td is None and th and pts_d and max(x for x, _ in pts_d) < e:
                 # the default's loosest run already errs less than e: its cheapest run at or below e (an

@@ -259,8 +259,7 @@ class Decomposer:
         hit = self._lookup(key)
         if hit is not None:
             return hit
-        ball = any(self.nodes[a].ball for a in args if a) or any(self.ball_const(c) for c in coefs) \
-            or (op in ("lin", "acc", "div", "pow") and isinstance(const, sp.Basic) and self.ball_const(const))
+        ball = _is_ball(self.nodes, self.ball_const, op, args, coefs, const)
         if ball and not self.in_loop:
             raise NotSeries("a ball quantity outside the loop over the balls")
         prefix = "b" if ball else "v"
@@ -690,13 +689,14 @@ def _factor_products(body: list, nodes: dict, count: int, ball_const) -> tuple[l
     made: dict = {}  # (id of the statement list, the combination's sorted terms) -> (that list, node)
 
     def is_ball(args, coefs=()) -> bool:
-        return any(nodes[a].ball for a in args) or any(ball_const(c) for c in coefs)
+        return _is_ball(nodes, ball_const, "lin", args, coefs, 0)
 
     def new(op, args, coefs=(), const=0, degree=INF):
         nonlocal count
-        name = f"{'b' if is_ball(args, coefs) else 'v'}{count}"
+        ball = _is_ball(nodes, ball_const, op, args, coefs, const)
+        name = f"{'b' if ball else 'v'}{count}"
         count += 1
-        nodes[name] = Node(name, op, tuple(args), tuple(coefs), const, is_ball(args, coefs), degree)
+        nodes[name] = Node(name, op, tuple(args), tuple(coefs), const, ball, degree)
         return nodes[name]
 
     def group(nd):
@@ -770,6 +770,13 @@ def _factor_products(body: list, nodes: dict, count: int, ball_const) -> tuple[l
         return res
 
     return prune(body), count
+
+
+def _is_ball(nodes: dict, ball_const, op: str, args, coefs, const) -> bool:
+    """Whether a node op(args; coefs, const) is a ball's (one value per ball): an operand, a coefficient or
+    (of a lin, acc, div or pow) the constant depends on the ball.  The decomposer's and the factoring's rule."""
+    return any(nodes[a].ball for a in args if a) or any(ball_const(c) for c in coefs) \
+        or (op in ("lin", "acc", "div", "pow") and isinstance(const, sp.Basic) and ball_const(const))
 
 
 def _deg_mul(a: int, b: int) -> int:
