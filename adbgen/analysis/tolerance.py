@@ -189,7 +189,7 @@ def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float
     """`sim` (run from y0 with engine `engine` at sim.rtol, sim.atol) against the tighter run and the second
     engine.  `tight`: the tighter run if already computed (its tolerance is then whatever it ran at);
     `second`: the second engine's name (default `second_engine`); `shown`: (role, engine, rtol, atol) of runs
-    reported beside them (not deciding the flag)."""
+    reported beside them (not deciding the flag), or (role, engine, Simulation) of such runs already made."""
     from .simulate import simulate
 
     p = np.asarray(model.params(p) if isinstance(p, dict) or p is None else p, float)
@@ -206,7 +206,8 @@ def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float
     other = second or second_engine(picked, model)
     runs = [outcome(model, p, sim, "as run", engine, label), outcome(model, p, tight, "tighter", engine, label),
             outcome(model, p, run(other, sim.rtol, sim.atol), "second engine", other, label)]
-    extra = [outcome(model, p, run(eng, r, a), role, eng, label) for role, eng, r, a in shown]
+    extra = [outcome(model, p, run(item[1], *item[2:]) if len(item) == 4 else item[2], item[0], item[1], label)
+             for item in shown]
     return judge(runs, extra, factor=sim.rtol / tight.rtol)
 
 

@@ -1,0 +1,56 @@
+"""The reproduction's tolerance check of its transients (science/sensitivity.py): a published transient that
+converges is robust; the same ladder with its tightest run planted from another start is flagged, and only
+that one is listed; the Fig. 5.10 table marks what the check flags."""
+
+from __future__ import annotations
+
+import math
+
+from adbgen.analysis.loading import load_model
+from adbgen.analysis.simulate import simulate
+from adbgen.families.single_plane.science import sensitivity
+
+PI = math.pi
+ENGINE = "cyrk-dop853"
+
+
+def _ladder(phi0, planted=None):
+    """Fig. 5.4(a) on rtol 1e-8, 1e-10 (t to 1000); `planted`: the 1e-10 run from that start instead."""
+    model = load_model("thesis_rotating_n2")
+    out = {}
+    for rtol in (1e-8, 1e-10):
+        start = planted if (planted is not None and rtol == 1e-10) else phi0
+        y0 = model.state({"phi_1": start[0], "phi_2": start[1]})
+        out[rtol] = simulate(model, model.params({}), y0, t_end=1000.0, rtol=rtol, atol=rtol * 1e-2, engine=ENGINE,
+                             keep_trajectory=False)
+    return out
+
+
+def test_check_transient_robust_and_planted():
+    start = (PI / 2, -PI / 2)
+    robust = sensitivity.check_transient(2, start, {}, _ladder(start), ENGINE)
+    assert not robust.sensitive, robust.reasons
+    assert [o.rtol for o in robust.runs] == [1e-8, 1e-10, 1e-8] and robust.runs[2].picked == "taylor"
+    planted = sensitivity.check_transient(2, start, {}, _ladder(start, planted=(PI / 4, -PI / 4)), ENGINE)
+    assert planted.sensitive and any(r.startswith("tighter: label balanced 1 vs") for r in planted.reasons)
+    lines = sensitivity.transient_lines([("5.4(a)", "(pi/2, -pi/2)", robust), ("planted", "(pi/4, -pi/4)", planted)])
+    text = "\n".join(lines)
+    assert "1 of 2 robust" in text and "Fig. planted" in text and "Fig. 5.4(a)" not in text
+
+
+def test_fig_5_10_table_marks_the_flagged_run(tmp_path):
+    """lines() on two studies, one flagged by its check and one not (the runs are the planted ladder's)."""
+    from adbgen.analysis.tolerance import MARK
+
+    start = (PI / 2, -PI / 2)
+    robust = sensitivity.check_transient(2, start, {}, _ladder(start), ENGINE)
+    planted = sensitivity.check_transient(2, start, {}, _ladder(start, planted=(PI / 4, -PI / 4)), ENGINE)
+    ladder = sensitivity.Ladder(ENGINE, (1e-8, 1e-10), 1000.0, ("matlab-ode45", 1e-3, 1e-6))
+    steps = {r: {"label": "balanced 1", "laps": 0} for r in ladder.rtols}
+    studies = [{"run": run, "check": c, "ladder": steps, "ode45_laps": 0}
+               for run, c in zip(sensitivity.RUNS[:2], (robust, planted))]
+    for c in (robust, planted):
+        c.shown = [(c.runs[0], [])]
+    res = {"runs": studies, "ladder": ladder, "figure": tmp_path / "f.png"}
+    rows = [ln for ln in sensitivity.lines(res, tmp_path) if ln.startswith("| 5.10")]
+    assert len(rows) == 2 and rows[0].endswith("| robust |") and f"tolerance-sensitive {MARK}" in rows[1]
