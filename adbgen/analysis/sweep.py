@@ -347,10 +347,15 @@ def checks_tolerance(spec: SweepSpec) -> bool:
 def second_engine_of(spec: SweepSpec, model: Model) -> str:
     """The tolerance check's second engine for this sweep (`tolerance.second_engine` of the engine that runs
     its ensembles)."""
+    from .engines import ENGINES
     from .tolerance import resolved, second_engine
 
-    return second_engine(resolved(spec.engine, model, spec.rtol, spec.atol, ensemble=True,
-                                  measures=spec.measure != "attractor"), model)
+    labels_only = spec.measure == "attractor"
+    name = second_engine(resolved(spec.engine, model, spec.rtol, spec.atol, ensemble=True, measures=not labels_only),
+                         model)
+    # labels without r_max/t_dec: its SIMD-lanes variant where there is one (as the auto engine's ENSEMBLE)
+    batch = f"{name}-batch"
+    return batch if labels_only and batch in ENGINES else name
 
 
 def _compute_once(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, threads: int) -> dict:

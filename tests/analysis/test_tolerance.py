@@ -122,8 +122,8 @@ def test_sweep_flags_exactly_the_planted_points(tmp_path, monkeypatch):
     names = json.loads(ds.attrs["labels"])
     flags = ds["tolerance_sensitive"].values
     assert flags.tolist() == [1, 0, 1, 0, 1, 0]  # the even rows ran the planted start when tighter
-    assert (ds["attractor"].values == ds["attractor_second_engine"].values).all()  # taylor agrees everywhere
-    assert summary["tolerance_sensitive"] == 3 and summary["tolerance_check"]["second_engine"] == "taylor"
+    assert (ds["attractor"].values == ds["attractor_second_engine"].values).all()  # taylor-batch agrees everywhere
+    assert summary["tolerance_sensitive"] == 3 and summary["tolerance_check"]["second_engine"] == "taylor-batch"
     assert summary["tolerance_check"]["checked"] == 6
     assert {names[c] for c in ds["attractor"].values} == {"balanced 1"}
     assert any(str(f).endswith("attractor.png") for f in summary["figures"])
