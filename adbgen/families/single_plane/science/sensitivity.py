@@ -2,7 +2,8 @@
 reproduction through `analysis.tolerance`'s check, and the runs the audit found sensitive, Fig. 5.10's
 three panels (thesis section 5.1.3: balls released at rest in the fixed frame, phi_i'(0) = -Omega) and the
 named start 23 pi/99 of Fig. 5.9(a1), each with its outcome at every tolerance, the check's verdict and
-the thesis' solver (`matlab-ode45` at ode45's defaults) beside the converged run.
+the thesis' solver (`matlab-ode45` at ode45's defaults) beside the converged run; and every start the thesis
+names in Figs. 5.7, 5.9 checked on its panel's own sweep (`adbgen sweep --check-tolerance`).
 """
 
 from __future__ import annotations
@@ -100,6 +101,10 @@ def compute(fig_dir: Path, ladder: Ladder, progress=None) -> dict:
             c = out["runs"][-1]["check"]
             progress(f"Fig. {run.figure}: {c.text()}")
     out["figure"] = figure(out["runs"], fig_dir, ladder.engine)
+    out["named"] = named_starts()
+    if progress:
+        progress("named starts of Figs. 5.7, 5.9: " + ", ".join(
+            f"{r['figure']} {r['phi_1']:.4f} {'sensitive' if r['sensitive'] else 'robust'}" for r in out["named"]))
     return out
 
 
@@ -177,7 +182,7 @@ def lines(res: dict, root: Path) -> list[str]:
           "finer than the grid step), so the thesis' picture is one of the outcomes its ode45 run happened to "
           "reach, and the document shows ours beside it instead of choosing.", "",
           f"![Fig. 5.10 with the tolerance check]({res['figure'].relative_to(root).as_posix()})", ""]
-    return L
+    return L + named_lines(res.get("named", []))
 
 
 # ------------------------------------------------------------------------ every transient, checked
@@ -206,4 +211,65 @@ def transient_lines(items) -> list[str]:
          + (", the tolerance-sensitive ones:" if flagged else "."), ""]
     for f, text, c in flagged:
         L.append(f"* {MARK} Fig. {f}, phi(0) = {text}: {c.text()}; " + "; ".join(c.reasons) + ".")
+    return L + [""]
+
+
+# ------------------------------------------------------------- the named starts of Figs. 5.7, 5.9
+
+def named_starts(workers: int | None = None) -> list[dict]:
+    """The starts the thesis names in Figs. 5.7, 5.9 (`sweeps.NAMED`) on the scans' own sweep path (the panel's
+    attractor sweep, `adbgen sweep ... --check-tolerance`): each start's label, its labels tighter and on the
+    second engine, and the flag.  The whole panel is swept, so each start is the scan's grid point bit for bit."""
+    import json
+    import shutil
+    import tempfile
+
+    import xarray as xr
+
+    from ....analysis.sweep import SweepSpec, run_sweep
+    from . import sweeps
+
+    panels = {p.figure: p for p in sweeps.PANELS}
+    out = []
+    for figure in dict.fromkeys(fig for fig, *_ in sweeps.NAMED):
+        panel = panels[figure]
+        spec = SweepSpec(model=f"thesis_rotating_n{panel.n}", grid=[sweeps.SCAN_GRID], measure="attractor",
+                         y0=list(panel.y0), tie=list(panel.tie), t_end=3000.0, rtol=sweeps.RTOL,
+                         atol=sweeps.RTOL * 1e-2, engine="cyrk-dop853", check_tolerance=True)
+        tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-named-"))
+        try:
+            summary = run_sweep(spec, tmp, progress=False, figures=False, workers=workers)
+            ds = xr.open_zarr(tmp / "sweep.zarr", consolidated=False).load()
+            names = json.loads(ds.attrs["labels"])
+            phi = ds["phi_1"].values
+            for fig, value, words, expect in sweeps.NAMED:
+                if fig != figure:
+                    continue
+                k = int(np.argmin(np.abs(phi - value)))
+                label = {key: names[int(ds[var].values[k])] for key, var in (
+                    ("as run", "attractor"), ("tighter", "attractor_tighter"),
+                    ("second engine", "attractor_second_engine"))}
+                out.append({"figure": fig, "phi_1": float(phi[k]), "words": words, "expect": expect, "labels": label,
+                            "sensitive": bool(ds["tolerance_sensitive"].values[k] == 1),
+                            "panel_sensitive": summary["tolerance_sensitive"], "check": summary["tolerance_check"]})
+            ds.close()
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+    return out
+
+
+def named_lines(rows: list[dict]) -> list[str]:
+    if not rows:
+        return []
+    c = rows[0]["check"]
+    L = ["**The named starts, checked** (each panel's attractor sweep with `--check-tolerance`: rtol "
+         f"{rows[0]['check']['rtol'] * TIGHTEN:g} against {c['rtol']:g} and against `{c['second_engine']}`; the "
+         "flagged points of the whole panel of 100 beside):", "",
+         "| panel | phi_1(0) | thesis | as run | tighter | second engine | check | flagged in the panel |",
+         "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lab = r["labels"]
+        verdict = f"**tolerance-sensitive {MARK}**" if r["sensitive"] else "robust"
+        L.append(f"| {r['figure']} | {r['phi_1']:.14f} | {r['words']} | {lab['as run']} | {lab['tighter']} | "
+                 f"{lab['second engine']} | {verdict} | {r['panel_sensitive']} of 100 |")
     return L + [""]
