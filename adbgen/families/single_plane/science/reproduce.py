@@ -533,12 +533,10 @@ def compute(fig_dir: Path, progress=print) -> dict:
 
 
 def lines(res: dict, root: Path) -> list[str]:
-    from . import sweeps
+    from . import sensitivity, sweeps
 
     L = _document(res["transients"], res["results"], res["figures"], root, res["statements"], res["maps"],
                   res["basins"], res["basins_n4"], res.get("pitchfork"))
-    from . import sensitivity
-
     at = L.index("## Thesis, chapter 4: stability of the balanced state")
     L = L[:at] + sweeps.lines(res["sweeps"], res["sweep_figures"], root, res["lyapunov"]) + L[at:]
     if "sensitivity" in res:  # every transient checked (issue 34), and Fig. 5.10 before the launches

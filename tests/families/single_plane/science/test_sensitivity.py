@@ -68,3 +68,32 @@ def test_named_starts_table_marks_only_the_flagged():
     assert "tolerance-sensitive" in table[0] and "| balanced 1 | limit cycle | balanced 1 |" in table[0]
     assert "| robust |" in table[1] and "tolerance-sensitive" not in table[1]
     assert "rtol 1e-08 against 1e-10" in sensitivity.named_lines(rows)[0]
+
+
+def test_the_document_places_the_check_before_the_figures_and_fig_5_10_before_the_launches(monkeypatch, tmp_path):
+    """reproduce.lines splices the check of every transient before "## Figures" and the Fig. 5.10 section before
+    the launches' section; without the check's results (an older result dict) the document is as before."""
+    from adbgen.families.single_plane.science import reproduce, sweeps
+
+    monkeypatch.setattr(reproduce, "_document", lambda *a, **k: [
+        "## Thesis, chapter 5: transients", "", "## Figures", "", "## Thesis, chapter 4: stability of the balanced state"])
+    monkeypatch.setattr(sweeps, "lines", lambda *a, **k: ["## Thesis, Figs. 5.5, 5.7, 5.9: r_max", "",
+                                                          "## Thesis, Figs. 5.10-5.11: launches", ""])
+    monkeypatch.setattr(sensitivity, "lines", lambda res, root: ["## FIG 5.10 CHECK", ""])
+    start = (PI / 2, -PI / 2)
+    check = sensitivity.check_transient(2, start, {}, _ladder(start, planted=(PI / 4, -PI / 4)), ENGINE)
+
+    class Row:
+        figure, phi0_text = "5.4(a)", "(pi/2, -pi/2)"
+
+    res = {k: None for k in ("figures", "statements", "maps", "basins", "basins_n4", "sweeps", "sweep_figures",
+                             "lyapunov")}
+    res.update(transients=[{"row": Row(), "check": check}], results=[])
+    before = reproduce.lines(res, tmp_path)
+    assert not any("Tolerance check" in ln or "FIG 5.10" in ln for ln in before)  # the control
+    res["sensitivity"] = {}
+    doc = reproduce.lines(res, tmp_path)
+    heads = [ln for ln in doc if ln.startswith("#")]
+    assert heads.index("### Tolerance check of every transient") + 1 == heads.index("## Figures")
+    assert heads.index("## FIG 5.10 CHECK") + 1 == heads.index("## Thesis, Figs. 5.10-5.11: launches")
+    assert any(ln.startswith("* (!) Fig. 5.4(a)") for ln in doc)
