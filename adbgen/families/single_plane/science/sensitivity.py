@@ -249,7 +249,8 @@ def named_starts(workers: int | None = None) -> list[dict]:
             ds = xr.open_zarr(tmp / "sweep.zarr", consolidated=False).load()
             names = json.loads(ds.attrs["labels"])
             label = {key: names[int(ds[var].values[0])] for key, var in (
-                ("as run", "attractor"), ("tighter", "attractor_tighter"), ("second engine", "attractor_second_engine"))}
+                ("as run", "attractor"), ("tighter", "attractor_tighter"),
+                ("second engine", "attractor_second_engine"))}
             out.append({"figure": figure, "phi_1": phi, "words": words, "expect": expect, "labels": label,
                         "sensitive": bool(ds["tolerance_sensitive"].values[0] == 1),
                         "check": summary["tolerance_check"]})

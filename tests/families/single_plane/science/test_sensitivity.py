@@ -76,7 +76,8 @@ def test_the_document_places_the_check_before_the_figures_and_fig_5_10_before_th
     from adbgen.families.single_plane.science import reproduce, sweeps
 
     monkeypatch.setattr(reproduce, "_document", lambda *a, **k: [
-        "## Thesis, chapter 5: transients", "", "## Figures", "", "## Thesis, chapter 4: stability of the balanced state"])
+        "## Thesis, chapter 5: transients", "", "## Figures", "",
+        "## Thesis, chapter 4: stability of the balanced state"])
     monkeypatch.setattr(sweeps, "lines", lambda *a, **k: ["## Thesis, Figs. 5.5, 5.7, 5.9: r_max", "",
                                                           "## Thesis, Figs. 5.10-5.11: launches", ""])
     monkeypatch.setattr(sensitivity, "lines", lambda res, root: ["## FIG 5.10 CHECK", ""])
