@@ -39,7 +39,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cli_types import positive_int
+from adbgen.cli_types import positive_int
+
 from .registry import BALL_COUNTS, Benchmark, option
 from .report import machine, write
 from . import symbolic
@@ -69,7 +70,7 @@ def _ops(exprs) -> int:
 
 def _clear_derivation_cache() -> None:
     """Each build times its derivation from scratch (the single-plane derivation is cached per scene)."""
-    from ..families.single_plane.model import derive
+    from adbgen.families.single_plane.model import derive
 
     derive.cache_clear()
 
@@ -99,8 +100,8 @@ def polyfit(ns, values, degree: int) -> dict:
 
 def build_spec(spec, system=None, form=None):
     """The model's intermediate form (`codegen.spec.build`), imported when a benchmark runs."""
-    from ..codegen.lowering import DEFAULT_FORM
-    from ..codegen.spec import build
+    from adbgen.codegen.lowering import DEFAULT_FORM
+    from adbgen.codegen.spec import build
 
     return build(spec, system, form=form or DEFAULT_FORM)
 
@@ -153,8 +154,8 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
                     native: bool = True) -> dict:
     """ns per call for one model in one form (`lowering.FORMS`): numba (jitted loop, from Python), C,
     sympy.lambdify; with the emitted source sizes and the first calls' (compilation) times."""
-    from ..codegen.lowering import DEFAULT_FORM
-    from ..codegen.scratch import import_numba, render_into
+    from adbgen.codegen.lowering import DEFAULT_FORM
+    from adbgen.codegen.scratch import import_numba, render_into
 
     form = form or DEFAULT_FORM
     spec = kinds()[family](n)

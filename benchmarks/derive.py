@@ -12,15 +12,16 @@ import os
 import platform
 import time
 
-from ..cli_types import positive_int
+from adbgen.cli_types import positive_int
+
 from .registry import BALL_COUNTS, Benchmark, option
 from .report import write
 
 
 def _derive_general(n: int):
-    from ..families.single_plane.model import derive
-    from ..families.single_plane.reductions import first_order
-    from ..families.single_plane.verify import general_scene
+    from adbgen.families.single_plane.model import derive
+    from adbgen.families.single_plane.reductions import first_order
+    from adbgen.families.single_plane.verify import general_scene
 
     scene = general_scene(n)  # unequal balls, anisotropic, gravity, torque-driven: 3 + n coordinates
     eom = derive(scene)
@@ -28,9 +29,9 @@ def _derive_general(n: int):
 
 
 def _derive_thesis(n: int):
-    from ..families.single_plane.model import derive
-    from ..families.single_plane.reductions import first_order, nondimensionalise, rotating_frame
-    from ..families.single_plane.scene import Scene
+    from adbgen.families.single_plane.model import derive
+    from adbgen.families.single_plane.reductions import first_order, nondimensionalise, rotating_frame
+    from adbgen.families.single_plane.scene import Scene
 
     scene = Scene(n=n)
     rot = rotating_frame(scene, nondimensionalise(scene, derive(scene)))
@@ -41,7 +42,7 @@ def bench_derive(ns=(1, 2, 4, 8, 16, 32), progress=None, pipeline_ns=None, pipel
     """The derivation's time and size for `ns`; with `pipeline_ns`, also `bench_pipeline` (issue 10)."""
     import sympy as sp
 
-    from ..families.single_plane.model import derive
+    from adbgen.families.single_plane.model import derive
 
     rows = []
     for n in ns:
@@ -81,11 +82,11 @@ def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progre
     derive (scene -> first-order system), checks (the kind's reduction checks, in their proportionate
     form unless full_checks, and the pre-write checks of every program), lower (the intermediate form,
     loop form) and emit (every target rendered), with the emitted sizes."""
-    from .. import families
-    from ..codegen.checks import check_programs, check_start
-    from ..codegen.render import render_model
-    from ..codegen.spec import build as build_ir
-    from ..families.single_plane.model import derive
+    from adbgen import families
+    from adbgen.codegen.checks import check_programs, check_start
+    from adbgen.codegen.render import render_model
+    from adbgen.codegen.spec import build as build_ir
+    from adbgen.families.single_plane.model import derive
 
     kinds = kinds or families.kinds()
     rows = []

@@ -32,9 +32,11 @@ from pathlib import Path
 
 import numpy as np
 
+from adbgen.analysis.engines.auto import TABLE
+from adbgen.cli_types import UsageError
+
 from .registry import QUICK, REPEATS, Benchmark, option, require_positive_repeats
 from .report import closing, describe_targets, opening, target, write
-from ..cli_types import UsageError
 
 ORDERS = (7, 8, 9, 10, 11, 12, 13, 14, 16, 18, 20)
 FACTORS = (1.0, 1.5, 2.0, 2.5, 3.0, 3.5)
@@ -43,7 +45,7 @@ TARGETS = tuple(10.0 ** -k for k in range(3, 15))  # to 1e-14 (the shipped table
 RK_ENGINES = ("cyrk-dop853", "cyrk-vern8")
 QUICK_ORDERS, QUICK_FACTORS, QUICK_RTOLS = (8, 12), (1.0, 2.0), (1e-6, 1e-9)
 DEFAULT_REPEATS, QUICK_REPEATS = 5, 1
-TABLE_PATH = Path(__file__).resolve().parents[1] / "analysis" / "engines" / "auto_table.json"
+TABLE_PATH = TABLE  # the package's data file that the auto engine reads
 
 
 def candidates(orders, factors, rtols) -> list[dict]:
@@ -56,8 +58,8 @@ def candidates(orders, factors, rtols) -> list[dict]:
 
 def _runner(model, pp, cand: dict, t_end: float, tol: float):
     """A function running the candidate once on the problem: (cpu seconds, final state, steps, status)."""
-    from ..analysis.engines import ENGINES
-    from ..analysis.engines.taylor import TaylorEngine
+    from adbgen.analysis.engines import ENGINES
+    from adbgen.analysis.engines.taylor import TaylorEngine
 
     p, y0 = pp.problem.vectors(model)
     if cand["engine"] == "taylor":
@@ -78,7 +80,7 @@ def _runner(model, pp, cand: dict, t_end: float, tol: float):
 def measure_problem(label: str, cands: list[dict], repeats: int, t_end: float | None, tol: float,
                     progress=print) -> dict:
     """Every candidate on one problem: {key: {error, cpu_s, steps, status}} and the reference."""
-    from ..analysis.loading import load_model
+    from adbgen.analysis.loading import load_model
     from .precision import PROBLEMS, reference
 
     pp = PROBLEMS[label]
@@ -116,7 +118,7 @@ def admissible(cand: dict, requested: float, safety: float = SAFETY) -> bool:
     """Whether a candidate may stand for a requested tolerance whatever the scene: its per-step error aim
     (Taylor: `taylor.nominal_error` of its order and factor) at most requested / safety; an RK candidate
     at most the requested rtol (its own error control is per step)."""
-    from ..analysis.engines.taylor import nominal_error
+    from adbgen.analysis.engines.taylor import nominal_error
 
     if "order" in cand:
         return nominal_error(cand["order"], cand["step_factor"]) <= requested / safety * (1 + 1e-9)
@@ -173,7 +175,7 @@ def flop_time(order: int, lanes: int, seconds: float = 0.5) -> float:
     import subprocess
     import tempfile
 
-    from ..analysis.engines.taylor import CFLAGS
+    from adbgen.analysis.engines.taylor import CFLAGS
     from .timing import c_compiler, c_file
 
     flags = [f for f in CFLAGS if f not in ("-fPIC", "-shared", "-fopenmp")]
@@ -189,12 +191,12 @@ def cost_per_step(order: int, factor: float, repeats: int, label: str = "A") -> 
     """Taylor's CPU time per step on problem `label` (no events: the series and the step alone) against its
     operation count (the series program's flops for orders 0..order-1, `ccode.CEmitter.count`, plus
     Horner's 2 N order) times the machine's time per flop (`flop_time`, scalar and four lanes)."""
-    from .. import families
-    from ..analysis.engines.taylor import TaylorEngine
-    from ..analysis.loading import load_model
-    from ..codegen.spec import build as build_ir
-    from ..codegen.targets.taylor.ccode import CEmitter
-    from ..codegen.targets.taylor.series import decompose
+    from adbgen import families
+    from adbgen.analysis.engines.taylor import TaylorEngine
+    from adbgen.analysis.loading import load_model
+    from adbgen.codegen.spec import build as build_ir
+    from adbgen.codegen.targets.taylor.ccode import CEmitter
+    from adbgen.codegen.targets.taylor.series import decompose
     from .precision import PROBLEMS
 
     pp = PROBLEMS[label]
@@ -224,7 +226,7 @@ def cost_per_step(order: int, factor: float, repeats: int, label: str = "A") -> 
 
 def family_of(label: str) -> str:
     """The family (its models' FAMILY) of a problem's model."""
-    from ..analysis.loading import load_model
+    from adbgen.analysis.loading import load_model
     from .precision import PROBLEMS
 
     return getattr(load_model(PROBLEMS[label].problem.model).module, "FAMILY", label)
@@ -236,7 +238,7 @@ def table_of(result: dict) -> dict:
     by_family = {family_of(label): choose({label: res}, cands, targets) for label, res in problems.items()}
     return {"benchmark": "auto", "date": result["date"], "problems": sorted(problems), "machine": result["machine"],
             "rows": choose(problems, cands, targets), "by_family": by_family, "safety": SAFETY,
-            "source": "adbgen bench auto (adbgen/bench/auto.py)"}
+            "source": "adbgen bench auto (benchmarks/engine_table.py)"}
 
 
 def bench_auto(labels=("A", "B"), *, quick: bool = False, repeats: int | None = None, t_end: float | None = None,

@@ -69,7 +69,7 @@ REFERENCES, REF_RTOL, REF_ATOL = ("taylor-batch", "rk-dop853-batch"), 1e-12, 1e-
 
 
 def _spec(engine: str, grid=GRID, t_end: float = T_END):
-    from ..analysis.sweep import SweepSpec
+    from adbgen.analysis.sweep import SweepSpec
 
     return SweepSpec(model=MODEL, grid=list(grid), measure="attractor", t_end=t_end, rtol=RTOL, atol=ATOL,
                      engine=engine, early_stop=False, symmetry=False, check_dt=CHECK_DT)
@@ -92,7 +92,7 @@ def _rates(n: int, t: dict, workers: int) -> dict:
 def sweep_run(engine: str, workers: int, grid=GRID, t_end: float = T_END) -> tuple[dict, np.ndarray, list]:
     import xarray as xr
 
-    from ..analysis.sweep import run_sweep
+    from adbgen.analysis.sweep import run_sweep
 
     tmp = Path(tempfile.mkdtemp(prefix="adbgen-bench-ensemble-"))
     try:
@@ -111,8 +111,8 @@ def sweep_run(engine: str, workers: int, grid=GRID, t_end: float = T_END) -> tup
 
 def shifted(grid=GRID) -> list[str]:
     """The map's second grid: every axis moved by half its spacing (the points between the map's)."""
-    from ..analysis.grid import parse_axis
-    from ..analysis.loading import load_model
+    from adbgen.analysis.grid import parse_axis
+    from adbgen.analysis.loading import load_model
 
     model = load_model(MODEL)
     out = []
@@ -138,7 +138,7 @@ def differing(found, other, counted=None) -> int:
 
 
 def points(grid=GRID):
-    from ..analysis.sweep import prepare
+    from adbgen.analysis.sweep import prepare
 
     model, g = prepare(_spec(TODAY, grid))
     flat = np.arange(int(np.prod(g.shape)))
@@ -148,7 +148,7 @@ def points(grid=GRID):
 
 def ours(engine: str, model, P, Y0, workers: int, t_end: float = T_END, rtol: float = RTOL,
          atol: float = ATOL) -> tuple[dict, np.ndarray, np.ndarray]:
-    from ..analysis.simulate import simulate_many
+    from adbgen.analysis.simulate import simulate_many
 
     ens, t = _timed(lambda: simulate_many(model, P, Y0, t_end=t_end, rtol=rtol, atol=atol, engine=engine,
                                           threads=workers, check_dt=CHECK_DT, measures=False))
@@ -216,7 +216,7 @@ def at_equal_labels(runs: dict[str, tuple[int, float]], limit: int) -> str | Non
 
 
 def label(model, status, y_end) -> list[str]:
-    from ..analysis.attractors import classifier
+    from adbgen.analysis.attractors import classifier
 
     clf = classifier(model, model.params(), "lyapunov")
     return [clf.label(s, y, -1, engine=TODAY, rtol=RTOL, atol=ATOL) for s, y in zip(status, y_end)]
@@ -224,8 +224,8 @@ def label(model, status, y_end) -> list[str]:
 
 def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_end: float = T_END, sweeps: bool = True,
                    progress=print) -> dict:
-    from ..analysis.engines import DEFAULT  # the sweeps' default engine, measured beside today's
-    from ..analysis.sweep import default_workers
+    from adbgen.analysis.engines import DEFAULT  # the sweeps' default engine, measured beside today's
+    from adbgen.analysis.sweep import default_workers
 
     workers = workers or default_workers()
     result, started = opening("ensemble")

@@ -56,8 +56,8 @@ def _say(progress, line):
 # ------------------------------------------------------------------------------------ fixed step
 
 def fixed_step_part(quick: bool, progress=None) -> dict:
-    from ..analysis.loading import load_model
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.simulate import simulate
     from . import fixed_step as fs
 
     model = load_model(PROBLEM_A.model)
@@ -105,8 +105,8 @@ def fixed_step_part(quick: bool, progress=None) -> dict:
 # ---------------------------------------------------------------------------------------- Jacobi
 
 def jacobi_part(quick: bool, progress=None) -> dict:
-    from ..analysis.loading import load_model
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.simulate import simulate
     from . import jacobi as bj
 
     model = load_model(PROBLEM_A.model)
@@ -152,8 +152,8 @@ def jacobi_part(quick: bool, progress=None) -> dict:
 # ----------------------------------------------------------------------------------------- stiff
 
 def stiff_part(quick: bool, progress=None) -> dict:
-    from ..analysis.loading import load_model
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.simulate import simulate
 
     model = load_model(PROBLEM_A.model)
     t_end = 20.0 if quick else 200.0
@@ -187,7 +187,7 @@ def stiff_part(quick: bool, progress=None) -> dict:
 # -------------------------------------------------------------------------------------- symmetry
 
 def symmetry_part(quick: bool, progress=None) -> dict:
-    from ..analysis.loading import load_model
+    from adbgen.analysis.loading import load_model
     from .pathways import engine_pathway
     from .problems import Problem
     from . import fixed_step as fs
@@ -241,8 +241,8 @@ def _log_curve(t, sep, points: int = 300) -> dict:
 
 
 def merging_part(quick: bool, progress=None) -> dict:
-    from ..analysis.loading import load_model
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.simulate import simulate
     from . import pairs as bp
 
     out: dict = {"hill": {}, "thesis_n2": {}}

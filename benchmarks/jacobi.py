@@ -46,8 +46,8 @@ def jacobi_function(n: int = 3):
     first axis, in the generated model's order), from the derived rotating-frame Lagrangian."""
     import sympy as sp
 
-    from ..families.single_plane.jacobi import rotating_lagrangian
-    from ..families.single_plane.scene import Scene
+    from adbgen.families.single_plane.jacobi import rotating_lagrangian
+    from adbgen.families.single_plane.scene import Scene
 
     h = rotating_lagrangian(Scene(n=n)).jacobi_integral()
     return _lambdified(sp.srepr(h))
@@ -77,8 +77,8 @@ def _lambdified(text: str):
 
 @lru_cache(maxsize=None)
 def _midpoint_library(c_source: str, name: str, ny: int, np_: int) -> ctypes.CDLL:
-    from ..analysis.engines.compiled import SUNDIALS_LIBS, compiler
-    from ..analysis.loading import cache_dir
+    from adbgen.analysis.engines.compiled import SUNDIALS_LIBS, compiler
+    from adbgen.analysis.loading import cache_dir
 
     src = Path(c_source)
     driver = c_file("midpoint.c")

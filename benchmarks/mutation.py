@@ -45,7 +45,7 @@ from pathlib import Path
 
 from .registry import Benchmark, option
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 PYTHON_SOURCES = ("balls.py", "describe.py", "emit.py", "ir.py", "loops.py", "lowering.py", "printers.py",
                   "render.py", "spec.py", "targets/__init__.py", "targets/auto/__init__.py",
                   "targets/auto/dialect.py", "targets/c/__init__.py", "targets/c/dialect.py", "targets/c/printer.py",

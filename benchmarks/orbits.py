@@ -36,10 +36,10 @@ def _children_cpu() -> float:
 
 
 def bench_newton(repeats: int = 20, say=print) -> dict:
-    from ..analysis.loading import load_model
-    from ..analysis.orbits import orbit
-    from ..analysis.orbits.flow import Flow
-    from ..analysis.orbits.shooting import Shooting
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.orbits import orbit
+    from adbgen.analysis.orbits.flow import Flow
+    from adbgen.analysis.orbits.shooting import Shooting
 
     m = load_model("thesis_rotating_n3")
     p = m.params({"zeta": 0.25})
@@ -67,10 +67,10 @@ def bench_newton(repeats: int = 20, say=print) -> dict:
 
 
 def bench_branch(points: int = 200, say=print) -> dict:
-    from ..analysis import auto, continuation
-    from ..analysis.loading import load_model
-    from ..analysis.orbits import auto_cycles, branches, continuer, hopf
-    from ..analysis.orbits.parameters import ParameterMap
+    from adbgen.analysis import auto, continuation
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.orbits import auto_cycles, branches, continuer, hopf
+    from adbgen.analysis.orbits.parameters import ParameterMap
 
     m = load_model("thesis_rotating_n2")
     p = m.params({"Omega": 4.0, "mu": 0.05, "zeta": 0.01, "beta": 0.01, "delta": 0.01})
@@ -120,9 +120,9 @@ def bench_branch(points: int = 200, say=print) -> dict:
 
 def _chart(case, n1: int, n2: int):
     """One of the paper's charts as `adbgen continue --par Omega --par2 epsilon --tie ... --log2` computes it."""
-    from ..analysis.loading import load_model
-    from ..analysis.orbits import charts
-    from ..analysis.orbits.parameters import ParameterMap
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.orbits import charts
+    from adbgen.analysis.orbits.parameters import ParameterMap
 
     m = load_model(case.model)
     pmap = ParameterMap(m, m.params(case.sets), ["Omega", "epsilon"], case.ties)
@@ -132,7 +132,7 @@ def _chart(case, n1: int, n2: int):
 
 
 def bench_charts(quick: bool = False, say=print) -> dict:
-    from ..families.two_plane.charts import CHARTS
+    from adbgen.families.two_plane.charts import CHARTS
 
     rows = {}
     for case in CHARTS:

@@ -40,7 +40,7 @@ class Pathway:
 def engine_pathway(model, problem: Problem, engine: str, rtol: float | None = None, atol: float | None = None,
                    y0: dict | None = None, key: str | None = None) -> Pathway:
     """An engine of `adbgen.analysis.engines.ENGINES` on the problem (`analysis.simulate`, no trajectory)."""
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.simulate import simulate
 
     p, y = problem.vectors(model)
     if y0 is not None:

@@ -94,7 +94,7 @@ from .problems import Problem
 from .registry import (BALL_COUNTS, ENGINE_NAMES, NO_PEERS, QUICK, REPEATS, Benchmark, option, require_known_engines,
                        require_positive_repeats)
 from .report import closing, describe_targets, jsonable, load_average, opening, utc_now, write
-from ..cli_types import UsageError
+from adbgen.cli_types import UsageError
 
 TOLS = tuple(10.0 ** -k for k in range(3, 15))  # to 1e-14: the peers' curves reach error 1e-13 (issue 22)
 QUICK_TOLS = (1e-4, 1e-7)
@@ -154,7 +154,7 @@ def reference(model, pp: PrecisionProblem, t_end: float, ref_tol: float = REF_TO
     Otherwise (the stiff problem, or heyoka missing): CyRK Vern8 at rtol ref_tol, checked by heyoka's Taylor
     method at check_tol (or CyRK DOP853 at ref_tol).  The Vern8 run is always made: problem A's t_dec and
     r_max come from it, and its distance from an extended reference is recorded."""
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.simulate import simulate
 
     p, y0 = pp.problem.vectors(model)
     start = time.perf_counter()
@@ -252,8 +252,8 @@ def bench_precision(problems=("A", "B", "C"), *, quick: bool = False, tols=None,
                     percall_ns=None, progress=None) -> dict:
     """The whole benchmark (module docstring); returns the JSON-ready result."""
     from . import percall as bench_percall
-    from ..analysis.engines import DEFAULT
-    from ..analysis.loading import load_model
+    from adbgen.analysis.engines import DEFAULT
+    from adbgen.analysis.loading import load_model
 
     say = progress or (lambda line: None)
     result, started = opening("precision")

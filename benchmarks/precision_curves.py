@@ -141,7 +141,7 @@ def curves(model, pp: PrecisionProblem, folder: Path, *, engines=None, peers: bo
            want_t_dec: bool = False, progress=None) -> list[Curve]:
     """Every pathway of the benchmark for one problem (set up, compiled and warmed, not yet timed)."""
     from . import baseline as bench_baseline
-    from ..analysis.engines import DEFAULT, ENGINES
+    from adbgen.analysis.engines import DEFAULT, ENGINES
 
     say = progress or (lambda line: None)
     problem = pp.problem

@@ -19,23 +19,23 @@ import importlib
 from dataclasses import dataclass, field
 from typing import Callable
 
-from ..cli_types import UsageError, positive_int
+from adbgen.cli_types import UsageError, positive_int
 
 # name -> "module:attribute"; one line per benchmark, in the order of `adbgen bench --help`
 REGISTRY: dict[str, str] = {
-    "derive": "adbgen.bench.derive:BENCHMARK",
-    "codegen": "adbgen.bench.codegen:BENCHMARK",
-    "simulate": "adbgen.bench.simulate:BENCHMARK",
-    "sweep": "adbgen.bench.sweep:BENCHMARK",
-    "failures": "adbgen.bench.failures:BENCHMARK",
-    "smallest": "adbgen.bench.smallest:BENCHMARK",
-    "precision": "adbgen.bench.precision:BENCHMARK",
-    "mutation": "adbgen.bench.mutation:BENCHMARK",
-    "orbits": "adbgen.bench.orbits:BENCHMARK",
-    "auto": "adbgen.bench.auto:BENCHMARK",
-    "rk": "adbgen.bench.rk:BENCHMARK",
-    "ensemble": "adbgen.bench.ensemble:BENCHMARK",
-    "reproduce": "adbgen.bench.reproduce:BENCHMARK",
+    "derive": "benchmarks.derive:BENCHMARK",
+    "codegen": "benchmarks.codegen:BENCHMARK",
+    "simulate": "benchmarks.simulate:BENCHMARK",
+    "sweep": "benchmarks.sweep:BENCHMARK",
+    "failures": "benchmarks.failures:BENCHMARK",
+    "smallest": "benchmarks.smallest:BENCHMARK",
+    "precision": "benchmarks.precision:BENCHMARK",
+    "mutation": "benchmarks.mutation:BENCHMARK",
+    "orbits": "benchmarks.orbits:BENCHMARK",
+    "auto": "benchmarks.engine_table:BENCHMARK",
+    "rk": "benchmarks.rk:BENCHMARK",
+    "ensemble": "benchmarks.ensemble:BENCHMARK",
+    "reproduce": "benchmarks.reproduce:BENCHMARK",
 }
 
 
@@ -94,7 +94,7 @@ def require_positive_repeats(args) -> None:
 
 def require_known_engines(args) -> None:
     if args.engines:
-        from ..analysis.engines import engine
+        from adbgen.analysis.engines import engine
 
         for name in args.engines:
             engine(name)  # an unknown name: one line naming the engines, exit 2

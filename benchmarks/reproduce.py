@@ -27,7 +27,7 @@ from pathlib import Path
 from .registry import Benchmark, option
 from .report import closing, opening, write
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 DOCUMENT = ROOT / "docs" / "reproduction.md"
 OLDER = ",-AVX"  # masked beside the pinned capabilities: the emulated processor has no AVX
 
@@ -83,7 +83,7 @@ def compare(document: Path, figures: Path, committed: Path | dict = DOCUMENT, do
 def run_reproduce(folder: Path, sections=None, emulate_older: bool = False, progress=print) -> dict:
     """`adbgen reproduce` in a child process writing into `folder`: wall and CPU seconds, the progress
     lines with the seconds at which they came, the exit status."""
-    from ..analysis.reproduction import pinned_environment
+    from adbgen.analysis.reproduction import pinned_environment
 
     env = pinned_environment({k: v for k, v in os.environ.items() if k != "GLIBC_TUNABLES"})
     if emulate_older:

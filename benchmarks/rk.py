@@ -55,9 +55,9 @@ def _one(engine, model, p, y0, rtol, measures: bool) -> tuple[float, int, int]:
 
 
 def measure(model_name: str, rtols=RTOLS, repeats: int = 5) -> list[dict]:
-    from ..analysis.engines import ENGINES
-    from ..analysis.loading import load_model
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.engines import ENGINES
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.simulate import simulate
 
     model = load_model(model_name)
     p = model.params()

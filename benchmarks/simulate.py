@@ -113,7 +113,7 @@ def reference(model, problem: Problem, y0: dict | None = None) -> dict:
     compiled), checked by SciPy's DOP853 on the numba rhs (another method and implementation)."""
     from scipy.integrate import solve_ivp
 
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.simulate import simulate
 
     p, y = problem.vectors(model)
     if y0 is not None:
@@ -262,7 +262,7 @@ def evaluate_targets(result: dict) -> list[dict]:
 def _cold_build(model, engine, rtol: float, atol: float) -> float | None:
     """Seconds to compile a compiled engine's library for the model from scratch (a scratch cache); for
     `auto`, the library of what it picks at (rtol, atol) (a Taylor engine: one library per order)."""
-    from ..analysis.engines import compiled, taylor
+    from adbgen.analysis.engines import compiled, taylor
 
     order = None
     if hasattr(engine, "picked"):
@@ -343,8 +343,8 @@ def bench_simulate(problem: Problem = PROBLEM_A, *, repeats: int = DEFAULT_REPEA
                    slow_s: float = SLOW_S, floor_target: float = 0.01, baseline: bool = True,
                    progress=None) -> dict:
     """Run the whole benchmark; returns the JSON-ready result (see the module docstring)."""
-    from ..analysis.engines import DEFAULT, ENGINES
-    from ..analysis.loading import load_model
+    from adbgen.analysis.engines import DEFAULT, ENGINES
+    from adbgen.analysis.loading import load_model
 
     say = progress or (lambda line: None)
     result, started = opening("simulate")

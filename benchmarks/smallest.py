@@ -129,8 +129,8 @@ def _start(model) -> dict:
 
 
 def bench_smallest(quick: bool = False, progress=None) -> dict:
-    from ..analysis.loading import load_model
-    from ..analysis.simulate import simulate
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.simulate import simulate
     from .pairs import cyrk_solve
 
     say = progress or (lambda line: None)

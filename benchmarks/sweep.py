@@ -33,8 +33,8 @@ GRID = ["phi_1=0:2*pi*99/100:100", "phi_2=0:2*pi*99/100:100"]
 
 
 def _one(spec, out: Path, workers: int) -> dict:
-    from ..analysis.attractors import _classifier_cached
-    from ..analysis.sweep import run_sweep
+    from adbgen.analysis.attractors import _classifier_cached
+    from adbgen.analysis.sweep import run_sweep
 
     _classifier_cached.cache_clear()  # every run computes its stop regions (a repeat would reuse them)
 
@@ -57,8 +57,8 @@ def _one(spec, out: Path, workers: int) -> dict:
 
 def _regions(spec) -> list[dict]:
     """The early stop's regions at the benchmark's parameters: their size, and what is proven and sampled."""
-    from ..analysis.attractors import classifier
-    from ..analysis.sweep import prepare
+    from adbgen.analysis.attractors import classifier
+    from adbgen.analysis.sweep import prepare
 
     model, grid = prepare(spec)
     out = []
@@ -87,7 +87,7 @@ def bench_sweep(workers: int | None = None, grid=GRID, t_end: float = 2000.0, pr
                 only: str | None = None, check_dt: float | None = None, stop_region: str | None = None) -> dict:
     import xarray as xr
 
-    from ..analysis.sweep import SweepSpec, default_workers
+    from adbgen.analysis.sweep import SweepSpec, default_workers
 
     workers = workers or default_workers()
     base = dict(model="thesis_rotating_n2", grid=list(grid), measure="attractor", t_end=t_end, rtol=1e-8,

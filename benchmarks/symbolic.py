@@ -17,7 +17,7 @@ import numpy as np
 @lru_cache(maxsize=None)
 def kinds() -> dict:
     """Every family's model kinds indexed by n, {kind: n -> ModelSpec} (`families.kinds`)."""
-    from .. import families
+    from adbgen import families
 
     return families.kinds()
 
@@ -47,7 +47,7 @@ def lambdify_rhs(model_name: str) -> tuple[Callable, dict]:
     otherwise the mass matrix and forcing lambdified and solved by numpy.linalg.solve per call."""
     import sympy as sp
 
-    from .. import families
+    from adbgen import families
 
     start = time.perf_counter()
     spec = next((s for f in families.all_families() for s in f.models() if s.name == model_name), None)

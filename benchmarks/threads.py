@@ -24,7 +24,7 @@ def many(model, problem: Problem, n: int = MANY_N, threads=(1, 2), repeats: int 
 
     cpu_s (the process' CPU time over the call) beside wall_s shows whether the cores were free: on a
     loaded machine 2 threads get less than two cores and the speed-up says more about the load."""
-    from ..analysis.simulate import simulate_many
+    from adbgen.analysis.simulate import simulate_many
 
     p, y = problem.vectors(model)
     Y0 = np.repeat(y[None, :], n, axis=0)

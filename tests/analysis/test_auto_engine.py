@@ -1,6 +1,6 @@
 """The `auto` engine's shipped table (adbgen/analysis/engines/auto_table.json) is safe beyond the two
 problems it was measured on: every row's Taylor step aims below a tenth of its tolerance
-(`bench.auto.admissible`), and on a third scene, derivation notebook 06's five-ball SI scene (omega =
+(`benchmarks.engine_table.admissible`), and on a third scene, derivation notebook 06's five-ball SI scene (omega =
 400 rad/s, errors amplified ~1e3-fold by the transient), `auto` is as accurate as DOP853 at the same rtol.
 Negative control: the table withdrawn on 2026-11-27 (chosen by measured error alone) fails both."""
 
@@ -17,7 +17,7 @@ from adbgen.analysis.engines import ENGINES
 from adbgen.analysis.engines.auto import TABLE, AutoEngine, load_table
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
-from adbgen.bench.auto import SAFETY, admissible
+from benchmarks.engine_table import SAFETY, admissible
 from adbgen.cli import main
 
 WITHDRAWN = Path(__file__).resolve().parents[2] / "benchmarks" / "withdrawn" / "auto-2026-11-27T1909.json"

@@ -7,7 +7,7 @@ import shutil
 
 import pytest
 
-from adbgen.bench import codegen as bc
+from benchmarks import codegen as bc
 from adbgen.cli import main
 
 
@@ -86,7 +86,7 @@ def test_forms_rows_and_ratios(tmp_path):
 
 
 def test_pipeline_stages_are_timed():
-    from adbgen.bench import derive
+    from benchmarks import derive
 
     result = derive.bench_pipeline((1,))
     kinds = {r["kind"] for r in result["rows"]}

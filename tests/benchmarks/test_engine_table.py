@@ -10,8 +10,8 @@ import pytest
 from toolchain import require_module
 
 from adbgen.analysis.loading import load_model
-from adbgen.bench import auto as bench_auto
-from adbgen.bench import peers as bench_peers
+from benchmarks import engine_table as bench_auto
+from benchmarks import peers as bench_peers
 from adbgen.cli import main
 
 

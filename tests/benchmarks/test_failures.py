@@ -13,11 +13,11 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 from toolchain import require_tool
 
-from adbgen.bench import fixed_step as fs
-from adbgen.bench import pairs as bp
+from benchmarks import fixed_step as fs
+from benchmarks import pairs as bp
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
-from adbgen.bench.problems import PROBLEM_A
+from benchmarks.problems import PROBLEM_A
 
 HILL_PAIRS = (("theta_1", "theta_2"), ("theta_3", "theta_4"))
 
@@ -110,7 +110,7 @@ def test_fixed_rk4_converges_at_fourth_order_and_blows_up_past_the_limit():
 
 def test_jacobi_integral_is_conserved_undamped_and_not_damped():
     _require_gcc()
-    from adbgen.bench import jacobi as bj
+    from benchmarks import jacobi as bj
 
     m = load_model(PROBLEM_A.model)
     H = bj.jacobi_function(3)
@@ -136,7 +136,7 @@ def test_rotating_and_fixed_frame_agree():
     """The (5.1) scene in both frames: the committed fixed-frame model with k_Y = k_X, c_Y = c_X, g = 0
     is the isotropic constant-speed scene of thesis_rotating_n3 (mu = m/M, delta = eps/R,
     zeta = c / (2 sqrt(k M)), beta = D / (m R^2 omega_n), Omega = omega / omega_n)."""
-    from adbgen.bench.smallest import OMEGA_N, to_rotating
+    from benchmarks.smallest import OMEGA_N, to_rotating
 
     rot = load_model("thesis_rotating_n3")
     fix = load_model("single_plane_fixed_n3")
@@ -158,8 +158,8 @@ def test_rotating_and_fixed_frame_agree():
 
 
 def test_bench_failures_machinery_quick(tmp_path):
-    from adbgen.bench import failures as bf
-    from adbgen.bench.report import write
+    from benchmarks import failures as bf
+    from benchmarks.report import write
 
     _require_gcc()
 

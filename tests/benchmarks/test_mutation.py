@@ -2,7 +2,7 @@
 
 import json
 
-from adbgen.bench.mutation import Mutant, _resumed, blank_hashes, files_of, interleaved
+from benchmarks.mutation import Mutant, _resumed, blank_hashes, files_of, interleaved
 
 
 def _m(file, k):

@@ -7,8 +7,8 @@ import shutil
 import sys
 from pathlib import Path
 
-from adbgen.bench.orbits import bench_newton, chart
-from adbgen.bench.report import closing, opening, write
+from benchmarks.orbits import bench_newton, chart
+from benchmarks.report import closing, opening, write
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "codegen"))
 from toolchain import require_tool  # noqa: E402

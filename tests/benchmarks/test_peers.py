@@ -13,7 +13,7 @@ import pytest
 
 from toolchain import require_module
 
-from adbgen.bench import peers as bench_peers
+from benchmarks import peers as bench_peers
 from adbgen.analysis.loading import load_model
 
 MODEL = "thesis_rotating_n2"

@@ -12,10 +12,10 @@ import pytest
 
 from toolchain import require_tool
 
-from adbgen.bench import baseline as bench_baseline, precision as bp
-from adbgen.bench import precision_charts, precision_curves, precision_sweep
+from benchmarks import baseline as bench_baseline, precision as bp
+from benchmarks import precision_charts, precision_curves, precision_sweep
 from adbgen.analysis.loading import load_model
-from adbgen.bench.problems import Problem
+from benchmarks.problems import Problem
 from adbgen.cli import main
 
 
@@ -109,7 +109,7 @@ def test_quick_run_records_curves_reference_and_targets(quick_result, tmp_path):
 
 def test_sweep_skips_a_pathway_predicted_too_slow():
     """The probe predicts the full run; over the cap, every tolerance is recorded as skipped with the reason."""
-    from adbgen.bench.pathways import Pathway
+    from benchmarks.pathways import Pathway
 
     def make(tol, t_end):
         return Pathway(f"slow@{tol:g}", "ivp", "slow", tol, lambda: {"wall_s": t_end * 1e-3, "y_end": None,
@@ -132,7 +132,7 @@ def test_cli_bench_precision_rejects_bad_input(tmp_path, capsys):
 
 def test_only_percall_replaces_the_percall_part_and_keeps_the_rest(tmp_path, monkeypatch):
     """`--only-percall` swaps in a new per-call part (and its targets) and keeps the work-precision part."""
-    from adbgen.bench import percall as bench_percall
+    from benchmarks import percall as bench_percall
 
     row = {"n": 2, "numba_rhs_loop": {"ns": 100.0}, "handwritten_rhs_loop": {"ns": 95.0},
            "lambdify_math": {"ns": 60000.0}, "numba_rhs_python": {"ns": 900.0}}

@@ -7,7 +7,7 @@ import json
 
 import pytest
 
-from adbgen.bench import registry
+from benchmarks import registry
 from adbgen.cli import build_parser, main
 
 
@@ -47,7 +47,7 @@ def test_the_named_benchmark_runs_with_its_default_results_file(tmp_path, monkey
         calls.append((args.what, out, args.quick))
         return 0
 
-    from adbgen.bench import smallest
+    from benchmarks import smallest
 
     monkeypatch.setattr(registry, "get", lambda name: registry.Benchmark(name, fake_run, smallest.BENCHMARK.options))
     monkeypatch.chdir(tmp_path)
@@ -62,7 +62,7 @@ def test_bench_sweep_rejects_zero_repeats_before_running(tmp_path, capsys):
 
 
 def test_bench_derive_wiring(tmp_path, monkeypatch, capsys):
-    from adbgen.bench import derive
+    from benchmarks import derive
 
     seen = {}
 

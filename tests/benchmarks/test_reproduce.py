@@ -3,7 +3,7 @@ benchmark itself; here the machinery, on small stand-ins)."""
 
 from __future__ import annotations
 
-from adbgen.bench import reproduce
+from benchmarks import reproduce
 
 
 def _doc(folder, text: str, png: bytes):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from toolchain import require_module
 
-from adbgen.bench.ensemble import bench_ensemble
-from adbgen.bench.rk import measure
+from benchmarks.ensemble import bench_ensemble
+from benchmarks.rk import measure
 
 
 def test_bench_rk_row():
@@ -53,7 +53,7 @@ def test_bench_ensemble_tiny_map():
 def test_at_equal_labels_is_the_fastest_run_reaching_heyokas_label_error():
     """The ensemble target's rule: a faster run off the converged maps at more points than heyoka does not
     count; among those at or under, the fastest; none under, None."""
-    from adbgen.bench.ensemble import at_equal_labels
+    from benchmarks.ensemble import at_equal_labels
 
     runs = {"a": (17, 1365.0), "a rtol 1e-09": (12, 1200.0), "a rtol 1e-10": (9, 1050.0), "b": (21, 885.0)}
     assert at_equal_labels(runs, 15) == "a rtol 1e-09"
@@ -70,7 +70,7 @@ def test_the_inf_norm_rule_takes_heyokas_steps():
 
     from adbgen.analysis.engines.taylor import TaylorBatchEngine, heyoka_order
     from adbgen.analysis.simulate import simulate_many
-    from adbgen.bench import ensemble as E
+    from benchmarks import ensemble as E
 
     require_module("heyoka", "the peers extra")
     model, P, Y0 = E.points()

@@ -11,8 +11,8 @@ import pytest
 from toolchain import require_tool
 
 from adbgen.analysis.engines import DEFAULT
-from adbgen.bench import pathways, problems, simulate as bs
-from adbgen.bench.report import describe_targets, write
+from benchmarks import pathways, problems, simulate as bs
+from benchmarks.report import describe_targets, write
 from adbgen.cli import main
 
 TINY = problems.Problem("tiny", "thesis_rotating_n3", {}, dict(problems.PROBLEM_A.y0), t_end=20.0, rtol=1e-6, atol=1e-8)

@@ -8,8 +8,8 @@ import shutil
 
 import pytest
 
-from adbgen.bench.report import write
-from adbgen.bench.sweep import bench_sweep
+from benchmarks.report import write
+from benchmarks.sweep import bench_sweep
 
 
 def test_bench_sweep_tiny_grid(tmp_path):

@@ -4,7 +4,7 @@ the benchmark rewrites it).  It runs the chosen engine and says what it picked (
 `adbgen simulate --json`).
 
 The table's rows: {"rtol": R, "engine": E, "rtol_run": r, "order": p, "step_factor": f}: the
-candidate admissible at R (a Taylor step aimed at R/10 or less, `bench.auto.admissible`) that reached an
+candidate admissible at R (a Taylor step aimed at R/10 or less, `benchmarks.engine_table.admissible`) that reached an
 error of at most R (relative to the state's size, see `adbgen bench auto`) fastest, per family (`by_family`, keyed by the model's FAMILY: the measured problem of that family) and
 jointly (`rows`, for a model of another family); it is run as engine E at rtol r (atol scaled by the same factor) with, for the Taylor engine,
 order p and step factor f.  A requested rtol takes the row of the largest R at or below it (so the
