@@ -23,5 +23,5 @@ threads     many trajectories on 1 and 2 threads, with an OpenMP control (c/omp_
 peers       JiTCODE and heyoka fed the generated statements
 symbolic    the SymPy side: model kinds, the closed form lambdified
 baseline    the hand-written numba rhs of thesis Appendix A (the expert baseline)
-c/          the benchmarks' C programs (rhs_timer.c, omp_control.c, midpoint.c), shipped as package data
+c/          the benchmarks' C programs (rhs_timer.c, omp_control.c, midpoint.c, flop_timer.c)
 """

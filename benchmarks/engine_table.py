@@ -170,7 +170,7 @@ COST_TARGET = 1.3
 
 def flop_time(order: int, lanes: int, seconds: float = 0.5) -> float:
     """The machine's CPU time per flop (ns) for the series' kind of work: convolutions of series in L1,
-    four partial sums of fused multiply-adds, over `lanes` lanes (`bench/c/flop_timer.c`, built with the
+    four partial sums of fused multiply-adds, over `lanes` lanes (`benchmarks/c/flop_timer.c`, built with the
     Taylor engine's flags)."""
     import subprocess
     import tempfile

@@ -125,12 +125,12 @@ def shifted(grid=GRID) -> list[str]:
 
 def reference_labels(model, P, Y0, workers: int, t_end: float = T_END) -> tuple[list[str], np.ndarray]:
     """The converged map: REFERENCES' labels at REF_RTOL, and where the two agree (resolved points)."""
-    found = [label(model, *ours(engine, model, P, Y0, workers, t_end, REF_RTOL, REF_ATOL)[1:])
+    found = [label(model, *engine_run(engine, model, P, Y0, workers, t_end, REF_RTOL, REF_ATOL)[1:])
              for engine in REFERENCES]
     return found[0], np.array([a == b for a, b in zip(*found)])
 
 
-def differing(found, other, counted=None) -> int:
+def count_differing_labels(found, other, counted=None) -> int:
     """Points of a map whose label differs from another map's (where `counted`, if given, is true)."""
     if counted is None:
         return int(sum(a != b for a, b in zip(found, other)))
@@ -146,8 +146,10 @@ def points(grid=GRID):
     return model, P, Y0
 
 
-def ours(engine: str, model, P, Y0, workers: int, t_end: float = T_END, rtol: float = RTOL,
+def engine_run(engine: str, model, P, Y0, workers: int, t_end: float = T_END, rtol: float = RTOL,
          atol: float = ATOL) -> tuple[dict, np.ndarray, np.ndarray]:
+    """One of adbgen's engines over the map's points (`simulate_many`, no measures): (its record: rates,
+    rhs evaluations, steps, the auto engine's pick; the statuses; the end states)."""
     from adbgen.analysis.simulate import simulate_many
 
     ens, t = _timed(lambda: simulate_many(model, P, Y0, t_end=t_end, rtol=rtol, atol=atol, engine=engine,
@@ -198,12 +200,12 @@ def heyoka(model, P, Y0, workers: int, tol: float = RTOL, batch: int | None = No
     return row, np.where(ok, "success", "failed"), y_end
 
 
-def tighter() -> list[tuple[str, str, float]]:
+def simd_ladder_runs() -> list[tuple[str, str, float]]:
     """The SIMD engines' runs beyond the sweep's tolerance: (run name, engine, rtol) over LADDER."""
     return [(f"{e} rtol {rtol:g}", e, rtol) for e in SIMD for rtol in LADDER]
 
 
-def heyoka_tighter() -> list[tuple[str, float]]:
+def heyoka_ladder_runs() -> list[tuple[str, float]]:
     """heyoka's runs beyond the sweep's tolerance: (run name, tol) over LADDER."""
     return [(f"heyoka tol {rtol:g}", rtol) for rtol in LADDER]
 
@@ -254,21 +256,21 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
                 if engine == TODAY:
                     sweep_labels = found
                 else:
-                    row["labels_differing_from_today"] = differing(found, sweep_labels)
+                    row["labels_differing_from_today"] = count_differing_labels(found, sweep_labels)
                 keep(f"sweep {engine}", row)
         for engine in OURS:
-            row, status, y_end = ours(engine, model, P, Y0, workers, t_end)
+            row, status, y_end = engine_run(engine, model, P, Y0, workers, t_end)
             finals[engine] = (status, y_end)
             keep(f"ensemble {engine}", row)
-        for name, engine, rtol in tighter():
-            row, status, y_end = ours(engine, model, P, Y0, workers, t_end, rtol, rtol / 100)
+        for name, engine, rtol in simd_ladder_runs():
+            row, status, y_end = engine_run(engine, model, P, Y0, workers, t_end, rtol, rtol / 100)
             row["rtol"] = rtol
             finals[name] = (status, y_end)
             keep(f"ensemble {name}", row)
         row, status, y_end = heyoka(model, P, Y0, workers, t_end=t_end)
         finals["heyoka"] = (status, y_end)
         keep("ensemble heyoka", row)
-        for name, rtol in heyoka_tighter():
+        for name, rtol in heyoka_ladder_runs():
             row, status, y_end = heyoka(model, P, Y0, workers, tol=rtol, t_end=t_end)
             finals[name] = (status, y_end)
             keep(f"ensemble {name}", row)
@@ -279,8 +281,8 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
     for k, found in labelled.items():
         key = f"ensemble {k}"
         runs[key]["labels"] = dict(sorted(collections.Counter(found).items()))
-        runs[key]["labels_differing_from_today"] = differing(found, base)
-        runs[key]["labels_differing_from_heyoka"] = differing(found, labelled["heyoka"])
+        runs[key]["labels_differing_from_today"] = count_differing_labels(found, base)
+        runs[key]["labels_differing_from_heyoka"] = count_differing_labels(found, labelled["heyoka"])
 
     # label errors against the converged map, on this map and on the shifted one (one map's boundary
     # points are few: 2026-11-27, heyoka and taylor-batch-inf at the same steps were 9 and 11 off on this
@@ -289,18 +291,18 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
         progress("converged maps (" + ", ".join(REFERENCES) + f" at rtol {REF_RTOL:g}) and the shifted map")
     check_grid = shifted(grid)
     model2, P2, Y2 = points(check_grid)
-    checked = {e: ours(e, model2, P2, Y2, workers, t_end)[1:] for e in SIMD}
-    checked.update({name: ours(e, model2, P2, Y2, workers, t_end, rtol, rtol / 100)[1:]
-                    for name, e, rtol in tighter()})
+    checked = {e: engine_run(e, model2, P2, Y2, workers, t_end)[1:] for e in SIMD}
+    checked.update({name: engine_run(e, model2, P2, Y2, workers, t_end, rtol, rtol / 100)[1:]
+                    for name, e, rtol in simd_ladder_runs()})
     checked["heyoka"] = heyoka(model2, P2, Y2, workers, t_end=t_end)[1:]
     checked.update({name: heyoka(model2, P2, Y2, workers, tol=rtol, t_end=t_end)[1:]
-                    for name, rtol in heyoka_tighter()})
+                    for name, rtol in heyoka_ladder_runs()})
     ref, resolved = reference_labels(model, P, Y0, workers, t_end)
     ref2, resolved2 = reference_labels(model2, P2, Y2, workers, t_end)
     for k, found in labelled.items():
-        errors = {"map": differing(found, ref, resolved)}
+        errors = {"map": count_differing_labels(found, ref, resolved)}
         if k in checked:
-            errors["shifted_map"] = differing(label(model2, *checked[k]), ref2, resolved2)
+            errors["shifted_map"] = count_differing_labels(label(model2, *checked[k]), ref2, resolved2)
             errors["total"] = errors["map"] + errors["shifted_map"]
         runs[f"ensemble {k}"]["label_errors"] = errors
 
@@ -321,8 +323,8 @@ def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_en
 
     # at equal labels: at the label error of heyoka's run at the sweep's tolerance (the target; then at each of
     # heyoka's other runs', reported), each side's fastest run reaching it, every tolerance of the ladders
-    candidates = [*SIMD, *(name for name, _, _ in tighter())]
-    peers = ["heyoka", *(name for name, _ in heyoka_tighter())]
+    candidates = [*SIMD, *(name for name, _, _ in simd_ladder_runs())]
+    peers = ["heyoka", *(name for name, _ in heyoka_ladder_runs())]
     mine_runs = {e: (errors(e), rate(f"ensemble {e}")) for e in candidates}
     peer_runs = {k: (errors(k), rate(f"ensemble {k}")) for k in peers}
     levels = []
@@ -379,4 +381,4 @@ BENCHMARK = Benchmark("ensemble", run, (
     QUICK.but("a 20 x 20 map to t = 200"),
     option("--no-sweeps", action="store_true", help="only the ensembles (no run_sweep of cyrk-dop853 and the batch)"),
 ))
-__all__ = ["BENCHMARK", "bench_ensemble", "heyoka", "heyoka_integrator", "ours", "points", "sweep_run"]
+__all__ = ["BENCHMARK", "bench_ensemble", "heyoka", "heyoka_integrator", "engine_run", "points", "sweep_run"]

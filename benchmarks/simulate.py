@@ -14,7 +14,7 @@ Measured in one run (compare ratios, not absolute times across runs: the machine
   atol 1e-15, checked against SciPy's DOP853 on the numba rhs at the same tolerances: their
   difference bounds the reference's own error and must be far below every error it measures;
 - ``peers``: JiTCODE (``dop853`` backend) and heyoka (Taylor), fed the same equations (the generated
-  module's rhs statements in their order, `adbgen.bench.peers`), their setup (translation, compilation)
+  module's rhs statements in their order, `benchmarks.peers`), their setup (translation, compilation)
   timed apart from the integration; with the default engine, at the tolerances `SWEEP_TOLS` so that
   times can be compared at equal error (log-log interpolation of time against error);
 - ``baselines``: the issue's starting points, the numba rhs as a Python callback of SciPy's
