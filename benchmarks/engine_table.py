@@ -16,8 +16,10 @@ the error on another scene: the table of the run of 2026-11-27 19:09 (`benchmark
 by measured error only, took order 14 with factor 2.5 at T = 1e-8 (a step aimed at 1.2e-7 of the
 weights, 12x the tolerance), which met T on A and B and missed it by 4.7e-3 on derivation notebook 06's
 SI scene, whose errors the dynamics amplify ~1e3-fold (DOP853 at rtol 1e-8 misses by 1.7e-5 there).
-Rows per family (`by_family`: problem A's measurements for the single-plane family, B's for the two-plane
-one, read from the models' FAMILY), and jointly (`rows`, for any other family: on every problem, time
+Rows per problem (`by_problem`: each problem's own choice, with its model's kinds of coordinate,
+`roles`, its STATE_ROLES each once: the auto engine gives a model the rows of the problem with the most
+kinds of coordinate all among the model's, so problem A's go to the single-plane models and B's to the
+two-plane ones, the spinning-up one too), and jointly (`rows`, for any other model: on every problem, time
 relative to the fastest candidate that reached it on that problem, the worse of the problems' ratios
 counting; times within `TIE` of the least are a tie, which the most accurate candidate wins).  A Taylor candidate is run with the requested tolerance
 as its rtol (atol from the problem's ratio), the order and factor its own.  Written to
@@ -224,20 +226,21 @@ def cost_per_step(order: int, factor: float, repeats: int, label: str = "A") -> 
             "ratio_to_4_lane_flop_time": per_step_ns / (flops * lanes4)}
 
 
-def family_of(label: str) -> str:
-    """The family (its models' FAMILY) of a problem's model."""
+def roles_of(label: str) -> list[str]:
+    """A problem's model's kinds of coordinate: its self-description's STATE_ROLES, each once, sorted."""
     from adbgen.analysis.loading import load_model
     from .precision import PROBLEMS
 
-    return getattr(load_model(PROBLEMS[label].problem.model).module, "FAMILY", label)
+    return sorted(set(load_model(PROBLEMS[label].problem.model).roles))
 
 
 def table_of(result: dict) -> dict:
-    """The auto engine's table from a `bench auto` result: joint rows and rows per family."""
+    """The auto engine's table from a `bench auto` result: joint rows and rows per problem."""
     problems, cands, targets = result["problems"], result["candidates"], result["tolerances"]
-    by_family = {family_of(label): choose({label: res}, cands, targets) for label, res in problems.items()}
+    by_problem = {label: {"roles": roles_of(label), "rows": choose({label: res}, cands, targets)}
+                  for label, res in sorted(problems.items())}
     return {"benchmark": "auto", "date": result["date"], "problems": sorted(problems), "machine": result["machine"],
-            "rows": choose(problems, cands, targets), "by_family": by_family, "safety": SAFETY,
+            "rows": choose(problems, cands, targets), "by_problem": by_problem, "safety": SAFETY,
             "source": "adbgen bench auto (benchmarks/engine_table.py)"}
 
 
@@ -309,11 +312,11 @@ def run(args, out: str) -> int:
     made = table_of(result)
     if table:
         write(made, table)
-    for family, rows in [("joint", made["rows"])] + sorted(made["by_family"].items()):
+    for rows_of, rows in [("joint", made["rows"])] + [(f"problem {k}", p["rows"]) for k, p in made["by_problem"].items()]:
         for row in rows:
             extra = f"order {row['order']}, factor {row['step_factor']:g}" if "order" in row else \
                 f"rtol {row['rtol_run']:g}"
-            print(f"{family}: rtol {row['rtol']:g}: {row['engine']} ({extra}), {row['time_ratio_to_fastest']:.2f}x "
+            print(f"{rows_of}: rtol {row['rtol']:g}: {row['engine']} ({extra}), {row['time_ratio_to_fastest']:.2f}x "
                   "the fastest")
     for line in describe_targets(result):
         print(line)

@@ -87,7 +87,7 @@ def test_a_model_without_a_hand_written_form_is_refused(hy):
 
 def test_bench_auto_quick(tmp_path, capsys):
     """The quick benchmark on problem A (2 orders x 2 factors, 2 rtols, t_end 200): results, a table
-    with rows per family, and the cost-per-step target line; --table-only remakes the table."""
+    with rows per problem, and the cost-per-step target line; --table-only remakes the table."""
     out, table = tmp_path / "auto.json", tmp_path / "table.json"
     assert main(["bench", "auto", "--quick", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
     res = json.loads(out.read_text())
@@ -95,7 +95,8 @@ def test_bench_auto_quick(tmp_path, capsys):
     runs = res["problems"]["A"]["runs"]
     assert all(r["status"] == "success" and r["error"] < 1e-2 for r in runs.values())
     made = json.loads(table.read_text())
-    assert made["by_family"]["single-plane"] and made["rows"]
+    assert set(made["by_problem"]) == {"A"} and made["by_problem"]["A"]["rows"] and made["rows"]
+    assert made["by_problem"]["A"]["roles"] == sorted(set(load_model("thesis_rotating_n3").roles))
     cost = res["cost_per_step"][0]
     assert cost["flops_per_step"] > 1000 and 0 < cost["ns_per_flop_scalar"] < 10 and cost["ratio_to_scalar_flop_time"] > 0
     assert "Taylor's cost per step" in capsys.readouterr().out
