@@ -1,6 +1,8 @@
 """Benchmarks (never timed tests): each module below measures one question and writes its results to a
-committed file under `benchmarks/` (`adbgen bench WHAT`; every benchmark declares its name, options and
-run function as ``BENCHMARK`` and is listed once in `registry.REGISTRY`).
+committed file beside it in `benchmarks/` (`adbgen bench WHAT`; every benchmark declares its name, options
+and run function as ``BENCHMARK`` and is listed once in `registry.REGISTRY`).  They live in the source
+checkout only, not in the installed package, which never imports them (issue 33; docs/layout.md);
+`adbgen bench` loads them from the checkout it runs from.
 
 The benchmarks:
 derive      derivation time and expression size, and the regenerate stages, against n
@@ -11,6 +13,12 @@ failures    where methods fail (fixed_step, jacobi, pairs hold its parts)
 smallest    one scene as the smallest exact model against the bigger ones
 precision   work-precision of problems A, B, C on every pathway; the loosest reliable tolerance
             (precision_curves, precision_sweep, precision_charts; percall: ns per rhs/jac call)
+mutation    one-line mistakes in code generation: how many are refused or caught (the mutation tool)
+orbits      periodic orbits: a Newton step of shooting, a branch against AUTO-07p, the paper's charts
+auto        engine_table.py: the auto engine's table (adbgen/analysis/engines/auto_table.json, written here)
+rk          the DOP853 drivers against their floor (time / rhs evaluations x ns per rhs)
+ensemble    trajectories per CPU-s on the basin map, labels against a converged map, heyoka beside
+reproduce   `adbgen reproduce`'s wall time and its document against the committed one
 
 What they share, once:
 registry    the registry and the options several benchmarks take
