@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .loading import AnalysisError, Model
+from .margins import Margin, eigenvalue_margin
 
 NEWTON_TOL = 1e-12  # max |rhs| accepted as a steady state, relative to max|J| max(1, max|y|)
 ON_AXIS = 1e-9  # |Re lambda| <= ON_AXIS * max(1, |lambda|_max): on the imaginary axis
@@ -248,6 +249,7 @@ class SteadyState:
     tangent_residual: float = 0.0
     label: str = ""
     extra: dict = field(default_factory=dict)
+    margin: Margin | None = None  # the leading transverse real part and its uncertainty (`margins`)
 
     @property
     def stable(self) -> bool:
@@ -268,6 +270,7 @@ class SteadyState:
             "neutral_eigenvalues": pairs(self.neutral),
             "all_eigenvalues": pairs(self.eigenvalues),
             "tangent_residual": self.tangent_residual,
+            **(self.margin.to_json() if self.margin is not None else {}),
         }
 
 
@@ -289,7 +292,17 @@ def analyse(model: Model, p: np.ndarray, y: np.ndarray, iterations: int = 0, lab
     neutral = _split_neutral(full, transverse)
     kind, unstable, on_axis = classify(transverse)
     return SteadyState(model, np.array(p, float), np.array(y, float), float(np.max(np.abs(residual(model, y, p)))),
-                       iterations, J, T, full, transverse, neutral, kind, unstable, on_axis, res, label)
+                       iterations, J, T, full, transverse, neutral, kind, unstable, on_axis, res, label,
+                       margin=steady_margin(model, p, y, J, T))
+
+
+def steady_margin(model: Model, p: np.ndarray, y: np.ndarray, J: np.ndarray, T: np.ndarray) -> Margin:
+    """The leading transverse real part and what it is certain to: the eigenvalue condition number times
+    the rounding of J plus J's change over the state's own error (one more Newton step, `margins`)."""
+    S = complement(T)
+    dy = _step(J, residual(model, y, p))
+    moved = S.T @ jacobian(model, y + dy, p) @ S
+    return eigenvalue_margin(S.T @ J @ S, moved)
 
 
 def refine(model: Model, p: np.ndarray, y0: np.ndarray, label: str = "", tol: float = NEWTON_TOL) -> SteadyState:

@@ -105,7 +105,7 @@ def _run(model: Model, curve: CycleCurve, x0, name: str, origin: dict, settings:
 def _orbit(curve: CycleCurve, pt, amplitude: bool) -> PeriodicOrbit:
     d = pt.data
     o = PeriodicOrbit(curve.model, d.p, d.X[0].copy(), d.T, dict(curve.windings), d.multipliers, d.trivial,
-                      0.0, 0, d.X.copy(), curve.shooting.forced, curve.q)
+                      0.0, 0, d.X.copy(), curve.shooting.forced, curve.q, monodromy=d.monodromy)
     o.p_value = d.lam
     if amplitude:
         from .orbit import add_amplitude
