@@ -296,6 +296,12 @@ def analyse(model: Model, p: np.ndarray, y: np.ndarray, iterations: int = 0, lab
                        margin=steady_margin(model, p, y, J, T))
 
 
+def margin_at(model: Model, p: np.ndarray, y: np.ndarray) -> Margin:
+    """`steady_margin` at the state y (e.g. a point of AUTO-07p's branch), the family's directions removed."""
+    J = jacobian(model, y, p)
+    return steady_margin(model, p, y, J, family_tangent(model, y, p, J))
+
+
 def steady_margin(model: Model, p: np.ndarray, y: np.ndarray, J: np.ndarray, T: np.ndarray) -> Margin:
     """The leading transverse real part and what it is certain to: the eigenvalue condition number times
     the rounding of J plus J's change over the state's own error (one more Newton step, `margins`)."""

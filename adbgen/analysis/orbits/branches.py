@@ -47,6 +47,8 @@ class CycleBranch:
                "parameter": [float(o.p_value) for o in self.orbits],
                "period": [float(o.period) for o in self.orbits],
                "stable": [bool(o.stable) for o in self.orbits],
+               "margin": [float(o.margin.value) for o in self.orbits],
+               "marginal": [o.margin.marginal for o in self.orbits],
                "amplitude": [float(o.r_max) for o in self.orbits],
                "r_min": [float(o.r_min) for o in self.orbits],
                "max_multiplier": [float(np.max(np.abs(o.nontrivial))) if len(o.nontrivial) else 0.0

@@ -80,6 +80,24 @@ def add_lyapunov(model, points: list[dict], name: str, p: np.ndarray, follower, 
         row["criticality"] = criticality(l1)
 
 
+def add_margins(model, points: list[dict], name: str, p: np.ndarray) -> None:
+    """margin, margin_uncertainty, marginal (`steady.margin_at`, issue 34 item 5) at each point of AUTO's run
+    that carries its state: AUTO's own "stability" is a sign; this says how far from zero, and whether the
+    computation can certify it."""
+    from .. import steady
+
+    k = model.param_names.index(name)
+    for row in points:
+        if "state" not in row:
+            continue
+        q = np.array(p, float)
+        q[k] = row[name]
+        try:
+            row.update(steady.margin_at(model, q, np.array([row["state"][s] for s in model.state_names])).to_json())
+        except (AnalysisError, np.linalg.LinAlgError):
+            continue
+
+
 def refine_hopf(model, pmap, y, lam, omega, follower):
     """The Hopf point near (y, lam): lam by Brent's method on the real part of the pair nearest i omega,
     the equilibrium re-solved at each trial (`follower(p, guess)`)."""

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -51,6 +52,7 @@ class PeriodicOrbit:
     r_max: float = float("nan")
     measures: dict = field(default_factory=dict)  # name -> its maximum along the orbit (e.g. "A": A-bar)
     monodromy: np.ndarray | None = None  # M (the multipliers' condition numbers; None: not kept)
+    start: np.ndarray | None = None  # the state the shooting began from (after any transient), if known
 
     @property
     def trivial_multiplier_error(self) -> float | None:
@@ -60,7 +62,7 @@ class PeriodicOrbit:
     def nontrivial(self) -> np.ndarray:
         return np.delete(self.multipliers, self.trivial) if self.trivial is not None else self.multipliers
 
-    @property
+    @cached_property
     def margin(self) -> Margin:
         """max |mu| - 1 over the non-trivial multipliers and its uncertainty (`margins.multiplier_margin`;
         without the monodromy matrix, the condition number is taken as 1)."""
@@ -205,7 +207,9 @@ def refine(model: Model, p: np.ndarray, y: np.ndarray, period: float | None, win
     X = initial_arcs(flow, y, period, p, m)
     sh.set_reference(X[0], p)
     u, ev, it = sh.solve(sh.pack(X, period), p, tol=tol)
-    return from_evaluation(model, sh, u, ev, p, it, windings, amplitude)
+    orbit = from_evaluation(model, sh, u, ev, p, it, windings, amplitude)
+    orbit.start = np.array(y, float)
+    return orbit
 
 
 # ------------------------------------------------------------------- from a simulated trajectory
