@@ -135,7 +135,9 @@ def check(model: Model, y, p, wanted: str | None, what: str = "the start") -> Id
     """y's identity at p; AnalysisError in one line when `wanted` (a label) is given and y is not it."""
     found = identify(model, y, p)
     if wanted is not None and found.label != wanted:
+        absent = wanted in model.steady_states and model.steady_state(wanted, p) is None
         raise AnalysisError(f"{what} is not state {wanted} at these parameters: Newton from it found "
-                            f"{found.describe(model)}; refused (choose the state with --state, or carry it there "
-                            f"along the parameters)")
+                            f"{found.describe(model)}" + (f" (the closed form of {wanted} gives none here)" if absent
+                                                          else "")
+                            + "; refused (choose the state with --state, or carry it there along the parameters)")
     return found

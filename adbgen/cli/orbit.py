@@ -1,14 +1,16 @@
 """`adbgen orbit` and the periodic-orbit options of `adbgen continue` (issue 21); the logic is in
 `adbgen.analysis.orbits`.
 
-    adbgen orbit MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-transient T]
+    adbgen orbit MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... | [--state LABEL] [--t-transient T]
                  [--period T] [--arcs M] [--out DIR] [--json]
 
 JSON keys: period, multipliers ([re, im] pairs, by decreasing modulus), trivial_multiplier_error
 (|mu - 1| of the flow direction's multiplier; null for a forced orbit), stable, windings (angle ->
 k, the 2 pi k it gains per period), r_min, r_max, y (the point on the orbit, by state name), residual;
 also model, parameters, n_unstable, newton_iterations, arcs, forced, subharmonic and <measure>_bar for
-every amplitude measure the module emits (MEASURES, e.g. A_bar).
+every amplitude measure the module emits (MEASURES, e.g. A_bar); margin, margin_uncertainty, marginal,
+margin_estimate (issue 34 item 5: `adbgen.analysis.margins`), followed_state, followed_orbit, start_distance
+(item 4: what the run followed, and how far the start was from it).
 
 `continue` gains (`add_continue_options`): --orbits, --from-hopf VALUE, --tie NAME=EXPR, --max-points N,
 --auto-orbits, --plot FILE, --log2, --grid N1:N2 (see `adbgen.analysis.orbits.continue_command`).

@@ -5,7 +5,9 @@
     adbgen continue MODEL --par NAME [--par2 NAME2] [--set NAME=VALUE]... [--to VALUE] [--range2 LO:HI] [--json]
 
 Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).  The states they
-start from are `adbgen.analysis.starts`'.
+start from are `adbgen.analysis.starts`'; the state they follow is named (`adbgen.analysis.identify`: JSON
+followed_state, state_distance, identified_by) and a start that is not the one asked for (--state, or
+START's) is refused; every verdict carries its margin (`adbgen.analysis.margins`).
 """
 
 from __future__ import annotations

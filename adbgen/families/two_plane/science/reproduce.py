@@ -325,12 +325,8 @@ def following_lag(r: tr.RunUp) -> np.ndarray:
     """The lag the drive itself imposes on balls that follow it: a ball in its race, m R^2 theta_k'' =
     c_b (Omega - theta_k') + ... (paper (3)), turning with the accelerating rotor lags it by
     Omega'(t) m R^2 / c_b (the start-up lag: 0.06 for Figure 15(a)'s ramp Omega' = 6e-4 at c_b/m = 0.01, 0.006
-    at 0.1).  R: the race radius of the model's defaults (the run-ups keep it)."""
-    from ....analysis.loading import load_model
-
-    model = load_model(r.name)
-    radius = float(model.params()[model.param_names.index("R_t")])
-    return np.gradient(r.spin, r.t) * radius**2 / r.ratio
+    at 0.1)."""
+    return np.gradient(r.spin, r.t) * r.radius**2 / r.ratio
 
 
 def stalls(r: tr.RunUp, lag: float = 0.05, shortest: float = 100.0) -> list[tuple[float, float, float]]:
