@@ -406,10 +406,14 @@ def run_continue(args) -> int:
             continue_command.plot_branches(Path(args.plot), model, args.par, branches)
     emit(out)
     if not complete:
-        print(f"adbgen: ended early: AUTO-07p stopped at {args.par} = {show(end_at, u.params[args.par], 9)} before "
-              f"{show(to, u.params[args.par], 9)} ({out['end']})", file=sys.stderr)
+        print(f"adbgen: ended early: {auto_end(args.par, end_at, to, u.params[args.par], out['end'])}", file=sys.stderr)
         return ENDED_EARLY
     return 0
+
+
+def auto_end(name: str, end_at: float, to: float, unit: str, end: str) -> str:
+    """Where AUTO-07p stopped, with the parameter's unit only where the model has one (`units.show`)."""
+    return f"AUTO-07p stopped at {name} = {show(end_at, unit, 9)} before {show(to, unit, 9)} ({end})"
 
 
 def _continue_forced(model, p, args, to, show_progress) -> int:

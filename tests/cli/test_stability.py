@@ -191,3 +191,24 @@ def test_stability_names_the_state_and_its_margin(capsys):
     assert data["margin"] == lead and data["marginal"] is False and 0 < data["margin_uncertainty"] < 1e-10
     code, out, err = run(capsys, "stability", "thesis_rotating_n2", "--y0", "phi_1=1", "--y0", "phi_2=-1", "--json")
     assert code == 0 and json.loads(out)["followed_state"] in (None, "1", "2+", "2-", "3(1)+", "3(1)-")  # named only
+
+
+def test_a_unit_is_printed_only_where_the_model_has_one():
+    """The two-plane models are dimensionless (the paper's sets (10), (41)-(43)): before issue 34 `continue` said
+    "AUTO-07p stopped at Omega = 4 rad/s".  Negative control: a two-plane scene in SI units, and the single-plane
+    dimensional model, keep rad/s."""
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.units import units
+    from adbgen.cli.stability import auto_end
+    from adbgen.families.two_plane.scene import TwoPlaneScene
+    from adbgen.families.two_plane.symbols import TwoPlaneSymbols
+
+    model = load_model("two_plane_rotating")
+    u = units(model)
+    assert u.time == "1" and u.params["Omega"] == "1" and u.length == "1"
+    assert auto_end("Omega", 3.9999999996, 1.0, u.params["Omega"], "UZ") == "AUTO-07p stopped at Omega = 4 before 1 (UZ)"
+    si = {p.name: p.unit for p in TwoPlaneSymbols.for_scene(TwoPlaneScene.from_mapping({"units": "SI"})).parameters}
+    plain = {p.name: p.unit for p in TwoPlaneSymbols.for_scene(TwoPlaneScene.from_mapping({})).parameters}
+    assert si["Omega"] == "rad/s" and si["M"] == "kg" and set(plain.values()) == {"dimensionless"}
+    dimensional = units(load_model("single_plane_fixed_n2")).params["omega"]
+    assert "rad/s" in auto_end("omega", 400.0, 100.0, dimensional, "UZ")
