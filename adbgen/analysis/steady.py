@@ -23,7 +23,10 @@ the zero eigenvalues move to -sigma).
 
 Classification of the transverse spectrum (neutral directions of the family reported separately):
 "stable" (all real parts < -tol), "unstable" (with the number of eigenvalues of positive real part),
-"neutral" (none positive, some on the imaginary axis within tol: a bifurcation point).
+"neutral" (none positive, some on the imaginary axis within tol: a bifurcation point).  Each state also
+carries its margin (the leading transverse real part) and what the computation can certify of it
+(`margins.eigenvalue_margin`: the eigenvalue condition number times the rounding of J and J's change over
+the state's own Newton error): JSON margin, margin_uncertainty, marginal (issue 34 item 5).
 """
 
 from __future__ import annotations
