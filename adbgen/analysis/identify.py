@@ -10,7 +10,7 @@ A labelled state is told by its closed form (the generated module's `steady_stat
 * a *balanced* label (its closed form has the rotor at rest: every translation and tilt, and every rate,
   zero) is the set of all such states, so y is it when its rotor is at rest; the balls' angles do not
   matter (the mirror images of n = 2, every member of the n >= 3 continuum (3.6)).  Where the closed form is
-  not given at p (two-plane B under a couple imbalance chi != 0, whose closed form needs chi = 0), a
+  not given at p (a balanced state whose closed form holds only without a couple imbalance, say), a
   label whose closed form is balanced at the module's START_PARAMETERS or DEFAULTS is still told this way:
   the balanced state is the one with the rotor at rest, wherever it has a formula or not.
 * any other label is y's when the rotor coordinates agree and the ball angles agree as sets (modulo 2 pi,
