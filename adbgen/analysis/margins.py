@@ -79,7 +79,7 @@ def multiplier_margin(M: np.ndarray, nontrivial: np.ndarray, trivial_error: floa
                       residual: float = 0.0) -> Margin:
     """max |mu| - 1 over the non-trivial multipliers of the monodromy matrix M; uncertainty: the larger of
     kappa(mu) |M| max(rtol, residual) and the trivial multiplier's error (autonomous orbits)."""
-    M = np.asarray(M, float)
+    M = np.asarray(M)
     mu = np.asarray(nontrivial, complex)
     if mu.size == 0:
         return Margin(0.0, np.inf, "no non-trivial multipliers")

@@ -220,6 +220,9 @@ def _print_response(r) -> None:
     k = int(r.family.sum())
     print(f"classification: {r.classification}{extra} (Floquet multipliers, |mu| < 1: stable"
           + (f"; transverse to the {k}-dimensional family of balanced orbits)" if k else ")"))
+    mg = r.margin
+    print(f"margin: leading |mu| - 1 = {mg.value:.6g}, certain to {mg.uncertainty:.2g}"
+          + (" (MARGINAL: inside what the computation can certify)" if mg.marginal else ""))
     print("multipliers (|mu|)" + (" (transverse)" if k else "") + ":")
     for z in sorted(r.transverse, key=lambda z: -abs(z)):
         print(f"  {_fmt(complex(z))}   ({abs(z):.9f})")
