@@ -155,6 +155,13 @@ KEYS = (
     Key("race_radius", "m", "positive", "R, radius of the balls' race"),
     Key("ball_mass", "kg", "positive", "m: one value (equal balls) or a list of n values (unequal balls)"),
     Key("ball_damping", "N m s/rad", "nonnegative", "D, viscous drag on each ball: one value or a list of n"),
+    Key("rolling_resistance", "", "nonnegative",
+        "mu_r, ball-race friction while a ball slips: a tangential force mu_r N against the ball's motion "
+        "relative to the race, N the race's normal force on the ball (derived); one value or a list of n; "
+        "absent: no friction (the models of the thesis)"),
+    Key("static_friction", "", "nonnegative",
+        "mu_s >= mu_r, stiction coefficient of a ball at rest on the race: one value or a list of n; "
+        "recorded and checked, not yet in the equations (the stick phase, issue 37 item 2, is not built)"),
     Key("stiffness", "N/m", "nonnegative", "k (isotropic support) or [k_X, k_Y] (anisotropic)"),
     Key("damping", "N s/m", "nonnegative", "c (isotropic) or [c_X, c_Y]"),
     Key("gravity", "", "other", "gravity in -Y on (the model keeps explicit time)", "true or false"),
@@ -186,6 +193,8 @@ class Scene:
     gravity: bool = False
     g: float = 9.80665
     speed: SpeedLaw = field(default_factory=SpeedLaw)
+    rolling_resistance: float | tuple[float, ...] | None = None  # mu_r or mu_r_i; None: no friction
+    static_friction: float | tuple[float, ...] | None = None  # mu_s or mu_s_i (the stick phase: not built)
 
     # --- construction ------------------------------------------------------------------
     @classmethod
@@ -212,6 +221,15 @@ class Scene:
         speed = raw["speed"]
         if not isinstance(speed, SpeedLaw):
             speed = SpeedLaw.from_mapping(speed)
+        rolling, static = (None if raw[key] is None else _per_ball(key, raw[key], n, nonnegative=True)
+                           for key in ("rolling_resistance", "static_friction"))
+        if static is not None:
+            if rolling is None:
+                raise SceneError("static_friction", "needs rolling_resistance (the friction while a ball slips)")
+            pairs = zip(*(v if isinstance(v, tuple) else (v,) * n for v in (rolling, static)))
+            for i, (r, s) in enumerate(pairs):
+                if s < r:
+                    raise SceneError("static_friction", f"must be >= rolling_resistance (ball {i + 1}: {s!r} < {r!r})")
         return cls(
             n=n,
             rotor_mass=_number("rotor_mass", raw["rotor_mass"], positive=True),
@@ -225,6 +243,8 @@ class Scene:
             gravity=gravity,
             g=_number("g", raw["g"], positive=True),
             speed=speed,
+            rolling_resistance=rolling,
+            static_friction=static,
         )
 
     @classmethod
@@ -247,7 +267,16 @@ class Scene:
     # --- structure -----------------------------------------------------------------------
     @property
     def equal_balls(self) -> bool:
-        return not isinstance(self.ball_mass, tuple) and not isinstance(self.ball_damping, tuple)
+        return not any(isinstance(v, tuple) for v in (self.ball_mass, self.ball_damping, self.rolling_resistance))
+
+    @property
+    def friction(self) -> bool:
+        """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
+        return self.rolling_resistance is not None
+
+    def rolling_resistances(self) -> tuple[float, ...]:
+        r = self.rolling_resistance
+        return r if isinstance(r, tuple) else (0.0 if r is None else r,) * self.n
 
     @property
     def isotropic(self) -> bool:

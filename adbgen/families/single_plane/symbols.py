@@ -44,6 +44,7 @@ class DimensionalSymbols:
     tau0: sp.Symbol
     kappa: sp.Symbol
     parameters: tuple[Parameter, ...]
+    mu_r: tuple[sp.Expr, ...] = ()  # rolling resistance per ball (the same symbol n times for one value); () without friction
 
     @classmethod
     def for_scene(cls, scene: Scene) -> "DimensionalSymbols":
@@ -82,7 +83,16 @@ class DimensionalSymbols:
             add(I_z, "polar moment of inertia of the rotor", "kg m^2", scene.polar_inertia)
             add(tau0, "stall torque of the drive", "N m", scene.speed.tau0)
             add(kappa, "slope of the drive's torque-speed line", "N m s/rad", scene.speed.motor_slope)
-        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted())
+        mu_r: tuple[sp.Expr, ...] = ()
+        if scene.friction:
+            what = "rolling resistance of the balls on the race while slipping (tangential force / normal force)"
+            values = scene.rolling_resistances()
+            if isinstance(scene.rolling_resistance, tuple):
+                mu_r = tuple(add(nonnegative(f"mu_r_{i + 1}"), f"{what}, ball {i + 1}", "dimensionless", values[i])
+                             for i in range(n))
+            else:
+                mu_r = (add(nonnegative("mu_r"), what, "dimensionless", values[0]),) * n
+        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted(), mu_r)
 
 
 def nondimensional_parameters(values: dict[str, float] | None = None, gravity: bool = False) -> tuple[Parameter, ...]:

@@ -7,6 +7,7 @@ one by one (and add negative controls showing each can fail).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Callable
 
 import sympy as sp
@@ -20,7 +21,7 @@ from .scene import Scene
 from . import steady_states as ss
 from .jacobi import rotating_lagrangian, undamped
 from .model import derive
-from .reductions import first_order, nondimensionalise, rotating_frame
+from .reductions import first_order, nondimensionalise, rotating_frame, rotating_frame_dimensional
 from .symbols import DimensionalSymbols, G, Omega, beta, delta, mu, t, zeta
 
 
@@ -81,6 +82,78 @@ def rotating(n: int, wrong: bool = False) -> CheckResult:
         eom = rotating_frame(Scene(n=n))
         return _compare(eom, thesis.rotating_frame(n, mu, Omega, zeta, beta, delta), wrong=wrong)
     return _timed(f"rotating frame, n={n}", "thesis (2.25)-(2.27)", run)
+
+
+def friction_scene(n: int, law: str = "torque") -> Scene:
+    """`general_scene` with ball-race friction, a rolling resistance of its own for each ball."""
+    return replace(general_scene(n, law), rolling_resistance=tuple(0.01 * (i + 1) for i in range(n)))
+
+
+def friction_zero_limit(n: int, wrong: bool = False) -> CheckResult:
+    """With friction (issue 37), mu_r_i = 0 gives today's equations exactly: the fixed frame under a torque
+    and at constant speed, and the rotating frame (isotropic, no gravity), row by row and entry by entry
+    of M and f.  wrong: the frictionless model's first residual with a flipped term."""
+    def run():
+        pairs = []
+        for law in ("torque", "constant"):
+            pairs.append((derive(friction_scene(n, law)), derive(general_scene(n, law))))
+        plain = Scene(n=n, ball_mass=tuple(0.01 * (i + 2) for i in range(n)))
+        pairs.append((rotating_frame_dimensional(replace(plain, rolling_resistance=(0.02,) * n)),
+                      rotating_frame_dimensional(plain)))
+        bad = []
+        for k, (rough, smooth) in enumerate(pairs):
+            zero = {p.symbol: 0 for p in rough.parameters if p.name.startswith("mu_r")}
+            if not zero:
+                return False, "the friction model has no rolling-resistance parameter"
+            if all(sp.expand(rough.residual(r) - smooth.residual(r)) == 0 for r in range(smooth.size)):
+                return False, "the friction model equals the frictionless one at mu_r > 0: no friction derived"
+            limit = rough.map(lambda e: sp.expand(e.xreplace(zero)))
+            for row, c in enumerate(smooth.coordinates):
+                ref = smooth.residual(row)
+                if wrong and k == 0 and row == 0:
+                    ref = flip_term(ref)
+                if limit.coordinates[row].name != c.name or sp.expand(limit.residual(row) - ref) != 0:
+                    bad.append(f"{('torque', 'constant speed', 'rotating frame')[k]}: {c.name}")
+        return not bad, ("mu_r = 0: every row identical (torque, constant speed, rotating frame)" if not bad
+                         else f"rows differ: {', '.join(bad)}")
+    return _timed(f"friction, zero limit, n={n}", "thesis (2.10)-(2.13), (2.25) at mu_r = 0 (issue 37)", run)
+
+
+def normal_force(n: int, wrong: bool = False) -> CheckResult:
+    """The race's normal force on each ball (`model.normal_forces`, Lagrange's equation of the radial
+    coordinate) against Newton's second law along the radius, N_i = -m_i a_i . e_r - m_i g sin(psi + phi_i)
+    with a_i the position (2.4) differentiated twice (the most general scene: torque, gravity, unequal
+    balls, anisotropy), and against the closed form of a ball in a race spinning at constant speed, rotor
+    fixed (X = Y = 0): N_i = m_i R (omega + phi_i')^2 - m_i g sin(omega t + phi_i).  wrong: a normal force
+    without the Coriolis-like cross term 2 m R psi' phi_i' (the rotor's speed alone)."""
+    def run():
+        from ...core import Coordinate, time_derivative
+        from .model import lagrangian, normal_forces
+
+        scene = general_scene(n)
+        lag = lagrangian(scene)
+        s = lag.symbols
+        derived = list(normal_forces(lag))
+        X, Y, psi = (Coordinate.make(name) for name in ("X", "Y", "psi"))
+        if wrong:
+            derived = [N - 2 * s.m[i] * s.R * psi.qd * Coordinate.make(f"phi_{i + 1}").qd for i, N in enumerate(derived)]
+        bad = []
+        for i in range(n):
+            phi = Coordinate.make(f"phi_{i + 1}")
+            theta = psi.q + phi.q
+            ax, ay = (time_derivative(time_derivative(e, lag.all_coordinates, t), lag.all_coordinates, t)
+                      for e in lag.positions[f"ball_{i + 1}"])
+            newton = -s.m[i] * (ax * sp.cos(theta) + ay * sp.sin(theta)) - s.m[i] * s.g * sp.sin(theta)
+            if not is_identity(derived[i], newton):
+                bad.append(f"N_{i + 1} (Newton)")
+            fixed = {X.q: 0, Y.q: 0, X.qd: 0, Y.qd: 0, X.qdd: 0, Y.qdd: 0, psi.q: s.omega * t, psi.qd: s.omega,
+                     psi.qdd: 0}
+            closed = s.m[i] * s.R * (s.omega + phi.qd) ** 2 - s.m[i] * s.g * sp.sin(s.omega * t + phi.q)
+            if not is_identity(derived[i].xreplace(fixed), closed):
+                bad.append(f"N_{i + 1} (rotor fixed)")
+        return not bad, ("N_i = Newton's radial law and m R (omega + phi')^2 - m g sin(omega t + phi) with the rotor "
+                         "fixed" if not bad else f"differ: {', '.join(bad)}")
+    return _timed(f"normal force, n={n}", "Lagrange multiplier of the race (issue 37); thesis (2.4)", run)
 
 
 def two_routes(n: int, wrong: bool = False) -> CheckResult:
@@ -342,6 +415,9 @@ def registered(ns=(1, 2, 3, 4, 6)) -> list[Registered]:
         Registered("prescribed speed", DERIVED, _per_n(prescribed_speed, ns), "first row with a flipped term"),
         Registered("non-dimensional", DERIVED, _per_n(nondimensional, ns), "the misprinted (2.21)"),
         Registered("rotating frame", DERIVED, _per_n(rotating, ns), "first row of (2.25)-(2.27) with a flipped term"),
+        Registered("friction, zero limit", DERIVED, _per_n(friction_zero_limit, ns),
+                   "the frictionless first row with a flipped term"),
+        Registered("normal force", DERIVED, _per_n(normal_force, ns), "the cross term 2 m R psi' phi' dropped"),
         Registered("two routes", DERIVED, _per_n(two_routes, ns), "the ball rows' factor mu dropped"),
         Registered("first-order form", DERIVED, _per_n(appendix_a, ns), "the literal reading of (A.12)-(A.13)"),
         Registered("steady states", DERIVED, _per_n(steady_states, ns), "each state's first coordinate moved by 1/10"),
