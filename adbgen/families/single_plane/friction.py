@@ -41,7 +41,7 @@ def normal_forces_in(scene: Scene, system: FirstOrderSystem) -> tuple[sp.Expr, .
         sub = rotating_substitution(lag.symbols.omega)[1]
     if scene.speed.law == "constant":
         sub |= law
-    elif scene.speed.law == "profile":
+    elif scene.speed.law in ("profile", "schedule"):
         sub |= dict(eom.driven_law)
     accelerations = dict(zip((c.qdd for c in eom.coordinates), system.solve.accelerations()))
     out = []

@@ -16,7 +16,7 @@ A scene in TOML::
     stiffness = [1.0e4, 1.2e4]  # one value: isotropic; [k_X, k_Y]: anisotropic
     gravity = true
     [speed]
-    law = "constant"            # or "profile" (omega = "expression in t") or "torque"
+    law = "constant"            # or "profile" (omega = "expression in t"), "schedule" or "torque"
     omega = 400.0
 """
 
@@ -32,10 +32,15 @@ from typing import Any, Mapping
 from ...core.scene_fields import Key, number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
 from ...errors import SceneError
 
-SPEED_LAWS = ("constant", "profile", "torque")
+SPEED_LAWS = ("constant", "profile", "schedule", "torque")
+# a schedule's keys in the order of its phases: run-up ramp, hold, temporary speed reduction (fall, plateau,
+# recovery); each a parameter of the generated model (adbgen simulate/sweep --set NAME=VALUE changes it)
+SCHEDULE_KEYS = ("omega", "ramp_time", "hold_time", "reduction_depth", "reduction_rate", "plateau_time",
+                 "recovery_rate")
 _SPEED_FIELDS = {
     "constant": {"law", "omega"},
     "profile": {"law", "omega"},
+    "schedule": {"law", *SCHEDULE_KEYS},
     "torque": {"law", "tau0", "motor_slope"},
 }
 # Functions allowed in a speed profile expression; nothing else is evaluated.
@@ -48,13 +53,19 @@ class SpeedLaw:
 
     - ``constant``: psi = omega t (thesis (2.14));
     - ``profile``: psi' = Omega(t) given as an expression in t (a run-up);
-    - ``torque``: psi is a degree of freedom driven by tau(psi') = tau0 - motor_slope psi' (2.9).
+    - ``schedule``: psi' piecewise linear in t (`model.schedule_law`): a ramp from rest to omega over
+      ramp_time, a hold, then a temporary speed reduction by reduction_depth (a fraction of omega) at
+      reduction_rate, a plateau of plateau_time and the recovery to omega at recovery_rate (Machines 2020,
+      8(4), 74; Wright and Peng, arXiv 1906.04823); its values are parameters of the model;
+    - ``torque``: psi is a degree of freedom driven by tau(psi') = tau0 - motor_slope psi' (2.9), the
+      motor's linear torque-speed law (a run-up through resonance can be trapped: the Sommerfeld effect).
     """
 
     law: str = "constant"
     omega: float | str | None = 400.0
     tau0: float = 0.0
     motor_slope: float = 0.0
+    schedule: tuple[tuple[str, float], ...] = ()  # (key, value) in SCHEDULE_KEYS order (law = "schedule")
 
     @classmethod
     def from_mapping(cls, data: Any) -> "SpeedLaw":
@@ -67,12 +78,33 @@ class SpeedLaw:
                 raise SceneError("speed.omega", "a profile needs omega = 'expression in t' (rad/s)")
             profile_expression(expr)  # validates
             return cls(law, omega=expr)
+        if law == "schedule":
+            return cls(law, omega=None, schedule=_schedule(data))
         return cls(
             law,
             omega=None,
             tau0=_number("speed.tau0", data.get("tau0", 0.0)),
             motor_slope=_number("speed.motor_slope", data.get("motor_slope", 0.0), nonnegative=True),
         )
+
+
+def _schedule(data: Mapping[str, Any]) -> tuple[tuple[str, float], ...]:
+    """A schedule's values, checked: omega and ramp_time > 0; the rest >= 0 with defaults (no hold, no
+    reduction); a reduction's depth below 1 (the rotor keeps turning) and its rates > 0 (default: the
+    ramp's slope omega / ramp_time)."""
+    for key in ("omega", "ramp_time"):
+        if key not in data:
+            raise SceneError(f"speed.{key}", "a schedule needs omega (rad/s) and ramp_time (s)")
+    omega = _number("speed.omega", data["omega"], positive=True)
+    ramp = _number("speed.ramp_time", data["ramp_time"], positive=True)
+    values = {"omega": omega, "ramp_time": ramp}
+    for key in ("hold_time", "reduction_depth", "plateau_time"):
+        values[key] = _number(f"speed.{key}", data.get(key, 0.0), nonnegative=True)
+    if values["reduction_depth"] >= 1:
+        raise SceneError("speed.reduction_depth", f"must be below 1 (a fraction of omega), got {values['reduction_depth']!r}")
+    for key in ("reduction_rate", "recovery_rate"):
+        values[key] = _number(f"speed.{key}", data.get(key, omega / ramp), positive=True)
+    return tuple((key, values[key]) for key in SCHEDULE_KEYS)
 
 
 _ALLOWED_BINOPS = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow)
@@ -166,10 +198,24 @@ KEYS = (
     Key("damping", "N s/m", "nonnegative", "c (isotropic) or [c_X, c_Y]"),
     Key("gravity", "", "other", "gravity in -Y on (the model keeps explicit time)", "true or false"),
     Key("g", "m/s^2", "positive", "gravitational acceleration (used with gravity = true)"),
-    Key("speed.law", "", "other", "how the spin is governed", "\"constant\", \"profile\" or \"torque\""),
+    Key("speed.law", "", "other", "how the spin is governed", "\"constant\", \"profile\", \"schedule\" or \"torque\""),
     Key("speed.omega", "rad/s", "positive", "constant spin speed (law = \"constant\")"),
     Key("speed.omega", "rad/s", "other", "run-up Omega(t) (law = \"profile\")",
         "an expression in t of numbers, + - * / **, " + ", ".join(_PROFILE_FUNCTIONS), {"speed": {"law": "profile"}}),
+    Key("speed.omega", "rad/s", "positive", "the speed a schedule runs up to and returns to (law = \"schedule\")",
+        context={"speed": {"law": "schedule", "ramp_time": 1.0}}),
+    Key("speed.ramp_time", "s", "positive", "a schedule's run-up from rest to omega, at a constant rate",
+        context={"speed": {"law": "schedule", "omega": 400.0}}),
+    Key("speed.hold_time", "s", "nonnegative", "a schedule's time at omega before the temporary reduction",
+        context={"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
+    Key("speed.reduction_depth", "", "other", "the temporary speed reduction, a fraction of omega (0: none)",
+        "a number in [0, 1)", {"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
+    Key("speed.reduction_rate", "rad/s^2", "positive", "how fast the speed falls to the reduced speed "
+        "(default omega / ramp_time)", context={"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
+    Key("speed.plateau_time", "s", "nonnegative", "time held at the reduced speed",
+        context={"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
+    Key("speed.recovery_rate", "rad/s^2", "positive", "how fast the speed returns to omega (default omega / ramp_time)",
+        context={"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
     Key("speed.tau0", "N m", "real", "stall torque of the drive, tau = tau0 - motor_slope psi' (law = \"torque\")",
         context=_TORQUE),
     Key("speed.motor_slope", "N m s/rad", "nonnegative", "slope of the drive's torque-speed line (law = \"torque\")",

@@ -156,6 +156,46 @@ def normal_force(n: int, wrong: bool = False) -> CheckResult:
     return _timed(f"normal force, n={n}", "Lagrange multiplier of the race (issue 37); thesis (2.4)", run)
 
 
+def speed_schedule(wrong: bool = False) -> CheckResult:
+    """The speed schedule (`model.schedule_law`, issue 37 item 4): on each phase the angle's derivative is
+    the speed and the speed's derivative the acceleration, angle and speed continuous at every phase end,
+    the speed omega t / t_ramp on the ramp, omega (1 - depth) on the plateau and omega at the end, all
+    exact in the symbols.  wrong: the ramp's angle omega t^2 / t_ramp (the factor 1/2 dropped)."""
+    def run():
+        from .model import schedule_law
+        from .symbols import schedule_symbol
+
+        angle, speed, acc = schedule_law()
+        w, t1, depth = (schedule_symbol(k) for k in ("omega", "ramp_time", "reduction_depth"))
+
+        def branches(e):
+            out = []
+            while isinstance(e, sp.Piecewise):
+                (value, cond), (rest, _) = e.args
+                out.append((value, cond))
+                e = rest
+            return out + [(e, None)]
+        A, S, C = (branches(e) for e in (angle, speed, acc))
+        if wrong:
+            A[0] = (w * t**2 / t1, A[0][1])
+        if not (len(A) == len(S) == len(C) == 6):
+            return False, f"{len(A)} phases, not 6"
+        bad = []
+        for k in range(6):
+            if sp.simplify(sp.diff(A[k][0], t) - S[k][0]) != 0 or sp.simplify(sp.diff(S[k][0], t) - C[k][0]) != 0:
+                bad.append(f"phase {k + 1}: derivative")
+            if k < 5:
+                end = A[k][1].rhs if A[k][1].lhs == t else A[k][1].lhs
+                for name, F in (("angle", A), ("speed", S)):
+                    if sp.simplify(F[k][0].subs(t, end) - F[k + 1][0].subs(t, end)) != 0:
+                        bad.append(f"{name} jumps at the end of phase {k + 1}")
+        if sp.simplify(S[0][0] - w * t / t1) != 0 or sp.simplify(S[3][0] - w * (1 - depth)) != 0 or S[5][0] != w:
+            bad.append("ramp, plateau or final speed")
+        return not bad, ("six phases: psi' = d psi/dt, psi'' = d psi'/dt, continuous; ramp, plateau and final "
+                         "speeds as declared" if not bad else "; ".join(bad))
+    return _timed("speed schedule", "ramp, hold, temporary reduction (issue 37 item 4)", run)
+
+
 def two_routes(n: int, wrong: bool = False) -> CheckResult:
     """Transforming the equations and transforming the Lagrangian give the same rotating-frame system
     (wrong: the ball rows' factor mu dropped)."""
@@ -422,6 +462,8 @@ def registered(ns=(1, 2, 3, 4, 6)) -> list[Registered]:
         Registered("first-order form", DERIVED, _per_n(appendix_a, ns), "the literal reading of (A.12)-(A.13)"),
         Registered("steady states", DERIVED, _per_n(steady_states, ns), "each state's first coordinate moved by 1/10"),
         Registered("Jacobi integral", DERIVED, _per_n(jacobi, ns), "the Rayleigh power dropped"),
+        Registered("speed schedule", DERIVED, lambda wrong: [speed_schedule(wrong=wrong)],
+                   "the ramp's angle without its factor 1/2"),
         Registered("thesis numbers", FORMULA, thesis_numbers, "printed values moved by 3 units of the last digit"),
         Registered("chapter 4 stability", DERIVED, chapter4_numbers,
                    "printed values moved, AUTO's Hopf points moved by 1e-3, zeta window [0.1, 0.11], the beta effect claimed quadratic"),
