@@ -193,7 +193,8 @@ KEYS = (
         "absent: no friction (the models of the thesis)"),
     Key("static_friction", "", "nonnegative",
         "mu_s >= mu_r, stiction coefficient of a ball at rest on the race: one value or a list of n; "
-        "recorded and checked, not yet in the equations (the stick phase, issue 37 item 2, is not built)"),
+        "recorded and checked, not yet in the equations (the stick phase, issue 37 item 2, is not built)",
+        context={"rolling_resistance": 0.0}),
     Key("stiffness", "N/m", "nonnegative", "k (isotropic support) or [k_X, k_Y] (anisotropic)"),
     Key("damping", "N s/m", "nonnegative", "c (isotropic) or [c_X, c_Y]"),
     Key("gravity", "", "other", "gravity in -Y on (the model keeps explicit time)", "true or false"),
