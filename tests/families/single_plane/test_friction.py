@@ -24,6 +24,11 @@ def test_friction_checks_pass(n):
         assert not check(n, wrong=True).passed
 
 
+def test_energy_balance_over_a_run_with_friction():
+    result = verify.friction_energy(1)
+    assert result.passed, result.detail
+
+
 def test_speed_schedule_check_passes_and_its_wrong_variant_fails():
     assert verify.speed_schedule().passed
     assert not verify.speed_schedule(wrong=True).passed
