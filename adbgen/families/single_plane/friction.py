@@ -51,7 +51,7 @@ def normal_forces_in(scene: Scene, system: FirstOrderSystem) -> tuple[sp.Expr, .
             N = canonical_trig(N)
             if t in N.free_symbols:
                 raise AssertionError("the normal force still depends on t in the rotating frame")
-        out.append(N.xreplace(accelerations))
+        out.append(N.xreplace(accelerations).xreplace(dict(eom.driven_law)))  # the solve keeps a run-up's inputs
     return tuple(out)
 
 

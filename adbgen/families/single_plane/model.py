@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, time_derivative
+from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, speed_schedule, time_derivative
 from ...errors import SceneError
 from .scene import Scene, profile_expression
 from .symbols import DimensionalSymbols, t
@@ -128,8 +128,8 @@ def speed_law_substitution(scene: Scene, symbols: DimensionalSymbols) -> dict[sp
     law = scene.speed.law
     if law == "constant":
         return {psi.q: symbols.omega * t, psi.qd: symbols.omega, psi.qdd: sp.S.Zero}
-    if law == "schedule":
-        angle, Om, acc = schedule_law()
+    if law == "schedule":  # ramp, hold, temporary speed reduction (`core.speed_schedule`)
+        angle, Om, acc = speed_schedule.law(t)
         return {psi.q: angle, psi.qd: Om, psi.qdd: acc}
     if law == "profile":
         Om = profile_expression(str(scene.speed.omega))
@@ -139,41 +139,6 @@ def speed_law_substitution(scene: Scene, symbols: DimensionalSymbols) -> dict[sp
             raise SceneError("speed.omega", "the profile has no closed-form angle; give a simpler Omega(t)")
         return {psi.q: angle, psi.qd: Om, psi.qdd: sp.diff(Om, t)}
     return {}
-
-
-def schedule_law() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """(psi, psi', psi'') of a speed schedule in t and its parameters: psi' piecewise linear through the
-    phases ramp (0 to omega over t_ramp), hold (t_hold), fall (to omega (1 - depth) at drop_rate), plateau
-    (t_plateau), recovery (back to omega at recovery_rate), then omega; psi the exact integral of each
-    phase from the angle reached at its start (so psi is continuous and psi' its derivative, checked in
-    `verify.speed_schedule`).  Nested two-branch Piecewise (value, t < end), (the later phases, True):
-    the form every target prints, the Taylor series' included."""
-    from .symbols import schedule_symbol
-
-    w, t1, hold, depth, fall, plateau, rise = (schedule_symbol(k) for k in (
-        "omega", "ramp_time", "hold_time", "reduction_depth", "reduction_rate", "plateau_time", "recovery_rate"))
-    low = w * (1 - depth)
-    # (end of the phase, speed at its start, its rate of change); the last phase has no end
-    phases = [(t1, sp.S.Zero, w / t1), (t1 + hold, w, sp.S.Zero)]
-    phases.append((phases[-1][0] + depth * w / fall, w, -fall))
-    phases.append((phases[-1][0] + plateau, low, sp.S.Zero))
-    phases.append((phases[-1][0] + depth * w / rise, low, rise))
-    pieces, start, angle0 = [], sp.S.Zero, sp.S.Zero
-    for end, speed0, rate in phases:
-        pieces.append((end, angle0 + speed0 * (t - start) + rate * (t - start) ** 2 / 2,
-                       speed0 + rate * (t - start), rate))
-        d = end - start
-        angle0, start = angle0 + speed0 * d + rate * d**2 / 2, end
-    pieces.append((None, angle0 + w * (t - start), w, sp.S.Zero))
-
-    def nest(k: int):
-        """(angle, speed, acceleration) from phase k on."""
-        end, *exprs = pieces[k]
-        if end is None:
-            return exprs
-        rest = nest(k + 1)
-        return [sp.Piecewise((e, t < end), (r, True)) for e, r in zip(exprs, rest)]
-    return tuple(nest(0))
 
 
 @lru_cache(maxsize=64)

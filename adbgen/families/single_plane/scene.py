@@ -29,14 +29,14 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Mapping
 
+from ...core import speed_schedule
 from ...core.scene_fields import Key, number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
 from ...errors import SceneError
 
 SPEED_LAWS = ("constant", "profile", "schedule", "torque")
 # a schedule's keys in the order of its phases: run-up ramp, hold, temporary speed reduction (fall, plateau,
 # recovery); each a parameter of the generated model (adbgen simulate/sweep --set NAME=VALUE changes it)
-SCHEDULE_KEYS = ("omega", "ramp_time", "hold_time", "reduction_depth", "reduction_rate", "plateau_time",
-                 "recovery_rate")
+SCHEDULE_KEYS = speed_schedule.KEYS
 _SPEED_FIELDS = {
     "constant": {"law", "omega"},
     "profile": {"law", "omega"},
@@ -53,7 +53,7 @@ class SpeedLaw:
 
     - ``constant``: psi = omega t (thesis (2.14));
     - ``profile``: psi' = Omega(t) given as an expression in t (a run-up);
-    - ``schedule``: psi' piecewise linear in t (`model.schedule_law`): a ramp from rest to omega over
+    - ``schedule``: psi' piecewise linear in t (`core.speed_schedule.law`): a ramp from rest to omega over
       ramp_time, a hold, then a temporary speed reduction by reduction_depth (a fraction of omega) at
       reduction_rate, a plateau of plateau_time and the recovery to omega at recovery_rate (Machines 2020,
       8(4), 74; Wright and Peng, arXiv 1906.04823); its values are parameters of the model;
@@ -79,32 +79,13 @@ class SpeedLaw:
             profile_expression(expr)  # validates
             return cls(law, omega=expr)
         if law == "schedule":
-            return cls(law, omega=None, schedule=_schedule(data))
+            return cls(law, omega=None, schedule=speed_schedule.validate(data))
         return cls(
             law,
             omega=None,
             tau0=_number("speed.tau0", data.get("tau0", 0.0)),
             motor_slope=_number("speed.motor_slope", data.get("motor_slope", 0.0), nonnegative=True),
         )
-
-
-def _schedule(data: Mapping[str, Any]) -> tuple[tuple[str, float], ...]:
-    """A schedule's values, checked: omega and ramp_time > 0; the rest >= 0 with defaults (no hold, no
-    reduction); a reduction's depth below 1 (the rotor keeps turning) and its rates > 0 (default: the
-    ramp's slope omega / ramp_time)."""
-    for key in ("omega", "ramp_time"):
-        if key not in data:
-            raise SceneError(f"speed.{key}", "a schedule needs omega (rad/s) and ramp_time (s)")
-    omega = _number("speed.omega", data["omega"], positive=True)
-    ramp = _number("speed.ramp_time", data["ramp_time"], positive=True)
-    values = {"omega": omega, "ramp_time": ramp}
-    for key in ("hold_time", "reduction_depth", "plateau_time"):
-        values[key] = _number(f"speed.{key}", data.get(key, 0.0), nonnegative=True)
-    if values["reduction_depth"] >= 1:
-        raise SceneError("speed.reduction_depth", f"must be below 1 (a fraction of omega), got {values['reduction_depth']!r}")
-    for key in ("reduction_rate", "recovery_rate"):
-        values[key] = _number(f"speed.{key}", data.get(key, omega / ramp), positive=True)
-    return tuple((key, values[key]) for key in SCHEDULE_KEYS)
 
 
 _ALLOWED_BINOPS = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow)

@@ -12,30 +12,10 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ...core import Parameter, ParameterTable
+from ...core import Parameter, ParameterTable, speed_schedule
 from ...core.symbols import nonnegative, positive, t  # noqa: F401  (t: the family's time)
 from .scene import Scene
 
-
-
-# a speed schedule's parameters (scene keys `scene.SCHEDULE_KEYS`): (key, meaning, unit); symbol names below
-SCHEDULE_PARAMETERS = (
-    ("omega", "spin speed the schedule runs up to and returns to", "rad/s"),
-    ("ramp_time", "duration of the run-up from rest to omega", "s"),
-    ("hold_time", "time at omega before the temporary speed reduction", "s"),
-    ("reduction_depth", "temporary speed reduction, a fraction of omega", "dimensionless"),
-    ("reduction_rate", "rate of the fall to the reduced speed", "rad/s^2"),
-    ("plateau_time", "time held at the reduced speed", "s"),
-    ("recovery_rate", "rate of the return to omega", "rad/s^2"),
-)
-_SCHEDULE_NAMES = {"omega": "omega", "ramp_time": "t_ramp", "hold_time": "t_hold", "reduction_depth": "depth",
-                   "reduction_rate": "drop_rate", "plateau_time": "t_plateau", "recovery_rate": "recovery_rate"}
-
-
-def schedule_symbol(key: str) -> sp.Symbol:
-    """The model's symbol of a schedule key (omega, t_ramp, t_hold, depth, drop_rate, t_plateau, recovery_rate)."""
-    name = _SCHEDULE_NAMES[key]
-    return positive(name) if key in ("omega", "ramp_time", "reduction_rate", "recovery_rate") else nonnegative(name)
 
 
 # Dimensionless parameters (2.16), (2.19).
@@ -100,9 +80,7 @@ class DimensionalSymbols:
         if law == "constant":
             add(omega, "spin speed", "rad/s", scene.speed.omega)
         elif law == "schedule":
-            values = dict(scene.speed.schedule)
-            for key, what, unit in SCHEDULE_PARAMETERS:
-                add(schedule_symbol(key), what, unit, values[key])
+            speed_schedule.add_parameters(params, scene.speed.schedule)
         elif law == "torque":
             add(I_z, "polar moment of inertia of the rotor", "kg m^2", scene.polar_inertia)
             add(tau0, "stall torque of the drive", "N m", scene.speed.tau0)

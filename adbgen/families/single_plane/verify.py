@@ -13,6 +13,7 @@ from typing import Callable
 import sympy as sp
 
 from ...core import is_identity
+from ...core import speed_schedule as _schedule
 from ...core.checks import (DERIVED, FORMULA, CheckResult, Registered, flip_term,
                              moved, printed_tolerance, timed as _timed)
 from ...core.structure import cramer
@@ -220,43 +221,12 @@ def friction_energy(n: int, wrong: bool = False) -> CheckResult:
 
 
 def speed_schedule(wrong: bool = False) -> CheckResult:
-    """The speed schedule (`model.schedule_law`, issue 37 item 4): on each phase the angle's derivative is
+    """The speed schedule (`core.speed_schedule.law`, issue 37 item 4): on each phase the angle's derivative is
     the speed and the speed's derivative the acceleration, angle and speed continuous at every phase end,
     the speed omega t / t_ramp on the ramp, omega (1 - depth) on the plateau and omega at the end, all
     exact in the symbols.  wrong: the ramp's angle omega t^2 / t_ramp (the factor 1/2 dropped)."""
-    def run():
-        from .model import schedule_law
-        from .symbols import schedule_symbol
-
-        angle, speed, acc = schedule_law()
-        w, t1, depth = (schedule_symbol(k) for k in ("omega", "ramp_time", "reduction_depth"))
-
-        def branches(e):
-            out = []
-            while isinstance(e, sp.Piecewise):
-                (value, cond), (rest, _) = e.args
-                out.append((value, cond))
-                e = rest
-            return out + [(e, None)]
-        A, S, C = (branches(e) for e in (angle, speed, acc))
-        if wrong:
-            A[0] = (w * t**2 / t1, A[0][1])
-        if not (len(A) == len(S) == len(C) == 6):
-            return False, f"{len(A)} phases, not 6"
-        bad = []
-        for k in range(6):
-            if sp.simplify(sp.diff(A[k][0], t) - S[k][0]) != 0 or sp.simplify(sp.diff(S[k][0], t) - C[k][0]) != 0:
-                bad.append(f"phase {k + 1}: derivative")
-            if k < 5:
-                end = A[k][1].rhs if A[k][1].lhs == t else A[k][1].lhs
-                for name, F in (("angle", A), ("speed", S)):
-                    if sp.simplify(F[k][0].subs(t, end) - F[k + 1][0].subs(t, end)) != 0:
-                        bad.append(f"{name} jumps at the end of phase {k + 1}")
-        if sp.simplify(S[0][0] - w * t / t1) != 0 or sp.simplify(S[3][0] - w * (1 - depth)) != 0 or S[5][0] != w:
-            bad.append("ramp, plateau or final speed")
-        return not bad, ("six phases: psi' = d psi/dt, psi'' = d psi'/dt, continuous; ramp, plateau and final "
-                         "speeds as declared" if not bad else "; ".join(bad))
-    return _timed("speed schedule", "ramp, hold, temporary reduction (issue 37 item 4)", run)
+    return _timed("speed schedule", "ramp, hold, temporary reduction (issue 37 item 4)",
+                  lambda: _schedule.check(t, wrong=wrong))
 
 
 def two_routes(n: int, wrong: bool = False) -> CheckResult:
