@@ -85,3 +85,13 @@ def test_emitted_normal_force_is_newtons_law_along_a_solution_state():
     smooth = {**psyms, **{p.symbol: 0.0 for p in system.parameters if p.name == "mu_r"}}
     rhs0 = sp.lambdify(states, [e.xreplace(smooth) for e in system.rhs()], "numpy")
     assert not np.allclose(np.array(rhs0(*state), dtype=float)[-n:], derivative[-n:], rtol=1e-6, atol=0)
+
+
+def test_per_ball_rolling_resistance_goes_with_its_ball_in_the_exchanges():
+    """Balls with their own mu_r_i are exchanged with their masses and their friction (without mu_r_i in the
+    exchange, regenerate refused the model: the symmetry did not hold on the rhs)."""
+    scene = Scene(n=2, ball_mass=(0.05, 0.04), rolling_resistance=(0.01, 0.02))
+    spec = for_scene(scene)
+    symmetries = spec.describe(spec.system()).symmetries
+    exchange = next(s for s in symmetries if s.name.startswith("exchange"))
+    assert exchange.parameters["mu_r_1"] == ("mu_r_2", 1) and exchange.parameters["m_1"] == ("m_2", 1)
