@@ -1,6 +1,6 @@
 """`adbgen sweep`: a grid of trajectories or steady states on Dask, into a resumable Zarr store.
 
-    adbgen sweep MODEL --grid NAME=FROM:TO:COUNT [--grid ...] [--set NAME=VALUE]... [--y0 NAME=VALUE]...
+    adbgen sweep MODEL|--scene FILE --grid NAME=FROM:TO:COUNT [--grid ...] [--set NAME=VALUE]... [--y0 NAME=VALUE]...
                  --measure {attractor,r_max,t_dec,stability} [--t-end T] [--rtol R] --out DIR
                  [--scheduler ADDRESS | --workers N] [--check-tolerance] [--json]
 
@@ -24,7 +24,9 @@ def _add_sweep(p) -> None:
     from ..analysis.engines import DEFAULT, ENGINES
     from ..analysis.sweep import MEASURES
 
-    p.add_argument("model", help="a generated model's name (one of generated/) or a model folder")
+    p.add_argument("model", nargs="?", help="a generated model's name (one of generated/) or a model folder")
+    p.add_argument("--scene", help="scene file (TOML) instead of MODEL: its smallest exact model, generated once "
+                                   "into a cache (a speed schedule's values are parameters: --set, --grid)")
     p.add_argument("--grid", action="append", default=[], metavar="NAME=FROM:TO:COUNT",
                    help="a grid axis over a parameter or an initial state (repeatable; FROM and TO included, "
                         "numbers or expressions in pi)")
@@ -91,6 +93,10 @@ def run_sweep_command(args: argparse.Namespace) -> int:
     from ..outputs import output_folder
 
     output_folder(args.out, "--out")
+    if args.scene is not None or args.model is None:  # the scene's model (or the loader's one-line refusal)
+        from .arguments import _load
+
+        args.model = str(_load(args, show_progress=not args.json).folder)
     model = args.model
     if os.sep in model or os.path.isdir(model):
         model = os.path.abspath(model)  # workers load it by path

@@ -101,6 +101,25 @@ def test_no_recurrence_for_tan():
         d.run()
 
 
+def test_a_three_branch_piecewise_is_refused_as_no_series():
+    """A sign written as Piecewise((1, x > 0), (-1, x < 0), (0, True)) (friction in slip, issue 37) is
+    refused with NotSeries, so the target skips the model with a reason (it crashed unpacking before);
+    its nested two-branch form is taken."""
+    x, p = sp.Symbol("x", real=True), sp.Symbol("k", real=True)
+    w = sp.Symbol("w", real=True)
+    three = sp.Piecewise((1, x > 0), (-1, x < 0), (0, True))
+    two = sp.Piecewise((1, p > 0), (sp.Piecewise((-1, p < 0), (0, True)), True))
+    for expr, refused in ((three, True), (two, False)):
+        k = Kernel((Let(w, expr * x), Put(Pos(0), None, w)), (1,), False)
+        d = Decomposer(k, name="toy", states=[x], params=[p], time=sp.Symbol("t", real=True), split=None,
+                       n_coordinates=1)
+        if refused:
+            with pytest.raises(NotSeries, match="two-branch"):
+                d.run()
+        else:
+            d.run()
+
+
 def test_the_source_does_not_grow_with_n():
     """<model>_taylor.c for n = 2 and n = 4 differ only in numbers and the order of a few operands: one
     loop body per ball quantity, the balls as lanes."""

@@ -27,7 +27,7 @@ def _with(family, key, value) -> tuple[dict, str]:
     """A scene mapping with `key` set to `value` (in its context), and the field an error must name."""
     data = _base(family)
     for section, entries in (key.context or {}).items():
-        data[section] = dict(entries)  # that law's keys only
+        data[section] = dict(entries) if isinstance(entries, dict) else entries  # a table: that law's keys only
     parts = key.path.split(".")
     where, field = data, []
     for part in parts[:-1]:

@@ -107,11 +107,13 @@ def _balls(system: FirstOrderSystem) -> list[str]:
 
 
 def _own_parameters(system: FirstOrderSystem, balls: list[str]) -> Mapping[str, tuple[str, ...]] | None:
-    """Each ball's own parameters (unequal balls: m_i, D_i), None when they share theirs."""
+    """Each ball's own parameters (unequal balls: m_i, D_i, and mu_r_i with friction), None when they
+    share theirs."""
     names = {p.name for p in system.parameters}
     if "m_1" not in names:
         return None
-    return {b: tuple(f"{stem}_{k + 1}" for stem in ("m", "D") if f"{stem}_{k + 1}" in names) for k, b in enumerate(balls)}
+    return {b: tuple(f"{stem}_{k + 1}" for stem in ("m", "D", "mu_r") if f"{stem}_{k + 1}" in names)
+            for k, b in enumerate(balls)}
 
 
 def _forcing(system: FirstOrderSystem) -> str:
@@ -179,8 +181,8 @@ def fixed_frame(system: FirstOrderSystem, parameter_sets: Mapping | None = None)
     d = describe(system, rotating=False, dimensionless=False, parameter_sets=parameter_sets)
     names = {p.name: p.symbol for p in system.parameters}
     n = len(_balls(system))
-    if n < 2 or "m" not in names or "omega" not in names:
-        return d  # unequal balls or a torque drive: no closed form
+    if n < 2 or "m" not in names or "omega" not in names or system.solve.eom.driven:
+        return d  # unequal balls, a torque drive or a prescribed run-up (schedule): no closed form
     sub = {mu: names["m"] / names["M"], delta: names["eps"] / names["R"]}
     no_gravity = (sp.Eq(names["g"], 0, evaluate=False),) if "g" in names else ()
     form = _substituted(balanced_form(n), sub, no_gravity)

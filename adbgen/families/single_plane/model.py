@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, time_derivative
+from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, speed_schedule, time_derivative
 from ...errors import SceneError
 from .scene import Scene, profile_expression
 from .symbols import DimensionalSymbols, t
@@ -77,12 +77,60 @@ def lagrangian(scene: Scene) -> SinglePlaneLagrangian:
     return SinglePlaneLagrangian(scene, s, coordinates, driven, tuple(terms), forces, positions)
 
 
+def slip_direction(rate: sp.Expr) -> sp.Expr:
+    """sign(rate) as a Piecewise (1, -1, and 0 at rest): the direction of a ball's slip on the race.
+    Written with branches rather than sign() so that its derivative is 0 on each side (sign's is a
+    Dirac delta, which no target prints); at rate = 0 the slip law gives no force (Coulomb's law in
+    slip says nothing there: the stick phase, issue 37 item 2, is not built)."""
+    return sp.Piecewise((1, rate > 0), (-1, rate < 0), (0, True))
+
+
+def normal_forces(lag: SinglePlaneLagrangian) -> tuple[sp.Expr, ...]:
+    """N_i, the race's push on ball i towards the rotor's centre C (positive while the ball presses on the
+    race's outer wall), from the same Lagrangian: ball i is given a radial coordinate rho_i (its position
+    (2.4) with rho_i in place of R), Lagrange's equation (2.1) for rho_i carries the race constraint
+    rho_i = R through its multiplier, the generalised force -N_i, and is evaluated on the race (rho_i = R,
+    rho_i' = rho_i'' = 0).  So N_i = m_i (R (psi' + phi_i')^2 - X'' cos(psi + phi_i) - Y'' sin(psi + phi_i)
+    - g sin(psi + phi_i)) appears without being written here: centrifugal, Coriolis (none radially on a
+    race of fixed radius), the rotor's acceleration and gravity, in the model's coordinates, rates and
+    accelerations (X'', Y'' are the model's; the spin's are its inputs or coordinate)."""
+    s = lag.symbols
+    X, Y, psi = Coordinate.make("X"), Coordinate.make("Y"), Coordinate.make("psi")
+    everything = lag.all_coordinates
+    out = []
+    for i in range(lag.scene.n):
+        phi, rho = Coordinate.make(f"phi_{i + 1}"), Coordinate.make(f"rho_{i + 1}")
+        pos = (X.q + rho.q * sp.cos(psi.q + phi.q), Y.q + rho.q * sp.sin(psi.q + phi.q))
+        vx, vy = (time_derivative(e, everything + (rho,), t) for e in pos)
+        term = EnergyTerm(f"ball_{i + 1}", T=s.m[i] * (vx**2 + vy**2) / 2, V=s.m[i] * s.g * pos[1])
+        radial = lagrange_equations((rho,), (term,), t, driven=everything)
+        on_race = {rho.q: s.R, rho.qd: sp.S.Zero, rho.qdd: sp.S.Zero}
+        out.append(sp.expand(-radial.residual(0).xreplace(on_race)))  # residual = Q_rho = -N_i
+    return tuple(out)
+
+
+def friction_forces(lag: SinglePlaneLagrangian) -> dict[str, sp.Expr]:
+    """{phi_i: Q_i}: the generalised force of the race's friction on ball i while it slips, Q_i =
+    -R mu_r_i N_i sign(phi_i') (a tangential force mu_r_i N_i against the ball's motion relative to the
+    race, at the race radius R).  The pair of forces on ball and race does virtual work only through
+    phi_i (the contact points move together with X, Y, psi), so no other row gets a term.  N_i is
+    taken signed (`normal_forces`): the model holds while the ball presses on the outer wall (N_i > 0),
+    which the emitted normal force shows."""
+    s = lag.symbols
+    normal = normal_forces(lag)
+    return {f"phi_{i + 1}": -s.R * s.mu_r[i] * slip_direction(Coordinate.make(f"phi_{i + 1}").qd) * normal[i]
+            for i in range(lag.scene.n)}
+
+
 def speed_law_substitution(scene: Scene, symbols: DimensionalSymbols) -> dict[sp.Symbol, sp.Expr]:
     """psi, psi', psi'' as functions of t for a prescribed speed (2.14), or {} for torque drive."""
     psi = Coordinate.make("psi")
     law = scene.speed.law
     if law == "constant":
         return {psi.q: symbols.omega * t, psi.qd: symbols.omega, psi.qdd: sp.S.Zero}
+    if law == "schedule":  # ramp, hold, temporary speed reduction (`core.speed_schedule`)
+        angle, Om, acc = speed_schedule.law(t)
+        return {psi.q: angle, psi.qd: Om, psi.qdd: acc}
     if law == "profile":
         Om = profile_expression(str(scene.speed.omega))
         tau = sp.Dummy("tau", real=True)
@@ -103,11 +151,18 @@ def derive(scene: Scene) -> EquationsOfMotion:
     """
     lag = lagrangian(scene)
     reference = "thesis (2.10)-(2.13)" if scene.speed.law == "torque" else "thesis (2.10), (2.11), (2.13)"
-    eom = lagrange_equations(lag.coordinates, lag.terms, t, forces=lag.forces, driven=lag.driven,
+    forces = dict(lag.forces)
+    if scene.friction:
+        forces |= friction_forces(lag)
+        reference += " with ball-race friction in slip (issue 37)"
+    eom = lagrange_equations(lag.coordinates, lag.terms, t, forces=forces, driven=lag.driven,
                              parameters=lag.symbols.parameters, reference=reference)
+    if scene.friction:  # the friction rows hold X'', Y'' (in N_i): moved into the mass matrix (rows only)
+        eom = EquationsOfMotion.from_residuals(eom.residuals(), eom.coordinates, t, driven=eom.driven,
+                                               parameters=eom.parameters, reference=eom.reference)
     law = speed_law_substitution(scene, lag.symbols)
     if scene.speed.law == "constant":
         eom = replace(eom.map(lambda e: sp.expand(e.xreplace(law))), driven=())
-    elif scene.speed.law == "profile":
+    elif scene.speed.law in ("profile", "schedule"):
         eom = replace(eom, driven_law=law)
     return eom

@@ -18,12 +18,13 @@ with the checks of the family for its number of balls.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import sympy as sp
 
 from ...core.model_spec import Check, Continuation, ModelSpec
 from ...core.first_order import FirstOrderSystem
-from . import description
+from . import description, friction
 from . import steady_states as ss
 from . import verify
 from .model import derive
@@ -219,7 +220,11 @@ def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
     rotating = selected.kind == "rotating-frame"
     dimensional = selected.kind == "rotating-frame-dimensional"
     forced = selected.kind == "fixed-frame" and scene.speed.law == "constant"
-    if rotating:
+    if scene.friction:
+        # the balanced states are stuck states (every ball at rest on the race): Coulomb's law in slip
+        # chatters there and the stick phase (issue 37 item 2) is not built, so no start is offered
+        start = lambda system: (None, "")  # noqa: E731
+    elif rotating:
         start = lambda system: balanced_start(system, scene.n)  # noqa: E731
     elif dimensional:
         start = lambda system: _scene_balanced(system, scene, orbit=False)  # noqa: E731
@@ -238,6 +243,13 @@ def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
         describe = lambda system: description.describe(system, rotating=True, dimensionless=False, forcing="")  # noqa: E731
     else:
         describe = description.fixed_frame
+    if scene.friction:
+        # the normal forces and slip rates as measures; no closed-form steady state and no periodic orbit
+        # for AUTO-07p: they are stuck states, where Coulomb's law in slip has no derivative (item 2)
+        forced, orbit, plain = False, None, describe
+        describe = lambda system: replace(plain(system), closed_forms=(), steady_states=(),  # noqa: E731
+                                          measures={**plain(system).measures, **friction.measures(scene, system)})
+        kinds += ("friction_zero_limit", "normal_force")
     return ModelSpec(name, f"Single-plane balancer with {scene.n} balls: {selected.reason}", scene.n,
                      lambda: selected.system, start, family=FAMILY, checks=checks(*kinds, n=scene.n),
                      continuation=steady_continuation(("Omega", "omega")) if rotating or dimensional else None,

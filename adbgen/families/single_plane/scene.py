@@ -16,7 +16,7 @@ A scene in TOML::
     stiffness = [1.0e4, 1.2e4]  # one value: isotropic; [k_X, k_Y]: anisotropic
     gravity = true
     [speed]
-    law = "constant"            # or "profile" (omega = "expression in t") or "torque"
+    law = "constant"            # or "profile" (omega = "expression in t"), "schedule" or "torque"
     omega = 400.0
 """
 
@@ -29,13 +29,18 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Mapping
 
+from ...core import speed_schedule
 from ...core.scene_fields import Key, number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
 from ...errors import SceneError
 
-SPEED_LAWS = ("constant", "profile", "torque")
+SPEED_LAWS = ("constant", "profile", "schedule", "torque")
+# a schedule's keys in the order of its phases: run-up ramp, hold, temporary speed reduction (fall, plateau,
+# recovery); each a parameter of the generated model (adbgen simulate/sweep --set NAME=VALUE changes it)
+SCHEDULE_KEYS = speed_schedule.KEYS
 _SPEED_FIELDS = {
     "constant": {"law", "omega"},
     "profile": {"law", "omega"},
+    "schedule": {"law", *SCHEDULE_KEYS},
     "torque": {"law", "tau0", "motor_slope"},
 }
 # Functions allowed in a speed profile expression; nothing else is evaluated.
@@ -48,13 +53,19 @@ class SpeedLaw:
 
     - ``constant``: psi = omega t (thesis (2.14));
     - ``profile``: psi' = Omega(t) given as an expression in t (a run-up);
-    - ``torque``: psi is a degree of freedom driven by tau(psi') = tau0 - motor_slope psi' (2.9).
+    - ``schedule``: psi' piecewise linear in t (`core.speed_schedule.law`): a ramp from rest to omega over
+      ramp_time, a hold, then a temporary speed reduction by reduction_depth (a fraction of omega) at
+      reduction_rate, a plateau of plateau_time and the recovery to omega at recovery_rate (Machines 2020,
+      8(4), 74; Wright and Peng, arXiv 1906.04823); its values are parameters of the model;
+    - ``torque``: psi is a degree of freedom driven by tau(psi') = tau0 - motor_slope psi' (2.9), the
+      motor's linear torque-speed law (a run-up through resonance can be trapped: the Sommerfeld effect).
     """
 
     law: str = "constant"
     omega: float | str | None = 400.0
     tau0: float = 0.0
     motor_slope: float = 0.0
+    schedule: tuple[tuple[str, float], ...] = ()  # (key, value) in SCHEDULE_KEYS order (law = "schedule")
 
     @classmethod
     def from_mapping(cls, data: Any) -> "SpeedLaw":
@@ -67,6 +78,8 @@ class SpeedLaw:
                 raise SceneError("speed.omega", "a profile needs omega = 'expression in t' (rad/s)")
             profile_expression(expr)  # validates
             return cls(law, omega=expr)
+        if law == "schedule":
+            return cls(law, omega=None, schedule=speed_schedule.validate(data))
         return cls(
             law,
             omega=None,
@@ -155,14 +168,36 @@ KEYS = (
     Key("race_radius", "m", "positive", "R, radius of the balls' race"),
     Key("ball_mass", "kg", "positive", "m: one value (equal balls) or a list of n values (unequal balls)"),
     Key("ball_damping", "N m s/rad", "nonnegative", "D, viscous drag on each ball: one value or a list of n"),
+    Key("rolling_resistance", "", "nonnegative",
+        "mu_r, ball-race friction while a ball slips: a tangential force mu_r N against the ball's motion "
+        "relative to the race, N the race's normal force on the ball (derived); one value or a list of n; "
+        "absent: no friction (the models of the thesis)"),
+    Key("static_friction", "", "nonnegative",
+        "mu_s >= mu_r, stiction coefficient of a ball at rest on the race: one value or a list of n; "
+        "recorded and checked, not yet in the equations (the stick phase, issue 37 item 2, is not built)",
+        context={"rolling_resistance": 0.0}),
     Key("stiffness", "N/m", "nonnegative", "k (isotropic support) or [k_X, k_Y] (anisotropic)"),
     Key("damping", "N s/m", "nonnegative", "c (isotropic) or [c_X, c_Y]"),
     Key("gravity", "", "other", "gravity in -Y on (the model keeps explicit time)", "true or false"),
     Key("g", "m/s^2", "positive", "gravitational acceleration (used with gravity = true)"),
-    Key("speed.law", "", "other", "how the spin is governed", "\"constant\", \"profile\" or \"torque\""),
+    Key("speed.law", "", "other", "how the spin is governed", "\"constant\", \"profile\", \"schedule\" or \"torque\""),
     Key("speed.omega", "rad/s", "positive", "constant spin speed (law = \"constant\")"),
     Key("speed.omega", "rad/s", "other", "run-up Omega(t) (law = \"profile\")",
         "an expression in t of numbers, + - * / **, " + ", ".join(_PROFILE_FUNCTIONS), {"speed": {"law": "profile"}}),
+    Key("speed.omega", "rad/s", "positive", "the speed a schedule runs up to and returns to (law = \"schedule\")",
+        context={"speed": {"law": "schedule", "ramp_time": 1.0}}),
+    Key("speed.ramp_time", "s", "positive", "a schedule's run-up from rest to omega, at a constant rate",
+        context={"speed": {"law": "schedule", "omega": 400.0}}),
+    Key("speed.hold_time", "s", "nonnegative", "a schedule's time at omega before the temporary reduction (default 0)",
+        context={"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
+    Key("speed.reduction_depth", "", "other", "the temporary speed reduction, a fraction of omega (default 0: none)",
+        "a number in [0, 1)", {"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
+    Key("speed.reduction_rate", "rad/s^2", "positive", "how fast the speed falls to the reduced speed "
+        "(default omega / ramp_time)", context={"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
+    Key("speed.plateau_time", "s", "nonnegative", "time held at the reduced speed (default 0)",
+        context={"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
+    Key("speed.recovery_rate", "rad/s^2", "positive", "how fast the speed returns to omega (default omega / ramp_time)",
+        context={"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}),
     Key("speed.tau0", "N m", "real", "stall torque of the drive, tau = tau0 - motor_slope psi' (law = \"torque\")",
         context=_TORQUE),
     Key("speed.motor_slope", "N m s/rad", "nonnegative", "slope of the drive's torque-speed line (law = \"torque\")",
@@ -186,6 +221,8 @@ class Scene:
     gravity: bool = False
     g: float = 9.80665
     speed: SpeedLaw = field(default_factory=SpeedLaw)
+    rolling_resistance: float | tuple[float, ...] | None = None  # mu_r or mu_r_i; None: no friction
+    static_friction: float | tuple[float, ...] | None = None  # mu_s or mu_s_i (the stick phase: not built)
 
     # --- construction ------------------------------------------------------------------
     @classmethod
@@ -212,6 +249,15 @@ class Scene:
         speed = raw["speed"]
         if not isinstance(speed, SpeedLaw):
             speed = SpeedLaw.from_mapping(speed)
+        rolling, static = (None if raw[key] is None else _per_ball(key, raw[key], n, nonnegative=True)
+                           for key in ("rolling_resistance", "static_friction"))
+        if static is not None:
+            if rolling is None:
+                raise SceneError("static_friction", "needs rolling_resistance (the friction while a ball slips)")
+            pairs = zip(*(v if isinstance(v, tuple) else (v,) * n for v in (rolling, static)))
+            for i, (r, s) in enumerate(pairs):
+                if s < r:
+                    raise SceneError("static_friction", f"must be >= rolling_resistance (ball {i + 1}: {s!r} < {r!r})")
         return cls(
             n=n,
             rotor_mass=_number("rotor_mass", raw["rotor_mass"], positive=True),
@@ -225,6 +271,8 @@ class Scene:
             gravity=gravity,
             g=_number("g", raw["g"], positive=True),
             speed=speed,
+            rolling_resistance=rolling,
+            static_friction=static,
         )
 
     @classmethod
@@ -247,7 +295,16 @@ class Scene:
     # --- structure -----------------------------------------------------------------------
     @property
     def equal_balls(self) -> bool:
-        return not isinstance(self.ball_mass, tuple) and not isinstance(self.ball_damping, tuple)
+        return not any(isinstance(v, tuple) for v in (self.ball_mass, self.ball_damping, self.rolling_resistance))
+
+    @property
+    def friction(self) -> bool:
+        """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
+        return self.rolling_resistance is not None
+
+    def rolling_resistances(self) -> tuple[float, ...]:
+        r = self.rolling_resistance
+        return r if isinstance(r, tuple) else (0.0 if r is None else r,) * self.n
 
     @property
     def isotropic(self) -> bool:

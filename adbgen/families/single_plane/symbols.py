@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ...core import Parameter, ParameterTable
+from ...core import Parameter, ParameterTable, speed_schedule
 from ...core.symbols import nonnegative, positive, t  # noqa: F401  (t: the family's time)
 from .scene import Scene
 
@@ -44,6 +44,7 @@ class DimensionalSymbols:
     tau0: sp.Symbol
     kappa: sp.Symbol
     parameters: tuple[Parameter, ...]
+    mu_r: tuple[sp.Expr, ...] = ()  # rolling resistance per ball (the same symbol n times for one value); () without friction
 
     @classmethod
     def for_scene(cls, scene: Scene) -> "DimensionalSymbols":
@@ -78,11 +79,22 @@ class DimensionalSymbols:
         law = scene.speed.law
         if law == "constant":
             add(omega, "spin speed", "rad/s", scene.speed.omega)
+        elif law == "schedule":
+            speed_schedule.add_parameters(params, scene.speed.schedule)
         elif law == "torque":
             add(I_z, "polar moment of inertia of the rotor", "kg m^2", scene.polar_inertia)
             add(tau0, "stall torque of the drive", "N m", scene.speed.tau0)
             add(kappa, "slope of the drive's torque-speed line", "N m s/rad", scene.speed.motor_slope)
-        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted())
+        mu_r: tuple[sp.Expr, ...] = ()
+        if scene.friction:
+            what = "rolling resistance of the balls on the race while slipping (tangential force / normal force)"
+            values = scene.rolling_resistances()
+            if isinstance(scene.rolling_resistance, tuple):
+                mu_r = tuple(add(nonnegative(f"mu_r_{i + 1}"), f"{what}, ball {i + 1}", "dimensionless", values[i])
+                             for i in range(n))
+            else:
+                mu_r = (add(nonnegative("mu_r"), what, "dimensionless", values[0]),) * n
+        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted(), mu_r)
 
 
 def nondimensional_parameters(values: dict[str, float] | None = None, gravity: bool = False) -> tuple[Parameter, ...]:

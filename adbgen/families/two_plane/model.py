@@ -41,7 +41,7 @@ from functools import lru_cache
 import sympy as sp
 
 from ...core import (Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, reduce_pythagorean,
-                         time_derivative)
+                         speed_schedule, time_derivative)
 from .scene import TwoPlaneScene
 from .symbols import TwoPlaneSymbols, t
 
@@ -173,6 +173,9 @@ def speed_law(scene: TwoPlaneScene, s: TwoPlaneSymbols) -> dict[sp.Symbol, sp.Ex
         return {th0.q: sp.Piecewise((a * t**2 / 2, t < s.t_ramp), (s.Omega_max * (t - s.t_ramp / 2), True)),
                 th0.qd: sp.Piecewise((a * t, t < s.t_ramp), (s.Omega_max, True)),
                 th0.qdd: sp.Piecewise((a, t < s.t_ramp), (0, True))}
+    if law == "schedule":  # ramp, hold, temporary speed reduction (`core.speed_schedule`, issue 37)
+        angle, speed, acceleration = speed_schedule.law(t, speed="Omega")
+        return {th0.q: angle, th0.qd: speed, th0.qdd: acceleration}
     if law == "hill":  # (45): Omega = Omega_max tb^n / (t_half^n + tb^n), tb = Omega_cyl t
         n = scene.speed.n
         Om = s.Omega_max * (s.Omega_cyl * t) ** n / (s.t_half**n + (s.Omega_cyl * t) ** n)

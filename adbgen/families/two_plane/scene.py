@@ -37,12 +37,14 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ...errors import SceneError
+from ...core import speed_schedule
 from ...core.scene_fields import Key, number as _number, speed_law_name, xy as _xy
 
 _SPEED_FIELDS = {
     "constant": {"law", "omega"},
     "ramp": {"law", "omega_max", "t_ramp"},
     "hill": {"law", "omega_max", "t_half", "n", "omega_cyl"},
+    "schedule": {"law", *speed_schedule.KEYS},
     "torque": {"law", "tau0", "motor_slope", "torsion_damping"},
 }
 
@@ -54,6 +56,8 @@ class TwoPlaneSpeed:
     - ``constant``: theta_0 = Omega t (paper section 3);
     - ``ramp``: constant acceleration from rest to omega_max in t_ramp, then constant (section 6);
     - ``hill``: Omega = omega_max tb^n / (t_half^n + tb^n), tb = omega_cyl t (paper (45));
+    - ``schedule``: a ramp from rest to omega over ramp_time, a hold, a temporary speed reduction (depth,
+      fall rate, plateau, recovery rate), each value a parameter (`core.speed_schedule`, issue 37);
     - ``torque``: theta_0 is a degree of freedom, paper (3), driven by tau = tau0 - motor_slope theta_0'
       with torsional damping c_r.
     """
@@ -68,6 +72,7 @@ class TwoPlaneSpeed:
     tau0: float = 0.0
     motor_slope: float = 0.0
     torsion_damping: float = 0.0
+    schedule: tuple[tuple[str, float], ...] = ()  # (key, value) in speed_schedule.KEYS order (law = "schedule")
 
     @classmethod
     def from_mapping(cls, data: Any) -> "TwoPlaneSpeed":
@@ -78,6 +83,8 @@ class TwoPlaneSpeed:
             return cls(law, omega=get("omega", positive=True))
         if law == "ramp":
             return cls(law, omega_max=get("omega_max", positive=True), t_ramp=get("t_ramp", positive=True))
+        if law == "schedule":
+            return cls(law, schedule=speed_schedule.validate(data))
         if law == "hill":
             n = data.get("n", d.n)
             if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 7:
@@ -187,7 +194,7 @@ KEYS = (
     Key("races[].radius", "m", "positive", "R, radius of the race"),
     Key("races[].masses", "kg", "positive", "the ball masses of the race (a list; any number of balls)"),
     Key("races[].damping", "N m s/rad", "nonnegative", "c_b, race damping of each ball"),
-    Key("speed.law", "", "other", "how the spin is governed", '"constant", "ramp", "hill" or "torque"'),
+    Key("speed.law", "", "other", "how the spin is governed", '"constant", "ramp", "hill", "schedule" or "torque"'),
     Key("speed.omega", "rad/s", "positive", "constant spin speed (law = \"constant\")"),
     Key("speed.omega_max", "rad/s", "positive", "final spin speed of a run-up (law = \"ramp\" or \"hill\")",
         context=_LAW("ramp")),
@@ -196,6 +203,11 @@ KEYS = (
     Key("speed.n", "", "other", "Hill exponent, paper (45) (law = \"hill\")", "a whole number 1..7", _LAW("hill")),
     Key("speed.omega_cyl", "1/s", "positive", "time scale of the Hill profile, paper (45) (law = \"hill\")",
         context=_LAW("hill")),
+    *(Key(f"speed.{key}", speed_schedule.MEANINGS[key][1].replace("dimensionless", ""),
+          "other" if key == "reduction_depth" else
+          "positive" if key in ("omega", "ramp_time", "reduction_rate", "recovery_rate") else "nonnegative",
+          f"{speed_schedule.MEANINGS[key][0]} (law = \"schedule\")", "a number in [0, 1)" if key == "reduction_depth" else "",
+          {"speed": {"law": "schedule", "omega": 3.0, "ramp_time": 100.0}}) for key in speed_schedule.KEYS),
     Key("speed.tau0", "N m", "real", "stall torque of the drive (law = \"torque\")", context=_LAW("torque")),
     Key("speed.motor_slope", "N m s/rad", "nonnegative", "slope of the drive's torque-speed line (law = \"torque\")",
         context=_LAW("torque")),

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ...core import Parameter, ParameterTable
+from ...core import Parameter, ParameterTable, speed_schedule
 from ...core.symbols import nonnegative, positive, t
 from .scene import TwoPlaneScene
 
@@ -93,6 +93,8 @@ class TwoPlaneSymbols:
             add(Om_max, "final spin speed of the run-up (45)", "rad/s", sp_.omega_max)
             add(t_half, "half-speed time in units of 1/Omega_cyl (45)", "dimensionless", sp_.t_half)
             add(Om_cyl, "time scale Omega_cyl of (45)", "rad/s", sp_.omega_cyl)
+        elif sp_.law == "schedule":  # ramp, hold, temporary speed reduction (issue 37); Omega the final speed
+            speed_schedule.add_parameters(params, sp_.schedule, speed="Omega")
         else:
             add(c_r, "torsional damping c_r (3)", "N m s/rad", sp_.torsion_damping)
             add(tau0, "stall torque of the drive", "N m", sp_.tau0)

@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from adbgen.errors import AdbgenError, SceneError
-from adbgen.families.single_plane.scene import Scene, SpeedLaw, profile_expression
+from adbgen.families.single_plane.scene import SCHEDULE_KEYS, Scene, SpeedLaw, profile_expression
 
 NAN, INF = float("nan"), float("inf")
 
@@ -117,6 +117,24 @@ BAD = (
     # speed.tau0 (any finite number) and speed.motor_slope (non-negative), torque law
     + _bad_speed_numbers("torque", "tau0", zero_ok=True, negative_ok=True)
     + _bad_speed_numbers("torque", "motor_slope", zero_ok=True, negative_ok=False)
+    # friction (issue 37): non-negative, one value or n; stiction needs the rolling resistance and >= it
+    + [r for r in _bad_per_ball("rolling_resistance", zero_ok=True) if r[0].get("rolling_resistance", 0) is not None]
+    + [({"static_friction": 0.01}, "static_friction"),
+       ({"rolling_resistance": 0.02, "static_friction": 0.01}, "static_friction"),
+       ({"n": 2, "rolling_resistance": [0.01, 0.03], "static_friction": 0.02}, "static_friction"),
+       ({"rolling_resistance": 0.01, "static_friction": -0.1}, "static_friction"),
+       ({"rolling_resistance": 0.01, "static_friction": NAN}, "static_friction")]
+    # speed schedule (issue 37 item 4): omega, ramp_time needed and positive; depth in [0, 1); rates positive
+    + [({"speed": {"law": "schedule", **v}}, f) for v, f in (
+        ({"ramp_time": 1.0}, "speed.omega"), ({"omega": 400.0}, "speed.ramp_time"),
+        ({"omega": 0.0, "ramp_time": 1.0}, "speed.omega"), ({"omega": 400.0, "ramp_time": -1.0}, "speed.ramp_time"),
+        ({"omega": 400.0, "ramp_time": 1.0, "hold_time": -1.0}, "speed.hold_time"),
+        ({"omega": 400.0, "ramp_time": 1.0, "reduction_depth": 1.0}, "speed.reduction_depth"),
+        ({"omega": 400.0, "ramp_time": 1.0, "reduction_depth": -0.1}, "speed.reduction_depth"),
+        ({"omega": 400.0, "ramp_time": 1.0, "reduction_rate": 0.0}, "speed.reduction_rate"),
+        ({"omega": 400.0, "ramp_time": 1.0, "plateau_time": NAN}, "speed.plateau_time"),
+        ({"omega": 400.0, "ramp_time": 1.0, "recovery_rate": -5.0}, "speed.recovery_rate"),
+        ({"omega": 400.0, "ramp_time": 1.0, "tau0": 1.0}, "speed.tau0"))]
     # unknown options: top level and inside speed, also options of another speed law
     + [({v: 1.0}, v) for v in ("bogus", "ball_masses", "omega", "law", "N", "mu")]
     + [
@@ -144,7 +162,8 @@ def test_every_field_has_bad_cases():
     """The table above covers each field of Scene and SpeedLaw, plus unknown options."""
     named = {field.split("[")[0] for _, field in BAD}
     assert {f.name for f in fields(Scene)} <= named
-    assert {f"speed.{f.name}" for f in fields(SpeedLaw)} <= named
+    assert {f"speed.{f.name}" for f in fields(SpeedLaw) if f.name != "schedule"} <= named
+    assert {f"speed.{key}" for key in SCHEDULE_KEYS} <= named  # SpeedLaw.schedule holds these
     assert {"ball_mass[1]", "ball_damping[1]", "stiffness[0]", "damping[1]"} <= {f for _, f in BAD}
 
 
@@ -414,11 +433,13 @@ def _to_toml(scene: Scene) -> str:
             return '"' + v + '"'
         return repr(v)
 
-    lines = [f"{f.name} = {value(getattr(scene, f.name))}" for f in fields(scene) if f.name != "speed"]
+    lines = [f"{f.name} = {value(getattr(scene, f.name))}" for f in fields(scene)
+             if f.name != "speed" and getattr(scene, f.name) is not None]  # None: a key left out (no friction)
     lines.append("[speed]")
     lines += [f"{f.name} = {value(getattr(scene.speed, f.name))}" for f in fields(scene.speed)
-              if f.name == "law" or f.name in {"constant": ("omega",), "profile": ("omega",),
+              if f.name == "law" or f.name in {"constant": ("omega",), "profile": ("omega",), "schedule": (),
                                                  "torque": ("tau0", "motor_slope")}[scene.speed.law]]
+    lines += [f"{key} = {value(v)}" for key, v in scene.speed.schedule]
     return "\n".join(lines) + "\n"
 
 
@@ -429,7 +450,11 @@ def _to_toml(scene: Scene) -> str:
           stiffness=(1.0e4, 0.0), damping=(0.0, 2.0), eccentricity=0.0),
     Scene(n=2, speed=SpeedLaw("torque", omega=None, tau0=-2.0, motor_slope=0.0)),
     Scene(n=2, speed=SpeedLaw("profile", omega="pi*tanh(t)")),
-], ids=["defaults", "gravity", "unequal-anisotropic", "torque", "profile"])
+    Scene(n=3, rolling_resistance=(0.01, 0.0, 0.02), static_friction=0.03),
+    Scene(n=2, speed=SpeedLaw("schedule", omega=None, schedule=(
+        ("omega", 400.0), ("ramp_time", 2.0), ("hold_time", 1.0), ("reduction_depth", 0.5),
+        ("reduction_rate", 100.0), ("plateau_time", 0.5), ("recovery_rate", 50.0)))),
+], ids=["defaults", "gravity", "unequal-anisotropic", "torque", "profile", "friction", "schedule"])
 def test_toml_round_trip(tmp_path, scene):
     path = tmp_path / "scene.toml"
     path.write_text(_to_toml(scene))

@@ -61,6 +61,9 @@ def test_any_count_per_race_and_overrides():
     ({"speed": {"law": "hill", "n": 8}}, "speed.n"),
     ({"speed": {"law": "ramp", "t_ramp": 0}}, "speed.t_ramp"),
     ({"speed": {"law": "constant", "tau0": 1}}, "speed.tau0"),
+    ({"speed": {"law": "schedule", "omega": 3.6}}, "speed.ramp_time"),
+    ({"speed": {"law": "schedule", "omega": 3.6, "ramp_time": 100, "reduction_depth": 1.2}}, "speed.reduction_depth"),
+    ({"speed": {"law": "schedule", "omega": 3.6, "ramp_time": 100, "t_half": 1}}, "speed.t_half"),
     ({"colour": "red"}, "colour"),
 ])
 def test_bad_input_names_the_field(data, field):
@@ -77,3 +80,18 @@ def test_load_toml(tmp_path):
     assert scene.bearing_1.position == 9.0 and scene.eccentricity == 0.02 and scene.speed.law == "torque"
     with pytest.raises(SceneError, match="scene.<file>"):
         TwoPlaneScene.load(tmp_path / "missing.toml")
+
+
+def test_a_schedule_is_validated_and_becomes_parameters():
+    """Issue 37 item 4: a two-plane schedule's values (defaults filled in) are parameters of the model, the
+    final speed under the family's name Omega; the spin law is the shared one (its check is the
+    single-plane family's `speed schedule`)."""
+    from adbgen.families.two_plane.symbols import TwoPlaneSymbols
+
+    scene = TwoPlaneScene.from_mapping({"speed": {"law": "schedule", "omega": 3.6, "ramp_time": 300.0,
+                                                  "reduction_depth": 0.4, "plateau_time": 50.0}})
+    values = dict(scene.speed.schedule)
+    assert values["hold_time"] == 0.0 and values["reduction_rate"] == values["recovery_rate"] == 3.6 / 300.0
+    params = {p.name: p.default for p in TwoPlaneSymbols.for_scene(scene).parameters}
+    assert params["Omega"] == 3.6 and params["t_ramp"] == 300.0 and params["depth"] == 0.4
+    assert params["t_plateau"] == 50.0 and "Omega_max" not in params

@@ -437,9 +437,9 @@ class Decomposer:
         return out
 
     def piecewise(self, expr: sp.Piecewise) -> Term:
-        (e1, c1), (e2, c2) = expr.args if len(expr.args) == 2 else (None, None)
-        if e1 is None or c2 is not sp.true:
+        if len(expr.args) != 2 or expr.args[1][1] is not sp.true:  # e.g. a sign's three branches
             raise NotSeries(f"only two-branch Piecewise (value, condition), (value, True): {expr}")
+        (e1, c1), (e2, c2) = expr.args
         flag = self.flag(c1)
         results = []
         for branch in (e1, e2):
