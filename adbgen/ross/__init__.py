@@ -26,19 +26,20 @@ class FromRoss:
     verdict: Verdict | None  # None when the check was not asked for
 
 
-def operating_speed(rotor, speed: float | None, planes, balls, ball_mass, race_radius) -> tuple[float, str]:
-    """The speed the bearings' coefficients are taken at and the scene spins at, and where it came from."""
+def operating_speed(rotor, speed: float | None, planes, balls, ball_mass, race_radius) -> tuple[float, list | None]:
+    """The speed the bearings' coefficients are taken at and the scene spins at, and the rigid model's
+    critical speeds when they were computed to find it (bearings independent of speed: the same)."""
     if speed is not None:
-        return float(speed), "given"
+        return float(speed), None
     if getattr(rotor, "rated_w", None):
-        return float(rotor.rated_w), "the rotor's rated_w"
+        return float(rotor.rated_w), None
     if speed_dependent(rotor):
         raise RotorError("the bearings' coefficients depend on speed and the rotor has no rated_w: give --speed")
     from ..families.two_plane.critical_speeds import critical_speeds
 
     probe = scene_mapping(rotor, planes, balls, ball_mass, race_radius, 1.0)
     crit = critical_speeds(probe.scene, with_balls=False)
-    return ABOVE_CRITICAL * max(crit), f"{ABOVE_CRITICAL:g} x the rigid model's highest critical speed"
+    return ABOVE_CRITICAL * max(crit), crit
 
 
 def from_ross(source, planes: list[int], balls: int, ball_mass: float, race_radius: float, *,
@@ -48,12 +49,12 @@ def from_ross(source, planes: list[int], balls: int, ball_mass: float, race_radi
     from ..families.two_plane.critical_speeds import critical_speeds
 
     rotor = load_rotor(source)
-    omega, _ = operating_speed(rotor, speed, planes, balls, ball_mass, race_radius)
+    omega, crit = operating_speed(rotor, speed, planes, balls, ball_mass, race_radius)
     bridged = scene_mapping(rotor, planes, balls, ball_mass, race_radius, omega, unbalances, ball_damping)
     if not check:
         return FromRoss(bridged, None)
     top = max(omega, float(getattr(rotor, "max_w", None) or 0.0))
-    rigid = critical_speeds(bridged.scene, with_balls=False)
+    rigid = crit if crit is not None else critical_speeds(bridged.scene, with_balls=False)
     return FromRoss(bridged, verdict(rotor, rigid, top, margin, agreement))
 
 
