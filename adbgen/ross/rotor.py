@@ -200,7 +200,7 @@ def supports(rotor, speed: float) -> tuple[Support, Support]:
 
 def speed_dependent(rotor) -> bool:
     """Whether any bearing's coefficients change with the frequency (ROSS interpolates them)."""
-    return any(len(np.atleast_1d(getattr(b, "frequency", None) or [0])) > 1 for b in rotor.bearing_elements)
+    return any(getattr(b, "frequency", None) is not None and np.size(b.frequency) > 1 for b in rotor.bearing_elements)
 
 
 @dataclass(frozen=True)

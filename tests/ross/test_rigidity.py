@@ -71,3 +71,16 @@ def test_from_ross_with_the_default_speed(stiff):
     assert res.bridged.speed == pytest.approx(1.5 * max(res.verdict.rigid))
     races = res.bridged.scene.races
     assert races[0].z == pytest.approx(-0.25) and races[1].masses == () and races[1].z == pytest.approx(0.25)
+
+
+def test_speed_dependent_bearings_need_a_speed(ross, example):
+    from adbgen.ross import RotorError, operating_speed
+
+    b = lambda n: ross.BearingElement(n, kxx=[1e6, 2e6], cxx=[0.0, 0.0], frequency=[0.0, 1000.0])  # noqa: E731
+    rotor = ross.Rotor(example.shaft_elements, example.disk_elements, [b(0), b(6)])
+    with pytest.raises(RotorError, match="give --speed"):
+        operating_speed(rotor, None, [2], 2, 0.05, 0.1)
+    assert operating_speed(rotor, 300.0, [2], 2, 0.05, 0.1) == (300.0, None)  # the control: with a speed
+    k300 = scene_mapping(rotor, [2], 2, 0.05, 0.1, 300.0).bearings[0].k
+    k600 = scene_mapping(rotor, [2], 2, 0.05, 0.1, 600.0).bearings[0].k
+    assert 1e6 < k300[0] < k600[0] < 2e6  # read at the operating speed
