@@ -47,6 +47,7 @@ COMMAND_GROUPS: list[str] = [
     "adbgen.cli.reproduce:register",  # reproduce (every family's reproductions)
     "adbgen.cli.notebooks:register",  # notebooks (execute and render derive/)
     "adbgen.cli.docs:register",  # docs (build the documentation site)
+    "adbgen.cli.scene:register",  # scene from-ross (a ROSS rotor -> a two-plane scene)
 ]
 
 

@@ -1,0 +1,75 @@
+"""`adbgen scene from-ross ROTOR --plane NODE [--plane NODE] --balls N --ball-mass M --race-radius R --out F`.
+
+A ROSS rotor (the .toml or .json `Rotor.save` writes) -> a two-plane scene file, written only when the
+rigid model is enough for the rotor over the scene's speeds (`adbgen.ross.rigidity`; docs/ross.md).
+Exit 0 written; 1 the rigid model is not enough (one line with the numbers, nothing written); 2 bad input.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from ..cli_types import finite, positive_int
+
+
+def cmd_from_ross(args) -> int:
+    from ..ross import MARGIN, Unbalance, from_ross
+    from ..ross.rotor import RotorError
+    from ..ross.scene import write
+
+    unbalances = []
+    for node, mag, phase in args.unbalance or []:
+        try:
+            unbalances.append(Unbalance(int(node), float(mag), float(phase)))
+        except ValueError:
+            raise RotorError(f"--unbalance takes NODE MAGNITUDE PHASE (kg m, rad), got {node} {mag} {phase}") from None
+    if args.margin <= 1 or args.agreement <= 0:
+        raise RotorError("--margin must be > 1 and --agreement > 0")
+    res = from_ross(args.rotor, args.plane, args.balls, args.ball_mass, args.race_radius, speed=args.speed,
+                    unbalances=unbalances, ball_damping=args.ball_damping, check=not args.no_check,
+                    margin=args.margin, agreement=args.agreement)
+    v = res.verdict
+    line = v.line() if v is not None else "rigidity not checked (--no-check)"
+    if args.json:
+        print(json.dumps({"written": v is None or v.enough, "out": str(args.out), "scene": res.bridged.mapping,
+                          "verdict": v.as_dict() if v is not None else None}, indent=2, sort_keys=True))
+    if v is not None and not v.enough:
+        print(f"adbgen scene from-ross: {args.out} not written: {line}", file=sys.stderr)
+        return 1
+    header = (f"two-plane scene from the ROSS rotor {args.rotor} (adbgen scene from-ross), balancer planes at nodes "
+              f"{', '.join(map(str, args.plane))}; lengths from the centre of mass\n{line}")
+    write(res.bridged, Path(args.out), header)
+    if not args.json:
+        print(f"wrote {args.out}: {line}")
+    return 0
+
+
+def register(sub, parser_class) -> None:
+    from ..ross.rigidity import AGREEMENT, MARGIN
+
+    p = sub.add_parser("scene", help="scene files from other tools (from-ross: a ROSS rotor)")
+    s = p.add_subparsers(dest="scene_command", required=True, parser_class=parser_class)
+    f = s.add_parser("from-ross", help="a ROSS rotor and its balancer planes -> a two-plane scene (if rigid is enough)")
+    f.add_argument("rotor", metavar="ROTOR", help="the rotor file ROSS's Rotor.save writes (.toml or .json)")
+    f.add_argument("--plane", metavar="NODE", type=int, action="append", required=True,
+                   help="ROSS node of a balancer plane (once or twice)")
+    f.add_argument("--balls", metavar="N", type=positive_int, required=True, help="balls in each race")
+    f.add_argument("--ball-mass", metavar="M", type=finite, required=True, help="mass of one ball (kg)")
+    f.add_argument("--race-radius", metavar="R", type=finite, required=True, help="radius of the races (m)")
+    f.add_argument("--out", metavar="FILE", required=True, help="the scene file to write")
+    f.add_argument("--speed", metavar="OMEGA", type=finite, default=None,
+                   help="operating speed (rad/s): the bearings' coefficients and the scene's spin (default: the "
+                        "rotor's rated_w, else 1.5 x the rigid model's highest critical speed)")
+    f.add_argument("--unbalance", nargs=3, metavar=("NODE", "MAGNITUDE", "PHASE"), action="append",
+                   help="a point unbalance as ROSS takes it (kg m, rad); repeat for more")
+    f.add_argument("--ball-damping", metavar="C_B", type=finite, default=None,
+                   help="race damping of each ball (N m s/rad; default m R^2 x 1 1/s, the thesis' default ratio)")
+    f.add_argument("--margin", type=finite, default=MARGIN,
+                   help=f"first bending critical at least this times the top speed (default {MARGIN:g})")
+    f.add_argument("--agreement", type=finite, default=AGREEMENT,
+                   help=f"rigid and ROSS critical speeds within this relative difference (default {AGREEMENT:g})")
+    f.add_argument("--no-check", action="store_true", help="write without comparing with ROSS's Campbell diagram")
+    f.add_argument("--json", action="store_true", help="print the scene and the verdict as JSON")
+    f.set_defaults(fn=cmd_from_ross)

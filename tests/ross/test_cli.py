@@ -1,0 +1,50 @@
+"""`adbgen scene from-ross`: a saved ROSS rotor -> a scene file, or a one-line refusal."""
+
+from __future__ import annotations
+
+import tomllib
+
+import pytest
+
+from adbgen.cli import main
+from adbgen.families.two_plane.scene import TwoPlaneScene
+
+ARGS = ["--plane", "2", "--plane", "4", "--balls", "2", "--ball-mass", "0.05", "--race-radius", "0.1"]
+
+
+@pytest.fixture(scope="module")
+def saved(tmp_path_factory, example, stiff):
+    d = tmp_path_factory.mktemp("rotors")
+    example.save(d / "example.toml")
+    stiff.save(d / "stiff.json")
+    return d
+
+
+def test_written_scene_reads_back(saved, tmp_path, capsys):
+    out = tmp_path / "scene.toml"
+    assert main(["scene", "from-ross", str(saved / "stiff.json"), *ARGS, "--speed", "545",
+                 "--unbalance", "2", "1e-4", "0", "--out", str(out)]) == 0
+    assert "rigid is enough" in capsys.readouterr().out
+    scene = TwoPlaneScene.load(out)
+    data = tomllib.loads(out.read_text())
+    assert scene.rotor_mass == pytest.approx(88.1818040166, rel=1e-10)
+    assert scene.bearing_1.position == 0.75 and scene.bearing_1.stiffness == (1e6, 8e5)
+    assert [r.z for r in scene.races] == [-0.25, 0.25] and data["speed"]["omega"] == 545.0
+
+
+def test_flexible_example_is_refused_in_one_line(saved, tmp_path, capsys):
+    out = tmp_path / "scene.toml"
+    assert main(["scene", "from-ross", str(saved / "example.toml"), *ARGS, "--speed", "545", "--out", str(out)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "rigid is not enough" in err and "636" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("extra, message", [(["--plane", "9"], "node 9 is not a node"),
+                                             (["--plane", "2"], "must be different nodes")])
+def test_bad_input(saved, tmp_path, capsys, extra, message):
+    argv = ["scene", "from-ross", str(saved / "example.toml"), "--plane", "2", *extra, "--balls", "2",
+            "--ball-mass", "0.05", "--race-radius", "0.1", "--speed", "100", "--no-check", "--out", str(tmp_path / "s")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
