@@ -13,6 +13,7 @@ each labelled line.  A check that finds something else raises AssertionError say
     assert_labels(ax, xlabel, ylabel)     the axis labels, exactly
     assert_legend(ax, entries)            the legend's entries, in order
     assert_title(ax, *parts)              each part is in the axes' title
+    vertical_lines(ax)                    where the axes' full-height vertical lines stand (axvline)
 """
 
 from __future__ import annotations
@@ -107,3 +108,14 @@ def assert_title(ax, *parts: str) -> None:
     text = ax.get_title()
     missing = [p for p in parts if p not in text]
     assert not missing, f"title {text!r} lacks {missing}"
+
+
+def vertical_lines(ax) -> list[float]:
+    """The x of each line drawn across the whole height of ax (an axvline: x constant, y 0 to 1 of the axes)."""
+    found = []
+    for ln in ax.get_lines():
+        x, y = np.asarray(ln.get_xdata(), float), np.asarray(ln.get_ydata(), float)
+        spans = ln.get_transform() == ax.get_xaxis_transform()  # y in axes fractions: as axvline draws it
+        if spans and len(x) == 2 and x[0] == x[1] and list(y) == [0.0, 1.0]:
+            found.append(float(x[0]))
+    return found

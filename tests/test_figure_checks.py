@@ -37,6 +37,7 @@ def test_the_saved_figure_is_caught_and_still_written(tmp_path, saved_figures):
     fc.assert_labels(a2, xlabel="$t$ (s)", ylabel="ball angle (rad, wrapped)")
     fc.assert_legend(a2, ["$\\phi_{1}$", "$\\phi_{2}$"])
     fc.assert_title(a1, "rig", "Omega = 3")
+    assert fc.vertical_lines(a1) == [4.6] and fc.vertical_lines(a2) == []
     with pytest.raises(AssertionError, match="no figure saved as 'scan.png'"):
         fc.figure(saved_figures, "scan.png")
 
@@ -68,3 +69,14 @@ def test_a_figure_drawn_from_the_wrong_run_fails(tmp_path, saved_figures):
         fc.assert_peak(a1, "$r$", float(R.max()), rel=1e-9)
     with pytest.raises(AssertionError):
         fc.assert_vline(a1, "$t_{dec}$", 4.6)
+
+
+def test_vertical_lines_find_each_axvline_and_only_those(tmp_path, saved_figures):
+    """A vertical segment in data coordinates is no axvline (it need not span the axes), nor is a sloped
+    line; a planted second mark is found."""
+    a1, _ = _drawn(tmp_path, saved_figures)
+    a1.plot([2.0, 2.0], [0.0, 1.0])
+    a1.plot([1.0, 2.0], [0.0, 1.0])
+    assert fc.vertical_lines(a1) == [4.6]
+    a1.axvline(7.0)
+    assert fc.vertical_lines(a1) == [4.6, 7.0]
