@@ -35,7 +35,8 @@ def test_simulate_in_si_units(capsys, tmp_path, saved_figures):
     # threshold at 50 um and t_dec in s where the JSON puts them, t in s to t_end, five ball angles
     top, bottom = fc.figure(saved_figures, "trajectory.png").axes
     fc.assert_peak(top, "$r$", out["r_max"], rel=2e-3)
-    assert np.max(fc.line(top, "$r$").get_ydata()) <= out["r_max"] and fc.line(top, "$r$").get_xdata()[-1] == out["t_end"]
+    r = fc.line(top, "$r$")
+    assert np.max(r.get_ydata()) <= out["r_max"] and r.get_xdata()[-1] == out["t_end"]
     fc.assert_hline(top, "threshold 50 \u00b5m (a tenth of eps = 500 \u00b5m)", 5e-5)
     fc.assert_vline(top, f"$t_{{dec}}$ = {out['t_dec']:.4g} s", out["t_dec"])
     fc.assert_labels(top, ylabel="$r$ (m)")

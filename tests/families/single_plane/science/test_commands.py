@@ -31,7 +31,8 @@ def test_demo_recomputes_fig_5_4_and_plots_it(tmp_path, capsys, saved_figures):
         fc.assert_vline(top, f"$t_{{dec}}$ = {t}", float(t), rel=1e-5)
         fc.assert_hline(top, "threshold 0.001 (the thesis')", 1e-3)
         fc.assert_labels(top, ylabel="$r$ (in units of the race radius R)")
-        assert [f"(thesis {r_pub})" in x.get_text() and f"(thesis {t_pub})" in x.get_text() for x in top.texts] == [True]
+        assert [f"(thesis {r_pub})" in x.get_text() and f"(thesis {t_pub})" in x.get_text()
+                for x in top.texts] == [True]
         fc.assert_legend(bottom, ["$\\phi_{1}$", "$\\phi_{2}$"])
         phi0 = FIGURE_5_4[panel][0]
         for k, name in enumerate(["$\\phi_{1}$", "$\\phi_{2}$"]):
