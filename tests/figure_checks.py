@@ -4,7 +4,8 @@ analysis layer is written), and its axes are read back: labels, titles, legend e
 each labelled line.  A check that finds something else raises AssertionError saying what it found
 (tests/test_figure_checks.py plants a wrong figure for each check).
 
-    saved_figures(monkeypatch)            {file name: Figure} of every figure saved from then on
+    saved_figures(monkeypatch)            {file name: Figure} of every figure saved from then on (through
+                                          save_figure, or by Figure.savefig to a named file)
     line(ax, label)                       the one line labelled so (an axhline/axvline too)
     assert_line(ax, label, x, y)          the line draws exactly (x, y) (NaN where y is NaN)
     assert_peak(ax, label, value, rel)    the line's largest y is value (the run's r_max, say)
@@ -22,18 +23,29 @@ import numpy as np
 
 
 def saved_figures(monkeypatch) -> dict:
-    """Record every Figure passed to `adbgen.outputs.save_figure` (which still writes it) by file name.
-    The commands import save_figure when they run, so the patched one is the one they call."""
+    """Record every Figure passed to `adbgen.outputs.save_figure` (which still writes it) by file name, and
+    every Figure saved straight to a named file with Figure.savefig (the figures not written through
+    save_figure).  The commands import save_figure when they run, so the patched one is the one they call."""
+    import os
+
+    from matplotlib.figure import Figure
+
     from adbgen import outputs
 
     seen: dict = {}
-    original = outputs.save_figure
+    original, savefig = outputs.save_figure, Figure.savefig
 
     def recording(fig, path, *args, **kwargs):
-        seen[str(getattr(path, "name", path)).rsplit("/", 1)[-1]] = fig
+        seen[os.path.basename(os.fspath(path))] = fig
         return original(fig, path, *args, **kwargs)
 
+    def recording_savefig(fig, fname, *args, **kwargs):
+        if isinstance(fname, (str, os.PathLike)):  # save_figure hands it an open temporary file
+            seen[os.path.basename(os.fspath(fname))] = fig
+        return savefig(fig, fname, *args, **kwargs)
+
     monkeypatch.setattr(outputs, "save_figure", recording)
+    monkeypatch.setattr(Figure, "savefig", recording_savefig)
     return seen
 
 

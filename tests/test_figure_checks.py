@@ -71,6 +71,22 @@ def test_a_figure_drawn_from_the_wrong_run_fails(tmp_path, saved_figures):
         fc.assert_vline(a1, "$t_{dec}$", 4.6)
 
 
+def test_a_figure_saved_straight_by_savefig_is_caught_too(tmp_path, saved_figures):
+    """Figures written with Figure.savefig to a named file (not through save_figure) are caught by name;
+    one written to an open file has no name and is not."""
+    plt = pyplot()
+    fig, ax = plt.subplots()
+    ax.plot([0.0, 1.0], [2.0, 3.0], label="x")
+    fig.savefig(tmp_path / "straight.png")
+    with open(tmp_path / "handle.png", "wb") as fh:
+        fig.savefig(fh, format="png")
+    assert fc.figure(saved_figures, "straight.png") is fig and "handle.png" not in saved_figures
+    fc.assert_line(fig.axes[0], "x", [0.0, 1.0], [2.0, 3.0])
+    with pytest.raises(AssertionError, match="x differs"):
+        fc.assert_line(fig.axes[0], "x", [0.0, 2.0], [2.0, 3.0])
+    plt.close(fig)
+
+
 def test_vertical_lines_find_each_axvline_and_only_those(tmp_path, saved_figures):
     """A vertical segment in data coordinates is no axvline (it need not span the axes), nor is a sloped
     line; a planted second mark is found."""
