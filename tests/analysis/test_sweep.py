@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import figure_checks as fc
 from adbgen.analysis import attractors
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
@@ -246,7 +247,7 @@ def test_external_scheduler_runs_the_sweep(tmp_path):
             p.wait(timeout=30)
 
 
-def test_stability_map_n2_window_and_hopf_point(tmp_path):
+def test_stability_map_n2_window_and_hopf_point(tmp_path, saved_figures):
     """mu = 0.05, zeta = beta = delta = 0.01: the balanced state of n = 2 is stable in (1.02969, 1.09363)
     and beyond H1 = 1.88224 (README, ch. 4), unstable elsewhere; n = 3 reports its neutral zero."""
     spec = SweepSpec(model="thesis_rotating_n2", grid=["Omega=1.0:2.2:13"], measure="stability", chunk=4)
@@ -258,6 +259,14 @@ def test_stability_map_n2_window_and_hopf_point(tmp_path):
     expect = ((om > 1.02969) & (om < 1.09363)) | (om > 1.88224)
     np.testing.assert_array_equal(stable, expect)
     assert (tmp_path / "n2" / "stability.png").is_file() and (tmp_path / "n2" / "stability.pdf").is_file()
+    # the figure draws the count of unstable eigenvalues the store holds, at each Omega of the grid
+    [ax] = fc.figure(saved_figures, "stability.png").axes
+    [step] = ax.get_lines()
+    assert step.get_drawstyle() == "steps-mid"
+    np.testing.assert_array_equal(step.get_xdata(), om)
+    np.testing.assert_array_equal(step.get_ydata(), ds.stability.values)
+    fc.assert_labels(ax, ylabel="unstable eigenvalues")
+    fc.assert_title(ax, "thesis_rotating_n2")
     spec3 = SweepSpec(model="thesis_rotating_n3", grid=["Omega=1.8:2.0:3"], measure="stability", chunk=4)
     run_sweep(spec3, tmp_path / "n3", progress=False, figures=False)
     ds3 = _open(tmp_path / "n3")
