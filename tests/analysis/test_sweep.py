@@ -45,7 +45,7 @@ def _cli(*args, timeout=300):
                           timeout=timeout, cwd=REPO)
 
 
-def test_attractor_sweep_equals_points_one_by_one(tmp_path):
+def test_attractor_sweep_equals_points_one_by_one(tmp_path, saved_figures):
     spec = SweepSpec(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=300.0, chunk=16)
     summary = run_sweep(spec, tmp_path, progress=False)
     assert summary["points"] == 64 and summary["computed"] == 64 and summary["reused"] == 0
@@ -65,6 +65,17 @@ def test_attractor_sweep_equals_points_one_by_one(tmp_path):
             assert names[int(ds.attractor.values[i, j])] == alone, (a, b)
     got = {names[c] for c in np.unique(ds.attractor.values)}
     assert "balanced 1" in got and "coincident 2-" in got  # the diagonal: balls together stay together
+    # the figure draws the store: one cell per grid point coloured by its attractor, each in the legend with
+    # its count, the angles on the axes
+    codes = ds.attractor.values
+    present = sorted(int(c) for c in np.unique(codes))
+    [ax] = fc.figure(saved_figures, "attractor.png").axes
+    [mesh] = ax.collections
+    index = np.asarray(mesh.get_array()).reshape(codes.T.shape)
+    np.testing.assert_array_equal(np.array(present)[index - 1], codes.T)
+    fc.assert_legend(ax, [f"{names[c]} ({int((codes == c).sum())})" for c in present])
+    fc.assert_labels(ax, xlabel="$\\phi_{1}(0)$", ylabel="$\\phi_{2}(0)$")
+    fc.assert_title(ax, "thesis_rotating_n2: basins of attraction")
 
 
 def test_r_max_sweep_equals_points_one_by_one(tmp_path):
