@@ -1,4 +1,5 @@
-"""Suite-wide: the toolchain helper on sys.path, and every skip of the run recorded: for
+"""Suite-wide: the toolchain helper and the figure checks (figure_checks.py, fixture `saved_figures`) on
+sys.path, and every skip of the run recorded: for
 tests/test_no_skips.py, which runs last and fails under CI if any test was skipped, and (with
 pytest-xdist, where that test sees only its worker's skips) for the controller, which lists them
 and fails the run under CI."""
@@ -13,10 +14,19 @@ import pytest
 # pytest runs with --import-mode=importlib (no test folder on sys.path): the one helper that turns a
 # missing tool or package into a failure under CI lives in tests/codegen/toolchain.py
 sys.path.insert(0, str(Path(__file__).parent / "codegen"))
+# and the figure checks every test folder shares (tests/figure_checks.py)
+sys.path.append(str(Path(__file__).parent))
 
+import figure_checks  # noqa: E402
 import toolchain  # noqa: E402
 
 FINAL_TEST = "test_no_test_was_skipped_under_ci"
+
+
+@pytest.fixture
+def saved_figures(monkeypatch) -> dict:
+    """{file name: Figure} of each figure the test's commands save (figure_checks.saved_figures)."""
+    return figure_checks.saved_figures(monkeypatch)
 
 
 def pytest_runtest_logreport(report):

@@ -8,8 +8,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+import figure_checks as fc
 from adbgen.cli import main
 
 SCENE = str(Path(__file__).resolve().parents[2] / "examples" / "five_ball_si.toml")
@@ -21,7 +23,7 @@ def _json(capsys, *argv) -> tuple[int, dict, str]:
     return code, json.loads(out), err
 
 
-def test_simulate_in_si_units(capsys, tmp_path):
+def test_simulate_in_si_units(capsys, tmp_path, saved_figures):
     code, out, _ = _json(capsys, "simulate", "--scene", SCENE, "--y0", "phi_1=1", "--y0", "phi_2=2", "--json",
                          "--out", str(tmp_path))
     assert code == 0
@@ -29,7 +31,18 @@ def test_simulate_in_si_units(capsys, tmp_path):
     assert out["units"]["r_max"] == "m" and out["units"]["t_dec"] == "s" and out["units"]["parameters"]["omega"] == "rad/s"
     # r_max: the balls start 1 rad apart, the rotor is thrown 10.4 mm; it settles below 50 um after 5.5 s
     assert 0.009 < out["r_max"] < 0.012 and 4.0 < out["t_dec"] < 7.0 < out["t_end"]
-    assert (tmp_path / "trajectory.png").stat().st_size > 20_000
+    # the figure in the same units: r in m up to r_max (the dense search's peak, above the samples), the
+    # threshold at 50 um and t_dec in s where the JSON puts them, t in s to t_end, five ball angles
+    top, bottom = fc.figure(saved_figures, "trajectory.png").axes
+    fc.assert_peak(top, "$r$", out["r_max"], rel=2e-3)
+    r = fc.line(top, "$r$")
+    assert np.max(r.get_ydata()) <= out["r_max"] and r.get_xdata()[-1] == out["t_end"]
+    fc.assert_hline(top, "threshold 50 \u00b5m (a tenth of eps = 500 \u00b5m)", 5e-5)
+    fc.assert_vline(top, f"$t_{{dec}}$ = {out['t_dec']:.4g} s", out["t_dec"])
+    fc.assert_labels(top, ylabel="$r$ (m)")
+    fc.assert_labels(bottom, xlabel="$t$ (s)")
+    fc.assert_legend(bottom, [f"$\\phi_{{{k}}}$" for k in range(1, 6)])
+    fc.assert_title(top, "five_ball_si.toml", "$r_{max}$ = 10.4 mm")
     code, again, _ = _json(capsys, "simulate", "--scene", SCENE, "--y0", "phi_1=1", "--y0", "phi_2=2", "--json",
                            "--t-end", "636.6197723675814rev", "--threshold", "0.05mm")
     assert again["t_end"] == pytest.approx(out["t_end"], rel=1e-12) and again["t_dec"] == pytest.approx(out["t_dec"])

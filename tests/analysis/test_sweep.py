@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import figure_checks as fc
 from adbgen.analysis import attractors
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
@@ -44,7 +45,7 @@ def _cli(*args, timeout=300):
                           timeout=timeout, cwd=REPO)
 
 
-def test_attractor_sweep_equals_points_one_by_one(tmp_path):
+def test_attractor_sweep_equals_points_one_by_one(tmp_path, saved_figures):
     spec = SweepSpec(model="thesis_rotating_n2", grid=GRID8, measure="attractor", set=DAMPED, t_end=300.0, chunk=16)
     summary = run_sweep(spec, tmp_path, progress=False)
     assert summary["points"] == 64 and summary["computed"] == 64 and summary["reused"] == 0
@@ -64,6 +65,17 @@ def test_attractor_sweep_equals_points_one_by_one(tmp_path):
             assert names[int(ds.attractor.values[i, j])] == alone, (a, b)
     got = {names[c] for c in np.unique(ds.attractor.values)}
     assert "balanced 1" in got and "coincident 2-" in got  # the diagonal: balls together stay together
+    # the figure draws the store: one cell per grid point coloured by its attractor, each in the legend with
+    # its count, the angles on the axes
+    codes = ds.attractor.values
+    present = sorted(int(c) for c in np.unique(codes))
+    [ax] = fc.figure(saved_figures, "attractor.png").axes
+    [mesh] = ax.collections
+    index = np.asarray(mesh.get_array()).reshape(codes.T.shape)
+    np.testing.assert_array_equal(np.array(present)[index - 1], codes.T)
+    fc.assert_legend(ax, [f"{names[c]} ({int((codes == c).sum())})" for c in present])
+    fc.assert_labels(ax, xlabel="$\\phi_{1}(0)$", ylabel="$\\phi_{2}(0)$")
+    fc.assert_title(ax, "thesis_rotating_n2: basins of attraction")
 
 
 def test_r_max_sweep_equals_points_one_by_one(tmp_path):
@@ -246,7 +258,7 @@ def test_external_scheduler_runs_the_sweep(tmp_path):
             p.wait(timeout=30)
 
 
-def test_stability_map_n2_window_and_hopf_point(tmp_path):
+def test_stability_map_n2_window_and_hopf_point(tmp_path, saved_figures):
     """mu = 0.05, zeta = beta = delta = 0.01: the balanced state of n = 2 is stable in (1.02969, 1.09363)
     and beyond H1 = 1.88224 (README, ch. 4), unstable elsewhere; n = 3 reports its neutral zero."""
     spec = SweepSpec(model="thesis_rotating_n2", grid=["Omega=1.0:2.2:13"], measure="stability", chunk=4)
@@ -258,6 +270,14 @@ def test_stability_map_n2_window_and_hopf_point(tmp_path):
     expect = ((om > 1.02969) & (om < 1.09363)) | (om > 1.88224)
     np.testing.assert_array_equal(stable, expect)
     assert (tmp_path / "n2" / "stability.png").is_file() and (tmp_path / "n2" / "stability.pdf").is_file()
+    # the figure draws the count of unstable eigenvalues the store holds, at each Omega of the grid
+    [ax] = fc.figure(saved_figures, "stability.png").axes
+    [step] = ax.get_lines()
+    assert step.get_drawstyle() == "steps-mid"
+    np.testing.assert_array_equal(step.get_xdata(), om)
+    np.testing.assert_array_equal(step.get_ydata(), ds.stability.values)
+    fc.assert_labels(ax, ylabel="unstable eigenvalues")
+    fc.assert_title(ax, "thesis_rotating_n2")
     spec3 = SweepSpec(model="thesis_rotating_n3", grid=["Omega=1.8:2.0:3"], measure="stability", chunk=4)
     run_sweep(spec3, tmp_path / "n3", progress=False, figures=False)
     ds3 = _open(tmp_path / "n3")

@@ -15,6 +15,7 @@ import math
 import numpy as np
 import pytest
 
+import figure_checks as fc
 from adbgen.analysis import engines
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
@@ -109,7 +110,7 @@ def test_a_planted_tolerance_flip_is_flagged_and_a_robust_case_is_not():
     assert plain.runs[0].t_dec == pytest.approx(462.42, rel=2e-3)
 
 
-def test_sweep_flags_exactly_the_planted_points(tmp_path, monkeypatch):
+def test_sweep_flags_exactly_the_planted_points(tmp_path, monkeypatch, saved_figures):
     import xarray as xr
 
     model = load_model("thesis_rotating_n2")
@@ -127,6 +128,13 @@ def test_sweep_flags_exactly_the_planted_points(tmp_path, monkeypatch):
     assert summary["tolerance_check"]["checked"] == 6
     assert {names[c] for c in ds["attractor"].values} == {"balanced 1"}
     assert any(str(f).endswith("attractor.png") for f in summary["figures"])
+    # the figure marks exactly the flagged points, on the plotted labels, and says how many in the legend and title
+    [ax] = fc.figure(saved_figures, "attractor.png").axes
+    phi, codes, flagged = ds["phi_1"].values, ds["attractor"].values.astype(float), flags == 1
+    fc.assert_line(ax, "balanced 1", phi, codes)
+    fc.assert_line(ax, "tolerance-sensitive (3)", phi[flagged], codes[flagged])
+    fc.assert_legend(ax, ["balanced 1", "tolerance-sensitive (3)"])
+    fc.assert_title(ax, "(3 tolerance-sensitive, marked)")
     # the control: the same sweep without the check keeps the store as it was (no new variables)
     plain = run_sweep(SweepSpec(**{**spec.to_dict(), "check_tolerance": False}), tmp_path / "plain",
                       progress=False, workers=1, figures=False)

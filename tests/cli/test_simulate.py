@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pytest
 
+import figure_checks as fc
 from adbgen.cli import main
 
 pytestmark = pytest.mark.usefixtures("needs_gcc")
@@ -39,7 +40,7 @@ def test_simulate_not_settled_is_null(capsys):
     assert code == 0 and json.loads(out)["t_dec"] is None
 
 
-def test_simulate_table_and_files(capsys, tmp_path):
+def test_simulate_table_and_files(capsys, tmp_path, saved_figures):
     code, out, _ = run(capsys, "simulate", "thesis_rotating_n3", "--set", "Omega=3", "--y0", "phi_1=3*pi/4",
                        "--t-end", "50", "--engine", "cvode-adams", "--out", str(tmp_path))
     assert code == 0 and "r_max" in out and "cvode-adams" in out
@@ -48,7 +49,19 @@ def test_simulate_table_and_files(capsys, tmp_path):
     assert meta["parameters"]["Omega"] == 3.0 and data["y"].shape[0] == 10 and data["t"][-1] == 50.0
     lines = (tmp_path / "trajectory.csv").read_text().splitlines()
     assert lines[0].startswith("# model") and any(ln.startswith("t,r,x,y,phi_1") for ln in lines)
-    assert (tmp_path / "trajectory.png").stat().st_size > 1000
+    # trajectory.png draws the run: r as in the table (its peak the run's r_max, found between the samples by
+    # the dense search, so a little above them), the threshold, no t_dec line (not settled by t = 50), the angles
+    table = np.loadtxt(tmp_path / "trajectory.csv", delimiter=",", comments="#", skiprows=len(meta) + 1)
+    top, bottom = fc.figure(saved_figures, "trajectory.png").axes
+    fc.assert_line(top, "$r$", table[:, 0], table[:, 1])
+    fc.assert_peak(top, "$r$", meta["r_max"], rel=1e-3)
+    fc.assert_hline(top, "threshold", meta["threshold"])
+    assert meta["t_dec"] is None and not any(ln.get_label().startswith("$t_{dec}$") for ln in top.get_lines())
+    fc.assert_labels(top, ylabel="$r$")
+    fc.assert_title(top, "thesis_rotating_n3", "Omega = 3", "$t_{dec}$ = not settled")
+    fc.assert_labels(bottom, xlabel="$t$", ylabel="ball angle (rad, wrapped)")
+    fc.assert_legend(bottom, ["$\\phi_{1}$", "$\\phi_{2}$", "$\\phi_{3}$"])
+    assert np.nanmax(np.abs(fc.line(bottom, "$\\phi_{1}$").get_ydata())) <= np.pi  # wrapped into (-pi, pi]
 
 
 @pytest.mark.parametrize("argv, needle", [

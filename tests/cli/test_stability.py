@@ -4,10 +4,12 @@ on stderr with exit status 2."""
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
 
+import figure_checks as fc
 from adbgen.cli import main
 
 from analysis_helpers import CH4, require_auto
@@ -64,13 +66,26 @@ def test_stability_scan_json(capsys, balanced_scan):
     assert sum(data["stable_intervals"], []) == pytest.approx([1.0296942, 1.0936343, 1.8822393, 4.0], abs=1e-7)
 
 
-def test_stability_scan_out_writes_the_branch_and_a_plot(capsys, tmp_path):
+def test_stability_scan_out_writes_the_branch_and_a_plot(capsys, tmp_path, saved_figures):
     code, out, err = run(capsys, "stability", "thesis_rotating_n2", *SET, "--state", "2-", "--scan", "Omega=0.5:1.5",
                          "--out", str(tmp_path))
     assert code == 0, err
     rows = np.loadtxt(tmp_path / "scan.csv", delimiter=",", comments="#", skiprows=4)
     assert rows.shape[1] == 4 and rows[0, 0] == 0.5 and rows[0, 2] == 0 and rows[0, 3] > 0.01
-    assert (tmp_path / "scan.png").stat().st_size > 10_000
+    # scan.png draws the branch of scan.csv: the leading real part (solid where stable, dashed all along) over
+    # the rotor amplitude, the fold marked on both panels where the command says it is, and named in the title
+    fold = float(re.search(r"fold\s+Omega = ([-\d.e]+)", out).group(1))
+    lam, lead, unstable, amp = rows.T
+    top, bottom = fc.figure(saved_figures, "scan.png").axes
+    for ax, values in ((top, lead), (bottom, amp)):
+        fc.assert_line(ax, "unstable", lam, values)
+        fc.assert_line(ax, "stable", lam, np.where(unstable == 0, values, np.nan))
+        assert fc.vertical_lines(ax) == [pytest.approx(fold, rel=1e-9)]
+    fc.assert_legend(top, ["unstable", "stable"])
+    fc.assert_labels(top, ylabel="max Re $\\lambda$ (transverse)")
+    fc.assert_labels(bottom, xlabel="$\\Omega$", ylabel="$r = \\sqrt{x^2 + y^2}$")
+    fc.assert_title(top, "thesis_rotating_n2", "mu = 0.05", f"LP {fold:.6g}")
+    assert [t.get_text() for t in top.texts] == [f"LP {fold:.6g}"]
 
 
 def test_stability_scan_fold_has_null_frequency(capsys):
