@@ -7,7 +7,9 @@
                                     provably converges to it (Lyapunov; early stop of sweeps): by the
                                     nonlinear decrease condition (`basin_regions`, the default) or by
                                     contraction (method="contraction", smaller)
-    Classifier(model, p).label(...) balanced 1, coincident 2+-, in-line 3(n-m)+-, limit cycle, unsettled
+    Classifier(model, p).decide(...) an Outcome: balanced 1 (exponential or algebraic approach), coincident
+                                    2+-, in-line 3(n-m)+-, limit cycle, desynchronised (windings), or
+                                    undecided with the reason; .label(...) its label
 
 Newton and the transverse spectrum are those of `steady` (the stability layer); this module adds
 what the sweeps need on top: names, provable basin regions, and the classification of final states.
@@ -109,8 +111,46 @@ def labels(model: Model) -> list[str]:
                 out.append(f"in-line 3({n}-{m})")
             else:
                 out += [f"in-line 3({n}-{m})-", f"in-line 3({n}-{m})+", f"in-line 3({n}-{m})"]
-    out += ["other steady state", "limit cycle", "unsettled", "failed"]
+    out += ["other steady state", "limit cycle", DESYNCHRONISED, UNDECIDED, "failed", BALANCED + ALGEBRAIC]
     return out
+
+
+BALANCED = "balanced 1"  # the state of amplitude zero (`name_steady_state`)
+ALGEBRAIC = " (algebraic approach)"  # appended to a state's name where r falls like a power of t
+DESYNCHRONISED = "desynchronised"
+UNDECIDED = "undecided"
+APPROACHES = ("", "exponential", "algebraic")  # the stored approach codes ("": not fitted, named directly)
+UNDECIDED_REASONS = ("",  # the stored codes of why a run is undecided
+                     "r decays but is still above the balanced criterion at the cap",
+                     "still drifting: no steady state, no band of r, no decay of r by the cap",
+                     "the carried-on run failed")
+CARRY_FACTOR = 2.0  # a run not named at t is carried on to CARRY_FACTOR t (the cap)
+
+
+def balanced(label: str) -> bool:
+    """Is the label a balanced outcome (exponential or algebraic approach)?"""
+    return label in (BALANCED, BALANCED + ALGEBRAIC)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """Where a run ends, decided: its label, how r approached it where that decided it ("exponential",
+    "algebraic", or "" where the state was named directly), why it is undecided (`UNDECIDED_REASONS`
+    index and a sentence), the time the decision reached (t_end, or the cap a run was carried on to),
+    the balls' whole turns over the carried-on stretch, and the tail's fits (`approach.Tail`)."""
+
+    label: str
+    approach: str = ""
+    reason_code: int = 0
+    reason: str = ""
+    t_decided: float | None = None
+    windings: tuple[int, ...] = ()
+    tail: object = None
+
+    def to_json(self) -> dict:
+        return {"label": self.label, "approach": self.approach or None, "undecided_reason": self.reason or None,
+                "t_decided": self.t_decided, "windings": list(self.windings),
+                "tail": None if self.tail is None else self.tail.to_json()}
 
 
 def _grouping(model: Model, y, tol: float = 1e-6) -> tuple[int, float] | None:
@@ -402,13 +442,46 @@ class Classifier:
     def code(self, name: str) -> int:
         return self.codes[name]
 
-    def label(self, status: str, y_end, target: int, *, engine=None, rtol=1e-8, atol=1e-10) -> str:
+    def label(self, status: str, y_end, target: int, *, engine=None, rtol=1e-8, atol=1e-10, t=None,
+              threshold=None) -> str:
+        """The label of `decide`."""
+        return self.decide(status, y_end, target, engine=engine, rtol=rtol, atol=atol, t=t,
+                           threshold=threshold).label
+
+    def decide(self, status: str, y_end, target: int, *, engine=None, rtol=1e-8, atol=1e-10, t=None,
+               threshold=None) -> Outcome:
+        """Where a run that reached y_end at time t ends.
+
+        Named directly: a stop region reached (or entered by t), or a steady state Newton finds at y_end
+        (within 1e-5, or within 1e-3 of a stable one).  Else a further window tells a limit cycle (r keeps
+        one band).  Else the run is carried on to the cap CARRY_FACTOR t (t None: the run's time is not
+        known, taken as the carried-on length 10 windows) and decided by r's rate of approach over the
+        carried-on stretch (`approach.tail`, its criterion): a steady state Newton finds at the cap is named
+        (with " (algebraic approach)" for the balanced state where r fell like a power of t); r decaying
+        and below `threshold` at the cap (the balanced criterion: the thesis' r < 1e-3, the model's tenth
+        of the eccentricity, `units.default_threshold`) is balanced, exponentially or algebraically; r in
+        one band over the last window is a limit cycle; balls that keep turning (a whole turn or more
+        over the stretch) without either are desynchronised; anything else is undecided, with the reason.
+        """
         from .results import STOPPED, SUCCESS
 
         if status == STOPPED and target >= 0:
-            return self.regions[target].label
+            return Outcome(self.regions[target].label, t_decided=t)
         if status != SUCCESS:
-            return "failed"
+            return Outcome("failed", t_decided=t)
+        named = self._named(y_end)
+        if named is not None:
+            return Outcome(named, t_decided=t)
+        if self._oscillation(y_end, engine, rtol, atol) == "limit cycle":
+            return Outcome("limit cycle", t_decided=t)
+        if threshold is None:
+            from .units import default_threshold
+
+            threshold = default_threshold(self.model, self.p)[0]
+        return self._carry_on(y_end, t, engine, rtol, atol, threshold)
+
+    def _named(self, y_end) -> str | None:
+        """The region's or steady state's name of y_end, None where it is neither."""
         k = self.inside(y_end)[0]  # forward invariant: inside at t_end means converging to it
         if k >= 0:
             return self.regions[k].label
@@ -419,13 +492,65 @@ class Classifier:
             gap = np.max(np.abs(state_difference(self.model, y, y_end)))
             if gap < 1e-5 or (gap < 1e-3 and spectrum(self.model, y, self.p).unstable() == 0):
                 return name_steady_state(self.model, y, self.p)
-        return self._oscillation(y_end, engine, rtol, atol)
+        return None
+
+    def _carry_on(self, y_end, t, engine, rtol, atol, threshold) -> Outcome:
+        """The run carried on from (t, y_end) to the cap and decided by its tail (see `decide`)."""
+        from .approach import tail, windings
+        from .simulate import simulate
+
+        t0 = 10.0 * self.window if t is None or not t > 0 else float(t)
+        cap = CARRY_FACTOR * t0
+        sim = simulate(self.model, self.p, np.asarray(y_end, float), t_end=cap - t0, rtol=rtol, atol=atol,
+                       engine=engine, keep_trajectory=True, check=False)
+        if not sim.ok or sim.t.size < 8:
+            return Outcome(UNDECIDED, reason_code=3, reason=f"the carried-on run failed ({sim.status})", t_decided=cap)
+        times, Y = self._fine(sim)
+        ix, iy, _, _ = self.model.amplitude_indices
+        r = np.hypot(Y[ix], Y[iy])
+        fit = tail(t0 + times, r)
+        turns = tuple(int(w) for w in windings(Y[balls(self.model)]))
+        named = self._named(sim.y_end)
+        if named is not None:
+            kind = fit.kind if fit.trend == "decays" else ""
+            label = named + ALGEBRAIC if named == BALANCED and kind == "algebraic" else named
+            return Outcome(label, kind, t_decided=cap, windings=turns, tail=fit)
+        if fit.trend == "decays" and fit.r_last < threshold:
+            return Outcome(BALANCED + (ALGEBRAIC if fit.kind == "algebraic" else ""), fit.kind, t_decided=cap,
+                           windings=turns, tail=fit)
+        last = times >= times[-1] - self.window
+        a, b = r[last & (times < times[-1] - 0.5 * self.window)], r[times >= times[-1] - 0.5 * self.window]
+        if len(a) and len(b) and _one_band(a, b):
+            return Outcome("limit cycle", t_decided=cap, windings=turns, tail=fit)
+        if fit.trend != "decays" and any(abs(w) >= 1 for w in turns):
+            return Outcome(DESYNCHRONISED, t_decided=cap, windings=turns, tail=fit)
+        where = f"r {fit.r_first:.2e} -> {fit.r_last:.2e} over t in [{t0:g}, {cap:g}]"
+        if fit.trend == "decays":
+            return Outcome(UNDECIDED, fit.kind, 1, f"{UNDECIDED_REASONS[1]} ({where}, {fit.kind}; criterion r < "
+                           f"{threshold:g})", cap, turns, fit)
+        return Outcome(UNDECIDED, "", 2, f"{UNDECIDED_REASONS[2]} ({where}, {fit.trend})", cap, turns, fit)
+
+    def _fine(self, sim) -> tuple[np.ndarray, np.ndarray]:
+        """(times from the carried-on start, the coordinates) on the cubic Hermite interpolant of each
+        coordinate and its rate, ten points a step (r read between the engine's step points, as the band
+        test does)."""
+        from scipy.interpolate import CubicHermiteSpline
+
+        t, keep = np.unique(sim.t, return_index=True)
+        Y = sim.y[:, keep]
+        fine = np.linspace(t[0], t[-1], 10 * t.size)
+        nq = self.model.n_coordinates
+        out = np.empty((nq, fine.size))
+        for k in range(nq):
+            out[k] = CubicHermiteSpline(t, Y[k], Y[self.model.rate_index(k)])(fine)
+        return fine, out
 
     def _oscillation(self, y_end, engine, rtol, atol) -> str:
         """limit cycle: over a further window r keeps one band (its max and min in both halves agree to
-        1 % of the max); otherwise unsettled.  r is read between the engine's step points too, on the cubic
-        Hermite interpolant of x and y (their rates are states), ten points a step: on the step points alone
-        the band depended on where an engine's steps fell (long Taylor steps put a cycle's band over 1 %)."""
+        1 % of the max); otherwise not named here ("").  r is read between the engine's step points too, on
+        the cubic Hermite interpolant of x and y (their rates are states), ten points a step: on the step
+        points alone the band depended on where an engine's steps fell (long Taylor steps put a cycle's band
+        over 1 %)."""
         from scipy.interpolate import CubicHermiteSpline
 
         from .simulate import simulate
@@ -433,18 +558,20 @@ class Classifier:
         sim = simulate(self.model, self.p, np.asarray(y_end, float), t_end=self.window, rtol=rtol, atol=atol,
                        engine=engine, keep_trajectory=True, check=False)
         if not sim.ok or sim.t.size < 8:
-            return "unsettled"
+            return ""
         t, keep = np.unique(sim.t, return_index=True)
         Y = sim.y[:, keep]
         ix, iy, ixd, iyd = self.model.amplitude_indices
         fine = np.linspace(t[0], t[-1], 10 * t.size)
         r = np.hypot(CubicHermiteSpline(t, Y[ix], Y[ixd])(fine), CubicHermiteSpline(t, Y[iy], Y[iyd])(fine))
         half = fine >= 0.5 * self.window
-        a, b = r[~half], r[half]
-        top = max(a.max(), b.max())
-        if abs(a.max() - b.max()) <= 0.01 * top and abs(a.min() - b.min()) <= 0.01 * top:
-            return "limit cycle"
-        return "unsettled"
+        return "limit cycle" if _one_band(r[~half], r[half]) else ""
+
+
+def _one_band(a, b) -> bool:
+    """r keeps one band: its max and min over the two halves a, b of a window agree to 1 % of the max."""
+    top = max(a.max(), b.max())
+    return abs(a.max() - b.max()) <= 0.01 * top and abs(a.min() - b.min()) <= 0.01 * top
 
 
 @lru_cache(maxsize=64)
