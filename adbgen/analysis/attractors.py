@@ -7,16 +7,17 @@
                                     provably converges to it (Lyapunov; early stop of sweeps): by the
                                     nonlinear decrease condition (`basin_regions`, the default) or by
                                     contraction (method="contraction", smaller)
-    Classifier(model, p).decide(...) an Outcome: balanced 1 (exponential or algebraic approach), coincident
-                                    2+-, in-line 3(n-m)+-, limit cycle, desynchronised (windings), or
-                                    undecided with the reason; .label(...) its label
+    Classifier(model, p).decide(...) an Outcome: a steady state's name (the rest state's with " (algebraic
+                                    approach)" where r falls like a power of t), limit cycle,
+                                    desynchronised (windings), or undecided with the reason; .label(...)
 
 Newton and the transverse spectrum are those of `steady` (the stability layer); this module adds
 what the sweeps need on top: names, provable basin regions, and the classification of final states.
 
-The steady states are named by the balls' angles, as the thesis names them: balanced 1 (3.6) with the
-rotor's amplitude zero; coincident 2+- (3.9) with all balls together; in-line 3(n-m)+- (3.10) with m
-balls together and n - m opposite.  The sign is the branch of the closed form the state is (the
+The steady states are named by their configuration, with the names the generated module gives them
+(`Model.steady_state_names`; the thesis': balanced 1 (3.6) with the rotor's amplitude zero, coincident 2+- (3.9)
+with all balls together, in-line 3(n-m)+- (3.10) with m balls together and n - m opposite; a model that
+names none gets plain descriptions, `GENERIC_NAMES`).  The sign is the branch of the closed form the state is (the
 arccosine's in (3.9)/(3.10)): the trailing + or - of the label of the generated module's closed-form
 steady state (`Model.steady_states`) at the same angle; a model without such labels names no sign.
 Everything here reads the module's self-description: the balls are the states of role "ball_angle",
@@ -100,22 +101,6 @@ def balls(model: Model) -> list[int]:
     return list(model.role_indices("ball_angle"))
 
 
-def labels(model: Model) -> list[str]:
-    """Every label a sweep of `model` can give, in a fixed order (the stored codes index this list)."""
-    n = len(balls(model))
-    out = ["balanced 1"]
-    if n >= 2:
-        out += ["coincident 2-", "coincident 2+", "coincident 2"]
-        for m in range(n - 1, (n - 1) // 2, -1):  # m balls together, n - m opposite, m >= n - m
-            if 2 * m == n:
-                out.append(f"in-line 3({n}-{m})")
-            else:
-                out += [f"in-line 3({n}-{m})-", f"in-line 3({n}-{m})+", f"in-line 3({n}-{m})"]
-    out += ["other steady state", "limit cycle", DESYNCHRONISED, UNDECIDED, "failed", BALANCED + ALGEBRAIC]
-    return out
-
-
-BALANCED = "balanced 1"  # the state of amplitude zero (`name_steady_state`)
 ALGEBRAIC = " (algebraic approach)"  # appended to a state's name where r falls like a power of t
 DESYNCHRONISED = "desynchronised"
 UNDECIDED = "undecided"
@@ -127,9 +112,42 @@ UNDECIDED_REASONS = ("",  # the stored codes of why a run is undecided
 CARRY_FACTOR = 2.0  # a run not named at t is carried on to CARRY_FACTOR t (the cap)
 
 
-def balanced(label: str) -> bool:
-    """Is the label a balanced outcome (exponential or algebraic approach)?"""
-    return label in (BALANCED, BALANCED + ALGEBRAIC)
+GENERIC_NAMES = {"rest": "rotor at rest", "together": "balls together", "opposed": "balls opposed {m}-{k}"}
+
+
+def state_name(model: Model, configuration: str, m: int = 0) -> str:
+    """The name the model gives its steady states of a configuration (`Model.steady_state_names`: "rest",
+    "together", "opposed" with m balls together and the rest opposite); a plain description where the model
+    names none."""
+    n = len(balls(model))
+    template = model.steady_state_names.get(configuration, GENERIC_NAMES[configuration])
+    return template.format(n=n, m=m, k=n - m)
+
+
+def rest_name(model: Model) -> str:
+    """The name of the state with the rotor at rest (the thesis' balanced 1)."""
+    return state_name(model, "rest")
+
+
+def labels(model: Model) -> list[str]:
+    """Every label a sweep of `model` can give, in a fixed order (the stored codes index this list)."""
+    n = len(balls(model))
+    rest = rest_name(model)
+    out = [rest]
+    if n >= 2:
+        together = state_name(model, "together")
+        out += [together + "-", together + "+", together]
+        for m in range(n - 1, (n - 1) // 2, -1):  # m balls together, n - m opposite, m >= n - m
+            opposed = state_name(model, "opposed", m)
+            out += [opposed] if 2 * m == n else [opposed + "-", opposed + "+", opposed]
+    out += ["other steady state", "limit cycle", DESYNCHRONISED, UNDECIDED, "failed", rest + ALGEBRAIC]
+    return out
+
+
+def balanced_labels(model: Model) -> tuple[str, str]:
+    """The labels of a balanced outcome, the rotor at rest: approached exponentially, algebraically."""
+    rest = rest_name(model)
+    return rest, rest + ALGEBRAIC
 
 
 @dataclass(frozen=True)
@@ -185,15 +203,16 @@ def _signed_closed_forms(model: Model, p, m: int) -> list[tuple[str, float]]:
 
 
 def name_steady_state(model: Model, y, p, tol: float = 1e-6) -> str:
-    """The thesis' name of the steady state y: balanced 1, coincident 2+-, in-line 3(n-m)+-."""
+    """The model's name of the steady state y (`state_name`; thesis: balanced 1, coincident 2+-, in-line
+    3(n-m)+-)."""
     if amplitude_of(model, y) < 1e-8:
-        return "balanced 1"
+        return rest_name(model)
     group = _grouping(model, y, tol)
     if group is None:
         return "other steady state"
     m, ref = group
     n = len(balls(model))
-    kind = "coincident 2" if m == n else f"in-line 3({n}-{m})"
+    kind = state_name(model, "together") if m == n else state_name(model, "opposed", m)
     if 2 * m == n:
         return kind
     for sign, phi in _signed_closed_forms(model, p, m):
@@ -459,8 +478,8 @@ class Classifier:
         carried-on stretch (`approach.tail`, its criterion): a steady state Newton finds at the cap is named
         (with " (algebraic approach)" for the balanced state where r fell like a power of t); r decaying
         and below `threshold` at the cap (the balanced criterion: the thesis' r < 1e-3, the model's tenth
-        of the eccentricity, `units.default_threshold`) is balanced, exponentially or algebraically; r in
-        one band over the last window is a limit cycle; balls that keep turning (a whole turn or more
+        of the eccentricity, `units.default_threshold`) is balanced, exponentially or algebraically; r's
+        envelope in one band (`approach.BAND`) over the stretch's second half is a limit cycle; balls that keep turning (a whole turn or more
         over the stretch) without either are desynchronised; anything else is undecided, with the reason.
         """
         from .results import STOPPED, SUCCESS
@@ -513,14 +532,15 @@ class Classifier:
         named = self._named(sim.y_end)
         if named is not None:
             kind = fit.kind if fit.trend == "decays" else ""
-            label = named + ALGEBRAIC if named == BALANCED and kind == "algebraic" else named
+            label = named + ALGEBRAIC if named == rest_name(self.model) and kind == "algebraic" else named
             return Outcome(label, kind, t_decided=cap, windings=turns, tail=fit)
         if fit.trend == "decays" and fit.r_last < threshold:
-            return Outcome(BALANCED + (ALGEBRAIC if fit.kind == "algebraic" else ""), fit.kind, t_decided=cap,
+            return Outcome(rest_name(self.model) + (ALGEBRAIC if fit.kind == "algebraic" else ""), fit.kind, t_decided=cap,
                            windings=turns, tail=fit)
-        last = times >= times[-1] - self.window
-        a, b = r[last & (times < times[-1] - 0.5 * self.window)], r[times >= times[-1] - 0.5 * self.window]
-        if len(a) and len(b) and _one_band(a, b):
+        # a cycle approached slowly: r's envelope keeps one band (within BAND) over the stretch's second half
+        # (one band over a last window alone would also pass a slow drift)
+        late = times >= 0.5 * times[-1]
+        if tail(t0 + times[late], r[late]).trend == "band":
             return Outcome("limit cycle", t_decided=cap, windings=turns, tail=fit)
         if fit.trend != "decays" and any(abs(w) >= 1 for w in turns):
             return Outcome(DESYNCHRONISED, t_decided=cap, windings=turns, tail=fit)

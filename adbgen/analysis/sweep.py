@@ -13,6 +13,11 @@ the same settings computes only the blocks not done.  Zarr's local store writes 
 atomically (temporary file and rename), and the store itself is created in a temporary folder and
 renamed into place, so no state of the folder is half written.
 
+Outcomes are decided (`attractors.Classifier.decide`): a run not named at t_end is carried on to the cap
+(`attractors.CARRY_FACTOR` t_end) and decided by r's rate of approach, or left `undecided` with its reason;
+the store keeps the approach and the reason per point, and the summary counts undecided runs apart, never
+as not balanced (`outcome_counts`).
+
 Shortcuts (each switchable; tests show they give the labels of the full integration):
 
 * early stop (measure `attractor`): every `check_dt` the trajectories inside the provable basin region
@@ -481,8 +486,9 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
     if spec.measure in ("attractor", "stability"):
         ds.attrs["labels"] = json.dumps(labels(model))
     if spec.measure == "attractor":
-        from .attractors import APPROACHES, CARRY_FACTOR, UNDECIDED_REASONS
+        from .attractors import APPROACHES, CARRY_FACTOR, UNDECIDED_REASONS, balanced_labels
 
+        ds.attrs["balanced_labels"] = json.dumps(list(balanced_labels(model)))
         ds["approach"].attrs.update(description="how r approached the state where that decided the label "
                                                 "(attractors.Classifier.decide): index into `approaches`",
                                     flag_values=list(range(len(APPROACHES))), flag_meanings=list(APPROACHES))
@@ -634,15 +640,14 @@ def outcome_counts(store: Path) -> dict:
     "approaches": {kind: n}, "carry_on": the cap the undecided runs were carried on to}."""
     import zarr
 
-    from .attractors import balanced
-
     group = zarr.open_group(str(store), mode="r")
     names = json.loads(group.attrs["labels"])
+    rest = set(json.loads(group.attrs.get("balanced_labels", json.dumps(names[:1]))))  # older stores: the first
     done = np.asarray(group["done"][...], dtype=bool)
     codes = np.asarray(group["attractor"][...])[done]
     labels_ = [names[int(c)] if c >= 0 else "not computed" for c in codes]
     counts = {k: labels_.count(k) for k in sorted(set(labels_))}
-    out = {"counts": counts, "balanced": sum(v for k, v in counts.items() if balanced(k)),
+    out = {"counts": counts, "balanced": sum(v for k, v in counts.items() if k in rest),
            "undecided": counts.get("undecided", 0), "failed": counts.get("failed", 0)}
     out["not_balanced"] = len(labels_) - out["balanced"] - out["undecided"] - out["failed"]
     if "undecided" in group:  # stores written before outcomes were decided have no reasons

@@ -274,7 +274,7 @@ def _basins(fig_dir: Path, size: int = 40) -> list[dict]:
 
 def _balanced_codes(names, codes) -> np.ndarray:
     """Where the decided label is balanced (exponential or algebraic approach; undecided runs are not)."""
-    from ....analysis.attractors import balanced
+    from .sweeps import balanced
 
     return np.isin(codes, [k for k, name in enumerate(names) if balanced(name)])
 
@@ -282,8 +282,9 @@ def _balanced_codes(names, codes) -> np.ndarray:
 FIG5_19_ZETAS = (0.01, 0.1, 0.2, 0.25)  # thesis Fig. 5.19(a)-(d): n = 4, phi_3 = phi_1 + pi, phi_4 = phi_2 + pi
 
 
-def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
-    """Fig. 5.19 (a), (c): basin maps of n = 4 with the third and fourth balls opposite the first two."""
+def _basins_n4(fig_dir: Path, size: int = 16, panels: str = "abcd") -> list[dict]:
+    """Fig. 5.19 (a)-(d) (those of `panels`): basin maps of n = 4 with the third and fourth balls opposite the
+    first two."""
     import json
     import shutil
     import tempfile
@@ -295,7 +296,7 @@ def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
     out = []
     tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-n4-"))
     try:
-        for zeta, panel in zip(FIG5_19_ZETAS, "abcd"):
+        for zeta, panel in ((z, q) for z, q in zip(FIG5_19_ZETAS, "abcd") if q in panels):
             grid = [f"phi_1=0:2*pi*{size - 1}/{size}:{size}", f"phi_2=0:2*pi*{size - 1}/{size}:{size}"]
             spec = SweepSpec(model="thesis_rotating_n4", grid=grid, measure="attractor", set=[f"zeta={zeta}"],
                              tie=["phi_3=phi_1+pi", "phi_4=phi_2+pi"], t_end=3000.0, engine=ENGINE)
@@ -326,7 +327,7 @@ def _basins_n4(fig_dir: Path, size: int = 16) -> list[dict]:
 
 
 def _basin_n4_section(basins, root: Path) -> list[str]:
-    from ....analysis.attractors import balanced
+    from .sweeps import balanced
 
     if not basins:
         return []
@@ -638,7 +639,7 @@ def _chapter4(statements, maps, root: Path, pitchfork=None) -> list[str]:
 
 
 def _basin_section(basins, root: Path) -> list[str]:
-    from ....analysis.attractors import balanced
+    from .sweeps import balanced
 
     if not basins:
         return []
@@ -746,7 +747,7 @@ def _transient_section(transients) -> list[str]:
 
 def _document(transients, results, figures, root: Path, statements=(), maps=(), basins=(), basins_n4=(),
               pitchfork=None) -> list[str]:
-    from ....analysis.attractors import balanced
+    from .sweeps import balanced
 
     L = ["Models: `generated/thesis_rotating_n{2,3,4}`; "
          f"engine: compiled DOP853 (`{ENGINE}`), atol = rtol/100, t in [0, 3000]; parameters "

@@ -17,13 +17,19 @@ from pathlib import Path
 
 import numpy as np
 
-from ....analysis.attractors import UNDECIDED, balanced
+from ....analysis.attractors import ALGEBRAIC, UNDECIDED
 from ....analysis.sweep import SweepSpec, run_sweep
+from ..description import THESIS_NAMES
 from .balanced import balanced_stable
 
 PI = math.pi
-BALANCED = "balanced 1"  # the decided labels (`attractors.Classifier.decide`): balanced (exponential or
+BALANCED = THESIS_NAMES["rest"]  # the decided labels (`attractors.Classifier.decide`): balanced (exponential or
 # algebraic approach), not balanced, or undecided, never counted as not balanced
+
+
+def balanced(label: str) -> bool:
+    """A balanced outcome, approached exponentially or algebraically."""
+    return label in (BALANCED, BALANCED + ALGEBRAIC)
 RTOL = 1e-8  # the sweeps' tolerance (atol rtol/100), as the basin maps of Figs. 5.18, 5.19
 
 
@@ -352,26 +358,32 @@ def _dots(ax, x, y, labels):
         ax.legend(fontsize=6, loc="best")
 
 
+def draw_scans(scans_: list[dict], fig_name: str, fig_dir: Path) -> Path:
+    """Fig. 5.5, 5.7 or 5.9 (`fig_name`): r_max against phi_1(0), each panel's starts marked by their decided
+    labels (`_dots`); fig_dir/fig5_N.png."""
+    plt = _plt()
+    panels = [s for s in scans_ if s["panel"].figure.startswith(fig_name + "(")]
+    cols = min(len(panels), 4)
+    rows = math.ceil(len(panels) / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), constrained_layout=True, squeeze=False)
+    for ax, s in zip(axes.ravel(), panels):
+        _dots(ax, s["phi_1"], s["r_max"], s["labels"])
+        ax.set_title(f"({s['panel'].figure.split('(')[1]} {s['panel'].text}", fontsize=7)
+        ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
+        ax.set_ylabel(r"$r_{max}$", fontsize=8)
+    for ax in axes.ravel()[len(panels):]:
+        ax.set_visible(False)
+    fig.suptitle(f"thesis Fig. {fig_name}: n = {panels[0]['panel'].n}, (5.1); '.' balanced, 'x' not, red "
+                 "triangle undecided (rtol 1e-8; decided labels)", fontsize=9)
+    path = fig_dir / f"fig{fig_name.replace('.', '_')}.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def draw(res: Everything, fig_dir: Path) -> dict[str, Path]:
     plt = _plt()
-    paths = {}
-    for fig_name in ("5.5", "5.7", "5.9"):
-        panels = [s for s in res.scans if s["panel"].figure.startswith(fig_name + "(")]
-        cols = min(len(panels), 4)
-        rows = math.ceil(len(panels) / cols)
-        fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), constrained_layout=True, squeeze=False)
-        for ax, s in zip(axes.ravel(), panels):
-            _dots(ax, s["phi_1"], s["r_max"], s["labels"])
-            ax.set_title(f"({s['panel'].figure.split('(')[1]} {s['panel'].text}", fontsize=7)
-            ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
-            ax.set_ylabel(r"$r_{max}$", fontsize=8)
-        for ax in axes.ravel()[len(panels):]:
-            ax.set_visible(False)
-        fig.suptitle(f"thesis Fig. {fig_name}: n = {panels[0]['panel'].n}, (5.1); '.' balanced, 'x' not, red "
-                     "triangle undecided (rtol 1e-8; decided labels)", fontsize=9)
-        paths[fig_name] = fig_dir / f"fig{fig_name.replace('.', '_')}.png"
-        fig.savefig(paths[fig_name], dpi=110)
-        plt.close(fig)
+    paths = {fig_name: draw_scans(res.scans, fig_name, fig_dir) for fig_name in ("5.5", "5.7", "5.9")}
     fig, axes = plt.subplots(1, 3, figsize=(9, 2.8), constrained_layout=True)
     for ax, (n, v) in zip(axes, res.launches.items()):
         _dots(ax, v["phi_1"], v["r_max"], v["labels"][LAUNCH_RTOLS[-1]])
