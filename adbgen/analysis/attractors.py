@@ -478,9 +478,10 @@ class Classifier:
         carried-on stretch (`approach.tail`, its criterion): a steady state Newton finds at the cap is named
         (with " (algebraic approach)" for the balanced state where r fell like a power of t); r decaying
         and below `threshold` at the cap (the balanced criterion: the thesis' r < 1e-3, the model's tenth
-        of the eccentricity, `units.default_threshold`) is balanced, exponentially or algebraically; r's
-        envelope in one band (`approach.BAND`) over the stretch's second half is a limit cycle; balls that keep turning (a whole turn or more
-        over the stretch) without either are desynchronised; anything else is undecided, with the reason.
+        of the eccentricity, `units.default_threshold`) is balanced, exponentially or algebraically (over
+        the stretch, or over its second half after a transient); r's envelope in one band
+        (`approach.BAND`) over the second half is a limit cycle; balls still turning (a whole turn or more
+        over the second half) without either are desynchronised; anything else is undecided, with the reason.
         """
         from .results import STOPPED, SUCCESS
 
@@ -528,21 +529,24 @@ class Classifier:
         ix, iy, _, _ = self.model.amplitude_indices
         r = np.hypot(Y[ix], Y[iy])
         fit = tail(t0 + times, r)
+        late = times >= 0.5 * times[-1]  # the stretch's second half: where the run has got to
+        late_fit = tail(t0 + times[late], r[late])
         turns = tuple(int(w) for w in windings(Y[balls(self.model)]))
+        late_turns = windings(Y[balls(self.model)][:, late])
         named = self._named(sim.y_end)
         if named is not None:
-            kind = fit.kind if fit.trend == "decays" else ""
+            kind = fit.kind if fit.trend == "decays" else late_fit.kind if late_fit.trend == "decays" else ""
             label = named + ALGEBRAIC if named == rest_name(self.model) and kind == "algebraic" else named
             return Outcome(label, kind, t_decided=cap, windings=turns, tail=fit)
-        if fit.trend == "decays" and fit.r_last < threshold:
-            return Outcome(rest_name(self.model) + (ALGEBRAIC if fit.kind == "algebraic" else ""), fit.kind, t_decided=cap,
-                           windings=turns, tail=fit)
-        # a cycle approached slowly: r's envelope keeps one band (within BAND) over the stretch's second half
-        # (one band over a last window alone would also pass a slow drift)
-        late = times >= 0.5 * times[-1]
-        if tail(t0 + times[late], r[late]).trend == "band":
+        for f in (fit, late_fit):  # decaying over the stretch, or over its second half (after a transient)
+            if f.trend == "decays" and f.r_last < threshold:
+                return Outcome(rest_name(self.model) + (ALGEBRAIC if f.kind == "algebraic" else ""), f.kind,
+                               t_decided=cap, windings=turns, tail=f)
+        # a cycle approached slowly: r's envelope keeps one band (within BAND) over the second half (one band
+        # over a last window alone would also pass a slow drift)
+        if late_fit.trend == "band":
             return Outcome("limit cycle", t_decided=cap, windings=turns, tail=fit)
-        if fit.trend != "decays" and any(abs(w) >= 1 for w in turns):
+        if fit.trend != "decays" and np.any(np.abs(late_turns) >= 1):  # balls still turning at the cap
             return Outcome(DESYNCHRONISED, t_decided=cap, windings=turns, tail=fit)
         where = f"r {fit.r_first:.2e} -> {fit.r_last:.2e} over t in [{t0:g}, {cap:g}]"
         if fit.trend == "decays":
