@@ -221,7 +221,7 @@ def label(model, status, y_end) -> list[str]:
     from adbgen.analysis.attractors import classifier
 
     clf = classifier(model, model.params(), "lyapunov")
-    return [clf.label(s, y, -1, engine=TODAY, rtol=RTOL, atol=ATOL) for s, y in zip(status, y_end)]
+    return [clf.label(s, y, -1, engine=TODAY, rtol=RTOL, atol=ATOL, t=T_END) for s, y in zip(status, y_end)]
 
 
 def bench_ensemble(workers: int | None = None, repeats: int = 1, grid=GRID, t_end: float = T_END, sweeps: bool = True,

@@ -13,10 +13,12 @@ equations were derived, checked and emitted upstream; here they are only evaluat
     auto        AUTO-07p on the emitted files: one- and two-parameter runs, fort.7/fort.8 readers
     orbits      periodic orbits: shooting on the variational equations, continuation, bifurcations, charts
     attractors  where a trajectory ends: steady states named, stop regions (basin_regions), the classifier
+    approach    r's rate of approach over a run's tail (exponential, algebraic, band, drift): decides a run
     grid, sweep, sweep_figures   grids of trajectories or steady states on Dask, into Zarr, drawn
     results     what a simulation returns
     reproduction  the reproduction document (the families' science packages give its sections)
 
 It knows no family: what it needs of a model it reads from the generated module's self-description
-(roles of the states, angles, amplitude, measures, symmetries, closed-form steady states).
+(roles of the states, angles, amplitude, measures, symmetries, closed-form steady states and their
+names).
 """

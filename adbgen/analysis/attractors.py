@@ -7,14 +7,17 @@
                                     provably converges to it (Lyapunov; early stop of sweeps): by the
                                     nonlinear decrease condition (`basin_regions`, the default) or by
                                     contraction (method="contraction", smaller)
-    Classifier(model, p).label(...) balanced 1, coincident 2+-, in-line 3(n-m)+-, limit cycle, unsettled
+    Classifier(model, p).decide(...) an Outcome: a steady state's name (the rest state's with " (algebraic
+                                    approach)" where r falls like a power of t), limit cycle,
+                                    desynchronised (windings), or undecided with the reason; .label(...)
 
 Newton and the transverse spectrum are those of `steady` (the stability layer); this module adds
 what the sweeps need on top: names, provable basin regions, and the classification of final states.
 
-The steady states are named by the balls' angles, as the thesis names them: balanced 1 (3.6) with the
-rotor's amplitude zero; coincident 2+- (3.9) with all balls together; in-line 3(n-m)+- (3.10) with m
-balls together and n - m opposite.  The sign is the branch of the closed form the state is (the
+The steady states are named by their configuration, with the names the generated module gives them
+(`Model.steady_state_names`; the thesis': balanced 1 (3.6) with the rotor's amplitude zero, coincident 2+- (3.9)
+with all balls together, in-line 3(n-m)+- (3.10) with m balls together and n - m opposite; a model that
+names none gets plain descriptions, `GENERIC_NAMES`).  The sign is the branch of the closed form the state is (the
 arccosine's in (3.9)/(3.10)): the trailing + or - of the label of the generated module's closed-form
 steady state (`Model.steady_states`) at the same angle; a model without such labels names no sign.
 Everything here reads the module's self-description: the balls are the states of role "ball_angle",
@@ -98,19 +101,74 @@ def balls(model: Model) -> list[int]:
     return list(model.role_indices("ball_angle"))
 
 
+ALGEBRAIC = " (algebraic approach)"  # appended to a state's name where r falls like a power of t
+DESYNCHRONISED = "desynchronised"
+UNDECIDED = "undecided"
+APPROACHES = ("", "exponential", "algebraic")  # the stored approach codes ("": not fitted, named directly)
+UNDECIDED_REASONS = ("",  # the stored codes of why a run is undecided
+                     "r decays but is still above the balanced criterion at the cap",
+                     "still drifting: no steady state, no band of r, no decay of r by the cap",
+                     "the carried-on run failed")
+CARRY_FACTOR = 2.0  # a run not named at t is carried on to CARRY_FACTOR t (the cap)
+
+
+GENERIC_NAMES = {"rest": "rotor at rest", "together": "balls together", "opposed": "balls opposed {m}-{k}"}
+
+
+def state_name(model: Model, configuration: str, m: int = 0) -> str:
+    """The name the model gives its steady states of a configuration (`Model.steady_state_names`: "rest",
+    "together", "opposed" with m balls together and the rest opposite); a plain description where the model
+    names none."""
+    n = len(balls(model))
+    template = model.steady_state_names.get(configuration, GENERIC_NAMES[configuration])
+    return template.format(n=n, m=m, k=n - m)
+
+
+def rest_name(model: Model) -> str:
+    """The name of the state with the rotor at rest (the thesis' balanced 1)."""
+    return state_name(model, "rest")
+
+
 def labels(model: Model) -> list[str]:
     """Every label a sweep of `model` can give, in a fixed order (the stored codes index this list)."""
     n = len(balls(model))
-    out = ["balanced 1"]
+    rest = rest_name(model)
+    out = [rest]
     if n >= 2:
-        out += ["coincident 2-", "coincident 2+", "coincident 2"]
+        together = state_name(model, "together")
+        out += [together + "-", together + "+", together]
         for m in range(n - 1, (n - 1) // 2, -1):  # m balls together, n - m opposite, m >= n - m
-            if 2 * m == n:
-                out.append(f"in-line 3({n}-{m})")
-            else:
-                out += [f"in-line 3({n}-{m})-", f"in-line 3({n}-{m})+", f"in-line 3({n}-{m})"]
-    out += ["other steady state", "limit cycle", "unsettled", "failed"]
+            opposed = state_name(model, "opposed", m)
+            out += [opposed] if 2 * m == n else [opposed + "-", opposed + "+", opposed]
+    out += ["other steady state", "limit cycle", DESYNCHRONISED, UNDECIDED, "failed", rest + ALGEBRAIC]
     return out
+
+
+def balanced_labels(model: Model) -> tuple[str, str]:
+    """The labels of a balanced outcome, the rotor at rest: approached exponentially, algebraically."""
+    rest = rest_name(model)
+    return rest, rest + ALGEBRAIC
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """Where a run ends, decided: its label, how r approached it where that decided it ("exponential",
+    "algebraic", or "" where the state was named directly), why it is undecided (`UNDECIDED_REASONS`
+    index and a sentence), the time the decision reached (t_end, or the cap a run was carried on to),
+    the balls' whole turns over the carried-on stretch, and the tail's fits (`approach.Tail`)."""
+
+    label: str
+    approach: str = ""
+    reason_code: int = 0
+    reason: str = ""
+    t_decided: float | None = None
+    windings: tuple[int, ...] = ()
+    tail: object = None
+
+    def to_json(self) -> dict:
+        return {"label": self.label, "approach": self.approach or None, "undecided_reason": self.reason or None,
+                "t_decided": self.t_decided, "windings": list(self.windings),
+                "tail": None if self.tail is None else self.tail.to_json()}
 
 
 def _grouping(model: Model, y, tol: float = 1e-6) -> tuple[int, float] | None:
@@ -145,15 +203,16 @@ def _signed_closed_forms(model: Model, p, m: int) -> list[tuple[str, float]]:
 
 
 def name_steady_state(model: Model, y, p, tol: float = 1e-6) -> str:
-    """The thesis' name of the steady state y: balanced 1, coincident 2+-, in-line 3(n-m)+-."""
+    """The model's name of the steady state y (`state_name`; thesis: balanced 1, coincident 2+-, in-line
+    3(n-m)+-)."""
     if amplitude_of(model, y) < 1e-8:
-        return "balanced 1"
+        return rest_name(model)
     group = _grouping(model, y, tol)
     if group is None:
         return "other steady state"
     m, ref = group
     n = len(balls(model))
-    kind = "coincident 2" if m == n else f"in-line 3({n}-{m})"
+    kind = state_name(model, "together") if m == n else state_name(model, "opposed", m)
     if 2 * m == n:
         return kind
     for sign, phi in _signed_closed_forms(model, p, m):
@@ -402,13 +461,47 @@ class Classifier:
     def code(self, name: str) -> int:
         return self.codes[name]
 
-    def label(self, status: str, y_end, target: int, *, engine=None, rtol=1e-8, atol=1e-10) -> str:
+    def label(self, status: str, y_end, target: int, *, engine=None, rtol=1e-8, atol=1e-10, t=None,
+              threshold=None) -> str:
+        """The label of `decide`."""
+        return self.decide(status, y_end, target, engine=engine, rtol=rtol, atol=atol, t=t,
+                           threshold=threshold).label
+
+    def decide(self, status: str, y_end, target: int, *, engine=None, rtol=1e-8, atol=1e-10, t=None,
+               threshold=None) -> Outcome:
+        """Where a run that reached y_end at time t ends.
+
+        Named directly: a stop region reached (or entered by t), or a steady state Newton finds at y_end
+        (within 1e-5, or within 1e-3 of a stable one).  Else a further window tells a limit cycle (r keeps
+        one band).  Else the run is carried on to the cap CARRY_FACTOR t (t None: the run's time is not
+        known, taken as the carried-on length 10 windows) and decided by r's rate of approach over the
+        carried-on stretch (`approach.tail`, its criterion): a steady state Newton finds at the cap is named
+        (with " (algebraic approach)" for the balanced state where r fell like a power of t); r decaying
+        and below `threshold` at the cap (the balanced criterion: the thesis' r < 1e-3, the model's tenth
+        of the eccentricity, `units.default_threshold`) is balanced, exponentially or algebraically (over
+        the stretch, or over its second half after a transient); r's envelope in one band
+        (`approach.BAND`) over the second half is a limit cycle; balls still turning (a whole turn or more
+        over the second half) without either are desynchronised; anything else is undecided, with the reason.
+        """
         from .results import STOPPED, SUCCESS
 
         if status == STOPPED and target >= 0:
-            return self.regions[target].label
+            return Outcome(self.regions[target].label, t_decided=t)
         if status != SUCCESS:
-            return "failed"
+            return Outcome("failed", t_decided=t)
+        named = self._named(y_end)
+        if named is not None:
+            return Outcome(named, t_decided=t)
+        if self._oscillation(y_end, engine, rtol, atol) == "limit cycle":
+            return Outcome("limit cycle", t_decided=t)
+        if threshold is None:
+            from .units import default_threshold
+
+            threshold = default_threshold(self.model, self.p)[0]
+        return self._carry_on(y_end, t, engine, rtol, atol, threshold)
+
+    def _named(self, y_end) -> str | None:
+        """The region's or steady state's name of y_end, None where it is neither."""
         k = self.inside(y_end)[0]  # forward invariant: inside at t_end means converging to it
         if k >= 0:
             return self.regions[k].label
@@ -419,13 +512,69 @@ class Classifier:
             gap = np.max(np.abs(state_difference(self.model, y, y_end)))
             if gap < 1e-5 or (gap < 1e-3 and spectrum(self.model, y, self.p).unstable() == 0):
                 return name_steady_state(self.model, y, self.p)
-        return self._oscillation(y_end, engine, rtol, atol)
+        return None
+
+    def _carry_on(self, y_end, t, engine, rtol, atol, threshold) -> Outcome:
+        """The run carried on from (t, y_end) to the cap and decided by its tail (see `decide`)."""
+        from .approach import tail, windings
+        from .simulate import simulate
+
+        t0 = 10.0 * self.window if t is None or not t > 0 else float(t)
+        cap = CARRY_FACTOR * t0
+        sim = simulate(self.model, self.p, np.asarray(y_end, float), t_end=cap - t0, rtol=rtol, atol=atol,
+                       engine=engine, keep_trajectory=True, check=False)
+        if not sim.ok or sim.t.size < 8:
+            return Outcome(UNDECIDED, reason_code=3, reason=f"the carried-on run failed ({sim.status})", t_decided=cap)
+        times, Y = self._fine(sim)
+        ix, iy, _, _ = self.model.amplitude_indices
+        r = np.hypot(Y[ix], Y[iy])
+        fit = tail(t0 + times, r)
+        late = times >= 0.5 * times[-1]  # the stretch's second half: where the run has got to
+        late_fit = tail(t0 + times[late], r[late])
+        turns = tuple(int(w) for w in windings(Y[balls(self.model)]))
+        late_turns = windings(Y[balls(self.model)][:, late])
+        named = self._named(sim.y_end)
+        if named is not None:
+            kind = fit.kind if fit.trend == "decays" else late_fit.kind if late_fit.trend == "decays" else ""
+            label = named + ALGEBRAIC if named == rest_name(self.model) and kind == "algebraic" else named
+            return Outcome(label, kind, t_decided=cap, windings=turns, tail=fit)
+        for f in (fit, late_fit):  # decaying over the stretch, or over its second half (after a transient)
+            if f.trend == "decays" and f.r_last < threshold:
+                return Outcome(rest_name(self.model) + (ALGEBRAIC if f.kind == "algebraic" else ""), f.kind,
+                               t_decided=cap, windings=turns, tail=f)
+        # a cycle approached slowly: r's envelope keeps one band (within BAND) over the second half (one band
+        # over a last window alone would also pass a slow drift)
+        if late_fit.trend == "band":
+            return Outcome("limit cycle", t_decided=cap, windings=turns, tail=fit)
+        if fit.trend != "decays" and np.any(np.abs(late_turns) >= 1):  # balls still turning at the cap
+            return Outcome(DESYNCHRONISED, t_decided=cap, windings=turns, tail=fit)
+        where = f"r {fit.r_first:.2e} -> {fit.r_last:.2e} over t in [{t0:g}, {cap:g}]"
+        if fit.trend == "decays":
+            return Outcome(UNDECIDED, fit.kind, 1, f"{UNDECIDED_REASONS[1]} ({where}, {fit.kind}; criterion r < "
+                           f"{threshold:g})", cap, turns, fit)
+        return Outcome(UNDECIDED, "", 2, f"{UNDECIDED_REASONS[2]} ({where}, {fit.trend})", cap, turns, fit)
+
+    def _fine(self, sim) -> tuple[np.ndarray, np.ndarray]:
+        """(times from the carried-on start, the coordinates) on the cubic Hermite interpolant of each
+        coordinate and its rate, ten points a step (r read between the engine's step points, as the band
+        test does)."""
+        from scipy.interpolate import CubicHermiteSpline
+
+        t, keep = np.unique(sim.t, return_index=True)
+        Y = sim.y[:, keep]
+        fine = np.linspace(t[0], t[-1], 10 * t.size)
+        nq = self.model.n_coordinates
+        out = np.empty((nq, fine.size))
+        for k in range(nq):
+            out[k] = CubicHermiteSpline(t, Y[k], Y[self.model.rate_index(k)])(fine)
+        return fine, out
 
     def _oscillation(self, y_end, engine, rtol, atol) -> str:
         """limit cycle: over a further window r keeps one band (its max and min in both halves agree to
-        1 % of the max); otherwise unsettled.  r is read between the engine's step points too, on the cubic
-        Hermite interpolant of x and y (their rates are states), ten points a step: on the step points alone
-        the band depended on where an engine's steps fell (long Taylor steps put a cycle's band over 1 %)."""
+        1 % of the max); otherwise not named here ("").  r is read between the engine's step points too, on
+        the cubic Hermite interpolant of x and y (their rates are states), ten points a step: on the step
+        points alone the band depended on where an engine's steps fell (long Taylor steps put a cycle's band
+        over 1 %)."""
         from scipy.interpolate import CubicHermiteSpline
 
         from .simulate import simulate
@@ -433,18 +582,20 @@ class Classifier:
         sim = simulate(self.model, self.p, np.asarray(y_end, float), t_end=self.window, rtol=rtol, atol=atol,
                        engine=engine, keep_trajectory=True, check=False)
         if not sim.ok or sim.t.size < 8:
-            return "unsettled"
+            return ""
         t, keep = np.unique(sim.t, return_index=True)
         Y = sim.y[:, keep]
         ix, iy, ixd, iyd = self.model.amplitude_indices
         fine = np.linspace(t[0], t[-1], 10 * t.size)
         r = np.hypot(CubicHermiteSpline(t, Y[ix], Y[ixd])(fine), CubicHermiteSpline(t, Y[iy], Y[iyd])(fine))
         half = fine >= 0.5 * self.window
-        a, b = r[~half], r[half]
-        top = max(a.max(), b.max())
-        if abs(a.max() - b.max()) <= 0.01 * top and abs(a.min() - b.min()) <= 0.01 * top:
-            return "limit cycle"
-        return "unsettled"
+        return "limit cycle" if _one_band(r[~half], r[half]) else ""
+
+
+def _one_band(a, b) -> bool:
+    """r keeps one band: its max and min over the two halves a, b of a window agree to 1 % of the max."""
+    top = max(a.max(), b.max())
+    return abs(a.max() - b.max()) <= 0.01 * top and abs(a.min() - b.min()) <= 0.01 * top
 
 
 @lru_cache(maxsize=64)

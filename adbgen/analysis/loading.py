@@ -254,6 +254,13 @@ class Model:
         return dict(self._described("SCALES"))
 
     @property
+    def steady_state_names(self) -> dict[str, str]:
+        """The steady states' names by configuration, as the model's reference names them: "rest" (the rotor's
+        amplitude zero), "together" (every ball at one angle), "opposed" (a template in {n}, {m} balls
+        together, {k} opposite); {} where the model names none."""
+        return dict(self._described("STEADY_STATE_NAMES"))
+
+    @property
     def steady_states(self) -> tuple[str, ...]:
         """The labels of the closed-form steady states ("1", "2+", "3(1)-", "B", ...)."""
         return tuple(self._described("STEADY_STATES"))

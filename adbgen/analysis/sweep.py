@@ -13,6 +13,11 @@ the same settings computes only the blocks not done.  Zarr's local store writes 
 atomically (temporary file and rename), and the store itself is created in a temporary folder and
 renamed into place, so no state of the folder is half written.
 
+Outcomes are decided (`attractors.Classifier.decide`): a run not named at t_end is carried on to the cap
+(`attractors.CARRY_FACTOR` t_end) and decided by r's rate of approach, or left `undecided` with its reason;
+the store keeps the approach and the reason per point, and the summary counts undecided runs apart, never
+as not balanced (`outcome_counts`).
+
 Shortcuts (each switchable; tests show they give the labels of the full integration):
 
 * early stop (measure `attractor`): every `check_dt` the trajectories inside the provable basin region
@@ -279,7 +284,7 @@ def compute_points(spec: SweepSpec, flat: np.ndarray, threads: int = 1) -> dict:
     With the symmetry shortcut only one point of each ball-swapped pair is computed; its partner gets
     the same value and the swapped final state.  For `attractor` only where the label is certain: the
     trajectory stopped in (or ended inside) a provable basin region.  Elsewhere (limit cycles,
-    unsettled, states reached without a region) the partner is integrated too: the integration is
+    undecided runs, states reached without a region) the partner is integrated too: the integration is
     equivariant only up to rounding (the step-size control sums its error norm in state order, the
     rhs its ball terms in ball order), and near a basin boundary rounding can decide the label, so the
     full integration's own map need not be symmetric there (benchmarks/sweep.json)."""
@@ -400,13 +405,16 @@ def _stability(model: Model, P: np.ndarray) -> dict:
 
 def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, threads: int) -> dict:
     """Labels (codes into attractors.labels(model)) by segmented integration with optional early stop."""
-    from .attractors import classifier
+    from .attractors import APPROACHES, classifier
 
     n = len(P)
     value = np.full(n, -1, dtype=np.int8)
     y_end = np.array(Y0, float)
     t_last = np.zeros(n)
     certain = np.zeros(n, dtype=np.uint8)  # the label comes from a provable basin region
+    approach = np.zeros(n, dtype=np.int8)  # attractors.APPROACHES code: how r approached, where that decided
+    undecided = np.zeros(n, dtype=np.int8)  # attractors.UNDECIDED_REASONS code (0: decided)
+    t_decided = np.zeros(n)  # t_end, or the cap a run not named at t_end was carried on to
     keys, groups = np.unique(P, axis=0, return_inverse=True)
     n_rhs = 0
     cpu = {"regions": 0.0, "integrate": 0.0, "classify": 0.0}  # this thread's CPU time by phase
@@ -420,15 +428,19 @@ def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, th
         n_rhs += evals
         inside = clf.inside(y_end[rows])
         for k, row in enumerate(rows):
-            name = clf.label(status[k], y_end[row], stop[k], engine=spec.engine, rtol=spec.rtol, atol=spec.atol)
-            value[row] = clf.code(name)
+            out = clf.decide(status[k], y_end[row], stop[k], engine=spec.engine, rtol=spec.rtol, atol=spec.atol,
+                             t=t_last[row], threshold=spec.threshold)
+            value[row] = clf.code(out.label)
+            approach[row] = APPROACHES.index(out.approach)
+            undecided[row] = out.reason_code
+            t_decided[row] = t_last[row] if out.t_decided is None else out.t_decided
             certain[row] = status[k] == "stopped" or (status[k] == "success" and inside[k] >= 0)
         c3 = time.thread_time()
         cpu["regions"] += c1 - c0
         cpu["integrate"] += c2 - c1
         cpu["classify"] += c3 - c2
-    return {"value": value, "y_end": y_end, "t_last": t_last, "certain": certain, "integrated": n, "n_rhs": n_rhs,
-            "cpu_s": cpu}
+    return {"value": value, "y_end": y_end, "t_last": t_last, "certain": certain, "approach": approach,
+            "undecided": undecided, "t_decided": t_decided, "integrated": n, "n_rhs": n_rhs, "cpu_s": cpu}
 
 
 def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
@@ -455,6 +467,8 @@ def settings(spec: SweepSpec, model: Model) -> dict:
         s.pop("check_tolerance", None)  # as stores written before the option: they resume
     s["model"] = model.name
     s["source_hash"] = model.source_hash
+    if spec.measure == "attractor":  # the labels are decided (carried on, `attractors.Classifier.decide`)
+        s["outcomes"] = "decided"
     return s
 
 
@@ -470,6 +484,8 @@ def _variables(spec: SweepSpec, model: Model):
     if checks_tolerance(spec):
         out += [(f"{main[0]}_tighter", *main[1:], ()), (f"{main[0]}_second_engine", *main[1:], ()),
                 ("tolerance_sensitive", "int8", -1, ())]
+    if spec.measure == "attractor":
+        out += [("approach", "int8", -1, ()), ("undecided", "int8", -1, ()), ("t_decided", "float64", np.nan, ())]
     out.append(("done", "uint8", 0, ()))
     return out
 
@@ -541,6 +557,22 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
     })
     if spec.measure in ("attractor", "stability"):
         ds.attrs["labels"] = json.dumps(labels(model))
+    if spec.measure == "attractor":
+        from .attractors import APPROACHES, CARRY_FACTOR, UNDECIDED_REASONS, balanced_labels
+
+        ds.attrs["balanced_labels"] = json.dumps(list(balanced_labels(model)))
+        ds["approach"].attrs.update(description="how r approached the state where that decided the label "
+                                                "(attractors.Classifier.decide): index into `approaches`",
+                                    flag_values=list(range(len(APPROACHES))), flag_meanings=list(APPROACHES))
+        ds["undecided"].attrs.update(description="why the label is undecided (0: decided): index into "
+                                                 "`undecided_reasons`", flag_values=list(range(len(UNDECIDED_REASONS))),
+                                     flag_meanings=list(UNDECIDED_REASONS))
+        ds["t_decided"].attrs["description"] = ("the time the label was decided at: t_end, the early stop, or the "
+                                                "cap a run not named at t_end was carried on to")
+        ds.attrs["approaches"] = json.dumps(list(APPROACHES))
+        ds.attrs["undecided_reasons"] = json.dumps(list(UNDECIDED_REASONS))
+        ds.attrs["carry_on"] = (f"a run not named at t_end is carried on to {CARRY_FACTOR:g} t_end (the cap) and "
+                                "decided by the rate of approach of r (adbgen.analysis.approach)")
     if spec.measure == "stability":
         ds["steady_state"].attrs["description"] = ("which steady state Newton reached from START: index "
                                                    "into the attribute `labels`")
@@ -664,6 +696,8 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
                "figures": [], "timing": timing}
     if checks_tolerance(spec):
         summary.update(tolerance_summary(path))
+    if spec.measure == "attractor":
+        summary["outcomes"] = outcome_counts(path)
     if figures:
         from .sweep_figures import write_figures
 
@@ -684,6 +718,33 @@ def tolerance_summary(path: Path) -> dict:
     check = json.loads(group.attrs["tolerance_check"])
     return {"tolerance_sensitive": int((flags[done] == 1).sum()),
             "tolerance_check": {**check, "checked": int(done.sum())}}
+
+
+def outcome_counts(store: Path) -> dict:
+    """An attractor store's decided labels counted (computed points only): {"counts": {label: n}, "balanced",
+    "not_balanced", "undecided" and "failed" (never counted as not balanced), "undecided_reasons": {reason: n},
+    "approaches": {kind: n}, "carry_on": the cap the undecided runs were carried on to}."""
+    import zarr
+
+    group = zarr.open_group(str(store), mode="r")
+    names = json.loads(group.attrs["labels"])
+    rest = set(json.loads(group.attrs.get("balanced_labels", json.dumps(names[:1]))))  # older stores: the first
+    done = np.asarray(group["done"][...], dtype=bool)
+    codes = np.asarray(group["attractor"][...])[done]
+    labels_ = [names[int(c)] if c >= 0 else "not computed" for c in codes]
+    counts = {k: labels_.count(k) for k in sorted(set(labels_))}
+    out = {"counts": counts, "balanced": sum(v for k, v in counts.items() if k in rest),
+           "undecided": counts.get("undecided", 0), "failed": counts.get("failed", 0)}
+    out["not_balanced"] = len(labels_) - out["balanced"] - out["undecided"] - out["failed"]
+    if "undecided" in group:  # stores written before outcomes were decided have no reasons
+        reasons = json.loads(group.attrs["undecided_reasons"])
+        kinds = json.loads(group.attrs["approaches"])
+        r = np.asarray(group["undecided"][...])[done]
+        a = np.asarray(group["approach"][...])[done]
+        out["undecided_reasons"] = {reasons[k]: int((r == k).sum()) for k in sorted(set(r.tolist())) if k > 0}
+        out["approaches"] = {kinds[k]: int((a == k).sum()) for k in sorted(set(a.tolist())) if k > 0}
+        out["carry_on"] = group.attrs["carry_on"]
+    return out
 
 
 def _connect(scheduler: str | None, workers: int | None):

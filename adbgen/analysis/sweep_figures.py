@@ -1,7 +1,8 @@
 """Figures of a sweep store, PNG and PDF beside it, in the style of the thesis' ch. 4-5 maps.
 
     basins (attractor)   each grid point coloured by where its trajectory ends (balanced 1 dark, as the
-                         thesis shades the balanced state's basin in Fig. 5.18-5.20)
+                         thesis shades the balanced state's basin in Fig. 5.18-5.20); undecided runs red,
+                         their own class in the legend (with the count), never one of the outcomes
     r_max, t_dec         colour maps (t_dec: grey where r has not settled by t_end)
     stability            regions by the number of unstable eigenvalues (0: stable, shaded dark as the
                          thesis' Fig. 4.1, 4.5, 4.10)
@@ -133,7 +134,10 @@ def _categorical(fig, ax, da, done, names, dims):
 
     codes = np.where(done, da.values, -1)
     present = sorted(int(c) for c in np.unique(codes) if c >= 0)
-    palette = {"balanced 1": "#1b2a49", "limit cycle": "#e8a33d", "unsettled": "#c44e52", "failed": "#000000"}
+    # undecided runs (and failed ones) are their own classes, each with its colour and legend entry: never
+    # drawn as an outcome ("unsettled": the label of stores written before outcomes were decided)
+    palette = {"balanced 1": "#1b2a49", "balanced 1 (algebraic approach)": "#4a6fa5", "limit cycle": "#e8a33d",
+               "desynchronised": "#8c564b", "undecided": "#c44e52", "unsettled": "#c44e52", "failed": "#000000"}
     others = iter(["#7fb3d5", "#76b7a0", "#b07aa1", "#9c755f", "#bab0ac", "#59a14f", "#edc948", "#ff9da7"])
     colours = {c: palette.get(names[c]) or next(others, "#888888") for c in present}
     if len(dims) == 1:

@@ -21,7 +21,7 @@ from typing import Sequence
 
 import sympy as sp
 
-from ..core.description import BALL, ROLES, TIME_UNITS, Candidate, Description, rate_unit
+from ..core.description import BALL, ROLES, STATE_CONFIGURATIONS, TIME_UNITS, Candidate, Description, rate_unit
 from ..core.first_order import FirstOrderSystem
 from ..core.model_spec import ModelSpec
 from ..errors import AdbgenError
@@ -64,6 +64,8 @@ class SelfDescription:
     closed_forms: tuple[ClosedFormIR, ...]
     # (label, note, closed form index, its arguments)
     steady_states: tuple[tuple[str, str, int, tuple[float, ...]], ...]
+    # (configuration, name) of the steady states' names (`core.description.STATE_CONFIGURATIONS`)
+    steady_state_names: tuple[tuple[str, str], ...]
     # the declaration and the measures' expressions, for the checks (not rendered)
     declared: Description = field(compare=False, repr=False)
     measure_exprs: tuple[sp.Expr, ...] = field(compare=False, repr=False, default=())
@@ -79,7 +81,8 @@ class SelfDescription:
     def fingerprint_text(self) -> str:
         parts = [repr((self.family, self.kind, self.time_unit, self.state_units, self.roles, self.angles,
                        self.amplitude, self.measure_names, self.forcing_frequency, self.symmetries,
-                       self.parameter_sets, self.scales, self.steady_states))]
+                       self.parameter_sets, self.scales, self.steady_states))
+                 + (repr(self.steady_state_names) if self.steady_state_names else "")]
         kernels = [self.measures, *self.measure_kernels] + [k for f in self.closed_forms for k in f.candidates]
         for f in self.closed_forms:
             parts.append(repr((f.name, [a.name for a in f.arguments], len(f.candidates))))
@@ -280,9 +283,19 @@ def lower_description(spec: ModelSpec, system: FirstOrderSystem, form: str = "lo
         labels.append((st.label, st.note, k, tuple(float(v) for v in st.arguments)))
     if len({lab for lab, *_ in labels}) != len(labels):
         _refuse(model, "steady-state labels must differ")
+    unknown = sorted(set(d.steady_state_names) - set(STATE_CONFIGURATIONS))
+    if unknown:
+        _refuse(model, f"state names for {unknown}: configurations are {', '.join(STATE_CONFIGURATIONS)}")
+    for key, name in d.steady_state_names.items():
+        try:
+            name.format(n=2, m=1, k=1)
+        except (KeyError, IndexError, ValueError):
+            _refuse(model, f"state name {name!r} ({key}): a template in {{n}}, {{m}}, {{k}} only")
     return SelfDescription(
         family=spec.family, kind=spec.kind, time_unit=d.time_unit, state_units=units, roles=roles,
         angles=tuple(d.angles), amplitude=tuple(d.amplitude), measure_names=tuple(names), measures=every,
         measure_kernels=alone, forcing_frequency=d.forcing_frequency, symmetries=tuple(syms),
         parameter_sets=tuple(sets), scales=tuple((k, d.scales[k]) for k in ("eccentricity", "speed") if k in d.scales),
-        closed_forms=tuple(forms), steady_states=tuple(labels), declared=d, measure_exprs=tuple(exprs))
+        closed_forms=tuple(forms), steady_states=tuple(labels),
+        steady_state_names=tuple((k, d.steady_state_names[k]) for k in STATE_CONFIGURATIONS if k in d.steady_state_names), declared=d,
+        measure_exprs=tuple(exprs))

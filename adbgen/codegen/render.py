@@ -146,7 +146,8 @@ def describe_data(ir: ModelIR) -> dict:
         return {"present": False, "family": "", "kind": "", "time_unit": "", "state_units": [""] * ir.n_states,
                 "roles": [""] * ir.n_states, "angles": [], "angle_indices": [], "amplitude": [],
                 "amplitude_indices": [], "measures": [], "forcing_frequency": "", "forcing_index": -1,
-                "symmetries": [], "parameter_sets": [], "scales": [], "labels": [], "forms": [], "max_args": 0}
+                "symmetries": [], "parameter_sets": [], "scales": [], "labels": [], "forms": [], "max_args": 0,
+                "steady_state_names": []}
     defaults = [q.default for q in ir.parameters]
     sets = []
     for name, values in d.parameter_sets:
@@ -167,6 +168,7 @@ def describe_data(ir: ModelIR) -> dict:
         "forms": [{"name": f.name, "candidates": len(f.candidates), "arguments": [a.name for a in f.arguments]}
                   for f in d.closed_forms],
         "max_args": max(1, d.max_arguments),
+        "steady_state_names": list(d.steady_state_names),
     }
 
 

@@ -31,6 +31,9 @@ ROLES = ("translation", "tilt", "ball_angle", "spin_angle", "oscillator")
 IDENTICAL_BALLS = "identical-balls"
 RACE_SWAP = "race-swap"
 TIME_UNITS = ("s", "1")
+# The configurations a steady state of balls can be named by (`Description.steady_state_names`): the rotor at rest
+# (amplitude zero), every ball at one angle, the balls in two opposite groups of m (the larger) and k = n - m.
+STATE_CONFIGURATIONS = ("rest", "together", "opposed")
 
 
 @dataclass(frozen=True)
@@ -105,7 +108,10 @@ class Description:
     states.  ``forcing_frequency``: the parameter whose 2 pi / value is the
     forcing period of a periodically forced model, "" otherwise.  ``parameter_sets``: {name: {parameter:
     value}} (parameters not named keep their defaults).  ``scales``: {"eccentricity": parameter,
-    "speed": parameter} where the model has them.
+    "speed": parameter} where the model has them.  ``steady_state_names``: the names of its steady states by their
+    configuration (`STATE_CONFIGURATIONS`; "opposed" a template in {n} balls, {m} of them together, {k}
+    opposite), as the reference names them (thesis: balanced 1, coincident 2, in-line 3(n-m)); a branch
+    sign + or - is appended from the closed-form label the state is (`steady_states`).
     """
 
     time_unit: str
@@ -120,6 +126,7 @@ class Description:
     scales: Mapping[str, str] = field(default_factory=dict)
     closed_forms: tuple[ClosedForm, ...] = ()
     steady_states: tuple[SteadyState, ...] = ()
+    steady_state_names: Mapping[str, str] = field(default_factory=dict)
 
 
 def rate_unit(unit: str, time_unit: str) -> str:

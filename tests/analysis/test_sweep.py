@@ -61,7 +61,7 @@ def test_attractor_sweep_equals_points_one_by_one(tmp_path, saved_figures):
         for j, b in enumerate(ds.phi_2.values):
             sim = simulate(model, p, model.state({"phi_1": a, "phi_2": b}), t_end=300.0, keep_trajectory=False,
                            check=False)
-            alone = clf.label(sim.status, sim.y_end, -1)
+            alone = clf.label(sim.status, sim.y_end, -1, t=300.0, threshold=spec.threshold)
             assert names[int(ds.attractor.values[i, j])] == alone, (a, b)
     got = {names[c] for c in np.unique(ds.attractor.values)}
     assert "balanced 1" in got and "coincident 2-" in got  # the diagonal: balls together stay together
@@ -371,3 +371,49 @@ def test_bad_ties_are_refused(tmp_path, tie, message):
     spec = SweepSpec(model="thesis_rotating_n4", grid=["phi_1=0:1:2", "phi_2=0:1:2"], tie=[tie], measure="r_max")
     with pytest.raises(AnalysisError, match=message.replace("+", r"\+")):
         prepare(spec)
+
+
+def test_decided_outcomes_are_counted_and_undecided_is_never_not_balanced(tmp_path):
+    """Fig. 5.11's n = 3 launches 0-2 (rtol 1e-10, t_end 3000): 0 and 1 end in the balanced state's region,
+    2 is not named at t_end and is carried on to the cap 6000 and decided by its exponential approach.  The
+    --json summary counts the decided labels; an undecided point (planted into the store) is counted as
+    undecided, never as not balanced, and the figure draws it as its own legend entry."""
+    spec = SweepSpec(model="thesis_rotating_n3", grid=["phi_1=0:2*pi*2/100:3"], measure="attractor",
+                     y0=["phi_1_dot=-4", "phi_2_dot=-4", "phi_3_dot=-4"],
+                     tie=["phi_2=phi_1+2*pi/3", "phi_3=phi_1-2*pi/3"], t_end=3000.0, rtol=1e-10, atol=1e-12,
+                     engine="cyrk-dop853")
+    summary = run_sweep(spec, tmp_path, progress=False, workers=1)
+    out = summary["outcomes"]
+    assert out["counts"] == {"balanced 1": 3} and (out["balanced"], out["not_balanced"], out["undecided"]) == (3, 0, 0)
+    assert out["approaches"] == {"exponential": 1} and "2 t_end" in out["carry_on"]
+    ds = _open(tmp_path)
+    assert ds["t_decided"].values.tolist() == [3000.0, 3000.0, 6000.0]
+    # negative control: plant an undecided point; it must not move into "not balanced"
+    from adbgen.analysis.sweep import outcome_counts
+    from adbgen.analysis.sweep_figures import write_figures
+
+    names = json.loads(ds.attrs["labels"])
+    group = zarr.open_group(str(tmp_path / "sweep.zarr"), mode="r+")
+    group["attractor"][2] = names.index("undecided")
+    group["undecided"][2] = 2
+    out = outcome_counts(tmp_path / "sweep.zarr")
+    assert (out["balanced"], out["not_balanced"], out["undecided"]) == (2, 0, 1)
+    assert list(out["undecided_reasons"]) == [attractors.UNDECIDED_REASONS[2]]
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    seen = []
+    real_savefig = plt.Figure.savefig
+
+    def spy(fig, *a, **kw):
+        seen.extend(t.get_text() for ax in fig.axes for t in ax.get_yticklabels())
+        return real_savefig(fig, *a, **kw)
+
+    plt.Figure.savefig = spy
+    try:
+        write_figures(tmp_path / "sweep.zarr")
+    finally:
+        plt.Figure.savefig = real_savefig
+    assert "undecided" in seen and "balanced 1" in seen

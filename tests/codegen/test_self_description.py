@@ -371,6 +371,26 @@ def test_names_the_model_does_not_have_are_refused():
         build_ir(_redeclared(sp_models.thesis_rotating(2), parameter_sets={"x": {"nu": 1.0}}))
 
 
+def test_state_names_are_the_models_and_a_wrong_one_is_refused():
+    """The thesis' names of its steady states are what the generated modules say about themselves (the
+    attractor labels are made from them); the two-plane models name none.  Negative controls: an unknown
+    configuration and a template with another field are refused."""
+    from adbgen.analysis import attractors
+
+    for n in (2, 3, 4):
+        assert module(f"thesis_rotating_n{n}").STEADY_STATE_NAMES == {"rest": "balanced 1", "together": "coincident 2",
+                                                              "opposed": "in-line 3({n}-{m})"}
+    m = load_model("thesis_rotating_n3")
+    assert attractors.labels(m)[:7] == ["balanced 1", "coincident 2-", "coincident 2+", "coincident 2",
+                                        "in-line 3(3-2)-", "in-line 3(3-2)+", "in-line 3(3-2)"]
+    assert module("two_plane_rotating").STEADY_STATE_NAMES == {}
+    assert attractors.rest_name(load_model("two_plane_rotating")) == "rotor at rest"
+    with pytest.raises(DescriptionError, match="configurations are rest, together, opposed"):
+        build_ir(_redeclared(sp_models.thesis_rotating(2), steady_state_names={"spinning": "x"}))
+    with pytest.raises(DescriptionError, match="a template in"):
+        build_ir(_redeclared(sp_models.thesis_rotating(2), steady_state_names={"opposed": "3({n}-{j})"}))
+
+
 def test_regenerate_refuses_a_wrong_declaration_and_writes_nothing(tmp_path, capsys):
     from adbgen.cli import main
 

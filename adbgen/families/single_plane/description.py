@@ -102,6 +102,10 @@ def thesis_steady_states(n: int) -> tuple[tuple[ClosedForm, ...], tuple[SteadySt
     return forms, tuple(states)
 
 
+# the thesis' names of its steady states (ch. 3): balanced 1 (3.6), coincident 2+- (3.9), in-line 3(n-m)+- (3.10)
+THESIS_NAMES = {"rest": "balanced 1", "together": "coincident 2", "opposed": "in-line 3({n}-{m})"}
+
+
 def _balls(system: FirstOrderSystem) -> list[str]:
     return [system.coordinates[k].name for k in system.solve.leaves]
 
@@ -146,11 +150,13 @@ def describe(system: FirstOrderSystem, *, rotating: bool, dimensionless: bool, t
     scales = {k: v for k, v in (("eccentricity", "delta" if dimensionless else "eps"),
                                 ("speed", "Omega" if dimensionless else "omega")) if v in params}
     forms, states = thesis_steady_states(len(balls)) if thesis_states else ((), ())
+    names = THESIS_NAMES if thesis_states else {}
     return Description(
         time_unit="1" if dimensionless else "s", units=units, roles=roles, angles=angles, amplitude=rotor,
         measures=spin_measures(system.solve.eom), forcing_frequency=_forcing(system) if forcing is None else forcing,
         symmetries=ball_exchanges(balls, _own_parameters(system, balls)),
-        parameter_sets=dict(parameter_sets or {}), scales=scales, closed_forms=forms, steady_states=states)
+        parameter_sets=dict(parameter_sets or {}), scales=scales, closed_forms=forms, steady_states=states,
+        steady_state_names=names)
 
 
 def thesis_rotating(system: FirstOrderSystem) -> Description:
@@ -191,4 +197,5 @@ def fixed_frame(system: FirstOrderSystem, parameter_sets: Mapping | None = None)
             "model" + (" without gravity (given where g == 0)" if no_gravity else ""))
     from dataclasses import replace
 
-    return replace(d, closed_forms=(form,), steady_states=(SteadyState("1", note, "balanced", (), exists),))
+    return replace(d, closed_forms=(form,), steady_states=(SteadyState("1", note, "balanced", (), exists),),
+                   steady_state_names=THESIS_NAMES)

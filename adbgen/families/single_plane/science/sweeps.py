@@ -17,11 +17,19 @@ from pathlib import Path
 
 import numpy as np
 
+from ....analysis.attractors import ALGEBRAIC, UNDECIDED
 from ....analysis.sweep import SweepSpec, run_sweep
+from ..description import THESIS_NAMES
 from .balanced import balanced_stable
 
 PI = math.pi
-BALANCED = "balanced 1"
+BALANCED = THESIS_NAMES["rest"]  # the decided labels (`attractors.Classifier.decide`): balanced (exponential or
+# algebraic approach), not balanced, or undecided, never counted as not balanced
+
+
+def balanced(label: str) -> bool:
+    """A balanced outcome, approached exponentially or algebraically."""
+    return label in (BALANCED, BALANCED + ALGEBRAIC)
 RTOL = 1e-8  # the sweeps' tolerance (atol rtol/100), as the basin maps of Figs. 5.18, 5.19
 
 
@@ -54,6 +62,20 @@ def command(model: str, grid, measure: str, set_=(), y0=(), tie=(), t_end: float
 
 def named(labels, codes) -> list[str]:
     return [labels[int(c)] if c >= 0 else "not computed" for c in np.ravel(codes)]
+
+
+def is_balanced(labels) -> np.ndarray:
+    """Where the decided label is balanced (exponentially or algebraically)."""
+    return np.vectorize(balanced, otypes=[bool])(np.asarray(labels, dtype=object))
+
+
+def is_open(labels) -> np.ndarray:
+    """Where the run is undecided, failed or not computed: neither balanced nor not balanced."""
+    return np.isin(np.asarray(labels, dtype=object), [UNDECIDED, "failed", "not computed"])
+
+
+def count_balanced(labels) -> int:
+    return int(is_balanced(labels).sum())
 
 
 # ------------------------------------------------------------------- Figs. 5.5, 5.7, 5.9: r_max scans
@@ -148,7 +170,7 @@ def launches() -> dict:
             codes, labels, fine = sweep(model, [grid], "attractor", y0=y0, tie=ties, rtol=LAUNCH_RTOLS[-1])
             names = named(labels, codes)
             switches = sum(a != b for a, b in zip(names, names[1:]))
-            local.append({"phi_1": float(phi[k]), "balanced": names.count(BALANCED), "points": len(names),
+            local.append({"phi_1": float(phi[k]), "balanced": count_balanced(names), "points": len(names),
                           "switches": switches})
         out[n] = {"phi_1": phi, "labels": by_tol, "changes": [float(phi[k]) for k in changes], "local": local,
                   "command": command(model, [LAUNCH_GRID], "attractor", y0=y0, tie=ties)}
@@ -175,9 +197,11 @@ def basins_n3(size: int = 40) -> list[dict]:
                                  tie=("phi_3=phi_1+pi",), t_end=N3_T_END)
         names = np.array(named(labels, codes)).reshape(codes.shape)
         diag = np.eye(size, dtype=bool)
-        out.append({"zeta": zeta, "balanced": int((names == BALANCED).sum()), "points": names.size,
-                    "off_diagonal_balanced": int(((names == BALANCED) & ~diag).sum()),
-                    "diagonal_balanced": int(((names == BALANCED) & diag).sum()),
+        ok = is_balanced(names)
+        out.append({"zeta": zeta, "balanced": int(ok.sum()), "points": names.size,
+                    "undecided": int(is_open(names).sum()),
+                    "off_diagonal_balanced": int((ok & ~diag).sum()),
+                    "diagonal_balanced": int((ok & diag).sum()),
                     "counts": {k: int((names == k).sum()) for k in sorted(set(names.ravel()))}})
     return out
 
@@ -294,7 +318,7 @@ def compute(progress=None) -> Everything:
     out.scans = scans()
     say("Figs. 5.5, 5.7, 5.9: r_max scans done")
     out.launches = launches()
-    say("Figs. 5.10-5.11: " + ", ".join(f"n = {n}: {v['labels'][LAUNCH_RTOLS[-1]].count(BALANCED)} balanced"
+    say("Figs. 5.10-5.11: " + ", ".join(f"n = {n}: {count_balanced(v['labels'][LAUNCH_RTOLS[-1]])} balanced"
                                          for n, v in out.launches.items()))
     for n, v in out.launches.items():
         v["r_max"] = sweep(f"thesis_rotating_n{n}", [LAUNCH_GRID], "r_max",
@@ -323,32 +347,43 @@ def _plt():
 
 
 def _dots(ax, x, y, labels):
-    """The thesis' markers: '.' where the run balances, 'x' where it does not."""
-    ok = np.array([lab == BALANCED for lab in labels])
-    ax.plot(np.asarray(x)[ok], np.asarray(y)[ok], "k.", ms=3)
-    ax.plot(np.asarray(x)[~ok], np.asarray(y)[~ok], "kx", ms=4)
+    """The thesis' markers: '.' where the run balances, 'x' where it does not; an undecided (or failed) run
+    is its own class, a red triangle with its own legend entry, never an 'x'."""
+    ok, open_ = is_balanced(labels), is_open(labels)
+    x, y = np.asarray(x), np.asarray(y)
+    ax.plot(x[ok], y[ok], "k.", ms=3, label=f"balanced ({int(ok.sum())})")
+    ax.plot(x[~ok & ~open_], y[~ok & ~open_], "kx", ms=4, label=f"not balanced ({int((~ok & ~open_).sum())})")
+    if open_.any():
+        ax.plot(x[open_], y[open_], "^", color="#c44e52", ms=4, label=f"undecided ({int(open_.sum())})")
+        ax.legend(fontsize=6, loc="best")
+
+
+def draw_scans(scans_: list[dict], fig_name: str, fig_dir: Path) -> Path:
+    """Fig. 5.5, 5.7 or 5.9 (`fig_name`): r_max against phi_1(0), each panel's starts marked by their decided
+    labels (`_dots`); fig_dir/fig5_N.png."""
+    plt = _plt()
+    panels = [s for s in scans_ if s["panel"].figure.startswith(fig_name + "(")]
+    cols = min(len(panels), 4)
+    rows = math.ceil(len(panels) / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), constrained_layout=True, squeeze=False)
+    for ax, s in zip(axes.ravel(), panels):
+        _dots(ax, s["phi_1"], s["r_max"], s["labels"])
+        ax.set_title(f"({s['panel'].figure.split('(')[1]} {s['panel'].text}", fontsize=7)
+        ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
+        ax.set_ylabel(r"$r_{max}$", fontsize=8)
+    for ax in axes.ravel()[len(panels):]:
+        ax.set_visible(False)
+    fig.suptitle(f"thesis Fig. {fig_name}: n = {panels[0]['panel'].n}, (5.1); '.' balanced, 'x' not, red "
+                 "triangle undecided (rtol 1e-8; decided labels)", fontsize=9)
+    path = fig_dir / f"fig{fig_name.replace('.', '_')}.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def draw(res: Everything, fig_dir: Path) -> dict[str, Path]:
     plt = _plt()
-    paths = {}
-    for fig_name in ("5.5", "5.7", "5.9"):
-        panels = [s for s in res.scans if s["panel"].figure.startswith(fig_name + "(")]
-        cols = min(len(panels), 4)
-        rows = math.ceil(len(panels) / cols)
-        fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), constrained_layout=True, squeeze=False)
-        for ax, s in zip(axes.ravel(), panels):
-            _dots(ax, s["phi_1"], s["r_max"], s["labels"])
-            ax.set_title(f"({s['panel'].figure.split('(')[1]} {s['panel'].text}", fontsize=7)
-            ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
-            ax.set_ylabel(r"$r_{max}$", fontsize=8)
-        for ax in axes.ravel()[len(panels):]:
-            ax.set_visible(False)
-        fig.suptitle(f"thesis Fig. {fig_name}: n = {panels[0]['panel'].n}, (5.1); '.' balanced, 'x' not "
-                     "(rtol 1e-8)", fontsize=9)
-        paths[fig_name] = fig_dir / f"fig{fig_name.replace('.', '_')}.png"
-        fig.savefig(paths[fig_name], dpi=110)
-        plt.close(fig)
+    paths = {fig_name: draw_scans(res.scans, fig_name, fig_dir) for fig_name in ("5.5", "5.7", "5.9")}
     fig, axes = plt.subplots(1, 3, figsize=(9, 2.8), constrained_layout=True)
     for ax, (n, v) in zip(axes, res.launches.items()):
         _dots(ax, v["phi_1"], v["r_max"], v["labels"][LAUNCH_RTOLS[-1]])
@@ -356,15 +391,16 @@ def draw(res: Everything, fig_dir: Path) -> dict[str, Path]:
         ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
     axes[0].set_ylabel(r"$r_{max}$")
     fig.suptitle(r"thesis Fig. 5.11: balls released at $\dot\phi_i(0) = -\Omega$, equidistant; '.' balanced, 'x' "
-                 "not (rtol 1e-10)", fontsize=9)
+                 "not, red triangle undecided (rtol 1e-10)", fontsize=9)
     paths["5.11"] = fig_dir / "fig5_11.png"
     fig.savefig(paths["5.11"], dpi=110)
     plt.close(fig)
     fig, axes = plt.subplots(3, 3, figsize=(9, 8), constrained_layout=True)
     for col, (n, v) in enumerate(res.zeta_beta.items()):
         Z, B = np.meshgrid(v["zeta"], v["beta"], indexing="ij")
-        ok = v["labels"] == BALANCED
+        ok = is_balanced(v["labels"])
         axes[0, col].plot(Z[ok], B[ok], "k.", ms=4)
+        axes[0, col].plot(Z[is_open(v["labels"])], B[is_open(v["labels"])], "^", color="#c44e52", ms=4)
         axes[0, col].set_title(f"5.{20}({'abc'[col]}): n = {n}, balanced", fontsize=8)
         for row, (key, fig_no) in enumerate((("r_max", 21), ("t_dec", 22)), start=1):
             im = axes[row, col].pcolormesh(v["zeta"], v["beta"], np.asarray(v[key]).T, shading="nearest")
@@ -415,14 +451,16 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
          "`--measure attractor`; phi_1(0) on 100 points of [0, pi] (pi k/99: the grid of the starts the thesis "
          "names, 0.72986495992490 = 23 pi/99 and 2.63386050755508 = 83 pi/99), parameters (5.1), rtol 1e-8.  By "
          "the identical balls' symmetry [0, pi] covers every configuration of these families.", "",
-         "| panel | starts | balanced of 100 | not balanced | r_max of the balanced runs: min / median / max |",
-         "|---|---|---|---|---|"]
+         "| panel | starts | balanced of 100 | not balanced | undecided | r_max of the balanced runs: min / median / "
+         "max |", "|---|---|---|---|---|---|"]
     for s in res.scans:
         lab = s["labels"]
-        bad = {k: lab.count(k) for k in sorted(set(lab)) if k != BALANCED}
-        ok = [r for r, k in zip(s["r_max"], lab) if k == BALANCED]
-        L.append(f"| {s['panel'].figure} | {s['panel'].text} | {lab.count(BALANCED)} | "
-                 + (", ".join(f"{k} {v}" for k, v in bad.items()) or "none") + f" | {_stats(ok)} |")
+        good, open_ = is_balanced(lab), is_open(lab)
+        bad = {k: lab.count(k) for k in sorted(set(lab)) if not balanced(k) and not is_open([k])[0]}
+        ok = [r for r, g in zip(s["r_max"], good) if g]
+        L.append(f"| {s['panel'].figure} | {s['panel'].text} | {int(good.sum())} | "
+                 + (", ".join(f"{k} {v}" for k, v in bad.items()) or "none") + f" | {int(open_.sum())} | "
+                 f"{_stats(ok)} |")
     by = {s["panel"].figure: s for s in res.scans}
     L += ["", "The starts the thesis names (section 5.1.2):", "", "| panel | thesis | ours | same |", "|---|---|---|---|"]
     for fig, phi, words, expect in NAMED:
@@ -449,7 +487,9 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "| n | published balanced of 100 | rtol 1e-6 | 1e-8 | 1e-10 | starts whose outcome changes with rtol | "
           "local structure (start: balanced of 41, label changes) |", "|---|---|---|---|---|---|---|"]
     for n, v in res.launches.items():
-        counts = [v["labels"][r].count(BALANCED) for r in LAUNCH_RTOLS]
+        counts = [f"{count_balanced(v['labels'][r])}" + (f" ({int(is_open(v['labels'][r]).sum())} undecided)"
+                                                       if is_open(v["labels"][r]).any() else "")
+                  for r in LAUNCH_RTOLS]
         local = "; ".join(f"{x['phi_1']:.4f}: {x['balanced']}, {x['switches']}" for x in v["local"]) or "—"
         L.append(f"| {n} | {LAUNCH_PUBLISHED[n]} | " + " | ".join(map(str, counts))
                  + f" | {len(v['changes'])} | {local} |")
@@ -482,7 +522,7 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "experiment, described only in words.", "",
           "| zeta | published | balanced of 1600 | of them on the diagonal | other attractors |", "|---|---|---|---|---|"]
     for b in res.basins_n3:
-        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if k != BALANCED) or "none"
+        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none"
         L.append(f"| {b['zeta']:g} | {N3_PUBLISHED[b['zeta']]} | {b['balanced']} | {b['diagonal_balanced']} | {others} |")
     at = {b["zeta"]: b for b in res.basins_n3}
     L += ["", f"Ours: {at[0.01]['balanced']} of 1600 balance at zeta = 0.01 ({at[0.01]['diagonal_balanced']} of the 40 "
@@ -498,11 +538,13 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "| n | balanced of 169 | not balanced where | r_max at (zeta, beta) = (0.01, 0.01) / (0.25, 0.01) / (0.01, 0.25) "
           "/ (0.25, 0.25) | t_dec at the same corners |", "|---|---|---|---|---|"]
     for n, v in res.zeta_beta.items():
-        ok = v["labels"] == BALANCED
+        ok = is_balanced(v["labels"]) | is_open(v["labels"])  # "not balanced where": decided runs only
         where = "—" if ok.all() else (f"zeta >= {v['zeta'][np.nonzero(~ok)[0]].min():.2f} (at beta <= "
                                       f"{v['beta'][np.nonzero(~ok)[1]].max():.2f})")
         corners = [(0, 0), (-1, 0), (0, -1), (-1, -1)]
-        L.append(f"| {n} | {int(ok.sum())} | {where} | " + " / ".join(f"{v['r_max'][i, j]:.4f}" for i, j in corners)
+        undecided = int(is_open(v["labels"]).sum())
+        L.append(f"| {n} | {int(is_balanced(v['labels']).sum())}" + (f" ({undecided} undecided)" if undecided else "")
+                 + f" | {where} | " + " / ".join(f"{v['r_max'][i, j]:.4f}" for i, j in corners)
                  + " | " + " / ".join(f"{v['t_dec'][i, j]:.1f}" for i, j in corners) + " |")
     L += ["", "Thesis: (5.20) n = 2 balances on the whole square, n = 3 loses the balance in a large region (for low "
           "beta only up to a zeta that grows with beta), n = 4 fails only for a few zeta at very small beta; (5.21) "
@@ -517,7 +559,7 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "| n | published threshold | balanced state stable from Omega (last Hopf point H1, eigenvalues) | "
           "largest grid Omega with a start not balancing | rel. diff. of H1 |", "|---|---|---|---|---|"]
     for n, v in res.omega.items():
-        bad = v["Omega"][np.any(v["labels"] != BALANCED, axis=1)]
+        bad = v["Omega"][np.any(~is_balanced(v["labels"]) & ~is_open(v["labels"]), axis=1)]
         onset = v["onset"]
         L.append(f"| {n} | 2.04 | {'—' if onset is None else f'{onset:.4f}'} | "
                  f"{'none' if not len(bad) else f'{bad.max():.2f}'} | "

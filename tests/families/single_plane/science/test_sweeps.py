@@ -12,7 +12,7 @@ from adbgen.analysis.loading import AnalysisError
 from adbgen.analysis.sweep import SweepSpec, prepare
 from adbgen.families.single_plane.science import sweeps
 
-LABELS = ["balanced 1", "limit cycle", "coincident 2-"]
+LABELS = ["balanced 1", "limit cycle", "coincident 2-", "undecided", "balanced 1 (algebraic approach)"]
 
 
 def fake_sweep(calls):
@@ -41,6 +41,12 @@ def test_every_sweep_is_valid_and_the_section_is_written(monkeypatch, tmp_path):
     text = "\n".join(sweeps.lines(res, paths, tmp_path, lyapunov={"x": {"exponent": 0.05, "first_half": 0.04,
                                                                         "second_half": 0.06, "r_window": 0.4}}))
     assert "| 5.9(d) |" in text and "chaotic (positive exponent)" in text and "np.float64" not in text
+    # decided labels: both balanced labels count as balanced; undecided has its own column, never "not balanced"
+    cells = next(line for line in text.splitlines() if line.startswith("| 5.7(a1) |")).split(" | ")
+    labels = sweeps.named(LABELS, np.arange(100) % len(LABELS))
+    assert int(cells[2]) == 40 and int(cells[4]) == 20 and "undecided" not in cells[3]
+    assert cells[3] == "coincident 2- 20, limit cycle 20"
+    assert sweeps.count_balanced(labels) == 40 and int(sweeps.is_open(labels).sum()) == 20
     assert len(calls) > 50 and {c.engine for c in calls} == {"cyrk-dop853"}
     # the launches' local scans: a grid of 41 starts about a start whose label changes with the tolerance
     local = [c for c in calls if c.grid[0].startswith("phi_1=") and c.grid[0].endswith(":41")]
