@@ -140,7 +140,9 @@ def label_of(model: Model, p, sim, engine, rtol: float, atol: float) -> str | No
         return None
     from .attractors import classifier
 
-    return classifier(model, p).label(sim.status, sim.y_end, -1, engine=engine, rtol=rtol, atol=atol)
+    # the run's own end time: a run not named there is carried on to the cap of `decide`, as in sweeps
+    return classifier(model, p).label(sim.status, sim.y_end, -1, engine=engine, rtol=rtol, atol=atol,
+                                      t=sim.t_end)
 
 
 def outcome(model: Model, p, sim, role: str, engine, label: bool = True) -> Outcome:
