@@ -105,7 +105,7 @@ def identify(model: Model, y, p) -> Identity:
     rotor = rotor_size(model, y)
     balls = _balls(model)
     core = [i for i, r in enumerate(model.roles) if r in ("translation", "tilt")]
-    best = None
+    best, best_key = None, None
     for label in model.steady_states:
         closed = model.steady_state(label, p)
         if closed is not None and rotor_size(model, closed) == 0.0 or closed is None and _balanced_somewhere(model, label):
@@ -117,8 +117,12 @@ def identify(model: Model, y, p) -> Identity:
             how = "closed form"
         else:
             continue
-        if d <= tol and (best is None or d < best.distance):
-            best = Identity(label, d, how, rotor)
+        # two balanced labels (both with the rotor at rest: a pendulum hanging and inverted) are told apart by
+        # the balls' angles where a closed form gives them: the one whose angles match too is preferred
+        gap = _angle_gap(y[balls], closed[balls]) if closed is not None else math.inf
+        key = (gap > tol, d)
+        if d <= tol and (best_key is None or key < best_key):
+            best, best_key = Identity(label, d, how, rotor), key
     return best or Identity(None, math.nan, "", rotor)
 
 

@@ -99,7 +99,7 @@ def test_sweeps(toy, capsys, tmp_path):
     assert code == 0, err
     ds = xr.open_zarr(tmp_path / "a" / "sweep.zarr", consolidated=False)
     names = json.loads(ds.attrs["labels"])
-    assert [names[c] for c in ds["attractor"].values] == ["balanced 1"] * 3  # back to hanging at rest
+    assert [names[c] for c in ds["attractor"].values] == ["hanging at rest"] * 3  # the toy's own name (its description)
     assert ds["phi"].attrs["angle"] and ds["phi"].attrs["kind"] == "state"
     code, out, err = run(capsys, "sweep", toy, "--grid", "k_spring=5:20:3", "--measure", "stability",
                          "--out", tmp_path / "s", "--workers", "1", "--json")

@@ -67,7 +67,8 @@ def describe(system) -> Description:
         closed_forms=(ClosedForm("rest", (), (Candidate((), {}),)),
                       ClosedForm("inverted", (), (Candidate((), {"phi": sp.pi}),))),
         steady_states=(SteadyState("hanging", "at rest, hanging", "rest"),
-                       SteadyState("inverted", "at rest, upside down", "inverted")))
+                       SteadyState("inverted", "at rest, upside down", "inverted")),
+        steady_state_names={"rest": "hanging at rest"})  # what sweeps call the cart at rest
 
 
 def energy_check(wrong: bool = False) -> CheckResult:
