@@ -138,6 +138,12 @@ class CycleCurve:
         mu = data.nontrivial
         return np.array([pd_test(mu), torus_test(mu)])
 
+    def margins(self, data: CycleData) -> np.ndarray:
+        """The stability margin, max |mu| - 1 over the non-trivial multipliers (watched by the continuer: a
+        stable window is not stepped over)."""
+        mu = data.nontrivial
+        return np.array([float(np.max(np.abs(mu))) - 1.0 if len(mu) else -1.0])
+
     def special(self, name: str, x: np.ndarray, data: CycleData) -> dict | None:
         mu = data.nontrivial
         if name == "period-doubling":

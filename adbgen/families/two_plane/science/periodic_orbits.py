@@ -249,11 +249,14 @@ def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[
         pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
         if m.autonomous:
             sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
-            out.append((eps, [(b.kind, b.value) for b in sc.points]))
+            # a change of stability only: stable on one side, unstable on the other (a Hopf point of a state
+            # unstable on both sides is a bifurcation of an unstable state)
+            out.append((eps, [(b.kind, b.value) for b in sc.points
+                              if (b.n_unstable_before == 0) != (b.n_unstable_after == 0)]))
         else:
             br = branches.from_orbit(m, pm, start, -1.0, continuer.Settings(ds=0.02, ds_max=0.05, max_points=2000,
                                                                              bounds=(bottom, top)), amplitude=False)
-            out.append((eps, [(sp["kind"], sp["Omega"]) for sp in br.specials]))
+            out.append((eps, [(sp["kind"], sp["Omega"]) for sp in br.specials if sp.get("stability_change")]))
         progress(f"Fig. {case.figure} limit eps = {eps:g}: " + ", ".join(f"{k} {v:.5f}" for k, v in out[-1][1]))
     return out
 
