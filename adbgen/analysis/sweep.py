@@ -71,6 +71,7 @@ class SweepSpec:
     check_dt: float = 10.0
     stop_region: str = "lyapunov"  # attractors.REGION_METHODS
     chunk: int | None = None  # points per block (about); None: enough blocks to keep every worker busy
+    refine: bool = True  # stability maps: certify the stable windows between grid points (stability_map)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -325,9 +326,18 @@ def _compute(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, thread
             "integrated": len(flat), "n_rhs": int(ens.n_rhs.sum())}
 
 
+FAILURES = ("computed", "not computed: Newton failed from START and from the closed form",
+            "does not exist: the closed form of START's steady state has no solution here (another state found "
+            "by Newton from START, if any, is kept)",
+            "not computed: Newton failed from START (START is no closed-form steady state to retry from)")
+
+
 def _stability(model: Model, P: np.ndarray) -> dict:
-    """The steady state continued from START (Newton) at each point, its deflated spectrum."""
+    """The steady state continued from START (Newton) at each point, its deflated spectrum.  Where Newton from
+    START fails, it is retried from the closed form of the steady state START is (the module's STEADY_STATES);
+    `failure` says why a point has none (FAILURES: not computed, or does not exist)."""
     from .attractors import labels, name_steady_state, newton, spectrum
+    from .closed_form import label_of
 
     n = len(P)
     codes = {name: k for k, name in enumerate(labels(model))}
@@ -335,17 +345,30 @@ def _stability(model: Model, P: np.ndarray) -> dict:
     kind = np.full(n, -1, dtype=np.int8)
     abscissa = np.full(n, np.nan)
     neutral = np.zeros(n, dtype=np.int8)
+    failure = np.zeros(n, dtype=np.int8)
     y_end = np.full((n, model.n_states), np.nan)
     seed = np.array(model.module.START, float)
+    label = label_of(model, seed, np.array(model.module.START_PARAMETERS, float))
+    start = codes[name_steady_state(model, seed, np.array(model.module.START_PARAMETERS, float))]
     for k, p in enumerate(P):
         y = newton(model, seed, p)
+        named = codes[name_steady_state(model, y, p)] if y is not None else -1
+        if named != start:  # failed, or Newton from START reached another state: retry from START's closed form
+            guess = model.steady_state(label, p) if label is not None else None
+            z = newton(model, guess, p) if guess is not None else None
+            if z is not None and codes[name_steady_state(model, z, p)] == start:
+                y = z
+            elif label is not None and guess is None:
+                failure[k] = 2  # START's state does not exist here (Newton may have found another one: kept)
+            elif y is None:
+                failure[k] = 3 if label is None else 1
         if y is None:
             continue
         s = spectrum(model, y, p)
         value[k], abscissa[k], neutral[k], y_end[k] = s.unstable(), s.abscissa, s.neutral, y
         kind[k] = codes[name_steady_state(model, y, p)]
     return {"value": value, "abscissa": abscissa, "neutral": neutral, "steady_state": kind, "y_end": y_end,
-            "t_last": np.zeros(n), "integrated": 0, "n_rhs": 0}
+            "failure": failure, "t_last": np.zeros(n), "integrated": 0, "n_rhs": 0}
 
 
 def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, threads: int) -> dict:
@@ -412,7 +435,8 @@ def _variables(spec: SweepSpec, model: Model):
             "t_dec": ("t_dec", "float64", np.nan), "stability": ("stability", "int8", -1)}[spec.measure]
     out = [(*main, ()), ("y_end", "float64", np.nan, ("state",)), ("t_last", "float64", np.nan, ())]
     if spec.measure == "stability":
-        out += [("abscissa", "float64", np.nan, ()), ("neutral", "int8", -1, ()), ("steady_state", "int8", -1, ())]
+        out += [("abscissa", "float64", np.nan, ()), ("neutral", "int8", -1, ()), ("steady_state", "int8", -1, ()),
+                ("failure", "int8", 0, ())]
     if spec.measure in ("r_max", "t_dec"):
         out += [("failed", "uint8", 0, ())]
     out.append(("done", "uint8", 0, ()))
@@ -470,6 +494,8 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
     if spec.measure in ("attractor", "stability"):
         ds.attrs["labels"] = json.dumps(labels(model))
     if spec.measure == "stability":
+        ds["failure"].attrs.update(description="why a point has no steady state (0: it has one)",
+                                   flag_values=list(range(len(FAILURES))), flag_meanings=list(FAILURES))
         ds["steady_state"].attrs["description"] = ("which steady state Newton reached from START: index "
                                                    "into the attribute `labels`")
     try:
@@ -497,7 +523,7 @@ def open_store(path: Path, spec: SweepSpec, model: Model):
         raise AnalysisError(f"{path} exists and is not an adbgen sweep store; choose another --out or remove it")
     ours = settings(spec, model)
     theirs = json.loads(stored)
-    diff = [k for k in sorted(set(ours) | set(theirs)) if k not in ("chunk",) and ours.get(k) != theirs.get(k)]
+    diff = [k for k in sorted(set(ours) | set(theirs)) if k not in ("chunk", "refine") and ours.get(k) != theirs.get(k)]
     if diff:
         k = diff[0]
         raise AnalysisError(f"{path} holds a sweep with other settings ({k}: stored {theirs.get(k)!r}, "
@@ -590,6 +616,12 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
     summary = {"points": grid.size, "computed": computed, "reused": grid.size - computed,
                "wall_s": None, "store": str(path), "integrated": integrated, "rhs_evaluations": n_rhs,
                "figures": [], "timing": timing}
+    if spec.measure == "stability" and len(grid.shape) == 2 and spec.refine:
+        from .stability_map import certify_store
+
+        t0 = time.perf_counter()
+        summary["resolution"] = certify_store(path, model, grid)
+        timing["certify_s"] = round(time.perf_counter() - t0, 3)
     if figures:
         from .sweep_figures import write_figures
 

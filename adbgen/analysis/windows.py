@@ -175,7 +175,7 @@ def _locate(a: Sample, b: Sample, solve, resolution: float, out: Line) -> None:
             cache[x] = solve(x, a if x - a.x <= b.x - x else b)
         return cache[x].margin
     try:
-        if (a.margin < 0) == (b.margin < 0):  # the counts and the margin's sign disagree (on the axis): bisect
+        if a.margin * b.margin > 0:  # the counts and the margin's sign disagree (a tolerance's edge)
             raise SolveFailed("the margin does not change sign")
         x = brentq(g, a.x, b.x, xtol=1e-12 * max(1.0, abs(a.x)), rtol=4 * np.finfo(float).eps)
         # one sample each side, a twentieth of the way to the ends: far enough that the margin there is beyond

@@ -260,16 +260,9 @@ def closed_form_retry(model: Model, start, p0, orbit: bool):
     is, at p (None where it does not exist); None when the start is none of them (no closed form to retry
     from).  An orbit's start is matched through its first arc's point, and the guess is the constant state
     as a degenerate orbit (a forced model's balanced response is a constant solution)."""
-    y0 = np.asarray(start.arcs[0] if orbit else start, float)
-    label = None
-    for name in model.steady_states:
-        try:
-            y = model.steady_state(name, p0)
-        except (AnalysisError, ArithmeticError, ValueError):
-            continue
-        if y is not None and _moved(np.asarray(y, float), y0) < 1e-6 * (1.0 + float(np.max(np.abs(y0)))):
-            label = name
-            break
+    from ..closed_form import label_of
+
+    label = label_of(model, start.arcs[0] if orbit else start, p0)
     if label is None:
         return None
 
