@@ -542,9 +542,13 @@ def _draw_windows(ax, chart: Chart, scale2: float) -> None:
 
     e2 = _half_cells(chart.lam2, chart.log2) * scale2
     e1 = _half_cells(chart.lam1, False)
+    cell = float(np.max(np.diff(chart.lam1))) if len(chart.lam1) > 1 else 0.0
     for i, ws in chart.windows("rows").items():
         for a, b in ws:
             ax.add_patch(Rectangle((a, e2[i]), max(b - a, 0.0), e2[i + 1] - e2[i], color="0.8", lw=0, zorder=0.5))
+            if b - a < cell:  # narrower than the grid: outlined, or it would not show at the figure's scale
+                ax.add_patch(Rectangle((a, e2[i]), max(b - a, 0.0), e2[i + 1] - e2[i], fill=False, ec="k", lw=1.2,
+                                       zorder=2.5))
     for j, ws in chart.windows("columns").items():
         for a, b in ws:
             lo, hi = (10.0 ** a, 10.0 ** b) if chart.log2 else (a, b)
