@@ -87,3 +87,20 @@ def test_not_computed_splits_the_line():
 def test_margin_of():
     assert margin_of(np.array([-1 + 2j, -0.5]), orbit=False) == -0.5
     assert margin_of(np.array([0.9j, 0.3]), orbit=True) == pytest.approx(-0.1)
+
+
+def test_a_torus_point_of_an_unstable_orbit_is_no_change_of_stability():
+    """A special point between two orbits with multipliers outside the unit circle on both sides (Fig. 11's
+    1.00248 at eps = 1e-6) has stability_change false; one with a stable side (negative control) true."""
+    from types import SimpleNamespace
+
+    from adbgen.analysis.orbits.branches import _special_json
+
+    def pt(*mu):
+        return SimpleNamespace(data=SimpleNamespace(nontrivial=np.array(mu, complex)))
+    sp = SimpleNamespace(data=SimpleNamespace(multipliers=np.array([1.0 + 0j]), lam=1.0, T=6.0), info={"kind": "torus"},
+                         index=0)
+    out = _special_json("Omega", None, sp, [pt(1.2, 0.99 + 0.01j, 0.99 - 0.01j), pt(1.2, 1.01j, -1.01j)])
+    assert (out["unstable_before"], out["unstable_after"], out["stability_change"]) == (1, 3, False)
+    out = _special_json("Omega", None, sp, [pt(0.9, 0.99 + 0.01j, 0.99 - 0.01j), pt(0.9, 1.01j, -1.01j)])
+    assert (out["unstable_before"], out["unstable_after"], out["stability_change"]) == (0, 2, True)

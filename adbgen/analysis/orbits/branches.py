@@ -120,7 +120,11 @@ def _run(model: Model, curve: CycleCurve, x0, name: str, origin: dict, settings:
             continue
         o = _orbit(curve, pt, amplitude)
         orbits.append(o)
-    specials = [_special_json(name, curve, sp, br.points) for sp in br.specials]
+    # a fold of cycles also zeroes the branch test (a real multiplier at +1): reported once, as the fold
+    folds = [sp.x[-1] for sp in br.specials if sp.info["kind"] == "fold"]
+    kept = [sp for sp in br.specials if sp.info["kind"] != "branch point"
+            or not any(abs(sp.x[-1] - f) <= 1e-6 * (1 + abs(f)) for f in folds)]
+    specials = [_special_json(name, curve, sp, br.points) for sp in kept]
     return CycleBranch(name, origin, orbits, specials, br.end, dict(curve.windings), br.resolution,
                        {"checks": br.checks, "largest_step": float(np.max(np.abs(np.diff(
                            [curve.parameter(pt.x) for pt in br.points])))) if len(br.points) > 1 else 0.0})

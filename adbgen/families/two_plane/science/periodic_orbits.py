@@ -120,7 +120,7 @@ def _plot_14cd(m, br, lam, T, st, A, near, flow, out: Path) -> None:
     ax_d.plot(lam, T, "k-", lw=0.7)
     ax_d.plot(lam, np.where(st, T, np.nan), "k-", lw=2.5)
     for s in br.specials:
-        mk = {"torus": "*", "period-doubling": "D", "fold": None}[s["kind"]]
+        mk = {"torus": "*", "period-doubling": "D", "branch point": "s"}.get(s["kind"])
         if mk:
             ax_d.plot(s["Omega"], s["period"], mk, color="C3", ms=8)
             k = int(np.argmin(np.abs(lam - s["Omega"]) + np.abs(T - s["period"])))
