@@ -115,3 +115,47 @@ def test_missing_cells_drawn_apart(tmp_path):
     labels = sorted(line.get_label() for line in ax.lines)
     assert labels == ["does not exist", "not computed (failed)"]
     plt.close(fig)
+
+
+class Line:
+    """A toy curve for the continuer: u = lambda, no test function; its stability margin the planted one."""
+
+    size = 2
+    test_names = ()
+    weights = None
+
+    def parameter(self, x):
+        return float(x[1])
+
+    def evaluate(self, x):
+        return np.array([x[0] - x[1]]), np.array([[1.0, -1.0]])
+
+    def data(self, x):
+        return float(x[1])
+
+    def tests(self, x, data):
+        return np.zeros(0)
+
+    def special(self, name, x, data):
+        return None
+
+    def accept(self, x, data):
+        pass
+
+
+class Watched(Line):
+    def margins(self, lam):
+        return np.array([Toy.margin(lam)])
+
+
+def test_continuer_does_not_step_over_a_watched_window():
+    """`continue --orbits` at eps = 1e-5 stepped from 1.7448 to 1.6948 over B's wedge: with the stability
+    margin watched, the steps shrink near it and land inside; without (negative control) they step over."""
+    from adbgen.analysis.orbits import continuer
+
+    def inside(curve):
+        s = continuer.Settings(ds=0.05, ds_max=0.05, max_points=400, bounds=(1.5, 2.0 + 1e-9), fold_test=False)
+        br = continuer.run(curve, np.array([2.0, 2.0]), -1.0, s)
+        return [pt.x[1] for pt in br.points if C1 < pt.x[1] < C2]
+    assert inside(Watched())
+    assert not inside(Line())
