@@ -101,20 +101,27 @@ def _split_needed(xs, ms, i, floor: float, approach: float, near: float) -> floa
     for k in (i - 1, i):
         if k < 0 or k + 2 >= len(xs):
             continue
-        X, V = np.array(xs[k:k + 3], float), np.array(ms[k:k + 3], float)
-        c2, c1, c0 = np.polyfit(X - a, V, 2)
-        if c2 == 0:
-            continue
-        sx = -c1 / (2 * c2)
-        if not 0 < sx < L:
-            continue
-        vx = c0 + c1 * sx + c2 * sx * sx
-        spread = max(float(np.ptp(V)), abs(vx - va))
-        if (vx < 0) != (va < 0) or abs(vx) <= near * spread:
-            where = a + sx if where is None else where
+        sx = vertex_near_zero(np.array(xs[k:k + 3], float) - a, np.array(ms[k:k + 3], float), va, L, near)
+        if sx is not None and where is None:
+            where = a + sx
     if where is None:
         return None
     return float(min(max(where, a + 0.5 * floor), b - 0.5 * floor))
+
+
+def vertex_near_zero(s: np.ndarray, v: np.ndarray, va: float, length: float, near: float = NEAR) -> float | None:
+    """Where the parabola through the points (s, v) (s measured from the step's start, where the value is va)
+    has its vertex inside the step (0, length) with a value of the other sign than va, or within `near` of its
+    spread from zero (the largest difference from va of the three values and the vertex's); else None."""
+    c2, c1, c0 = np.polyfit(s, v, 2)
+    if c2 == 0:
+        return None
+    sx = -c1 / (2 * c2)
+    if not 0 < sx < length:
+        return None
+    vx = c0 + c1 * sx + c2 * sx * sx
+    spread = max(float(np.max(np.abs(v - va))), abs(vx - va))
+    return float(sx) if (vx < 0) != (va < 0) or abs(vx) <= near * spread else None
 
 
 def certify(samples: list, solve: Callable[[float, Sample], Sample], resolution: float, refine: bool = True,
