@@ -159,3 +159,22 @@ def test_continuer_does_not_step_over_a_watched_window():
         return [pt.x[1] for pt in br.points if C1 < pt.x[1] < C2]
     assert inside(Watched())
     assert not inside(Line())
+
+
+def test_json_says_what_is_certified():
+    from types import SimpleNamespace
+
+    line = _line(True)
+    stable = np.zeros((2, len(LAM1)), dtype=int)
+    stable[0, 3] = -1
+    for refine in (True, False):
+        ch = charts.Chart(SimpleNamespace(name="toy"), ("Omega", "epsilon"), True, LAM1, np.array([1e-5, 1e-4]), stable, [],
+                          [], [], lines={"rows": {0: line}, "columns": {}, "reasons": {(0, 3): "not computed: planted"}},
+                          certify=charts.Certify(0.007, 0.02, True, refine))
+        j = ch.to_json(False)
+        cert = j["resolution"]["certified"]
+        assert cert["refined"] is refine and (cert["Omega"] == 0.007) is refine
+        assert "holds a sample" in cert["statement"] if refine else "not certified" in cert["statement"]
+    assert [w for w in j["windows"]["rows"][0]["stable"] if w[1] < 3] == [pytest.approx([C1, C2], abs=1e-9)]
+    assert j["not_computed"] == [{"row": 0, "column": 3, "Omega": LAM1[3], "epsilon": 1e-5, "why": "not computed: planted"}]
+    assert j["resolution"]["Omega"] == pytest.approx(LAM1[1] - LAM1[0])  # the grid's spacing, kept
