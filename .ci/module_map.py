@@ -5,8 +5,8 @@
 
 Layers, bottom to top (issue 19 item 5): 0 core, errors, cli_types, references, the package's
 __init__; 1 the families' derivations; 2 codegen; 3 analysis; 4 the families' science packages,
-bench, notebooks; 5 cli and docsite (the documentation build reads the command line and the bench
-registry).  A module counts in the layer of the folder it sits in (a command module inside codegen/ is
+bench (adbgen/bench/ of checkouts before issue 33 moved it to the top-level benchmarks/), notebooks;
+5 cli and docsite (the documentation build reads the command line and the benchmarks' registry).  A module counts in the layer of the folder it sits in (a command module inside codegen/ is
 codegen's).  An upward import is an import, at module level or inside a function
 (not under `if TYPE_CHECKING:`), from a module to one in a higher layer; "family names in generic
 layers" are imports of adbgen.families by core, codegen or analysis.

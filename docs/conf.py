@@ -74,6 +74,8 @@ for _main in sorted(ROOT.glob("adbgen/**/__main__.py")):
 html_theme = "sphinx_book_theme"
 html_theme_options = {"show_toc_level": 2, "navigation_with_keys": False}
 html_last_updated_fmt = None  # no dates: the same sources give the same pages
+html_static_path = ["_static"]
+html_css_files = ["tables.css"]  # wide tables wrap or scroll instead of being cut (issue 33)
 
 
 def _drop_empty_glob(app, docname, source):

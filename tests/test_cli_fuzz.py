@@ -44,7 +44,7 @@ def stubbed(monkeypatch, tmp_path):
     """The expensive entry points replaced by `_stop`; the parser built once."""
     from adbgen.analysis import auto, auto_orbits, continuation, loading, sweep
     from adbgen.analysis import engines
-    from adbgen.bench import registry
+    from benchmarks import registry
     from adbgen.cli import docs as cli_docs, notebooks as cli_notebooks, reproduce as cli_reproduce, verify as fam_commands
     from adbgen.codegen import regenerate
     from adbgen.core import linearisation

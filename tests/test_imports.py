@@ -1,4 +1,5 @@
-"""The package's imports form no cycle (issue 8: `cli` and `two_plane.commands` imported each other).
+"""The package's imports, and the benchmarks' (the checkout's benchmarks/), form no cycle (issue 8: `cli`
+and `two_plane.commands` imported each other).
 
 Every import statement of every module is read from its syntax tree, at module level and inside
 functions alike (a lazy import still ties two modules together), but not the ones under
@@ -23,7 +24,8 @@ def module_name(path: Path) -> str:
     return ".".join(parts)
 
 
-MODULES = {module_name(p): p for p in ROOT.rglob("*.py")}
+BENCHMARKS = ROOT.parent / "benchmarks"  # the benchmarks, beside the package in the checkout (issue 33)
+MODULES = {module_name(p): p for p in [*ROOT.rglob("*.py"), *BENCHMARKS.rglob("*.py")]}
 
 
 def _type_checking_nodes(tree: ast.AST) -> set[int]:
@@ -111,3 +113,5 @@ def test_layers():
             assert not {d for d in deps if d.startswith(("adbgen.families", "adbgen.cli"))}, name
         if name.startswith("adbgen.families"):
             assert "adbgen.cli" not in deps, name
+        if name.startswith("adbgen"):
+            assert not {d for d in deps if d.startswith("benchmarks")}, name

@@ -133,6 +133,17 @@ class Response:
     amplitude_max: float  # max r over the orbit
     newton_steps: int
     route: list = field(default_factory=list)  # the AUTO stages that led here
+    monodromy: np.ndarray | None = None  # the period map's Jacobian (the margin's condition numbers)
+
+    @property
+    def margin(self):
+        """The leading transverse |mu| - 1 and what it is certain to (`margins.multiplier_margin`: the
+        multiplier's condition number x |M| x max(the flow's rtol, the closure)), issue 34 item 5."""
+        from .margins import multiplier_margin
+        from .orbits.flow import RTOL
+
+        M = self.monodromy if self.monodromy is not None else np.diag(self.multipliers)
+        return multiplier_margin(M, self.transverse, None, RTOL, self.closure)
 
     @property
     def transverse(self) -> np.ndarray:
@@ -164,7 +175,8 @@ class Response:
                 "multiplier_moduli": [float(abs(z)) for z in mult],
                 "neutral_multipliers": [[float(z.real), float(z.imag)] for z in self.multipliers[self.family]],
                 "floquet_exponents": [[float(v.real), float(v.imag)] for v in np.log(mult.astype(complex)) / self.period],
-                "closure": self.closure, "newton_steps": self.newton_steps, "route": self.route}
+                "closure": self.closure, "newton_steps": self.newton_steps, "route": self.route,
+                **self.margin.to_json()}
 
 
 def refine_orbit(model: Model, p: np.ndarray, y0: np.ndarray, t0: float, period: float, max_steps: int = 8):
@@ -466,7 +478,7 @@ def forced_response(model: Model, p: np.ndarray, keep: str | None = None) -> Res
                             f"(|y(T) - y(0)| = {closure:.2e} after {steps} steps)")
     multipliers, family = _split_family(model, mono)
     return Response(model, np.array(p, float), y, t0, period, multipliers, family, closure,
-                    _amplitude_max(model, p, y, t0, period), steps, route)
+                    _amplitude_max(model, p, y, t0, period), steps, route, monodromy=np.array(mono))
 
 
 def _split_family(model: Model, mono: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -111,9 +111,12 @@ def simulation_units(model, sim) -> dict:
 
 
 def write_trajectory(model, sim, out: Path, values: dict | None = None, scene: str | None = None,
-                     wrap_angles: bool = True, threshold_why: str = "") -> None:
+                     wrap_angles: bool = True, threshold_why: str = "", note: str | None = None,
+                     sensitive: bool = False) -> None:
     """trajectory.npz (t, y, names, metadata), trajectory.csv (metadata header) and trajectory.png (r
-    and the ball angles), each written whole (a temporary file renamed)."""
+    and the ball angles), each written whole (a temporary file renamed).  `note` (the label) and
+    `sensitive` (`tolerance.check_simulation` found the outcome tolerance-sensitive) go into the plot's
+    title, and `sensitive` into the metadata."""
     import io
 
     from ..outputs import save_figure, writing
@@ -126,6 +129,9 @@ def write_trajectory(model, sim, out: Path, values: dict | None = None, scene: s
     meta = {k: v for k, v in sim.to_json().items() if k != "y_end"}
     meta["source_hash"] = model.source_hash
     meta["units"] = simulation_units(model, sim)
+    if note is not None:
+        meta["label"] = note
+        meta["tolerance_sensitive"] = bool(sensitive)
     with writing(out / "trajectory.npz", "wb") as fh:
         np.savez_compressed(fh, t=sim.t, y=sim.y, state_names=np.array(sim.state_names),
                             metadata=json.dumps(meta, default=json_number))
@@ -147,5 +153,9 @@ def write_trajectory(model, sim, out: Path, values: dict | None = None, scene: s
     name = f"{Path(scene).name} ({model.name})" if scene else model.name
     summary = (f"$r_{{max}}$ = {show(sim.r_max, u.length, 4)}, $t_{{dec}}$ = "
                f"{'not settled' if sim.t_dec is None else show(sim.t_dec, u.time, 4)}")
+    if note:
+        summary += f", {note}"
+    if sensitive:
+        summary += " — TOLERANCE-SENSITIVE (!)"
     a1.set_title(title(name, values or {}, u.params, summary), fontsize=8)
     save_figure(fig, out / "trajectory.png", dpi=120)

@@ -7,6 +7,8 @@
                                                  of n >= 3 balls the member with y0's free angles
     pinned_start(model, p)                       START re-solved at p
     follower(model, y0)                          p -> the followed steady state at p
+    default_start(model, p, pmap=None)           START at p, carried there where Newton from START lands
+                                                 on another state than START's label
 
 The labelled steady states are the generated module's own (`Model.steady_states`, compiled from the
 family's closed forms and checked to be zeros of the rhs when they were written).
@@ -94,4 +96,23 @@ def follower(model: Model, y0):
     return at
 
 
-__all__ = ["balanced_label", "follower", "labelled_state", "pinned", "pinned_start", "start_state"]
+def default_start(model: Model, p, pmap=None, carried: bool = False) -> np.ndarray:
+    """START at p: Newton from START (`pinned_start`), or START carried there along the path of
+    `equilibrium.carried_start` (ties re-solved on the way) when `carried`; where the result is not the
+    state START is at START_PARAMETERS (its label, `identify.default_label`), the carried one instead if
+    that is.  The caller checks what it got (`identify.check`)."""
+    from . import identify
+    from .orbits.equilibrium import carried_start
+
+    wanted = identify.default_label(model)
+    y = carried_start(model, p, pmap) if carried else pinned_start(model, p)
+    if wanted is None or carried or identify.identify(model, y, p).label == wanted:
+        return y
+    try:
+        other = carried_start(model, p, pmap)
+    except AnalysisError:
+        return y
+    return other if identify.identify(model, other, p).label == wanted else y
+
+
+__all__ = ["balanced_label", "default_start", "follower", "labelled_state", "pinned", "pinned_start", "start_state"]

@@ -23,7 +23,10 @@ the zero eigenvalues move to -sigma).
 
 Classification of the transverse spectrum (neutral directions of the family reported separately):
 "stable" (all real parts < -tol), "unstable" (with the number of eigenvalues of positive real part),
-"neutral" (none positive, some on the imaginary axis within tol: a bifurcation point).
+"neutral" (none positive, some on the imaginary axis within tol: a bifurcation point).  Each state also
+carries its margin (the leading transverse real part) and what the computation can certify of it
+(`margins.eigenvalue_margin`: the eigenvalue condition number times the rounding of J and J's change over
+the state's own Newton error): JSON margin, margin_uncertainty, marginal (issue 34 item 5).
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .loading import AnalysisError, Model
+from .margins import Margin, eigenvalue_margin
 
 NEWTON_TOL = 1e-12  # max |rhs| accepted as a steady state, relative to max|J| max(1, max|y|)
 ON_AXIS = 1e-9  # |Re lambda| <= ON_AXIS * max(1, |lambda|_max): on the imaginary axis
@@ -248,6 +252,7 @@ class SteadyState:
     tangent_residual: float = 0.0
     label: str = ""
     extra: dict = field(default_factory=dict)
+    margin: Margin | None = None  # the leading transverse real part and its uncertainty (`margins`)
 
     @property
     def stable(self) -> bool:
@@ -268,6 +273,7 @@ class SteadyState:
             "neutral_eigenvalues": pairs(self.neutral),
             "all_eigenvalues": pairs(self.eigenvalues),
             "tangent_residual": self.tangent_residual,
+            **(self.margin.to_json() if self.margin is not None else {}),
         }
 
 
@@ -289,7 +295,23 @@ def analyse(model: Model, p: np.ndarray, y: np.ndarray, iterations: int = 0, lab
     neutral = _split_neutral(full, transverse)
     kind, unstable, on_axis = classify(transverse)
     return SteadyState(model, np.array(p, float), np.array(y, float), float(np.max(np.abs(residual(model, y, p)))),
-                       iterations, J, T, full, transverse, neutral, kind, unstable, on_axis, res, label)
+                       iterations, J, T, full, transverse, neutral, kind, unstable, on_axis, res, label,
+                       margin=steady_margin(model, p, y, J, T))
+
+
+def margin_at(model: Model, p: np.ndarray, y: np.ndarray) -> Margin:
+    """`steady_margin` at the state y (e.g. a point of AUTO-07p's branch), the family's directions removed."""
+    J = jacobian(model, y, p)
+    return steady_margin(model, p, y, J, family_tangent(model, y, p, J))
+
+
+def steady_margin(model: Model, p: np.ndarray, y: np.ndarray, J: np.ndarray, T: np.ndarray) -> Margin:
+    """The leading transverse real part and what it is certain to: the eigenvalue condition number times
+    the rounding of J plus J's change over the state's own error (one more Newton step, `margins`)."""
+    S = complement(T)
+    dy = _step(J, residual(model, y, p))
+    moved = S.T @ jacobian(model, y + dy, p) @ S
+    return eigenvalue_margin(S.T @ J @ S, moved)
 
 
 def refine(model: Model, p: np.ndarray, y0: np.ndarray, label: str = "", tol: float = NEWTON_TOL) -> SteadyState:

@@ -25,6 +25,12 @@ Shortcuts (each switchable; tests show they give the labels of the full integrat
   equal, a point and its ball-swapped image share an answer (the final state swapped).  A block and
   its mirror image are one task; only one point of each pair is integrated, except for `attractor`
   labels that are not certain (no basin region reached), whose mirror is integrated too.
+
+Tolerance check (`check_tolerance`, `adbgen sweep --check-tolerance`; measures attractor, r_max, t_dec):
+every point is computed again at rtol/100, atol/100 and on a second engine of another method
+(`tolerance.second_engine`), with the same shortcuts; a point whose label (or value, beyond 1 %) differs
+is `tolerance_sensitive` (a variable of the store, both other outcomes beside it as
+`<measure>_tighter` and `<measure>_second_engine`, the count in the summary, a mark on the figures).
 """
 
 from __future__ import annotations
@@ -71,6 +77,7 @@ class SweepSpec:
     check_dt: float = 10.0
     stop_region: str = "lyapunov"  # attractors.REGION_METHODS
     chunk: int | None = None  # points per block (about); None: enough blocks to keep every worker busy
+    check_tolerance: bool = False  # every point again at rtol/100 and on a second engine (`tolerance`)
     refine: bool = True  # stability maps: certify the stable windows between grid points (stability_map)
 
     def to_dict(self) -> dict:
@@ -310,6 +317,49 @@ def compute_points(spec: SweepSpec, flat: np.ndarray, threads: int = 1) -> dict:
 
 
 def _compute(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, threads: int) -> dict:
+    out = _compute_once(spec, model, grid, flat, threads)
+    if not checks_tolerance(spec):
+        return out
+    from dataclasses import replace
+
+    from .tolerance import differ, tighter
+
+    c0 = time.thread_time()
+    rtol, atol = tighter(spec.rtol, spec.atol)
+    sensitive = np.zeros(len(flat), dtype=bool)
+    for key, other in (("tighter", replace(spec, rtol=rtol, atol=atol)),
+                       ("second_engine", replace(spec, engine=second_engine_of(spec, model)))):
+        more = _compute_once(other, model, grid, flat, threads)
+        out[f"{spec.measure}_{key}"] = more["value"]
+        out["n_rhs"] += more["n_rhs"]
+        sensitive |= differ(out["value"], more["value"])
+        if "failed" in out:
+            sensitive |= out["failed"] != more["failed"]
+    out["tolerance_sensitive"] = sensitive.astype(np.int8)
+    cpu = out.setdefault("cpu_s", {})
+    cpu["tolerance_check"] = cpu.get("tolerance_check", 0.0) + time.thread_time() - c0
+    return out
+
+
+def checks_tolerance(spec: SweepSpec) -> bool:
+    return bool(spec.check_tolerance) and spec.measure != "stability"
+
+
+def second_engine_of(spec: SweepSpec, model: Model) -> str:
+    """The tolerance check's second engine for this sweep (`tolerance.second_engine` of the engine that runs
+    its ensembles)."""
+    from .engines import ENGINES
+    from .tolerance import resolved, second_engine
+
+    labels_only = spec.measure == "attractor"
+    name = second_engine(resolved(spec.engine, model, spec.rtol, spec.atol, ensemble=True, measures=not labels_only),
+                         model)
+    # labels without r_max/t_dec: its SIMD-lanes variant where there is one (as the auto engine's ENSEMBLE)
+    batch = f"{name}-batch"
+    return batch if labels_only and batch in ENGINES else name
+
+
+def _compute_once(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, threads: int) -> dict:
     P, Y0 = grid.points(model, flat)
     if spec.measure == "stability":
         return _stability(model, P)
@@ -424,6 +474,8 @@ def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
 
 def settings(spec: SweepSpec, model: Model) -> dict:
     s = spec.to_dict()
+    if not s.get("check_tolerance"):
+        s.pop("check_tolerance", None)  # as stores written before the option: they resume
     s["model"] = model.name
     s["source_hash"] = model.source_hash
     return s
@@ -439,6 +491,9 @@ def _variables(spec: SweepSpec, model: Model):
                 ("failure", "int8", 0, ())]
     if spec.measure in ("r_max", "t_dec"):
         out += [("failed", "uint8", 0, ())]
+    if checks_tolerance(spec):
+        out += [(f"{main[0]}_tighter", *main[1:], ()), (f"{main[0]}_second_engine", *main[1:], ()),
+                ("tolerance_sensitive", "int8", -1, ())]
     out.append(("done", "uint8", 0, ()))
     return out
 
@@ -475,6 +530,23 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
     ds["y_end"].attrs["description"] = ("final state (attractor: where the trajectory stopped or ended; "
                                         "stability: the steady state)")
     ds["done"].attrs["description"] = "1 where the point's block is written (resumable sweeps)"
+    if checks_tolerance(spec):
+        from .tolerance import REL_TOL, tighter
+
+        rtol, atol = tighter(spec.rtol, spec.atol)
+        other = second_engine_of(spec, model)
+        ds[f"{spec.measure}_tighter"].attrs["description"] = f"{spec.measure} at rtol {rtol:g}, atol {atol:g}"
+        ds[f"{spec.measure}_second_engine"].attrs["description"] = f"{spec.measure} on {other}"
+        ds["tolerance_sensitive"].attrs["description"] = (
+            f"1 where the tighter run (rtol {rtol:g}) or the second engine ({other}) gives another "
+            + ("label" if spec.measure == "attractor" else f"value (beyond {100 * REL_TOL:g} % relative)")
+            + " (-1: not computed)")
+        if spec.measure == "attractor":
+            names = labels(model)
+            for key in ("tighter", "second_engine"):
+                ds[f"attractor_{key}"].attrs.update(flag_values=list(range(len(names))), flag_meanings=names)
+        ds.attrs["tolerance_check"] = json.dumps({"rtol": rtol, "atol": atol, "second_engine": other,
+                                                 "rel_tol": REL_TOL})
     import dask
     import distributed
     import xarray
@@ -616,6 +688,8 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
     summary = {"points": grid.size, "computed": computed, "reused": grid.size - computed,
                "wall_s": None, "store": str(path), "integrated": integrated, "rhs_evaluations": n_rhs,
                "figures": [], "timing": timing}
+    if checks_tolerance(spec):
+        summary.update(tolerance_summary(path))
     if spec.measure == "stability" and len(grid.shape) == 2 and spec.refine:
         from .stability_map import certify_store
 
@@ -630,6 +704,18 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
         timing["figures_s"] = round(time.perf_counter() - t0, 3)
     summary["wall_s"] = time.perf_counter() - start
     return summary
+
+
+def tolerance_summary(path: Path) -> dict:
+    """{"tolerance_sensitive": count of flagged points, "tolerance_check": what was compared} of a store."""
+    import zarr
+
+    group = zarr.open_group(str(path), mode="r")
+    flags = np.asarray(group["tolerance_sensitive"][...])
+    done = np.asarray(group["done"][...], dtype=bool)
+    check = json.loads(group.attrs["tolerance_check"])
+    return {"tolerance_sensitive": int((flags[done] == 1).sum()),
+            "tolerance_check": {**check, "checked": int(done.sum())}}
 
 
 def _connect(scheduler: str | None, workers: int | None):

@@ -7,6 +7,8 @@
                          thesis' Fig. 4.1, 4.5, 4.10)
 
 Axes carry the symbols (phi_1(0), Omega, ...), the title the model and the fixed parameter values.
+A sweep run with the tolerance check marks every tolerance-sensitive point (a white diamond, the count
+in the legend and the title): its outcome there is not a fact of the model.
 Two-dimensional grids give maps, one-dimensional grids curves; larger grids are not drawn.
 """
 
@@ -71,6 +73,9 @@ def write_figures(store: Path) -> list[Path]:
                  + (f" ({names[start]}, continued from START)" if start >= 0 else ""))
     else:
         _continuous(fig, ax, da, done, dims, measure)
+    flagged = _mark_sensitive(ax, ds, da, done, dims, measure)
+    if flagged:
+        title += f" ({flagged} tolerance-sensitive, marked)"
     ax.set_title(title + "\n" + _caption(ds, dims), fontsize=9)
     out = []
     for ext in ("png", "pdf"):
@@ -79,6 +84,32 @@ def write_figures(store: Path) -> list[Path]:
         out.append(path)
     plt.close(fig)
     return out
+
+
+def _mark_sensitive(ax, ds, da, done, dims, measure) -> int:
+    """Mark the points the tolerance check flagged (`tolerance.mark_points`); their number."""
+    if "tolerance_sensitive" not in ds:
+        return 0
+    from .tolerance import mark_points
+
+    flags = done & (ds["tolerance_sensitive"].load().values == 1)
+    if not flags.any():
+        return 0
+    idx = np.nonzero(flags)
+    x = da[dims[0]].values[idx[0]]
+    if len(dims) == 2:
+        y = da[dims[1]].values[idx[1]]
+    else:
+        y = da.values[idx[0]].astype(float)  # on the plotted curve (the label's code or the value)
+    mark_points(ax, x, y)
+    if len(dims) == 1 or measure != "attractor":
+        ax.legend(loc="best", fontsize=8, frameon=False)
+    else:  # the categorical map's legend (outside the axes) with the mark added
+        legend = ax.get_legend()
+        handles = list(legend.legend_handles) if legend is not None else []
+        handles.append(ax.get_lines()[-1])
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8, frameon=False)
+    return int(flags.sum())
 
 
 def _edges(values: np.ndarray) -> np.ndarray:

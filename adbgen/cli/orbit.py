@@ -1,14 +1,16 @@
 """`adbgen orbit` and the periodic-orbit options of `adbgen continue` (issue 21); the logic is in
 `adbgen.analysis.orbits`.
 
-    adbgen orbit MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-transient T]
+    adbgen orbit MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... | [--state LABEL] [--t-transient T]
                  [--period T] [--arcs M] [--out DIR] [--json]
 
 JSON keys: period, multipliers ([re, im] pairs, by decreasing modulus), trivial_multiplier_error
 (|mu - 1| of the flow direction's multiplier; null for a forced orbit), stable, windings (angle ->
 k, the 2 pi k it gains per period), r_min, r_max, y (the point on the orbit, by state name), residual;
 also model, parameters, n_unstable, newton_iterations, arcs, forced, subharmonic and <measure>_bar for
-every amplitude measure the module emits (MEASURES, e.g. A_bar).
+every amplitude measure the module emits (MEASURES, e.g. A_bar); margin, margin_uncertainty, marginal,
+margin_estimate (issue 34 item 5: `adbgen.analysis.margins`), followed_state, followed_orbit, start_distance
+(item 4: what the run followed, and how far the start was from it).
 
 `continue` gains (`add_continue_options`): --orbits, --from-hopf VALUE, --tie NAME=EXPR, --max-points N,
 --auto-orbits, --plot FILE, --log2, --grid N1:N2 (see `adbgen.analysis.orbits.continue_command`).
@@ -18,6 +20,8 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+
+import numpy as np
 
 from ..analysis.loading import AnalysisError
 from ..analysis.units import assignments, units
@@ -34,6 +38,10 @@ def _add_orbit(p) -> None:
     _model_arguments(p)
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
                    help="the initial state by name (repeatable); states not given are 0")
+    p.add_argument("--state", metavar="LABEL",
+                   help="a periodically forced model: start on one of its labelled steady states (STEADY_STATES, "
+                        "constant solutions such as B with the rotor at rest) at the --set parameters; the orbit "
+                        "found must be that state, else the run is refused")
     p.add_argument("--t-transient", type=float, default=2000.0, metavar="T",
                    help="integrate this long before looking for the orbit (default 2000, in the model's time "
                         "unit; 0: --y0 is on the orbit already)")
@@ -59,6 +67,8 @@ def run_orbit(args) -> int:
     u = units(model)
     p = model.params(assignments(args.set, "--set", u.params))
     y0 = model.state(assignments(args.y0, "--y0", u.states))
+    if args.state is not None:
+        y0 = _labelled_start(model, p, args)
     flow = Flow(model)
     if args.period is not None:
         y = flow.end(y0, 0.0, args.t_transient, p) if args.t_transient > 0 else y0
@@ -66,13 +76,47 @@ def run_orbit(args) -> int:
                               arcs=args.arcs, flow=flow)
     else:
         found = orbits.find(model, p, y0, args.t_transient, arcs=args.arcs, flow=flow)
+    follows = _follows(model, found, y0, flow, args)  # before any output: a refusal writes nothing
     if args.out:
         write_orbit(found, flow, Path(args.out))
     if args.json:
-        _emit_json(found.to_json())
+        _emit_json({**found.to_json(), **follows})
     else:
         _print_orbit(found)
+        print(f"follows: {follows['followed_orbit']}; the start is {follows['start_distance']:.3g} from it")
     return 0
+
+
+def _labelled_start(model, p, args):
+    """--state LABEL of `adbgen orbit`: a forced model's labelled steady state at p (a constant solution)."""
+    from ..analysis.starts import labelled_state
+
+    if args.y0:
+        raise AnalysisError("give --y0 or --state, not both")
+    if model.autonomous:
+        raise AnalysisError(f"{model.name} is autonomous: its labelled states are steady states, not periodic orbits "
+                            f"(see `adbgen stability {model.name} --state {args.state}`)")
+    return labelled_state(model, args.state, p)
+
+
+def _follows(model, found, y0, flow, args) -> dict:
+    """What `adbgen orbit` followed: the labelled steady state the orbit is (a forced model's B, with the rotor at
+    rest) or the orbit by its windings and period, and the start's distance from it (from the state the shooting
+    began at: y0 after the transient, to the orbit's nearest sampled point, angles modulo 2 pi)."""
+    from ..analysis.identify import check
+    from ..analysis.orbits.orbit import trace, wrapped
+
+    ident = check(model, found.y, found.p, args.state, "the orbit found") if not model.autonomous else None
+    start = found.start if found.start is not None else y0
+    _, Y = trace(found, flow, 400)
+    distance = float(np.min(np.linalg.norm(wrapped(model, Y - start), axis=1)))
+    if ident is not None and ident.label is not None:
+        what = f"state {ident.label} (a constant solution: the rotor at rest)"
+    else:
+        laps = ", ".join(f"{k} {v:+d}" for k, v in found.windings.items() if v) or "no angle laps"
+        what = f"periodic orbit of period {found.period:.10g} ({laps})"
+    return {"followed_state": None if ident is None else ident.label, "followed_orbit": what,
+            "start_distance": distance}
 
 
 def _print_orbit(o) -> None:
@@ -86,6 +130,9 @@ def _print_orbit(o) -> None:
     err = o.trivial_multiplier_error
     print(f"{'stable' if o.stable else f'unstable ({o.n_unstable} outside the unit circle)'}"
           + ("" if err is None else f"; trivial multiplier |mu - 1| = {err:.2e}"))
+    mg = o.margin
+    print(f"margin: leading |mu| - 1 = {mg.value:.6g}, certain to {mg.uncertainty:.2g}"
+          + (" (MARGINAL: inside what the computation can certify)" if mg.marginal else ""))
     print("multipliers (|mu|):")
     for i, z in enumerate(o.multipliers):
         tag = "  (trivial)" if i == o.trivial else ""

@@ -2,13 +2,18 @@
 
     adbgen simulate MODEL [--scene FILE] [--set NAME=VALUE]... [--y0 NAME=VALUE]... [--t-end T]
                     [--rtol R] [--atol A] [--engine E] [--threshold H] [--angles wrapped|unwrapped]
-                    [--out DIR] [--json] [--quiet]
+                    [--out DIR] [--json] [--quiet] [--check-tolerance]
 
 With --json one JSON object on stdout.  Bad input: one line on stderr, exit 2; a failed integration:
 one line naming where it failed, exit 1.  Values take units where a user would type them (`--set
 omega=3000rpm`, `--t-end 20s`, `--t-end 640rev`, `--y0 X=1mm`; see `analysis.units`), and the defaults
 scale with the model (t_end in revolutions of the spin, t_dec's threshold a tenth of the eccentricity:
 what its generated module declares, `units.default_t_end`, `default_threshold`).
+
+--check-tolerance runs the case again tighter (rtol/100, atol/100) and on a second engine of another
+method, and compares the label, r_max and t_dec (`analysis.tolerance`); a disagreement is reported
+(`tolerance_sensitive: true` and every outcome in --json, a mark in the table and on the plot), never
+resolved.
 """
 
 from __future__ import annotations
@@ -52,6 +57,9 @@ def _add_simulate(p) -> None:
     p.add_argument("--out", help="folder for the trajectory (trajectory.npz, trajectory.csv) and a plot")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.add_argument("--check-tolerance", action="store_true",
+                   help="run again at rtol/100, atol/100 and on a second engine of another method; compare the "
+                        "label, r_max and t_dec (1 %%) and flag a disagreement (tolerance_sensitive)")
     p.set_defaults(fn=run_simulate)
 
 
@@ -82,15 +90,26 @@ def run_simulate(args) -> int:
         sim = simulate(model, p, y, t_end=t_end, rtol=args.rtol, atol=args.atol, engine=args.engine,
                        threshold=threshold, keep_trajectory=args.out is not None, max_steps=args.max_steps,
                        check=False)
+    check = None
+    if getattr(args, "check_tolerance", False) and sim.ok:
+        from ..analysis.tolerance import check_simulation
+
+        with activity(f"{model.name}: checking the outcome tighter and on a second engine", show_progress):
+            check = check_simulation(model, p, y, sim, t_end=t_end, threshold=threshold, engine=args.engine,
+                                     max_steps=args.max_steps)
     defaults = {"t_end": t_end_why if not args.t_end else None, "threshold": threshold_why or None}
     if args.out is not None and sim.ok:
         write_trajectory(model, sim, Path(args.out), values=values, scene=args.scene,
-                         wrap_angles=args.angles == "wrapped", threshold_why=threshold_why)
+                         wrap_angles=args.angles == "wrapped", threshold_why=threshold_why,
+                         note=None if check is None else check.runs[0].label or "",
+                         sensitive=check is not None and check.sensitive)
     if args.json:
+        more = {} if check is None else {"label": check.runs[0].label, "tolerance_sensitive": check.sensitive,
+                                         "tolerance_check": check.to_json()}
         _emit_json({**sim.to_json(), "out": args.out, "units": simulation_units(model, sim),
-                    "defaults": {k: v for k, v in defaults.items() if v}})
+                    "defaults": {k: v for k, v in defaults.items() if v}, **more})
     else:
-        _print_simulation(model, sim, args.out, defaults)
+        _print_simulation(model, sim, args.out, defaults, check)
     if not sim.ok:
         err = IntegrationError(sim.status, sim.t_fail if sim.t_fail is not None else float("nan"), sim.engine,
                                sim.message)
@@ -99,7 +118,7 @@ def run_simulate(args) -> int:
     return 0
 
 
-def _print_simulation(model, sim, out, defaults) -> None:
+def _print_simulation(model, sim, out, defaults, check=None) -> None:
     from ..analysis.units import show, units
 
     u = units(model)
@@ -113,6 +132,12 @@ def _print_simulation(model, sim, out, defaults) -> None:
             ("threshold", show(sim.threshold, u.length, 4) + note.get("threshold", "")),
             ("rhs evaluations", str(sim.n_rhs)), ("steps", str(sim.n_steps)),
             ("wall (integration)", f"{sim.wall_s * 1e3:.3f} ms")]
+    if check is not None:
+        from ..analysis.tolerance import MARK
+
+        rows.insert(5, ("attractor", (check.runs[0].label or "—") + (f" {MARK}" if check.sensitive else "")))
+        rows.append(("tolerance check", check.text()))
+        rows += [("  disagrees", r) for r in check.reasons]
     width = max(len(k) for k, _ in rows)
     for k, v in rows:
         print(f"{k:<{width}}  {v}")

@@ -5,7 +5,9 @@
     adbgen continue MODEL --par NAME [--par2 NAME2] [--set NAME=VALUE]... [--to VALUE] [--range2 LO:HI] [--json]
 
 Bad input: one line on stderr, exit 2 (AnalysisError through `adbgen.cli.main`).  The states they
-start from are `adbgen.analysis.starts`'.
+start from are `adbgen.analysis.starts`'; the state they follow is named (`adbgen.analysis.identify`: JSON
+followed_state, state_distance, identified_by) and a start that is not the one asked for (--state, or
+START's) is refused; every verdict carries its margin (`adbgen.analysis.margins`).
 """
 
 from __future__ import annotations
@@ -116,14 +118,15 @@ def run_stability(args) -> int:
     if scan:
         p[model.param_names.index(scan[0])] = scan[1]
     y0, label = _start(model, args, p)
+    y0, followed = _followed_start(model, p, y0, label)
     if scan is None:
         st = steady.refine(model, p, y0, label=label)
         u = units(model)
         if args.json:
-            _emit_json({**st.to_json(), "units": {"state": u.states, "parameters": u.params,
-                                                  "eigenvalues": "1" if u.time == "1" else f"1/{u.time}"}})
+            _emit_json({**st.to_json(), **followed.to_json(), "units": {"state": u.states, "parameters": u.params,
+                                                                         "eigenvalues": "1" if u.time == "1" else f"1/{u.time}"}})
         else:
-            _print_steady(st)
+            _print_steady(st, followed)
         return 0
     name, a, b = scan
     ds_max = args.ds_max if args.ds_max is not None else max(abs(b - a) / STEPS_PER_RANGE, STATE_STEP)
@@ -137,13 +140,36 @@ def run_stability(args) -> int:
         write_scan(result, Path(args.out), values=values, scene=args.scene)
     if args.json:
         _emit_json({**result.to_json(), "state_label": label, "ds_max": ds_max, "max_steps": args.max_steps,
-                    "units": {name: unit, "amplitude": units(model).length}})
+                    "units": {name: unit, "amplitude": units(model).length}, **followed.to_json()})
     else:
+        print(_follows(followed))
         _print_scan(result, unit)
     if not result.complete:
         print(f"adbgen: ended early: {_scan_end(result, ds_max, args.max_steps, unit)}", file=sys.stderr)
         return ENDED_EARLY
     return 0
+
+
+def _followed_start(model, p, y0, label: str):
+    """(the start, its Identity at p once refined): the state the run follows, checked to be the one asked for
+    (--state LABEL, or the state START is at START_PARAMETERS when it starts from START; a --y0 start is only
+    named).  From START, where Newton lands on another state, START carried to p (`starts.default_start`) is
+    tried before the run is refused (one line naming the state found)."""
+    from ..analysis import steady
+    from ..analysis.identify import check, default_label, identify
+    from ..analysis.starts import default_start
+
+    required = default_label(model) if label == "start" else None if label == "y0" else label
+    y, _ = steady.newton(model, p, y0)
+    if required is not None and label == "start" and identify(model, y, p).label != required:
+        y0 = y = default_start(model, p, carried=True)
+    return y0, check(model, y, p, required)
+
+
+def _follows(found) -> str:
+    if found.label is None:
+        return "follows: a steady state that is none of the model's labelled ones"
+    return f"follows: state {found.label} (distance {found.distance:.2g}, by its {found.how})"
 
 
 def _scan_end(result, ds_max: float, max_steps: int, unit: str) -> str:
@@ -194,6 +220,9 @@ def _print_response(r) -> None:
     k = int(r.family.sum())
     print(f"classification: {r.classification}{extra} (Floquet multipliers, |mu| < 1: stable"
           + (f"; transverse to the {k}-dimensional family of balanced orbits)" if k else ")"))
+    mg = r.margin
+    print(f"margin: leading |mu| - 1 = {mg.value:.6g}, certain to {mg.uncertainty:.2g}"
+          + (" (MARGINAL: inside what the computation can certify)" if mg.marginal else ""))
     print("multipliers (|mu|)" + (" (transverse)" if k else "") + ":")
     for z in sorted(r.transverse, key=lambda z: -abs(z)):
         print(f"  {_fmt(complex(z))}   ({abs(z):.9f})")
@@ -206,12 +235,14 @@ def _rounded(value: float, floor: float = 1e-15) -> float:
     return 0.0 if abs(value) < floor else value
 
 
-def _print_steady(st) -> None:
+def _print_steady(st, followed=None) -> None:
     from ..analysis.units import units
 
     m = st.model
     u = units(m)
     print(f"model {m.name}: steady state ({st.label}), |rhs| = {st.residual:.2e} after {st.iterations} Newton steps")
+    if followed is not None:
+        print(_follows(followed))
     print("parameters: " + ", ".join(f"{k} = {show(v, u.params[k], 6)}" for k, v in zip(m.param_names, st.p)))
     for name, v in zip(m.state_names, st.y):
         print(f"  {name:<12} {v: .12g}" + ("" if u.states[name] == "1" else f" {u.states[name]}"))
@@ -219,6 +250,10 @@ def _print_steady(st) -> None:
     extra = f", {st.n_unstable} unstable" if st.classification == "unstable" else ""
     print(f"classification: {st.classification}{extra}"
           + (f" (transverse to the {k}-dimensional family of balanced states (3.6))" if k else ""))
+    if st.margin is not None:
+        mg = st.margin
+        print(f"margin: leading real part {mg.value:.6g}, certain to {mg.uncertainty:.2g}"
+              + (" (MARGINAL: inside what the computation can certify)" if mg.marginal else ""))
     print("eigenvalues" + (" (transverse)" if k else "") + ":")
     for z in st.transverse:
         print("  " + _fmt(z))
@@ -272,7 +307,8 @@ def _add_continue(p) -> None:
 def run_continue(args) -> int:
     from ..analysis import auto, steady
     from ..analysis.orbits import continue_command
-    from ..analysis.starts import follower, pinned, pinned_start
+    from ..analysis.identify import check, default_label
+    from ..analysis.starts import default_start, follower, pinned
     from ..analysis.units import params, quantity, units
 
     if args.keep is not None:
@@ -318,12 +354,14 @@ def run_continue(args) -> int:
         range2 = (quantity(lo, unit2, "--range2 LO"), quantity(hi, unit2, "--range2 HI"))
         if not range2[0] < range2[1]:
             raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
+    required = None  # the labelled state the run must start on (--state, or the one START is)
     if args.y0 and getattr(model.module, "START", None) is None:
         y, _ = steady.newton(model, p, model.state(assignments(args.y0, "--y0", u.states)))
     elif args.state in (None, "start"):
-        y = continue_command.carried_start(model, p, pmap) if (continue_command.wants_chart(args) or args.tie) \
-            else pinned_start(model, p)
+        y = default_start(model, p, pmap, carried=bool(continue_command.wants_chart(args) or args.tie))
+        required = default_label(model)
     else:
+        required = args.state
         from ..analysis.starts import labelled_state
 
         y = labelled_state(model, args.state, p)
@@ -334,8 +372,9 @@ def run_continue(args) -> int:
             raise AnalysisError(f"state {args.state}: {model.name}'s AUTO files pin the free angles "
                                 f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
                                 f"balanced continuum), which this state does not share; use stability --scan")
+    followed = check(model, y, p, required)
     if continue_command.wants_chart(args):
-        return continue_command.chart_command(args, model, p, y, emit)
+        return continue_command.chart_command(args, model, p, y, lambda out: emit({**out, **followed.to_json()}))
     ds_max = abs(to - p[k]) / AUTO_STEPS_PER_RANGE
     with activity(f"{model.name}: AUTO-07p in {args.par}", show_progress):
         if args.par2 is None:
@@ -358,9 +397,10 @@ def run_continue(args) -> int:
     end_at = last.values[col] if last is not None else float(p[k])
     complete = bool(abs(end_at - to) <= 1e-6 * max(abs(to), abs(to - p[k])))
     out.update({"to": float(to), "complete": complete, "end": last.type if last is not None else "none",
-                "end_at": float(end_at), "units": {args.par: u.params[args.par]}})
+                "end_at": float(end_at), "units": {args.par: u.params[args.par]}, **followed.to_json()})
     follow = lambda q, guess: pinned(model, y, q, guess)  # noqa: E731
     continue_command.add_lyapunov(model, out["points"], args.par, p, follow, args)
+    continue_command.add_margins(model, out["points"], args.par, p)
     if continue_command.wants_orbits(args):
         with activity(f"{model.name}: periodic orbits in {args.par} (shooting)", show_progress):
             result, branches = continue_command.continue_orbits(model, args, p, out["points"], args.par, to, follow)
@@ -369,10 +409,14 @@ def run_continue(args) -> int:
             continue_command.plot_branches(Path(args.plot), model, args.par, branches)
     emit(out)
     if not complete:
-        print(f"adbgen: ended early: AUTO-07p stopped at {args.par} = {show(end_at, u.params[args.par], 9)} before "
-              f"{show(to, u.params[args.par], 9)} ({out['end']})", file=sys.stderr)
+        print(f"adbgen: ended early: {auto_end(args.par, end_at, to, u.params[args.par], out['end'])}", file=sys.stderr)
         return ENDED_EARLY
     return 0
+
+
+def auto_end(name: str, end_at: float, to: float, unit: str, end: str) -> str:
+    """Where AUTO-07p stopped, with the parameter's unit only where the model has one (`units.show`)."""
+    return f"AUTO-07p stopped at {name} = {show(end_at, unit, 9)} before {show(to, unit, 9)} ({end})"
 
 
 def _continue_forced(model, p, args, to, show_progress) -> int:
@@ -418,10 +462,14 @@ def _print_continue_forced(out, name, u) -> None:
 def _print_continue(out, name, name2) -> None:
     if out["points"]:
         print(f"model {out['model']}: AUTO-07p in {name}")
+    if out.get("followed_state"):
+        print(f"  follows: state {out['followed_state']} (distance {out['state_distance']:.2g}, by its "
+              f"{out['identified_by']})")
     for pt in out["points"]:
         freq = f", frequency {pt['frequency']:.9g}" if pt.get("frequency") else ""
         crit = f", {pt['criticality']} (l1 = {pt['first_lyapunov']:.6g})" if "criticality" in pt else ""
-        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {pt['stability']}{freq}{crit}")
+        margin = f", margin {pt['margin']:.3g}" + (" MARGINAL" if pt["marginal"] else "") if "margin" in pt else ""
+        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {pt['stability']}{freq}{crit}{margin}")
     print_orbits(out, name)
     if name2:
         for c in out["curves"]:

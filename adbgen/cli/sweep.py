@@ -2,9 +2,11 @@
 
     adbgen sweep MODEL --grid NAME=FROM:TO:COUNT [--grid ...] [--set NAME=VALUE]... [--y0 NAME=VALUE]...
                  --measure {attractor,r_max,t_dec,stability} [--t-end T] [--rtol R] --out DIR
-                 [--scheduler ADDRESS | --workers N] [--json]
+                 [--scheduler ADDRESS | --workers N] [--check-tolerance] [--json]
 
---json prints {"points", "computed", "reused", "wall_s", "store"} (and a few more keys).
+--json prints {"points", "computed", "reused", "wall_s", "store"} (and a few more keys).  With
+--check-tolerance every point is computed again at rtol/100, atol/100 and on a second engine, and the
+summary adds "tolerance_sensitive" (the count of points whose outcome differs) and "tolerance_check".
 """
 
 from __future__ import annotations
@@ -61,6 +63,10 @@ def _add_sweep(p) -> None:
     p.add_argument("--chunk", type=_positive_int, default=None,
                    help="grid points per task and store chunk (about; default: 16-256, 8 tasks per core)")
     p.add_argument("--no-figures", dest="figures", action="store_false", help="do not draw the figures")
+    p.add_argument("--check-tolerance", action="store_true",
+                   help="attractor, r_max, t_dec: every point again at rtol/100, atol/100 and on a second engine "
+                        "of another method; points whose label (value: beyond 1 %%) differs are flagged "
+                        "(tolerance_sensitive: stored, counted, marked on the figures)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout, no progress bar")
     p.set_defaults(fn=run_sweep_command)
 
@@ -93,7 +99,7 @@ def run_sweep_command(args: argparse.Namespace) -> int:
                      y0=list(args.y0), tie=list(args.tie), t_end=t_end, rtol=args.rtol, atol=args.atol,
                      threshold=threshold, engine=args.engine, early_stop=args.early_stop,
                      symmetry=args.symmetry, check_dt=args.check_dt, stop_region=args.stop_region,
-                     chunk=args.chunk)
+                     chunk=args.chunk, check_tolerance=args.check_tolerance)
     summary = run_sweep(spec, args.out, scheduler=args.scheduler, workers=args.workers, progress=not args.json,
                         figures=args.figures)
     if args.json:
@@ -101,6 +107,10 @@ def run_sweep_command(args: argparse.Namespace) -> int:
     else:
         print(f"{summary['points']} points: {summary['computed']} computed ({summary['integrated']} integrated), "
               f"{summary['reused']} reused, {summary['wall_s']:.2f} s; store {summary['store']}")
+        if "tolerance_sensitive" in summary:
+            c = summary["tolerance_check"]
+            print(f"tolerance check: {summary['tolerance_sensitive']} of {c['checked']} points tolerance-sensitive "
+                  f"(outcome differs at rtol {c['rtol']:g} or on {c['second_engine']})")
         for f in summary["figures"]:
             print(f"wrote {f}")
     return 0

@@ -7,13 +7,13 @@ line a block quote), so `reference_parser()` is `adbgen.cli.build_parser()` with
 translated as the docstrings are (`plain_docstrings`): the page shows them as written and no command's
 wording can fail the -W build.
 
-The benchmarks are values of one positional argument (`bench.registry`), not argparse subcommands, and
+The benchmarks are values of one positional argument (`benchmarks/registry.py`), not argparse subcommands, and
 share one merged option list.  The directive
 
     ```{adbgen-benchmarks}
     ```
 
-renders, for each benchmark of `bench.registry.all_benchmarks()` in registry order, a section with
+renders, for each benchmark of `benchmarks.registry.all_benchmarks()` in registry order, a section with
 the id ``adbgen-bench-<name>``: its usage (formatted by argparse from the options it declares), the
 first paragraph of its module's docstring, its results file and its options with its own help.  A
 benchmark added to the registry appears with no edit here.
@@ -111,14 +111,14 @@ class BenchmarksDirective(SphinxDirective):
     has_content = False
 
     def run(self) -> list[nodes.Node]:
-        from adbgen.bench import registry
+        from adbgen.cli.bench import registry  # the checkout's benchmarks (the site is built from one)
 
         lines: list[str] = []
-        for benchmark in registry.all_benchmarks():
+        for benchmark in registry().all_benchmarks():
             lines += benchmark_rst(benchmark)
         container = nodes.section()
         container.document = self.state.document
-        nested_parse_with_titles(self.state, StringList(lines, source="adbgen.bench.registry"), container)
+        nested_parse_with_titles(self.state, StringList(lines, source="benchmarks.registry"), container)
         return container.children
 
 

@@ -1,12 +1,13 @@
 """The `auto` engine's shipped table (adbgen/analysis/engines/auto_table.json) is safe beyond the two
 problems it was measured on: every row's Taylor step aims below a tenth of its tolerance
-(`bench.auto.admissible`), and on a third scene, derivation notebook 06's five-ball SI scene (omega =
+(`benchmarks.engine_table.admissible`), and on a third scene, derivation notebook 06's five-ball SI scene (omega =
 400 rad/s, errors amplified ~1e3-fold by the transient), `auto` is as accurate as DOP853 at the same rtol.
 Negative control: the table withdrawn on 2026-11-27 (chosen by measured error alone) fails both."""
 
 from __future__ import annotations
 
 import contextlib
+import json
 import io
 from pathlib import Path
 
@@ -17,14 +18,39 @@ from adbgen.analysis.engines import ENGINES
 from adbgen.analysis.engines.auto import TABLE, AutoEngine, load_table
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
-from adbgen.bench.auto import SAFETY, admissible
 from adbgen.cli import main
+from benchmarks.engine_table import SAFETY, admissible
 
 WITHDRAWN = Path(__file__).resolve().parents[2] / "benchmarks" / "withdrawn" / "auto-2026-11-27T1909.json"
 
 
 def _rows(table: dict) -> list[dict]:
-    return table["rows"] + [r for rows in table.get("by_family", {}).values() for r in rows]
+    return table["rows"] + [r for p in table.get("by_problem", {}).values() for r in p["rows"]]
+
+
+def test_each_model_takes_the_rows_of_the_problem_measured_on_its_kind_of_machine():
+    """The table is keyed by problem, with the problem's model's kinds of coordinate (no family named in
+    the package's data); every generated model takes the rows of the problem measured on a model of its
+    own family (problem A's: single plane, B's: two planes), read here from the models' FAMILY and the
+    benchmark's problems.  Negative control: with problem B's kinds planted wrong (a coordinate no model
+    has), the two-plane models fall to problem A's rows."""
+    from adbgen.analysis.engines.auto import table_rows
+    from adbgen.analysis.loading import available_models
+    from benchmarks.precision import PROBLEMS
+
+    table = load_table(str(TABLE))
+    assert set(table["by_problem"]) == {"A", "B"} and "by_family" not in table
+    family_of = {label: load_model(PROBLEMS[label].problem.model).family for label in table["by_problem"]}
+    models = [load_model(name) for name in available_models()]
+    assert {m.family for m in models} == set(family_of.values())
+    for m in models:
+        label = next(k for k, fam in family_of.items() if fam == m.family)
+        assert table_rows(table, m.roles) == table["by_problem"][label]["rows"], m.name
+    planted = json.loads(json.dumps(table))
+    planted["by_problem"]["B"]["roles"].append("no_such_role")
+    hill = load_model(PROBLEMS["B"].problem.model)
+    assert table_rows(planted, hill.roles) == table["by_problem"]["A"]["rows"] != table["by_problem"]["B"]["rows"]
+    assert table_rows(table, ["no_such_role"]) == table_rows(table, None) == table["rows"]
 
 
 def test_every_row_of_the_shipped_table_aims_below_a_tenth_of_its_tolerance():

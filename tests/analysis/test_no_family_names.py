@@ -1,5 +1,6 @@
 """The analysis layer knows no family (issue 19 item 2): no family's registry key, model kind, generated
-model's name or family folder's name appears anywhere in adbgen/analysis/, code, strings or comments.
+model's name or family folder's name appears anywhere in adbgen/analysis/, code, strings or comments,
+nor in its data files (.json: the auto engine's table is keyed by problem, issue 33).
 
 Citations of the references stay allowed ("thesis (3.6)", "paper (40)"): they say which equations a
 generic algorithm implements and name no family, model or module.  The words are read from the
@@ -39,7 +40,7 @@ def occurrences(folder: Path, words: set[str]) -> list[str]:
     pattern = re.compile("|".join(sorted(map(re.escape, words), key=len, reverse=True)))
     out = []
     for path in sorted(folder.rglob("*")):
-        if path.suffix not in (".py", ".c", ".h", ".j2", ".md") or "__pycache__" in path.parts:
+        if path.suffix not in (".py", ".c", ".h", ".j2", ".md", ".json") or "__pycache__" in path.parts:
             continue
         for k, line in enumerate(path.read_text().splitlines(), start=1):
             for m in pattern.finditer(line):
@@ -61,5 +62,7 @@ def test_a_planted_name_is_found(tmp_path):
     """Negative control: the search finds a model name in code, in a string and in a comment."""
     (tmp_path / "analysis").mkdir()
     (tmp_path / "analysis" / "x.py").write_text('m = load("thesis_rotating_n3")  # two-plane\nkind = single_plane\n')
+    (tmp_path / "analysis" / "table.json").write_text('{"by_family": {\n  "single-plane": []}}\n')
     found = occurrences(tmp_path / "analysis", forbidden_words())
-    assert found == ["analysis/x.py:1: thesis_rotating_n3", "analysis/x.py:1: two-plane", "analysis/x.py:2: single_plane"]
+    assert found == ["analysis/table.json:2: single-plane", "analysis/x.py:1: thesis_rotating_n3",
+                     "analysis/x.py:1: two-plane", "analysis/x.py:2: single_plane"]

@@ -154,6 +154,22 @@ def test_orbit_command_json(capsys):
     assert all(len(pair) == 2 for pair in out["multipliers"]) and len(out["multipliers"]) == 8
     assert set(out["y"]) == set(load_model("thesis_rotating_n2").state_names)
     assert out["windings"] == {"phi_1": 0, "phi_2": 0} and out["stable"] is True
+    # issue 34: what it followed and its margin, certified (the thesis' Fig. 5.4(b) cycle: |mu|max = 0.97)
+    assert out["followed_state"] is None and "period 6.21052028" in out["followed_orbit"]
+    assert 0 <= out["start_distance"] < 1e-3
+    assert out["margin"] == pytest.approx(-0.0300, abs=1e-4) and out["marginal"] is False
+    assert out["margin_uncertainty"] >= out["trivial_multiplier_error"]
+
+
+def test_orbit_state_on_a_forced_model_follows_it_and_an_autonomous_one_refuses(capsys):
+    """--state B on the forced two_plane_fixed: the orbit is B (the rotor at rest, a constant solution); on an
+    autonomous model a labelled state is a steady state, not an orbit: one line, exit 2."""
+    code = main(["orbit", "two_plane_fixed", "--state", "B", "--t-transient", "0", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["followed_state"] == "B" and out["start_distance"] < 1e-12 and out["r_max"] < 1e-12
+    code = main(["orbit", "thesis_rotating_n2", "--state", "1"])
+    captured = capsys.readouterr()
+    assert code == 2 and captured.out == "" and captured.err.count("\n") == 1 and "autonomous" in captured.err
 
 
 @pytest.mark.parametrize("argv, text", [

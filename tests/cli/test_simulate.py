@@ -74,3 +74,22 @@ def test_failed_integration_exit_1(capsys):
     assert code == 1
     assert json.loads(out)["status"] == "max_steps"
     assert err.startswith("adbgen: error: integration failed at t = ") and "step limit" in err
+
+
+def test_check_tolerance_keeps_every_key_and_adds_the_check(capsys):
+    """--check-tolerance: every key of a plain run and label, tolerance_sensitive, tolerance_check; Fig. 5.4(a)
+    is robust (a planted flip is flagged in tests/analysis/test_tolerance.py)."""
+    argv = ("simulate", "thesis_rotating_n2", "--y0", "phi_1=pi/2", "--y0", "phi_2=-pi/2", "--t-end", "1000")
+    code, out, _ = run(capsys, *argv, "--json")
+    plain = json.loads(out)
+    code, out, _ = run(capsys, *argv, "--json", "--check-tolerance")
+    data = json.loads(out)
+    assert code == 0 and set(plain) <= set(data)
+    assert set(data) - set(plain) == {"label", "tolerance_sensitive", "tolerance_check"}
+    assert data["label"] == "balanced 1" and data["tolerance_sensitive"] is False
+    check = data["tolerance_check"]
+    assert [o["role"] for o in check["outcomes"]] == ["as run", "tighter", "second engine"]
+    assert check["outcomes"][1]["rtol"] == pytest.approx(1e-10) and check["disagreements"] == []
+    assert data["r_max"] == plain["r_max"]  # the run as asked is the plain run
+    code, out, _ = run(capsys, *argv, "--check-tolerance", "--quiet")
+    assert code == 0 and "robust: balanced 1 (rtol 1e-08" in out and "attractor" in out

@@ -142,3 +142,73 @@ def test_continue_two_parameters_json(capsys):
     assert all(len(pt) == 2 for c in data["curves"] for pt in c["points"])
     assert data["special"] and {s["type"] for s in data["special"]} <= {"BT", "CP", "ZH", "GH", "HH"}
     assert all({"Omega", "mu"} <= set(s) for s in data["special"])
+
+
+# ------------------------------------------------------- issue 34 items 4, 5: the state followed, margins
+
+TIES = ["--tie", "chi=epsilon/R_t", "--tie", "m_2=M*2*epsilon/R_t", "--tie", "m_3=m_2", "--tie", "m_4=m_2",
+        "--tie", "m_1=m_2", "--tie", "c_bt=0.01*m_2", "--tie", "c_bb=c_bt"]
+
+
+@pytest.mark.parametrize("eps, hopf, l1, kind", [(5e-5, 2.09772243, 1.2223, "subcritical"),
+                                                 (0.005, 3.38695587, -0.022814, "supercritical")])
+def test_the_documented_tied_command_follows_B_with_the_papers_criticality(capsys, eps, hopf, l1, kind):
+    """docs/orbits.md's Fig. 14(a) set-up in one parameter: at eps/R + chi = 1e-4 the first Hopf point of B is
+    subcritical, at 0.01 supercritical (paper section 5).  Before issue 34 the eps = 5e-5 run started on an
+    off-centre state (x = 2.8e-5) and gave a Hopf point at 2.0860 with l1 = -0.00495, "supercritical"."""
+    require_auto()
+    code, out, err = run(capsys, "continue", "two_plane_rotating", "--par", "Omega", "--set", "Omega=4", "--set",
+                         "beta=1", "--set", f"epsilon={eps}", *TIES, "--to", "1", "--json", "--quiet")
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["followed_state"] == "B" and data["state_distance"] < 1e-12
+    first = next(pt for pt in data["points"] if pt["type"] == "HB")
+    assert first["Omega"] == pytest.approx(hopf, abs=1e-7) and first["criticality"] == kind
+    assert first["first_lyapunov"] == pytest.approx(l1, rel=1e-3)
+    assert all("margin" in pt and "marginal" in pt for pt in data["points"])
+    assert first["marginal"] or abs(first["margin"]) < 1e-6  # on the boundary: its margin is (near) zero
+
+
+@pytest.mark.parametrize("command", [["stability", "thesis_rotating_n2"],
+                                     ["continue", "thesis_rotating_n2", "--par", "Omega"]])
+def test_a_start_that_is_not_the_default_state_is_refused_in_one_line(capsys, command):
+    """mu = 0.004 < delta / n: the balanced state 1 (START's) does not exist; Newton from START finds 2-, which the
+    run would have followed silently.  Negative control: at the default mu the same command runs on state 1."""
+    err = one_line_error(capsys, *command, "--set", "mu=0.004", "--quiet", match="is not state 1")
+    assert "found state 2-" in err
+    if command[0] == "continue":
+        require_auto()
+    code, out, err = run(capsys, *command, "--json", "--quiet")
+    assert code == 0 and json.loads(out)["followed_state"] == "1", err
+
+
+def test_stability_names_the_state_and_its_margin(capsys):
+    code, out, err = run(capsys, "stability", "thesis_rotating_n2", "--state", "2+", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["followed_state"] == "2+" and data["identified_by"] == "closed form"
+    lead = max(re for re, _ in data["eigenvalues"])
+    assert data["margin"] == lead and data["marginal"] is False and 0 < data["margin_uncertainty"] < 1e-10
+    code, out, err = run(capsys, "stability", "thesis_rotating_n2", "--y0", "phi_1=1", "--y0", "phi_2=-1", "--json")
+    assert code == 0 and json.loads(out)["followed_state"] in (None, "1", "2+", "2-", "3(1)+", "3(1)-")  # named only
+
+
+def test_a_unit_is_printed_only_where_the_model_has_one():
+    """The two-plane models are dimensionless (the paper's sets (10), (41)-(43)): before issue 34 `continue` said
+    "AUTO-07p stopped at Omega = 4 rad/s".  Negative control: a two-plane scene in SI units, and the single-plane
+    dimensional model, keep rad/s."""
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.units import units
+    from adbgen.cli.stability import auto_end
+    from adbgen.families.two_plane.scene import TwoPlaneScene
+    from adbgen.families.two_plane.symbols import TwoPlaneSymbols
+
+    model = load_model("two_plane_rotating")
+    u = units(model)
+    assert u.time == "1" and u.params["Omega"] == "1" and u.length == "1"
+    assert auto_end("Omega", 3.9999999996, 1.0, u.params["Omega"], "UZ") == "AUTO-07p stopped at Omega = 4 before 1 (UZ)"
+    si = {p.name: p.unit for p in TwoPlaneSymbols.for_scene(TwoPlaneScene.from_mapping({"units": "SI"})).parameters}
+    plain = {p.name: p.unit for p in TwoPlaneSymbols.for_scene(TwoPlaneScene.from_mapping({})).parameters}
+    assert si["Omega"] == "rad/s" and si["M"] == "kg" and set(plain.values()) == {"dimensionless"}
+    dimensional = units(load_model("single_plane_fixed_n2")).params["omega"]
+    assert "rad/s" in auto_end("omega", 400.0, 100.0, dimensional, "UZ")

@@ -4,7 +4,7 @@ skipping an element or reading past the end, its SUNMatrix store transposed, the
 dropped, the AUTO continuum term with * and / swapped, the amplitude ICP off by one, IPLT changed,
 stpnt copying nothing, numba's params() returning DEFAULTS, its jac wrapper passing out.T, a broken
 per-ball split, the ball-invariant print order broken), each applied to a scratch copy of the tree
-(`adbgen.bench.mutation.Scratch`), must be refused by `adbgen regenerate` before writing: exit 2, one
+(`benchmarks.mutation.Scratch`), must be refused by `adbgen regenerate` before writing: exit 2, one
 line `adbgen: error: <model>: ...`, no output folder.  Small models (n = 2, n = 3 for the continuum),
 only the target each mutant is in, reduction checks skipped (the lowering check and the proofs run).
 
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import pytest
 
-from adbgen.bench.mutation import SAMPLE, Scratch
+from benchmarks.mutation import SAMPLE, Scratch
 from adbgen.codegen import compiler
 
 from toolchain import require_tool
@@ -38,7 +38,7 @@ def test_the_sample_is_thirty_distinct_mutants_of_the_tree():
     assert len(SAMPLE) == 30 and len({m.id for m in SAMPLE}) == 30
     assert {m.file.split("/")[0] for m in SAMPLE} == {"adbgen", "templates"}
     for m in SAMPLE:  # each applies to the tree as it is (exactly one occurrence)
-        from adbgen.bench.mutation import ROOT
+        from benchmarks.mutation import ROOT
 
         assert m.apply((ROOT / m.file).read_text()) != (ROOT / m.file).read_text()
 

@@ -236,7 +236,8 @@ def test_the_c_library_describes_itself_as_the_numba_module(tmp_path):
 
 def test_model_properties_read_the_self_description():
     m = load_model("two_plane_ramp")
-    assert (m.family, m.kind, m.time_unit, m.forcing_frequency) == ("two-plane", "two_plane_ramp", "s", "")
+    # dimensionless, as the paper's sets (issue 34 item 5: a unit only where the model has one)
+    assert (m.family, m.kind, m.time_unit, m.forcing_frequency) == ("two-plane", "two_plane_ramp", "1", "")
     assert m.angles == ("theta_1", "theta_2", "theta_3", "theta_4") and m.amplitude == ("X", "Y")
     assert m.amplitude_indices == (0, 1, 8, 9) and m.angle_indices == (4, 5, 6, 7)
     assert m.measures == ("r", "A", "spin_angle", "spin_rate") and m.scales == {"eccentricity": "epsilon", "speed": "Omega_max"}

@@ -6,7 +6,7 @@ import io
 
 import toolchain
 
-from adbgen.bench import registry
+from benchmarks import registry
 from adbgen.docsite.cli_reference import SECTION_ID, _usage, benchmark_rst
 
 

@@ -10,7 +10,7 @@ from site_helpers import DOCS, ROOT, all_parsers, command_paths, ids, notebook_o
 
 import adbgen
 import adbgen.models
-from adbgen.bench import registry
+from benchmarks import registry
 from adbgen.cli import build_parser
 
 

@@ -4,9 +4,13 @@ the benchmark rewrites it).  It runs the chosen engine and says what it picked (
 `adbgen simulate --json`).
 
 The table's rows: {"rtol": R, "engine": E, "rtol_run": r, "order": p, "step_factor": f}: the
-candidate admissible at R (a Taylor step aimed at R/10 or less, `bench.auto.admissible`) that reached an
-error of at most R (relative to the state's size, see `adbgen bench auto`) fastest, per family (`by_family`, keyed by the model's FAMILY: the measured problem of that family) and
-jointly (`rows`, for a model of another family); it is run as engine E at rtol r (atol scaled by the same factor) with, for the Taylor engine,
+candidate admissible at R (a Taylor step aimed at R/10 or less, `benchmarks.engine_table.admissible`) that reached an
+error of at most R (relative to the state's size, see `adbgen bench auto`) fastest, per measured problem
+(`by_problem`: {label: {"roles", "rows"}}, the problem's model's kinds of coordinate, its
+self-description's STATE_ROLES each once, sorted) and jointly (`rows`, fastest over every problem);
+a model takes the rows of the problem with the most kinds of coordinate that the model all has (its
+own kinds, or some of them: a model with a spin angle besides takes the rows of the problem without
+one), and the joint rows where no problem's kinds are all among its own.  A row is run as engine E at rtol r (atol scaled by the same factor) with, for the Taylor engine,
 order p and step factor f.  A requested rtol takes the row of the largest R at or below it (so the
 measured error is at most the requested rtol); tighter than every row: the tightest row.  A model without a Taylor series (the `taylor` target
 skips a model whose kernel has a function without a recurrence) runs on `FALLBACK` (CyRK's DOP853) at
@@ -56,11 +60,20 @@ def load_table(path: str = str(TABLE)) -> dict:
     return {**data, "rows": rows}
 
 
-def table_choice(rtol: float, family: str | None = None, path: str | None = None) -> dict:
-    """The table's row for a requested rtol and a model's family: the row of the largest tolerance at or
-    below rtol (tighter than every row: the tightest row)."""
+def table_rows(table: dict, roles=None) -> list[dict]:
+    """The rows for a model whose states play `roles` (its STATE_ROLES; None: unknown): those of the measured
+    problem with the most kinds of coordinate all among the model's, else the joint rows."""
+    kinds = set(roles or ())
+    within = [(-len(p["roles"]), label) for label, p in table.get("by_problem", {}).items()
+              if p["rows"] and set(p["roles"]) <= kinds]
+    return table["by_problem"][min(within)[1]]["rows"] if within else table["rows"]
+
+
+def table_choice(rtol: float, roles=None, path: str | None = None) -> dict:
+    """The table's row for a requested rtol and a model's state roles (`table_rows`): the row of the
+    largest tolerance at or below rtol (tighter than every row: the tightest row)."""
     table = load_table(path or str(TABLE))
-    rows = sorted(table.get("by_family", {}).get(family) or table["rows"], key=lambda r: r["rtol"])
+    rows = sorted(table_rows(table, roles), key=lambda r: r["rtol"])
     fitting = [r for r in rows if r["rtol"] <= rtol * (1 + 1e-9)]
     return dict(fitting[-1] if fitting else rows[0])
 
@@ -80,13 +93,13 @@ class AutoEngine:
     def table(self) -> dict:
         return load_table(self._table or str(TABLE))
 
-    def choice(self, rtol: float, family: str | None = None) -> dict:
-        """The table's row for a requested rtol and a model's family (see the module docstring)."""
-        return table_choice(rtol, family, self._table)
+    def choice(self, rtol: float, roles=None) -> dict:
+        """The table's row for a requested rtol and a model's state roles (see the module docstring)."""
+        return table_choice(rtol, roles, self._table)
 
     def picked(self, rtol: float, atol: float, model=None):
         """(engine object, rtol, atol, picked record) to run for a requested tolerance (and model)."""
-        row = self.choice(rtol, getattr(getattr(model, "module", None), "FAMILY", None))
+        row = self.choice(rtol, getattr(getattr(model, "module", None), "STATE_ROLES", None))
         if "order" in row and model is not None and not _has_series(model):
             # a model the taylor target skipped (no recurrence for one of its functions): the RK engine
             # that was the default before, at the requested tolerance, and the reason in `picked`
@@ -129,4 +142,4 @@ class AutoEngine:
         return {**out, "picked": record}
 
 
-__all__ = ["AutoEngine", "ENSEMBLE", "FALLBACK", "TABLE", "load_table", "table_choice"]
+__all__ = ["AutoEngine", "ENSEMBLE", "FALLBACK", "TABLE", "load_table", "table_choice", "table_rows"]

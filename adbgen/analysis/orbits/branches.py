@@ -48,6 +48,8 @@ class CycleBranch:
                "parameter": [float(o.p_value) for o in self.orbits],
                "period": [float(o.period) for o in self.orbits],
                "stable": [bool(o.stable) for o in self.orbits],
+               "margin": [float(o.margin.value) for o in self.orbits],
+               "marginal": [o.margin.marginal for o in self.orbits],
                "amplitude": [float(o.r_max) for o in self.orbits],
                "r_min": [float(o.r_min) for o in self.orbits],
                "max_multiplier": [float(np.max(np.abs(o.nontrivial))) if len(o.nontrivial) else 0.0
@@ -133,7 +135,7 @@ def _run(model: Model, curve: CycleCurve, x0, name: str, origin: dict, settings:
 def _orbit(curve: CycleCurve, pt, amplitude: bool) -> PeriodicOrbit:
     d = pt.data
     o = PeriodicOrbit(curve.model, d.p, d.X[0].copy(), d.T, dict(curve.windings), d.multipliers, d.trivial,
-                      0.0, 0, d.X.copy(), curve.shooting.forced, curve.q)
+                      0.0, 0, d.X.copy(), curve.shooting.forced, curve.q, monodromy=d.monodromy)
     o.p_value = d.lam
     if amplitude:
         from .orbit import add_amplitude

@@ -80,6 +80,24 @@ def add_lyapunov(model, points: list[dict], name: str, p: np.ndarray, follower, 
         row["criticality"] = criticality(l1)
 
 
+def add_margins(model, points: list[dict], name: str, p: np.ndarray) -> None:
+    """margin, margin_uncertainty, marginal (`steady.margin_at`, issue 34 item 5) at each point of AUTO's run
+    that carries its state: AUTO's own "stability" is a sign; this says how far from zero, and whether the
+    computation can certify it."""
+    from .. import steady
+
+    k = model.param_names.index(name)
+    for row in points:
+        if "state" not in row:
+            continue
+        q = np.array(p, float)
+        q[k] = row[name]
+        try:
+            row.update(steady.margin_at(model, q, np.array([row["state"][s] for s in model.state_names])).to_json())
+        except (AnalysisError, np.linalg.LinAlgError):
+            continue
+
+
 def refine_hopf(model, pmap, y, lam, omega, follower):
     """The Hopf point near (y, lam): lam by Brent's method on the real part of the pair nearest i omega,
     the equilibrium re-solved at each trial (`follower(p, guess)`)."""
@@ -191,11 +209,16 @@ def run_forced(args, model, emit) -> int:
     if to == p[k]:
         raise AnalysisError(f"--to must differ from the start value {args.par} = {p[k]:g}")
     start = forced_start(model, args, p)
+    from ..identify import identify
+
+    # what the branch starts on: a labelled steady state (a constant solution, e.g. balanced with the rotor at
+    # rest) or an unlabelled periodic response (issue 34 item 4)
+    followed = identify(model, start.y, p).to_json()
     if args.par2 is not None:
-        return chart_command(args, model, p, start, emit)
+        return chart_command(args, model, p, start, lambda out: emit({**out, **followed}))
     br = branches.from_orbit(model, pmap, start, 1.0 if to > p[k] else -1.0, orbit_settings(args, float(p[k]), to), to=to)
     out = {"model": model.name, "parameter": args.par, "ties": list(args.tie), "points": [],
-           "orbits": [br.to_json()], "orbit_points": br.points_json(0)}
+           "orbits": [br.to_json()], "orbit_points": br.points_json(0), **followed}
     if args.plot:
         plot_branches(Path(args.plot), model, args.par, [br])
     emit(out)

@@ -49,6 +49,7 @@ class CycleData:
     multipliers: np.ndarray  # sorted, trivial included
     trivial: int | None
     growth: float  # largest arc amplification |Phi_i|_2
+    monodromy: np.ndarray | None = None  # M, for the margin's condition number
 
     @property
     def nontrivial(self) -> np.ndarray:
@@ -143,7 +144,7 @@ class CycleCurve:
         X = self.shooting.arcs_of(x[:-1])
         trivial = None if self.shooting.forced else trivial_index(mu, M, np.asarray(self.model.module.rhs(0.0, X[0], p)))
         growth = max(float(np.linalg.norm(P, 2)) for P in ev.Phi)
-        return CycleData(lam, p, X.copy(), ev.T, mu, trivial, growth)
+        return CycleData(lam, p, X.copy(), ev.T, mu, trivial, growth, M)
 
     def tests(self, x: np.ndarray, data: CycleData) -> np.ndarray:
         mu = data.nontrivial
@@ -215,7 +216,8 @@ class CycleCurve:
         data = data or self.data(x)
         ev = self._evaluation(x)
         o = PeriodicOrbit(self.model, data.p, data.X[0].copy(), data.T, dict(self.windings), data.multipliers,
-                          data.trivial, float(np.max(np.abs(ev.F))), 0, data.X.copy(), self.shooting.forced, self.q)
+                          data.trivial, float(np.max(np.abs(ev.F))), 0, data.X.copy(), self.shooting.forced, self.q,
+                          monodromy=data.monodromy)
         if amplitude:
             add_amplitude(o, self.flow)
         return o

@@ -162,13 +162,19 @@ class EquilibriumFollower:
 def homotopy(model: Model, y0: np.ndarray, p0: np.ndarray, p1: np.ndarray, steps: int = 40) -> np.ndarray:
     """The steady state y0 at p0 carried to p1: Newton at p0 + s (p1 - p0), s = 1/steps .. 1 (halving the step
     where Newton fails), so that many parameters set at once (--set) do not throw Newton onto another state."""
-    follower = EquilibriumFollower(model, y0)
     p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
+    return carry(model, y0, lambda s: p0 + s * (p1 - p0), steps)
+
+
+def carry(model: Model, y0: np.ndarray, path, steps: int = 40) -> np.ndarray:
+    """The steady state y0 at path(0) carried to path(1): Newton at path(s), s = 1/steps .. 1, each from the
+    state before (the step halved where Newton fails)."""
+    follower = EquilibriumFollower(model, y0)
     s, ds, y = 0.0, 1.0 / steps, np.array(y0, float)
     while s < 1.0:
         t = min(1.0, s + ds)
         try:
-            y, _ = follower.solve(p0 + t * (p1 - p0), y)
+            y, _ = follower.solve(path(t), y)
         except AnalysisError:
             ds /= 2
             if ds < 1e-6:
@@ -182,22 +188,26 @@ def homotopy(model: Model, y0: np.ndarray, p0: np.ndarray, p1: np.ndarray, steps
 
 
 def carried_start(model, p, pmap=None):
-    """START carried to p: first to the --set values with the free parameters at START's and the ties applied,
-    then along the ties to the free parameters' values (geometrically where they keep their sign).  Several
-    parameters set at once can throw plain Newton, or a straight homotopy, onto another steady state: the
-    paper's charts tie the balls' mass to the imbalance, and only along the tie does B keep its angles."""
+    """START carried to p.  Without ties: a straight homotopy from START_PARAMETERS.  With ties (pmap.ties),
+    the state is re-solved along the ties, not only the parameters: first at START_PARAMETERS with the ties
+    applied, then along a path of the untied parameters from START's values to p's (geometric where a value
+    keeps its sign, straight otherwise) with the ties applied at every point.  Several parameters set at once
+    can throw plain Newton, or a straight homotopy, onto another steady state: the paper's charts tie the
+    balls' mass to the imbalance (m/M = eps/R + chi), and only along the tie does B stay balanced (a straight
+    homotopy from START to eps = 5e-5 lands on an off-centre state, x = 2.8e-5)."""
     y0 = np.array(model.module.START, float)
     p0 = np.array(model.module.START_PARAMETERS, float)
-    if pmap is None:
+    if pmap is None or not pmap.ties:
         return homotopy(model, y0, p0, p)
-    lam0 = np.array([p0[k] for k in pmap.index])
-    lam1 = np.array([p[k] for k in pmap.index])
-    y = homotopy(model, y0, p0, pmap(lam0))
-    follower = EquilibriumFollower(model, y)
-    same = (lam0 * lam1 > 0)
-    for t in np.linspace(0.0, 1.0, 61)[1:]:
-        lam = np.where(same, np.abs(lam0) ** (1 - t) * np.abs(lam1) ** t * np.sign(lam1 + (lam1 == 0)),
-                       lam0 + t * (lam1 - lam0))
-        y, _ = follower.solve(pmap(lam))
-        follower.accept(y)
-    return y
+    p = np.asarray(p, float)
+    # the untied parameters at the end: p's free values on pmap's base (which holds the --set values)
+    base1 = np.array(pmap.base, float)
+    base1[pmap.index] = p[pmap.index]
+    tied = lambda b: ParameterMap(model, b, [], ties=pmap.ties)([])  # noqa: E731
+    y = homotopy(model, y0, p0, tied(p0))
+    same = (p0 * base1 > 0)
+    mag0, mag1 = np.abs(np.where(same, p0, 1.0)), np.abs(np.where(same, base1, 1.0))
+
+    def path(t):
+        return tied(np.where(same, np.sign(base1) * mag0 ** (1 - t) * mag1 ** t, p0 + t * (base1 - p0)))
+    return carry(model, y, path, 60)

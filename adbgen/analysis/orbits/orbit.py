@@ -18,16 +18,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 from ..loading import AnalysisError, Model
 from . import describe
-from .flow import Flow
+from ..margins import Margin, multiplier_margin
+from .flow import RTOL, Flow
 from .shooting import NEWTON_TOL, Evaluation, Shooting
 
 TWO_PI = 2 * math.pi
-UNIT_TOL = 1e-6  # |mu| <= 1 - UNIT_TOL: inside the unit circle (multipliers are accurate to ~1e-9)
+UNIT_TOL = 1e-6  # no longer decides stability (the margin's own uncertainty does, `margins`); kept for importers
 SAMPLES = 2000  # points per period for the amplitude range
 MAX_ARC_GROWTH = 1e4  # multiple shooting: each arc's Phi amplifies by at most this much
 
@@ -49,6 +51,8 @@ class PeriodicOrbit:
     r_min: float = float("nan")
     r_max: float = float("nan")
     measures: dict = field(default_factory=dict)  # name -> its maximum along the orbit (e.g. "A": A-bar)
+    monodromy: np.ndarray | None = None  # M (the multipliers' condition numbers; None: not kept)
+    start: np.ndarray | None = None  # the state the shooting began from (after any transient), if known
 
     @property
     def trivial_multiplier_error(self) -> float | None:
@@ -58,13 +62,23 @@ class PeriodicOrbit:
     def nontrivial(self) -> np.ndarray:
         return np.delete(self.multipliers, self.trivial) if self.trivial is not None else self.multipliers
 
+    @cached_property
+    def margin(self) -> Margin:
+        """max |mu| - 1 over the non-trivial multipliers and its uncertainty (`margins.multiplier_margin`;
+        without the monodromy matrix, the condition number is taken as 1)."""
+        M = self.monodromy if self.monodromy is not None else np.diag(self.multipliers.real)
+        return multiplier_margin(M, self.nontrivial, self.trivial_multiplier_error, RTOL, self.residual)
+
     @property
     def stable(self) -> bool:
-        return bool(np.all(np.abs(self.nontrivial) <= 1.0 - UNIT_TOL))
+        """Every non-trivial multiplier inside the unit circle by more than the margin's uncertainty."""
+        m = self.margin
+        return bool(m.value < -m.uncertainty)
 
     @property
     def n_unstable(self) -> int:
-        return int(np.sum(np.abs(self.nontrivial) > 1.0 + UNIT_TOL))
+        """The multipliers outside the unit circle by more than the margin's uncertainty."""
+        return int(np.sum(np.abs(self.nontrivial) > 1.0 + self.margin.uncertainty))
 
     def to_json(self) -> dict:
         m = self.model
@@ -73,7 +87,7 @@ class PeriodicOrbit:
             "period": float(self.period),
             "multipliers": [[float(z.real), float(z.imag)] for z in self.multipliers],
             "trivial_multiplier_error": self.trivial_multiplier_error,
-            "stable": self.stable, "n_unstable": self.n_unstable,
+            "stable": self.stable, "n_unstable": self.n_unstable, **self.margin.to_json(),
             "windings": {k: int(v) for k, v in self.windings.items()},
             "r_min": float(self.r_min), "r_max": float(self.r_max),
             **{f"{name}_bar": float(v) for name, v in self.measures.items()},
@@ -114,7 +128,8 @@ def from_evaluation(model: Model, shooting: Shooting, u: np.ndarray, ev: Evaluat
     X = shooting.arcs_of(u)
     trivial = None if shooting.forced else trivial_index(mu, M, np.asarray(model.module.rhs(0.0, X[0], p)))
     orbit = PeriodicOrbit(model, np.array(p, float), X[0].copy(), ev.T, dict(windings), mu, trivial,
-                          float(np.max(np.abs(ev.F))), iterations, X.copy(), shooting.forced, shooting.q)
+                          float(np.max(np.abs(ev.F))), iterations, X.copy(), shooting.forced, shooting.q,
+                          monodromy=np.array(M))
     if amplitude:
         add_amplitude(orbit, shooting.flow)
     return orbit
@@ -192,7 +207,9 @@ def refine(model: Model, p: np.ndarray, y: np.ndarray, period: float | None, win
     X = initial_arcs(flow, y, period, p, m)
     sh.set_reference(X[0], p)
     u, ev, it = sh.solve(sh.pack(X, period), p, tol=tol)
-    return from_evaluation(model, sh, u, ev, p, it, windings, amplitude)
+    orbit = from_evaluation(model, sh, u, ev, p, it, windings, amplitude)
+    orbit.start = np.array(y, float)
+    return orbit
 
 
 # ------------------------------------------------------------------- from a simulated trajectory

@@ -137,7 +137,7 @@ def describe(system: FirstOrderSystem, scene: TwoPlaneScene, parameter_sets: Map
     rotor = ("x", "y") if "x" in coords else ("X", "Y")
     roles = {c: ("translation" if c in rotor else "tilt" if c in _TILTS else "spin_angle" if c == "theta_0"
                  else "ball_angle") for c in coords}
-    units = {c: ("m" if c in rotor else "rad") for c in coords}
+    units = {c: ("rad" if c not in rotor else "m" if scene.si else "1") for c in coords}
     names = {p.name for p in system.parameters}
     speed = next((s for s in ("Omega", "Omega_max") if s in names), None)
     forms, states = [], []
@@ -155,7 +155,7 @@ def describe(system: FirstOrderSystem, scene: TwoPlaneScene, parameter_sets: Map
                                         "symmetric set-up (m_k = m, R, l, k equal, z_b = -z_t, beta = chi = 0): "
                                         "None elsewhere, where C3 may still exist", "C3"))
     return Description(
-        time_unit="s", units=units, roles=roles, angles=tuple(c for c in coords if roles[c].endswith("angle")),
+        time_unit="s" if scene.si else "1", units=units, roles=roles, angles=tuple(c for c in coords if roles[c].endswith("angle")),
         amplitude=rotor, measures={"A": vibration(system), **spin_measures(system.solve.eom)},
         forcing_frequency=_forcing(system) if forcing is None else forcing, symmetries=symmetries(system, scene),
         parameter_sets=dict(parameter_sets or {}),

@@ -1,12 +1,14 @@
 """The two-plane scene: a rigid rotor on two bearings with balls in two races (paper section 2.1).
 
 Units are whatever the user chooses consistently; the paper's sets (10), (41)-(43) are dimensionless
-(M = R = 1, 2k = 1).  The scene fixes the model's *structure* (balls per race, isotropic or anisotropic
+(M = R = 1, 2k = 1), and so is a scene unless it says ``units = "SI"`` (then its model's parameters and
+states carry the units of the scene reference; a dimensionless model prints none, issue 34 item 5).  The scene fixes the model's *structure* (balls per race, isotropic or anisotropic
 bearings, speed law) and the *defaults* of its symbolic parameters.
 
 A scene in TOML::
 
     preset = "paper-10"          # optional: start from a named parameter set, then override
+    units = "SI"                 # optional: "dimensionless" (default, as the paper) or "SI"
     eccentricity = 0.01
     misalignment = 0.001         # chi, couple imbalance (rad)
     [[races]]
@@ -157,6 +159,7 @@ def _preset(name: str) -> dict:
 
 
 PRESETS = ("paper-10", "paper-41", "paper-42", "paper-43")
+UNIT_SYSTEMS = ("dimensionless", "SI")
 DEFAULT_PRESET = "paper-10"
 KEY_DEFAULTS = {"preset": DEFAULT_PRESET}  # defaults that are no field of the scene (the reference reads them)
 
@@ -166,6 +169,8 @@ _LAW = lambda law: {"speed": {"law": law}}  # noqa: E731
 # from_mapping).  The paper's sets are dimensionless; the units say what a consistent SI scene means.
 KEYS = (
     Key("preset", "", "other", "start from a named parameter set, then override", " or ".join(f'"{p}"' for p in PRESETS)),
+    Key("units", "", "other", "the units the values are in: the model's parameters and states carry the units "
+        "below (SI) or none (dimensionless, as the paper's sets)", " or ".join(f'"{u}"' for u in UNIT_SYSTEMS)),
     Key("rotor_mass", "kg", "positive", "M, the rotor mass"),
     Key("transverse_inertia", "kg m^2", "positive", "J_t, transverse moment of inertia"),
     Key("polar_inertia", "kg m^2", "positive", "J_p, polar moment of inertia"),
@@ -214,6 +219,11 @@ class TwoPlaneScene:
     races: tuple[Race, ...] = field(default_factory=lambda: (Race(2.0, 1.0, (0.0025,) * 2, 2.5e-5),
                                                                Race(-2.0, 1.0, (0.0025,) * 2, 2.5e-5)))
     speed: TwoPlaneSpeed = field(default_factory=TwoPlaneSpeed)
+    units: str = "dimensionless"  # or "SI": the units of the scene reference (KEYS)
+
+    @property
+    def si(self) -> bool:
+        return self.units == "SI"
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "TwoPlaneScene":
@@ -224,7 +234,7 @@ class TwoPlaneScene:
         if not isinstance(data, Mapping):
             raise SceneError("<root>", "a scene is a table of options")
         known = {"preset", "rotor_mass", "transverse_inertia", "polar_inertia", "eccentricity", "imbalance_phase",
-                 "misalignment", "bearing_1", "bearing_2", "races", "speed"}
+                 "misalignment", "bearing_1", "bearing_2", "races", "speed", "units"}
         for key in sorted(map(str, data)):
             if key not in known:
                 raise SceneError(key, "unknown option")
@@ -236,6 +246,9 @@ class TwoPlaneScene:
         if not isinstance(races, (list, tuple)) or len(races) != 2:
             raise SceneError("races", f"a two-plane balancer has exactly two races, got {races!r:.60}")
         speed = raw["speed"]
+        units = data.get("units", "dimensionless")
+        if units not in UNIT_SYSTEMS:
+            raise SceneError("units", f"must be one of {', '.join(UNIT_SYSTEMS)}, got {units!r}")
         scene = cls(
             rotor_mass=_number("rotor_mass", raw["rotor_mass"], positive=True),
             transverse_inertia=_number("transverse_inertia", raw["transverse_inertia"], positive=True),
@@ -249,6 +262,7 @@ class TwoPlaneScene:
             else Bearing.from_mapping("bearing_2", raw["bearing_2"]),
             races=tuple(r if isinstance(r, Race) else Race.from_mapping(f"races[{i}]", r) for i, r in enumerate(races)),
             speed=speed if isinstance(speed, TwoPlaneSpeed) else TwoPlaneSpeed.from_mapping(speed),
+            units=units,
         )
         scene.validate()
         return scene

@@ -48,7 +48,9 @@ class TwoPlaneSymbols:
     @classmethod
     def for_scene(cls, scene: TwoPlaneScene) -> "TwoPlaneSymbols":
         params = ParameterTable()
-        add = params.add
+
+        def add(symbol, description, unit, default):  # a dimensionless scene's parameters carry no unit
+            return params.add(symbol, description, unit if scene.si else "dimensionless", default)
 
         M = add(positive("M"), "rotor mass", "kg", scene.rotor_mass)
         Jt = add(positive("J_t"), "transverse moment of inertia of the rotor", "kg m^2", scene.transverse_inertia)

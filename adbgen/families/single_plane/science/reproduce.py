@@ -28,6 +28,7 @@ from .balanced import balanced_stable
 from ....analysis.loading import load_model
 from ....analysis.reproduction import Reproduction
 from .published import EQUIDISTANT, TRANSIENTS, Transient, printed_half_unit
+from ....analysis.tolerance import MARK
 
 PI = math.pi
 RTOLS = (1e-6, 1e-8, 1e-10, 1e-12)
@@ -379,9 +380,12 @@ def transient(row: Transient) -> dict:
     """A published transient recomputed: converged (ENGINE at every RTOLS), the ode45 emulation at MATLAB's
     defaults; where neither gives the printed t_dec, the study that locates the difference: the threshold
     moved by 1 %, the emulation at tighter RelTol, the emulation's output points about its t_dec."""
+    from .sensitivity import check_transient
+
     sims = {r: _simulate(row.n, row.phi0, row.params, r)[1] for r in RTOLS}
     ode45 = _ode45(row, keep=True)
-    out = {"row": row, "sims": sims, "ode45": ode45}
+    out = {"row": row, "sims": sims, "ode45": ode45,
+           "check": check_transient(row.n, row.phi0, row.params, sims, ENGINE)}
     conv = sims[RTOLS[-1]]
     if not (_printed(conv.t_dec, row.t_dec) or _printed(ode45.t_dec, row.t_dec)):
         r = np.hypot(ode45.y[0], ode45.y[1])
@@ -427,7 +431,10 @@ def study(case: Case) -> dict:
     # the classifier integrates on to tell a cycle from an unsettled run: on the pinned engine too (it had
     # taken the default, whose coarser steps put the band test of Fig. 5.4(b)'s cycle over its 1 %)
     label = clf.label(best.status, best.y_end, -1, engine=ENGINE, rtol=RTOLS[-1], atol=RTOLS[-1] * 1e-2)
-    out = {"model": model, "sims": rows, "label": label}
+    from .sensitivity import check_transient
+
+    out = {"model": model, "sims": rows, "label": label,
+           "check": check_transient(case.n, case.phi0, case.params, rows, ENGINE)}
     if label == "unsettled":
         out["slow"] = slow_approach(model, model.params(case.params), best.y_end)
     return out
@@ -509,6 +516,9 @@ def compute(fig_dir: Path, progress=print) -> dict:
     pitchfork = {"damped": {n: pitchfork_hopf(n) for n in (2, 3, 4)},
                  "limit": {n: pitchfork_hopf(n, 1e-4) for n in (2, 3, 4)}, "tip": wedge_tip_spectrum(2),
                  "past": wedge_tip_spectrum(2, 0.001)}
+    from . import sensitivity
+
+    tolerance = sensitivity.compute(fig_dir, sensitivity.Ladder(ENGINE, RTOLS, T_END, ODE45), progress)
     maps = _maps(fig_dir)
     basins = _basins(fig_dir)
     basins_n4 = _basins_n4(fig_dir)
@@ -519,16 +529,25 @@ def compute(fig_dir: Path, progress=print) -> dict:
             progress(f"Fig. 5.19({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
     return {"transients": transients, "results": results, "figures": figures, "statements": statements,
             "maps": maps, "basins": basins, "basins_n4": basins_n4, "pitchfork": pitchfork, "sweeps": more,
-            "sweep_figures": more_paths, "lyapunov": lyap}
+            "sweep_figures": more_paths, "lyapunov": lyap, "sensitivity": tolerance}
 
 
 def lines(res: dict, root: Path) -> list[str]:
-    from . import sweeps
+    from . import sensitivity, sweeps
 
     L = _document(res["transients"], res["results"], res["figures"], root, res["statements"], res["maps"],
                   res["basins"], res["basins_n4"], res.get("pitchfork"))
     at = L.index("## Thesis, chapter 4: stability of the balanced state")
-    return L[:at] + sweeps.lines(res["sweeps"], res["sweep_figures"], root, res["lyapunov"]) + L[at:]
+    L = L[:at] + sweeps.lines(res["sweeps"], res["sweep_figures"], root, res["lyapunov"]) + L[at:]
+    if "sensitivity" in res:  # every transient checked (issue 34), and Fig. 5.10 before the launches
+        checked = [(t["row"].figure, t["row"].phi0_text, t["check"]) for t in res["transients"]]
+        checked += [(case.figure, case.phi0_text, r["check"]) for case, r in res["results"]]
+        at = L.index("## Figures")
+        L = L[:at] + sensitivity.transient_lines(checked) + L[at:]
+        launches = [k for k, line in enumerate(L) if line.startswith("## Thesis, Figs. 5.10-5.11")]
+        at = launches[0] if launches else L.index("## Thesis, chapter 4: stability of the balanced state")
+        L = L[:at] + sensitivity.lines(res["sensitivity"], root) + L[at:]
+    return L
 
 
 def lyapunov_runs() -> dict:
@@ -680,7 +699,8 @@ def _transient_section(transients) -> list[str]:
             else:
                 why = "see below"
                 notes.append((t, q))
-            L.append(f"| {row.figure} | {row.n} | {row.phi0_text}{par} | {q} | {pub:g} | {_fmt(ours, 6)} | "
+            mark = f" {MARK}" if "check" in t and t["check"].sensitive else ""
+            L.append(f"| {row.figure}{mark} | {row.n} | {row.phi0_text}{par} | {q} | {pub:g} | {_fmt(ours, 6)} | "
                      f"{'—' if rel is None else f'{100 * rel:+.2f} %'} | {emu:.{digits}f} | {why} |")
     L += ["", "Published values: thesis sections 5.1.2 (Fig. 5.4, 5.6, 5.8), 5.2.1 (Fig. 5.12-5.14 (c)) and 5.2.2 "
           "(Fig. 5.15-5.17 (b), (c)), as printed (`adbgen/families/single_plane/science/published.py`).  "
@@ -751,7 +771,8 @@ def _document(transients, results, figures, root: Path, statements=(), maps=(), 
         head = f"| {case.figure} | {case.n} | {case.phi0_text}{par} |"
         if "attractor" in case.published:
             ok = res["label"] == case.published["attractor"]
-            L.append(f"{head} attractor | {case.published['attractor']} | {res['label']} | "
+            mark = f" {MARK}" if "check" in res and res["check"].sensitive else ""
+            L.append(f"{head} attractor | {case.published['attractor']} | {res['label']}{mark} | "
                      f"{'same' if ok else '**differs**'} | | | | |")
             if not ok:
                 flagged.append((case, "attractor", res["label"], None, None, sims))

@@ -185,6 +185,7 @@ class RunUp:
     A: np.ndarray
     end_speeds: np.ndarray
     end_spin: float
+    radius: float = 1.0  # the races' radius R (the balls' inertia m R^2: `reproduce.following_lag`)
 
 
 def spin_law(model: Model, p: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -208,7 +209,7 @@ def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples
     rates = [model.rate_index(k) for k in balls]
     _, end_spin = spin_law(model, p, np.array([t_end]))
     return RunUp(name, ratio, sim.t, spin, sim.y[rates], sim.y[balls] - angle, vibration(model, sim.t, sim.y, p),
-                 sim.y_end[rates], float(end_spin[0]))
+                 sim.y_end[rates], float(end_spin[0]), float(p[model.param_names.index("R_t")]))
 
 
 def synchronised_from(run: RunUp, tol: float = 1e-3) -> float | None:

@@ -1,0 +1,135 @@
+"""analysis.tolerance (issue 34, item 2): an outcome that changes with the tolerance is flagged, a robust
+one is not; in one simulation (`check_simulation`) and in a sweep (`SweepSpec(check_tolerance=True)`).
+
+The planted cases: an engine that, below rtol 1e-9, integrates from another start (one on the n = 2
+limit cycle of thesis Fig. 5.4(b) instead of the balancing start of Fig. 5.4(a)): its tighter run ends
+elsewhere, as a run near a basin boundary does, and the check must say so.  The same engine above
+1e-9, and the plain engine, are the robust controls.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from adbgen.analysis import engines
+from adbgen.analysis.loading import load_model
+from adbgen.analysis.simulate import simulate
+from adbgen.analysis.sweep import SweepSpec, run_sweep
+from adbgen.analysis.tolerance import (TIGHTEN, Outcome, check_simulation, differ, disagreements, judge,
+                                       second_engine, tighter)
+
+BALANCES = {"phi_1": math.pi / 2, "phi_2": -math.pi / 2}  # Fig. 5.4(a): balanced, t_dec 462.42
+CYCLES = {"phi_1": math.pi / 4, "phi_2": -math.pi / 4}  # Fig. 5.4(b): a limit cycle
+T_END = 1000.0
+
+
+class FlipEngine:
+    """rk-dop853, but below rtol 1e-9 every start (of an ensemble: every even row) is replaced by CYCLES:
+    an outcome planted to change with the tolerance."""
+
+    name = "flip-dop853"
+    description = "test engine"
+    symmetric = False
+
+    def __init__(self, model):
+        self.inner = engines.ENGINES["rk-dop853"]
+        self.planted = model.state(CYCLES)
+
+    def run(self, model, p, y0, t_end, rtol, atol, *args, **kw):
+        return self.inner.run(model, p, self.planted if rtol < 1e-9 else y0, t_end, rtol, atol, *args, **kw)
+
+    def run_many(self, model, P, Y0, t_end, rtol, atol, *args, **kw):
+        Y0 = np.array(Y0, float)
+        if rtol < 1e-9:
+            Y0[::2] = self.planted
+        return self.inner.run_many(model, P, Y0, t_end, rtol, atol, *args, **kw)
+
+
+def _outcome(label="balanced 1", r_max=0.05, t_dec=460.0, status="success", role="as run"):
+    return Outcome(role, "e", "e", 1e-8, 1e-10, status, label, r_max, t_dec)
+
+
+def test_disagreements_name_what_differs():
+    a = _outcome()
+    assert disagreements(a, _outcome(r_max=0.05 * 1.005, t_dec=462.0)) == []  # within 1 %: robust
+    assert disagreements(a, _outcome(label="limit cycle")) == ["label balanced 1 vs limit cycle"]
+    assert disagreements(a, _outcome(r_max=0.0515)) == ["r_max 0.05 vs 0.0515"]  # 3 %
+    assert disagreements(a, _outcome(t_dec=None)) == ["t_dec 460 vs not settled"]
+    assert disagreements(a, _outcome(status="max_steps")) == ["status success vs max_steps"]
+    check = judge([a, _outcome(role="tighter"), _outcome(label="limit cycle", role="second engine")])
+    assert check.sensitive and check.reasons == ["second engine: label balanced 1 vs limit cycle"]
+    data = check.to_json()
+    assert data["tolerance_sensitive"] is True and [o["label"] for o in data["outcomes"]] == [
+        "balanced 1", "balanced 1", "limit cycle"]
+    assert not judge([a, _outcome(role="tighter"), _outcome(role="second engine")]).sensitive
+
+
+def test_differ_on_codes_and_values():
+    assert differ(np.array([0, 6, 6], np.int8), np.array([0, 6, 0], np.int8)).tolist() == [False, False, True]
+    a = np.array([1.0, 1.0, np.nan, np.nan, 100.0])
+    b = np.array([1.005, 1.05, np.nan, 3.0, 100.5])
+    assert differ(a, b).tolist() == [False, True, False, True, False]
+
+
+def test_tighter_and_second_engine():
+    assert tighter(1e-8, 1e-10) == pytest.approx((1e-10, 1e-12)) and TIGHTEN == 100
+    assert tighter(1e-13, 1e-15) == pytest.approx((1e-14, 1e-16))  # not below double precision's reach
+    model = load_model("thesis_rotating_n2")
+    assert second_engine("taylor", model) == "rk-dop853" and second_engine("cyrk-dop853", model) == "taylor"
+
+
+def _check(model, engine, y0, rtol=1e-8):
+    p = model.params({})
+    y = model.state(y0)
+    sim = simulate(model, p, y, t_end=T_END, rtol=rtol, atol=rtol * 1e-2, engine=engine, keep_trajectory=False)
+    return check_simulation(model, p, y, sim, t_end=T_END, threshold=1e-3, engine=engine)
+
+
+def test_a_planted_tolerance_flip_is_flagged_and_a_robust_case_is_not():
+    model = load_model("thesis_rotating_n2")
+    flip = FlipEngine(model)
+    flagged = _check(model, flip, BALANCES)  # tighter (1e-10) runs the planted start
+    assert flagged.sensitive
+    # the planted start's label (a cycle not yet settled at t = 1000) is whatever the labelling says of it
+    labels = [o.label for o in flagged.runs]
+    assert labels[0] == labels[2] == "balanced 1" and labels[1] not in (None, "balanced 1")
+    assert [o.role for o in flagged.runs] == ["as run", "tighter", "second engine"]
+    assert flagged.runs[1].rtol == pytest.approx(1e-10) and flagged.runs[2].picked == "taylor"
+    assert f"tighter: label balanced 1 vs {labels[1]}" in flagged.reasons
+    assert not any(r.startswith("second engine") for r in flagged.reasons)
+    # controls: the same engine where the tighter run stays above 1e-9, and the plain engine
+    robust = _check(model, flip, BALANCES, rtol=1e-6)
+    assert not robust.sensitive, robust.reasons
+    plain = _check(model, "rk-dop853", BALANCES)
+    assert not plain.sensitive, plain.reasons
+    assert plain.runs[0].t_dec == pytest.approx(462.42, rel=2e-3)
+
+
+def test_sweep_flags_exactly_the_planted_points(tmp_path, monkeypatch):
+    import xarray as xr
+
+    model = load_model("thesis_rotating_n2")
+    monkeypatch.setitem(engines.ENGINES, FlipEngine.name, FlipEngine(model))
+    spec = SweepSpec(model="thesis_rotating_n2", grid=["phi_1=pi/2:pi/2+0.02:6"], tie=["phi_2=-phi_1"],
+                     measure="attractor", t_end=T_END, engine=FlipEngine.name, symmetry=False,
+                     check_tolerance=True, chunk=6)
+    summary = run_sweep(spec, tmp_path, progress=False, workers=1)
+    ds = xr.open_zarr(tmp_path / "sweep.zarr", consolidated=False).load()
+    names = json.loads(ds.attrs["labels"])
+    flags = ds["tolerance_sensitive"].values
+    assert flags.tolist() == [1, 0, 1, 0, 1, 0]  # the even rows ran the planted start when tighter
+    assert (ds["attractor"].values == ds["attractor_second_engine"].values).all()  # taylor-batch agrees everywhere
+    assert summary["tolerance_sensitive"] == 3 and summary["tolerance_check"]["second_engine"] == "taylor-batch"
+    assert summary["tolerance_check"]["checked"] == 6
+    assert {names[c] for c in ds["attractor"].values} == {"balanced 1"}
+    assert any(str(f).endswith("attractor.png") for f in summary["figures"])
+    # the control: the same sweep without the check keeps the store as it was (no new variables)
+    plain = run_sweep(SweepSpec(**{**spec.to_dict(), "check_tolerance": False}), tmp_path / "plain",
+                      progress=False, workers=1, figures=False)
+    assert "tolerance_sensitive" not in plain
+    ds2 = xr.open_zarr(tmp_path / "plain" / "sweep.zarr", consolidated=False)
+    assert "tolerance_sensitive" not in ds2 and (ds2["attractor"].values == ds["attractor"].values).all()

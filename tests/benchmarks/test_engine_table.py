@@ -1,0 +1,105 @@
+"""`adbgen bench auto` (the auto engine's table) and the hand-written heyoka peer of the benchmarks."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from toolchain import require_module
+
+from adbgen.analysis.loading import load_model
+from benchmarks import engine_table as bench_auto
+from benchmarks import peers as bench_peers
+from adbgen.cli import main
+
+
+def _problem(runs: dict, scale: float = 1.0) -> dict:
+    return {"scale": scale, "runs": {k: {"error": e, "cpu_s": t} for k, (e, t) in runs.items()}}
+
+
+def test_choose_keeps_the_fastest_that_reaches_each_tolerance():
+    """Per tolerance: the fastest candidate whose error is at most T x scale on every problem, by the
+    worse of its time ratios to each problem's fastest; a tolerance nothing reaches has no row."""
+    cands = [{"key": k, "engine": "taylor", "order": o, "step_factor": 1.0} for k, o in (("a", 8), ("b", 12))]
+    problems = {"A": _problem({"a": (1e-6, 1.0), "b": (1e-9, 3.0)}),
+                "B": _problem({"a": (5e-7, 2.0), "b": (1e-10, 2.5)}, scale=10.0)}
+    every = 1e-30  # every candidate admissible: the measured errors alone decide
+    rows = bench_auto.choose(problems, cands, (1e-5, 1e-7, 1e-9, 1e-12), safety=every)
+    assert [(r["rtol"], r["key"]) for r in rows] == [(1e-5, "a"), (1e-7, "b"), (1e-9, "b")]
+    assert rows[1]["time_ratio_to_fastest"] == pytest.approx(1.25)  # max(3.0 / 3.0, 2.5 / 2.0)
+    only_a = bench_auto.choose({"A": problems["A"]}, cands, (1e-5,), safety=every)
+    assert only_a[0]["key"] == "a" and only_a[0]["order"] == 8
+
+
+def test_choose_takes_only_candidates_whose_step_aims_below_a_tenth_of_the_tolerance():
+    """Order 8 with factor 3 aims each step at 3.3e-4 of the weights (`taylor.nominal_error`): though
+    fastest and within 1e-6 on the problem, it may not stand for 1e-6; order 20 with factor 1.5 (aim
+    6.8e-15) may.  An RK candidate run at a looser rtol than requested may not either."""
+    from adbgen.analysis.engines.taylor import nominal_error
+
+    assert nominal_error(8, 3.0) == pytest.approx(3.3e-4, rel=0.05)
+    assert nominal_error(20, 1.5) == pytest.approx(6.8e-15, rel=0.05)
+    cands = [{"key": "fast", "engine": "taylor", "order": 8, "step_factor": 3.0},
+             {"key": "safe", "engine": "taylor", "order": 20, "step_factor": 1.5},
+             {"key": "rk", "engine": "cyrk-dop853", "rtol_run": 1e-5}]
+    problems = {"A": _problem({"fast": (1e-7, 1.0), "safe": (1e-12, 2.0), "rk": (1e-7, 0.5)})}
+    assert [r["key"] for r in bench_auto.choose(problems, cands, (1e-6, 1e-3))] == ["safe", "rk"]
+    # without the margin the fastest Taylor candidate stands
+    assert bench_auto.choose(problems, cands, (1e-6,), safety=1e-30)[0]["key"] == "fast"
+    assert bench_auto.admissible(cands[0], 1e-2) and not bench_auto.admissible(cands[0], 1e-3)
+
+
+@pytest.fixture(scope="module")
+def hy():
+    return require_module("heyoka", "the peers extra")
+
+
+@pytest.mark.parametrize("name", ["thesis_rotating_n2", "thesis_rotating_n3", "thesis_rotating_n4", "two_plane_hill"])
+def test_the_hand_written_equations_are_the_models(hy, name):
+    """heyoka-hand (Appendix A; the paper's (2), (4) with the Hill run-up and the spin angle as a state)
+    equals the generated rhs at random states, parameters and times to 1e-13 (measured <= 5e-15)."""
+    model = load_model(name)
+    peer = bench_peers.HeyokaHandwritten(model.module)
+    rng = np.random.default_rng(3)
+    p = np.array(model.module.DEFAULTS) * rng.uniform(0.5, 1.5, model.n_params)
+    worst = 0.0
+    for t in (0.0, 7.0, 120.0, 450.0):
+        y = rng.uniform(-1, 1, model.n_states)
+        y[: model.n_states // 2] *= 0.1
+        ref = np.asarray(model.module.rhs(t, y, p))
+        worst = max(worst, float(np.max(np.abs(peer.rhs(y, p, t) - ref)) / np.max(np.abs(ref))))
+    assert worst < 1e-13
+    if name == "two_plane_hill":  # negative control: the spin angle off by 0.1 rad is seen
+        y = rng.uniform(-1, 1, model.n_states)
+        full = peer.full_state(y, 120.0)
+        full[-1] += 0.1
+        cf = peer.hy.cfunc(peer.outputs, vars=peer.vars)
+        off = np.asarray(cf(np.asarray(full), pars=p, time=120.0))[: model.n_states]
+        assert np.max(np.abs(off - np.asarray(model.module.rhs(120.0, y, p)))) > 1e-5  # (agreement: 1e-13)
+
+
+def test_a_model_without_a_hand_written_form_is_refused(hy):
+    with pytest.raises(bench_peers.PeerUnavailable, match="no hand-written form"):
+        bench_peers.HeyokaHandwritten(load_model("two_plane_rotating").module)
+
+
+def test_bench_auto_quick(tmp_path, capsys):
+    """The quick benchmark on problem A (2 orders x 2 factors, 2 rtols, t_end 200): results, a table
+    with rows per problem, and the cost-per-step target line; --table-only remakes the table."""
+    out, table = tmp_path / "auto.json", tmp_path / "table.json"
+    assert main(["bench", "auto", "--quick", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
+    res = json.loads(out.read_text())
+    assert res["quick"] and set(res["problems"]) == {"A"} and len(res["candidates"]) == 2 * 2 + 2 * 2
+    runs = res["problems"]["A"]["runs"]
+    assert all(r["status"] == "success" and r["error"] < 1e-2 for r in runs.values())
+    made = json.loads(table.read_text())
+    assert set(made["by_problem"]) == {"A"} and made["by_problem"]["A"]["rows"] and made["rows"]
+    assert made["by_problem"]["A"]["roles"] == sorted(set(load_model("thesis_rotating_n3").roles))
+    cost = res["cost_per_step"][0]
+    assert cost["flops_per_step"] > 1000 and 0 < cost["ns_per_flop_scalar"] < 10 and cost["ratio_to_scalar_flop_time"] > 0
+    assert "Taylor's cost per step" in capsys.readouterr().out
+    table.unlink()
+    assert main(["bench", "auto", "--table-only", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
+    assert json.loads(table.read_text())["rows"] == made["rows"]
