@@ -387,7 +387,7 @@ def _stability(model: Model, P: np.ndarray) -> dict:
     START fails, it is retried from the closed form of the steady state START is (the module's STEADY_STATES);
     `failure` says why a point has none (FAILURES: not computed, or does not exist)."""
     from .attractors import labels, name_steady_state, newton, spectrum
-    from .closed_form import label_of
+    from .identify import default_label
 
     n = len(P)
     codes = {name: k for k, name in enumerate(labels(model))}
@@ -398,7 +398,7 @@ def _stability(model: Model, P: np.ndarray) -> dict:
     failure = np.zeros(n, dtype=np.int8)
     y_end = np.full((n, model.n_states), np.nan)
     seed = np.array(model.module.START, float)
-    label = label_of(model, seed, np.array(model.module.START_PARAMETERS, float))
+    label = default_label(model)
     start = codes[name_steady_state(model, seed, np.array(model.module.START_PARAMETERS, float))]
     for k, p in enumerate(P):
         y = newton(model, seed, p)

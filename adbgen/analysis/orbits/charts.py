@@ -260,9 +260,9 @@ def closed_form_retry(model: Model, start, p0, orbit: bool):
     is, at p (None where it does not exist); None when the start is none of them (no closed form to retry
     from).  An orbit's start is matched through its first arc's point, and the guess is the constant state
     as a degenerate orbit (a forced model's balanced response is a constant solution)."""
-    from ..closed_form import label_of
+    from ..identify import identify
 
-    label = label_of(model, start.arcs[0] if orbit else start, p0)
+    label = identify(model, start.arcs[0] if orbit else start, p0).label
     if label is None:
         return None
 
