@@ -37,6 +37,7 @@ from scipy.optimize import brentq
 from .loading import AnalysisError, Model
 from .steady import (SteadyStateError, _require_autonomous, classify, family_tangent, jacobian, refine, residual,
                      transverse_spectrum)
+from .windows import vertex_near_zero
 
 NEWTON_TOL = 1e-12
 LOCATE_TOL = 1e-12
@@ -202,15 +203,8 @@ def _extremum_inside(z: BranchPoint, a: BranchPoint, b: BranchPoint) -> float | 
     for vz, va, vb in zip(_leading(z), _leading(a), _leading(b)):
         if not np.all(np.isfinite([vz, va, vb])) or va == 0 or np.sign(va) != np.sign(vb):
             continue
-        c2, c1, c0 = np.polyfit([sz, 0.0, sb], [vz, va, vb], 2)
-        if c2 == 0:
-            continue
-        sx = -c1 / (2 * c2)
-        if not 0 < sx < sb:
-            continue
-        vx = c0 + c1 * sx + c2 * sx * sx
-        spread = max(abs(vz - va), abs(vb - va), abs(vx - va))
-        if np.sign(vx) != np.sign(va) or abs(vx) <= NEAR * spread:
+        sx = vertex_near_zero(np.array([sz, 0.0, sb]), np.array([vz, va, vb]), va, sb, NEAR)
+        if sx is not None:
             found = sx / sb if found is None else min(found, sx / sb)
     return found
 

@@ -83,6 +83,7 @@ class SweepSpec:
     stop_region: str = "lyapunov"  # attractors.REGION_METHODS
     chunk: int | None = None  # points per block (about); None: enough blocks to keep every worker busy
     check_tolerance: bool = False  # every point again at rtol/100 and on a second engine (`tolerance`)
+    refine: bool = True  # stability maps: certify the stable windows between grid points (stability_map)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -380,9 +381,18 @@ def _compute_once(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, t
             "integrated": len(flat), "n_rhs": int(ens.n_rhs.sum())}
 
 
+FAILURES = ("computed", "not computed: Newton failed from START and from the closed form",
+            "does not exist: the closed form of START's steady state has no solution here (another state found "
+            "by Newton from START, if any, is kept)",
+            "not computed: Newton failed from START (START is no closed-form steady state to retry from)")
+
+
 def _stability(model: Model, P: np.ndarray) -> dict:
-    """The steady state continued from START (Newton) at each point, its deflated spectrum."""
+    """The steady state continued from START (Newton) at each point, its deflated spectrum.  Where Newton from
+    START fails, it is retried from the closed form of the steady state START is (the module's STEADY_STATES);
+    `failure` says why a point has none (FAILURES: not computed, or does not exist)."""
     from .attractors import labels, name_steady_state, newton, spectrum
+    from .identify import default_label
 
     n = len(P)
     codes = {name: k for k, name in enumerate(labels(model))}
@@ -390,17 +400,30 @@ def _stability(model: Model, P: np.ndarray) -> dict:
     kind = np.full(n, -1, dtype=np.int8)
     abscissa = np.full(n, np.nan)
     neutral = np.zeros(n, dtype=np.int8)
+    failure = np.zeros(n, dtype=np.int8)
     y_end = np.full((n, model.n_states), np.nan)
     seed = np.array(model.module.START, float)
+    label = default_label(model)
+    start = codes[name_steady_state(model, seed, np.array(model.module.START_PARAMETERS, float))]
     for k, p in enumerate(P):
         y = newton(model, seed, p)
+        named = codes[name_steady_state(model, y, p)] if y is not None else -1
+        if named != start:  # failed, or Newton from START reached another state: retry from START's closed form
+            guess = model.steady_state(label, p) if label is not None else None
+            z = newton(model, guess, p) if guess is not None else None
+            if z is not None and codes[name_steady_state(model, z, p)] == start:
+                y = z
+            elif label is not None and guess is None:
+                failure[k] = 2  # START's state does not exist here (Newton may have found another one: kept)
+            elif y is None:
+                failure[k] = 3 if label is None else 1
         if y is None:
             continue
         s = spectrum(model, y, p)
         value[k], abscissa[k], neutral[k], y_end[k] = s.unstable(), s.abscissa, s.neutral, y
         kind[k] = codes[name_steady_state(model, y, p)]
     return {"value": value, "abscissa": abscissa, "neutral": neutral, "steady_state": kind, "y_end": y_end,
-            "t_last": np.zeros(n), "integrated": 0, "n_rhs": 0}
+            "failure": failure, "t_last": np.zeros(n), "integrated": 0, "n_rhs": 0}
 
 
 def _attractors(spec: SweepSpec, model: Model, P: np.ndarray, Y0: np.ndarray, threads: int) -> dict:
@@ -478,7 +501,8 @@ def _variables(spec: SweepSpec, model: Model):
             "t_dec": ("t_dec", "float64", np.nan), "stability": ("stability", "int8", -1)}[spec.measure]
     out = [(*main, ()), ("y_end", "float64", np.nan, ("state",)), ("t_last", "float64", np.nan, ())]
     if spec.measure == "stability":
-        out += [("abscissa", "float64", np.nan, ()), ("neutral", "int8", -1, ()), ("steady_state", "int8", -1, ())]
+        out += [("abscissa", "float64", np.nan, ()), ("neutral", "int8", -1, ()), ("steady_state", "int8", -1, ()),
+                ("failure", "int8", 0, ())]
     if spec.measure in ("r_max", "t_dec"):
         out += [("failed", "uint8", 0, ())]
     if checks_tolerance(spec):
@@ -574,6 +598,8 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
         ds.attrs["carry_on"] = (f"a run not named at t_end is carried on to {CARRY_FACTOR:g} t_end (the cap) and "
                                 "decided by the rate of approach of r (adbgen.analysis.approach)")
     if spec.measure == "stability":
+        ds["failure"].attrs.update(description="why a point has no steady state (0: it has one)",
+                                   flag_values=list(range(len(FAILURES))), flag_meanings=list(FAILURES))
         ds["steady_state"].attrs["description"] = ("which steady state Newton reached from START: index "
                                                    "into the attribute `labels`")
     try:
@@ -601,7 +627,7 @@ def open_store(path: Path, spec: SweepSpec, model: Model):
         raise AnalysisError(f"{path} exists and is not an adbgen sweep store; choose another --out or remove it")
     ours = settings(spec, model)
     theirs = json.loads(stored)
-    diff = [k for k in sorted(set(ours) | set(theirs)) if k not in ("chunk",) and ours.get(k) != theirs.get(k)]
+    diff = [k for k in sorted(set(ours) | set(theirs)) if k not in ("chunk", "refine") and ours.get(k) != theirs.get(k)]
     if diff:
         k = diff[0]
         raise AnalysisError(f"{path} holds a sweep with other settings ({k}: stored {theirs.get(k)!r}, "
@@ -698,6 +724,12 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
         summary.update(tolerance_summary(path))
     if spec.measure == "attractor":
         summary["outcomes"] = outcome_counts(path)
+    if spec.measure == "stability" and len(grid.shape) == 2 and spec.refine:
+        from .stability_map import certify_store
+
+        t0 = time.perf_counter()
+        summary["resolution"] = certify_store(path, model, grid)
+        timing["certify_s"] = round(time.perf_counter() - t0, 3)
     if figures:
         from .sweep_figures import write_figures
 

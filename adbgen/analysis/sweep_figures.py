@@ -63,7 +63,13 @@ def write_figures(store: Path) -> list[Path]:
         kind = ds["steady_state"].load().values
         start = _start_kind(ds, names)
         other = done & (kind >= 0) & (kind != start)
-        _stability(fig, ax, da, done & ~other, dims, other)
+        failed = None
+        if "failure" in ds:  # a failure is "not computed", never "no steady state"
+            code = ds["failure"].load().values
+            failed = done & ((code == 1) | (code == 3))
+        _stability(fig, ax, da, done & ~other & (~failed if failed is not None else True), dims, other, failed)
+        if len(dims) == 2 and "windows" in ds.attrs:
+            _windows(ax, da, dims, json.loads(ds.attrs["windows"]))
         title = (f"{ds.attrs['model']}: unstable eigenvalues of the steady state"
                  + (f" ({names[start]}, continued from START)" if start >= 0 else ""))
     else:
@@ -172,7 +178,23 @@ def _start_kind(ds, names) -> int:
         return -1
 
 
-def _stability(fig, ax, da, done, dims, other=None):
+def _windows(ax, da, dims, windows: dict) -> None:
+    """The certified stable windows (`stability_map`) drawn over the map as the stable shade, each row's as a band
+    one cell high, each column's one cell wide: a window narrower than the grid's spacing shows."""
+    from matplotlib.patches import Rectangle
+
+    x, y = da[dims[0]].values, da[dims[1]].values
+    ex, ey = _edges(x), _edges(y)
+    colour = "0.15"
+    for j, row in enumerate(windows.get("rows", [])):
+        for a, b in row["stable"]:
+            ax.add_patch(Rectangle((a, ey[j]), b - a, ey[j + 1] - ey[j], color=colour, lw=0))
+    for i, col in enumerate(windows.get("columns", [])):
+        for a, b in col["stable"]:
+            ax.add_patch(Rectangle((ex[i], a), ex[i + 1] - ex[i], b - a, color=colour, lw=0))
+
+
+def _stability(fig, ax, da, done, dims, other=None, failed=None):
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
@@ -193,7 +215,12 @@ def _stability(fig, ax, da, done, dims, other=None):
     handles = [Patch(color=greys[k + 2], label="stable" if k == 0 else f"{k} unstable")
                for k in range(0, top + 1) if (z == k).any()]
     if (z == -1).any():
-        handles.append(Patch(color=greys[1], label="state not found (none, or another one)"))
+        handles.append(Patch(color=greys[1], label="state not found (does not exist, or another one)"))
+    if failed is not None and failed.any():
+        handles.append(Patch(facecolor=greys[0], edgecolor="C3", hatch="xx", label="not computed (Newton failed)"))
+        x, y = da[dims[0]].values, da[dims[1]].values
+        i, j = np.nonzero(failed)
+        ax.plot(x[i], y[j], "x", color="C3", ms=4, ls="none")
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8, frameon=False)
 
 

@@ -40,6 +40,7 @@ class CycleBranch:
     end: str
     windings: dict = field(default_factory=dict)
     resolution: float | None = None
+    steps: dict = field(default_factory=dict)  # the continuer's extremum checks and the largest parameter step
 
     def to_json(self) -> dict:
         measures = sorted({k for o in self.orbits for k in o.measures})
@@ -54,6 +55,12 @@ class CycleBranch:
                "max_multiplier": [float(np.max(np.abs(o.nontrivial))) if len(o.nontrivial) else 0.0
                                   for o in self.orbits],
                "end": self.end}
+        if self.resolution is not None:
+            # what the branch certifies: its steps near a zero of a test function or of the stability margin
+            # (max |mu| - 1) shrink to `step_floor` (arclength), so a stable window wider than that is not
+            # stepped over (provided the margin turns at most once inside a step: checked at its extrema)
+            out["resolution"] = {"step_floor": float(self.resolution), "extremum_checks": int(self.steps.get("checks", 0)),
+                                 "largest_step": float(self.steps.get("largest_step", 0.0))}
         for name in measures:
             out[f"{name}_bar"] = [float(o.measures.get(name, math.nan)) for o in self.orbits]
         return out
@@ -62,11 +69,26 @@ class CycleBranch:
         return [{**s, "branch": index} for s in self.specials]
 
 
-def _special_json(name: str, curve: CycleCurve, sp: continuer.Special) -> dict:
+UNIT_TOL = 1e-7  # a multiplier counts as outside the unit circle beyond 1 + UNIT_TOL (as the charts count)
+
+
+def _outside(data) -> int:
+    return int(np.sum(np.abs(data.nontrivial) > 1.0 + UNIT_TOL))
+
+
+def _special_json(name: str, curve: CycleCurve, sp: continuer.Special, points=None) -> dict:
+    """A special point; with the branch's points, the multipliers outside the unit circle at the two points
+    around it (`unstable_before`, `unstable_after`, along the branch) and `stability_change`: whether the
+    orbit is stable on one side and unstable on the other (a torus point of an orbit already unstable is a
+    bifurcation, not a change of stability)."""
     d = sp.data
     mu = d.multipliers
     out = {"kind": sp.info["kind"], name: float(d.lam), "period": float(d.T),
            "multipliers": [[float(z.real), float(z.imag)] for z in mu]}
+    if points is not None and sp.index + 1 < len(points):
+        before, after = _outside(points[sp.index].data), _outside(points[sp.index + 1].data)
+        out |= {"unstable_before": before, "unstable_after": after,
+                "stability_change": (before == 0) != (after == 0)}
     if "angle" in sp.info:
         out["angle"] = sp.info["angle"]
     return out
@@ -100,8 +122,14 @@ def _run(model: Model, curve: CycleCurve, x0, name: str, origin: dict, settings:
             continue
         o = _orbit(curve, pt, amplitude)
         orbits.append(o)
-    specials = [_special_json(name, curve, sp) for sp in br.specials]
-    return CycleBranch(name, origin, orbits, specials, br.end, dict(curve.windings), br.resolution)
+    # a fold of cycles also zeroes the branch test (a real multiplier at +1): reported once, as the fold
+    folds = [sp.x[-1] for sp in br.specials if sp.info["kind"] == "fold"]
+    kept = [sp for sp in br.specials if sp.info["kind"] != "branch point"
+            or not any(abs(sp.x[-1] - f) <= 1e-6 * (1 + abs(f)) for f in folds)]
+    specials = [_special_json(name, curve, sp, br.points) for sp in kept]
+    return CycleBranch(name, origin, orbits, specials, br.end, dict(curve.windings), br.resolution,
+                       {"checks": br.checks, "largest_step": float(np.max(np.abs(np.diff(
+                           [curve.parameter(pt.x) for pt in br.points])))) if len(br.points) > 1 else 0.0})
 
 
 def _orbit(curve: CycleCurve, pt, amplitude: bool) -> PeriodicOrbit:

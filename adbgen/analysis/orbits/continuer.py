@@ -24,6 +24,9 @@ prediction orthogonal to the tangent; halve the step when Newton fails, the corr
 tangent turns by more than `max_turn`.  Each step is bounded by how fast the test functions move: a test
 function heading for zero at rate sigma may cover at most `approach` of its distance |tau| in one step, so
 the step shrinks near a zero, down to `resolution` (the smallest step this bound imposes; reported).
+A curve may also name margins it wants watched (`margins(data)`: e.g. the leading |multiplier| - 1 of a
+cycle, whose sign is its stability): they bound the steps and are checked at their extrema like the test
+functions, so a stable window wider than `resolution` is not stepped over, but they are not located.
 Where a test function has an extremum inside a step without changing sign there (the parabola through
 the last three points says so, and its extreme value is of the other sign or within `near` of zero), the
 step is checked at the extremum: two zeros close together (a window a plain scan steps over) are found.
@@ -181,9 +184,15 @@ class _Corrector:
 
 
 def _tests(curve, x, data, tangent, settings) -> np.ndarray:
+    """The test functions (located where they change sign), then the curve's watched margins (`margins`: bound
+    the steps and are checked at their extrema, never located: a stability margin whose sign changes inside an
+    unstable region is no special point)."""
     values = list(curve.tests(x, data))
     if settings.fold_test:
         values.append(float(curve.parameter(tangent + x) - curve.parameter(x)))  # d parameter / ds
+    margins = getattr(curve, "margins", None)
+    if margins is not None:
+        values += [float(v) for v in margins(data)]
     return np.array(values, float)
 
 
@@ -341,8 +350,8 @@ def _check_extrema(curve, corr, branch: Branch, b: Point, tnames, s: Settings) -
     z, a = branch.points[-2], branch.points[-1]
     S = np.array([z.s, a.s, b.s])
     found = None
-    for j in range(len(tnames)):
-        if tnames[j] == "fold":
+    for j in range(len(b.tests)):
+        if j < len(tnames) and tnames[j] == "fold":
             continue
         v = np.array([z.tests[j], a.tests[j], b.tests[j]])
         if np.sign(v[1]) != np.sign(v[2]) or v[1] == 0:

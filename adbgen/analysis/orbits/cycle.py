@@ -13,6 +13,8 @@ d p / d lambda, ties included).  Test functions, on the Floquet multipliers mu_i
                                                                         on the unit circle (Neimark-Sacker), or a
                                                                         real pair mu, 1/mu (a neutral saddle: not
                                                                         reported)
+    branch point      prod_{real mu} tanh(mu - 1)                       zero when a real mu passes +1 without a
+                                                                        fold (a fold also changes d lambda / ds)
     fold (of cycles)  d lambda / ds                                     watched by the continuer
 
 A located zero is a period-doubling point when a real multiplier is within 1e-4 of -1 there, a torus
@@ -58,6 +60,15 @@ def pd_test(mu: np.ndarray) -> float:
     return float(np.real(np.prod((1 + mu) / (1 + np.abs(mu)))))
 
 
+def branch_test(mu: np.ndarray) -> float:
+    """prod over the real multipliers of tanh(mu - 1): its sign changes when a real multiplier passes +1 (a
+    branch point of cycles, or a fold of cycles: the continuer's fold test tells the two apart); a complex pair
+    that turns real adds two factors of one sign, so no change then."""
+    mu = np.asarray(mu, complex)
+    real = mu[np.abs(mu.imag) <= 1e-12 * (1 + np.abs(mu))].real
+    return float(np.prod(np.tanh(real - 1.0))) if len(real) else 1.0
+
+
 def torus_test(mu: np.ndarray) -> float:
     i, j = np.triu_indices(len(mu), 1)
     prod = mu[i] * mu[j]
@@ -67,7 +78,7 @@ def torus_test(mu: np.ndarray) -> float:
 class CycleCurve:
     """A periodic orbit of `model` along the free parameter of `pmap` (see the module's docstring)."""
 
-    test_names = ("period-doubling", "torus")
+    test_names = ("period-doubling", "torus", "branch")
 
     def __init__(self, model: Model, pmap: ParameterMap, flow: Flow, arcs: int = 1, windings: dict | None = None,
                  subharmonic: int = 1):
@@ -137,7 +148,13 @@ class CycleCurve:
 
     def tests(self, x: np.ndarray, data: CycleData) -> np.ndarray:
         mu = data.nontrivial
-        return np.array([pd_test(mu), torus_test(mu)])
+        return np.array([pd_test(mu), torus_test(mu), branch_test(mu)])
+
+    def margins(self, data: CycleData) -> np.ndarray:
+        """The stability margin, max |mu| - 1 over the non-trivial multipliers (watched by the continuer: a
+        stable window is not stepped over)."""
+        mu = data.nontrivial
+        return np.array([float(np.max(np.abs(mu))) - 1.0 if len(mu) else -1.0])
 
     def special(self, name: str, x: np.ndarray, data: CycleData) -> dict | None:
         mu = data.nontrivial
@@ -146,8 +163,15 @@ class CycleCurve:
             if len(real) and np.min(np.abs(real + 1)) <= SPECIAL_TOL:
                 return {"kind": "period-doubling"}
             return None
+        if name == "branch":
+            real = mu[np.abs(mu.imag) <= SPECIAL_TOL]
+            if len(real) and np.min(np.abs(real - 1)) <= SPECIAL_TOL:
+                return {"kind": "branch point"}
+            return None
         if name == "torus":
-            cx = mu[mu.imag > SPECIAL_TOL]
+            # a pair of any angle: near the 1:1 resonance (Fig. 11's wedge at eps = 1e-6, angle 8e-5) its imaginary
+            # part is far below SPECIAL_TOL, and a test on it dropped the torus point
+            cx = mu[mu.imag > 1e-10 * (1 + np.abs(mu))]
             if len(cx) and np.min(np.abs(np.abs(cx) - 1)) <= SPECIAL_TOL:
                 z = cx[np.argmin(np.abs(np.abs(cx) - 1))]
                 return {"kind": "torus", "angle": float(np.angle(z))}

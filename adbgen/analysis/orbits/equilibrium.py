@@ -104,6 +104,11 @@ class EquilibriumCurve:
     def tests(self, x, data: EquilibriumData) -> np.ndarray:
         return np.array([hopf_test(data.spectrum), real_test(data.spectrum)])
 
+    def margins(self, data: EquilibriumData) -> np.ndarray:
+        """The stability margin, the leading real part of the transverse spectrum (watched by the continuer)."""
+        ev = np.asarray(data.spectrum, complex)
+        return np.array([float(np.max(ev.real)) if ev.size else -1.0])
+
     def special(self, name, x, data: EquilibriumData):
         ev = data.spectrum
         tol = SPECIAL_TOL * max(1.0, float(np.max(np.abs(ev))))

@@ -120,7 +120,7 @@ def _plot_14cd(m, br, lam, T, st, A, near, flow, out: Path) -> None:
     ax_d.plot(lam, T, "k-", lw=0.7)
     ax_d.plot(lam, np.where(st, T, np.nan), "k-", lw=2.5)
     for s in br.specials:
-        mk = {"torus": "*", "period-doubling": "D", "fold": None}[s["kind"]]
+        mk = {"torus": "*", "period-doubling": "D", "branch point": "s"}.get(s["kind"])
         if mk:
             ax_d.plot(s["Omega"], s["period"], mk, color="C3", ms=8)
             k = int(np.argmin(np.abs(lam - s["Omega"]) + np.abs(T - s["period"])))
@@ -189,8 +189,10 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
         L.append(f"| {s['kind']} | {s['Omega']:.7f} | {s['period']:.5f} |")
     L += ["", "![Fig. 14(c, d)](@FIGURES@/orbits_fig14cd.png)", "", "### Stability charts", "",
           "Each chart: `adbgen continue MODEL --par Omega --par2 epsilon --tie ... --log2 --plot FILE` (grid "
-          f"{n1} x {n2}, curves continued from every change of stability on the grid; the curves as data in the "
-          "figure's .json).  Grey: B stable.", ""]
+          f"{n1} x {n2}, every row and column refined to an eighth of the grid's spacing where stability changes "
+          "or the leading real part (|multiplier| - 1) heads for zero or turns near it, curves continued from every "
+          "change of stability, each seen on both sides; the curves, the windows and the certified `resolution` "
+          "as data in the figure's .json).  Grey: B stable (a window narrower than the grid outlined).", ""]
     done: dict = {}
     for case in CHARTS:
         if case.same_as and case.same_as in done:
@@ -208,7 +210,7 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
         if case.figure in ("10(a)", "11", "13(b)"):
             lim = limit(case, progress=progress)
             L += ["As the imbalance vanishes (the same ties, B followed from Omega = 5 down to 0.5), its stability "
-                  "changes at: " + "; ".join(f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
+                  "changes (stable on one side, unstable on the other; bifurcations of an unstable B left out) at: " + "; ".join(f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
                                             for eps, pts in lim) + ".", ""]
         L += [f"![Fig. {case.figure}](@FIGURES@/{name})", ""]
     # wall times go to the progress lines (`adbgen bench reproduce` records them), never into the document,
@@ -249,11 +251,14 @@ def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[
         pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
         if m.autonomous:
             sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
-            out.append((eps, [(b.kind, b.value) for b in sc.points]))
+            # a change of stability only: stable on one side, unstable on the other (a Hopf point of a state
+            # unstable on both sides is a bifurcation of an unstable state)
+            out.append((eps, [(b.kind, b.value) for b in sc.points
+                              if (b.n_unstable_before == 0) != (b.n_unstable_after == 0)]))
         else:
             br = branches.from_orbit(m, pm, start, -1.0, continuer.Settings(ds=0.02, ds_max=0.05, max_points=2000,
                                                                              bounds=(bottom, top)), amplitude=False)
-            out.append((eps, [(sp["kind"], sp["Omega"]) for sp in br.specials]))
+            out.append((eps, [(sp["kind"], sp["Omega"]) for sp in br.specials if sp.get("stability_change")]))
         progress(f"Fig. {case.figure} limit eps = {eps:g}: " + ", ".join(f"{k} {v:.5f}" for k, v in out[-1][1]))
     return out
 
@@ -263,10 +268,24 @@ def _chart_summary(c, case: ChartCase) -> str:
     points (what the curves asymptote to as the imbalance vanishes)."""
     found = c.stable >= 0
     parts = [f"B found at {int(found.sum())} of {c.stable.size} grid points, stable at {int((c.stable == 1).sum())}"]
+    missing = int((c.stable == -1).sum())
+    if missing:
+        parts.append(f"{missing} grid point(s) not computed (a failure, drawn as x), "
+                     f"{int((c.stable == -2).sum())} where B does not exist")
+    rows = c.windows("rows")
     for i, what in ((0, "smallest"), (len(c.lam2) - 1, "largest")):
+        if i in rows:  # the certified row: its windows' ends located
+            runs = rows[i]
+            parts.append(f"at the {what} imbalance ({c.lam2[i] * case.scale2:.1e}) stable for Omega in "
+                         + (", ".join(f"[{a:.4f}, {b:.4f}]" for a, b in runs) if runs else "no window"))
+            continue
         runs = _runs(c.lam1, c.stable[i] == 1)
         parts.append(f"at the {what} imbalance ({c.lam2[i] * case.scale2:.1e}) stable for Omega in "
                      + (", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in runs) if runs else "no grid point"))
+    cert = c.to_json(False)["resolution"].get("certified")
+    if cert and cert["refined"]:
+        parts.append(f"certified: every stable window wider than {cert['Omega']:.4f} in Omega along a row and "
+                     f"{cert['epsilon']:.4f} in log10 eps/R along a column is found")
     lows = sorted(pt[0] for cv in c.curves for pt in [min(cv.points, key=lambda q: q[1])] if pt[1] <= 1.01 * c.lam2[0])
     if lows:
         parts.append("curves reaching the smallest imbalance at Omega = " + ", ".join(f"{v:.3f}" for v in lows))
