@@ -3,7 +3,8 @@
 A family's `models.py` gives every model a `Description`: the role and unit of each coordinate, which
 coordinates are angles, which two make the rotor's amplitude, the measures it wants emitted (SymPy
 expressions), its exchange symmetries, the named parameter sets of the documents, its scales, and its
-closed-form steady states (SymPy expressions, with the conditions under which each applies).  Code
+closed-form steady states (SymPy expressions, with the conditions under which each applies), and its
+manifold of equilibria where it has one (thesis (3.6)).  Code
 generation (`adbgen.codegen.describe`) turns it into data and compiled functions of every generated
 module and checks each declaration against the rendered right-hand side before anything is written,
 so a wrong declaration is refused, not emitted.
@@ -96,6 +97,21 @@ class SteadyState:
 
 
 @dataclass(frozen=True)
+class Equilibria:
+    """A manifold of equilibria (thesis (3.6): the balanced states of n >= 3 balls form one of dimension
+    n - 2): the states where every coordinate of ``zero`` and every rate vanish and every expression of
+    ``constraints`` (SymPy, in the other coordinates and the parameters) is 0.  Its tangent at a point
+    is the null space of the constraints' gradients in the other coordinates; code generation emits the
+    gradients as a compiled function (`equilibria_gradient_inplace`), so the analysis layer computes
+    the tangent without knowing the equations.  As many independent constraints as other coordinates:
+    isolated equilibria, no manifold."""
+
+    name: str
+    zero: tuple[str, ...]
+    constraints: tuple[sp.Expr, ...]
+
+
+@dataclass(frozen=True)
 class Description:
     """A model's self-description as its family declares it (see the module docstring).
 
@@ -105,7 +121,8 @@ class Description:
     states.  ``forcing_frequency``: the parameter whose 2 pi / value is the
     forcing period of a periodically forced model, "" otherwise.  ``parameter_sets``: {name: {parameter:
     value}} (parameters not named keep their defaults).  ``scales``: {"eccentricity": parameter,
-    "speed": parameter} where the model has them.
+    "speed": parameter} where the model has them.  ``equilibria``: the model's manifold of equilibria
+    (`Equilibria`), None where it declares none.
     """
 
     time_unit: str
@@ -120,6 +137,7 @@ class Description:
     scales: Mapping[str, str] = field(default_factory=dict)
     closed_forms: tuple[ClosedForm, ...] = ()
     steady_states: tuple[SteadyState, ...] = ()
+    equilibria: Equilibria | None = None
 
 
 def rate_unit(unit: str, time_unit: str) -> str:
