@@ -1,0 +1,86 @@
+"""The rhs as data (`codegen.program_tree`, program.json): evaluated on floats, its trees are the generated
+rhs itself, operation for operation (bitwise), so the benchmarks' peers get the generated equations
+without reading the generated source (issue 33 item 2)."""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from adbgen.codegen import program_tree
+from adbgen.codegen.interpret import compile_program
+from adbgen.codegen.printers import BallInvariantOrder
+from adbgen.codegen.spec import build as build_ir
+from adbgen.families.single_plane import models as sp_models
+
+
+def evaluate(data: dict, y, p, t: float) -> np.ndarray:
+    """The trees on floats, left to right as the module docstring says."""
+    env: dict = {}
+
+    def value(tree):
+        if not isinstance(tree, list):
+            return float(tree)
+        op, args = tree[0], tree[1:]
+        if op in ("y", "p"):
+            return float((y if op == "y" else p)[args[0]])
+        if op == "t":
+            return t
+        if op == "v":
+            return env[args[0]]
+        if op == "select":
+            return value(args[1]) if value(args[0][1]) < value(args[0][2]) else value(args[2])
+        vals = [value(a) for a in args]
+        if op in ("+", "*"):
+            out = vals[0]
+            for v in vals[1:]:
+                out = out + v if op == "+" else out * v
+            return out
+        if op == "/":
+            return vals[0] / vals[1]
+        if op == "neg":
+            return -vals[0]
+        if op == "pow":
+            return vals[0] ** vals[1]
+        return getattr(math, op)(*vals)
+
+    for name, tree in data["statements"]:
+        env[name] = value(tree)
+    return np.array([value(o) for o in data["outputs"]])
+
+
+@pytest.fixture(scope="module")
+def thesis2():
+    return build_ir(sp_models.thesis_rotating(2))
+
+
+def test_the_trees_are_the_generated_rhs_bitwise(thesis2):
+    data = json.loads(program_tree.program_json(thesis2))
+    assert data["states"] == thesis2.n_states and len(data["outputs"]) == thesis2.n_states
+    names = [name for name, _ in data["statements"]]
+    assert len(names) == len(set(names)) and data["statements"][0] == ["x", ["y", 0]]
+    rhs = compile_program(thesis2, "rhs")
+    rng = np.random.default_rng(5)
+    p0 = np.array([q.default for q in thesis2.parameters])
+    for _ in range(10):
+        y, p = rng.uniform(-1, 1, thesis2.n_states), p0 * rng.uniform(0.5, 1.5, p0.size)
+        assert np.array_equal(evaluate(data, y, p, 0.0), rhs(0.0, y, p))
+    # negative control: one output's tree with a planted sign error is caught
+    wrong = copy.deepcopy(data)
+    wrong["outputs"][-1] = ["neg", wrong["outputs"][-1]]
+    assert not np.array_equal(evaluate(wrong, y, p, 0.0), rhs(0.0, y, p))
+
+
+def test_what_the_trees_cannot_express_is_refused_not_approximated():
+    x = sp.Symbol("x", real=True)
+    trees = program_tree._Trees(BallInvariantOrder(), {x: ["y", 0]})
+    assert trees(sp.sin(x) ** 2) == ["*", ["sin", ["y", 0]], ["sin", ["y", 0]]]
+    with pytest.raises(program_tree.ProgramError, match="floor"):
+        trees(sp.floor(x))
+    with pytest.raises(program_tree.ProgramError, match="unsupported condition"):
+        trees(sp.Piecewise((x, x <= 1), (0, True)))
