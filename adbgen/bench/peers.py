@@ -81,54 +81,13 @@ def generated_program(module) -> tuple[list, dict]:
 
 
 def _translate(module, functions, states, params, time, bind=lambda name, value: value):
-    """The outputs of the generated rhs evaluated on a peer's symbols, statement by statement.
+    """The outputs of the generated rhs evaluated on a peer's symbols, statement by statement
+    (`adbgen.codegen.program_tree.evaluate`: functions are the peer's sin, cos, ..., select and less, and
+    optionally power; bind(name, value) what later statements see for a computed statement)."""
+    from adbgen.codegen.program_tree import evaluate
 
-    functions: the peer's sin, cos, ... (by the trees' names), ``select`` and ``less`` (its own
-    conditional for a piecewise law in t, e.g. the Hill run-up's angle (45), not Python's truth test),
-    and optionally ``power`` (its integer power: heyoka's by products, see `_power_by_products`);
-    bind(name, value) is what later statements see for a computed statement (the value itself, or a
-    named helper)."""
     statements, outputs = generated_program(module)
-    env: dict = {}
-
-    def value(tree):
-        if not isinstance(tree, list):
-            return float(tree)
-        op = tree[0]
-        if op == "y":
-            return states[tree[1]]
-        if op == "p":
-            return params[tree[1]]
-        if op == "t":
-            return time
-        if op == "v":
-            return env[tree[1]]
-        if op == "select":
-            test = tree[1]
-            return functions["select"](functions["less"](value(test[1]), value(test[2])), value(tree[2]), value(tree[3]))
-        args = [value(a) for a in tree[1:]]
-        if op in ("+", "*"):
-            out = args[0]
-            for a in args[1:]:
-                out = out + a if op == "+" else out * a
-            return out
-        if op == "/":
-            return args[0] / args[1]
-        if op == "neg":
-            return -args[0]
-        if op == "pow":
-            k = tree[2]
-            if "power" in functions and isinstance(k, (int, float)) and k == int(k) and k >= 1:
-                return functions["power"](args[0], int(k))
-            return args[0] ** args[1]
-        if op not in functions:
-            raise ValueError(f"the generated rhs uses {op!r}, which this peer is not given")
-        return functions[op](*args)
-
-    for name, tree in statements:
-        v = value(tree)
-        env[name] = v if isinstance(tree, list) and tree[0] in ("y", "p") else bind(name, v)
-    return [value(outputs[i]) for i in range(len(outputs))]
+    return evaluate(statements, outputs, states, params, time, functions, bind)
 
 
 def _power_by_products(base, k: int):

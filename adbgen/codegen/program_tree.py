@@ -244,3 +244,52 @@ def program_json(ir: ModelIR) -> str:
     lines += [" " + json.dumps(o) + ("," if k < len(data["outputs"]) - 1 else "") for k, o in enumerate(data["outputs"])]
     lines += [" ]}"]
     return "\n".join(lines)
+
+
+def evaluate(statements, outputs, states, params, time, functions: dict, bind=lambda name, value: value) -> list:
+    """The outputs of the trees (`rhs_program`'s statements and outputs) on any numbers or symbols.
+
+    ``functions``: the math functions by the trees' names (sin, cos, ...), ``select`` and ``less`` for a
+    piecewise law (an evaluator's own conditional: a symbolic one needs it, Python's truth test would
+    not do), and optionally ``power`` for an integer power; bind(name, value) is what later statements
+    see for a computed statement (the value itself, or a named helper of the evaluator's)."""
+    env: dict = {}
+
+    def value(tree):
+        if not isinstance(tree, list):
+            return float(tree)
+        op = tree[0]
+        if op == "y":
+            return states[tree[1]]
+        if op == "p":
+            return params[tree[1]]
+        if op == "t":
+            return time
+        if op == "v":
+            return env[tree[1]]
+        if op == "select":
+            test = tree[1]
+            return functions["select"](functions["less"](value(test[1]), value(test[2])), value(tree[2]), value(tree[3]))
+        args = [value(a) for a in tree[1:]]
+        if op in ("+", "*"):
+            out = args[0]
+            for a in args[1:]:
+                out = out + a if op == "+" else out * a
+            return out
+        if op == "/":
+            return args[0] / args[1]
+        if op == "neg":
+            return -args[0]
+        if op == "pow":
+            k = tree[2]
+            if "power" in functions and isinstance(k, (int, float)) and k == int(k) and k >= 1:
+                return functions["power"](args[0], int(k))
+            return args[0] ** args[1]
+        if op not in functions:
+            raise ProgramError(f"the rhs uses {op!r}, which the evaluator is not given")
+        return functions[op](*args)
+
+    for name, tree in statements:
+        v = value(tree)
+        env[name] = v if isinstance(tree, list) and tree[0] in ("y", "p") else bind(name, v)
+    return [value(outputs[i]) for i in range(len(outputs))]

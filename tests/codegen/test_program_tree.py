@@ -20,38 +20,11 @@ from adbgen.families.single_plane import models as sp_models
 
 
 def evaluate(data: dict, y, p, t: float) -> np.ndarray:
-    """The trees on floats, left to right as the module docstring says."""
-    env: dict = {}
-
-    def value(tree):
-        if not isinstance(tree, list):
-            return float(tree)
-        op, args = tree[0], tree[1:]
-        if op in ("y", "p"):
-            return float((y if op == "y" else p)[args[0]])
-        if op == "t":
-            return t
-        if op == "v":
-            return env[args[0]]
-        if op == "select":
-            return value(args[1]) if value(args[0][1]) < value(args[0][2]) else value(args[2])
-        vals = [value(a) for a in args]
-        if op in ("+", "*"):
-            out = vals[0]
-            for v in vals[1:]:
-                out = out + v if op == "+" else out * v
-            return out
-        if op == "/":
-            return vals[0] / vals[1]
-        if op == "neg":
-            return -vals[0]
-        if op == "pow":
-            return vals[0] ** vals[1]
-        return getattr(math, op)(*vals)
-
-    for name, tree in data["statements"]:
-        env[name] = value(tree)
-    return np.array([value(o) for o in data["outputs"]])
+    """The trees on floats (math's functions, Python's conditional)."""
+    functions = {name: getattr(math, name) for name in ("sin", "cos", "tan", "exp", "log", "sqrt", "atan")}
+    functions.update(select=lambda c, a, b: a if c else b, less=lambda a, b: a < b)
+    return np.array(program_tree.evaluate(data["statements"], dict(enumerate(data["outputs"])), list(y), list(p),
+                                          t, functions))
 
 
 @pytest.fixture(scope="module")
