@@ -22,8 +22,9 @@ def angle_indices(model: Model) -> tuple[int, ...]:
 
 
 def amplitude_indices(model: Model) -> tuple[int, int]:
-    a, b, _, _ = model.amplitude_indices
-    return a, b
+    """(The positions of) the two AMPLITUDE states; a first-order model's need not be coordinates."""
+    a, b = model.amplitude
+    return model.index(a), model.index(b)
 
 
 def measures(model: Model) -> tuple[str, ...]:
