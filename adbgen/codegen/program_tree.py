@@ -18,7 +18,8 @@ A tree is a number, or a list whose first item says what it is:
     ["/", a, b], ["neg", a]             a / b, -a
     ["pow", a, k]                       a ** k (an exponent the printer leaves to **)
     ["sin", a], ["cos", a], ...         math's function of that name (sqrt, exp, log, tan, atan, ...)
-    ["select", ["<", l, r], a, b]       a where l < r, else b (a piecewise law in t)
+    ["<", l, r]                         the condition l < r (a statement may hold one)
+    ["select", c, a, b]                 a where the condition c holds, else b (a piecewise law in t)
 
 ``program.json``: {"states": N, "statements": [[name, tree], ...], "outputs": [tree of out[0], ...]}.
 Statements come in the module's order: the states and parameters the rhs reads first, then each ball's
@@ -70,6 +71,8 @@ class _Trees:
             return self.power(e)
         if isinstance(e, sp.Piecewise):
             return self.piecewise(e.args)
+        if isinstance(e, (sp.StrictLessThan, sp.StrictGreaterThan)):  # a condition (a statement may hold one)
+            return self.less(e)
         if e.func in _FUNCTIONS:
             return [_FUNCTIONS[e.func], *[self(a) for a in e.args]]
         if isinstance(e, sp.atan2):
@@ -136,13 +139,15 @@ class _Trees:
             return self(value)
         if not rest:
             raise ProgramError(f"a piecewise expression without a last, unconditional piece: {pieces}")
-        if isinstance(cond, sp.StrictLessThan):
-            test = ["<", self(cond.lhs), self(cond.rhs)]
-        elif isinstance(cond, sp.StrictGreaterThan):
-            test = ["<", self(cond.rhs), self(cond.lhs)]
-        else:
-            raise ProgramError(f"unsupported condition in the rhs: {cond} (only < and >)")
+        test = self(cond) if cond.is_Symbol else self.less(cond)
         return ["select", test, self(value), self.piecewise(rest)]
+
+    def less(self, cond) -> list:
+        if isinstance(cond, sp.StrictLessThan):
+            return ["<", self(cond.lhs), self(cond.rhs)]
+        if isinstance(cond, sp.StrictGreaterThan):
+            return ["<", self(cond.rhs), self(cond.lhs)]
+        raise ProgramError(f"unsupported condition in the rhs: {cond} (only < and >)")
 
 
 def rhs_program(ir: ModelIR) -> dict:
@@ -268,8 +273,9 @@ def evaluate(statements, outputs, states, params, time, functions: dict, bind=la
         if op == "v":
             return env[tree[1]]
         if op == "select":
-            test = tree[1]
-            return functions["select"](functions["less"](value(test[1]), value(test[2])), value(tree[2]), value(tree[3]))
+            return functions["select"](value(tree[1]), value(tree[2]), value(tree[3]))
+        if op == "<":
+            return functions["less"](value(tree[1]), value(tree[2]))
         args = [value(a) for a in tree[1:]]
         if op in ("+", "*"):
             out = args[0]

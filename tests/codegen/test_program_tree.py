@@ -57,3 +57,19 @@ def test_what_the_trees_cannot_express_is_refused_not_approximated():
         trees(sp.floor(x))
     with pytest.raises(program_tree.ProgramError, match="unsupported condition"):
         trees(sp.Piecewise((x, x <= 1), (0, True)))
+
+
+def test_every_committed_model_has_its_rhs_as_data():
+    """Every model of generated/ has a program.json (none refused: the run-ups' conditions in t too) that
+    is its numba rhs bit for bit, at random states, parameters and times on both sides of a run-up's switch."""
+    from adbgen.analysis.loading import available_models, load_model
+
+    rng = np.random.default_rng(11)
+    for name in available_models():
+        model = load_model(name)
+        data = json.loads((model.folder / "program.json").read_text())
+        assert "error" not in data, (name, data.get("error"))
+        for t in (0.0, 0.5, 7000.0):
+            y = rng.uniform(-0.5, 0.5, model.n_states)
+            p = model.params()
+            assert np.array_equal(evaluate(data, y, p, t), np.asarray(model.module.rhs(t, y, p))), (name, t)
