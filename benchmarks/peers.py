@@ -5,9 +5,10 @@ follow it); the peers are the optional extra ``pip install 'adbgen[peers]'``.  N
 nor in the analysis layer: the peers read the generated module.
 
 "The same equations" means the generated code itself: the statements of the model's numba
-``rhs_inplace``, read from its source (`generated_program`) in their order, with their operands in
-their printed, ball-invariant order (`codegen/printers.py`), so that a peer evaluates every ball by the
-same floating-point operations as the generated code does.  (Feeding the intermediate form's SymPy
+``rhs_inplace``, emitted as data beside it (program.json, `adbgen.codegen.program_tree`; read by
+`generated_program`, never the module's source) in their order, with their operands in their printed,
+ball-invariant order (`codegen/printers.py`), so that a peer evaluates every ball by the same
+floating-point operations as the generated code does.  (Feeding the intermediate form's SymPy
 expressions instead loses that order, and with it the exchange symmetry: measured, heyoka then splits
 the balls that start together.)  Each peer gets the statements in its own input language:
 
@@ -26,16 +27,13 @@ must integrate the generated code's equations, not a lookalike.
 
 from __future__ import annotations
 
-import ast
 import importlib
-import copy
-import inspect
+import json
 import os
 import tempfile
-import textwrap
 import time
 from contextlib import contextmanager
-from types import SimpleNamespace
+from pathlib import Path
 
 import numpy as np
 
@@ -65,154 +63,31 @@ def peer_versions() -> dict:
 
 
 def generated_program(module) -> tuple[list, dict]:
-    """The statements of a generated module's ``rhs_inplace``: ([(name, ast expr)], {index: ast expr}).
-
-    The function is straight-line code or the loop form (issue 10): ``name = expr``, ``name += expr``,
-    ``out[i] = expr``, per-ball work arrays (``w = _scratch(size)``, ``w[k] = name``, ``w[k]``) and
-    ``for i in range(K):`` loops, a docstring first.  Loops are unrolled here in their order, with every
-    index folded to a number (the balls' parameter tables read from the module) and every re-assigned
-    name given a fresh one (``g_0``, ``g_0__1``, ...), so each peer gets the very operations of the
-    generated code; anything else is refused, so a template change cannot slip a different program
-    past the peers."""
-    source = textwrap.dedent(inspect.getsource(module.rhs_inplace.py_func))
-    fn = ast.parse(source).body[0]
-    statements, outputs = [], {}
-    current: dict[str, str] = {}  # name in the source -> its latest statement's name
-    arrays: dict[str, dict[int, ast.expr]] = {}
-    taken: dict[str, int] = {}
-    tables = {k: v for k, v in vars(module).items() if k.startswith("ball_slot_")}
-
-    def refuse(node, what="statement"):
-        raise ValueError(f"unexpected {what} in {module.__name__}.rhs_inplace: {ast.unparse(node)}")
-
-    def number(node, loop: dict):
-        return eval(compile(ast.Expression(node), "<index>", "eval"), {"__builtins__": {}}, {**tables, **loop})  # noqa: S307
-
-    class Fold(ast.NodeTransformer):
-        """Indices folded, names to their latest statements (on a copy: a loop body is visited once per ball)."""
-
-        def __init__(self, loop):
-            self.loop = loop
-
-
-        def visit_Name(self, node):
-            if node.id in self.loop:
-                return ast.Constant(self.loop[node.id])
-            if node.id in tables:
-                refuse(node, "use of a parameter table")
-            return ast.Name(current.get(node.id, node.id), ast.Load())
-
-        def visit_Subscript(self, node):
-            base = node.value.id if isinstance(node.value, ast.Name) else None
-            if base in ("y", "p"):
-                return ast.Subscript(ast.Name(base, ast.Load()), ast.Constant(int(number(node.slice, self.loop))), ast.Load())
-            if base in tables:
-                return ast.Constant(float(number(node, self.loop)))
-            if base in arrays:
-                return arrays[base][int(number(node.slice, self.loop))]
-            refuse(node, "subscript")
-
-    def fold(node, loop):
-        return Fold(loop).visit(copy.deepcopy(node))
-
-    def emit(name, value):
-        k = taken.get(name, 0)
-        taken[name] = k + 1
-        fresh = name if k == 0 else f"{name}__{k}"
-        statements.append((fresh, value))
-        current[name] = fresh
-
-    def run(body, loop):
-        for node in body:
-            if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
-                continue
-            if isinstance(node, ast.For):
-                call = node.iter
-                if not (isinstance(node.target, ast.Name) and isinstance(call, ast.Call)
-                        and isinstance(call.func, ast.Name) and call.func.id == "range" and len(call.args) == 1):
-                    refuse(node, "loop")
-                for k in range(int(number(call.args[0], loop))):
-                    run(node.body, {**loop, node.target.id: k})
-                continue
-            if isinstance(node, ast.AugAssign) and isinstance(node.op, ast.Add) and isinstance(node.target, ast.Name):
-                emit(node.target.id, ast.BinOp(ast.Name(current[node.target.id], ast.Load()), ast.Add(),
-                                               fold(node.value, loop)))
-                continue
-            if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
-                refuse(node)
-            target = node.targets[0]
-            if isinstance(target, ast.Name):
-                value = node.value
-                if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id == "_scratch":
-                    arrays[target.id] = {}
-                else:
-                    emit(target.id, fold(value, loop))
-            elif isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name) and target.value.id == "out":
-                outputs[int(number(target.slice, loop))] = fold(node.value, loop)
-            elif isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name) and target.value.id in arrays:
-                arrays[target.value.id][int(number(target.slice, loop))] = fold(node.value, loop)
-            else:
-                refuse(node, "assignment")
-
-    run(fn.body, {})
-    statements = [(name, ast.fix_missing_locations(value)) for name, value in statements]
-    outputs = {k: ast.fix_missing_locations(v) for k, v in outputs.items()}
-    if sorted(outputs) != list(range(len(module.STATE_NAMES))):
-        raise ValueError(f"{module.__name__}.rhs_inplace does not write every output")
-    return statements, outputs
+    """The generated rhs as data: ([(name, tree)], {index: tree}), read from the module's program.json
+    (`adbgen.codegen.program_tree`: the statements of its ``rhs_inplace`` with every loop unrolled, in
+    their order, each operation in the order the module performs it; the trees' forms are listed there).
+    A module generated before program.json, or whose rhs the trees do not express, is refused."""
+    path = Path(module.__file__).parent / "program.json"
+    if not path.is_file():
+        raise ValueError(f"{module.__name__} has no program.json beside it (generated before the rhs was "
+                         f"emitted as data): run `adbgen regenerate`")
+    data = json.loads(path.read_text())
+    if "error" in data:
+        raise ValueError(f"{module.__name__}: its rhs is not emitted as data: {data['error']}")
+    outputs = dict(enumerate(data["outputs"]))
+    if data["states"] != len(module.STATE_NAMES) or len(outputs) != len(module.STATE_NAMES):
+        raise ValueError(f"{path} does not write every output of {module.__name__}")
+    return [(name, tree) for name, tree in data["statements"]], outputs
 
 
 def _translate(module, functions, states, params, time, bind=lambda name, value: value):
-    """The outputs of the generated rhs evaluated on a peer's symbols, statement by statement.
+    """The outputs of the generated rhs evaluated on a peer's symbols, statement by statement
+    (`adbgen.codegen.program_tree.evaluate`: functions are the peer's sin, cos, ..., select and less, and
+    optionally power; bind(name, value) what later statements see for a computed statement)."""
+    from adbgen.codegen.program_tree import evaluate
 
-    functions: the peer's sin, cos, ... (the generated code's ``math.*``); bind(name, value) is what
-    later statements see for a computed statement (the value itself, or a named helper)."""
     statements, outputs = generated_program(module)
-    import math
-
-    scope = {"math": SimpleNamespace(pi=math.pi, **functions), "__builtins__": {},
-             "__select__": functions.get("select"), "__less__": functions.get("less")}
-    if "power" in functions:  # the peer's own integer power (heyoka: products, see `_power_by_products`)
-        scope["__power__"] = functions["power"]
-    rewrite = _Conditionals(integer_powers="power" in functions)
-    statements = [(name, ast.fix_missing_locations(rewrite.visit(expr))) for name, expr in statements]
-    outputs = {i: ast.fix_missing_locations(rewrite.visit(expr)) for i, expr in outputs.items()}
-    env = {"y": list(states), "p": list(params), "t": time}
-    for name, expr in statements:
-        value = eval(compile(ast.Expression(expr), "<rhs_inplace>", "eval"), scope, env)  # noqa: S307
-        is_read = isinstance(expr, ast.Subscript) and isinstance(expr.value, ast.Name) and expr.value.id in ("y", "p")
-        env[name] = value if is_read else bind(name, value)
-    return [eval(compile(ast.Expression(outputs[i]), "<rhs_inplace>", "eval"), scope, env)  # noqa: S307
-            for i in range(len(outputs))]
-
-
-class _Conditionals(ast.NodeTransformer):
-    """``a if l < r else b`` (a piecewise law in t, e.g. the Hill run-up's angle (45)) as
-    ``__select__(__less__(l, r), a, b)``: the peer's own conditional, not Python's truth test; with
-    `integer_powers`, ``a ** k`` for a whole number k as ``__power__(a, k)``."""
-
-    def __init__(self, integer_powers: bool = False):
-        self.integer_powers = integer_powers
-
-    def visit_BinOp(self, node):
-        self.generic_visit(node)
-        k = node.right.value if isinstance(node.right, ast.Constant) else None
-        if self.integer_powers and isinstance(node.op, ast.Pow) and isinstance(k, (int, float)) and k == int(k) \
-                and k >= 1:
-            return ast.Call(ast.Name("__power__", ast.Load()), [node.left, ast.Constant(int(k))], [])
-        return node
-
-    def visit_IfExp(self, node):
-        self.generic_visit(node)
-        return ast.Call(ast.Name("__select__", ast.Load()), [node.test, node.body, node.orelse], [])
-
-    def visit_Compare(self, node):
-        self.generic_visit(node)
-        if len(node.ops) != 1 or not isinstance(node.ops[0], (ast.Lt, ast.Gt)):
-            raise ValueError(f"unsupported comparison in the generated rhs: {ast.unparse(node)}")
-        left, right = (node.left, node.comparators[0]) if isinstance(node.ops[0], ast.Lt) else \
-            (node.comparators[0], node.left)
-        return ast.Call(ast.Name("__less__", ast.Load()), [left, right], [])
+    return evaluate(statements, outputs, states, params, time, functions, bind)
 
 
 def _power_by_products(base, k: int):

@@ -20,6 +20,7 @@ zero eigenvalues moved to -1), so the balanced state is an isolated, regular sol
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import re
@@ -342,21 +343,25 @@ class AutoRun:
         return out
 
 
+def stages_data(model: Model) -> dict | None:
+    """The data the AUTO target writes beside a model's AUTO files (auto/stages.json: the stages, the start
+    orbit, the continued parameter's bounds; `codegen.targets.auto.stages_data`), None without them."""
+    path = model.folder / "auto" / "stages.json"
+    return json.loads(path.read_text()) if path.is_file() else None
+
+
 def default_stop(model: Model, name: str, start: float) -> float | None:
     """Where the model's own AUTO constants (c.<model>) end a run in `name`: the UZSTOP bound on the side its
     DS points to (e.g. Omega = 0.5 for the thesis models, whose Hopf points lie between 1 and 2.2); None when
-    the file does not continue `name`."""
-    path = model.folder / "auto" / f"c.{model.name}"
-    if name not in model.param_names or not path.is_file():
+    the file does not continue `name` (read from the AUTO files' data, `stages_data`)."""
+    data = stages_data(model)
+    if name not in model.param_names or data is None or not data.get("uzstop"):
         return None
-    text = path.read_text()
-    a = auto_parameter(model.param_names.index(name))
-    ds = re.search(r"\bDS\s*=\s*([-+0-9.eE]+)", text)
-    bound = re.search(rf"UZSTOP\s*=\s*\{{[^}}]*\b{a}\s*:\s*\[\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)\s*\]", text)
-    if not ds or not bound:
+    uz = data["uzstop"]
+    if uz["parameter"] != model.param_names.index(name):
         return None
-    lo, hi = float(bound.group(1)), float(bound.group(2))
-    stop = lo if float(ds.group(1)) < 0 else hi
+    lo, hi = uz["bounds"]
+    stop = lo if uz["down"] else hi
     return stop if stop != start else None
 
 

@@ -5,7 +5,7 @@
 
 A forced model (fixed frame, anisotropic support or gravity) has periodic responses, not steady
 states.  Its emitted AUTO files continue them as periodic orbits of the autonomous extension (an
-oscillator whose limit cycle is the forcing, paper (40): states osc_sin, osc_cos) from an exact start
+oscillator whose limit cycle is the forcing, paper (40), its states named by the AUTO files' data) from an exact start
 orbit (stpnt): stage 1 (c.<model>) in the parameter the start moved (gravity g from 0), stage 2
 (c.<model>.2) in the forcing frequency.  Here the stages run one after the other on a temporary copy
 (`auto.Session`): stage 1 up to the requested value of its parameter, then the requested
@@ -26,8 +26,8 @@ its first steps (MX), which is reported as a continuation that ended early.
 
 from __future__ import annotations
 
+import json
 import math
-import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -35,70 +35,47 @@ import numpy as np
 from .auto import TYPES, AutoError, Point, Session, Solution, _mapping, auto_parameter
 from .loading import AnalysisError, Model
 
-OSCILLATOR = ("osc_sin", "osc_cos")
 CLOSURE_TOL = 1e-7  # an orbit closes when |y(T) - y(0)| <= CLOSURE_TOL (1 + |y|) (angles mod 2 pi)
 ON_CIRCLE = 1e-6  # a multiplier with ||mu| - 1| below this is neutral
 
 
 # --- the emitted files ------------------------------------------------------------------------------
 
-def _constants(text: str, key: str):
-    m = re.search(rf"^\s*{key}\s*=\s*(\[[^\]]*\]|\{{[^}}]*\}}|[^,\n]+)", text, re.M)
-    return m.group(1).strip() if m else None
-
-
 @dataclass(frozen=True)
 class Stages:
-    """What the model's AUTO files do: stage 1's parameter (0-based model index) and its target, the
-    start orbit (stpnt) and its parameters, and whether a second stage (c.<model>.2) exists."""
+    """What the model's AUTO files do (their data, auto/stages.json, written by the AUTO target beside
+    them): stage 1's parameter (0-based model index) and its target, the start orbit (stpnt) and its
+    parameters, whether a second stage (c.<model>.2) exists, the oscillator's states (paper (40)) in the
+    extension's state vector, and whether the start lies on a continuum."""
 
     first: int
     first_target: float | None
     second: int | None
     start: np.ndarray  # stpnt at t = 0, oscillator included
     start_parameters: np.ndarray
+    oscillator: tuple[int, int] | None = None
+    continuum: bool = False
 
 
 def stages(model: Model) -> Stages:
-    folder = model.folder / "auto"
-    cfile, source = folder / f"c.{model.name}", folder / f"{model.name}.c"
-    if not cfile.is_file() or not source.is_file():
-        raise AutoError(f"{model.name} has no AUTO files ({folder}); regenerate it with the 'auto' target "
-                        "(a forced model needs an exact start orbit for them)")
-    text = cfile.read_text()
-    icp = [int(v) for v in re.findall(r"-?\d+", _constants(text, "ICP") or "")]
-    index = {auto_parameter(k): k for k in range(model.n_params)}
-    if not icp or icp[0] not in index:
-        raise AutoError(f"{cfile}: cannot read its continuation parameter (ICP)")
-    uz = _constants(text, "UZSTOP") or ""
-    target = re.search(rf"\b{icp[0]}\s*:\s*([-+0-9.eE]+)\s*[,}}]", uz)
-    second = None
-    stage2 = folder / f"c.{model.name}.2"
-    if stage2.is_file() and stage2.read_text().strip():
-        icp2 = [int(v) for v in re.findall(r"-?\d+", _constants(stage2.read_text(), "ICP") or "")]
-        second = index.get(icp2[0]) if icp2 else None
-    c = source.read_text()
-    block = re.search(r"start\[NSTATES\]\s*=\s*\{([^}]*)\}", c)
-    if block is None:
-        raise AutoError(f"{source}: no start orbit (stpnt) found")
-    start = np.array([float(v) for v in block.group(1).replace("\n", " ").split(",") if v.strip()])
-    p0 = np.array(model.module.DEFAULTS, float)
-    body = c[c.index("int stpnt("):]
-    for k, value in re.findall(r"par\[(\d+)\]\s*=\s*([-+0-9.eE]+);", body[: body.index("return 0;")]):
-        apar = int(k) + 1
-        if apar in index:
-            p0[index[apar]] = float(value)
-    return Stages(index[icp[0]], float(target.group(1)) if target else None, second, start, p0)
+    data_file = model.folder / "auto" / "stages.json"
+    if not data_file.is_file():
+        raise AutoError(f"{model.name} has no AUTO files ({data_file.parent}, or they predate stages.json); regenerate "
+                        "it with the 'auto' target (a forced model needs an exact start orbit for them)")
+    d = json.loads(data_file.read_text())
+    return Stages(int(d["first"]), d["first_target"], d["second"], np.array(d["start"], float),
+                  np.array(d["start_parameters"], float), tuple(d["oscillator"]) if d["oscillator"] else None,
+                  bool(d["continuum"]))
 
 
 # --- the forced model's period map -------------------------------------------------------------------
 
 def _model_states(model: Model, u: np.ndarray) -> tuple[np.ndarray, float]:
-    """(state of the forced model, the time the oscillator is at) from an extension state u."""
-    names = list(model.state_names)
-    n = len(names)
-    y = np.asarray(u[:n], float)
-    phase = math.atan2(u[n], u[n + 1]) if len(u) >= n + 2 else 0.0
+    """(state of the forced model, the time the oscillator is at) from an extension state u: the forced
+    model's states first, the oscillator's (sin, cos) where the AUTO files' data put them (`stages`)."""
+    osc = stages(model).oscillator
+    y = np.asarray(u[: model.n_states], float)
+    phase = math.atan2(u[osc[0]], u[osc[1]]) if osc and len(u) > max(osc) else 0.0
     return y, phase
 
 
@@ -496,8 +473,7 @@ def _split_family(model: Model, mono: np.ndarray) -> tuple[np.ndarray, np.ndarra
 
 def describe_stage_end(run: OrbitRun) -> str:
     kind, at = run.main.end(run.model)
-    cfile = run.model.folder / "auto" / f"c.{run.model.name}"
-    continuum = cfile.is_file() and "continuum" in cfile.read_text()
+    continuum = stages(run.model).continuum
     hint = ("; the start orbit lies on a continuum of balanced orbits (n >= 3 free ball angles), where AUTO-07p's "
             "Newton system is singular: `adbgen stability` gives such an orbit's Floquet multipliers") if continuum else ""
     return (f"continuation of the forced response in {run.name} stopped at {run.name} = {at:.9g} before "

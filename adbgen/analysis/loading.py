@@ -233,6 +233,13 @@ class Model:
         return self.module.measures_along(np.ascontiguousarray(ts), np.ascontiguousarray(y), p)[self.measures.index(name)]
 
     @property
+    def equilibria(self) -> dict | None:
+        """The manifold of equilibria the model declares: {"name", "zero": the states that vanish on it,
+        "constraints": how many expressions vanish on it} (gradients: the module's
+        equilibria_gradient_inplace), None where it declares none."""
+        return self._described("EQUILIBRIA")
+
+    @property
     def forcing_frequency(self) -> str:
         """The parameter whose 2 pi / value is the forcing period of a periodically forced model ("": none)."""
         return self._described("FORCING_FREQUENCY")

@@ -1,7 +1,8 @@
 """Steady states of a generated autonomous model, their eigenvalues and stability (thesis ch. 3-4).
 
     refine(model, p, y0)              Newton on the generated rhs/jac -> SteadyState
-    family_tangent(model, y, p)       the tangent space of the balanced family (3.6) at y (N x (n-2))
+    family_tangent(model, y, p)       the tangent space of the balanced family (3.6) at y (N x (n-2)),
+                                      from the manifold of equilibria the module declares (EQUILIBRIA)
     transverse_spectrum(J, T)         the eigenvalues of J without the family's zero eigenvalues
 
 **The continuum of balanced states.**  For n >= 3 balls (3.6) leaves n - 2 angles free: the balanced
@@ -121,49 +122,42 @@ def _step(J: np.ndarray, f: np.ndarray, refinements: int = 3) -> np.ndarray:
 
 # ---------------------------------------------------------------------------- the balanced family
 
-def _rotor_and_rates(model: Model) -> tuple[list[int], list[int]]:
-    """The rotor's translations and every rate (the model's STATE_ROLES)."""
-    return list(model.role_indices("translation")), [i for i, r in enumerate(model.roles) if r.endswith("_rate")]
-
-
 def on_balanced_family(model: Model, y: np.ndarray, tol: float = 1e-9) -> bool:
-    """An autonomous (rotating-frame) model whose coordinates are the rotor's two translations and n >= 3
-    ball angles, at a state with the rotor at the origin and at rest and the balls at rest."""
-    balls = model.role_indices("ball_angle")
-    core, rates = _rotor_and_rates(model)
-    if len(balls) < 3 or len(core) != 2 or model.n_coordinates != 2 + len(balls) or not model.autonomous:
+    """At a state of the model's manifold of equilibria (its EQUILIBRIA, e.g. the balanced states of thesis
+    (3.6) for n >= 3 balls): an autonomous model that declares one with more free coordinates than
+    constraints, at a state where the states that vanish on it (the rotor's and every rate) are within
+    tol of 0."""
+    e = model.equilibria
+    if e is None or not model.autonomous or model.n_states - len(e["zero"]) <= e["constraints"]:
         return False
-    return bool(np.max(np.abs(y[core])) <= tol and np.max(np.abs(y[rates])) <= tol)
+    return bool(np.max(np.abs(y[[model.index(name) for name in e["zero"]]])) <= tol)
 
 
-def constraint_gradients(angles: np.ndarray) -> np.ndarray:
-    """(3.6): gradients of sum cos phi_i and sum sin phi_i with respect to the angles (2 x n)."""
-    return np.vstack([-np.sin(angles), np.cos(angles)])
+def constraint_gradients(model: Model, y: np.ndarray, p: np.ndarray | None = None) -> np.ndarray:
+    """The gradients of the manifold's constraints with respect to the states (constraints x N), as the
+    module emits them (thesis (3.6) for identical balls: -sin phi_i and cos phi_i)."""
+    out = np.zeros((model.equilibria["constraints"], model.n_states))
+    q = model.params() if p is None else np.asarray(p, dtype=float)
+    model.module.equilibria_gradient_inplace(np.asarray(y, dtype=float), q, out)
+    return out
 
 
 def balanced_family_tangent(model: Model, y: np.ndarray, p: np.ndarray | None = None) -> np.ndarray:
-    """Orthonormal basis (N x (n - 2)) of the tangent space of the balanced family (3.6) at y.
+    """Orthonormal basis (N x (free - rank)) of the tangent space of the manifold of equilibria at y.
 
-    The null space of the constraint gradients (closed form (3.6), identical balls), taken by SVD
-    (exact to rounding), embedded in the angle coordinates.  With p given and unequal balls (where
-    (3.6) weighs each cos, sin by the ball's mass and the closed form does not annihilate J), the
-    gradients are the rotor rows of the generated jac with respect to the angles instead: the
-    balance conditions of any rotating-frame model.  N x 0 when y is not on the family."""
+    The null space of the constraint gradients (`constraint_gradients`; thesis (3.6) for identical
+    balls) in the states that do not vanish on the manifold, taken by SVD (exact to rounding).  p: the
+    parameters the gradients are taken at (default: the model's defaults).  N x 0 when y is not on it."""
     N = model.n_states
     if not on_balanced_family(model, y):
         return np.zeros((N, 0))
-    leaves = list(model.role_indices("ball_angle"))
-    G = constraint_gradients(y[leaves])
-    if p is not None:
-        J = jacobian(model, y, p)
-        if family_residual(J, _null_in(G, leaves, N)) > 1e-8:
-            rotor = [model.rate_index(i) for i in model.role_indices("translation")]
-            G = J[np.ix_(rotor, leaves)]
-    return _null_in(G, leaves, N)
+    zero = {model.index(name) for name in model.equilibria["zero"]}
+    free = [i for i in range(N) if i not in zero]
+    return _null_in(constraint_gradients(model, y, p)[:, free], free, N)
 
 
 def _null_in(G: np.ndarray, leaves: list[int], N: int) -> np.ndarray:
-    """Orthonormal null space of G (2 x n, in the angles) embedded in the N states."""
+    """Orthonormal null space of G (constraints x free states) embedded in the N states."""
     _, s, vt = np.linalg.svd(G)
     rank = int(np.sum(s > 1e-12 * max(1e-300, s[0])))
     T = np.zeros((N, len(leaves) - rank))

@@ -427,14 +427,51 @@ def _check_steady_states(ir: ModelIR, rhs) -> tuple[float, tuple[str, ...]]:
     return worst, tuple(label for label, count in found.items() if not count)
 
 
+def _check_equilibria(ir: ModelIR) -> float:
+    """The declared manifold of equilibria (thesis (3.6)) is one: at every closed-form steady state that lies
+    on it (its zero states 0) at the random parameter points, the null space T of the emitted constraint
+    gradients in the free states annihilates the jac (|J T| <= STEADY_TOLERANCE |J|): moving along the
+    manifold keeps an equilibrium to first order.  Returns the largest |J T| / |J| seen."""
+    from .interpret import compile_kernel, compile_steady_states
+
+    d = ir.description
+    if d.equilibria is None or not d.steady_states:
+        return 0.0
+    name, zero, count = d.equilibria
+    gradient = compile_kernel(ir, d.equilibria_gradient, "equilibria", time=False)
+    jac = compile_program(ir, "jac")
+    solvers = compile_steady_states(ir)
+    zero_index = [ir.state_names.index(z) for z in zero]
+    free = [k for k in range(ir.n_states) if k not in zero_index]
+    worst = 0.0
+    for p in _parameter_points(ir, DESCRIPTION_SAMPLES, 15):
+        for label in d.labels:
+            y = solvers[label](p)
+            if y is None or np.max(np.abs(y[zero_index])) > 1e-12:
+                continue
+            G = gradient(y, p, np.zeros((count, ir.n_states)))[:, free]
+            _, sv, vt = np.linalg.svd(G)
+            rank = int(np.sum(sv > 1e-12 * max(1e-300, sv[0])))
+            T = np.zeros((ir.n_states, len(free) - rank))
+            T[free, :] = vt[rank:].T
+            J = jac(0.0, y, p).reshape(ir.n_states, ir.n_states)
+            residual = float(np.max(np.abs(J @ T), initial=0.0)) / max(1e-300, float(np.max(np.abs(J))))
+            if not residual <= STEADY_TOLERANCE:
+                raise CheckFailed(f"{ir.name}: the manifold of equilibria {name!r} is not one at steady state {label}: "
+                                  f"|J T| = {residual:.2e} |J| along its tangent, at {dict(zip(ir.parameter_names, p.round(6)))}")
+            worst = max(worst, residual)
+    return worst
+
+
 def check_description(ir: ModelIR, system: FirstOrderSystem) -> dict[str, float]:
     """Every declaration of the self-description against the rendered code (run in Python, as the numba
     target prints it), or CheckFailed naming it: the angles are the ball and spin angles and the rhs is
     2 pi-periodic in each; every measure equals its SymPy expression at random states; the forcing
     frequency is the one the model is forced at; every symmetry holds on the rhs at random states and
     parameters (bitwise where identical balls coincide); every closed-form steady state is a zero of
-    the rhs wherever it is given, and given exactly where the reference's criterion says it exists.
-    Returns the largest relative errors seen, and under "unexercised" the labels given at none of the
+    the rhs wherever it is given, and given exactly where the reference's criterion says it exists; the
+    manifold of equilibria's tangent annihilates the jac at the steady states on it.  Returns the
+    largest relative errors seen, and under "unexercised" the labels given at none of the
     random parameter points (so not shown to be zeros there)."""
     if ir.description is None:
         return {}
@@ -443,4 +480,5 @@ def check_description(ir: ModelIR, system: FirstOrderSystem) -> dict[str, float]
     _check_forcing(ir, system)
     steady, unexercised = _check_steady_states(ir, rhs)
     return {"angles": _check_angles(ir, rhs), "measures": _check_measures(ir, system),
-            "symmetries": _check_symmetries(ir, rhs), "steady_states": steady, "unexercised": unexercised}
+            "symmetries": _check_symmetries(ir, rhs), "steady_states": steady, "unexercised": unexercised,
+            "equilibria": _check_equilibria(ir)}

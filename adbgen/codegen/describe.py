@@ -7,7 +7,9 @@ the generated modules carry (issue 19, item 1):
 - the closed-form steady states: one kernel per candidate of each closed form, reading its integer
   arguments from an array ``a`` (so one function serves every label of a family of states, e.g. the
   thesis' 3(k)+- for every k, and the per-ball values are a loop over the balls: emitted code does not
-  grow with n), guarded in order; the labels are a table (label -> form, arguments).
+  grow with n), guarded in order; the labels are a table (label -> form, arguments);
+- the manifold of equilibria (`core.description.Equilibria`, thesis (3.6)): the states that vanish on
+  it, and one kernel for the gradients of its constraints with respect to every state (out[k, j]).
 
 Every name is resolved and validated here (unknown coordinates, roles, parameters and malformed
 symmetries are refused with `DescriptionError`); what needs the rendered code (periodicity, the
@@ -66,6 +68,10 @@ class SelfDescription:
     steady_states: tuple[tuple[str, str, int, tuple[float, ...]], ...]
     # (configuration, name) of the steady states' names (`core.description.STATE_CONFIGURATIONS`)
     steady_state_names: tuple[tuple[str, str], ...]
+    # the manifold of equilibria: (name, the states that vanish on it, the number of constraints), and
+    # the constraints' gradients with respect to the states (out[k, j]); None where none is declared
+    equilibria: tuple[str, tuple[str, ...], int] | None
+    equilibria_gradient: Kernel | None
     # the declaration and the measures' expressions, for the checks (not rendered)
     declared: Description = field(compare=False, repr=False)
     measure_exprs: tuple[sp.Expr, ...] = field(compare=False, repr=False, default=())
@@ -86,6 +92,9 @@ class SelfDescription:
         kernels = [self.measures, *self.measure_kernels] + [k for f in self.closed_forms for k in f.candidates]
         for f in self.closed_forms:
             parts.append(repr((f.name, [a.name for a in f.arguments], len(f.candidates))))
+        if self.equilibria is not None:  # (absent: the fingerprints of models without one stay as they were)
+            parts.append(repr(self.equilibria))
+            kernels.append(self.equilibria_gradient)
         for k in kernels:
             parts.append(repr((k.shape, k.zero)))
             parts += [type(op).__name__ + ":" + ";".join(sp.srepr(v) if isinstance(v, sp.Basic) else repr(v)
@@ -291,11 +300,40 @@ def lower_description(spec: ModelSpec, system: FirstOrderSystem, form: str = "lo
             name.format(n=2, m=1, k=1)
         except (KeyError, IndexError, ValueError):
             _refuse(model, f"state name {name!r} ({key}): a template in {{n}}, {{m}}, {{k}} only")
+    equilibria, gradient = _equilibria(model, d, system) if d.equilibria is not None else (None, None)
     return SelfDescription(
         family=spec.family, kind=spec.kind, time_unit=d.time_unit, state_units=units, roles=roles,
         angles=tuple(d.angles), amplitude=tuple(d.amplitude), measure_names=tuple(names), measures=every,
         measure_kernels=alone, forcing_frequency=d.forcing_frequency, symmetries=tuple(syms),
         parameter_sets=tuple(sets), scales=tuple((k, d.scales[k]) for k in ("eccentricity", "speed") if k in d.scales),
         closed_forms=tuple(forms), steady_states=tuple(labels),
-        steady_state_names=tuple((k, d.steady_state_names[k]) for k in STATE_CONFIGURATIONS if k in d.steady_state_names), declared=d,
-        measure_exprs=tuple(exprs))
+        steady_state_names=tuple((k, d.steady_state_names[k]) for k in STATE_CONFIGURATIONS if k in d.steady_state_names),
+        equilibria=equilibria, equilibria_gradient=gradient, declared=d, measure_exprs=tuple(exprs))
+
+
+def _equilibria(model: str, d: Description, system: FirstOrderSystem) -> tuple[tuple, Kernel]:
+    """The manifold's data (name, the states vanishing on it: its `zero` coordinates and every rate,
+    the number of constraints) and the kernel out[k, j] = d constraint_k / d state_j (thesis (3.6)'s
+    gradients for the balanced states)."""
+    e = d.equilibria
+    coords = {c.name: c for c in system.coordinates}
+    unknown = sorted(set(e.zero) - set(coords))
+    if unknown or not e.constraints:
+        _refuse(model, f"equilibria {e.name!r}: " + (f"{unknown} are not coordinates" if unknown else "no constraints"))
+    free = [c.q for c in system.coordinates if c.name not in e.zero]
+    allowed = set(free) | {p.symbol for p in system.parameters}
+    exprs = []
+    for g in e.constraints:
+        g = sp.sympify(g)
+        if not g.free_symbols <= allowed:
+            _refuse(model, f"equilibria {e.name!r}: constraint {g} uses {sorted(map(str, g.free_symbols - allowed))}, "
+                           "not the free coordinates and the parameters")
+        exprs.append(g)
+    states = list(system.states)
+    entries = [(k, states.index(q), sp.diff(g, q)) for k, g in enumerate(exprs) for q in free]
+    entries = [(k, j, v) for k, j, v in entries if v != 0]
+    lets, red = _cse([v for _, _, v in entries], "w_e_")
+    ops = tuple(lets) + tuple(Put(Pos(k), Pos(j), v) for (k, j, _), v in zip(entries, red))
+    zero = tuple(c.name for c in system.coordinates if c.name in e.zero) + tuple(
+        c.qd.name for c in system.coordinates)
+    return (e.name, zero, len(exprs)), Kernel(ops, (len(exprs), len(states)), True)

@@ -147,7 +147,7 @@ def describe_data(ir: ModelIR) -> dict:
                 "roles": [""] * ir.n_states, "angles": [], "angle_indices": [], "amplitude": [],
                 "amplitude_indices": [], "measures": [], "forcing_frequency": "", "forcing_index": -1,
                 "symmetries": [], "parameter_sets": [], "scales": [], "labels": [], "forms": [], "max_args": 0,
-                "steady_state_names": []}
+                "steady_state_names": [], "equilibria": None}
     defaults = [q.default for q in ir.parameters]
     sets = []
     for name, values in d.parameter_sets:
@@ -169,6 +169,7 @@ def describe_data(ir: ModelIR) -> dict:
                   for f in d.closed_forms],
         "max_args": max(1, d.max_arguments),
         "steady_state_names": list(d.steady_state_names),
+        "equilibria": None if d.equilibria is None else dict(zip(("name", "zero", "constraints"), d.equilibria)),
     }
 
 
@@ -206,8 +207,9 @@ def _programs(ir: ModelIR, target: "targets.Target") -> dict:
 
 
 def _described(ir: ModelIR, target, printer, names, split, states, params) -> dict:
-    """The self-description's functions printed by the target: every measure, each measure alone, and
-    each closed form's candidates (reading their arguments from an array a, no time argument)."""
+    """The self-description's functions printed by the target: every measure, each measure alone,
+    each closed form's candidates (reading their arguments from an array a, no time argument) and the
+    gradients of the manifold of equilibria's constraints (no time argument)."""
     d = ir.description
 
     def code(kernel, which):
@@ -219,9 +221,14 @@ def _described(ir: ModelIR, target, printer, names, split, states, params) -> di
         return Emitter(kernel, dia, printer, names, split, ir.n_coordinates, list(form.arguments),
                        params).emit(target.depth)
 
-    return {"measures": {"size": len(d.measure_names), "code": code(d.measures, "measures")},
-            "measure_each": [code(k, "measure") for k in d.measure_kernels],
-            "closed_forms": [[closed(k, f) for k in f.candidates] for f in d.closed_forms]}
+    out = {"measures": {"size": len(d.measure_names), "code": code(d.measures, "measures")},
+           "measure_each": [code(k, "measure") for k in d.measure_kernels],
+           "closed_forms": [[closed(k, f) for k in f.candidates] for f in d.closed_forms]}
+    if d.equilibria_gradient is not None:  # (no time argument: a manifold of equilibria is autonomous)
+        kernel = d.equilibria_gradient
+        out["equilibria_gradient"] = Emitter(kernel, dataclasses.replace(target.dialect("equilibria", kernel), time=False),
+                                             printer, names, split, ir.n_coordinates, states, params).emit(target.depth)
+    return out
 
 
 def context(ir: ModelIR, target: "targets.Target", _memo: dict | None = None) -> dict:

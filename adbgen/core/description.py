@@ -3,7 +3,8 @@
 A family's `models.py` gives every model a `Description`: the role and unit of each coordinate, which
 coordinates are angles, which two make the rotor's amplitude, the measures it wants emitted (SymPy
 expressions), its exchange symmetries, the named parameter sets of the documents, its scales, and its
-closed-form steady states (SymPy expressions, with the conditions under which each applies).  Code
+closed-form steady states (SymPy expressions, with the conditions under which each applies), and its
+manifold of equilibria where it has one (thesis (3.6)).  Code
 generation (`adbgen.codegen.describe`) turns it into data and compiled functions of every generated
 module and checks each declaration against the rendered right-hand side before anything is written,
 so a wrong declaration is refused, not emitted.
@@ -99,6 +100,21 @@ class SteadyState:
 
 
 @dataclass(frozen=True)
+class Equilibria:
+    """A manifold of equilibria (thesis (3.6): the balanced states of n >= 3 balls form one of dimension
+    n - 2): the states where every coordinate of ``zero`` and every rate vanish and every expression of
+    ``constraints`` (SymPy, in the other coordinates and the parameters) is 0.  Its tangent at a point
+    is the null space of the constraints' gradients in the other coordinates; code generation emits the
+    gradients as a compiled function (`equilibria_gradient_inplace`), so the analysis layer computes
+    the tangent without knowing the equations.  As many independent constraints as other coordinates:
+    isolated equilibria, no manifold."""
+
+    name: str
+    zero: tuple[str, ...]
+    constraints: tuple[sp.Expr, ...]
+
+
+@dataclass(frozen=True)
 class Description:
     """A model's self-description as its family declares it (see the module docstring).
 
@@ -111,7 +127,8 @@ class Description:
     "speed": parameter} where the model has them.  ``steady_state_names``: the names of its steady states by their
     configuration (`STATE_CONFIGURATIONS`; "opposed" a template in {n} balls, {m} of them together, {k}
     opposite), as the reference names them (thesis: balanced 1, coincident 2, in-line 3(n-m)); a branch
-    sign + or - is appended from the closed-form label the state is (`steady_states`).
+    sign + or - is appended from the closed-form label the state is (`steady_states`).  ``equilibria``:
+    the model's manifold of equilibria (`Equilibria`), None where it declares none.
     """
 
     time_unit: str
@@ -127,6 +144,7 @@ class Description:
     closed_forms: tuple[ClosedForm, ...] = ()
     steady_states: tuple[SteadyState, ...] = ()
     steady_state_names: Mapping[str, str] = field(default_factory=dict)
+    equilibria: Equilibria | None = None
 
 
 def rate_unit(unit: str, time_unit: str) -> str:

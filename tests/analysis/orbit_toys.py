@@ -70,6 +70,7 @@ def write_toy(folder: Path, name: str, states, params: dict, rhs, *, angles=(), 
         ANGLES = {tuple(angles)!r}
         AMPLITUDE = {tuple(amplitude or states[:2])!r}
         FORCING_FREQUENCY = {forcing!r}
+        MEASURES = ()  # no compiled measures (the orbit code reads MEASURES, it does not guess)
         START = None
         START_PARAMETERS = None
 

@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
+import types
 
 import numpy as np
 import pytest
 
 from adbgen.analysis import continuation, steady
-from adbgen.analysis.loading import load_model
+from adbgen.analysis.loading import AnalysisError, load_model
 from adbgen.analysis.orbits import auto_cycles, charts, describe, orbit
 from adbgen.analysis.orbits.boundary import OrbitFollower
 from adbgen.analysis.orbits.parameters import ParameterMap
@@ -86,11 +88,19 @@ def test_par2_defaults_find_the_thesis_hopf_curves(capsys):
 
 # ------------------------------------------------------------------------------ item 4: charts
 
-def test_forcing_frequency_found_by_what_the_rhs_does():
-    """two_plane_fixed at its defaults: Omega = l_1 = l_2 = 3 and J_p = 0.5 (a divisor) all give a period of the
-    rhs; only Omega stays one when moved (the fallback for modules without FORCING_FREQUENCY)."""
+def test_forcing_frequency_is_the_modules_own():
+    """The forcing frequency is the module's FORCING_FREQUENCY, not guessed (two_plane_fixed at its defaults
+    has Omega = l_1 = l_2 = 3: a guess by the rhs' period could pick either); a time-dependent model that
+    declares none (a run-up) is refused, and so is a module whose declaration is removed (negative control)."""
     m = load_model("two_plane_fixed")
-    assert m.param_names[describe._detect_forcing(m, m.params())] == "Omega"
+    assert m.param_names[describe.forcing_parameter(m)] == "Omega"
+    assert describe.forcing_parameter(load_model("thesis_rotating_n2")) is None
+    with pytest.raises(AnalysisError, match="not periodically forced"):
+        describe.forcing_parameter(load_model("two_plane_hill"))
+    bare = dataclasses.replace(m, module=types.SimpleNamespace(
+        **{k: v for k, v in vars(m.module).items() if k != "FORCING_FREQUENCY"}))
+    with pytest.raises(AnalysisError, match="FORCING_FREQUENCY"):
+        describe.forcing_parameter(bare)
 
 
 def test_hopf_chart_with_ties_is_exact_on_its_curves():

@@ -191,23 +191,40 @@ def test_newton_failure_is_an_error(thesis):
         steady.newton(m, m.params({"Omega": 4.0}), m.state({"x": 0.5, "phi_1": 2.0}), max_iter=2)
 
 
-def test_unequal_balls_reduce_by_the_rotor_rows_of_the_generated_jac(tmp_path, monkeypatch):
-    """Unequal balls (a scene's dimensional rotating-frame model): (3.6) weighs each ball by its mass,
-    so the equal-ball closed form is not the tangent (|J T| large: the negative control); the rotor rows
-    of the generated jac give it, and the transverse spectrum is again the full one minus the zero."""
+def test_unequal_balls_reduce_by_the_manifold_the_module_declares(tmp_path, monkeypatch):
+    """Unequal balls (a scene's dimensional rotating-frame model): the balanced states weigh each ball by
+    its mass, and the manifold the module declares (EQUILIBRIA: the rotor's generalised forces at rest)
+    says so, so its emitted gradients give the tangent (J T = 0) and the transverse spectrum is again the
+    full one minus the zero.  Negative control: the equal-ball gradients of (3.6) (-sin phi_i, cos phi_i,
+    unweighted) are not the tangent there (|J T| large)."""
     monkeypatch.setenv("ADBGEN_CACHE", str(tmp_path))
     scene = tmp_path / "unequal.toml"
     scene.write_text('n = 3\nball_mass = [0.05, 0.04, 0.03]\n[speed]\nlaw = "constant"\nomega = 400.0\n')
     m = load_model(scene=scene)
     p = m.params()
+    assert m.equilibria is not None and m.equilibria["constraints"] == 2
     s = steady.refine(m, p, m.state({"phi_1": 1.2, "phi_2": -1.2, "phi_3": 3.1}))
     assert s.tangent.shape[1] == 1 and s.classification == "stable" and abs(s.neutral[0]) < 1e-9
-    closed = steady.balanced_family_tangent(m, s.y)  # (3.6) for identical balls
-    assert steady.family_residual(s.jacobian, closed) > 1e-3
-    assert steady.family_residual(s.jacobian, s.tangent) < 1e-13
+    assert steady.family_residual(s.jacobian, steady.balanced_family_tangent(m, s.y, p)) < 1e-13
+    angles = list(m.role_indices("ball_angle"))
+    equal_balls = np.vstack([-np.sin(s.y[angles]), np.cos(s.y[angles])])
+    assert steady.family_residual(s.jacobian, steady._null_in(equal_balls, angles, m.n_states)) > 1e-3
     full = np.linalg.eigvals(s.jacobian)
     rest = np.delete(full, np.argmin(np.abs(full)))
     assert _match(s.transverse, rest) < 1e-9 * np.max(np.abs(full))
+
+
+def test_a_model_without_a_declared_manifold_has_no_tangent(thesis):
+    """The tangent comes from the module's EQUILIBRIA only: the same balanced state of the n = 3 model with
+    the declaration removed (negative control) is an ordinary state, N x 0."""
+    import dataclasses
+    import types
+
+    m = thesis[3]
+    y = np.array(m.module.START)
+    assert steady.balanced_family_tangent(m, y).shape == (m.n_states, 1)
+    bare = dataclasses.replace(m, module=types.SimpleNamespace(**{**vars(m.module), "EQUILIBRIA": None}))
+    assert not steady.on_balanced_family(bare, y) and steady.balanced_family_tangent(bare, y).shape == (m.n_states, 0)
 
 
 @pytest.mark.parametrize("Omega, mu", [(0.4, 0.007), (1.0, 0.004), (2.4, 0.013)])

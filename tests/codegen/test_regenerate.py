@@ -136,7 +136,7 @@ def test_a_scene_gets_its_smallest_model(tmp_path):
     text = (out / "unequal_n3" / "__init__.py").read_text()
     assert "STATE_NAMES = ('x', 'y', 'phi_1', 'phi_2', 'phi_3'," in text  # rotating frame: autonomous
     assert "AUTONOMOUS = True" in text and "'m_3'" in text
-    assert sorted(p.name for p in (out / "unequal_n3").iterdir()) == ["__init__.py", "unequal_n3.c", "unequal_n3.h"]
+    assert sorted(p.name for p in (out / "unequal_n3").iterdir()) == ["__init__.py", "program.json", "unequal_n3.c", "unequal_n3.h"]
 
 
 @pytest.mark.parametrize("name, why", [

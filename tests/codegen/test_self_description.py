@@ -415,3 +415,32 @@ def test_regenerate_refuses_a_wrong_declaration_and_writes_nothing(tmp_path, cap
         assert not out.exists()
     finally:
         families.unregister("wrongly-described")
+
+
+# ----------------------------------------------------------------------- the manifold of equilibria
+
+def test_the_manifold_of_equilibria_is_checked_and_emitted():
+    """thesis_rotating_n3 declares (3.6): its tangent annihilates the jac at the balanced state (the check
+    passes); a wrong manifold (one constraint, sum cos phi_i + delta/mu, whose tangent is two-dimensional and
+    leaves the equilibria) is refused by the check (negative control)."""
+    from adbgen.core.description import Equilibria
+    from adbgen.families.single_plane.symbols import delta, mu
+
+    spec = sp_models.thesis_rotating(3)
+    assert _check(spec)["equilibria"] < 1e-12
+
+    def one_constraint(d, system):
+        phis = [system.coordinates[k].q for k in system.solve.leaves]
+        return Equilibria("too big", ("x", "y"), (sp.Add(*map(sp.cos, phis)) + delta / mu,))
+    with pytest.raises(CheckFailed, match="manifold of equilibria 'too big' is not one"):
+        _check(_redeclared(spec, equilibria=one_constraint))
+
+
+def test_a_manifold_naming_what_the_model_does_not_have_is_refused():
+    from adbgen.core.description import Equilibria
+
+    with pytest.raises(DescriptionError, match="not coordinates"):
+        build_ir(_redeclared(sp_models.thesis_rotating(2), equilibria=Equilibria("e", ("z",), (sp.Integer(1),))))
+    with pytest.raises(DescriptionError, match="not the free coordinates"):
+        build_ir(_redeclared(sp_models.thesis_rotating(2), equilibria=lambda d, s: Equilibria(
+            "e", ("x", "y"), (s.coordinates[0].qd,))))

@@ -24,8 +24,9 @@ NTST, NCOL = 60, 4
 
 
 def _pinned_model(model: Model) -> bool:
-    path = model.folder / "auto" / f"{model.name}.c"
-    return path.is_file() and "SIGMA" in path.read_text()
+    """The model's AUTO user file regularises the continuum of balanced states (its data: `pinned`)."""
+    data = auto.stages_data(model)
+    return bool(data and data.get("pinned"))
 
 
 def _branch_json(points: list, name: str, column: str, amp: str, origin: float, regularised: bool) -> dict:

@@ -18,8 +18,8 @@ from typing import Mapping
 
 import sympy as sp
 
-from ...core.description import (BALL, Candidate, ClosedForm, Description, SteadyState, ball_exchanges,
-                                 spin_measures)
+from ...core.description import (BALL, Candidate, ClosedForm, Description, Equilibria, SteadyState,
+                                 ball_exchanges, spin_measures)
 from ...core.first_order import FirstOrderSystem
 from ...core.oscillator import Oscillator
 from . import steady_states as ss
@@ -134,8 +134,30 @@ def _forcing(system: FirstOrderSystem) -> str:
     return w.name if isinstance(w, sp.Symbol) else ""
 
 
+def balanced_manifold(system: FirstOrderSystem) -> Equilibria:
+    """Thesis (3.6): the balanced states x = y = 0, sum cos phi_i = -delta/mu, sum sin phi_i = 0 (identical
+    balls; dimensionless rotating frame), a manifold of dimension n - 2 (n >= 3)."""
+    phis = [system.coordinates[k].q for k in system.solve.leaves]
+    return Equilibria("balanced states (3.6)", ("x", "y"),
+                      (sp.Add(*map(sp.cos, phis)) + delta / mu, sp.Add(*map(sp.sin, phis))))
+
+
+def rotor_balance(system: FirstOrderSystem, rotor: tuple[str, str]) -> Equilibria | None:
+    """The balanced states of any rotating-frame model with the rotor at rest: the rotor's generalised
+    forces vanish (thesis (3.6), in the model's own parameters and ball masses: M q'' = f with every rate
+    and the rotor's displacement 0, where the balls' rows of f vanish too).  None where f there depends
+    on time (a driven spin)."""
+    eom = system.solve.eom
+    at_rest = {c.q: 0 for c in eom.coordinates if c.name in rotor} | {c.qd: 0 for c in eom.coordinates}
+    rows = tuple(sp.sympify(eom.forcing[eom.index(name)]).xreplace(at_rest) for name in rotor)
+    if any(eom.time in r.free_symbols for r in rows):
+        return None
+    return Equilibria("balanced states (3.6): the rotor's generalised forces at rest vanish", rotor, rows)
+
+
 def describe(system: FirstOrderSystem, *, rotating: bool, dimensionless: bool, thesis_states: bool = False,
-             parameter_sets: Mapping | None = None, forcing: str | None = None) -> Description:
+             parameter_sets: Mapping | None = None, forcing: str | None = None,
+             equilibria: Equilibria | None = None) -> Description:
     """A single-plane model's description: rotor coordinates x, y (rotating frame) or X, Y, the spin
     angle psi under a torque, ball angles phi_i; thesis_states: the closed forms of ch. 3 (the
     dimensionless rotating frame (2.25)-(2.27) only)."""
@@ -156,13 +178,14 @@ def describe(system: FirstOrderSystem, *, rotating: bool, dimensionless: bool, t
         measures=spin_measures(system.solve.eom), forcing_frequency=_forcing(system) if forcing is None else forcing,
         symmetries=ball_exchanges(balls, _own_parameters(system, balls)),
         parameter_sets=dict(parameter_sets or {}), scales=scales, closed_forms=forms, steady_states=states,
-        steady_state_names=names)
+        steady_state_names=names,
+        equilibria=equilibria if equilibria is not None or not rotating else rotor_balance(system, rotor))
 
 
 def thesis_rotating(system: FirstOrderSystem) -> Description:
     """thesis_rotating_n*: (2.25)-(2.27), dimensionless, autonomous; the closed forms of ch. 3."""
     return describe(system, rotating=True, dimensionless=True, thesis_states=True, parameter_sets=THESIS_SETS,
-                    forcing="")
+                    forcing="", equilibria=balanced_manifold(system))
 
 
 def _substituted(form: ClosedForm, sub: dict, guards=()) -> ClosedForm:

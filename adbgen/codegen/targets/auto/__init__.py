@@ -1,7 +1,8 @@
 """The AUTO-07p target: a user file (func with dfdu and dfdp, stpnt, pvls) and constants files.
 
 Its decisions are made here, from the model's `Continuation` (which the family sets), and handed to
-the templates as data: which parameter is continued (PAR index), in which direction and until where,
+the templates as data (and written as data too, `auto/stages.json`, for the analysis layer:
+`stages`): which parameter is continued (PAR index), in which direction and until where,
 whether there is a second stage (periodic orbits of an oscillator extension: first in the parameter
 the start moved, then in the forcing frequency), whether the start lies on a continuum, which states
 give the amplitude printed by pvls.  The templates (templates/auto/) only print; func's bodies are printed by
@@ -9,6 +10,8 @@ the C printer in AUTO's dialect (`dialect.AutoDialect`: u, par[APAR(k)], ARRAY2D
 """
 
 from __future__ import annotations
+
+import json
 
 from ....core.oscillator import OSC_COS, OSC_SIN
 from .. import Target, columns
@@ -20,6 +23,34 @@ _OUT = {"rhs": "f", "jac": "dfdu", "jac_p": "dfdp"}
 IPLT = 0
 FAMILY_SIGMA = 1.0
 RESTART_LABEL = 2  # stage 1 of a forced model ends on this label (UZ; label 1 is the start), stage 2 restarts there
+
+
+def stages_data(ir, auto: dict) -> dict:
+    """What the constants files do, as data (`auto/stages.json`, read by `analysis.auto_orbits.stages`):
+    ``first``: stage 1's parameter (0-based model index); ``first_target``: the value its UZSTOP ends
+    stage 1 at (a two-stage forced model: the parameter's default), else null; ``second``: stage 2's
+    parameter (the forcing frequency), null without a second stage; ``start``, ``start_parameters``:
+    stpnt's orbit at t = 0 (the oscillator's states included) and its parameters; ``oscillator``: the
+    positions of the extension's oscillator states (paper (40): sin, cos), null for an autonomous
+    model; ``continuum``: the start lies on a continuum of balanced states or orbits; ``pinned``: the
+    user file regularises that continuum (thesis (3.6), templates/auto/_family.j2); ``uzstop``: c.<model>'s
+    bounds on its continued parameter {"parameter", "bounds": [lo, hi], "down": DS < 0}, null where it
+    stops at a value instead."""
+    two = bool(auto["forced"]) and auto.get("stages") == 2
+    k1 = auto["icp"]
+    if not auto["forced"]:
+        bounds = list(auto["stop"]) if auto["stop"] else None
+    elif not two:
+        w0 = ir.start_parameters[k1]
+        bounds = [w0 * 0.5, w0 * 1.5]  # as templates/auto/_forced.j2's one-stage UZSTOP
+    else:
+        bounds = None
+    return {"first": k1, "first_target": float(ir.parameters[k1].default) if two else None,
+            "second": auto["stage2"] if two else None,
+            "start": [float(v) for v in ir.start], "start_parameters": [float(v) for v in ir.start_parameters],
+            "oscillator": list(auto["osc"]) if auto["forced"] else None, "continuum": bool(auto["continuum"]),
+            "pinned": bool(auto["family"]),
+            "uzstop": {"parameter": k1, "bounds": [float(b) for b in bounds], "down": bool(auto["down"])} if bounds else None}
 
 
 class AutoTarget(Target):
@@ -70,6 +101,7 @@ class AutoTarget(Target):
                                  f"{ir.forcing_frequency!r}")
             out.update(stages=stages, stage2=names.index(ir.forcing_frequency),
                        osc=(ir.state_names.index(OSC_SIN.name), ir.state_names.index(OSC_COS.name)))
+        out["stages_json"] = json.dumps(stages_data(ir, out), indent=1)
         return out
 
     def prove(self, proof):
@@ -82,7 +114,9 @@ TARGET = AutoTarget(
     name="auto",
     files=(("auto/user.c.j2", "{name}/auto/{name}.c"), ("auto/constants.j2", "{name}/auto/c.{name}"),
            # second continuation stage: forced models only (the template renders blank otherwise)
-           ("auto/constants_stage2.j2", "{name}/auto/c.{name}.2")),
+           ("auto/constants_stage2.j2", "{name}/auto/c.{name}.2"),
+           # the stages as data (the analysis layer reads this, never the files above)
+           ("auto/stages.json.j2", "{name}/auto/stages.json")),
     printer=CPrinter,
     loops=True,
     functions=tuple(_OUT),

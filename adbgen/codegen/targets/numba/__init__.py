@@ -1,6 +1,6 @@
 """The numba target: one Python module per model, `@njit(cache=True)` functions over the kernels printed
-as plain Python (`printer.PythonPrinter`, `dialect.PythonDialect`); importable as `generated.<model>`.
-Templates: templates/numba/."""
+as plain Python (`printer.PythonPrinter`, `dialect.PythonDialect`); importable as `generated.<model>`;
+beside it program.json, its rhs as expression trees (`codegen.program_tree`).  Templates: templates/numba/."""
 
 from .. import Target, columns
 from .dialect import NUMBA_SCRATCH, PythonDialect
@@ -11,6 +11,11 @@ class NumbaTarget(Target):
     def dialect(self, which, kernel):
         return PythonDialect("y", "p", "out", columns(kernel), scratch=NUMBA_SCRATCH)
 
+    def context(self, ir) -> dict:
+        from ...program_tree import program_json
+
+        return {"program_json": program_json(ir)}
+
     def prove(self, proof):
         from .prove import prove
 
@@ -19,7 +24,8 @@ class NumbaTarget(Target):
 
 TARGET = NumbaTarget(
     name="numba",
-    files=(("numba/module.py.j2", "{name}/__init__.py"),),
+    # program.json: the rhs as data (`codegen.program_tree`), for the benchmarks' peers
+    files=(("numba/module.py.j2", "{name}/__init__.py"), ("numba/program.json.j2", "{name}/program.json")),
     printer=PythonPrinter,
     loops=True,
     describe=True,
