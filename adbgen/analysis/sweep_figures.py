@@ -16,6 +16,7 @@ Two-dimensional grids give maps, one-dimensional grids curves; larger grids are 
 from __future__ import annotations
 
 import json
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -77,7 +78,8 @@ def write_figures(store: Path) -> list[Path]:
     flagged = _mark_sensitive(ax, ds, da, done, dims, measure)
     if flagged:
         title += f" ({flagged} tolerance-sensitive, marked)"
-    ax.set_title(title + "\n" + _caption(ds, dims), fontsize=9)
+    # wrapped to the figure's width: a long model name and parameter list were clipped at the edges (issue 36)
+    ax.set_title("\n".join(textwrap.wrap(title, 80) + textwrap.wrap(_caption(ds, dims), 95)), fontsize=9)
     out = []
     for ext in ("png", "pdf"):
         path = store.parent / f"{measure}.{ext}"

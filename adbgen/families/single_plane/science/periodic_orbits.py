@@ -144,6 +144,16 @@ def h1_cycles(out: Path, progress=print) -> list[dict]:
     return rows
 
 
+def special_index(lam, period, special: dict) -> int:
+    """The branch point nearest a special point in (Omega, period), each scaled by its range over the branch:
+    by Omega alone a branch that folds back put the marker on the wrong sheet (issue 36: the torus point near
+    1.607 drawn on different sheets in the two panels)."""
+    lam, period = np.asarray(lam, float), np.asarray(period, float)
+    span = lambda v: max(float(np.ptp(v)), 1e-12)  # noqa: E731
+    d = ((lam - special["Omega"]) / span(lam)) ** 2 + ((period - special["period"]) / span(period)) ** 2
+    return int(np.argmin(d))
+
+
 def _plot_h1(rows, out: Path) -> None:
     import matplotlib
 
@@ -161,10 +171,10 @@ def _plot_h1(rows, out: Path) -> None:
             ax.plot(lam, v, "-", color=f"C{row['n']}", lw=0.7)
             ax.plot(lam, np.where(st, v, np.nan), "-", color=f"C{row['n']}", lw=2.4, label=f"n = {row['n']}")
         for s in br.specials:
-            k = int(np.argmin(np.abs(lam - s["Omega"])))
+            k = special_index(lam, per, s)
             mk = {"torus": "*", "period-doubling": "D", "fold": "s"}[s["kind"]]
-            a1.plot(s["Omega"], amp[k], mk, color="k", ms=6)
-            a2.plot(s["Omega"], s["period"], mk, color="k", ms=6)
+            a1.plot(lam[k], amp[k], mk, color="k", ms=6)
+            a2.plot(lam[k], per[k], mk, color="k", ms=6)
     a1.set_xlabel("Omega")
     a1.set_ylabel("r_max")
     a2.set_xlabel("Omega")
@@ -233,7 +243,7 @@ def section(out: Path, progress=print) -> str:
             j = br.to_json()
             stable = [lam for lam, s in zip(j["parameter"], j["stable"]) if s]
             what = (f"stable for Omega in [{min(stable):.6f}, {max(stable):.6f}]; " if stable else "") + \
-                "; ".join(f"{s['kind']} at {s['Omega']:.6f} (T = {s['period']:.5f})" for s in br.specials[:6])
+                "; ".join(f"{s['kind']} at {s['Omega']:.6f} (T = {s['period']:.5f})" for s in br.specials)
             cyc = f"{len(br.orbits)} orbits, Omega {j['parameter'][0]:.4f} to {j['parameter'][-1]:.4f}"
         else:
             d = row["drift"]

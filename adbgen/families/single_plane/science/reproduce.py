@@ -209,6 +209,22 @@ def wedge_tip_spectrum(n: int, past: float = 0.0) -> list[complex]:
     return sorted(ev, key=lambda z: (abs(z), z.imag))[:4]
 
 
+# the thesis' stability maps recomputed, each with its own figure number: the (Omega, mu) diagrams of Figs. 4.1,
+# 4.5, 4.10 (n = 2, 3, 4) and the (zeta, beta) diagrams of Figs. 4.9(a), 4.14(a) (n = 3, 4; the thesis has no
+# n = 2 (zeta, beta) diagram: there the balanced state is stable on the whole square)
+MAPS = (
+    (2, "(Omega, mu)", ("Omega=0.2:4:39", "mu=0.001:0.1:34"), "4.1"),
+    (3, "(Omega, mu)", ("Omega=0.2:4:39", "mu=0.001:0.1:34"), "4.5"),
+    (4, "(Omega, mu)", ("Omega=0.2:4:39", "mu=0.001:0.1:34"), "4.10"),
+    (3, "(zeta, beta)", ("zeta=0.005:0.5:34", "beta=0.005:0.5:34"), "4.9(a)"),
+    (4, "(zeta, beta)", ("zeta=0.005:0.5:34", "beta=0.005:0.5:34"), "4.14(a)"),
+)
+
+
+def map_caption(n: int, plane: str, figure: str) -> str:
+    return f"n = {n}: unstable eigenvalues of the balanced state over {plane} (thesis Fig. {figure})"
+
+
 def _maps(fig_dir: Path) -> list[tuple[str, Path]]:
     """Stability maps of the balanced state by `adbgen sweep --measure stability` (figures copied)."""
     import shutil
@@ -219,17 +235,13 @@ def _maps(fig_dir: Path) -> list[tuple[str, Path]]:
     out = []
     tmp = Path(tempfile.mkdtemp(prefix="adbgen-reproduce-"))
     try:
-        for n in (2, 3, 4):
-            for name, grid, fixed, fig in (
-                    ("(Omega, mu)", ["Omega=0.2:4:39", "mu=0.001:0.1:34"], [], "4.1, 4.5, 4.10"),
-                    ("(zeta, beta)", ["zeta=0.005:0.5:34", "beta=0.005:0.5:34"], [], "4.9(a), 4.14(a)")):
-                key = f"fig4_n{n}_{'omega_mu' if 'Omega' in name else 'zeta_beta'}"
-                spec = SweepSpec(model=f"thesis_rotating_n{n}", grid=grid, measure="stability", set=fixed)
-                run_sweep(spec, tmp / key, progress=False)
-                target = fig_dir / f"{key}.png"
-                shutil.copyfile(tmp / key / "stability.png", target)
-                out.append((f"n = {n}: unstable eigenvalues of the balanced state over {name} (thesis Fig. {fig})",
-                            target))
+        for n, plane, grid, figure in MAPS:
+            key = f"fig4_n{n}_{'omega_mu' if 'Omega' in plane else 'zeta_beta'}"
+            spec = SweepSpec(model=f"thesis_rotating_n{n}", grid=list(grid), measure="stability", set=[])
+            run_sweep(spec, tmp / key, progress=False)
+            target = fig_dir / f"{key}.png"
+            shutil.copyfile(tmp / key / "stability.png", target)
+            out.append((map_caption(n, plane, figure), target))
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return out

@@ -20,7 +20,8 @@ import numpy as np
 from ....analysis.attractors import ALGEBRAIC, UNDECIDED
 from ....analysis.sweep import SweepSpec, run_sweep
 from ..description import THESIS_NAMES
-from .balanced import balanced_stable
+from ....analysis.loading import load_model
+from .balanced import balanced_stable, family_margin
 
 PI = math.pi
 BALANCED = THESIS_NAMES["rest"]  # the decided labels (`attractors.Classifier.decide`): balanced (exponential or
@@ -147,6 +148,7 @@ LAUNCH_TIES = {2: ("phi_2=phi_1+pi",), 3: ("phi_2=phi_1+2*pi/3", "phi_3=phi_1-2*
 LAUNCH_PUBLISHED = {2: 32, 3: 28, 4: 24}  # balanced runs of 100 (section 5.1.3)
 LAUNCH_GRID = "phi_1=0:2*pi*99/100:100"
 LAUNCH_RTOLS = (1e-6, 1e-8, 1e-10)
+ODE45 = ("matlab-ode45", 1e-3, 1e-6)  # the thesis' integrator at MATLAB's defaults (RelTol, AbsTol)
 
 
 def launches() -> dict:
@@ -172,7 +174,11 @@ def launches() -> dict:
             switches = sum(a != b for a, b in zip(names, names[1:]))
             local.append({"phi_1": float(phi[k]), "balanced": count_balanced(names), "points": len(names),
                           "switches": switches})
+        # the thesis' solver at its defaults beside the converged counts: its 32 / 28 / 24 are ode45's
+        codes, labels, _ = sweep(model, [LAUNCH_GRID], "attractor", y0=y0, tie=ties, rtol=ODE45[1], atol=ODE45[2],
+                                 engine=ODE45[0], early_stop=False)  # ode45 has no early stop
         out[n] = {"phi_1": phi, "labels": by_tol, "changes": [float(phi[k]) for k in changes], "local": local,
+                  "ode45": named(labels, codes),
                   "command": command(model, [LAUNCH_GRID], "attractor", y0=y0, tie=ties)}
     return out
 
@@ -202,7 +208,8 @@ def basins_n3(size: int = 40) -> list[dict]:
                     "undecided": int(is_open(names).sum()),
                     "off_diagonal_balanced": int((ok & ~diag).sum()),
                     "diagonal_balanced": int((ok & diag).sum()),
-                    "counts": {k: int((names == k).sum()) for k in sorted(set(names.ravel()))}})
+                    "counts": {k: int((names == k).sum()) for k in sorted(set(names.ravel()))},
+                    "family": family_margin(load_model("thesis_rotating_n3"), {"zeta": zeta})})
     return out
 
 
@@ -268,6 +275,39 @@ def delta_sweep(total: float, count: int = 20) -> dict:
     return out
 
 
+# Fig. 5.23's "For Omega < 2.04": the thesis plots Omega on [0, 20] at 50 points (20 k/49; 2.04 is k = 5), so its
+# 2.04 is a grid value, not a threshold: the onset lies between the grid point below it and 2.0408
+THESIS_OMEGA_GRID = np.linspace(0.0, 20.0, 50)
+THESIS_ONSET = 2.04
+
+
+def thesis_grid_bracket(onset: float, grid=THESIS_OMEGA_GRID) -> tuple[float, float]:
+    """The two points of the thesis' Omega grid about `onset` (the last below, the first at or above)."""
+    k = int(np.searchsorted(grid, onset))
+    return float(grid[k - 1]), float(grid[k])
+
+
+def consistent_with_grid(points: dict) -> bool:
+    """Does "For Omega < 2.04, ... the balance is not stable" hold on the thesis' grid, by the runs at its grid
+    points (`grid_points_check`): some start fails at the point below 2.04 and every start balances at 2.0408?"""
+    below, at = points[min(points)], points[max(points)]
+    return below["balanced"] < below["starts"] and at["balanced"] == at["starts"]
+
+
+def grid_points_check(n: int) -> dict:
+    """The thesis' grid points about its 2.04 (k = 4, 5: 1.6327, 2.0408) and 1.8 between them: the ten starts of
+    Fig. 5.23 at each, decided labels (how many balance)."""
+    k = int(round(THESIS_ONSET * 49 / 20))
+    omegas = (float(THESIS_OMEGA_GRID[k - 1]), 1.8, float(THESIS_OMEGA_GRID[k]))
+    out = {}
+    for w in omegas:
+        codes, labels, _ = sweep(f"thesis_rotating_n{n}", [f"Omega={w!r}:{w!r}:1", _starts(n)], "attractor",
+                                 set_=(f"mu={0.06 / n!r}",), tie=EQUI_TIES[n])
+        names = named(labels, codes)
+        out[w] = {"balanced": count_balanced(names), "undecided": int(is_open(names).sum()), "starts": len(names)}
+    return out
+
+
 @dataclass
 class Everything:
     scans: list = field(default_factory=list)
@@ -330,6 +370,7 @@ def compute(progress=None) -> Everything:
     out.omega = omega_sweep()
     for n in (2, 3, 4):
         out.omega[n]["onset"] = stability_onset(n, 0.06 / n)
+        out.omega[n]["grid_points"] = grid_points_check(n)
     say("Fig. 5.23: onsets " + ", ".join(f"{out.omega[n]['onset']}" for n in (2, 3, 4)))
     out.delta = {0.03: delta_sweep(0.03), 0.12: delta_sweep(0.12)}
     say("Figs. 5.24, 5.25 done")
@@ -358,6 +399,17 @@ def _dots(ax, x, y, labels):
         ax.legend(fontsize=6, loc="best")
 
 
+PANEL_TITLE_WIDTH = 34  # characters a line of a panel title holds at 3 inches, fontsize 7
+
+
+def panel_title(panel: Panel) -> str:
+    """"(a1) phi_2 = -phi_1, ..." wrapped to the panel's width (unwrapped, Fig. 5.7's titles ran into each
+    other, issue 36)."""
+    import textwrap
+
+    return "\n".join(textwrap.wrap(f"({panel.figure.split('(')[1]} {panel.text}", PANEL_TITLE_WIDTH))
+
+
 def draw_scans(scans_: list[dict], fig_name: str, fig_dir: Path) -> Path:
     """Fig. 5.5, 5.7 or 5.9 (`fig_name`): r_max against phi_1(0), each panel's starts marked by their decided
     labels (`_dots`); fig_dir/fig5_N.png."""
@@ -368,7 +420,7 @@ def draw_scans(scans_: list[dict], fig_name: str, fig_dir: Path) -> Path:
     fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), constrained_layout=True, squeeze=False)
     for ax, s in zip(axes.ravel(), panels):
         _dots(ax, s["phi_1"], s["r_max"], s["labels"])
-        ax.set_title(f"({s['panel'].figure.split('(')[1]} {s['panel'].text}", fontsize=7)
+        ax.set_title(panel_title(s["panel"]), fontsize=7)
         ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
         ax.set_ylabel(r"$r_{max}$", fontsize=8)
     for ax in axes.ravel()[len(panels):]:
@@ -416,21 +468,28 @@ def draw(res: Everything, fig_dir: Path) -> dict[str, Path]:
     for key, title, data, xname in (("5.23", r"Fig. 5.23: $\mu = 6\mu_c$", res.omega, "Omega"),
                                     ("5.24", r"Fig. 5.24: $n\mu$ = 0.03", res.delta[0.03], "delta"),
                                     ("5.25", r"Fig. 5.25: $n\mu$ = 0.12", res.delta[0.12], "delta")):
-        fig, axes = plt.subplots(2, 3, figsize=(9, 5), constrained_layout=True, sharex=True)
-        for col, (n, v) in enumerate(data.items()):
-            x = np.repeat(v[xname][:, None], v["r_max"].shape[1], axis=1)
-            axes[0, col].plot(x.ravel(), v["r_max"].ravel(), "k.", ms=2)
-            axes[1, col].plot(x.ravel(), v["t_dec"].ravel(), "k.", ms=2)
-            axes[0, col].set_title(f"n = {n}", fontsize=8)
-            axes[1, col].set_xlabel(r"$\Omega$" if xname == "Omega" else r"$\delta$")
-            axes[0, col].set_yscale("log")
-        axes[0, 0].set_ylabel(r"$r_{max}$")
-        axes[1, 0].set_ylabel(r"$t_{dec}$")
-        fig.suptitle(f"thesis {title}, ten equidistant starts per point", fontsize=9)
+        fig = parameter_sweep_figure(data, xname, title)
         paths[key] = fig_dir / f"fig{key.replace('.', '_')}.png"
         fig.savefig(paths[key], dpi=110)
         plt.close(fig)
     return paths
+
+
+def parameter_sweep_figure(data: dict, xname: str, title: str):
+    """Figs. 5.23-5.25: r_max and t_dec over Omega or delta, n = 2, 3, 4 side by side, on linear axes as the
+    thesis draws them (it describes r_max growing linearly; a log axis hid that)."""
+    plt = _plt()
+    fig, axes = plt.subplots(2, 3, figsize=(9, 5), constrained_layout=True, sharex=True)
+    for col, (n, v) in enumerate(data.items()):
+        x = np.repeat(v[xname][:, None], v["r_max"].shape[1], axis=1)
+        axes[0, col].plot(x.ravel(), v["r_max"].ravel(), "k.", ms=2)
+        axes[1, col].plot(x.ravel(), v["t_dec"].ravel(), "k.", ms=2)
+        axes[0, col].set_title(f"n = {n}", fontsize=8)
+        axes[1, col].set_xlabel(r"$\Omega$" if xname == "Omega" else r"$\delta$")
+    axes[0, 0].set_ylabel(r"$r_{max}$")
+    axes[1, 0].set_ylabel(r"$t_{dec}$")
+    fig.suptitle(f"thesis {title}, ten equidistant starts per point", fontsize=9)
+    return fig
 
 
 # ------------------------------------------------------------------------------------------- document
@@ -484,16 +543,23 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "of these launches depends on the tolerance at some starts, so the count is given at three tolerances, "
           "and about the first starts whose outcome changes, the basin's local structure: a scan of 41 starts "
           "over one grid step at rtol 1e-10, its balanced share and the number of label changes along it.", "",
-          "| n | published balanced of 100 | rtol 1e-6 | 1e-8 | 1e-10 | starts whose outcome changes with rtol | "
-          "local structure (start: balanced of 41, label changes) |", "|---|---|---|---|---|---|---|"]
+          "| n | published balanced of 100 | rtol 1e-6 | 1e-8 | 1e-10 | ode45 at its defaults (the thesis' solver) | "
+          "starts whose outcome changes with rtol | local structure (start: balanced of 41, label changes) |",
+          "|---|---|---|---|---|---|---|---|"]
     for n, v in res.launches.items():
         counts = [f"{count_balanced(v['labels'][r])}" + (f" ({int(is_open(v['labels'][r]).sum())} undecided)"
                                                        if is_open(v["labels"][r]).any() else "")
                   for r in LAUNCH_RTOLS]
         local = "; ".join(f"{x['phi_1']:.4f}: {x['balanced']}, {x['switches']}" for x in v["local"]) or "—"
+        ode = v.get("ode45")
+        ode_cell = "—" if ode is None else (f"{count_balanced(ode)}" + (f" ({int(is_open(ode).sum())} undecided)"
+                                                                       if is_open(ode).any() else ""))
         L.append(f"| {n} | {LAUNCH_PUBLISHED[n]} | " + " | ".join(map(str, counts))
-                 + f" | {len(v['changes'])} | {local} |")
-    L += ["", "The thesis' counts are of its ode45 runs at an unstated (default) tolerance; where a start's outcome "
+                 + f" | {ode_cell} | {len(v['changes'])} | {local} |")
+    L += ["", "Counts by the decided labels (`attractors.Classifier.decide`: a run not named at t = 3000 is carried "
+          "on and decided by its approach; undecided runs are counted apart, never as not balanced).  "
+          "The thesis' counts are of its ode45 runs at an unstated (default) tolerance, hence the ode45 column "
+          "(`--engine matlab-ode45 --rtol 1e-3 --atol 1e-6`); where a start's outcome "
           "changes between tolerances, its basin boundary is finer than the integration error there, and the "
           "local scans show the balanced and unbalanced outcomes interleaved on a scale below the grid step.  "
           "The published count is compared with the range ours spans over the tolerances.", "",
@@ -520,17 +586,23 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "`adbgen sweep thesis_rotating_n3 --grid phi_1=0:pi:40 --grid phi_2=0:pi:40 --tie phi_3=phi_1+pi --set "
           f"zeta=Z --measure attractor --t-end {N3_T_END:g}` (Omega = 4, beta = delta = 0.01, mu = 0.05): the thesis' "
           "experiment, described only in words.", "",
-          "| zeta | published | balanced of 1600 | of them on the diagonal | other attractors |", "|---|---|---|---|---|"]
+          "| zeta | published | balanced of 1600 | of them on the diagonal | other attractors | the balanced family's "
+          "best member: smallest leading real part (at phi_3) |", "|---|---|---|---|---|---|"]
     for b in res.basins_n3:
         others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none"
-        L.append(f"| {b['zeta']:g} | {N3_PUBLISHED[b['zeta']]} | {b['balanced']} | {b['diagonal_balanced']} | {others} |")
+        lead, at_free = b["family"]
+        L.append(f"| {b['zeta']:g} | {N3_PUBLISHED[b['zeta']]} | {b['balanced']} | {b['diagonal_balanced']} | {others} "
+                 f"| {lead:+.4f} ({at_free:.3f}) |")
     at = {b["zeta"]: b for b in res.basins_n3}
     L += ["", f"Ours: {at[0.01]['balanced']} of 1600 balance at zeta = 0.01 ({at[0.01]['diagonal_balanced']} of the 40 "
           f"diagonal starts phi_1(0) = phi_2(0)), {at[0.1]['balanced']} at zeta = 0.1 (published: 2), "
           f"{at[0.2]['balanced']} and {at[0.25]['balanced']} at 0.2 and 0.25 (published: none).  The balanced state of "
           "the chapter 4 analysis (phi_3 = pi) is linearly unstable for n = 3 at Omega = 4, beta = 0.01 from zeta "
-          "= 0.0206 on (chapter 4 below); other members of the n = 3 family of balanced states are reached where "
-          "balancing runs remain.", ""]
+          "= 0.0206 on (chapter 4 below).  The whole family (3.6) (phi_3 free, phi_1 and phi_2 solved; 361 members): "
+          "where the last column is positive no member is linearly stable, so no balancing run can remain there; "
+          "the thesis' 2 of 1600 at zeta = 0.1 are then runs still on their way (or a count of its criterion r < 1e-3 "
+          "at its t_end), not balanced states.  At zeta = 0.01 members are stable and the runs balance on them.",
+          ""]
 
     L += ["## Thesis, Figs. 5.20-5.22: damping maps", "",
           f"`{res.zeta_beta[2]['command']}` and the same with `--measure r_max`, `--measure t_dec`, for n = 2, 3, 4 "
@@ -556,14 +628,29 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "ten equidistant starts at each Omega (phi_1(0) on ten points of the symmetry period 2 pi/n), "
           "mu = 6 mu_c = 0.06/n, zeta = beta = delta = 0.01.  The thesis: \"For Omega < 2.04, r_max takes very high "
           "values since in these cases the balance is not stable\".", "",
-          "| n | published threshold | balanced state stable from Omega (last Hopf point H1, eigenvalues) | "
-          "largest grid Omega with a start not balancing | rel. diff. of H1 |", "|---|---|---|---|---|"]
+          "| n | published | balanced state stable from Omega (last Hopf point H1, eigenvalues) | thesis grid points "
+          "about H1 (20 k/49) | consistent with \"Omega < 2.04\" on that grid | starts balancing of 10 at "
+          "1.6327 / 1.8 / 2.0408 | largest Omega of our grid (step 0.5) with a start not balancing |",
+          "|---|---|---|---|---|---|---|"]
     for n, v in res.omega.items():
         bad = v["Omega"][np.any(~is_balanced(v["labels"]) & ~is_open(v["labels"]), axis=1)]
         onset = v["onset"]
-        L.append(f"| {n} | 2.04 | {'—' if onset is None else f'{onset:.4f}'} | "
-                 f"{'none' if not len(bad) else f'{bad.max():.2f}'} | "
-                 f"{'—' if onset is None else f'{100 * (onset - 2.04) / 2.04:+.1f} %'} |")
+        lo_hi = "—" if onset is None else "%.4f, %.4f" % thesis_grid_bracket(onset)
+        pts = v.get("grid_points", {})
+        at = " / ".join(f"{x['balanced']}" + (f" ({x['undecided']} undecided)" if x["undecided"] else "")
+                        for x in pts.values()) or "—"
+        L.append(f"| {n} | {THESIS_ONSET:g} | {'—' if onset is None else f'{onset:.4f}'} | {lo_hi} | "
+                 f"{'—' if not pts else ('yes' if consistent_with_grid(pts) else '**no**')} | {at} | "
+                 f"{'none' if not len(bad) else f'{bad.max():.2f}'} |")
+    L += ["", "The thesis draws Fig. 5.23 on 50 values of Omega in [0, 20] (20 k/49): its \"2.04\" is the grid point "
+          "k = 5 (2.0408), and the point below it is 1.6327, so the sentence says that starts fail at 1.6327 and "
+          "balance at 2.0408, not where the balance begins.  Read so, it holds (the column \"consistent\": some of "
+          "the ten starts fail at 1.6327, all balance at 2.0408).  Comparing H1 with 2.04 as a threshold (an "
+          "earlier version of this document called it 17-24 % off) read a grid value as a result.  For n = 2 H1 "
+          "lies between the two grid points; for n = 3, 4 it lies below 1.6327, where the balanced state is "
+          "already stable but the starts of Fig. 5.23 do not all reach it (the runs at 1.6327 in the table): just "
+          "past H1 its basin does not hold them.  Our own Omega grid (step 0.5) cannot resolve the onset; H1 from "
+          "the eigenvalues does.", ""]
     L += ["", "Thesis (5.23): r_max grows linearly with Omega and is alike for n = 2, 3, 4; t_dec varies more "
           "between the starts, least for n = 4.  (5.24, 5.25): r_max grows linearly with delta, the spread over the "
           "starts grows with delta and is smallest for n = 4; with the total ball mass 0.12 the values on [0, 0.03] "

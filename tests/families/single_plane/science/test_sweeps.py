@@ -47,7 +47,13 @@ def test_every_sweep_is_valid_and_the_section_is_written(monkeypatch, tmp_path):
     assert int(cells[2]) == 40 and int(cells[4]) == 20 and "undecided" not in cells[3]
     assert cells[3] == "coincident 2- 20, limit cycle 20"
     assert sweeps.count_balanced(labels) == 40 and int(sweeps.is_open(labels).sum()) == 20
-    assert len(calls) > 50 and {c.engine for c in calls} == {"cyrk-dop853"}
+    assert len(calls) > 50 and {c.engine for c in calls} == {"cyrk-dop853", "matlab-ode45"}
+    # the thesis' solver beside the converged launches only, at its defaults, without early stop
+    ode45 = [c for c in calls if c.engine == "matlab-ode45"]
+    assert len(ode45) == 3 and all(c.rtol == 1e-3 and c.atol == 1e-6 and not c.early_stop for c in ode45)
+    assert "ode45 at its defaults (the thesis' solver)" in text
+    # Fig. 5.23: the thesis' grid points run and the sentence read on its grid
+    assert "| starts balancing of 10 at 1.6327 / 1.8 / 2.0408 |" in text
     # the launches' local scans: a grid of 41 starts about a start whose label changes with the tolerance
     local = [c for c in calls if c.grid[0].startswith("phi_1=") and c.grid[0].endswith(":41")]
     assert local and all(c.rtol == sweeps.LAUNCH_RTOLS[-1] for c in local)
@@ -58,3 +64,32 @@ def test_the_fake_front_end_refuses_what_adbgen_sweep_refuses():
     run = fake_sweep([])
     with pytest.raises(AnalysisError, match="np.float64"):
         run("thesis_rotating_n2", [f"phi_1={np.float64(0.5)!r}:{np.float64(0.6)!r}:41"], "attractor")
+
+
+def test_the_thesis_2_04_is_a_point_of_its_50_point_grid():
+    """Fig. 5.23's "Omega < 2.04": 2.0408 = 20 * 5/49, the grid point below is 1.6327 (issue 36)."""
+    lo, hi = sweeps.thesis_grid_bracket(1.6939634814894133)  # H1 of n = 2 at mu = 0.03
+    assert round(lo, 4) == 1.6327 and round(hi, 4) == 2.0408
+    assert sweeps.thesis_grid_bracket(1.547)[1] == pytest.approx(1.6326530612)  # n = 3's H1 lies below 1.6327
+
+
+def test_the_sentence_holds_on_the_grid_only_if_starts_fail_below_and_all_balance_at_2_04():
+    ok = {1.6327: {"balanced": 2, "starts": 10}, 1.8: {"balanced": 10, "starts": 10},
+          2.0408: {"balanced": 10, "starts": 10}}
+    assert sweeps.consistent_with_grid(ok)
+    # negative controls: every start already balances below 2.04; or one fails at 2.0408
+    assert not sweeps.consistent_with_grid({**ok, 1.6327: {"balanced": 10, "starts": 10}})
+    assert not sweeps.consistent_with_grid({**ok, 2.0408: {"balanced": 9, "starts": 10}})
+
+
+def test_panel_titles_are_wrapped_to_the_panel():
+    longest = max(sweeps.PANELS, key=lambda p: len(p.text))
+    title = sweeps.panel_title(longest)
+    assert "\n" in title and all(len(line) <= sweeps.PANEL_TITLE_WIDTH for line in title.splitlines())
+    assert title.replace("\n", " ").startswith("(c), 2pi/3 phi_2")
+
+
+def test_figs_5_23_to_5_25_draw_r_max_on_a_linear_axis():
+    v = {"Omega": np.linspace(0.5, 20, 4), "r_max": np.ones((4, 10)), "t_dec": np.ones((4, 10))}
+    fig = sweeps.parameter_sweep_figure({2: v, 3: v, 4: v}, "Omega", "Fig. 5.23")
+    assert {ax.get_yscale() for ax in fig.axes} == {"linear"}
