@@ -290,4 +290,7 @@ def _lines(results: dict, root: Path) -> list[str]:
     return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
 
 
-REPRODUCTION = Reproduction("thesis-orbits", "Thesis: periodic orbits (issue 21)", _compute, _lines)
+from .coverage import ORBIT_ROWS  # noqa: E402
+
+REPRODUCTION = Reproduction("thesis-orbits", "Thesis: periodic orbits (issue 21)", _compute, _lines,
+                            coverage=ORBIT_ROWS)

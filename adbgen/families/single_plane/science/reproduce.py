@@ -543,6 +543,9 @@ def compute(fig_dir: Path, progress=print) -> dict:
     from . import sensitivity
 
     tolerance = sensitivity.compute(fig_dir, sensitivity.Ladder(ENGINE, RTOLS, T_END, ODE45), progress)
+    from . import starts
+
+    named = starts.compute(progress)
     maps = _maps(fig_dir)
     basins = _basins(fig_dir)
     basins_n4 = _basins_n4(fig_dir)
@@ -553,7 +556,7 @@ def compute(fig_dir: Path, progress=print) -> dict:
             progress(f"Fig. 5.19({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
     return {"transients": transients, "results": results, "figures": figures, "statements": statements,
             "maps": maps, "basins": basins, "basins_n4": basins_n4, "pitchfork": pitchfork, "sweeps": more,
-            "sweep_figures": more_paths, "lyapunov": lyap, "sensitivity": tolerance}
+            "sweep_figures": more_paths, "lyapunov": lyap, "sensitivity": tolerance, "starts": named}
 
 
 def lines(res: dict, root: Path) -> list[str]:
@@ -571,6 +574,12 @@ def lines(res: dict, root: Path) -> list[str]:
         launches = [k for k, line in enumerate(L) if line.startswith("## Thesis, Figs. 5.10-5.11")]
         at = launches[0] if launches else L.index("## Thesis, chapter 4: stability of the balanced state")
         L = L[:at] + sensitivity.lines(res["sensitivity"], root) + L[at:]
+    if "starts" in res:  # Figs. 5.1-5.3 and the named starts' explanations, after the scans that name them
+        from . import starts
+
+        at = next(k for k, line in enumerate(L) if line.startswith("## Thesis, Fig")
+                  and k > L.index("## Thesis, Figs. 5.5, 5.7, 5.9: r_max against the starting position"))
+        L = L[:at] + starts.lines(res["starts"]) + [""] + L[at:]
     return L
 
 
@@ -905,4 +914,6 @@ def _figures(fig_dir: Path) -> list[tuple[str, Path]]:
     return out
 
 
-REPRODUCTION = Reproduction("thesis", "Thesis", compute, lines)
+from .coverage import SECTION_ROWS  # noqa: E402  (the table's rows beside the section that computes them)
+
+REPRODUCTION = Reproduction("thesis", "Thesis", compute, lines, coverage=SECTION_ROWS)

@@ -125,7 +125,8 @@ NAMED = (
     ("5.9(a2)", PI, "all at pi: the coincident state 2-", "coincident 2-"),
     ("5.9(a3)", 0.0, "(0, 0, 0, pi): the in-line state 3(4-3)-", "in-line 3(4-3)-"),
     ("5.9(b1)", 0.0, "(0, pi, 0, 0): the in-line state 3(4-3)-", "in-line 3(4-3)-"),
-    ("5.9(b2)", 0.0, "(0, pi, pi, pi): the in-line state 3(4-1)+ (3(4-3)+ renamed)", "in-line 3(4-3)+"),
+    ("5.9(b2)", 0.0, "(0, pi, pi, pi): the in-line state 3(4-1)+ (= 3(4-3)- with the balls renamed)",
+     "in-line 3(4-3)-"),
 )
 
 
