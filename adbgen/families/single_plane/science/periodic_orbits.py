@@ -204,6 +204,23 @@ def desynchronised(out: Path, progress=print) -> list[dict]:
     return rows
 
 
+FIG510B = {"phi_1": PI / 3, "phi_2": PI, "phi_3": -PI / 3, **{f"phi_{i}_dot": -4.0 for i in (1, 2, 3)}}
+
+
+def fig510b(progress=print) -> dict:
+    """Fig. 5.10(b): n = 3 released at rest in the fixed frame (phi_i'(0) = -Omega) from (pi/3, pi, -pi/3) at
+    (5.1) ends on a limit cycle on which the balls keep lapping: the orbit (shooting after t = 3000), its
+    windings and how far apart the balls are on it."""
+    from ....analysis.orbits import orbit
+
+    m = _model(3)
+    o = orbit.find(m, m.params(), m.state(FIG510B), 3000.0)
+    angles = np.array([o.y[m.index(f"phi_{i}")] for i in (1, 2, 3)])
+    spread = float(np.max(np.abs(np.angle(np.exp(1j * (angles - angles[0]))))))
+    progress(f"Fig. 5.10(b): period {o.period:.8f}, windings {o.windings}")
+    return {"orbit": o, "spread": spread}
+
+
 def section(out: Path, progress=print) -> str:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -211,6 +228,7 @@ def section(out: Path, progress=print) -> str:
     a = fig54b(out, progress)
     h1 = h1_cycles(out, progress)
     ds = desynchronised(out, progress)
+    b = fig510b(progress)
     o = a["orbit"]
     L = ["## Periodic orbits of the single-plane balancer (thesis ch. 4-6)", "",
          "Computed by `adbgen orbit` / `adbgen continue --orbits` (Newton shooting on the compiled variational "
@@ -269,8 +287,19 @@ def section(out: Path, progress=print) -> str:
         o2, j = row["orbit"], row["branch"].to_json()
         L.append(f"| {row['n']} | {o2.period:.8f} | {', '.join(f'{k} {v:+d}' for k, v in o2.windings.items())} | "
                  f"[{o2.r_min:.4f}, {o2.r_max:.4f}] | {o2.stable} | {j['parameter'][-1]:.4f} | {j['period'][-1]:.4f} |")
+    ob = b["orbit"]
     L += ["", "Every ball loses one revolution per period relative to the rotor (the balls lag it: a desynchronised "
-          "orbit); on these orbits the balls move together.", ""]
+          "orbit); on these orbits the balls move together.", "",
+          "### Fig. 5.10(b): the desynchronised n = 3 orbit of the launches", "",
+          "Thesis section 5.1.3: released at rest in the fixed frame (phi_i'(0) = -Omega) from (pi/3, pi, -pi/3), "
+          "(5.1), the run ends on a limit cycle and \"the three balls keep lapping\" (Fig. 5.10(b1)-(b2); the "
+          "thesis prints no number for it).  `adbgen orbit thesis_rotating_n3 --y0 phi_1=pi/3 --y0 phi_2=pi --y0 "
+          "phi_3=-pi/3 --y0 phi_1_dot=-4 --y0 phi_2_dot=-4 --y0 phi_3_dot=-4` (t_transient 3000): period "
+          f"**{ob.period:.8f}**, windings {', '.join(f'{k} {v:+d}' for k, v in ob.windings.items())}, r in "
+          f"[{ob.r_min:.4f}, {ob.r_max:.4f}], stable {ob.stable}; on it the three balls coincide (largest angle "
+          f"between them {b['spread']:.1e} rad) and lap the rotor together.  The outcome of this start hangs on the "
+          "tolerance (the Fig. 5.10 section of docs/reproduction.md), the orbit does not: it is found by shooting "
+          "and its multipliers say it is stable.", ""]
     # wall times go to the progress lines (`adbgen bench reproduce` records them), never into the document,
     # which must come out byte-identical from run to run
     progress(f"thesis orbits section: {time.perf_counter() - t0:.0f} s (the Fig. 5.4(b) orbit {a['wall']:.1f} s)")

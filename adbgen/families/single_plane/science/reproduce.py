@@ -546,6 +546,9 @@ def compute(fig_dir: Path, progress=print) -> dict:
     from . import starts
 
     named = starts.compute(progress)
+    from . import chapter3
+
+    ch3 = chapter3.compute()
     maps = _maps(fig_dir)
     basins = _basins(fig_dir)
     basins_n4 = _basins_n4(fig_dir)
@@ -556,7 +559,8 @@ def compute(fig_dir: Path, progress=print) -> dict:
             progress(f"Fig. 5.19({b['panel']}) zeta = {b['zeta']:g}: {b['counts']}")
     return {"transients": transients, "results": results, "figures": figures, "statements": statements,
             "maps": maps, "basins": basins, "basins_n4": basins_n4, "pitchfork": pitchfork, "sweeps": more,
-            "sweep_figures": more_paths, "lyapunov": lyap, "sensitivity": tolerance, "starts": named}
+            "sweep_figures": more_paths, "lyapunov": lyap, "sensitivity": tolerance, "starts": named,
+            "chapter3": ch3}
 
 
 def lines(res: dict, root: Path) -> list[str]:
@@ -580,6 +584,11 @@ def lines(res: dict, root: Path) -> list[str]:
         at = next(k for k, line in enumerate(L) if line.startswith("## Thesis, Fig")
                   and k > L.index("## Thesis, Figs. 5.5, 5.7, 5.9: r_max against the starting position"))
         L = L[:at] + starts.lines(res["starts"]) + [""] + L[at:]
+    if "chapter3" in res:
+        from . import chapter3
+
+        at = L.index("## Thesis, chapter 4: stability of the balanced state")
+        L = L[:at] + chapter3.lines(res["chapter3"]) + [""] + L[at:]
     return L
 
 

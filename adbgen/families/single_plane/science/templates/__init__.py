@@ -11,9 +11,11 @@ from functools import lru_cache
 def _environment():
     import jinja2
 
-    return jinja2.Environment(loader=jinja2.PackageLoader("adbgen.families.single_plane.science", "templates"),
-                              undefined=jinja2.StrictUndefined, keep_trailing_newline=True, trim_blocks=True,
-                              lstrip_blocks=True)
+    env = jinja2.Environment(loader=jinja2.PackageLoader("adbgen.families.single_plane.science", "templates"),
+                             undefined=jinja2.StrictUndefined, keep_trailing_newline=True, trim_blocks=True,
+                             lstrip_blocks=True)
+    env.globals["zip"] = zip
+    return env
 
 
 def render(name: str, **values) -> str:
