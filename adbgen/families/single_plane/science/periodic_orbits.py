@@ -126,7 +126,8 @@ def h1_cycles(out: Path, progress=print) -> list[dict]:
         hp = hopf.HopfPoint.at(m, pm, h1.y, h1.value)
         t0 = time.perf_counter()
         br = branches.from_hopf(m, pm, hp, continuer.Settings(ds=0.01, ds_max=0.05, max_points=300, bounds=(0.5, 4.0)))
-        row = {"n": n, "hopf": hp, "branch": br, "wall": time.perf_counter() - t0}
+        row = {"n": n, "hopf": hp, "branch": br, "wall": time.perf_counter() - t0,
+               "every_hopf": every_hopf(m, pm, sc)}
         if len(br.orbits) <= 1:
             # the free angles drift: a run just past H1 from the balanced state, perturbed
             fl = Flow(m)
@@ -142,6 +143,14 @@ def h1_cycles(out: Path, progress=print) -> list[dict]:
         progress(f"H1 n = {n}: Omega = {hp.lam:.8f}, l1 = {hp.l1:.4g}, {len(br.orbits)} orbits ({br.end})")
     _plot_h1(rows, out)
     return rows
+
+
+def every_hopf(model, pm, scan) -> list:
+    """Every Hopf point of the scan (the balanced state followed from Omega = 4 down to 0.5), not H1 alone: its
+    Omega, frequency and first Lyapunov coefficient l1 (`hopf.HopfPoint.at`)."""
+    from ....analysis.orbits import hopf
+
+    return [hopf.HopfPoint.at(model, pm, pt.y, pt.value) for pt in scan.points if getattr(pt, "kind", "") == "hopf"]
 
 
 def special_index(lam, period, special: dict) -> int:
@@ -271,6 +280,16 @@ def section(out: Path, progress=print) -> str:
                     f"{d['angle_change']:.3f}")
             cyc = "none"
         L.append(f"| {row['n']} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | {hp.criticality} | {cyc} | {what} |")
+    L += ["", "Every Hopf point of the balanced state between Omega = 4 and 0.5 (the state followed down from Omega = 4; "
+          "for n >= 3 the member with phi_3.. = pi at the start), not H1 alone:", "",
+          "| n | Omega | frequency | l1 | criticality |", "|---|---|---|---|---|"]
+    for row in h1:
+        for hp in row["every_hopf"]:
+            L.append(f"| {row['n']} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | {hp.criticality} |")
+    L += ["", "For n = 2 these are the three Hopf points `adbgen verify` checks against AUTO-07p's HB labels (1.0296942, "
+          "1.0936343, 1.8822394).  For n >= 3 l1 is that of the followed member; the normal form's drift term "
+          "(below) moves the state along the family, so a subcritical sign there does not by itself mean an "
+          "unstable cycle is born.", ""]
     L += ["", "For n >= 3 the balanced states form a continuum (the thesis' (3.6) leaves n - 2 angles free); H1 is a "
           "Hopf point of one member, the oscillation's second-order mean (the term L^T B(q, q-bar) of the normal form) "
           "pushes the state along the continuum, so no cycle closes near the Hopf point: the continuation finds no "

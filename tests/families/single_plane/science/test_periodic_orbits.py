@@ -23,3 +23,27 @@ def test_a_special_point_is_marked_on_the_sheet_of_its_period():
     k = periodic_orbits.special_index(lam, per, special)
     assert k == 4
     assert int(np.argmin(np.abs(lam - special["Omega"]))) == 2  # negative control: by Omega alone, the other sheet
+
+
+def _every_hopf(n):
+    from adbgen.analysis import continuation
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.orbits.parameters import ParameterMap
+
+    m = load_model(f"thesis_rotating_n{n}")
+    p = m.params({"Omega": 4.0, **periodic_orbits.CH4})
+    sc = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
+    return periodic_orbits.every_hopf(m, ParameterMap(m, p, ["Omega"]), sc)
+
+
+def test_every_hopf_point_of_n2_has_its_l1():
+    pts = _every_hopf(2)
+    assert [round(h.lam, 7) for h in pts] == [1.8822393, 1.0936343, 1.0296942]  # AUTO-07p's HB labels
+    assert all(h.criticality == "supercritical" for h in pts)
+    assert pts[0].l1 == pytest.approx(-0.0525811, rel=1e-4)
+
+
+def test_n3_has_a_subcritical_hopf_point_below_h1():
+    """Negative control for the criticality column: not every point is supercritical."""
+    crit = {round(h.lam, 4): h.criticality for h in _every_hopf(3)}
+    assert crit[1.8754] == "supercritical" and crit[1.6128] == "subcritical"
