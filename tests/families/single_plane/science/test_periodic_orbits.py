@@ -47,3 +47,19 @@ def test_n3_has_a_subcritical_hopf_point_below_h1():
     """Negative control for the criticality column: not every point is supercritical."""
     crit = {round(h.lam, 4): h.criticality for h in _every_hopf(3)}
     assert crit[1.8754] == "supercritical" and crit[1.6128] == "subcritical"
+
+
+def test_n4_past_h1_the_free_angle_drifts_and_the_balls_do_not_lap():
+    """Issue 36: docs/orbits.md (0.39 rad) and the reproduction (r = 0.436, balls lapping) disagreed; the run on
+    `simulate` at two rtols gives docs/orbits.md's drift."""
+    from adbgen.analysis import continuation
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.orbits.parameters import ParameterMap
+
+    m = load_model("thesis_rotating_n4")
+    p = m.params({"Omega": 4.0, **periodic_orbits.CH4})
+    h1 = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5).points[0]
+    d = periodic_orbits.drift_past_h1(m, ParameterMap(m, p, ["Omega"]), h1.y, h1.value)
+    assert d["angle_change"] == pytest.approx(0.3918, abs=1e-3) and d["r_end"] == pytest.approx(0.0401, abs=1e-3)
+    (r1, a1), (r2, a2) = d["runs"].values()
+    assert abs(a1 - a2) < 1e-5 and abs(r1 - r2) < 1e-6  # the same at both tolerances
