@@ -484,7 +484,7 @@ SLOW_CHECKPOINTS = (30000.0, 100000.0)
 
 
 def slow_approach(model, p, y_end, checkpoints=SLOW_CHECKPOINTS) -> dict:
-    """An end state the classifier leaves unsettled at t = T_END, integrated on to the checkpoints: the band
+    """An end state the classifier does not name at t = T_END, integrated on to the checkpoints: the band
     of r over the last tenth of each stretch, the exponent k of r ~ t^-k between the last two, how far apart
     the balls' angles are, and the number of neutral directions of the linearisation at the last state (the
     balanced family's tangent).  A power law in t, not an exponential, is the signature of a non-hyperbolic

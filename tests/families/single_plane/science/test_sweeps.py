@@ -93,3 +93,13 @@ def test_figs_5_23_to_5_25_draw_r_max_on_a_linear_axis():
     v = {"Omega": np.linspace(0.5, 20, 4), "r_max": np.ones((4, 10)), "t_dec": np.ones((4, 10))}
     fig = sweeps.parameter_sweep_figure({2: v, 3: v, 4: v}, "Omega", "Fig. 5.23")
     assert {ax.get_yscale() for ax in fig.axes} == {"linear"}
+
+
+def test_fig_5_25s_common_deltas_are_matched_by_value():
+    small = {"delta": 0.03 / 20 * np.arange(1, 21), "r_max": np.ones((20, 10)), "t_dec": np.full((20, 10), 100.0)}
+    large = {"delta": 0.12 / 20 * np.arange(1, 21), "r_max": np.full((20, 10), 1.1), "t_dec": np.full((20, 10), 100.0)}
+    rows = sweeps.common_deltas(small, large)
+    assert [round(r["delta"], 6) for r in rows] == [0.006, 0.012, 0.018, 0.024, 0.03]
+    assert all(r["rel"]["r_max"] == pytest.approx(0.1) and r["rel"]["t_dec"] == 0.0 for r in rows)
+    # negative control: grids with no delta in common give no row
+    assert sweeps.common_deltas(small, {**large, "delta": large["delta"] + 1e-4}) == []
