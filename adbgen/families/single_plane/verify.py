@@ -434,7 +434,8 @@ def chapter4_numbers(wrong: bool = False) -> list[CheckResult]:
     """Stability results of thesis ch. 4, from the exact linearisation of the derived equations.
 
     wrong: the printed values moved by 3 units of their last digit, AUTO's Hopf points by 1e-3, the
-    zeta limit asked in [0.1, 0.11], the zeta limit's growth in beta claimed quadratic."""
+    zeta limit asked in [0.1, 0.11], the zeta limit's growth in beta claimed quadratic, the end of H2- claimed
+    at (4.1)'s 0.9950372, section 5.2.1's "no stable equilibria" claimed at Omega = 0.16."""
     import numpy as np
 
     from ...core.linearisation import Linearisation, hopf_crossing
@@ -537,7 +538,8 @@ def registered(ns=(1, 2, 3, 4, 6)) -> list[Registered]:
                    "the ramp's angle without its factor 1/2"),
         Registered("thesis numbers", FORMULA, thesis_numbers, "printed values moved by 3 units of the last digit"),
         Registered("chapter 4 stability", DERIVED, chapter4_numbers,
-                   "printed values moved, AUTO's Hopf points moved by 1e-3, zeta window [0.1, 0.11], the beta effect claimed quadratic"),
+                   "printed values moved, AUTO's Hopf points moved by 1e-3, zeta window [0.1, 0.11], the beta effect claimed quadratic, "
+                   "H2-'s end claimed at (4.1)'s 0.9950372, no stable state claimed at Omega = 0.16"),
     ]
 
 

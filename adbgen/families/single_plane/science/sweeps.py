@@ -640,57 +640,34 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "r_max grows as zeta and beta decrease, far more sensitive to zeta; (5.22) for n = 2 t_dec decreases "
           "as zeta and beta increase.", "", f"![Figs. 5.20-5.22]({_rel_link(paths['5.20'], root)})", ""]
 
-    L += ["## Thesis, Figs. 5.23-5.25: sweeps in Omega and delta", "",
-          f"`{res.omega[2]['command']}` (and `--measure t_dec`, `--measure attractor`; n = 3, 4 with their ties): "
-          "ten equidistant starts at each Omega (phi_1(0) on ten points of the symmetry period 2 pi/n), "
-          "mu = 6 mu_c = 0.06/n, zeta = beta = delta = 0.01.  The thesis: \"For Omega < 2.04, r_max takes very high "
-          "values since in these cases the balance is not stable\".", "",
-          "| n | published | balanced state stable from Omega (last Hopf point H1, eigenvalues) | thesis grid points "
-          "about H1 (20 k/49) | consistent with \"Omega < 2.04\" on that grid | starts balancing of 10 at "
-          "1.6327 / 1.8 / 2.0408 | largest Omega of our grid (step 0.5) with a start not balancing |",
-          "|---|---|---|---|---|---|---|"]
+    L += omega_delta_lines(res, paths, root)
+    return L
+
+
+def omega_delta_lines(res: Everything, paths: dict, root: Path) -> list[str]:
+    """Figs. 5.23-5.25's section (templates/sweeps_omega_delta.md.j2): the numbers computed here, the prose there."""
+    from .templates import render
+
+    k = int(round(THESIS_ONSET * 49 / 20))
+    below, at = float(THESIS_OMEGA_GRID[k - 1]), float(THESIS_OMEGA_GRID[k])
+    onset_rows = []
     for n, v in res.omega.items():
         bad = v["Omega"][np.any(~is_balanced(v["labels"]) & ~is_open(v["labels"]), axis=1)]
-        onset = v["onset"]
-        lo_hi = "—" if onset is None else "%.4f, %.4f" % thesis_grid_bracket(onset)
-        pts = v.get("grid_points", {})
-        at = " / ".join(f"{x['balanced']}" + (f" ({x['undecided']} undecided)" if x["undecided"] else "")
-                        for x in pts.values()) or "—"
-        L.append(f"| {n} | {THESIS_ONSET:g} | {'—' if onset is None else f'{onset:.4f}'} | {lo_hi} | "
-                 f"{'—' if not pts else ('yes' if consistent_with_grid(pts) else '**no**')} | {at} | "
-                 f"{'none' if not len(bad) else f'{bad.max():.2f}'} |")
-    L += ["", "The thesis draws Fig. 5.23 on 50 values of Omega in [0, 20] (20 k/49): its \"2.04\" is the grid point "
-          "k = 5 (2.0408), and the point below it is 1.6327, so the sentence says that starts fail at 1.6327 and "
-          "balance at 2.0408, not where the balance begins.  Read so, it holds (the column \"consistent\": some of "
-          "the ten starts fail at 1.6327, all balance at 2.0408).  Comparing H1 with 2.04 as a threshold (an "
-          "earlier version of this document called it 17-24 % off) read a grid value as a result.  For n = 2 H1 "
-          "lies between the two grid points; for n = 3, 4 it lies below 1.6327, where the balanced state is "
-          "already stable but the starts of Fig. 5.23 do not all reach it (the runs at 1.6327 in the table): just "
-          "past H1 its basin does not hold them.  Our own Omega grid (step 0.5) cannot resolve the onset; H1 from "
-          "the eigenvalues does.", ""]
-    L += ["", "Thesis (5.23): r_max grows linearly with Omega and is alike for n = 2, 3, 4; t_dec varies more "
-          "between the starts, least for n = 4.  (5.24, 5.25): r_max grows linearly with delta, the spread over the "
-          "starts grows with delta and is smallest for n = 4; with the total ball mass 0.12 the values on [0, 0.03] "
-          "are those of 0.03.  Ours (spread = max - min of t_dec over the ten starts, median over the grid):", "",
-          "| figure | n | r_max at the grid's largest value (median) | t_dec spread (median) |", "|---|---|---|---|"]
+        onset, pts = v["onset"], v.get("grid_points", {})
+        onset_rows.append({
+            "n": n, "onset": onset, "bracket": None if onset is None else thesis_grid_bracket(onset),
+            "where": None if onset is None else ("between" if below <= onset < at else
+                                                 "below" if onset < below else "above"),
+            "consistent": None if not pts else consistent_with_grid(pts),
+            "points": [(x["balanced"], x["undecided"]) for x in pts.values()],
+            "bad": float(bad.max()) if len(bad) else None})
+    spreads = []
     for fig, data in (("5.23", res.omega), ("5.24", res.delta[0.03]), ("5.25", res.delta[0.12])):
         for n, v in data.items():
             spread = np.nanmax(v["t_dec"], axis=1) - np.nanmin(v["t_dec"], axis=1)
-            L.append(f"| {fig} | {n} | {np.nanmedian(v['r_max'][-1]):.4f} | {np.nanmedian(spread):.1f} |")
-    L += ["", "Fig. 5.25's \"the r_max and t_dec values in the range delta in [0, 0.03] are the same than for m~ = "
-          "0.03\" (with mu = m~/n, so the balls are four times heavier): at the deltas both sweeps ran, the median over "
-          "the ten starts (total ball mass 0.03 / 0.12) and the relative difference:", "",
-          "| n | delta | r_max | rel. diff. | t_dec | rel. diff. |", "|---|---|---|---|---|---|"]
-    worst = {"r_max": 0.0, "t_dec": 0.0}
-    for n in res.delta[0.03]:
-        for row in common_deltas(res.delta[0.03][n], res.delta[0.12][n]):
-            for q in worst:
-                worst[q] = max(worst[q], abs(row["rel"][q]))
-            L.append(f"| {n} | {row['delta']:g} | {row['small']['r_max']:.4f} / {row['large']['r_max']:.4f} | "
-                     f"{100 * row['rel']['r_max']:+.1f} % | {row['small']['t_dec']:.1f} / {row['large']['t_dec']:.1f} | "
-                     f"{100 * row['rel']['t_dec']:+.1f} % |")
-    L += ["", f"The largest differences: r_max {100 * worst['r_max']:.1f} %, t_dec {100 * worst['t_dec']:.1f} %.  "
-          "The thesis reads \"the same\" off two plots whose axes differ by a factor of four; the table gives "
-          "the size of the difference it describes as none.", ""]
-    L += [""] + [f"![Fig. {k}]({_rel_link(paths[k], root)})" for k in ("5.23", "5.24", "5.25")] + [""]
-    return L
+            spreads.append((fig, n, float(np.nanmedian(v["r_max"][-1])), float(np.nanmedian(spread))))
+    common = [(n, row) for n in res.delta[0.03] for row in common_deltas(res.delta[0.03][n], res.delta[0.12][n])]
+    worst = {q: max((abs(r["rel"][q]) for _, r in common), default=0.0) for q in ("r_max", "t_dec")}
+    return render("sweeps_omega_delta.md.j2", command=res.omega[2]["command"], published=THESIS_ONSET, below=below,
+                  at=at, onsets=onset_rows, spreads=spreads, common=common, worst=worst,
+                  figures=[(k, _rel_link(paths[k], root)) for k in ("5.23", "5.24", "5.25")]).splitlines()
