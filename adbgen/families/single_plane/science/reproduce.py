@@ -600,6 +600,11 @@ def lines(res: dict, root: Path) -> list[str]:
         at = next(k for k, line in enumerate(L) if line.startswith("## Thesis, Fig")
                   and k > L.index("## Thesis, Figs. 5.5, 5.7, 5.9: r_max against the starting position"))
         L = L[:at] + starts.lines(res["starts"]) + [""] + L[at:]
+    if "results" in res and "lyapunov" in res:  # the rotor without balls beside Figs. 5.12-5.14
+        from . import plain
+
+        at = L.index("## Figures")
+        L = L[:at] + plain.lines(res["results"], res["lyapunov"]) + [""] + L[at:]
     if "chapter3" in res:
         from . import chapter3
 
