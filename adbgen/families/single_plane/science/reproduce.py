@@ -603,7 +603,9 @@ def lines(res: dict, root: Path) -> list[str]:
     if "results" in res and "lyapunov" in res:  # the rotor without balls beside Figs. 5.12-5.14
         from . import plain
 
-        at = L.index("## Figures")
+        # after the Omega = 1.6 section (its r over the window is the (b) row), before the n = 3 basins
+        at = next((k for k, line in enumerate(L) if line.startswith("## Thesis, section 5.2.2")),
+                  L.index("## Thesis, chapter 4: stability of the balanced state"))
         L = L[:at] + plain.lines(res["results"], res["lyapunov"]) + [""] + L[at:]
     if "chapter3" in res:
         from . import chapter3
