@@ -304,7 +304,7 @@ def section(out: Path, progress=print) -> str:
           "1.0936343, 1.8822394).  For n >= 3 l1 is that of the followed member; the normal form's drift term "
           "(below) moves the state along the family, so a subcritical sign there does not by itself mean an "
           "unstable cycle is born.", ""]
-    L += ["", "For n >= 3 the balanced states form a continuum (the thesis' (3.6) leaves n - 2 angles free); H1 is a "
+    L += ["For n >= 3 the balanced states form a continuum (the thesis' (3.6) leaves n - 2 angles free); H1 is a "
           "Hopf point of one member, the oscillation's second-order mean (the term L^T B(q, q-bar) of the normal form) "
           "pushes the state along the continuum, so no cycle closes near the Hopf point: the continuation finds no "
           "branch there (`adbgen continue --orbits` says so).  AUTO-07p's emitted files for n >= 3 pin the free angles "
