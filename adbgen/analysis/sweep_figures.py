@@ -39,6 +39,16 @@ def _caption(ds, axes) -> str:
     return ", ".join(parts)
 
 
+TITLE_WIDTH, CAPTION_WIDTH = 80, 95  # characters a line holds at fontsize 9 on the 7.5-inch figure
+
+
+def title_lines(title: str, caption: str) -> str:
+    """Title and parameter caption fitted to the figure's width (a long one was clipped at the edges, issue 36):
+    a long title breaks before its parentheses (each remark whole on its line), the caption between words."""
+    head = [title] if len(title) <= TITLE_WIDTH else title.replace(" (", "\n(").split("\n")
+    return "\n".join(head + textwrap.wrap(caption, CAPTION_WIDTH))
+
+
 def write_figures(store: Path) -> list[Path]:
     """Draw the store's measure; returns the files written (none if the grid is not 1-D or 2-D)."""
     import matplotlib
@@ -78,8 +88,7 @@ def write_figures(store: Path) -> list[Path]:
     flagged = _mark_sensitive(ax, ds, da, done, dims, measure)
     if flagged:
         title += f" ({flagged} tolerance-sensitive, marked)"
-    # wrapped to the figure's width: a long model name and parameter list were clipped at the edges (issue 36)
-    ax.set_title("\n".join(textwrap.wrap(title, 80) + textwrap.wrap(_caption(ds, dims), 95)), fontsize=9)
+    ax.set_title(title_lines(title, _caption(ds, dims)), fontsize=9)
     out = []
     for ext in ("png", "pdf"):
         path = store.parent / f"{measure}.{ext}"
