@@ -8,11 +8,9 @@ at rtol 1e-6, 1e-8, 1e-10, 1e-12: it no longer moves as rtol tightens).  Where a
 balance, the attractor is named by `attractors.Classifier` (steady state by Newton, limit cycle by a
 further window) and the final state compared with the published one.
 
-Covered: thesis ch. 5, Fig. 5.4 (n = 2), Fig. 5.6 (n = 3), Fig. 5.8 (n = 4), the (pi, pi, pi) coincident
-and (0, 0, pi) in-line runs (text of Fig. 5.7), the n = 2 limit cycle from (pi/4, -pi/4), the damping runs
-of section 5.2.2 (Fig. 5.15-5.17), the basin maps of Fig. 5.18 and 5.19 (a), (c); ch. 4, the zeta and
-beta limits the text states for n = 3, 4 and the (Omega, mu), (zeta, beta) stability maps for n = 2, 3,
-4.
+Covered: what `coverage.THESIS` lists (the covered / not covered table at the top of the document): ch. 3
+(chapter3.py), ch. 4's limits, lines and maps, ch. 5's transients, end states, scans, launches, basins,
+sweeps (with sweeps.py, sensitivity.py, starts.py, plain.py).
 """
 
 from __future__ import annotations
