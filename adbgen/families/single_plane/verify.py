@@ -243,7 +243,8 @@ def two_routes(n: int, wrong: bool = False) -> CheckResult:
 
 
 def appendix_a(n: int, full_solve_up_to: int = 2, wrong: bool = False) -> CheckResult:
-    """wrong: the literal line-by-line reading of (A.12)-(A.13) taken as the reference."""
+    """wrong: the line-by-line reading of (A.12)-(A.13) in the text extraction (its line breaks misplace two
+    terms of f onto g's line; Appendix A itself is correct) taken as the reference."""
     def run():
         fo = first_order(rotating_frame(Scene(n=n)))
         ref = thesis.appendix_a(n, mu, Omega, zeta, beta, delta, printed=wrong)
@@ -531,7 +532,8 @@ def registered(ns=(1, 2, 3, 4, 6)) -> list[Registered]:
         Registered("friction, energy balance", DERIVED, _per_n(friction_energy, tuple(k for k in ns if k <= ENERGY_MAX_N)),
                    "the friction's work counted twice"),
         Registered("two routes", DERIVED, _per_n(two_routes, ns), "the ball rows' factor mu dropped"),
-        Registered("first-order form", DERIVED, _per_n(appendix_a, ns), "the literal reading of (A.12)-(A.13)"),
+        Registered("first-order form", DERIVED, _per_n(appendix_a, ns),
+                   "the extracted text's line-by-line reading of (A.12)-(A.13)"),
         Registered("steady states", DERIVED, _per_n(steady_states, ns), "each state's first coordinate moved by 1/10"),
         Registered("Jacobi integral", DERIVED, _per_n(jacobi, ns), "the Rayleigh power dropped"),
         Registered("speed schedule", DERIVED, lambda wrong: [speed_schedule(wrong=wrong)],
