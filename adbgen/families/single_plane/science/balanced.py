@@ -56,3 +56,15 @@ def family_margin(model, p_values: dict, count: int = 361) -> tuple[float, float
             continue
         best = min(best, (spectrum(model, y, p).abscissa, float(free)))
     return best
+
+
+def family_zeta_limit(model, lo: float = 0.01, hi: float = 0.1, xtol: float = 1e-5) -> float | None:
+    """The rotor damping zeta from which no member of the n = 3 balanced family is linearly stable (the zero
+    of `family_margin` in [lo, hi], Omega, beta as the model's defaults (5.1)); None without a sign change."""
+    from scipy.optimize import brentq
+
+    f = lambda z: family_margin(model, {"zeta": float(z)}, count=181)[0]  # noqa: E731
+    a, b = f(lo), f(hi)
+    if a * b > 0:
+        return None
+    return float(brentq(f, lo, hi, xtol=xtol))

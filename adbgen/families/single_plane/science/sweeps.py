@@ -21,7 +21,7 @@ from ....analysis.attractors import ALGEBRAIC, UNDECIDED
 from ....analysis.sweep import SweepSpec, run_sweep
 from ..description import THESIS_NAMES
 from ....analysis.loading import load_model
-from .balanced import balanced_stable, family_margin
+from .balanced import balanced_stable, family_margin, family_zeta_limit
 
 PI = math.pi
 BALANCED = THESIS_NAMES["rest"]  # the decided labels (`attractors.Classifier.decide`): balanced (exponential or
@@ -333,6 +333,7 @@ class Everything:
     zeta_beta: dict = field(default_factory=dict)
     omega: dict = field(default_factory=dict)
     delta: dict = field(default_factory=dict)
+    family_limit: float | None = None  # the zeta from which no member of the n = 3 balanced family is stable
 
 
 # ----------------------------------------------------------------------------- Omega < 2.04 (Fig. 5.23)
@@ -381,7 +382,9 @@ def compute(progress=None) -> Everything:
         v["r_max"] = sweep(f"thesis_rotating_n{n}", [LAUNCH_GRID], "r_max",
                            y0=tuple(f"phi_{k}_dot=-4" for k in range(1, n + 1)), tie=LAUNCH_TIES[n])[0]
     out.basins_n3 = basins_n3()
-    say("n = 3 basins: " + ", ".join(f"zeta {b['zeta']:g}: {b['balanced']}" for b in out.basins_n3))
+    out.family_limit = family_zeta_limit(load_model("thesis_rotating_n3"))
+    say("n = 3 basins: " + ", ".join(f"zeta {b['zeta']:g}: {b['balanced']}" for b in out.basins_n3)
+        + f"; no member of the family stable from zeta = {out.family_limit}")
     out.zeta_beta = zeta_beta()
     say("Figs. 5.20-5.22 done")
     out.omega = omega_sweep()
@@ -599,27 +602,7 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
                      f"{verdict} |")
         L.append("")
 
-    L += ["## Thesis, section 5.2.2: the n = 3 basin experiment", "",
-          "`adbgen sweep thesis_rotating_n3 --grid phi_1=0:pi:40 --grid phi_2=0:pi:40 --tie phi_3=phi_1+pi --set "
-          f"zeta=Z --measure attractor --t-end {N3_T_END:g}` (Omega = 4, beta = delta = 0.01, mu = 0.05): the thesis' "
-          "experiment, described only in words.", "",
-          "| zeta | published | balanced of 1600 | of them on the diagonal | other attractors | the balanced family's "
-          "best member: smallest leading real part (at phi_3) |", "|---|---|---|---|---|---|"]
-    for b in res.basins_n3:
-        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none"
-        lead, at_free = b["family"]
-        L.append(f"| {b['zeta']:g} | {N3_PUBLISHED[b['zeta']]} | {b['balanced']} | {b['diagonal_balanced']} | {others} "
-                 f"| {lead:+.4f} ({at_free:.3f}) |")
-    at = {b["zeta"]: b for b in res.basins_n3}
-    L += ["", f"Ours: {at[0.01]['balanced']} of 1600 balance at zeta = 0.01 ({at[0.01]['diagonal_balanced']} of the 40 "
-          f"diagonal starts phi_1(0) = phi_2(0)), {at[0.1]['balanced']} at zeta = 0.1 (published: 2), "
-          f"{at[0.2]['balanced']} and {at[0.25]['balanced']} at 0.2 and 0.25 (published: none).  The balanced state of "
-          "the chapter 4 analysis (phi_3 = pi) is linearly unstable for n = 3 at Omega = 4, beta = 0.01 from zeta "
-          "= 0.0206 on (chapter 4 below).  The whole family (3.6) (phi_3 free, phi_1 and phi_2 solved; 361 members): "
-          "where the last column is positive no member is linearly stable, so no balancing run can remain there; "
-          "the thesis' 2 of 1600 at zeta = 0.1 are then runs still on their way (or a count of its criterion r < 1e-3 "
-          "at its t_end), not balanced states.  At zeta = 0.01 members are stable and the runs balance on them.",
-          ""]
+    L += basins_n3_lines(res) + [""]
 
     L += ["## Thesis, Figs. 5.20-5.22: damping maps", "",
           f"`{res.zeta_beta[2]['command']}` and the same with `--measure r_max`, `--measure t_dec`, for n = 2, 3, 4 "
@@ -671,3 +654,14 @@ def omega_delta_lines(res: Everything, paths: dict, root: Path) -> list[str]:
     return render("sweeps_omega_delta.md.j2", command=res.omega[2]["command"], published=THESIS_ONSET, below=below,
                   at=at, onsets=onset_rows, spreads=spreads, common=common, worst=worst,
                   figures=[(k, _rel_link(paths[k], root)) for k in ("5.23", "5.24", "5.25")]).splitlines()
+
+
+def basins_n3_lines(res: Everything) -> list[str]:
+    """The n = 3 basin experiment's section (templates/basins_n3.md.j2)."""
+    from .templates import render
+
+    rows = [{**b, "others": ", ".join(f"{k} {v}" for k, v in b["counts"].items()
+                                      if not balanced(k) and not is_open([k])[0]) or "none"} for b in res.basins_n3]
+    return render("basins_n3.md.j2", basins=rows, published=N3_PUBLISHED, t_end=N3_T_END,
+                  limit=getattr(res, "family_limit", None),
+                  any_balanced_unstable=any(b["balanced"] and b["family"][0] > 0 for b in rows)).splitlines()

@@ -30,3 +30,11 @@ def test_at_zeta_0_1_no_member_is_stable(model):
 def test_at_zeta_0_01_members_are_stable(model):
     """Negative control: at (5.1) the family has stable members (the basin experiment balances)."""
     assert family_margin(model, {"zeta": 0.01})[0] < 0
+
+
+def test_the_family_loses_its_last_stable_member_just_above_the_pi_members_limit(model):
+    from adbgen.families.single_plane.science.balanced import family_zeta_limit
+
+    limit = family_zeta_limit(model)
+    assert 0.0206 < limit < 0.0216  # the phi_3 = pi member alone: 0.0206 (chapter 4)
+    assert family_zeta_limit(model, 0.05, 0.1) is None  # negative control: no change in a range past it

@@ -103,3 +103,18 @@ def test_fig_5_25s_common_deltas_are_matched_by_value():
     assert all(r["rel"]["r_max"] == pytest.approx(0.1) and r["rel"]["t_dec"] == 0.0 for r in rows)
     # negative control: grids with no delta in common give no row
     assert sweeps.common_deltas(small, {**large, "delta": large["delta"] + 1e-4}) == []
+
+
+def test_balanced_runs_where_no_member_is_stable_are_explained_and_only_then():
+    def basin(zeta, n_balanced, lead):
+        return {"zeta": zeta, "balanced": n_balanced, "diagonal_balanced": 0, "undecided": 0, "points": 1600,
+                "counts": {"balanced 1": n_balanced, "limit cycle": 1600 - n_balanced}, "family": (lead, 0.0)}
+
+    res = sweeps.Everything(basins_n3=[basin(0.01, 1500, -0.002), basin(0.1, 2, 0.015), basin(0.2, 0, 0.03),
+                                       basin(0.25, 0, 0.04)], family_limit=0.0211)
+    text = "\n".join(sweeps.basins_n3_lines(res))
+    assert "From zeta = 0.0211 on" in text and "2 counted balanced at zeta = 0.1 (published: 2 of 1600);" in text
+    assert "met the balanced criterion (r < 1e-3, decaying) by its end" in text
+    assert "At zeta = 0.01 members are stable and 1500 of 1600 runs balance on them." in text
+    res.basins_n3[1]["balanced"] = 0  # control: no balanced run where no member is stable
+    assert "met the balanced criterion (r < 1e-3, decaying)" not in "\n".join(sweeps.basins_n3_lines(res))
