@@ -557,33 +557,7 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
     for key in ("5.5", "5.7", "5.9"):
         L += [f"![Fig. {key}]({_rel_link(paths[key], root)})", ""]
 
-    L += ["## Thesis, Figs. 5.10-5.11: balls released at rest in the fixed frame", "",
-          f"`{res.launches[2]['command']}` (and n = 3, 4 with their equidistant ties): 100 equidistant starts, "
-          "every ball at phi'(0) = -Omega = -4, (5.1).  The thesis counts the balanced runs of 100: the outcome "
-          "of these launches depends on the tolerance at some starts, so the count is given at three tolerances, "
-          "and about the first starts whose outcome changes, the basin's local structure: a scan of 41 starts "
-          "over one grid step at rtol 1e-10, its balanced share and the number of label changes along it.", "",
-          "| n | published balanced of 100 | rtol 1e-6 | 1e-8 | 1e-10 | ode45 at its defaults (the thesis' solver) | "
-          "starts whose outcome changes with rtol | local structure (start: balanced of 41, label changes) |",
-          "|---|---|---|---|---|---|---|---|"]
-    for n, v in res.launches.items():
-        counts = [f"{count_balanced(v['labels'][r])}" + (f" ({int(is_open(v['labels'][r]).sum())} undecided)"
-                                                       if is_open(v["labels"][r]).any() else "")
-                  for r in LAUNCH_RTOLS]
-        local = "; ".join(f"{x['phi_1']:.4f}: {x['balanced']}, {x['switches']}" for x in v["local"]) or "—"
-        ode = v.get("ode45")
-        ode_cell = "—" if ode is None else (f"{count_balanced(ode)}" + (f" ({int(is_open(ode).sum())} undecided)"
-                                                                       if is_open(ode).any() else ""))
-        L.append(f"| {n} | {LAUNCH_PUBLISHED[n]} | " + " | ".join(map(str, counts))
-                 + f" | {ode_cell} | {len(v['changes'])} | {local} |")
-    L += ["", "Counts by the decided labels (`attractors.Classifier.decide`: a run not named at t = 3000 is carried "
-          "on and decided by its approach; undecided runs are counted apart, never as not balanced).  "
-          "The thesis' counts are of its ode45 runs at an unstated (default) tolerance, hence the ode45 column "
-          "(`--engine matlab-ode45 --rtol 1e-3 --atol 1e-6`); where a start's outcome "
-          "changes between tolerances, its basin boundary is finer than the integration error there, and the "
-          "local scans show the balanced and unbalanced outcomes interleaved on a scale below the grid step.  "
-          "The published count is compared with the range ours spans over the tolerances.", "",
-          f"![Fig. 5.11]({_rel_link(paths['5.11'], root)})", ""]
+    L += launches_lines(res, paths, root) + [""]
 
     if lyapunov:
         L += ["## Thesis, Figs. 5.12-5.14 (b): the motion at Omega = 1.6", "",
@@ -665,3 +639,23 @@ def basins_n3_lines(res: Everything) -> list[str]:
     return render("basins_n3.md.j2", basins=rows, published=N3_PUBLISHED, t_end=N3_T_END,
                   limit=getattr(res, "family_limit", None),
                   any_balanced_unstable=any(b["balanced"] and b["family"][0] > 0 for b in rows)).splitlines()
+
+
+def _count_cell(labels) -> str:
+    return f"{count_balanced(labels)}" + (f" ({int(is_open(labels).sum())} undecided)" if is_open(labels).any() else "")
+
+
+def launches_lines(res: Everything, paths: dict, root: Path) -> list[str]:
+    """Figs. 5.10-5.11's launches section (templates/launches.md.j2)."""
+    from .templates import render
+
+    rows = []
+    for n, v in res.launches.items():
+        counts = [count_balanced(v["labels"][r]) for r in LAUNCH_RTOLS]
+        rows.append({"n": n, "published": LAUNCH_PUBLISHED[n], "counts": [_count_cell(v["labels"][r]) for r in LAUNCH_RTOLS],
+                     "low": min(counts), "high": max(counts),
+                     "ode45": "—" if v.get("ode45") is None else _count_cell(v["ode45"]), "changes": len(v["changes"]),
+                     "local": "; ".join(f"{x['phi_1']:.4f}: {x['balanced']}, {x['switches']}" for x in v["local"]) or "—"})
+    rtols = [f"1e{round(math.log10(r))}" for r in LAUNCH_RTOLS]  # as the tolerances are written: 1e-6, not 1e-06
+    return render("launches.md.j2", command=next(iter(res.launches.values()))["command"], rtols=rtols, rows=rows,
+                  figure=_rel_link(paths["5.11"], root)).splitlines()

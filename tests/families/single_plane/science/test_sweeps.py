@@ -5,6 +5,8 @@ sweep specification or a formatting slip fails here in seconds, not after an hou
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -118,3 +120,19 @@ def test_balanced_runs_where_no_member_is_stable_are_explained_and_only_then():
     assert "At zeta = 0.01 members are stable and 1500 of 1600 runs balance on them." in text
     res.basins_n3[1]["balanced"] = 0  # control: no balanced run where no member is stable
     assert "met the balanced criterion (r < 1e-3, decaying)" not in "\n".join(sweeps.basins_n3_lines(res))
+
+
+def test_the_launches_table_compares_the_published_count_with_our_range_and_ode45():
+    def labels(k):
+        return ["balanced 1"] * k + ["limit cycle"] * (100 - k)
+
+    v = {"labels": {1e-6: labels(27), 1e-8: labels(29), 1e-10: labels(28)}, "ode45": labels(32), "changes": [0.1],
+         "local": [], "command": "adbgen sweep x"}
+    res = sweeps.Everything(launches={3: v})
+    text = "\n".join(sweeps.launches_lines(res, {"5.11": Path("/r/fig5_11.png")}, Path("/r")))
+    assert "| rtol 1e-6 | rtol 1e-8 | rtol 1e-10 |" in text
+    assert "| 3 | 28 | 27 | 29 | 28 | 32 | 1 | — |" in text
+    assert "* n = 3: published 28; ours 27 to 29 over rtol 1e-6 to 1e-10 (the published count inside that range), " \
+           "ode45 32." in text
+    v["labels"] = {r: labels(20) for r in v["labels"]}  # control: a range that misses the published count
+    assert "inside that range" not in "\n".join(sweeps.launches_lines(res, {"5.11": Path("/r/fig5_11.png")}, Path("/r")))
