@@ -67,10 +67,75 @@ def compute() -> dict:
     return {"critical": critical, "positions": positions,
             "speeds_agree": all(len(ours) == 2 and all(abs(b - a) <= printed_half_unit(a) for a, b in zip(pub, ours))
                                 for *_, pub, ours in critical),
-            "positions_agree": all(abs(ours - pub) <= 5e-15 * 10 for *_, pub, ours in positions)}
+            "positions_agree": all(abs(ours - pub) <= 5e-15 * 10 for *_, pub, ours in positions),
+            "coincident": coincident()}
 
 
 def lines(res: dict) -> list[str]:
     from .templates import render
 
-    return render("chapter3.md.j2", **res).splitlines()
+    values = {k: v for k, v in res.items() if k != "coincident"}
+    out = render("chapter3.md.j2", **values).splitlines()
+    return out + ([""] + coincident_lines(res["coincident"]) if "coincident" in res else [])
+
+
+# ----------------------------------------------------- ch. 4: where the coincident state 2- is stable
+
+COINCIDENT_MUS = (0.05, 0.0025)  # the two lines of (Omega, mu) the thesis' text reads 2- on (Figs. 5.12-5.14 (a), (d))
+
+
+def coincident_windows(n: int, mu: float, lo: float = 0.05, hi: float = 6.0, count: int = 1191,
+                       tol: float = 1e-9) -> list[tuple[float, float]]:
+    """The Omega intervals of [lo, hi] on which the coincident state 2- (the generated module's closed form)
+    exists and is linearly stable at mu (zeta = beta = delta = 0.01), each end bisected to `tol`; an interval
+    reaching lo or hi is cut there."""
+    from ....analysis.attractors import spectrum
+
+    model = load_model(f"thesis_rotating_n{n}")
+
+    def stable(w: float) -> bool:
+        p = model.params({"Omega": float(w), "mu": mu})
+        y = model.steady_state("2-", p)
+        return y is not None and spectrum(model, np.asarray(y, float), p).unstable() == 0
+
+    ws = np.linspace(lo, hi, count)
+    st = [stable(w) for w in ws]
+
+    def edge(a: float, b: float, at_a: bool) -> float:
+        while b - a > tol:
+            m = 0.5 * (a + b)
+            a, b = (m, b) if stable(m) == at_a else (a, m)
+        return 0.5 * (a + b)
+
+    out, start = [], (lo if st[0] else None)
+    for i in range(count - 1):
+        if st[i] == st[i + 1]:
+            continue
+        x = edge(float(ws[i]), float(ws[i + 1]), st[i])
+        if st[i + 1]:
+            start = x
+        else:
+            out.append((start, x))
+            start = None
+    if start is not None:
+        out.append((start, hi))
+    return out
+
+
+def coincident(ns=(2, 3, 4)) -> dict:
+    return {(n, mu): coincident_windows(n, mu) for n in ns for mu in COINCIDENT_MUS}
+
+
+# (the thesis' statement, n, mu, Omega): 2- stable there
+COINCIDENT_STATEMENTS = (
+    ("section 5.2.1, Figs. 5.12-5.14 (a): \"attracted to the stable coincident state 2-\"", (2, 3, 4), 0.05, 0.5),
+    ("section 5.2.1, Figs. 5.12(d), 5.13(d): 2- \"is stable for Omega = 4 and mu = 0.0025, in both cases n = 2 and "
+     "n = 3\"", (2, 3), 0.0025, 4.0))
+
+
+def coincident_lines(windows: dict) -> list[str]:
+    from .templates import render
+
+    checks = [(text, mu, Om, [(n, any(a <= Om <= b for a, b in windows[(n, mu)])) for n in ns])
+              for text, ns, mu, Om in COINCIDENT_STATEMENTS]
+    return render("coincident.md.j2", windows=windows, checks=checks, lo=0.05, hi=6.0).splitlines()

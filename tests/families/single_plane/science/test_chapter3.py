@@ -28,3 +28,16 @@ def test_the_text_says_disagree_when_a_speed_is_off():
            "positions_agree": True}
     text = "\n".join(chapter3.lines(res))
     assert "do **not** all agree to the four printed digits" in text and "| (3.16) | 3 | 2+ | 0.8114, 1.0717 |" in text
+
+
+def test_2_minus_windows_end_at_the_pitchfork_hopf_points_for_n4_at_mu_c():
+    w = chapter3.coincident_windows(4, 0.0025, lo=0.9, hi=1.5, count=61)
+    assert w[0][1] == pytest.approx(1.0079598, abs=1e-6) and w[1][0] == pytest.approx(1.338096, abs=1e-6)
+
+
+def test_the_statements_on_2_minus_are_judged_from_the_windows():
+    windows = {(n, mu): [(0.05, 0.8)] for n in (2, 3, 4) for mu in chapter3.COINCIDENT_MUS}
+    text = "\n".join(chapter3.coincident_lines(windows))
+    assert "(Omega = 0.5, mu = 0.05): n = 2 stable, n = 3 stable, n = 4 stable." in text
+    # planted: no window reaches Omega = 4 at mu = 0.0025, so the second statement fails
+    assert "(Omega = 4, mu = 0.0025): n = 2 **not stable**, n = 3 **not stable**." in text
