@@ -563,6 +563,9 @@ def compute(fig_dir: Path, progress=print) -> dict:
     from . import chapter3
 
     ch3 = chapter3.compute()
+    from . import one_parameter
+
+    diagrams = one_parameter.compute()
     maps = _maps(fig_dir)
     basins = _basins(fig_dir)
     basins_n4 = _basins_n4(fig_dir)
@@ -574,7 +577,7 @@ def compute(fig_dir: Path, progress=print) -> dict:
     return {"transients": transients, "results": results, "figures": figures, "statements": statements,
             "maps": maps, "basins": basins, "basins_n4": basins_n4, "pitchfork": pitchfork, "sweeps": more,
             "sweep_figures": more_paths, "lyapunov": lyap, "sensitivity": tolerance, "starts": named,
-            "chapter3": ch3}
+            "chapter3": ch3, "one_parameter": diagrams}
 
 
 def lines(res: dict, root: Path) -> list[str]:
@@ -610,6 +613,11 @@ def lines(res: dict, root: Path) -> list[str]:
 
         at = L.index("## Thesis, chapter 4: stability of the balanced state")
         L = L[:at] + chapter3.lines(res["chapter3"]) + [""] + L[at:]
+    if "one_parameter" in res:
+        from . import one_parameter
+
+        at = L.index("## Thesis, chapter 4: stability of the balanced state")
+        L = L[:at] + one_parameter.lines(res["one_parameter"]) + [""] + L[at:]
     return L
 
 
