@@ -136,3 +136,11 @@ def test_the_launches_table_compares_the_published_count_with_our_range_and_ode4
            "ode45 32." in text
     v["labels"] = {r: labels(20) for r in v["labels"]}  # control: a range that misses the published count
     assert "inside that range" not in "\n".join(sweeps.launches_lines(res, {"5.11": Path("/r/fig5_11.png")}, Path("/r")))
+
+
+def test_fig_5_23_n2_starts_fail_at_1_6327_and_balance_at_2_0408():
+    """The runs behind the "consistent" column (issue 36: at 1.6327 all ten n = 2 starts fail, at 1.8 and 2.0408
+    all balance)."""
+    points = sweeps.grid_points_check(2)
+    assert [x["balanced"] for x in points.values()] == [0, 10, 10]
+    assert sweeps.consistent_with_grid(points)
