@@ -89,37 +89,9 @@ def coincident_windows(n: int, mu: float, lo: float = 0.05, hi: float = 6.0, cou
     """The Omega intervals of [lo, hi] on which the coincident state 2- (the generated module's closed form)
     exists and is linearly stable at mu (zeta = beta = delta = 0.01), each end bisected to `tol`; an interval
     reaching lo or hi is cut there."""
-    from ....analysis.attractors import spectrum
+    from .one_parameter import state_intervals
 
-    model = load_model(f"thesis_rotating_n{n}")
-
-    def stable(w: float) -> bool:
-        p = model.params({"Omega": float(w), "mu": mu})
-        y = model.steady_state("2-", p)
-        return y is not None and spectrum(model, np.asarray(y, float), p).unstable() == 0
-
-    ws = np.linspace(lo, hi, count)
-    st = [stable(w) for w in ws]
-
-    def edge(a: float, b: float, at_a: bool) -> float:
-        while b - a > tol:
-            m = 0.5 * (a + b)
-            a, b = (m, b) if stable(m) == at_a else (a, m)
-        return 0.5 * (a + b)
-
-    out, start = [], (lo if st[0] else None)
-    for i in range(count - 1):
-        if st[i] == st[i + 1]:
-            continue
-        x = edge(float(ws[i]), float(ws[i + 1]), st[i])
-        if st[i + 1]:
-            start = x
-        else:
-            out.append((start, x))
-            start = None
-    if start is not None:
-        out.append((start, hi))
-    return out
+    return state_intervals(n, "2-", "Omega", {"mu": mu}, count=count, tol=tol, span=(lo, hi))["stable"]
 
 
 def coincident(ns=(2, 3, 4)) -> dict:

@@ -52,10 +52,11 @@ def _intervals(flags: list[bool], xs, refine) -> list[tuple[float, float]]:
 
 
 def state_intervals(n: int, state: str, parameter: str, fixed: dict, count: int = 400,
-                    tol: float = 1e-8) -> dict:
-    """{"exists": intervals, "stable": intervals} of `state` along `parameter` over RANGES at `fixed`."""
+                    tol: float = 1e-8, span: tuple[float, float] | None = None) -> dict:
+    """{"exists": intervals, "stable": intervals} of `state` along `parameter` over `span` (default RANGES) at
+    `fixed`."""
     model = load_model(f"thesis_rotating_n{n}")
-    lo, hi = RANGES[parameter]
+    lo, hi = span or RANGES[parameter]
     xs = np.linspace(lo, hi, count)
     kinds = [_kind(model, state, {**fixed, parameter: float(x)}) for x in xs]
 
