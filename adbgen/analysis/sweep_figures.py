@@ -16,6 +16,7 @@ Two-dimensional grids give maps, one-dimensional grids curves; larger grids are 
 from __future__ import annotations
 
 import json
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +37,16 @@ def _caption(ds, axes) -> str:
     if settings["measure"] != "stability":
         parts.append(f"$t_{{end}}$ = {settings['t_end']:g}, rtol {settings['rtol']:g}")
     return ", ".join(parts)
+
+
+TITLE_WIDTH, CAPTION_WIDTH = 80, 95  # characters a line holds at fontsize 9 on the 7.5-inch figure
+
+
+def title_lines(title: str, caption: str) -> str:
+    """Title and parameter caption fitted to the figure's width (a long one was clipped at the edges, issue 36):
+    a long title breaks before its parentheses (each remark whole on its line), the caption between words."""
+    head = [title] if len(title) <= TITLE_WIDTH else title.replace(" (", "\n(").split("\n")
+    return "\n".join(head + textwrap.wrap(caption, CAPTION_WIDTH))
 
 
 def write_figures(store: Path) -> list[Path]:
@@ -77,7 +88,7 @@ def write_figures(store: Path) -> list[Path]:
     flagged = _mark_sensitive(ax, ds, da, done, dims, measure)
     if flagged:
         title += f" ({flagged} tolerance-sensitive, marked)"
-    ax.set_title(title + "\n" + _caption(ds, dims), fontsize=9)
+    ax.set_title(title_lines(title, _caption(ds, dims)), fontsize=9)
     out = []
     for ext in ("png", "pdf"):
         path = store.parent / f"{measure}.{ext}"

@@ -10,9 +10,10 @@ printed form is not):
 
 - (2.21): the gravity term is printed -G(1 + n mu).  With G = g/(eps omega_n^2) of (2.16) and the
   scaling by M R omega_n^2 used for (2.20), it is -delta G (1 + n mu) (as (2.22) has delta G).
-- (A.12)-(A.13): the text breaks the lines so that the last two terms printed on the line of g,
-  mu(-Omega^2 x - 2 Omega v) sum sin^2 - mu(-Omega^2 y + 2 Omega u) sum sin cos, belong to f,
-  and g is what follows on the next line.  "k" in (A.3), (A.4), (A.12), (A.13) is K of (2.27).
+- (A.12)-(A.13) are not an erratum (docs/errata.md): the text *extraction* breaks the lines so that
+  the last two terms that stand on the line of g, mu(-Omega^2 x - 2 Omega v) sum sin^2 - mu(-Omega^2 y
+  + 2 Omega u) sum sin cos, belong to f, and g is what follows on the next line; Appendix A is correct.
+  "k" in (A.3), (A.4), (A.12), (A.13) is K of (2.27).
 - (5.2): printed phi_1 = arccos(delta/(2 mu)); the value given, 1.67096374795646, and (3.6) require
   phi_1 = arccos(-delta/(2 mu)).
 """
@@ -107,8 +108,9 @@ def appendix_a(n: int, mu, Omega, zeta, beta, delta, printed: bool = False) -> d
     """(A.6)-(A.13) in the states (x, u, y, v, phi_i, theta_i) of (A.1)-(A.2).
 
     Returns a, b, c, f, g, G_1, G_2 and G_{2+i} (the latter in terms of u' and v', as (A.6) is).
-    printed=True takes (A.12)-(A.13) line by line as printed (f ends after "- mu beta sum theta sin",
-    g takes the next terms), which the tests show to be wrong.
+    printed=True takes (A.12)-(A.13) line by line as the text extraction has them (f ends after "- mu beta
+    sum theta sin", g takes the next terms), which the tests show to be wrong: a line-break artefact of the
+    extraction, not of the thesis.
     """
     x, y = sp.Symbol("x", real=True), sp.Symbol("y", real=True)
     u, v = sp.Symbol("x_dot", real=True), sp.Symbol("y_dot", real=True)

@@ -243,7 +243,8 @@ def two_routes(n: int, wrong: bool = False) -> CheckResult:
 
 
 def appendix_a(n: int, full_solve_up_to: int = 2, wrong: bool = False) -> CheckResult:
-    """wrong: the literal line-by-line reading of (A.12)-(A.13) taken as the reference."""
+    """wrong: the line-by-line reading of (A.12)-(A.13) in the text extraction (its line breaks misplace two
+    terms of f onto g's line; Appendix A itself is correct) taken as the reference."""
     def run():
         fo = first_order(rotating_frame(Scene(n=n)))
         ref = thesis.appendix_a(n, mu, Omega, zeta, beta, delta, printed=wrong)
@@ -269,8 +270,10 @@ def appendix_a(n: int, full_solve_up_to: int = 2, wrong: bool = False) -> CheckR
         printed = thesis.appendix_a(n, mu, Omega, zeta, beta, delta, printed=True)
         if is_identity(rhs[0], printed["f"]):
             return False, "the literal line-by-line reading of (A.12) matched too: check is blind"
-        return True, "a, b, c, f, g, G_1, G_2, G_2+i identical; literal reading of (A.12)-(A.13) differs"
-    return _timed(f"first-order form, n={n}", "thesis (A.1)-(A.14), (A.12)-(A.13) as corrected", run)
+        return True, ("a, b, c, f, g, G_1, G_2, G_2+i identical; the extracted text's line-by-line reading of "
+                      "(A.12)-(A.13) differs (an extraction artefact, not an erratum)")
+    return _timed(f"first-order form, n={n}", "thesis (A.1)-(A.14) (Appendix A is correct: the misplaced terms of "
+                  "(A.12)-(A.13) are line breaks of the text extraction, not an erratum)", run)
 
 
 def steady_states(n: int, wrong: bool = False) -> CheckResult:
@@ -383,8 +386,9 @@ def thesis_numbers(wrong: bool = False) -> list[CheckResult]:
     d1, d2 = ss.critical_speeds(3, 2, p["mu"], p["zeta"], p["delta"])
     num("Omega_c1, 3(3-2)+-", "thesis (3.18), Fig. 3.2", "0.8909", lambda: d1, FORMULA)
     num("Omega_c2, 3(3-2)+-", "thesis (3.18), Fig. 3.2", "0.9761", lambda: d2, FORMULA)
-    num("wedge tip, n=2", "thesis (4.1)", "0.9950372", lambda: ss.wedge_tip(2, 2, 0.01)[1], FORMULA)
-    num("wedge tip, n=3", "thesis (4.2)", "0.9950372", lambda: ss.wedge_tip(3, 3, 0.01)[1], FORMULA)
+    # the thesis' own formula 1/sqrt(1 + n mu_c) re-evaluated (FORMULA): the SN2+- wedge tip, not where H2- ends
+    num("wedge tip, n=2 (formula re-evaluated)", "thesis (4.1)", "0.9950372", lambda: ss.wedge_tip(2, 2, 0.01)[1], FORMULA)
+    num("wedge tip, n=3 (formula re-evaluated)", "thesis (4.2)", "0.9950372", lambda: ss.wedge_tip(3, 3, 0.01)[1], FORMULA)
     num("wedge tip 3+-, n=3", "thesis (4.3)", "0.9853293", lambda: ss.wedge_tip(3, 2, 0.01)[1], FORMULA)
     num("wedge tip 3B+-, n=4", "thesis (4.4)", "0.9901", lambda: ss.wedge_tip(4, 3, 0.01)[1], FORMULA)
     # the balanced states (3.6), proven exact zeros of the derived equations (`steady_states`)
@@ -424,13 +428,15 @@ def _critical(lin, q, parameter: str, grid, **fixed) -> list[float]:
 # Hopf points of the balanced state at mu = 0.05 located by a second route: AUTO-07p's HB labels on the
 # generated files (README "Stability" table; tests/codegen/test_auto.py re-locates n = 2's).
 AUTO_HOPF = {2: (1.0296942, 1.0936343, 1.8822394), 3: (1.8753675,)}
+H2_MINUS_END = 1.0079598  # where H2- meets the pitchfork line mu = mu_c (the same for n = 2, 3, 4; the audits' 1.0079598)
 
 
 def chapter4_numbers(wrong: bool = False) -> list[CheckResult]:
     """Stability results of thesis ch. 4, from the exact linearisation of the derived equations.
 
     wrong: the printed values moved by 3 units of their last digit, AUTO's Hopf points by 1e-3, the
-    zeta limit asked in [0.1, 0.11], the zeta limit's growth in beta claimed quadratic."""
+    zeta limit asked in [0.1, 0.11], the zeta limit's growth in beta claimed quadratic, the end of H2- claimed
+    at (4.1)'s 0.9950372, section 5.2.1's "no stable equilibria" claimed at Omega = 0.16."""
     import numpy as np
 
     from ...core.linearisation import Linearisation, hopf_crossing
@@ -473,6 +479,38 @@ def chapter4_numbers(wrong: bool = False) -> list[CheckResult]:
         return all4 and linear, (f"n=4, beta=0.05: stable for all zeta < 0.5 ({all4}); n=3: zeta limit "
                                  f"{z3[0]:.4f} at beta=0.05, {z3[1]:.4f} at beta=0.1 (grows linearly)")
     rows.append(_timed("ball damping widens stability", "thesis Fig. 4.9(a), 4.14(a)", beta_effect))
+
+    for n, lin in lins.items():
+        def h2_end(n=n, lin=lin):
+            # erratum (4.1): "given precisely by (mu_c, 1/sqrt(1 + n mu_c)) = (mu_c, 0.9950372)".  At mu = mu_c
+            # the coincident state 2- (every ball at pi) is the balanced state; H2- meets that line where its
+            # complex pair crosses, computed, not the formula re-evaluated (which gives 0.9950372 by construction)
+            q = np.array([0.0, 0.0] + [math.pi] * n)
+            om = hopf_crossing(lin, lambda v: q, "Omega", (1.0, 1.2), fixed={"mu": 0.01 / n})
+            claim = 0.9950372 if wrong else H2_MINUS_END
+            ok = abs(om - claim) <= 1e-6 and abs(om - 0.9950372) > 1e-3
+            return ok, (f"H2- meets the pitchfork line at Omega = {om:.8f}, not at the printed 0.9950372 (the wedge "
+                        f"tip, a double-zero point): (4.1)'s \"given precisely by\" is an identification (erratum)")
+        rows.append(_timed(f"end of H2-, n={n}", "thesis (4.1)-(4.2) erratum", h2_end))
+
+    def omega_016():
+        # erratum, section 5.2.1: "Panels (b) depict the case for Omega = 0.16 ... finds no stable equilibria";
+        # the captions of Figs. 5.12-5.14 give (Omega, mu) = (1.6, 0.05).  At 0.16 the coincident state 2- is a
+        # stable equilibrium for n = 2, 3, 4; at 1.6 none of the closed-form states is stable (the text's claim)
+        text = []
+        ok = True
+        for n, lin in lins.items():
+            vals = dict(mu=0.05, zeta=0.01, delta=0.01)
+            stable = {}
+            for Om in (0.16, 1.6):
+                states = [ss.coincident(n, 1), ss.coincident(n, -1)] + ([ss.balanced(n, [sp.pi] * (n - 2), branch=-1)])
+                stable[Om] = [lin.spectrum(lin.point(ss.evaluate(st, {**vals, "Omega": Om})),
+                                           lin.parameters(Omega=Om)).stable for st in states]
+            claim = (not any(stable[0.16])) if wrong else (stable[0.16][1] and not any(stable[1.6]))
+            ok &= claim
+            text.append(f"n={n}: 2- stable at 0.16 {stable[0.16][1]}, any of 2+, 2-, 1 stable at 1.6 {any(stable[1.6])}")
+        return ok, "; ".join(text) + ": the text's Omega = 0.16 is the captions' 1.6 (erratum)"
+    rows.append(_timed("section 5.2.1's Omega = 0.16", "thesis section 5.2.1 erratum, Figs. 5.12-5.14 (b)", omega_016))
     return rows
 
 
@@ -494,14 +532,16 @@ def registered(ns=(1, 2, 3, 4, 6)) -> list[Registered]:
         Registered("friction, energy balance", DERIVED, _per_n(friction_energy, tuple(k for k in ns if k <= ENERGY_MAX_N)),
                    "the friction's work counted twice"),
         Registered("two routes", DERIVED, _per_n(two_routes, ns), "the ball rows' factor mu dropped"),
-        Registered("first-order form", DERIVED, _per_n(appendix_a, ns), "the literal reading of (A.12)-(A.13)"),
+        Registered("first-order form", DERIVED, _per_n(appendix_a, ns),
+                   "the extracted text's line-by-line reading of (A.12)-(A.13)"),
         Registered("steady states", DERIVED, _per_n(steady_states, ns), "each state's first coordinate moved by 1/10"),
         Registered("Jacobi integral", DERIVED, _per_n(jacobi, ns), "the Rayleigh power dropped"),
         Registered("speed schedule", DERIVED, lambda wrong: [speed_schedule(wrong=wrong)],
                    "the ramp's angle without its factor 1/2"),
         Registered("thesis numbers", FORMULA, thesis_numbers, "printed values moved by 3 units of the last digit"),
         Registered("chapter 4 stability", DERIVED, chapter4_numbers,
-                   "printed values moved, AUTO's Hopf points moved by 1e-3, zeta window [0.1, 0.11], the beta effect claimed quadratic"),
+                   "printed values moved, AUTO's Hopf points moved by 1e-3, zeta window [0.1, 0.11], the beta effect claimed quadratic, "
+                   "H2-'s end claimed at (4.1)'s 0.9950372, no stable state claimed at Omega = 0.16"),
     ]
 
 

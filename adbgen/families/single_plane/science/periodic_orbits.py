@@ -113,7 +113,6 @@ def h1_cycles(out: Path, progress=print) -> list[dict]:
     4 at mu = 0.05, zeta = beta = delta = 0.01."""
     from ....analysis import continuation
     from ....analysis.orbits import branches, continuer, hopf
-    from ....analysis.orbits.flow import Flow
     from ....analysis.orbits.parameters import ParameterMap
 
     rows = []
@@ -126,22 +125,55 @@ def h1_cycles(out: Path, progress=print) -> list[dict]:
         hp = hopf.HopfPoint.at(m, pm, h1.y, h1.value)
         t0 = time.perf_counter()
         br = branches.from_hopf(m, pm, hp, continuer.Settings(ds=0.01, ds_max=0.05, max_points=300, bounds=(0.5, 4.0)))
-        row = {"n": n, "hopf": hp, "branch": br, "wall": time.perf_counter() - t0}
+        row = {"n": n, "hopf": hp, "branch": br, "wall": time.perf_counter() - t0,
+               "every_hopf": every_hopf(m, pm, sc)}
         if len(br.orbits) <= 1:
-            # the free angles drift: a run just past H1 from the balanced state, perturbed
-            fl = Flow(m)
-            q = pm(hp.lam - 0.01)
-            y = h1.y.copy()
-            y[0] += 1e-3
-            times = np.linspace(1.0, 20000.0, 200)
-            Y = fl.sample(y, 0.0, times, q)
-            free = list(m.angle_indices)[2:]
-            row["drift"] = {"Omega": hp.lam - 0.01, "r_end": float(np.hypot(Y[-1, 0], Y[-1, 1])),
-                            "angle_change": float(np.max(np.abs(Y[-1, free] - y[free])))}
+            row["drift"] = drift_past_h1(m, pm, h1.y, hp.lam)
         rows.append(row)
         progress(f"H1 n = {n}: Omega = {hp.lam:.8f}, l1 = {hp.l1:.4g}, {len(br.orbits)} orbits ({br.end})")
     _plot_h1(rows, out)
     return rows
+
+
+DRIFT_RTOLS = (1e-10, 1e-12)
+
+
+def drift_past_h1(model, pm, y_h1, lam: float, t_end: float = 20000.0) -> dict:
+    """The free angles drift: a run just past H1 (Omega = H1 - 0.01) from the balanced state at H1 with x moved
+    by 1e-3, on ENGINE at DRIFT_RTOLS: r at the end and the largest change of a free angle, at each rtol.
+    (An earlier version sampled the orbit machinery's flow at 200 points 100 time units apart and reported the
+    balls lapping, r = 0.436; the flow sampled at 2000 points, and `simulate` on two engines at any rtol, give
+    the drift below: docs/orbits.md's 0.39 rad for n = 4.)"""
+    from ....analysis.simulate import simulate
+
+    q = pm(lam - 0.01)
+    y = np.array(y_h1, float)
+    y[0] += 1e-3
+    free = list(model.angle_indices)[2:]
+    runs = {}
+    for rtol in DRIFT_RTOLS:
+        sim = simulate(model, q, y, t_end=t_end, rtol=rtol, atol=rtol * 1e-2, engine=ENGINE, check=False)
+        runs[rtol] = (float(np.hypot(sim.y_end[0], sim.y_end[1])), float(np.max(np.abs(sim.y_end[free] - y[free]))))
+    r_end, change = runs[DRIFT_RTOLS[-1]]
+    return {"Omega": lam - 0.01, "r_end": r_end, "angle_change": change, "runs": runs}
+
+
+def every_hopf(model, pm, scan) -> list:
+    """Every Hopf point of the scan (the balanced state followed from Omega = 4 down to 0.5), not H1 alone: its
+    Omega, frequency and first Lyapunov coefficient l1 (`hopf.HopfPoint.at`)."""
+    from ....analysis.orbits import hopf
+
+    return [hopf.HopfPoint.at(model, pm, pt.y, pt.value) for pt in scan.points if getattr(pt, "kind", "") == "hopf"]
+
+
+def special_index(lam, period, special: dict) -> int:
+    """The branch point nearest a special point in (Omega, period), each scaled by its range over the branch:
+    by Omega alone a branch that folds back put the marker on the wrong sheet (issue 36: the torus point near
+    1.607 drawn on different sheets in the two panels)."""
+    lam, period = np.asarray(lam, float), np.asarray(period, float)
+    span = lambda v: max(float(np.ptp(v)), 1e-12)  # noqa: E731
+    d = ((lam - special["Omega"]) / span(lam)) ** 2 + ((period - special["period"]) / span(period)) ** 2
+    return int(np.argmin(d))
 
 
 def _plot_h1(rows, out: Path) -> None:
@@ -161,10 +193,10 @@ def _plot_h1(rows, out: Path) -> None:
             ax.plot(lam, v, "-", color=f"C{row['n']}", lw=0.7)
             ax.plot(lam, np.where(st, v, np.nan), "-", color=f"C{row['n']}", lw=2.4, label=f"n = {row['n']}")
         for s in br.specials:
-            k = int(np.argmin(np.abs(lam - s["Omega"])))
+            k = special_index(lam, per, s)
             mk = {"torus": "*", "period-doubling": "D", "fold": "s"}[s["kind"]]
-            a1.plot(s["Omega"], amp[k], mk, color="k", ms=6)
-            a2.plot(s["Omega"], s["period"], mk, color="k", ms=6)
+            a1.plot(lam[k], amp[k], mk, color="k", ms=6)
+            a2.plot(lam[k], per[k], mk, color="k", ms=6)
     a1.set_xlabel("Omega")
     a1.set_ylabel("r_max")
     a2.set_xlabel("Omega")
@@ -194,6 +226,23 @@ def desynchronised(out: Path, progress=print) -> list[dict]:
     return rows
 
 
+FIG510B = {"phi_1": PI / 3, "phi_2": PI, "phi_3": -PI / 3, **{f"phi_{i}_dot": -4.0 for i in (1, 2, 3)}}
+
+
+def fig510b(progress=print) -> dict:
+    """Fig. 5.10(b): n = 3 released at rest in the fixed frame (phi_i'(0) = -Omega) from (pi/3, pi, -pi/3) at
+    (5.1) ends on a limit cycle on which the balls keep lapping: the orbit (shooting after t = 3000), its
+    windings and how far apart the balls are on it."""
+    from ....analysis.orbits import orbit
+
+    m = _model(3)
+    o = orbit.find(m, m.params(), m.state(FIG510B), 3000.0)
+    angles = np.array([o.y[m.index(f"phi_{i}")] for i in (1, 2, 3)])
+    spread = float(np.max(np.abs(np.angle(np.exp(1j * (angles - angles[0]))))))
+    progress(f"Fig. 5.10(b): period {o.period:.8f}, windings {o.windings}")
+    return {"orbit": o, "spread": spread}
+
+
 def section(out: Path, progress=print) -> str:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -201,6 +250,7 @@ def section(out: Path, progress=print) -> str:
     a = fig54b(out, progress)
     h1 = h1_cycles(out, progress)
     ds = desynchronised(out, progress)
+    b = fig510b(progress)
     o = a["orbit"]
     L = ["## Periodic orbits of the single-plane balancer (thesis ch. 4-6)", "",
          "Computed by `adbgen orbit` / `adbgen continue --orbits` (Newton shooting on the compiled variational "
@@ -233,17 +283,28 @@ def section(out: Path, progress=print) -> str:
             j = br.to_json()
             stable = [lam for lam, s in zip(j["parameter"], j["stable"]) if s]
             what = (f"stable for Omega in [{min(stable):.6f}, {max(stable):.6f}]; " if stable else "") + \
-                "; ".join(f"{s['kind']} at {s['Omega']:.6f} (T = {s['period']:.5f})" for s in br.specials[:6])
+                "; ".join(f"{s['kind']} at {s['Omega']:.6f} (T = {s['period']:.5f})" for s in br.specials)
             cyc = f"{len(br.orbits)} orbits, Omega {j['parameter'][0]:.4f} to {j['parameter'][-1]:.4f}"
         else:
             d = row["drift"]
             what = (f"no small cycle: the oscillation drifts along the continuum of balanced states "
                     f"(|L^T B(q, q-bar)| = {hp.info['drift']:.3g}); from the balanced state at Omega = {d['Omega']:.4f}, "
                     f"perturbed, a run of t = 20000 ends with r = {d['r_end']:.2e} and the free angle moved by "
-                    f"{d['angle_change']:.3f}")
+                    f"{d['angle_change']:.3f} rad (rtol " + ", ".join(f"{k:g}: r {v[0]:.6e}, {v[1]:.6f} rad"
+                                                               for k, v in d["runs"].items()) + ")")
             cyc = "none"
         L.append(f"| {row['n']} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | {hp.criticality} | {cyc} | {what} |")
-    L += ["", "For n >= 3 the balanced states form a continuum (the thesis' (3.6) leaves n - 2 angles free); H1 is a "
+    L += ["", "Every Hopf point of the balanced state between Omega = 4 and 0.5 (the state followed down from Omega = 4; "
+          "for n >= 3 the member with phi_3.. = pi at the start), not H1 alone:", "",
+          "| n | Omega | frequency | l1 | criticality |", "|---|---|---|---|---|"]
+    for row in h1:
+        for hp in row["every_hopf"]:
+            L.append(f"| {row['n']} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | {hp.criticality} |")
+    L += ["", "For n = 2 these are the three Hopf points `adbgen verify` checks against AUTO-07p's HB labels (1.0296942, "
+          "1.0936343, 1.8822394).  For n >= 3 l1 is that of the followed member; the normal form's drift term "
+          "(below) moves the state along the family, so a subcritical sign there does not by itself mean an "
+          "unstable cycle is born.", ""]
+    L += ["For n >= 3 the balanced states form a continuum (the thesis' (3.6) leaves n - 2 angles free); H1 is a "
           "Hopf point of one member, the oscillation's second-order mean (the term L^T B(q, q-bar) of the normal form) "
           "pushes the state along the continuum, so no cycle closes near the Hopf point: the continuation finds no "
           "branch there (`adbgen continue --orbits` says so).  AUTO-07p's emitted files for n >= 3 pin the free angles "
@@ -259,8 +320,19 @@ def section(out: Path, progress=print) -> str:
         o2, j = row["orbit"], row["branch"].to_json()
         L.append(f"| {row['n']} | {o2.period:.8f} | {', '.join(f'{k} {v:+d}' for k, v in o2.windings.items())} | "
                  f"[{o2.r_min:.4f}, {o2.r_max:.4f}] | {o2.stable} | {j['parameter'][-1]:.4f} | {j['period'][-1]:.4f} |")
+    ob = b["orbit"]
     L += ["", "Every ball loses one revolution per period relative to the rotor (the balls lag it: a desynchronised "
-          "orbit); on these orbits the balls move together.", ""]
+          "orbit); on these orbits the balls move together.", "",
+          "### Fig. 5.10(b): the desynchronised n = 3 orbit of the launches", "",
+          "Thesis section 5.1.3: released at rest in the fixed frame (phi_i'(0) = -Omega) from (pi/3, pi, -pi/3), "
+          "(5.1), the run ends on a limit cycle and \"the three balls keep lapping\" (Fig. 5.10(b1)-(b2); the "
+          "thesis prints no number for it).  `adbgen orbit thesis_rotating_n3 --y0 phi_1=pi/3 --y0 phi_2=pi --y0 "
+          "phi_3=-pi/3 --y0 phi_1_dot=-4 --y0 phi_2_dot=-4 --y0 phi_3_dot=-4` (t_transient 3000): period "
+          f"**{ob.period:.8f}**, windings {', '.join(f'{k} {v:+d}' for k, v in ob.windings.items())}, r in "
+          f"[{ob.r_min:.4f}, {ob.r_max:.4f}], stable {ob.stable}; on it the three balls coincide (largest angle "
+          f"between them {b['spread']:.1e} rad) and lap the rotor together.  The outcome of this start hangs on the "
+          "tolerance (the Fig. 5.10 section of docs/reproduction.md), the orbit does not: it is found by shooting "
+          "and its multipliers say it is stable.", ""]
     # wall times go to the progress lines (`adbgen bench reproduce` records them), never into the document,
     # which must come out byte-identical from run to run
     progress(f"thesis orbits section: {time.perf_counter() - t0:.0f} s (the Fig. 5.4(b) orbit {a['wall']:.1f} s)")
@@ -280,4 +352,7 @@ def _lines(results: dict, root: Path) -> list[str]:
     return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
 
 
-REPRODUCTION = Reproduction("thesis-orbits", "Thesis: periodic orbits (issue 21)", _compute, _lines)
+from .coverage import ORBIT_ROWS  # noqa: E402
+
+REPRODUCTION = Reproduction("thesis-orbits", "Thesis: periodic orbits (issue 21)", _compute, _lines,
+                            coverage=ORBIT_ROWS)

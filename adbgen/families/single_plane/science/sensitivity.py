@@ -146,7 +146,7 @@ def figure(studies, fig_dir: Path, engine: str) -> Path:
 
 
 def _fmt(v) -> str:
-    return "not settled" if v is None else f"{v:.6g}"
+    return "r not below the threshold by t_end" if v is None else f"{v:.6g}"
 
 
 def lines(res: dict, root: Path) -> list[str]:

@@ -20,7 +20,8 @@ import numpy as np
 from ....analysis.attractors import ALGEBRAIC, UNDECIDED
 from ....analysis.sweep import SweepSpec, run_sweep
 from ..description import THESIS_NAMES
-from .balanced import balanced_stable
+from ....analysis.loading import load_model
+from .balanced import balanced_stable, family_margin, family_zeta_limit
 
 PI = math.pi
 BALANCED = THESIS_NAMES["rest"]  # the decided labels (`attractors.Classifier.decide`): balanced (exponential or
@@ -124,7 +125,8 @@ NAMED = (
     ("5.9(a2)", PI, "all at pi: the coincident state 2-", "coincident 2-"),
     ("5.9(a3)", 0.0, "(0, 0, 0, pi): the in-line state 3(4-3)-", "in-line 3(4-3)-"),
     ("5.9(b1)", 0.0, "(0, pi, 0, 0): the in-line state 3(4-3)-", "in-line 3(4-3)-"),
-    ("5.9(b2)", 0.0, "(0, pi, pi, pi): the in-line state 3(4-1)+ (3(4-3)+ renamed)", "in-line 3(4-3)+"),
+    ("5.9(b2)", 0.0, "(0, pi, pi, pi): the in-line state 3(4-1)+ (= 3(4-3)- with the balls renamed)",
+     "in-line 3(4-3)-"),
 )
 
 
@@ -147,6 +149,7 @@ LAUNCH_TIES = {2: ("phi_2=phi_1+pi",), 3: ("phi_2=phi_1+2*pi/3", "phi_3=phi_1-2*
 LAUNCH_PUBLISHED = {2: 32, 3: 28, 4: 24}  # balanced runs of 100 (section 5.1.3)
 LAUNCH_GRID = "phi_1=0:2*pi*99/100:100"
 LAUNCH_RTOLS = (1e-6, 1e-8, 1e-10)
+ODE45 = ("matlab-ode45", 1e-3, 1e-6)  # the thesis' integrator at MATLAB's defaults (RelTol, AbsTol)
 
 
 def launches() -> dict:
@@ -172,7 +175,11 @@ def launches() -> dict:
             switches = sum(a != b for a, b in zip(names, names[1:]))
             local.append({"phi_1": float(phi[k]), "balanced": count_balanced(names), "points": len(names),
                           "switches": switches})
+        # the thesis' solver at its defaults beside the converged counts: its 32 / 28 / 24 are ode45's
+        codes, labels, _ = sweep(model, [LAUNCH_GRID], "attractor", y0=y0, tie=ties, rtol=ODE45[1], atol=ODE45[2],
+                                 engine=ODE45[0], early_stop=False)  # ode45 has no early stop
         out[n] = {"phi_1": phi, "labels": by_tol, "changes": [float(phi[k]) for k in changes], "local": local,
+                  "ode45": named(labels, codes),
                   "command": command(model, [LAUNCH_GRID], "attractor", y0=y0, tie=ties)}
     return out
 
@@ -182,7 +189,7 @@ def launches() -> dict:
 BASIN_ZETAS = (0.01, 0.1, 0.2, 0.25)
 N3_PUBLISHED = {0.01: "all but phi_1(0) = phi_2(0)", 0.1: "2 of 1600", 0.2: "none", 0.25: "none"}
 # long enough for the runs to settle: at zeta = 0.01 the balls creep along the n = 3 family of balanced states
-# (a neutral direction), so at t = 2000 all but 18 of 1600 runs were still "unsettled" and at t = 3000 455
+# (a neutral direction), so at t = 2000 all but 18 of 1600 runs were still undecided and at t = 3000 455
 # were (1104 balanced, 41 in-line): the count is the run length's, not the basin's, until the runs settle
 N3_T_END = 6000.0
 
@@ -202,7 +209,8 @@ def basins_n3(size: int = 40) -> list[dict]:
                     "undecided": int(is_open(names).sum()),
                     "off_diagonal_balanced": int((ok & ~diag).sum()),
                     "diagonal_balanced": int((ok & diag).sum()),
-                    "counts": {k: int((names == k).sum()) for k in sorted(set(names.ravel()))}})
+                    "counts": {k: int((names == k).sum()) for k in sorted(set(names.ravel()))},
+                    "family": family_margin(load_model("thesis_rotating_n3"), {"zeta": zeta})})
     return out
 
 
@@ -268,6 +276,55 @@ def delta_sweep(total: float, count: int = 20) -> dict:
     return out
 
 
+# Fig. 5.23's "For Omega < 2.04": the thesis plots Omega on [0, 20] at 50 points (20 k/49; 2.04 is k = 5), so its
+# 2.04 is a grid value, not a threshold: the onset lies between the grid point below it and 2.0408
+THESIS_OMEGA_GRID = np.linspace(0.0, 20.0, 50)
+THESIS_ONSET = 2.04
+
+
+def thesis_grid_bracket(onset: float, grid=THESIS_OMEGA_GRID) -> tuple[float, float]:
+    """The two points of the thesis' Omega grid about `onset` (the last below, the first at or above)."""
+    k = int(np.searchsorted(grid, onset))
+    return float(grid[k - 1]), float(grid[k])
+
+
+def consistent_with_grid(points: dict) -> bool:
+    """Does "For Omega < 2.04, ... the balance is not stable" hold on the thesis' grid, by the runs at its grid
+    points (`grid_points_check`): some start fails at the point below 2.04 and every start balances at 2.0408?"""
+    below, at = points[min(points)], points[max(points)]
+    return below["balanced"] < below["starts"] and at["balanced"] == at["starts"]
+
+
+def grid_points_check(n: int) -> dict:
+    """The thesis' grid points about its 2.04 (k = 4, 5: 1.6327, 2.0408) and 1.8 between them: the ten starts of
+    Fig. 5.23 at each, decided labels (how many balance)."""
+    k = int(round(THESIS_ONSET * 49 / 20))
+    omegas = (float(THESIS_OMEGA_GRID[k - 1]), 1.8, float(THESIS_OMEGA_GRID[k]))
+    out = {}
+    for w in omegas:
+        codes, labels, _ = sweep(f"thesis_rotating_n{n}", [f"Omega={w!r}:{w!r}:1", _starts(n)], "attractor",
+                                 set_=(f"mu={0.06 / n!r}",), tie=EQUI_TIES[n])
+        names = named(labels, codes)
+        out[w] = {"balanced": count_balanced(names), "undecided": int(is_open(names).sum()), "starts": len(names)}
+    return out
+
+
+def common_deltas(small: dict, large: dict) -> list[dict]:
+    """Fig. 5.25's "the r_max and t_dec values in the range delta in [0, 0.03] are the same than for m~ = 0.03":
+    at every delta both sweeps ran (`delta_sweep` grids), the median over the ten starts of r_max and t_dec
+    for each total ball mass and the relative differences (large - small) / small."""
+    rows = []
+    for i, d in enumerate(small["delta"]):
+        j = np.nonzero(np.isclose(large["delta"], d, rtol=1e-12, atol=0.0))[0]
+        if not len(j):
+            continue
+        a = {q: float(np.nanmedian(small[q][i])) for q in ("r_max", "t_dec")}
+        b = {q: float(np.nanmedian(large[q][j[0]])) for q in ("r_max", "t_dec")}
+        rows.append({"delta": float(d), "small": a, "large": b,
+                     "rel": {q: (b[q] - a[q]) / a[q] for q in ("r_max", "t_dec")}})
+    return rows
+
+
 @dataclass
 class Everything:
     scans: list = field(default_factory=list)
@@ -276,6 +333,7 @@ class Everything:
     zeta_beta: dict = field(default_factory=dict)
     omega: dict = field(default_factory=dict)
     delta: dict = field(default_factory=dict)
+    family_limit: float | None = None  # the zeta from which no member of the n = 3 balanced family is stable
 
 
 # ----------------------------------------------------------------------------- Omega < 2.04 (Fig. 5.23)
@@ -324,12 +382,15 @@ def compute(progress=None) -> Everything:
         v["r_max"] = sweep(f"thesis_rotating_n{n}", [LAUNCH_GRID], "r_max",
                            y0=tuple(f"phi_{k}_dot=-4" for k in range(1, n + 1)), tie=LAUNCH_TIES[n])[0]
     out.basins_n3 = basins_n3()
-    say("n = 3 basins: " + ", ".join(f"zeta {b['zeta']:g}: {b['balanced']}" for b in out.basins_n3))
+    out.family_limit = family_zeta_limit(load_model("thesis_rotating_n3"))
+    say("n = 3 basins: " + ", ".join(f"zeta {b['zeta']:g}: {b['balanced']}" for b in out.basins_n3)
+        + f"; no member of the family stable from zeta = {out.family_limit}")
     out.zeta_beta = zeta_beta()
     say("Figs. 5.20-5.22 done")
     out.omega = omega_sweep()
     for n in (2, 3, 4):
         out.omega[n]["onset"] = stability_onset(n, 0.06 / n)
+        out.omega[n]["grid_points"] = grid_points_check(n)
     say("Fig. 5.23: onsets " + ", ".join(f"{out.omega[n]['onset']}" for n in (2, 3, 4)))
     out.delta = {0.03: delta_sweep(0.03), 0.12: delta_sweep(0.12)}
     say("Figs. 5.24, 5.25 done")
@@ -358,6 +419,17 @@ def _dots(ax, x, y, labels):
         ax.legend(fontsize=6, loc="best")
 
 
+PANEL_TITLE_WIDTH = 34  # characters a line of a panel title holds at 3 inches, fontsize 7
+
+
+def panel_title(panel: Panel) -> str:
+    """"(a1) phi_2 = -phi_1, ..." wrapped to the panel's width (unwrapped, Fig. 5.7's titles ran into each
+    other, issue 36)."""
+    import textwrap
+
+    return "\n".join(textwrap.wrap(f"({panel.figure.split('(')[1]} {panel.text}", PANEL_TITLE_WIDTH))
+
+
 def draw_scans(scans_: list[dict], fig_name: str, fig_dir: Path) -> Path:
     """Fig. 5.5, 5.7 or 5.9 (`fig_name`): r_max against phi_1(0), each panel's starts marked by their decided
     labels (`_dots`); fig_dir/fig5_N.png."""
@@ -368,7 +440,7 @@ def draw_scans(scans_: list[dict], fig_name: str, fig_dir: Path) -> Path:
     fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), constrained_layout=True, squeeze=False)
     for ax, s in zip(axes.ravel(), panels):
         _dots(ax, s["phi_1"], s["r_max"], s["labels"])
-        ax.set_title(f"({s['panel'].figure.split('(')[1]} {s['panel'].text}", fontsize=7)
+        ax.set_title(panel_title(s["panel"]), fontsize=7)
         ax.set_xlabel(r"$\phi_1(0)$", fontsize=8)
         ax.set_ylabel(r"$r_{max}$", fontsize=8)
     for ax in axes.ravel()[len(panels):]:
@@ -416,21 +488,28 @@ def draw(res: Everything, fig_dir: Path) -> dict[str, Path]:
     for key, title, data, xname in (("5.23", r"Fig. 5.23: $\mu = 6\mu_c$", res.omega, "Omega"),
                                     ("5.24", r"Fig. 5.24: $n\mu$ = 0.03", res.delta[0.03], "delta"),
                                     ("5.25", r"Fig. 5.25: $n\mu$ = 0.12", res.delta[0.12], "delta")):
-        fig, axes = plt.subplots(2, 3, figsize=(9, 5), constrained_layout=True, sharex=True)
-        for col, (n, v) in enumerate(data.items()):
-            x = np.repeat(v[xname][:, None], v["r_max"].shape[1], axis=1)
-            axes[0, col].plot(x.ravel(), v["r_max"].ravel(), "k.", ms=2)
-            axes[1, col].plot(x.ravel(), v["t_dec"].ravel(), "k.", ms=2)
-            axes[0, col].set_title(f"n = {n}", fontsize=8)
-            axes[1, col].set_xlabel(r"$\Omega$" if xname == "Omega" else r"$\delta$")
-            axes[0, col].set_yscale("log")
-        axes[0, 0].set_ylabel(r"$r_{max}$")
-        axes[1, 0].set_ylabel(r"$t_{dec}$")
-        fig.suptitle(f"thesis {title}, ten equidistant starts per point", fontsize=9)
+        fig = parameter_sweep_figure(data, xname, title)
         paths[key] = fig_dir / f"fig{key.replace('.', '_')}.png"
         fig.savefig(paths[key], dpi=110)
         plt.close(fig)
     return paths
+
+
+def parameter_sweep_figure(data: dict, xname: str, title: str):
+    """Figs. 5.23-5.25: r_max and t_dec over Omega or delta, n = 2, 3, 4 side by side, on linear axes as the
+    thesis draws them (it describes r_max growing linearly; a log axis hid that)."""
+    plt = _plt()
+    fig, axes = plt.subplots(2, 3, figsize=(9, 5), constrained_layout=True, sharex=True)
+    for col, (n, v) in enumerate(data.items()):
+        x = np.repeat(v[xname][:, None], v["r_max"].shape[1], axis=1)
+        axes[0, col].plot(x.ravel(), v["r_max"].ravel(), "k.", ms=2)
+        axes[1, col].plot(x.ravel(), v["t_dec"].ravel(), "k.", ms=2)
+        axes[0, col].set_title(f"n = {n}", fontsize=8)
+        axes[1, col].set_xlabel(r"$\Omega$" if xname == "Omega" else r"$\delta$")
+    axes[0, 0].set_ylabel(r"$r_{max}$")
+    axes[1, 0].set_ylabel(r"$t_{dec}$")
+    fig.suptitle(f"thesis {title}, ten equidistant starts per point", fontsize=9)
+    return fig
 
 
 # ------------------------------------------------------------------------------------------- document
@@ -478,26 +557,7 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
     for key in ("5.5", "5.7", "5.9"):
         L += [f"![Fig. {key}]({_rel_link(paths[key], root)})", ""]
 
-    L += ["## Thesis, Figs. 5.10-5.11: balls released at rest in the fixed frame", "",
-          f"`{res.launches[2]['command']}` (and n = 3, 4 with their equidistant ties): 100 equidistant starts, "
-          "every ball at phi'(0) = -Omega = -4, (5.1).  The thesis counts the balanced runs of 100: the outcome "
-          "of these launches depends on the tolerance at some starts, so the count is given at three tolerances, "
-          "and about the first starts whose outcome changes, the basin's local structure: a scan of 41 starts "
-          "over one grid step at rtol 1e-10, its balanced share and the number of label changes along it.", "",
-          "| n | published balanced of 100 | rtol 1e-6 | 1e-8 | 1e-10 | starts whose outcome changes with rtol | "
-          "local structure (start: balanced of 41, label changes) |", "|---|---|---|---|---|---|---|"]
-    for n, v in res.launches.items():
-        counts = [f"{count_balanced(v['labels'][r])}" + (f" ({int(is_open(v['labels'][r]).sum())} undecided)"
-                                                       if is_open(v["labels"][r]).any() else "")
-                  for r in LAUNCH_RTOLS]
-        local = "; ".join(f"{x['phi_1']:.4f}: {x['balanced']}, {x['switches']}" for x in v["local"]) or "—"
-        L.append(f"| {n} | {LAUNCH_PUBLISHED[n]} | " + " | ".join(map(str, counts))
-                 + f" | {len(v['changes'])} | {local} |")
-    L += ["", "The thesis' counts are of its ode45 runs at an unstated (default) tolerance; where a start's outcome "
-          "changes between tolerances, its basin boundary is finer than the integration error there, and the "
-          "local scans show the balanced and unbalanced outcomes interleaved on a scale below the grid step.  "
-          "The published count is compared with the range ours spans over the tolerances.", "",
-          f"![Fig. 5.11]({_rel_link(paths['5.11'], root)})", ""]
+    L += launches_lines(res, paths, root) + [""]
 
     if lyapunov:
         L += ["## Thesis, Figs. 5.12-5.14 (b): the motion at Omega = 1.6", "",
@@ -516,21 +576,7 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
                      f"{verdict} |")
         L.append("")
 
-    L += ["## Thesis, section 5.2.2: the n = 3 basin experiment", "",
-          "`adbgen sweep thesis_rotating_n3 --grid phi_1=0:pi:40 --grid phi_2=0:pi:40 --tie phi_3=phi_1+pi --set "
-          f"zeta=Z --measure attractor --t-end {N3_T_END:g}` (Omega = 4, beta = delta = 0.01, mu = 0.05): the thesis' "
-          "experiment, described only in words.", "",
-          "| zeta | published | balanced of 1600 | of them on the diagonal | other attractors |", "|---|---|---|---|---|"]
-    for b in res.basins_n3:
-        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none"
-        L.append(f"| {b['zeta']:g} | {N3_PUBLISHED[b['zeta']]} | {b['balanced']} | {b['diagonal_balanced']} | {others} |")
-    at = {b["zeta"]: b for b in res.basins_n3}
-    L += ["", f"Ours: {at[0.01]['balanced']} of 1600 balance at zeta = 0.01 ({at[0.01]['diagonal_balanced']} of the 40 "
-          f"diagonal starts phi_1(0) = phi_2(0)), {at[0.1]['balanced']} at zeta = 0.1 (published: 2), "
-          f"{at[0.2]['balanced']} and {at[0.25]['balanced']} at 0.2 and 0.25 (published: none).  The balanced state of "
-          "the chapter 4 analysis (phi_3 = pi) is linearly unstable for n = 3 at Omega = 4, beta = 0.01 from zeta "
-          "= 0.0206 on (chapter 4 below); other members of the n = 3 family of balanced states are reached where "
-          "balancing runs remain.", ""]
+    L += basins_n3_lines(res) + [""]
 
     L += ["## Thesis, Figs. 5.20-5.22: damping maps", "",
           f"`{res.zeta_beta[2]['command']}` and the same with `--measure r_max`, `--measure t_dec`, for n = 2, 3, 4 "
@@ -551,27 +597,65 @@ def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None
           "r_max grows as zeta and beta decrease, far more sensitive to zeta; (5.22) for n = 2 t_dec decreases "
           "as zeta and beta increase.", "", f"![Figs. 5.20-5.22]({_rel_link(paths['5.20'], root)})", ""]
 
-    L += ["## Thesis, Figs. 5.23-5.25: sweeps in Omega and delta", "",
-          f"`{res.omega[2]['command']}` (and `--measure t_dec`, `--measure attractor`; n = 3, 4 with their ties): "
-          "ten equidistant starts at each Omega (phi_1(0) on ten points of the symmetry period 2 pi/n), "
-          "mu = 6 mu_c = 0.06/n, zeta = beta = delta = 0.01.  The thesis: \"For Omega < 2.04, r_max takes very high "
-          "values since in these cases the balance is not stable\".", "",
-          "| n | published threshold | balanced state stable from Omega (last Hopf point H1, eigenvalues) | "
-          "largest grid Omega with a start not balancing | rel. diff. of H1 |", "|---|---|---|---|---|"]
+    L += omega_delta_lines(res, paths, root)
+    return L
+
+
+def omega_delta_lines(res: Everything, paths: dict, root: Path) -> list[str]:
+    """Figs. 5.23-5.25's section (templates/sweeps_omega_delta.md.j2): the numbers computed here, the prose there."""
+    from .templates import render
+
+    k = int(round(THESIS_ONSET * 49 / 20))
+    below, at = float(THESIS_OMEGA_GRID[k - 1]), float(THESIS_OMEGA_GRID[k])
+    onset_rows = []
     for n, v in res.omega.items():
         bad = v["Omega"][np.any(~is_balanced(v["labels"]) & ~is_open(v["labels"]), axis=1)]
-        onset = v["onset"]
-        L.append(f"| {n} | 2.04 | {'—' if onset is None else f'{onset:.4f}'} | "
-                 f"{'none' if not len(bad) else f'{bad.max():.2f}'} | "
-                 f"{'—' if onset is None else f'{100 * (onset - 2.04) / 2.04:+.1f} %'} |")
-    L += ["", "Thesis (5.23): r_max grows linearly with Omega and is alike for n = 2, 3, 4; t_dec varies more "
-          "between the starts, least for n = 4.  (5.24, 5.25): r_max grows linearly with delta, the spread over the "
-          "starts grows with delta and is smallest for n = 4; with the total ball mass 0.12 the values on [0, 0.03] "
-          "are those of 0.03.  Ours (spread = max - min of t_dec over the ten starts, median over the grid):", "",
-          "| figure | n | r_max at the grid's largest value (median) | t_dec spread (median) |", "|---|---|---|---|"]
+        onset, pts = v["onset"], v.get("grid_points", {})
+        onset_rows.append({
+            "n": n, "onset": onset, "bracket": None if onset is None else thesis_grid_bracket(onset),
+            "where": None if onset is None else ("between" if below <= onset < at else
+                                                 "below" if onset < below else "above"),
+            "consistent": None if not pts else consistent_with_grid(pts),
+            "points": [(x["balanced"], x["undecided"]) for x in pts.values()],
+            "bad": float(bad.max()) if len(bad) else None})
+    spreads = []
     for fig, data in (("5.23", res.omega), ("5.24", res.delta[0.03]), ("5.25", res.delta[0.12])):
         for n, v in data.items():
             spread = np.nanmax(v["t_dec"], axis=1) - np.nanmin(v["t_dec"], axis=1)
-            L.append(f"| {fig} | {n} | {np.nanmedian(v['r_max'][-1]):.4f} | {np.nanmedian(spread):.1f} |")
-    L += [""] + [f"![Fig. {k}]({_rel_link(paths[k], root)})" for k in ("5.23", "5.24", "5.25")] + [""]
-    return L
+            spreads.append((fig, n, float(np.nanmedian(v["r_max"][-1])), float(np.nanmedian(spread))))
+    common = [(n, row) for n in res.delta[0.03] for row in common_deltas(res.delta[0.03][n], res.delta[0.12][n])]
+    worst = {q: max((abs(r["rel"][q]) for _, r in common), default=0.0) for q in ("r_max", "t_dec")}
+    return render("sweeps_omega_delta.md.j2", command=res.omega[2]["command"], published=THESIS_ONSET, below=below,
+                  at=at, onsets=onset_rows, spreads=spreads, common=common, worst=worst,
+                  figures=[(k, _rel_link(paths[k], root)) for k in ("5.23", "5.24", "5.25")]).splitlines()
+
+
+def basins_n3_lines(res: Everything) -> list[str]:
+    """The n = 3 basin experiment's section (templates/basins_n3.md.j2)."""
+    from .templates import render
+
+    rows = [{**b, "others": ", ".join(f"{k} {v}" for k, v in b["counts"].items()
+                                      if not balanced(k) and not is_open([k])[0]) or "none"} for b in res.basins_n3]
+    return render("basins_n3.md.j2", basins=rows, published=N3_PUBLISHED, t_end=N3_T_END,
+                  limit=getattr(res, "family_limit", None),
+                  any_balanced_unstable=any(b["balanced"] and b["family"][0] > 0 for b in rows)).splitlines()
+
+
+def _count_cell(labels) -> str:
+    return f"{count_balanced(labels)}" + (f" ({int(is_open(labels).sum())} undecided)" if is_open(labels).any() else "")
+
+
+def launches_lines(res: Everything, paths: dict, root: Path) -> list[str]:
+    """Figs. 5.10-5.11's launches section (templates/launches.md.j2)."""
+    from .templates import render
+
+    rows = []
+    for n, v in res.launches.items():
+        counts = [count_balanced(v["labels"][r]) for r in LAUNCH_RTOLS]
+        rows.append({"n": n, "published": LAUNCH_PUBLISHED[n], "counts": [_count_cell(v["labels"][r]) for r in LAUNCH_RTOLS],
+                     "low": min(counts), "high": max(counts),
+                     "ode45": "—" if v.get("ode45") is None else _count_cell(v["ode45"]), "changes": len(v["changes"]),
+                     "local": "; ".join(f"{x['phi_1']:.4f}: {x['balanced']}, {x['switches']}" for x in v["local"]) or "—"})
+    rtols = [f"1e{round(math.log10(r))}" for r in LAUNCH_RTOLS]  # as the tolerances are written: 1e-6, not 1e-06
+    return render("launches.md.j2", command=next(iter(res.launches.values()))["command"], rtols=rtols, rows=rows,
+                  figure=_rel_link(paths["5.11"], root)).splitlines()

@@ -38,3 +38,18 @@ def test_fig_5_14d_balances_algebraically_and_the_text_says_why():
     stuck = dict(slow, checkpoints=[dict(q, r_max=1e-3) for q in slow["checkpoints"]])
     assert "does balance" not in reproduce._slow_text(case, stuck)
     assert "the difference stands" in reproduce._slow_text(case, stuck)
+
+
+def test_fig_5_14c_t_dec_is_not_converged_and_fig_5_4a_is():
+    """Issue 36: Fig. 5.14(c)'s "converged" t_dec moved with the tolerance; the table now gives its range."""
+    from adbgen.families.single_plane.science import reproduce as R
+    from adbgen.families.single_plane.science.published import TRANSIENTS
+
+    def ladder(figure, q):
+        row = next(t for t in TRANSIENTS if t.figure == figure)
+        return [getattr(R._simulate(row.n, row.phi0, row.params, r)[1], q) for r in R.RTOLS]
+
+    spread = R.not_converged(ladder("5.14(c)", "t_dec"))
+    assert spread is not None and spread[1] - spread[0] > 1.0
+    assert R.not_converged(ladder("5.4(a)", "t_dec")) is None  # negative control: a converged t_dec
+    assert R.not_converged(ladder("5.14(c)", "r_max")) is None

@@ -5,6 +5,8 @@ sweep specification or a formatting slip fails here in seconds, not after an hou
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -47,7 +49,13 @@ def test_every_sweep_is_valid_and_the_section_is_written(monkeypatch, tmp_path):
     assert int(cells[2]) == 40 and int(cells[4]) == 20 and "undecided" not in cells[3]
     assert cells[3] == "coincident 2- 20, limit cycle 20"
     assert sweeps.count_balanced(labels) == 40 and int(sweeps.is_open(labels).sum()) == 20
-    assert len(calls) > 50 and {c.engine for c in calls} == {"cyrk-dop853"}
+    assert len(calls) > 50 and {c.engine for c in calls} == {"cyrk-dop853", "matlab-ode45"}
+    # the thesis' solver beside the converged launches only, at its defaults, without early stop
+    ode45 = [c for c in calls if c.engine == "matlab-ode45"]
+    assert len(ode45) == 3 and all(c.rtol == 1e-3 and c.atol == 1e-6 and not c.early_stop for c in ode45)
+    assert "ode45 at its defaults (the thesis' solver)" in text
+    # Fig. 5.23: the thesis' grid points run and the sentence read on its grid
+    assert "| starts balancing of 10 at 1.6327 / 1.8 / 2.0408 |" in text
     # the launches' local scans: a grid of 41 starts about a start whose label changes with the tolerance
     local = [c for c in calls if c.grid[0].startswith("phi_1=") and c.grid[0].endswith(":41")]
     assert local and all(c.rtol == sweeps.LAUNCH_RTOLS[-1] for c in local)
@@ -58,3 +66,81 @@ def test_the_fake_front_end_refuses_what_adbgen_sweep_refuses():
     run = fake_sweep([])
     with pytest.raises(AnalysisError, match="np.float64"):
         run("thesis_rotating_n2", [f"phi_1={np.float64(0.5)!r}:{np.float64(0.6)!r}:41"], "attractor")
+
+
+def test_the_thesis_2_04_is_a_point_of_its_50_point_grid():
+    """Fig. 5.23's "Omega < 2.04": 2.0408 = 20 * 5/49, the grid point below is 1.6327 (issue 36)."""
+    lo, hi = sweeps.thesis_grid_bracket(1.6939634814894133)  # H1 of n = 2 at mu = 0.03
+    assert round(lo, 4) == 1.6327 and round(hi, 4) == 2.0408
+    assert sweeps.thesis_grid_bracket(1.547)[1] == pytest.approx(1.6326530612)  # n = 3's H1 lies below 1.6327
+
+
+def test_the_sentence_holds_on_the_grid_only_if_starts_fail_below_and_all_balance_at_2_04():
+    ok = {1.6327: {"balanced": 2, "starts": 10}, 1.8: {"balanced": 10, "starts": 10},
+          2.0408: {"balanced": 10, "starts": 10}}
+    assert sweeps.consistent_with_grid(ok)
+    # negative controls: every start already balances below 2.04; or one fails at 2.0408
+    assert not sweeps.consistent_with_grid({**ok, 1.6327: {"balanced": 10, "starts": 10}})
+    assert not sweeps.consistent_with_grid({**ok, 2.0408: {"balanced": 9, "starts": 10}})
+
+
+def test_panel_titles_are_wrapped_to_the_panel():
+    longest = max(sweeps.PANELS, key=lambda p: len(p.text))
+    title = sweeps.panel_title(longest)
+    assert "\n" in title and all(len(line) <= sweeps.PANEL_TITLE_WIDTH for line in title.splitlines())
+    assert title.replace("\n", " ").startswith("(c), 2pi/3 phi_2")
+
+
+def test_figs_5_23_to_5_25_draw_r_max_on_a_linear_axis():
+    v = {"Omega": np.linspace(0.5, 20, 4), "r_max": np.ones((4, 10)), "t_dec": np.ones((4, 10))}
+    fig = sweeps.parameter_sweep_figure({2: v, 3: v, 4: v}, "Omega", "Fig. 5.23")
+    assert {ax.get_yscale() for ax in fig.axes} == {"linear"}
+
+
+def test_fig_5_25s_common_deltas_are_matched_by_value():
+    small = {"delta": 0.03 / 20 * np.arange(1, 21), "r_max": np.ones((20, 10)), "t_dec": np.full((20, 10), 100.0)}
+    large = {"delta": 0.12 / 20 * np.arange(1, 21), "r_max": np.full((20, 10), 1.1), "t_dec": np.full((20, 10), 100.0)}
+    rows = sweeps.common_deltas(small, large)
+    assert [round(r["delta"], 6) for r in rows] == [0.006, 0.012, 0.018, 0.024, 0.03]
+    assert all(r["rel"]["r_max"] == pytest.approx(0.1) and r["rel"]["t_dec"] == 0.0 for r in rows)
+    # negative control: grids with no delta in common give no row
+    assert sweeps.common_deltas(small, {**large, "delta": large["delta"] + 1e-4}) == []
+
+
+def test_balanced_runs_where_no_member_is_stable_are_explained_and_only_then():
+    def basin(zeta, n_balanced, lead):
+        return {"zeta": zeta, "balanced": n_balanced, "diagonal_balanced": 0, "undecided": 0, "points": 1600,
+                "counts": {"balanced 1": n_balanced, "limit cycle": 1600 - n_balanced}, "family": (lead, 0.0)}
+
+    res = sweeps.Everything(basins_n3=[basin(0.01, 1500, -0.002), basin(0.1, 2, 0.015), basin(0.2, 0, 0.03),
+                                       basin(0.25, 0, 0.04)], family_limit=0.0211)
+    text = "\n".join(sweeps.basins_n3_lines(res))
+    assert "From zeta = 0.0211 on" in text and "2 counted balanced at zeta = 0.1 (published: 2 of 1600);" in text
+    assert "met the balanced criterion (r < 1e-3, decaying) by its end" in text
+    assert "At zeta = 0.01 members are stable and 1500 of 1600 runs balance on them." in text
+    res.basins_n3[1]["balanced"] = 0  # control: no balanced run where no member is stable
+    assert "met the balanced criterion (r < 1e-3, decaying)" not in "\n".join(sweeps.basins_n3_lines(res))
+
+
+def test_the_launches_table_compares_the_published_count_with_our_range_and_ode45():
+    def labels(k):
+        return ["balanced 1"] * k + ["limit cycle"] * (100 - k)
+
+    v = {"labels": {1e-6: labels(27), 1e-8: labels(29), 1e-10: labels(28)}, "ode45": labels(32), "changes": [0.1],
+         "local": [], "command": "adbgen sweep x"}
+    res = sweeps.Everything(launches={3: v})
+    text = "\n".join(sweeps.launches_lines(res, {"5.11": Path("/r/fig5_11.png")}, Path("/r")))
+    assert "| rtol 1e-6 | rtol 1e-8 | rtol 1e-10 |" in text
+    assert "| 3 | 28 | 27 | 29 | 28 | 32 | 1 | — |" in text
+    assert "* n = 3: published 28; ours 27 to 29 over rtol 1e-6 to 1e-10 (the published count inside that range), " \
+           "ode45 32." in text
+    v["labels"] = {r: labels(20) for r in v["labels"]}  # control: a range that misses the published count
+    assert "inside that range" not in "\n".join(sweeps.launches_lines(res, {"5.11": Path("/r/fig5_11.png")}, Path("/r")))
+
+
+def test_fig_5_23_n2_starts_fail_at_1_6327_and_balance_at_2_0408():
+    """The runs behind the "consistent" column (issue 36: at 1.6327 all ten n = 2 starts fail, at 1.8 and 2.0408
+    all balance)."""
+    points = sweeps.grid_points_check(2)
+    assert [x["balanced"] for x in points.values()] == [0, 10, 10]
+    assert sweeps.consistent_with_grid(points)
