@@ -44,20 +44,6 @@ def test_the_baseline_checkout_is_the_named_commit_and_is_removed(tmp_path):
     assert not path.exists()
 
 
-def test_every_map_and_chart_the_reproduction_draws_is_timed():
-    from adbgen.families.single_plane.science import reproduce
-    from adbgen.families.two_plane.charts import CHARTS
-
-    assert len(CHARTS) >= 7
-    # the maps' grids are the reproduction's own (read from its source of the sweep specs)
-    import inspect
-
-    src = inspect.getsource(reproduce._maps)
-    for _, _, grid in trust.MAPS:
-        for axis in grid:
-            assert f'"{axis}"' in src
-
-
 def test_the_tolerance_commands_name_the_thesis_panels():
     from adbgen.families.single_plane.science.sensitivity import RUNS
 
