@@ -1,0 +1,131 @@
+"""`adbgen design`: the parameters that keep the balancing state stable over a speed range, for every
+imbalance up to a maximum (issue 39; the analysis in adbgen/analysis/design.py, the output in
+adbgen/analysis/design_report.py, the page docs/design.md).
+
+    adbgen design SCENE --range omega=LOW:HIGH [--range NAME=LOW:HIGH ...] --imbalance LOW:HIGH
+                 --vary NAME=LOW:HIGH [--vary ...] [--set NAME=VALUE ...] [--objective margin] [--out DIR] [--json]
+
+SCENE: a generated model's name, a model folder, or a scene file (TOML).
+"""
+
+from __future__ import annotations
+
+import shlex
+import sys
+from pathlib import Path
+
+from .arguments import Commands, _emit_json
+
+command = Commands()
+register = command.register
+
+JSON_KEYS = ("model, balancing_state, objective, box, imbalance_parameter, varied, method (interval | chart | "
+             "optimiser), feasible, feasible_intervals, boundaries [{at, kind, worst_point, bracket}], best {the "
+             "varied values, balancing_state_exists, capacity, capacity_slack, feasible, margin, decay_rate, "
+             "margin_uncertainty, marginal, worst_point, leading_eigenvalue, unstable_at, failures, box_samples}, "
+             "active_boundary, sensitivity [{parameter, dmargin, dmargin_finite_difference, agree, kink, "
+             "direction_to_boundary, room_linear}], chart, resolution, evaluations, not_covered, and with --out: files")
+
+
+@command("design", "design a balancer: the varied parameters that keep the balancing state stable over a speed "
+                   "range for every imbalance up to a maximum (certified scans; the best design by its margin)")
+def _add_design(p) -> None:
+    p.add_argument("scene", help="a generated model's name (one of generated/), a model folder, or a scene file (TOML)")
+    p.add_argument("--range", action="append", default=[], metavar="NAME=LOW:HIGH", dest="ranges",
+                   help="an operating range the design must be stable over (repeatable): omega (the model's speed "
+                        "parameter) or any parameter by name; LOW = HIGH fixes it; values with units allowed "
+                        "(omega=3000rpm:6000rpm)")
+    p.add_argument("--imbalance", metavar="LOW:HIGH",
+                   help="the imbalance interval (the model's eccentricity parameter), e.g. 0:0.01; the design must "
+                        "balance every imbalance in it (default: the model's value, fixed)")
+    p.add_argument("--vary", action="append", default=[], metavar="NAME=LOW:HIGH", required=True,
+                   help="a design parameter and its interval (repeatable): one gives the feasible interval(s) and "
+                        "their ends, two a chart, more an optimiser (scipy COBYLA)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="a fixed parameter")
+    p.add_argument("--objective", default="margin", choices=("margin",),
+                   help="what the best design maximises: margin, the worst decay rate over the box (t_dec, "
+                        "r_max-run-up and residual are not built yet: issue 39)")
+    p.add_argument("--out", help="folder: design.json, report.md (a one-page report) and design.png")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout; keys: " + JSON_KEYS)
+    p.set_defaults(fn=run_design)
+
+
+def _interval(text: str, option: str, unit: str) -> tuple[float, float]:
+    from ..analysis.loading import AnalysisError
+    from ..analysis.units import quantity
+
+    low, sep, high = str(text).partition(":")
+    if not sep:
+        raise AnalysisError(f"{option}: expected LOW:HIGH, got {text!r}")
+    a, b = quantity(low, unit, option), quantity(high, unit, option)
+    if a > b:
+        raise AnalysisError(f"{option}: LOW {a:g} is above HIGH {b:g}")
+    return a, b
+
+
+def _named(items, option: str, model) -> list:
+    from ..analysis.design import Axis
+    from ..analysis.loading import AnalysisError
+    from ..analysis.units import units
+
+    unit = units(model).params
+    out = []
+    for item in items:
+        name, sep, rest = str(item).partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise AnalysisError(f"{option}: expected NAME=LOW:HIGH, got {item!r}")
+        if name not in model.param_names and name.lower() in ("omega", "speed") and "speed" in model.scales:
+            name = model.scales["speed"]  # omega: the model's speed parameter, whatever its name
+        if name not in model.param_names:
+            raise AnalysisError(f"{option}: {name!r} is not a parameter of {model.name}; parameters: "
+                                f"{', '.join(model.param_names)}")
+        out.append(Axis(name, *_interval(rest, f"{option} {name}", unit[name])))
+    return out
+
+
+def _load_scene(text: str):
+    from ..analysis.loading import load_model
+
+    path = Path(text)
+    if path.suffix == ".toml" or path.is_file():
+        return load_model(scene=text)
+    return load_model(text)
+
+
+def run_design(args) -> int:
+    from ..analysis import design_report
+    from ..analysis.design import Axis, Problem, solve
+    from ..analysis.loading import AnalysisError
+    from ..analysis.units import assignments, params, units
+    from ..outputs import output_folder
+
+    if args.out is not None:
+        output_folder(args.out, "--out")
+    model = _load_scene(args.scene)
+    if "eccentricity" not in model.scales:
+        raise AnalysisError(f"{model.name} names no eccentricity parameter (SCALES): no imbalance to design for")
+    values = assignments(args.set, "--set", units(model).params)
+    base = params(model, values)
+    box = _named(args.ranges, "--range", model)
+    ecc = model.scales["eccentricity"]
+    if args.imbalance is not None:
+        lo, hi = _interval(args.imbalance, "--imbalance", units(model).params[ecc])
+        if lo < 0:
+            raise AnalysisError(f"--imbalance: must be >= 0, got {lo:g}")
+        box.append(Axis(ecc, lo, hi))
+    elif ecc not in [a.name for a in box]:
+        value = float(base[model.param_names.index(ecc)])
+        box.append(Axis(ecc, value, value))
+    varied = _named(args.vary, "--vary", model)
+    problem = Problem(model, base, box, varied)
+    design = solve(problem)
+    out = design_report.to_json(design, args.objective)
+    if args.out is not None:
+        out["files"] = design_report.write(design, Path(args.out), "adbgen design " + shlex.join(sys.argv[2:])
+                                           if sys.argv[1:2] == ["design"] else "adbgen design", args.objective)
+    if args.json:
+        _emit_json(out)
+    else:
+        print(design_report.report(design, "adbgen design ...", args.objective).split("![design]")[0].rstrip())
+    return 0
