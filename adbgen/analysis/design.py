@@ -66,8 +66,12 @@ CHART_POINTS = 7  # two: the chart's grid per axis
 CHART_REFINE = 4
 CAPACITY_RTOL = 1e-12
 CAPACITY_GROWTH = 60  # doublings of the eccentricity tried before the capacity is called unbounded
-FD_STEP = 1e-6  # relative step of the finite differences of the sensitivity check
+FD_STEP = 1e-5  # relative step of the finite differences (of jac along the state's move, and of the worst margin)
 AGREE = 1e-3  # relative agreement of the two sensitivities
+# an imbalance interval from 0 is scanned from IMBALANCE_FLOOR times its maximum: at zero imbalance the
+# balancing state is a continuum (the balls' pattern free to turn: a zero eigenvalue, margin 0 whatever the
+# design), and the balancing mode's rate vanishes with the imbalance, so "every imbalance down to 0" has margin 0
+IMBALANCE_FLOOR = 1e-3
 
 
 @dataclass(frozen=True)
@@ -112,6 +116,17 @@ class Problem:
             if a.fixed:
                 raise AnalysisError(f"--vary {a.name}: LOW and HIGH are equal: nothing to vary (use --set)")
         self.label = self.label or balancing_label(m)
+        ecc = m.scales.get("eccentricity")
+        if ecc is None:
+            raise AnalysisError(f"{m.name} names no eccentricity parameter (SCALES): no imbalance to design for")
+        if ecc not in [a.name for a in self.box]:
+            value = float(self.base[m.param_names.index(ecc)])
+            self.box.append(Axis(ecc, value, value))
+        self.floor = None
+        for k, a in enumerate(self.box):
+            if a.name == ecc and a.low == 0 and a.high > 0:
+                self.floor = IMBALANCE_FLOOR * a.high
+                self.box[k] = Axis(ecc, self.floor, a.high)
 
     @property
     def eccentricity(self) -> str:
@@ -621,12 +636,12 @@ def sensitivity(problem: Problem, best: Verdict) -> list[dict]:
     for k, axis in enumerate(problem.varied):
         col = m.param_names.index(axis.name)
         dy = -np.linalg.lstsq(J, fp[:, col], rcond=1e-11)[0]
-        h = FD_STEP * max(1.0, abs(p[col]))
+        h = FD_STEP * (abs(p[col]) or 1.0)
         e = np.zeros_like(p)
         e[col] = 1.0
         dJ = (jacobian(m, s.y + h * dy, p + h * e) - jacobian(m, s.y - h * dy, p - h * e)) / (2 * h)
         via_jac_p = float((l.conj() @ (S.T @ dJ @ S) @ r / (l.conj() @ r)).real)
-        hd = FD_STEP * max(1.0, abs(best.design[k]))
+        hd = FD_STEP * (abs(best.design[k]) or axis.high - axis.low)
         one_sided = []
         for sign in (1, -1):
             moved = list(best.design)

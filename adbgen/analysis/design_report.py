@@ -32,6 +32,7 @@ def to_json(design: Design, objective: str = "margin") -> dict:
     best = design.best
     return {"model": pr.model.name, "balancing_state": pr.label, "objective": objective,
             "box": [a.to_json() for a in pr.box], "imbalance_parameter": pr.eccentricity,
+            "imbalance_floor": pr.floor,
             "varied": [a.to_json() for a in pr.varied], "method": design.method,
             "feasible": best is not None and best.feasible,
             "feasible_intervals": [list(w) for w in design.feasible_intervals],
@@ -53,6 +54,10 @@ def report(design: Design, command: str, objective: str = "margin") -> str:
              f"The balancing state {pr.label} must exist (the balls' capacity covers the imbalance "
              f"{pr.eccentricity} up to {_fmt(pr.imbalance.high)}) and be stable over the whole box:", ""]
     lines += [f"- {a.name} from {_fmt(a.low)} to {_fmt(a.high)}" for a in pr.box]
+    if pr.floor is not None:
+        lines += ["", f"The imbalance interval from 0 is scanned from {_fmt(pr.floor)}: at zero imbalance the balancing "
+                      "state is a continuum (a zero eigenvalue whatever the design) and the balancing mode's rate "
+                      "vanishes with the imbalance."]
     lines += ["", "Varied: " + ", ".join(f"{a.name} in [{_fmt(a.low)}, {_fmt(a.high)}]" for a in pr.varied) + ".", ""]
     best = design.best
     if best is None or not best.feasible:
@@ -111,6 +116,9 @@ def figure(design: Design, path: Path) -> None:
             ax.plot(gone, [0.0] * len(gone), "s", color="tab:purple", mfc="none", label="beyond the capacity")
         for a, b in design.feasible_intervals:
             ax.axvspan(a, b, color="tab:green", alpha=0.12)
+        for kind, (mk, colour) in MARKERS.items():
+            for k, bd in enumerate(b for b in design.boundaries if b.kind == kind):
+                ax.axvline(bd.values[name], color=colour, ls="--", lw=1, label=f"boundary: {kind}" if k == 0 else None)
         ax.axhline(0.0, color="k", lw=0.6)
         ax.set_xlabel(name)
         ax.set_ylabel("worst decay rate over the box (-margin)")

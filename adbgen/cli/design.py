@@ -19,7 +19,7 @@ from .arguments import Commands, _emit_json
 command = Commands()
 register = command.register
 
-JSON_KEYS = ("model, balancing_state, objective, box, imbalance_parameter, varied, method (interval | chart | "
+JSON_KEYS = ("model, balancing_state, objective, box, imbalance_parameter, imbalance_floor, varied, method (interval | chart | "
              "optimiser), feasible, feasible_intervals, boundaries [{at, kind, worst_point, bracket}], best {the "
              "varied values, balancing_state_exists, capacity, capacity_slack, feasible, margin, decay_rate, "
              "margin_uncertainty, marginal, worst_point, leading_eigenvalue, unstable_at, failures, box_samples}, "
@@ -103,7 +103,7 @@ def run_design(args) -> int:
     if args.out is not None:
         output_folder(args.out, "--out")
     model = _load_scene(args.scene)
-    if "eccentricity" not in model.scales:
+    if "eccentricity" not in model.scales:  # before the arguments are read: the imbalance needs it
         raise AnalysisError(f"{model.name} names no eccentricity parameter (SCALES): no imbalance to design for")
     values = assignments(args.set, "--set", units(model).params)
     base = params(model, values)
@@ -114,9 +114,6 @@ def run_design(args) -> int:
         if lo < 0:
             raise AnalysisError(f"--imbalance: must be >= 0, got {lo:g}")
         box.append(Axis(ecc, lo, hi))
-    elif ecc not in [a.name for a in box]:
-        value = float(base[model.param_names.index(ecc)])
-        box.append(Axis(ecc, value, value))
     varied = _named(args.vary, "--vary", model)
     problem = Problem(model, base, box, varied)
     design = solve(problem)
