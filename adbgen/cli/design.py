@@ -19,12 +19,17 @@ from .arguments import Commands, _emit_json
 command = Commands()
 register = command.register
 
-JSON_KEYS = ("model, balancing_state, objective, box, imbalance_parameter, imbalance_floor, varied, method (interval | chart | "
-             "optimiser), feasible, feasible_intervals, boundaries [{at, kind, worst_point, bracket}], best {the "
-             "varied values, balancing_state_exists, capacity, capacity_slack, feasible, margin, decay_rate, "
-             "margin_uncertainty, marginal, worst_point, leading_eigenvalue, unstable_at, failures, box_samples}, "
-             "active_boundary, sensitivity [{parameter, dmargin, dmargin_finite_difference, agree, kink, "
-             "direction_to_boundary, room_linear}], chart, resolution, evaluations, not_covered, and with --out: files")
+BEST_KEYS = ("the varied values", "balancing_state_exists", "capacity", "capacity_slack", "feasible", "margin",
+             "decay_rate", "margin_uncertainty", "marginal", "worst_point", "leading_eigenvalue", "unstable_at",
+             "failures", "box_samples")
+JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "imbalance_parameter": "",
+               "imbalance_floor": "", "varied": "", "method": "(interval | chart | optimiser)", "feasible": "",
+               "feasible_intervals": "", "boundaries": "[{at, kind, worst_point, bracket}]",
+               "best": "{" + ", ".join(BEST_KEYS) + "}", "active_boundary": "",
+               "sensitivity": "[{parameter, dmargin, dmargin_finite_difference, agree, kink, direction_to_boundary, "
+                              "room_linear}]", "chart": "", "resolution": "", "evaluations": "", "not_covered": "",
+               "files": "(with --out)"}
+JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
 
 
 @command("design", "design a balancer: the varied parameters that keep the balancing state stable over a speed "
