@@ -71,9 +71,9 @@ def _interval(text: str, option: str, unit: str) -> tuple[float, float]:
 def _named(items, option: str, model) -> list:
     from ..analysis.design import Axis
     from ..analysis.loading import AnalysisError
-    from ..analysis.units import units
+    from ..analysis.units import DOMAINS, domains, units
 
-    unit = units(model).params
+    unit, domain = units(model).params, domains(model)
     out = []
     for item in items:
         name, sep, rest = str(item).partition("=")
@@ -85,7 +85,11 @@ def _named(items, option: str, model) -> list:
         if name not in model.param_names:
             raise AnalysisError(f"{option}: {name!r} is not a parameter of {model.name}; parameters: "
                                 f"{', '.join(model.param_names)}")
-        out.append(Axis(name, *_interval(rest, f"{option} {name}", unit[name])))
+        axis = Axis(name, *_interval(rest, f"{option} {name}", unit[name]))
+        test, why = DOMAINS.get(domain.get(name, "real"), DOMAINS["real"])
+        if not (test(axis.low) and test(axis.high)):
+            raise AnalysisError(f"{option} {name}: {why} (the derivation's assumption), got {axis.low:g}:{axis.high:g}")
+        out.append(axis)
     return out
 
 
