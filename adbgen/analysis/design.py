@@ -529,11 +529,18 @@ def out_resolution(axis: Axis) -> float:
 
 
 def _active(problem: Problem, best: Verdict | None, bounds: list[Boundary]) -> Boundary | None:
-    """The boundary nearest the best design, in the varied parameters scaled by their ranges."""
-    if best is None or not bounds:
+    """What limits the best design: the varied range's end where the best design sits on it (the design would
+    improve beyond it), else the located boundary nearest it, in the varied parameters scaled by their ranges."""
+    if best is None:
+        return None
+    here = dict(zip([a.name for a in problem.varied], best.design))
+    for a in problem.varied:
+        for end, word in ((a.low, "low"), (a.high, "high")):
+            if abs(here[a.name] - end) <= 1e-9 * (a.high - a.low):
+                return Boundary(here, f"range end ({a.name} at its {word} end)", best.worst)
+    if not bounds:
         return None
     scale = {a.name: a.high - a.low for a in problem.varied}
-    here = dict(zip(scale, best.design))
     return min(bounds, key=lambda b: math.hypot(*[(b.values[n] - here[n]) / scale[n] for n in scale]))
 
 
@@ -541,21 +548,25 @@ def _chart(problem: Problem) -> Design:
     a1, a2 = problem.varied
     g1 = np.linspace(a1.low, a1.high, CHART_POINTS)
     g2 = np.linspace(a2.low, a2.high, CHART_POINTS)
+    seen = []  # every verdict of the grid and of the certified lines
     margin = np.full((CHART_POINTS, CHART_POINTS), np.nan)
     feasible = np.zeros((CHART_POINTS, CHART_POINTS), bool)
     exists = np.zeros((CHART_POINTS, CHART_POINTS), bool)
     for i, x in enumerate(g1):
         for j, y in enumerate(g2):
             v = assess(problem, [x, y])
+            seen.append(v)
             margin[i, j], feasible[i, j], exists[i, j] = v.margin, v.feasible, v.exists
     bounds, rows, cols = [], [], []
     for j, y in enumerate(g2):  # rows: along the first parameter
         line, edges = scan_line(problem, a1, [a1.low, float(y)], CHART_POINTS, CHART_REFINE)
         bounds += _boundaries_of(problem, a1, [a1.low, float(y)], line, edges)
+        seen += [s.state for s in line.samples]
         rows.append({a2.name: float(y), "feasible": [list(w) for w in line.windows]})
     for i, x in enumerate(g1):  # columns: along the second
         line, edges = scan_line(problem, a2, [float(x), a2.low], CHART_POINTS, CHART_REFINE)
         bounds += _boundaries_of(problem, a2, [float(x), a2.low], line, edges)
+        seen += [s.state for s in line.samples]
         cols.append({a1.name: float(x), "feasible": [list(w) for w in line.windows]})
     res = [(a.high - a.low) / (CHART_POINTS - 1) / CHART_REFINE for a in (a1, a2)]
     chart = {"axes": [a1.name, a2.name], a1.name: g1.tolist(), a2.name: g2.tolist(),
@@ -567,7 +578,7 @@ def _chart(problem: Problem) -> Design:
                                    f"than {res[1]:.3g} in {a2.name} along each column, holds a sample (windows.certify on "
                                    "the worst margin over the box); each stability boundary seen on both sides, located "
                                    "by Brent's method; capacity limits by Brent's method on the capacity slack"}
-    cands = [v for k, v in problem.cache.items() if k[0] == "assess" and v.feasible]
+    cands = [v for v in seen if v is not None and v.feasible]
     best = min(cands, key=lambda v: v.margin) if cands else None
     if best is not None:  # polished: the worst margin minimised over the design, inside the chart
         r = minimize(lambda z: _penalised(problem, z), np.array(best.design), method="Nelder-Mead",

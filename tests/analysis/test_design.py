@@ -111,3 +111,39 @@ def test_bad_problems_refused(thesis3):
     with pytest.raises(AnalysisError, match="forced model"):
         Problem(load_model("single_plane_fixed_n3"), load_model("single_plane_fixed_n3").params(), [],
                 [Axis("m", 0.01, 0.1)])
+
+
+# a planted feasible strip in the design plane, narrower than the chart's grid spacing (1/6) and wider than its
+# certified resolution (1/24): the margin of two crossing branches, as in tests/analysis/test_windows.py
+C1, C2 = 0.40, 0.46
+
+
+def planted(problem, design):
+    import math
+
+    from adbgen.analysis.design import Verdict
+
+    x = float(design[0])
+    m = max(3.0 * (C1 - x), 5.0 * (x - C2))
+    return Verdict(tuple(map(float, design)), True, math.inf, feasible=m < 0, margin=m, worst={},
+                   leading=complex(m, 1.0))
+
+
+def test_chart_finds_a_planted_window_at_its_resolution(thesis3, monkeypatch):
+    import adbgen.analysis.design as design
+
+    monkeypatch.setattr(design, "assess", planted)
+    monkeypatch.setattr(design, "capacity_slack", lambda problem, d: 1.0)
+    monkeypatch.setattr(design, "sensitivity", lambda problem, best: [])
+    pr = Problem(thesis3, thesis3.params(), [Axis("Omega", 4.0, 4.0)], [Axis("beta", 0.0, 1.0), Axis("mu", 0.03, 0.1)])
+    d = solve(pr)
+    assert d.resolution["beta"] == pytest.approx(1 / 24) and C2 - C1 > d.resolution["beta"]
+    # the grid alone misses the strip (the negative control): no grid cell is feasible
+    assert not any(any(row) for row in d.chart["feasible"])
+    # every certified row finds it, its ends located where the margin crosses
+    for row in d.chart["rows"]:
+        (a, b), = row["feasible"]
+        assert a == pytest.approx(C1, abs=1e-9) and b == pytest.approx(C2, abs=1e-9)
+    kinds = {bd.kind for bd in d.boundaries}
+    assert kinds == {"Hopf"} and len(d.boundaries) == 2 * 7
+    assert d.best is not None and C1 < d.best.design[0] < C2
