@@ -409,6 +409,8 @@ class Design:
     resolution: dict = field(default_factory=dict)
     evaluations: int = 0
     verdicts: list = field(default_factory=list)  # every design assessed (sorted by design)
+    objective_runs: list = field(default_factory=list)  # objective t_dec: the run of each candidate
+    verification: list = field(default_factory=list)  # the chosen design's runs at the box's corners
 
 
 def _margin_sample(problem: Problem, design, x: float) -> Sample:
@@ -520,7 +522,7 @@ def _interval(problem: Problem) -> Design:
             if v.feasible and (best is None or v.margin < best.margin):
                 best = v
     out.best = best
-    out.active = _active(problem, best, bounds)
+    out.active = active_limit(problem, best, bounds)
     return out
 
 
@@ -528,7 +530,7 @@ def out_resolution(axis: Axis) -> float:
     return (axis.high - axis.low) / (VARY_POINTS - 1) / VARY_REFINE
 
 
-def _active(problem: Problem, best: Verdict | None, bounds: list[Boundary]) -> Boundary | None:
+def active_limit(problem: Problem, best: Verdict | None, bounds: list[Boundary]) -> Boundary | None:
     """What limits the best design: the varied range's end where the best design sits on it (the design would
     improve beyond it), else the located boundary nearest it, in the varied parameters scaled by their ranges."""
     if best is None:
@@ -587,7 +589,7 @@ def _chart(problem: Problem) -> Design:
         v = assess(problem, r.x)
         best = v if v.feasible and v.margin < best.margin else best
     out.best = best
-    out.active = _active(problem, best, bounds)
+    out.active = active_limit(problem, best, bounds)
     return out
 
 

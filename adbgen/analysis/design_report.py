@@ -16,10 +16,11 @@ import math
 from pathlib import Path
 
 from .design import Design
+from .design_transients import START_STATE, STARTS
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
-NOT_COVERED = ["objectives t_dec, r_max through a run-up and residual (margin only)",
-               "verification transients and run-up of the chosen design",
+NOT_COVERED = ["objectives r_max through a run-up and residual (margin and t_dec only)",
+               "a run-up of the chosen design (the verification runs are at constant speed)",
                "ball count (--balls) as a design variable", "Dask: the designs are assessed in this process",
                "a torus or fold of periodic orbits as a boundary (only the balancing steady state is designed)"]
 
@@ -40,7 +41,8 @@ def to_json(design: Design, objective: str = "margin") -> dict:
             "best": best.to_json(pr) if best is not None else None,
             "active_boundary": design.active.to_json() if design.active is not None else None,
             "sensitivity": design.sensitivity, "chart": design.chart, "resolution": design.resolution,
-            "evaluations": design.evaluations, "not_covered": NOT_COVERED}
+            "evaluations": design.evaluations, "objective_runs": design.objective_runs,
+            "verification": design.verification, "verification_start": START_STATE, "not_covered": NOT_COVERED}
 
 
 def _fmt(x) -> str:
@@ -61,10 +63,14 @@ def report(design: Design, command: str, objective: str = "margin") -> str:
     lines += ["", "Varied: " + ", ".join(f"{a.name} in [{_fmt(a.low)}, {_fmt(a.high)}]" for a in pr.varied) + ".", ""]
     best = design.best
     if best is None or not best.feasible:
-        lines += ["**No feasible design found** in the varied box.", ""]
+        lines += ["**No best design**: " + ("no design of the varied box is feasible." if not design.feasible_intervals
+                                           and not any(v.feasible for v in design.verdicts)
+                                           else f"none of the feasible designs settles (objective {objective})."), ""]
     else:
         b = out["best"]
-        lines += ["## The best design (objective: the worst decay rate over the box)", "",
+        what = ("the worst decay rate over the box" if objective == "margin" else
+                f"the shortest t_dec at the operating point from {STARTS[0]}")
+        lines += [f"## The best design (objective: {what})", "",
                   "| " + " | ".join(a.name for a in pr.varied) + " | worst margin | uncertainty | where | capacity |",
                   "|" + "---|" * (len(pr.varied) + 4),
                   "| " + " | ".join(_fmt(v) for v in best.design) + f" | {_fmt(b['margin'])} | "
@@ -91,6 +97,25 @@ def report(design: Design, command: str, objective: str = "margin") -> str:
             lines.append(f"| {s['parameter']} | {_fmt(s['dmargin'])} | "
                          f"{', '.join(_fmt(x) for x in s['dmargin_finite_difference'])} | {s['agree']} | {s['kink']} | "
                          f"{_fmt(s['room_linear'])} |")
+        lines.append("")
+    if objective == "t_dec":
+        settled = [r for r in design.objective_runs if r["settled"]]
+        best_t = min((r["t_dec"] for r in settled), default=None)
+        lines += [f"Objective t_dec at the operating point (" + ", ".join(f"{k} = {_fmt(v)}" for k, v in
+                  (design.objective_runs[0]["point"].items() if design.objective_runs else [])) + f"; rotor and balls at "
+                  f"rest, {STARTS[0]}): {len(design.objective_runs)} feasible designs run, {len(settled)} settled"
+                  + (f"; the shortest t_dec {_fmt(best_t)}." if settled else ". **None settled: no best design by t_dec.**"), ""]
+    if design.verification:
+        lines += [f"## Verification: the chosen design at the box's corners ({START_STATE})", "",
+                  "| point | start | status | t_dec | r_max | r at the end | settled |", "|---|---|---|---|---|---|---|"]
+        for r in design.verification:
+            lines.append("| " + ", ".join(f"{k} = {_fmt(v)}" for k, v in r["point"].items()) + f" | {r['start']} | {r['status']} | "
+                         f"{_fmt(r['t_dec'])} | {_fmt(r['r_max'])} | {_fmt(r['r_end'])} | {r['settled']} |")
+        unsettled = [r for r in design.verification if not r["settled"]]
+        if unsettled:
+            lines += ["", f"**{len(unsettled)} of {len(design.verification)} runs did not settle** within t_end from this "
+                          "start: the balancing state is stable there (the margin) but this start is not in its basin, "
+                          "or has not reached it yet."]
         lines.append("")
     if design.resolution:
         lines += ["## What is certified", "", design.resolution.get("statement", ""), ""]

@@ -27,7 +27,10 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "feasible_intervals": "", "boundaries": "[{at, kind, worst_point, bracket}]",
                "best": "{" + ", ".join(BEST_KEYS) + "}", "active_boundary": "",
                "sensitivity": "[{parameter, dmargin, dmargin_finite_difference, agree, kink, direction_to_boundary, "
-                              "room_linear}]", "chart": "", "resolution": "", "evaluations": "", "not_covered": "",
+                              "room_linear}]", "chart": "", "resolution": "", "evaluations": "",
+               "objective_runs": "(--objective t_dec: [{design, point, start, status, t_end, threshold, t_dec, r_max, r_end, "
+                                 "settled}])", "verification": "(the same run keys, at the box's corners)",
+               "verification_start": "", "not_covered": "",
                "files": "(with --out)"}
 JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
 
@@ -47,9 +50,12 @@ def _add_design(p) -> None:
                    help="a design parameter and its interval (repeatable): one gives the feasible interval(s) and "
                         "their ends, two a chart, more an optimiser (scipy COBYLA)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="a fixed parameter")
-    p.add_argument("--objective", default="margin", choices=("margin",),
-                   help="what the best design maximises: margin, the worst decay rate over the box (t_dec, "
+    p.add_argument("--objective", default="margin", choices=("margin", "t_dec"),
+                   help="what chooses the best design: margin (the largest worst decay rate over the box) or t_dec "
+                        "(the shortest t_dec at the operating point, among at most 25 feasible designs assessed; "
                         "r_max-run-up and residual are not built yet: issue 39)")
+    p.add_argument("--no-verify", dest="verify", action="store_false",
+                   help="skip the verification runs of the chosen design at the box's corners")
     p.add_argument("--out", help="folder: design.json, report.md (a one-page report) and design.png")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout; keys: " + JSON_KEYS)
     p.set_defaults(fn=run_design)
@@ -103,7 +109,7 @@ def _load_scene(text: str):
 
 
 def run_design(args) -> int:
-    from ..analysis import design_report
+    from ..analysis import design_report, design_transients
     from ..analysis.design import Axis, Problem, solve
     from ..analysis.loading import AnalysisError
     from ..analysis.units import assignments, params, units
@@ -126,6 +132,10 @@ def run_design(args) -> int:
     varied = _named(args.vary, "--vary", model)
     problem = Problem(model, base, box, varied)
     design = solve(problem)
+    if args.objective == "t_dec":
+        design_transients.by_t_dec(design)
+    if args.verify and design.best is not None and design.best.feasible:
+        design.verification = design_transients.verify(problem, design.best.design)
     out = design_report.to_json(design, args.objective)
     if args.out is not None:
         out["files"] = design_report.write(design, Path(args.out), "adbgen design " + shlex.join(sys.argv[2:])

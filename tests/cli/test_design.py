@@ -73,7 +73,7 @@ def test_json_keys_as_documented(capsys, tmp_path):
     (["--vary", "beta=0.1:0.2", "--imbalance=-1:0.01"], "must be >= 0"),
     (["--vary", "beta=0.1:0.2", "--imbalance", "0.02:0.01"], "above HIGH"),
     (["--vary", "beta=0.1:0.2", "--range", "beta=0:1"], "given twice"),
-    (["--vary", "beta=0.1:0.2", "--objective", "t_dec"], "invalid choice"),
+    (["--vary", "beta=0.1:0.2", "--objective", "residual"], "invalid choice"),
 ])
 def test_bad_input_one_line(capsys, argv, match):
     code, out, err = run(capsys, "design", "thesis_rotating_n3", *argv)
