@@ -70,16 +70,21 @@ def transient(problem: Problem, design, point: dict, start: str = STARTS[0]) -> 
 
 
 def best_by_t_dec(problem: Problem, verdicts: list[Verdict]) -> tuple[Verdict | None, list[dict]]:
-    """The feasible design with the smallest t_dec at the operating point (among the designs assessed: not
-    optimised between them), and every run."""
+    """The feasible design inside the varied box with the smallest t_dec at the operating point (among the
+    designs given: not optimised between them), and every run."""
     point = operating_point(problem)
     runs, best, best_t = [], None, math.inf
-    for v in sorted({v.design: v for v in verdicts if v.feasible}.values(), key=lambda v: v.design):
+    for v in sorted({v.design: v for v in verdicts if v.feasible and _inside(problem, v)}.values(), key=lambda v: v.design):
         run = {"design": dict(zip([a.name for a in problem.varied], v.design)), **transient(problem, v.design, point)}
         runs.append(run)
         if run["settled"] and run["t_dec"] < best_t:
             best, best_t = v, run["t_dec"]
     return best, runs
+
+
+def _inside(problem: Problem, v: Verdict) -> bool:
+    """The design lies in the varied box (not a finite difference's step beyond a range's end)."""
+    return all(a.low <= x <= a.high for a, x in zip(problem.varied, v.design))
 
 
 def verify(problem: Problem, design) -> list[dict]:
@@ -92,11 +97,10 @@ def verify(problem: Problem, design) -> list[dict]:
 
 def by_t_dec(design: Design) -> Design:
     """The best design by t_dec at the operating point among (at most CANDIDATES of) the feasible designs
-    assessed; its limit and sensitivities recomputed.  None where no candidate settles within the run."""
+    assessed inside the varied box; its limit and sensitivities recomputed.  None where no candidate settles within the run."""
     problem = design.problem
-    inside = lambda v: all(a.low <= x <= a.high for a, x in zip(problem.varied, v.design))  # noqa: E731  (not the
-    # finite differences' steps beyond a range's end)
-    feasible = sorted({v.design: v for v in design.verdicts if v.feasible and inside(v)}.values(), key=lambda v: v.design)
+    feasible = sorted({v.design: v for v in design.verdicts if v.feasible and _inside(problem, v)}.values(),
+                      key=lambda v: v.design)
     if len(feasible) > CANDIDATES:
         feasible = [feasible[round(k)] for k in np.linspace(0, len(feasible) - 1, CANDIDATES)]
     best, design.objective_runs = best_by_t_dec(problem, feasible)
