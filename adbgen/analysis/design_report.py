@@ -21,7 +21,8 @@ from .design_transients import START_STATE, STARTS
 # what the command does not do yet (issue 39), said in its output rather than left out silently
 NOT_COVERED = ["objectives r_max through a run-up and residual (margin and t_dec only)",
                "a run-up of the chosen design (the verification runs are at constant speed)",
-               "ball count (--balls) as a design variable", "Dask: the designs are assessed in this process",
+               "the ball count only over whole scenes (--balls with a scene file), not inside the optimiser",
+               "Dask: the designs are assessed in this process",
                "a torus or fold of periodic orbits as a boundary (only the balancing steady state is designed)"]
 
 MARKERS = {"capacity limit": ("s", "tab:purple"), "Hopf": ("o", "tab:red"), "real eigenvalue": ("^", "tab:orange"),
@@ -49,7 +50,7 @@ def _fmt(x) -> str:
     return "—" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.6g}"
 
 
-def report(design: Design, command: str, objective: str = "margin") -> str:
+def report(design: Design, command: str, objective: str = "margin", balls: list | None = None) -> str:
     pr = design.problem
     out = to_json(design, objective)
     lines = [f"# Balancer design: {pr.model.name}", "", f"Command: `{command}`", "",
@@ -61,6 +62,13 @@ def report(design: Design, command: str, objective: str = "margin") -> str:
                       "state is a continuum (a zero eigenvalue whatever the design) and the balancing mode's rate "
                       "vanishes with the imbalance."]
     lines += ["", "Varied: " + ", ".join(f"{a.name} in [{_fmt(a.low)}, {_fmt(a.high)}]" for a in pr.varied) + ".", ""]
+    if balls:
+        lines += ["## Ball counts (--balls; the rest of this page is the chosen count's design)", "",
+                  "| n | feasible | best | worst margin | t_dec |", "|---|---|---|---|---|"]
+        lines += [f"| {r['n']} | {r['feasible']} | " + (", ".join(f"{k} = {_fmt(v)}" for k, v in r["best"].items())
+                                                       if r["best"] else "—")
+                  + f" | {_fmt(r['margin'])} | {_fmt(r['t_dec'])} |" for r in balls]
+        lines.append("")
     best = design.best
     if best is None or not best.feasible:
         lines += ["**No best design**: " + ("no design of the varied box is feasible." if not design.feasible_intervals
@@ -182,6 +190,10 @@ def figure(design: Design, path: Path) -> None:
     plt.close(fig)
 
 
+def _plain(x):
+    return float(x) if isinstance(x, (int, float)) or hasattr(x, "__float__") else str(x)
+
+
 def _class(v) -> str:
     if not v.exists:
         return "capacity"
@@ -190,12 +202,14 @@ def _class(v) -> str:
     return "feasible" if v.feasible else "unstable"
 
 
-def write(design: Design, folder: Path, command: str, objective: str = "margin") -> dict:
+def write(design: Design, folder: Path, command: str, objective: str = "margin", balls: list | None = None) -> dict:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     out = to_json(design, objective)
-    (folder / "design.json").write_text(json.dumps(out, indent=1, allow_nan=False) + "\n")
-    (folder / "report.md").write_text(report(design, command, objective))
+    if balls is not None:
+        out["balls"] = balls
+    (folder / "design.json").write_text(json.dumps(out, indent=1, allow_nan=False, default=_plain) + "\n")
+    (folder / "report.md").write_text(report(design, command, objective, balls))
     figure(design, folder / "design.png")
     return {"report": str(folder / "report.md"), "figure": str(folder / "design.png"),
             "json": str(folder / "design.json")}

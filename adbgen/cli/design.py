@@ -31,6 +31,7 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "objective_runs": "(--objective t_dec: [{design, point, start, status, t_end, threshold, t_dec, r_max, r_end, "
                                  "settled}])", "verification": "(the same run keys, at the box's corners)",
                "verification_start": "", "not_covered": "",
+               "balls": "(--balls: [{n, feasible, best, margin, t_dec}])", "chosen_balls": "(--balls)",
                "files": "(with --out)"}
 JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
 
@@ -50,6 +51,9 @@ def _add_design(p) -> None:
                    help="a design parameter and its interval (repeatable): one gives the feasible interval(s) and "
                         "their ends, two a chart, more an optimiser (scipy COBYLA)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="a fixed parameter")
+    p.add_argument("--balls", metavar="N1..N2",
+                   help="with a scene file: design for each ball count from N1 to N2 (the scene's n replaced; its "
+                        "per-ball values must be given once, not as lists) and choose the best count by the objective")
     p.add_argument("--objective", default="margin", choices=("margin", "t_dec"),
                    help="what chooses the best design: margin (the largest worst decay rate over the box) or t_dec "
                         "(the shortest t_dec at the operating point, among at most 25 feasible designs assessed; "
@@ -108,16 +112,72 @@ def _load_scene(text: str):
     return load_model(text)
 
 
-def run_design(args) -> int:
-    from ..analysis import design_report, design_transients
+def _ball_counts(text: str) -> list[int]:
+    from ..analysis.loading import AnalysisError
+
+    low, sep, high = str(text).replace(":", "..").partition("..")
+    try:
+        a, b = int(low), int(high)
+    except ValueError:
+        raise AnalysisError(f"--balls: expected N1..N2 (whole numbers), got {text!r}") from None
+    if not sep or not 1 <= a <= b or b > 64:
+        raise AnalysisError(f"--balls: expected 1 <= N1 <= N2 <= 64, got {text!r}")
+    return list(range(a, b + 1))
+
+
+def _scene_with_balls(scene: str, n: int, folder: Path) -> str:
+    """A copy of the scene file with its ball count n (one line `n = ...` replaced); refused where a per-ball
+    value is a list (its length would have to change with n)."""
+    import re
+    import tomllib
+
+    from ..analysis.loading import AnalysisError
+
+    text = Path(scene).read_text()
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise AnalysisError(f"scene file {scene}: {exc}") from None
+    lists = sorted(k for k, v in data.items() if isinstance(v, list) and len(v) == data.get("n"))
+    if lists:
+        raise AnalysisError(f"--balls: the scene gives {', '.join(lists)} ball by ball (a list of n values): give one "
+                            "value for every ball to vary the count")
+    new, count = re.subn(r"(?m)^n\s*=\s*\d+", f"n = {n}", text)
+    if count != 1:
+        raise AnalysisError(f"--balls: scene file {scene} has no single line `n = ...` to change")
+    path = folder / f"n{n}.toml"
+    path.write_text(new)
+    return str(path)
+
+
+def _by_balls(args, counts: list[int]):
+    """(the chosen count's design, one row per count): a design per ball count, the best by the objective."""
+    import tempfile
+
+    rows, best = [], None
+    with tempfile.TemporaryDirectory(prefix="adbgen-design-") as tmp:
+        for n in counts:
+            design = _one_design(args, _load_scene(_scene_with_balls(args.scene, n, Path(tmp))))
+            b = design.best
+            runs = [r for r in design.objective_runs if r["design"] == dict(zip([a.name for a in design.problem.varied],
+                                                                             b.design))] if b is not None else []
+            t_dec = runs[0]["t_dec"] if runs else None
+            rows.append({"n": n, "feasible": b is not None and b.feasible,
+                         "best": dict(zip([a.name for a in design.problem.varied], b.design)) if b is not None else None,
+                         "margin": b.margin if b is not None and b.margin == b.margin and abs(b.margin) < float("inf")
+                         else None, "t_dec": t_dec})
+            key = (b.margin if args.objective == "margin" else t_dec) if b is not None and b.feasible else None
+            if key is not None and (best is None or key < best[0]):
+                best = (key, n, design)
+    return (best[2] if best else design), rows, (best[1] if best else None)
+
+
+def _one_design(args, model):
+    from ..analysis import design_transients
     from ..analysis.design import Axis, Problem, solve
     from ..analysis.loading import AnalysisError
     from ..analysis.units import assignments, params, units
-    from ..outputs import output_folder
 
-    if args.out is not None:
-        output_folder(args.out, "--out")
-    model = _load_scene(args.scene)
     if "eccentricity" not in model.scales:  # before the arguments are read: the imbalance needs it
         raise AnalysisError(f"{model.name} names no eccentricity parameter (SCALES): no imbalance to design for")
     values = assignments(args.set, "--set", units(model).params)
@@ -136,12 +196,31 @@ def run_design(args) -> int:
         design_transients.by_t_dec(design)
     if args.verify and design.best is not None and design.best.feasible:
         design.verification = design_transients.verify(problem, design.best.design)
-    out = design_report.to_json(design, args.objective)
+    return design
+
+
+def run_design(args) -> int:
+    from ..analysis import design_report
+    from ..analysis.loading import AnalysisError
+    from ..outputs import output_folder
+
     if args.out is not None:
-        out["files"] = design_report.write(design, Path(args.out), "adbgen design " + shlex.join(sys.argv[2:])
-                                           if sys.argv[1:2] == ["design"] else "adbgen design", args.objective)
+        output_folder(args.out, "--out")
+    counts = _ball_counts(args.balls) if args.balls is not None else None
+    if counts is not None:
+        if not Path(args.scene).is_file():
+            raise AnalysisError("--balls needs a scene file (TOML): a generated model's ball count is fixed")
+        design, rows, chosen = _by_balls(args, counts)
+    else:
+        design, rows, chosen = _one_design(args, _load_scene(args.scene)), None, None
+    out = design_report.to_json(design, args.objective)
+    if rows is not None:
+        out.update({"balls": rows, "chosen_balls": chosen})
+    command = "adbgen design " + shlex.join(sys.argv[2:]) if sys.argv[1:2] == ["design"] else "adbgen design"
+    if args.out is not None:
+        out["files"] = design_report.write(design, Path(args.out), command, args.objective, rows)
     if args.json:
         _emit_json(out)
     else:
-        print(design_report.report(design, "adbgen design ...", args.objective).split("![design]")[0].rstrip())
+        print(design_report.report(design, command, args.objective, rows).split("![design]")[0].rstrip())
     return 0

@@ -56,7 +56,7 @@ def test_json_keys_as_documented(capsys, tmp_path):
                          "--vary", "beta=0.2:0.4", "--json", "--out", str(tmp_path / "d"))
     assert code == 0, err
     data = json.loads(out)
-    assert set(data) == set(JSON_FIELDS)  # exactly the documented keys
+    assert set(data) == set(JSON_FIELDS) - {"balls", "chosen_balls"}  # exactly the documented keys (no --balls)
     assert set(data["best"]) == set(BEST_KEYS[1:]) | {"beta"}
     assert {p.name for p in (tmp_path / "d").iterdir()} == {"design.json", "report.md", "design.png"}
     report = (tmp_path / "d" / "report.md").read_text()
@@ -74,8 +74,36 @@ def test_json_keys_as_documented(capsys, tmp_path):
     (["--vary", "beta=0.1:0.2", "--imbalance", "0.02:0.01"], "above HIGH"),
     (["--vary", "beta=0.1:0.2", "--range", "beta=0:1"], "given twice"),
     (["--vary", "beta=0.1:0.2", "--objective", "residual"], "invalid choice"),
+    (["--vary", "beta=0.1:0.2", "--balls", "2..3"], "--balls needs a scene file"),
+    (["--vary", "beta=0.1:0.2", "--balls", "3..2"], "expected 1 <= N1 <= N2"),
+    (["--vary", "beta=0.1:0.2", "--balls", "two"], "whole numbers"),
 ])
 def test_bad_input_one_line(capsys, argv, match):
     code, out, err = run(capsys, "design", "thesis_rotating_n3", *argv)
     assert code == 2 and out == "", (code, out, err)
     assert err.startswith(PREFIX) and err.count("\n") == 1 and match in err, err
+
+
+def test_balls_refuse_a_scene_with_values_ball_by_ball(capsys, tmp_path):
+    scene = tmp_path / "lists.toml"
+    scene.write_text("n = 2\nball_mass = [0.01, 0.012]\n")
+    code, out, err = run(capsys, "design", str(scene), "--vary", "beta=0.1:0.2", "--balls", "2..3")
+    assert code == 2 and err.startswith(PREFIX) and "ball by ball" in err, err
+
+
+def test_balls_choose_the_count(capsys, tmp_path):
+    """The SI example at two ball counts: each count's design is its own scene's (the counts differ in capacity,
+    n mu: 0.02 against 0.03), the chosen count is the one with the better margin."""
+    from pathlib import Path
+
+    scene = Path(__file__).resolve().parents[2] / "examples" / "three_ball_si_design.toml"
+    code, out, err = run(capsys, "design", str(scene), "--range", "omega=pi:pi", "--imbalance", "0:0.01",
+                         "--vary", "beta=0.05:0.3", "--balls", "2..3", "--no-verify", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    rows = data["balls"]
+    assert [r["n"] for r in rows] == [2, 3]
+    assert data["best"]["capacity"] == pytest.approx(0.01 * data["chosen_balls"], rel=1e-9)
+    feasible = [r for r in rows if r["feasible"]]
+    assert data["chosen_balls"] == min(feasible, key=lambda r: r["margin"])["n"]
+    assert data["best"]["margin"] == min(r["margin"] for r in feasible)
