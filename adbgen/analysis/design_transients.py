@@ -9,9 +9,10 @@ verification run of the chosen design at the corners of the operating box.
     by_t_dec(design)                   the Design's best replaced by the t_dec objective's (CANDIDATES at most)
 
 STARTS: the rotor at rest and the balls at rest, either spread (ball k of n, in state order, at 2 pi k / n) or
-together at angle 0.  Both are run in the verification: a locally stable balancing state need not attract the
-second (in the thesis' (5.1) set-up the balls together at 0 settle in a coincident state, r ~ 0.14, while the
-spread balls balance); the t_dec objective uses the first.  The run's length
+bunched (ball k at 0.1 k rad).  Not exactly together: identical balls started at one angle stay together for
+ever (the exchange symmetry keeps the set of equal angles invariant), so they can never balance and the run
+would say nothing about the balancing state's basin.  Both starts are run in the verification (a locally
+stable balancing state need not attract every start); the t_dec objective uses the first.  The run's length
 and t_dec's threshold are the analysis layer's defaults (`units.default_t_end`: the thesis' t = 1000 at
 Omega = 4 as revolutions; `units.default_threshold`: a tenth of the eccentricity).  A run is `settled` when
 r at its end is below the threshold and t_dec is defined; a failed run is said as such, never counted as
@@ -29,16 +30,17 @@ from .design import Design, Problem, Verdict, active_limit, sensitivity
 from .simulate import simulate
 from .units import default_t_end, default_threshold
 
-STARTS = ("balls spread at 2 pi k / n", "balls together at 0")  # the rotor and every rate at rest
+STARTS = ("balls spread at 2 pi k / n", "balls bunched at 0.1 k rad")  # the rotor and every rate at rest
+BUNCH = 0.1  # rad between neighbouring balls of the bunched start
 START_STATE = "rotor and balls at rest; " + " / ".join(STARTS)
 CANDIDATES = 25  # objective t_dec: the feasible designs assessed that are run, evenly through them
 
 
 def start_state(problem: Problem, which: str = STARTS[0]) -> np.ndarray:
     y = np.zeros(problem.model.n_states)  # the rotor and every rate at rest
-    if which == STARTS[0]:
-        balls = problem.model.role_indices("ball_angle")
-        y[list(balls)] = 2 * np.pi * np.arange(len(balls)) / max(len(balls), 1)
+    balls = list(problem.model.role_indices("ball_angle"))
+    step = 2 * np.pi / max(len(balls), 1) if which == STARTS[0] else BUNCH
+    y[balls] = step * np.arange(len(balls))
     return y
 
 
