@@ -335,7 +335,9 @@ def assess(problem: Problem, design) -> Verdict:
     v.margin, v.worst = margin, point
     v.margin_uncertainty = float(state.margin.uncertainty)
     v.leading = complex(state.transverse[0]) if len(state.transverse) else complex(math.nan)
-    v.feasible = not v.unstable_at and not v.failures and margin < 0
+    # a margin inside what the computation can certify (`margins`) decides nothing: not counted feasible, and
+    # the verdict says `marginal`
+    v.feasible = not v.unstable_at and not v.failures and margin < -v.margin_uncertainty
     problem.cache[key] = v
     return v
 
