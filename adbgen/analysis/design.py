@@ -620,6 +620,7 @@ def _optimiser(problem: Problem) -> Design:
                  options={"rhobeg": 0.25, "tol": 1e-6, "maxiter": 200})
     v = assess(problem, at(r.x))
     out = Design(problem, "optimiser", v if v.feasible else None)
+    out.active = active_limit(problem, out.best, [])  # a varied range's end where the optimum sits on it
     out.resolution = {"statement": f"COBYLA (scipy) from the centre of the design box, {r.nfev} evaluations, "
                                    f"status: {r.message}; a local optimum: other feasible regions may exist"}
     return out

@@ -147,3 +147,19 @@ def test_chart_finds_a_planted_window_at_its_resolution(thesis3, monkeypatch):
     kinds = {bd.kind for bd in d.boundaries}
     assert kinds == {"Hopf"} and len(d.boundaries) == 2 * 7
     assert d.best is not None and C1 < d.best.design[0] < C2
+
+
+def test_optimiser_over_three_parameters(thesis3):
+    """More than two varied parameters: COBYLA, each evaluation a certified box scan.  It improves on the centre
+    of the design box and stays inside it; where no design is feasible (beta too small for zeta up to 0.5: the
+    control) it returns none."""
+    box = [Axis("zeta", 0.3, 0.5)]
+    pr = Problem(thesis3, thesis3.params(), box, [Axis("Omega", 3.0, 5.0), Axis("beta", 0.2, 1.0), Axis("mu", 0.03, 0.1)])
+    d = solve(pr)
+    assert d.method == "optimiser" and d.best is not None and d.best.feasible
+    assert all(a.low <= x <= a.high for a, x in zip(pr.varied, d.best.design))
+    assert d.best.margin < assess(pr, [4.0, 0.6, 0.065]).margin < 0
+    assert d.active is not None and d.active.kind == "range end (mu at its low end)"
+    none = Problem(thesis3, thesis3.params(), box, [Axis("Omega", 3.0, 5.0), Axis("beta", 0.01, 0.1),
+                                                    Axis("mu", 0.03, 0.1)])
+    assert solve(none).best is None
