@@ -95,6 +95,7 @@ class Problem:
     box: list[Axis]  # the operating box: ranges and the imbalance (the eccentricity axis)
     varied: list[Axis]  # the design parameters
     label: str = ""  # the balancing state's label (default: `balancing_label`)
+    ties: dict = field(default_factory=dict)  # {parameter: varied parameter it equals} (the balls' masses alike)
     cache: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -106,9 +107,16 @@ class Problem:
         for name in names:
             if name not in m.param_names:
                 raise AnalysisError(f"{name!r} is not a parameter of {m.name}; parameters: {', '.join(m.param_names)}")
+        for name, source in self.ties.items():
+            if name not in m.param_names:
+                raise AnalysisError(f"--tie {name}: not a parameter of {m.name}; parameters: {', '.join(m.param_names)}")
+            if source not in [a.name for a in self.varied]:
+                raise AnalysisError(f"--tie {name}={source}: {source} is not a varied parameter (--vary)")
+        names = names + list(self.ties)
         twice = sorted({n for n in names if names.count(n) > 1})
         if twice:
-            raise AnalysisError(f"{', '.join(twice)} given twice (a parameter is either a range, the imbalance or varied)")
+            raise AnalysisError(f"{', '.join(twice)} given twice (a parameter is either a range, the imbalance, varied "
+                                "or tied)")
         for a in self.box + self.varied:
             if not (math.isfinite(a.low) and math.isfinite(a.high)) or a.low > a.high:
                 raise AnalysisError(f"{a.name}: expected LOW <= HIGH, got {a.low}:{a.high}")
@@ -140,6 +148,8 @@ class Problem:
         p = np.array(self.base, float)
         for a, v in zip(self.varied, np.atleast_1d(design)):
             p[self.model.param_names.index(a.name)] = float(v)
+        for name, source in self.ties.items():
+            p[self.model.param_names.index(name)] = p[self.model.param_names.index(source)]
         for name, v in (point or {}).items():
             p[self.model.param_names.index(name)] = float(v)
         return p

@@ -51,6 +51,9 @@ def _add_design(p) -> None:
                    help="a design parameter and its interval (repeatable): one gives the feasible interval(s) and "
                         "their ends, two a chart, more an optimiser (scipy COBYLA)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="a fixed parameter")
+    p.add_argument("--tie", action="append", default=[], metavar="NAME=VARIED",
+                   help="a parameter that follows a varied one (repeatable), e.g. c_bt=c_bb (both races' ball "
+                        "damping), m_2=m_1 (the balls alike)")
     p.add_argument("--balls", metavar="N1..N2",
                    help="with a scene file: design for each ball count from N1 to N2 (the scene's n replaced; its "
                         "per-ball values must be given once, not as lists) and choose the best count by the objective")
@@ -190,7 +193,13 @@ def _one_design(args, model):
             raise AnalysisError(f"--imbalance: must be >= 0, got {lo:g}")
         box.append(Axis(ecc, lo, hi))
     varied = _named(args.vary, "--vary", model)
-    problem = Problem(model, base, box, varied)
+    ties = {}
+    for item in args.tie:
+        name, sep, source = str(item).partition("=")
+        if not sep or not name.strip() or not source.strip():
+            raise AnalysisError(f"--tie: expected NAME=VARIED, got {item!r}")
+        ties[name.strip()] = source.strip()
+    problem = Problem(model, base, box, varied, ties=ties)
     design = solve(problem)
     if args.objective == "t_dec":
         design_transients.by_t_dec(design)

@@ -163,3 +163,15 @@ def test_optimiser_over_three_parameters(thesis3):
     none = Problem(thesis3, thesis3.params(), box, [Axis("Omega", 3.0, 5.0), Axis("beta", 0.01, 0.1),
                                                     Axis("mu", 0.03, 0.1)])
     assert solve(none).best is None
+
+
+def test_a_tied_parameter_follows_the_varied_one(paper):
+    pr = Problem(paper, paper.params(), [Axis("Omega", 3.0, 3.0)], [Axis("c_bb", 1e-5, 1e-3)], ties={"c_bt": "c_bb"})
+    p = pr.params([2e-4])
+    assert p[paper.param_names.index("c_bt")] == p[paper.param_names.index("c_bb")] == 2e-4
+    untied = Problem(paper, paper.params(), [Axis("Omega", 3.0, 3.0)], [Axis("c_bb", 1e-5, 1e-3)])
+    assert untied.params([2e-4])[paper.param_names.index("c_bt")] == 3e-5  # the control: left at its value
+    with pytest.raises(AnalysisError, match="not a varied parameter"):
+        Problem(paper, paper.params(), [], [Axis("c_bb", 1e-5, 1e-3)], ties={"c_bt": "Omega"})
+    with pytest.raises(AnalysisError, match="given twice"):
+        Problem(paper, paper.params(), [Axis("c_bt", 0, 1)], [Axis("c_bb", 1e-5, 1e-3)], ties={"c_bt": "c_bb"})
