@@ -42,7 +42,7 @@ def _stop(*args, **kwargs):
 @pytest.fixture()
 def stubbed(monkeypatch, tmp_path):
     """The expensive entry points replaced by `_stop`; the parser built once."""
-    from adbgen.analysis import auto, auto_orbits, continuation, loading, sweep
+    from adbgen.analysis import auto, auto_orbits, continuation, design, loading, sweep
     from adbgen.analysis import engines
     from benchmarks import registry
     from adbgen.cli import docs as cli_docs, notebooks as cli_notebooks, reproduce as cli_reproduce, verify as fam_commands
@@ -53,7 +53,7 @@ def stubbed(monkeypatch, tmp_path):
     import adbgen.notebooks as notebooks
 
     for module, name in [(regenerate, "render_all"), (continuation, "scan"), (auto.Session, "__init__"),
-                         (auto_orbits, "refine_orbit"), (sweep, "run_sweep"), (cli_reproduce, "build"),
+                         (auto_orbits, "refine_orbit"), (sweep, "run_sweep"), (design, "solve"), (cli_reproduce, "build"),
                          (cli_reproduce, "_pinned_rerun"),  # the pinned child process would escape the stubs
                          (cli_docs, "build"),
                          (loading, "_scene_model"), (sp_commands, "_form"), (sp_verify, "rotating"),

@@ -44,6 +44,7 @@ COMMAND_GROUPS: list[str] = [
     "adbgen.cli.stability:register",  # stability, continue
     "adbgen.cli.orbit:register",  # orbit (periodic orbits by shooting)
     "adbgen.cli.sweep:register",  # sweep
+    "adbgen.cli.design:register",  # design (a balancer over a speed range and an imbalance interval)
     "adbgen.cli.reproduce:register",  # reproduce (every family's reproductions)
     "adbgen.cli.notebooks:register",  # notebooks (execute and render derive/)
     "adbgen.cli.docs:register",  # docs (build the documentation site)

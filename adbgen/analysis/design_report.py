@@ -1,0 +1,215 @@
+"""What `adbgen design` writes (issue 39 item 4): the design's JSON, a one-page Markdown report and its figure.
+
+    to_json(design)                 the --json object (keys: docs/design.md, `adbgen design --help`)
+    write(design, folder, command)  FOLDER/design.json, FOLDER/report.md, FOLDER/design.png
+
+The figure: one varied parameter, the worst margin over the box against it (every design assessed), the
+feasible intervals shaded and the boundaries marked by kind; two, the chart (each assessed design feasible,
+infeasible or beyond the capacity; the located boundary points by kind); more, the optimiser's designs by
+evaluation.  The best design is a star.  An infeasible or not-computed design is never drawn as feasible.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from .design import Design
+from .design_transients import START_STATE, STARTS
+
+# what the command does not do yet (issue 39), said in its output rather than left out silently
+NOT_COVERED = ["objectives r_max through a run-up and residual (margin and t_dec only)",
+               "a run-up of the chosen design (the verification runs are at constant speed)",
+               "the ball count only over whole scenes (--balls with a scene file), not inside the optimiser",
+               "Dask: the designs are assessed in this process",
+               "a torus or fold of periodic orbits as a boundary (only the balancing steady state is designed)"]
+
+MARKERS = {"capacity limit": ("s", "tab:purple"), "Hopf": ("o", "tab:red"), "real eigenvalue": ("^", "tab:orange"),
+           "not located": ("x", "k")}
+
+
+def to_json(design: Design, objective: str = "margin") -> dict:
+    pr = design.problem
+    best = design.best
+    return {"model": pr.model.name, "balancing_state": pr.label, "objective": objective,
+            "box": [a.to_json() for a in pr.box], "imbalance_parameter": pr.eccentricity,
+            "imbalance_floor": pr.floor,
+            "varied": [a.to_json() for a in pr.varied], "method": design.method,
+            "feasible": best is not None and best.feasible,
+            "feasible_intervals": [list(w) for w in design.feasible_intervals],
+            "boundaries": [b.to_json() for b in design.boundaries],
+            "best": best.to_json(pr) if best is not None else None,
+            "active_boundary": design.active.to_json() if design.active is not None else None,
+            "sensitivity": design.sensitivity, "chart": design.chart, "resolution": design.resolution,
+            "evaluations": design.evaluations, "objective_runs": design.objective_runs,
+            "verification": design.verification, "verification_start": START_STATE, "not_covered": NOT_COVERED}
+
+
+def _fmt(x) -> str:
+    return "—" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.6g}"
+
+
+def report(design: Design, command: str, objective: str = "margin", balls: list | None = None) -> str:
+    pr = design.problem
+    out = to_json(design, objective)
+    lines = [f"# Balancer design: {pr.model.name}", "", f"Command: `{command}`", "",
+             f"The balancing state {pr.label} must exist (the balls' capacity covers the imbalance "
+             f"{pr.eccentricity} up to {_fmt(pr.imbalance.high)}) and be stable over the whole box:", ""]
+    lines += [f"- {a.name} from {_fmt(a.low)} to {_fmt(a.high)}" for a in pr.box]
+    if pr.floor is not None:
+        lines += ["", f"The imbalance interval from 0 is scanned from {_fmt(pr.floor)}: at zero imbalance the balancing "
+                      "state is a continuum (a zero eigenvalue whatever the design) and the balancing mode's rate "
+                      "vanishes with the imbalance."]
+    lines += ["", "Varied: " + ", ".join(f"{a.name} in [{_fmt(a.low)}, {_fmt(a.high)}]" for a in pr.varied) + ".", ""]
+    if balls:
+        lines += ["## Ball counts (--balls; the rest of this page is the chosen count's design)", "",
+                  "| n | feasible | best | worst margin | t_dec |", "|---|---|---|---|---|"]
+        lines += [f"| {r['n']} | {r['feasible']} | " + (", ".join(f"{k} = {_fmt(v)}" for k, v in r["best"].items())
+                                                       if r["best"] else "—")
+                  + f" | {_fmt(r['margin'])} | {_fmt(r['t_dec'])} |" for r in balls]
+        lines.append("")
+    best = design.best
+    if best is None or not best.feasible:
+        lines += ["**No best design**: " + ("no design of the varied box is feasible." if not design.feasible_intervals
+                                           and not any(v.feasible for v in design.verdicts)
+                                           else f"none of the feasible designs settles (objective {objective})."), ""]
+    else:
+        b = out["best"]
+        what = ("the worst decay rate over the box" if objective == "margin" else
+                f"the shortest t_dec at the operating point from {STARTS[0]}")
+        lines += [f"## The best design (objective: {what})", "",
+                  "| " + " | ".join(a.name for a in pr.varied) + " | worst margin | uncertainty | where | capacity |",
+                  "|" + "---|" * (len(pr.varied) + 4),
+                  "| " + " | ".join(_fmt(v) for v in best.design) + f" | {_fmt(b['margin'])} | "
+                  f"{_fmt(b['margin_uncertainty'])}{' (marginal)' if b['marginal'] else ''} | "
+                  + ", ".join(f"{k} = {_fmt(v)}" for k, v in b["worst_point"].items()) + f" | {_fmt(b['capacity'])} |", ""]
+    if design.feasible_intervals:
+        lines += ["Feasible: " + ", ".join(f"[{_fmt(a)}, {_fmt(b)}]" for a, b in design.feasible_intervals) + ".", ""]
+    if design.boundaries:
+        lines += ["## Boundaries", "", "| at | kind | worst box point |", "|---|---|---|"]
+        for bd in design.boundaries[:40]:
+            lines.append("| " + ", ".join(f"{k} = {_fmt(v)}" for k, v in bd.values.items()) + f" | {bd.kind} | "
+                         + (", ".join(f"{k} = {_fmt(v)}" for k, v in bd.worst_point.items()) or "—") + " |")
+        if len(design.boundaries) > 40:
+            lines.append(f"| ... {len(design.boundaries) - 40} more in design.json | | |")
+        lines.append("")
+    if design.active is not None:
+        lines += [f"What limits it: the {design.active.kind} boundary at "
+                  + ", ".join(f"{k} = {_fmt(v)}" for k, v in design.active.values.items()) + ".", ""]
+    if design.sensitivity:
+        lines += ["## Sensitivity of the worst margin", "",
+                  "| parameter | d margin (jac_p) | finite differences (up, down) | agree | kink | room (linear) |",
+                  "|---|---|---|---|---|---|"]
+        for s in design.sensitivity:
+            lines.append(f"| {s['parameter']} | {_fmt(s['dmargin'])} | "
+                         f"{', '.join(_fmt(x) for x in s['dmargin_finite_difference'])} | {s['agree']} | {s['kink']} | "
+                         f"{_fmt(s['room_linear'])} |")
+        lines.append("")
+    if objective == "t_dec":
+        settled = [r for r in design.objective_runs if r["settled"]]
+        best_t = min((r["t_dec"] for r in settled), default=None)
+        lines += [f"Objective t_dec at the operating point (" + ", ".join(f"{k} = {_fmt(v)}" for k, v in
+                  (design.objective_runs[0]["point"].items() if design.objective_runs else [])) + f"; rotor and balls at "
+                  f"rest, {STARTS[0]}): {len(design.objective_runs)} feasible designs run, {len(settled)} settled"
+                  + (f"; the shortest t_dec {_fmt(best_t)}." if settled else ". **None settled: no best design by t_dec.**"), ""]
+    if design.verification:
+        lines += [f"## Verification: the chosen design at the box's corners ({START_STATE})", "",
+                  "| point | start | status | t_dec | r_max | r at the end | settled |", "|---|---|---|---|---|---|---|"]
+        for r in design.verification:
+            lines.append("| " + ", ".join(f"{k} = {_fmt(v)}" for k, v in r["point"].items()) + f" | {r['start']} | {r['status']} | "
+                         f"{_fmt(r['t_dec'])} | {_fmt(r['r_max'])} | {_fmt(r['r_end'])} | {r['settled']} |")
+        unsettled = [r for r in design.verification if not r["settled"]]
+        if unsettled:
+            lines += ["", f"**{len(unsettled)} of {len(design.verification)} runs did not settle** within t_end from this "
+                          "start: the balancing state is stable there (the margin) but this start is not in its basin, "
+                          "or has not reached it yet."]
+        lines.append("")
+    if design.resolution:
+        lines += ["## What is certified", "", design.resolution.get("statement", ""), ""]
+    lines += ["Not covered yet: " + "; ".join(NOT_COVERED) + ".", "", "![design](design.png)", ""]
+    return "\n".join(lines)
+
+
+def figure(design: Design, path: Path) -> None:
+    from .figure_style import pyplot
+
+    plt = pyplot()
+    pr = design.problem
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    if design.method == "interval":
+        name = pr.varied[0].name
+        pts = sorted((v.design[0], v) for v in design.verdicts)
+        for cls, colour, label in ((True, "tab:green", "feasible"), (False, "tab:red", "unstable in the box")):
+            xs = [x for x, v in pts if v.exists and not v.failures and v.feasible == cls and math.isfinite(v.margin)]
+            ys = [-v.margin for x, v in pts if v.exists and not v.failures and v.feasible == cls and math.isfinite(v.margin)]
+            ax.plot(xs, ys, ".", color=colour, label=label)
+        gone = [x for x, v in pts if not v.exists]
+        if gone:
+            ax.plot(gone, [0.0] * len(gone), "s", color="tab:purple", mfc="none", label="beyond the capacity")
+        for a, b in design.feasible_intervals:
+            ax.axvspan(a, b, color="tab:green", alpha=0.12)
+        for kind, (mk, colour) in MARKERS.items():
+            for k, bd in enumerate(b for b in design.boundaries if b.kind == kind):
+                ax.axvline(bd.values[name], color=colour, ls="--", lw=1, label=f"boundary: {kind}" if k == 0 else None)
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_xlabel(name)
+        ax.set_ylabel("worst decay rate over the box (-margin)")
+    elif design.method == "chart":
+        n1, n2 = pr.varied[0].name, pr.varied[1].name
+        for cls, (mk, colour, label) in {"feasible": ("o", "tab:green", "feasible"),
+                                         "unstable": ("o", "tab:red", "unstable in the box"),
+                                         "capacity": ("s", "tab:purple", "beyond the capacity"),
+                                         "failed": ("x", "0.5", "not computed")}.items():
+            sel = [v for v in design.verdicts if _class(v) == cls]
+            if sel:
+                ax.plot([v.design[0] for v in sel], [v.design[1] for v in sel], mk, color=colour, ms=3, alpha=0.5,
+                        label=label)
+        for kind, (mk, colour) in MARKERS.items():
+            sel = [b for b in design.boundaries if b.kind == kind]
+            if sel:
+                ax.plot([b.values[n1] for b in sel], [b.values[n2] for b in sel], mk, color=colour, ms=7, mfc="none",
+                        label=f"boundary: {kind}")
+        ax.set_xlabel(n1)
+        ax.set_ylabel(n2)
+    else:
+        ys = [-v.margin if math.isfinite(v.margin) else math.nan for v in design.verdicts]
+        ax.plot(range(len(ys)), ys, ".", color="tab:blue", label="designs assessed")
+        ax.set_xlabel("design assessed")
+        ax.set_ylabel("worst decay rate over the box (-margin)")
+    best = design.best
+    if best is not None and best.feasible:
+        if design.method == "interval":
+            ax.plot([best.design[0]], [-best.margin], "*", color="gold", mec="k", ms=14, label="best design")
+        elif design.method == "chart":
+            ax.plot([best.design[0]], [best.design[1]], "*", color="gold", mec="k", ms=14, label="best design")
+    ax.set_title(f"{pr.model.name}: design of {', '.join(a.name for a in pr.varied)}", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _plain(x):
+    return float(x) if isinstance(x, (int, float)) or hasattr(x, "__float__") else str(x)
+
+
+def _class(v) -> str:
+    if not v.exists:
+        return "capacity"
+    if v.failures or not math.isfinite(v.margin):
+        return "failed"
+    return "feasible" if v.feasible else "unstable"
+
+
+def write(design: Design, folder: Path, command: str, objective: str = "margin", balls: list | None = None) -> dict:
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    out = to_json(design, objective)
+    if balls is not None:
+        out["balls"] = balls
+    (folder / "design.json").write_text(json.dumps(out, indent=1, allow_nan=False, default=_plain) + "\n")
+    (folder / "report.md").write_text(report(design, command, objective, balls))
+    figure(design, folder / "design.png")
+    return {"report": str(folder / "report.md"), "figure": str(folder / "design.png"),
+            "json": str(folder / "design.json")}

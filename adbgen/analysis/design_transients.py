@@ -1,0 +1,112 @@
+"""Transients of a design (issue 39 items 3-4): t_dec at the operating point as an objective, and the
+verification run of the chosen design at the corners of the operating box.
+
+    operating_point(problem)           the base speed (if inside its range, else the range's middle), every other
+                                       range at its middle, the imbalance at its maximum
+    transient(problem, design, point)  one run from one of STARTS: t_dec, r_max, status, settled
+    best_by_t_dec(problem, verdicts)   the feasible design with the smallest t_dec at the operating point
+    verify(problem, design)            a run at every corner of the box (each range and the imbalance at its ends)
+    by_t_dec(design)                   the Design's best replaced by the t_dec objective's (CANDIDATES at most)
+
+STARTS: the rotor at rest and the balls at rest, either spread (ball k of n, in state order, at 2 pi k / n) or
+bunched (ball k at 0.1 k rad).  Not exactly together: identical balls started at one angle stay together for
+ever (the exchange symmetry keeps the set of equal angles invariant), so they can never balance and the run
+would say nothing about the balancing state's basin.  Both starts are run in the verification (a locally
+stable balancing state need not attract every start); the t_dec objective uses the first.  The run's length
+and t_dec's threshold are the analysis layer's defaults (`units.default_t_end`: the thesis' t = 1000 at
+Omega = 4 as revolutions; `units.default_threshold`: a tenth of the eccentricity).  A run is `settled` when
+r at its end is below the threshold and t_dec is defined; a failed run is said as such, never counted as
+settled.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+
+from .design import Design, Problem, Verdict, active_limit, sensitivity
+from .simulate import simulate
+from .units import default_t_end, default_threshold
+
+STARTS = ("balls spread at 2 pi k / n", "balls bunched at 0.1 k rad")  # the rotor and every rate at rest
+BUNCH = 0.1  # rad between neighbouring balls of the bunched start
+START_STATE = "rotor and balls at rest; " + " / ".join(STARTS)
+CANDIDATES = 25  # objective t_dec: the feasible designs assessed that are run, evenly through them
+
+
+def start_state(problem: Problem, which: str = STARTS[0]) -> np.ndarray:
+    y = np.zeros(problem.model.n_states)  # the rotor and every rate at rest
+    balls = list(problem.model.role_indices("ball_angle"))
+    step = 2 * np.pi / max(len(balls), 1) if which == STARTS[0] else BUNCH
+    y[balls] = step * np.arange(len(balls))
+    return y
+
+
+def operating_point(problem: Problem) -> dict:
+    m = problem.model
+    speed = m.scales.get("speed")
+    out = {}
+    for a in problem.box:
+        if a.name == problem.eccentricity:
+            out[a.name] = a.high
+        elif a.name == speed and a.low <= problem.base[m.param_names.index(speed)] <= a.high:
+            out[a.name] = float(problem.base[m.param_names.index(speed)])
+        else:
+            out[a.name] = 0.5 * (a.low + a.high)
+    return out
+
+
+def transient(problem: Problem, design, point: dict, start: str = STARTS[0]) -> dict:
+    m = problem.model
+    p = problem.params(design, point)
+    t_end, _ = default_t_end(m, p)
+    threshold, _ = default_threshold(m, p)
+    sim = simulate(m, p, start_state(problem, start), t_end=t_end, threshold=threshold, keep_trajectory=False, check=False)
+    r_end = float(np.hypot(*[sim.y_end[i] for i in m.amplitude_indices[:2]]))
+    ok = sim.status == "success"
+    return {"point": {k: float(v) for k, v in point.items()}, "start": start, "status": sim.status, "t_end": float(t_end),
+            "threshold": float(threshold), "t_dec": sim.t_dec if ok else None, "r_max": float(sim.r_max) if ok else None,
+            "r_end": r_end if ok else None, "settled": bool(ok and sim.t_dec is not None and r_end < threshold)}
+
+
+def best_by_t_dec(problem: Problem, verdicts: list[Verdict]) -> tuple[Verdict | None, list[dict]]:
+    """The feasible design inside the varied box with the smallest t_dec at the operating point (among the
+    designs given: not optimised between them), and every run."""
+    point = operating_point(problem)
+    runs, best, best_t = [], None, math.inf
+    for v in sorted({v.design: v for v in verdicts if v.feasible and _inside(problem, v)}.values(), key=lambda v: v.design):
+        run = {"design": dict(zip([a.name for a in problem.varied], v.design)), **transient(problem, v.design, point)}
+        runs.append(run)
+        if run["settled"] and run["t_dec"] < best_t:
+            best, best_t = v, run["t_dec"]
+    return best, runs
+
+
+def _inside(problem: Problem, v: Verdict) -> bool:
+    """The design lies in the varied box (not a finite difference's step beyond a range's end)."""
+    return all(a.low <= x <= a.high for a, x in zip(problem.varied, v.design))
+
+
+def verify(problem: Problem, design) -> list[dict]:
+    """A run from each of STARTS at every corner of the box (each non-degenerate axis at its low and high end)."""
+    axes = [a for a in problem.box if not a.fixed]
+    fixed = {a.name: a.low for a in problem.box if a.fixed}
+    return [transient(problem, design, {**fixed, **dict(zip([a.name for a in axes], ends))}, start)
+            for ends in itertools.product(*[(a.low, a.high) for a in axes]) for start in STARTS]
+
+
+def by_t_dec(design: Design) -> Design:
+    """The best design by t_dec at the operating point among (at most CANDIDATES of) the feasible designs
+    assessed inside the varied box; its limit and sensitivities recomputed.  None where no candidate settles within the run."""
+    problem = design.problem
+    feasible = sorted({v.design: v for v in design.verdicts if v.feasible and _inside(problem, v)}.values(),
+                      key=lambda v: v.design)
+    if len(feasible) > CANDIDATES:
+        feasible = [feasible[round(k)] for k in np.linspace(0, len(feasible) - 1, CANDIDATES)]
+    best, design.objective_runs = best_by_t_dec(problem, feasible)
+    design.best = best
+    design.active = active_limit(problem, best, design.boundaries)
+    design.sensitivity = sensitivity(problem, best) if best is not None else []
+    return design

@@ -1,0 +1,235 @@
+"""`adbgen design`: the parameters that keep the balancing state stable over a speed range, for every
+imbalance up to a maximum (issue 39; the analysis in adbgen/analysis/design.py, the output in
+adbgen/analysis/design_report.py, the page docs/design.md).
+
+    adbgen design SCENE --range omega=LOW:HIGH [--range NAME=LOW:HIGH ...] --imbalance LOW:HIGH
+                 --vary NAME=LOW:HIGH [--vary ...] [--set NAME=VALUE ...] [--objective margin] [--out DIR] [--json]
+
+SCENE: a generated model's name, a model folder, or a scene file (TOML).
+"""
+
+from __future__ import annotations
+
+import shlex
+import sys
+from pathlib import Path
+
+from .arguments import Commands, _emit_json
+
+command = Commands()
+register = command.register
+
+BEST_KEYS = ("the varied values", "balancing_state_exists", "capacity", "capacity_slack", "feasible", "margin",
+             "decay_rate", "margin_uncertainty", "marginal", "worst_point", "leading_eigenvalue", "unstable_at",
+             "failures", "box_samples")
+JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "imbalance_parameter": "",
+               "imbalance_floor": "", "varied": "", "method": "(interval | chart | optimiser)", "feasible": "",
+               "feasible_intervals": "", "boundaries": "[{at, kind, worst_point, bracket}]",
+               "best": "{" + ", ".join(BEST_KEYS) + "}", "active_boundary": "",
+               "sensitivity": "[{parameter, dmargin, dmargin_finite_difference, agree, kink, direction_to_boundary, "
+                              "room_linear}]", "chart": "", "resolution": "", "evaluations": "",
+               "objective_runs": "(--objective t_dec: [{design, point, start, status, t_end, threshold, t_dec, r_max, r_end, "
+                                 "settled}])", "verification": "(the same run keys, at the box's corners)",
+               "verification_start": "", "not_covered": "",
+               "balls": "(--balls: [{n, feasible, best, margin, t_dec}])", "chosen_balls": "(--balls)",
+               "files": "(with --out)"}
+JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
+
+
+@command("design", "design a balancer: the varied parameters that keep the balancing state stable over a speed "
+                   "range for every imbalance up to a maximum (certified scans; the best design by its margin)")
+def _add_design(p) -> None:
+    p.add_argument("scene", help="a generated model's name (one of generated/), a model folder, or a scene file (TOML)")
+    p.add_argument("--range", action="append", default=[], metavar="NAME=LOW:HIGH", dest="ranges",
+                   help="an operating range the design must be stable over (repeatable): omega (the model's speed "
+                        "parameter) or any parameter by name; LOW = HIGH fixes it; values with units allowed "
+                        "(omega=3000rpm:6000rpm)")
+    p.add_argument("--imbalance", metavar="LOW:HIGH",
+                   help="the imbalance interval (the model's eccentricity parameter), e.g. 0:0.01; the design must "
+                        "balance every imbalance in it (default: the model's value, fixed)")
+    p.add_argument("--vary", action="append", default=[], metavar="NAME=LOW:HIGH", required=True,
+                   help="a design parameter and its interval (repeatable): one gives the feasible interval(s) and "
+                        "their ends, two a chart, more an optimiser (scipy COBYLA)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="a fixed parameter")
+    p.add_argument("--tie", action="append", default=[], metavar="NAME=VARIED",
+                   help="a parameter that follows a varied one (repeatable), e.g. c_bt=c_bb (both races' ball "
+                        "damping), m_2=m_1 (the balls alike)")
+    p.add_argument("--balls", metavar="N1..N2",
+                   help="with a scene file: design for each ball count from N1 to N2 (the scene's n replaced; its "
+                        "per-ball values must be given once, not as lists) and choose the best count by the objective")
+    p.add_argument("--objective", default="margin", choices=("margin", "t_dec"),
+                   help="what chooses the best design: margin (the largest worst decay rate over the box) or t_dec "
+                        "(the shortest t_dec at the operating point, among at most 25 feasible designs assessed; "
+                        "r_max-run-up and residual are not built yet: issue 39)")
+    p.add_argument("--no-verify", dest="verify", action="store_false",
+                   help="skip the verification runs of the chosen design at the box's corners")
+    p.add_argument("--out", help="folder: design.json, report.md (a one-page report) and design.png")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout; keys: " + JSON_KEYS)
+    p.set_defaults(fn=run_design)
+
+
+def _interval(text: str, option: str, unit: str) -> tuple[float, float]:
+    from ..analysis.loading import AnalysisError
+    from ..analysis.units import quantity
+
+    low, sep, high = str(text).partition(":")
+    if not sep:
+        raise AnalysisError(f"{option}: expected LOW:HIGH, got {text!r}")
+    a, b = quantity(low, unit, option), quantity(high, unit, option)
+    if a > b:
+        raise AnalysisError(f"{option}: LOW {a:g} is above HIGH {b:g}")
+    return a, b
+
+
+def _named(items, option: str, model) -> list:
+    from ..analysis.design import Axis
+    from ..analysis.loading import AnalysisError
+    from ..analysis.units import DOMAINS, domains, units
+
+    unit, domain = units(model).params, domains(model)
+    out = []
+    for item in items:
+        name, sep, rest = str(item).partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise AnalysisError(f"{option}: expected NAME=LOW:HIGH, got {item!r}")
+        if name not in model.param_names and name.lower() in ("omega", "speed") and "speed" in model.scales:
+            name = model.scales["speed"]  # omega: the model's speed parameter, whatever its name
+        if name not in model.param_names:
+            raise AnalysisError(f"{option}: {name!r} is not a parameter of {model.name}; parameters: "
+                                f"{', '.join(model.param_names)}")
+        axis = Axis(name, *_interval(rest, f"{option} {name}", unit[name]))
+        test, why = DOMAINS.get(domain.get(name, "real"), DOMAINS["real"])
+        if not (test(axis.low) and test(axis.high)):
+            raise AnalysisError(f"{option} {name}: {why} (the derivation's assumption), got {axis.low:g}:{axis.high:g}")
+        out.append(axis)
+    return out
+
+
+def _load_scene(text: str):
+    from ..analysis.loading import load_model
+
+    path = Path(text)
+    if path.suffix == ".toml" or path.is_file():
+        return load_model(scene=text)
+    return load_model(text)
+
+
+def _ball_counts(text: str) -> list[int]:
+    from ..analysis.loading import AnalysisError
+
+    low, sep, high = str(text).replace(":", "..").partition("..")
+    try:
+        a, b = int(low), int(high)
+    except ValueError:
+        raise AnalysisError(f"--balls: expected N1..N2 (whole numbers), got {text!r}") from None
+    if not sep or not 1 <= a <= b or b > 64:
+        raise AnalysisError(f"--balls: expected 1 <= N1 <= N2 <= 64, got {text!r}")
+    return list(range(a, b + 1))
+
+
+def _scene_with_balls(scene: str, n: int, folder: Path) -> str:
+    """A copy of the scene file with its ball count n (one line `n = ...` replaced); refused where a per-ball
+    value is a list (its length would have to change with n)."""
+    import re
+    import tomllib
+
+    from ..analysis.loading import AnalysisError
+
+    text = Path(scene).read_text()
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise AnalysisError(f"scene file {scene}: {exc}") from None
+    lists = sorted(k for k, v in data.items() if isinstance(v, list) and len(v) == data.get("n"))
+    if lists:
+        raise AnalysisError(f"--balls: the scene gives {', '.join(lists)} ball by ball (a list of n values): give one "
+                            "value for every ball to vary the count")
+    new, count = re.subn(r"(?m)^n\s*=\s*\d+", f"n = {n}", text)
+    if count != 1:
+        raise AnalysisError(f"--balls: scene file {scene} has no single line `n = ...` to change")
+    path = folder / f"n{n}.toml"
+    path.write_text(new)
+    return str(path)
+
+
+def _by_balls(args, counts: list[int]):
+    """(the chosen count's design, one row per count): a design per ball count, the best by the objective."""
+    import tempfile
+
+    rows, best = [], None
+    with tempfile.TemporaryDirectory(prefix="adbgen-design-") as tmp:
+        for n in counts:
+            design = _one_design(args, _load_scene(_scene_with_balls(args.scene, n, Path(tmp))))
+            b = design.best
+            runs = [r for r in design.objective_runs if r["design"] == dict(zip([a.name for a in design.problem.varied],
+                                                                             b.design))] if b is not None else []
+            t_dec = runs[0]["t_dec"] if runs else None
+            rows.append({"n": n, "feasible": b is not None and b.feasible,
+                         "best": dict(zip([a.name for a in design.problem.varied], b.design)) if b is not None else None,
+                         "margin": b.margin if b is not None and b.margin == b.margin and abs(b.margin) < float("inf")
+                         else None, "t_dec": t_dec})
+            key = (b.margin if args.objective == "margin" else t_dec) if b is not None and b.feasible else None
+            if key is not None and (best is None or key < best[0]):
+                best = (key, n, design)
+    return (best[2] if best else design), rows, (best[1] if best else None)
+
+
+def _one_design(args, model):
+    from ..analysis import design_transients
+    from ..analysis.design import Axis, Problem, solve
+    from ..analysis.loading import AnalysisError
+    from ..analysis.units import assignments, params, units
+
+    if "eccentricity" not in model.scales:  # before the arguments are read: the imbalance needs it
+        raise AnalysisError(f"{model.name} names no eccentricity parameter (SCALES): no imbalance to design for")
+    values = assignments(args.set, "--set", units(model).params)
+    base = params(model, values)
+    box = _named(args.ranges, "--range", model)
+    ecc = model.scales["eccentricity"]
+    if args.imbalance is not None:
+        lo, hi = _interval(args.imbalance, "--imbalance", units(model).params[ecc])
+        if lo < 0:
+            raise AnalysisError(f"--imbalance: must be >= 0, got {lo:g}")
+        box.append(Axis(ecc, lo, hi))
+    varied = _named(args.vary, "--vary", model)
+    ties = {}
+    for item in args.tie:
+        name, sep, source = str(item).partition("=")
+        if not sep or not name.strip() or not source.strip():
+            raise AnalysisError(f"--tie: expected NAME=VARIED, got {item!r}")
+        ties[name.strip()] = source.strip()
+    problem = Problem(model, base, box, varied, ties=ties)
+    design = solve(problem)
+    if args.objective == "t_dec":
+        design_transients.by_t_dec(design)
+    if args.verify and design.best is not None and design.best.feasible:
+        design.verification = design_transients.verify(problem, design.best.design)
+    return design
+
+
+def run_design(args) -> int:
+    from ..analysis import design_report
+    from ..analysis.loading import AnalysisError
+    from ..outputs import output_folder
+
+    if args.out is not None:
+        output_folder(args.out, "--out")
+    counts = _ball_counts(args.balls) if args.balls is not None else None
+    if counts is not None:
+        if not Path(args.scene).is_file():
+            raise AnalysisError("--balls needs a scene file (TOML): a generated model's ball count is fixed")
+        design, rows, chosen = _by_balls(args, counts)
+    else:
+        design, rows, chosen = _one_design(args, _load_scene(args.scene)), None, None
+    out = design_report.to_json(design, args.objective)
+    if rows is not None:
+        out.update({"balls": rows, "chosen_balls": chosen})
+    command = "adbgen design " + shlex.join(sys.argv[2:]) if sys.argv[1:2] == ["design"] else "adbgen design"
+    if args.out is not None:
+        out["files"] = design_report.write(design, Path(args.out), command, args.objective, rows)
+    if args.json:
+        _emit_json(out)
+    else:
+        print(design_report.report(design, command, args.objective, rows).split("![design]")[0].rstrip())
+    return 0

@@ -1,0 +1,109 @@
+"""`adbgen design`: the thesis' ch. 4 advice reproduced as a design (n = 3, Omega = 4, thesis (5.1): the smallest
+beta for which the balanced state is stable up to zeta = 0.5, equal to the scan of docs/reproduction.md, 0.2354);
+the JSON keys the help names; the output folder; each bad input one line with exit status 2."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from adbgen.analysis.loading import load_model
+from adbgen.cli import build_parser, main
+from adbgen.cli.design import BEST_KEYS, JSON_FIELDS, JSON_KEYS
+from adbgen.families.single_plane.science.reproduce import _beta_all
+
+PREFIX = "adbgen: error: "
+SCAN_STEP = 2.0 ** -10  # the scan's beta bound: 10 bisections of [0, 1], the bracket's upper end
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def design(capsys, zeta_max: float) -> dict:
+    code, out, err = run(capsys, "design", "thesis_rotating_n3", "--range", "omega=4:4", "--range",
+                         f"zeta=0.001:{zeta_max}", "--vary", "beta=0.01:1", "--json")
+    assert code == 0, err
+    return json.loads(out)
+
+
+@pytest.fixture(scope="module")
+def scan() -> float:
+    return _beta_all(load_model("thesis_rotating_n3"), 4.0)
+
+
+def test_thesis_ch4_beta_bound_is_the_scan(capsys, scan):
+    assert round(scan, 4) == 0.2354
+    data = design(capsys, 0.5)
+    (low, high), = data["feasible_intervals"]
+    assert high == 1.0
+    # the design locates the bound to 1e-12; the scan brackets it within 2^-10 below its value
+    assert scan - SCAN_STEP <= low <= scan
+    assert data["boundaries"] == [{"at": {"beta": low}, "kind": "Hopf", "worst_point": data["boundaries"][0]["worst_point"],
+                                   "bracket": None}]
+    assert data["boundaries"][0]["worst_point"]["zeta"] == 0.5  # the bound is set at zeta = 0.5
+    assert data["feasible"] and data["best"]["margin"] < 0 and data["active_boundary"]["kind"] == "Hopf"
+    # negative control: a box up to zeta = 0.4 is a different question, and its bound is outside the scan's bracket
+    other = design(capsys, 0.4)
+    assert not scan - SCAN_STEP <= other["feasible_intervals"][0][0] <= scan
+
+
+def test_json_keys_as_documented(capsys, tmp_path):
+    code, out, err = run(capsys, "design", "thesis_rotating_n3", "--range", "omega=4:4", "--range", "zeta=0.3:0.5",
+                         "--vary", "beta=0.2:0.4", "--json", "--out", str(tmp_path / "d"))
+    assert code == 0, err
+    data = json.loads(out)
+    assert set(data) == set(JSON_FIELDS) - {"balls", "chosen_balls"}  # exactly the documented keys (no --balls)
+    assert set(data["best"]) == set(BEST_KEYS[1:]) | {"beta"}
+    assert {p.name for p in (tmp_path / "d").iterdir()} == {"design.json", "report.md", "design.png"}
+    report = (tmp_path / "d" / "report.md").read_text()
+    assert "What limits it" in report and "Not covered yet" in report
+    helps = [a.help for a in build_parser()._subparsers._group_actions[0].choices["design"]._actions]
+    assert any(JSON_KEYS in (h or "") for h in helps)
+
+
+@pytest.mark.parametrize("argv, match", [
+    (["--vary", "nope=0:1"], "not a parameter"),
+    (["--vary", "beta=1:0"], "LOW 1 is above HIGH 0"),
+    (["--vary", "beta=0.1"], "expected LOW:HIGH"),
+    (["--vary", "beta=0.2:0.2"], "nothing to vary"),
+    (["--vary", "beta=0.1:0.2", "--imbalance=-1:0.01"], "must be >= 0"),
+    (["--vary", "beta=0.1:0.2", "--imbalance", "0.02:0.01"], "above HIGH"),
+    (["--vary", "beta=0.1:0.2", "--range", "beta=0:1"], "given twice"),
+    (["--vary", "beta=0.1:0.2", "--objective", "residual"], "invalid choice"),
+    (["--vary", "beta=0.1:0.2", "--balls", "2..3"], "--balls needs a scene file"),
+    (["--vary", "beta=0.1:0.2", "--balls", "3..2"], "expected 1 <= N1 <= N2"),
+    (["--vary", "beta=0.1:0.2", "--balls", "two"], "whole numbers"),
+])
+def test_bad_input_one_line(capsys, argv, match):
+    code, out, err = run(capsys, "design", "thesis_rotating_n3", *argv)
+    assert code == 2 and out == "", (code, out, err)
+    assert err.startswith(PREFIX) and err.count("\n") == 1 and match in err, err
+
+
+def test_balls_refuse_a_scene_with_values_ball_by_ball(capsys, tmp_path):
+    scene = tmp_path / "lists.toml"
+    scene.write_text("n = 2\nball_mass = [0.01, 0.012]\n")
+    code, out, err = run(capsys, "design", str(scene), "--vary", "beta=0.1:0.2", "--balls", "2..3")
+    assert code == 2 and err.startswith(PREFIX) and "ball by ball" in err, err
+
+
+def test_balls_choose_the_count(capsys, tmp_path):
+    """The SI example at two ball counts: each count's design is its own scene's (the counts differ in capacity,
+    n mu: 0.02 against 0.03), the chosen count is the one with the better margin."""
+    from pathlib import Path
+
+    scene = Path(__file__).resolve().parents[2] / "examples" / "three_ball_si_design.toml"
+    code, out, err = run(capsys, "design", str(scene), "--range", "omega=pi:pi", "--imbalance", "0:0.01",
+                         "--vary", "beta=0.05:0.3", "--balls", "2..3", "--no-verify", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    rows = data["balls"]
+    assert [r["n"] for r in rows] == [2, 3]
+    assert data["best"]["capacity"] == pytest.approx(0.01 * data["chosen_balls"], rel=1e-9)
+    feasible = [r for r in rows if r["feasible"]]
+    assert data["chosen_balls"] == min(feasible, key=lambda r: r["margin"])["n"]
+    assert data["best"]["margin"] == min(r["margin"] for r in feasible)
