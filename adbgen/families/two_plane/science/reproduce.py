@@ -51,6 +51,20 @@ def _rel(ours, pub):
     return (ours - pub) / pub
 
 
+def kappa_panel(ax, w, k) -> None:
+    """kappa(Omega) of section 3.2.3 drawn whole: a symmetric-log axis (linear within |kappa| <= 1), so that the
+    pole at Omega_2 and the values beyond +-4 are drawn at their size, not clipped; kappa > 0 shaded."""
+    w, k = np.asarray(w, float), np.asarray(k, float)
+    ax.plot(w, k, "k.", ms=3, label=r"$\kappa = (a_1 - a_2)/(a_1 + a_2)$, full model's branches")
+    ax.axhline(0, color="0.6", lw=0.6)
+    ax.fill_between(w, 0, 1, where=k > 0, color="0.85", step="mid", transform=ax.get_xaxis_transform(),
+                    label=r"$a_1 > a_2$: B stable, C3 unstable for $m$ just above $m_c$ (37)-(38)")
+    ax.set_yscale("symlog", linthresh=1.0)
+    top = float(np.nanmax(np.abs(k))) if k.size else 1.0
+    ax.set_ylim(-1.5 * top, 1.5 * top)
+    ax.set_ylabel(r"$\kappa$ (symmetric log)")
+
+
 def exchange(fig_dir: Path) -> dict:
     omegas = np.linspace(0.5, 3.0, 101)
     ex = tx.compute(omegas=omegas)
@@ -58,11 +72,7 @@ def exchange(fig_dir: Path) -> dict:
     fig, (a, b) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True, constrained_layout=True)
     w = np.array(list(ex.curve))
     k = np.array(list(ex.curve.values()))
-    a.plot(w, np.clip(k, -4, 4), "k.", ms=3, label=r"$\kappa = (a_1 - a_2)/(a_1 + a_2)$, full model's branches")
-    a.axhline(0, color="0.6", lw=0.6)
-    a.fill_between(w, -4, 4, where=k > 0, color="0.85", step="mid", label=r"$a_1 > a_2$: B stable, C3 unstable for $m$ just above $m_c$ (37)-(38)")
-    a.set_ylim(-4, 4)
-    a.set_ylabel(r"$\kappa$")
+    kappa_panel(a, w, k)
     for v, ls in zip((ex.omega_1, ex.omega_2), ("-", "-")):
         a.axvline(v, color="C3", lw=0.8, ls=ls)
         b.axvline(v, color="C3", lw=0.8, ls=ls)

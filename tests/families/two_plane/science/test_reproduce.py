@@ -75,3 +75,29 @@ def test_the_start_up_lag_is_not_a_stall_and_a_real_stall_is_found_after_it():
     # lag is then beyond the drive's, and it is a stall from the start, as the relative 5 % measure had it
     (_, start, _), *_ = rtp.stalls(run(follow, ratio=1.0))
     assert start < 0.01
+
+
+def test_kappa_is_drawn_whole_not_clipped_at_4():
+    """Section 3.2.3's kappa has a pole at Omega_2: the panel draws every value at its size (issue 36)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    w = np.linspace(0.5, 3.0, 101)
+    k = 0.3 / (w - 1.8101)  # a pole between grid points, values far beyond +-4
+
+    def drawn_whole(ax):
+        y = ax.lines[0].get_ydata()
+        lo, hi = ax.get_ylim()
+        return np.array_equal(y, k) and lo <= k.min() and hi >= k.max()
+
+    fig, ax = plt.subplots()
+    rtp.kappa_panel(ax, w, k)
+    assert drawn_whole(ax) and ax.get_yscale() == "symlog"
+    plt.close(fig)
+    fig, ax = plt.subplots()  # negative control: the old panel, clipped at +-4
+    ax.plot(w, np.clip(k, -4, 4), "k.")
+    ax.set_ylim(-4, 4)
+    assert not drawn_whole(ax)
+    plt.close(fig)
