@@ -223,11 +223,17 @@ def spin_law(model: Model, p: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np
 
 
 def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples: int = 30001,
-           rtol: float = RTOL, phase: float = 0.0) -> RunUp:
-    """The run-up from rest, the balls of each race at `phase` and `phase` + pi."""
+           rtol: float = RTOL, phase: float = 0.0, offset: float = 0.0, mass_spread: float = 0.0) -> RunUp:
+    """The run-up from rest, the balls of each race at `phase` and `phase` + pi (+ `offset`: the second ball of
+    each race moved, a start that is not exactly opposite, as no physical start is; `mass_spread`: the second
+    ball of each race heavier by that fraction, balls that are not exactly alike)."""
     model = load_model(name)
-    p = model.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(m, ratio)})
-    y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi, "theta_3": phase, "theta_4": phase + math.pi})
+    values = {"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(m, ratio)}
+    if mass_spread:
+        values.update(m_2=m * (1 + mass_spread), m_4=m * (1 + mass_spread))
+    p = model.params(values)
+    y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi + offset, "theta_3": phase,
+                      "theta_4": phase + math.pi + offset})
     sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples, engine=ENGINE)
     angle, spin = spin_law(model, p, sim.t)
     balls = list(model.role_indices("ball_angle"))
