@@ -17,6 +17,7 @@ import numpy as np
 
 from ....analysis.reproduction import Reproduction
 
+from . import coverage
 from ..charts import CHARTS, ChartCase, ties  # noqa: F401  (the paper's charts as data; bench times them too)
 
 
@@ -364,4 +365,5 @@ def _lines(results: dict, root: Path) -> list[str]:
     return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
 
 
-REPRODUCTION = Reproduction("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)", _compute, _lines)
+REPRODUCTION = Reproduction("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)", _compute,
+                            _lines, coverage=coverage.ORBITS)

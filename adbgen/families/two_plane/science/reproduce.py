@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ....analysis.reproduction import Reproduction
+from . import coverage
 from . import exchange as tx
 from . import runs as tr
 
@@ -750,4 +751,4 @@ def section(res: dict, root: Path) -> list[str]:
     return L
 
 
-REPRODUCTION = Reproduction("two-plane", "Two-plane paper", compute, section)
+REPRODUCTION = Reproduction("two-plane", "Two-plane paper", compute, section, coverage=coverage.SECTION)
