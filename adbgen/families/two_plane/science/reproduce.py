@@ -169,6 +169,26 @@ def settle(omegas, first, second, rerun, stable=None, t_first: float = FIG12_TRA
     return out
 
 
+FIG12A_TITLE = ("paper Fig. 12(a): supports (43), static imbalance\n"
+                r"$\epsilon/R = m/M = 10^{-4}$, $\chi$ = 0, $\bar c_b$ = 0.01")
+FIG12B_TITLE = ("paper Fig. 12(b): supports (43), dynamic imbalance\n"
+                r"$\epsilon/R = \chi = 5\times10^{-5}$, $\beta$ = 1, $m/M = 10^{-4}$, $\bar c_b$ = 0.01")
+
+
+def brute_force_figure(omegas, plain, abb, bands, band_label: str, title: str, step: float):
+    """A brute-force diagram of Figure 12: A_bar of the plain rotor (grey) and of the ABB at its converged
+    transient (black) over Omega, B's Floquet-stable windows shaded; the title on two lines (one line was cut)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.4, 3.8), constrained_layout=True)
+    for k, (a, b) in enumerate(bands):
+        ax.axvspan(a, b, color="C2", alpha=0.15, lw=0, label=band_label if k == 0 else None)
+    ax.semilogy(omegas, plain, color="0.6", lw=1.5, label="plain rotor")
+    ax.semilogy(omegas, np.maximum(np.asarray(abb, float), 1e-14), "k.-", lw=0.8, ms=3,
+                label="ABB (converged transient)")
+    _axes_over_omega(ax, r"$\bar A$", f"{title} (grid step {step:g})", 8)
+    return fig
+
+
 def figure_12a(fig_dir: Path) -> dict:
     from scipy.optimize import minimize_scalar
 
@@ -204,24 +224,10 @@ def figure_12a(fig_dir: Path) -> dict:
     dyn_longer = tr.figure_12a(dyn_omegas, t_transient=2 * FIG12_TRANSIENT, with_plain=False, dynamic=True)
     dyn_points = settle(dyn_omegas, dyn_abb, [o.A_bar for o in dyn_longer["abb"]], rerun(True), stable=dyn_stable)
     dyn_bal = np.array([q["balanced"] for q in dyn_points])
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6.4, 3.8), constrained_layout=True)
-    for k, (a, b) in enumerate(floq["stable"]):
-        ax.axvspan(a, b, color="C2", alpha=0.15, lw=0, label="B stable (Floquet)" if k == 0 else None)
-    ax.semilogy(omegas, plain, color="0.6", lw=1.5, label="plain rotor")
-    ax.semilogy(omegas, np.maximum(abb_conv, 1e-14), "k.-", lw=0.8, ms=3, label="ABB (converged transient)")
-    _axes_over_omega(ax, r"$\bar A$", "paper Fig. 12(a): supports (43), static imbalance\n"
-                     r"$\epsilon/R = m/M = 10^{-4}$, $\chi$ = 0, $\bar c_b$ = 0.01 (grid step 0.05)", 8)
+    fig = brute_force_figure(omegas, plain, abb_conv, floq["stable"], "B stable (Floquet)", FIG12A_TITLE, 0.05)
     path = _save(fig, fig_dir / "two_plane_fig12a.png")
-    fig, ax = plt.subplots(figsize=(6.4, 3.8), constrained_layout=True)
-    for k, (a, b) in enumerate(dyn_floq["stable"]):
-        ax.axvspan(a, b, color="C2", alpha=0.15, lw=0, label="B stable (Floquet, dynamic imbalance)" if k == 0 else None)
-    ax.semilogy(dyn_omegas, dyn_plain, color="0.6", lw=1.5, label="plain rotor")
-    ax.semilogy(dyn_omegas, np.maximum([q["A_bar"] for q in dyn_points], 1e-14), "k.-", lw=0.8, ms=3,
-                label="ABB (converged transient)")
-    _axes_over_omega(ax, r"$\bar A$", "paper Fig. 12(b): supports (43), dynamic imbalance\n"
-                     r"$\epsilon/R = \chi = 5\times10^{-5}$, $\beta$ = 1, $m/M = 10^{-4}$, $\bar c_b$ = 0.01 "
-                     "(grid step 0.1)", 8)
+    fig = brute_force_figure(dyn_omegas, dyn_plain, [q["A_bar"] for q in dyn_points], dyn_floq["stable"],
+                             "B stable (Floquet, dynamic imbalance)", FIG12B_TITLE, 0.1)
     path_b = _save(fig, fig_dir / "two_plane_fig12b.png")
     intervals = _intervals(omegas, balanced)
     worse = [(w, a / p) for w, a, p, ok in zip(omegas, abb_conv, plain, balanced) if not ok]

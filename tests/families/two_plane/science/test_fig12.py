@@ -72,3 +72,20 @@ def test_figure_12b_settles_at_2_5_and_4_6_only_with_long_transients():
     assert rtp.balanced_by(_abb([2.5], 16000.0, dynamic=True)).all()
     assert not rtp.balanced_by(_abb([4.6], 32000.0, dynamic=True)).any()
     assert rtp.balanced_by(_abb([4.6], 64000.0, dynamic=True)).all()
+
+
+def _title_fits(t):
+    import matplotlib.pyplot as plt
+
+    w = np.linspace(0.2, 5.0, 49)
+    fig = rtp.brute_force_figure(w, 1e-4 + 0 * w, 1e-9 + 0 * w, [(2.48, 2.68)], "B stable", t, 0.1)
+    fig.canvas.draw()
+    box, whole = fig.axes[0].title.get_window_extent(), fig.bbox
+    plt.close(fig)
+    return box.x0 >= whole.x0 and box.x1 <= whole.x1
+
+
+def test_figure_12_titles_fit_the_figure():
+    assert _title_fits(rtp.FIG12A_TITLE) and _title_fits(rtp.FIG12B_TITLE)
+    # negative control: 12(b)'s title on one line, as it was, runs past the figure's edge
+    assert not _title_fits(rtp.FIG12B_TITLE.replace("\n", " "))
