@@ -17,6 +17,7 @@ import numpy as np
 from ....analysis.reproduction import Reproduction
 from . import coverage
 from . import exchange as tx
+from .prose import render
 from . import runs as tr
 
 FIG12_GRID = (0.2, 5.0, 97)  # Omega from, to, count (step 0.05)
@@ -531,8 +532,6 @@ def _verdict(ok: bool) -> str:
 def fig12_lines(f: dict, root: Path) -> list[str]:
     """Figures 12(a), (b): the converged brute force beside the paper's words and B's Floquet stability
     (prose/fig12.md.j2)."""
-    from .prose import render
-
     (p1g, p1), (p2g, p2) = f["peaks"][:2]
     lim = f["limit"]
     carried = [q for q in f["points"] if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"]]
@@ -708,48 +707,24 @@ def section(res: dict, root: Path) -> list[str]:
     L.append("")
     after = ru["after"]
     a1, a0 = after[0.1], after[0.01]
-    notes = ["The paper prints one number here, \"around t = 800\": ours "
-             f"{M['burst_16a']:.1f} ({_pct(_rel(M['burst_16a'], 800.0))}).  The stall speeds are compared with the "
-             "eigenfrequency they stall \"just below\" ((11): 1 and 1.81); the paper gives no number for them.", "",
-             "**Figure 15(b), balanced operation: a floating-point artefact, shown by a study.**  With c_b/m = 0.1 the "
-             "balls resynchronise, but A stays at "
-             f"{M['end_A_15b']:.3g}: the two balls of each race have met to the last bit at t = "
-             + ("—" if a1["coincident_from"] is None else f"{a1['coincident_from']:.0f} (Omega = "
-                f"{3.6 * a1['coincident_from'] / 6000:.3f}") + "), while the coincident state was attracting, and the "
-             "exactly exchange-symmetric equations keep them together from then on (as on the diagonal of the "
-             "thesis' Fig. 5.18).  Continued at the constant Omega = 3.6 in the rotating frame "
-             f"(`two_plane_rotating`, autonomous there) the run stays at A = {a1['as_is']['A_end']:.3g} after a further "
-             "6000, on a steady state (Newton moves it by "
-             + ("—" if a1["moved"] is None else f"{a1['moved']:.0e}") + ") with "
-             + (f"{a1['unstable']} unstable eigenvalues (" + ", ".join(f"{z.real:.4f}" for z in a1["leading"])
-                + ")" if a1["unstable"] is not None else "no Newton convergence") + ": unstable, held only by the "
-             f"exact symmetry.  Moving balls 1 and 3 by {a1['kick']:g} rad, it balances: A = "
-             f"{a1['kicked']['A_end']:.2g} after 6000.  So the paper's \"eventually this leads to balanced operation\" "
-             "holds for the physical system, but **our run of Figure 15(b) itself does not show it**: the paper's "
-             "balanced operation is reproduced by the perturbation only.  Neither is it the start's exact symmetry: "
-             "with the second ball of each race started 1e-6 rad off opposite the balls still meet to the last bit "
-             f"(from t = {_t(ru['perturbed']['offset']['coincident_from'])}) and end at A = "
-             f"{ru['perturbed']['offset']['A_end']:.3g}; with balls alike only to 1e-6 in mass (the second of each race "
-             "heavier) they cannot meet to the last bit, and A at t = 6000 is "
-             f"{ru['perturbed']['mass']['A_end']:.3g} (the balls turn with the rotor from t = "
-             f"{_t(ru['perturbed']['mass']['sync'])}), not yet balanced when the ramp "
-             "ends.  With c_b/m = 0.01 the balls never synchronise during the ramp "
-             "(the paper's stall), and at the constant speed after it they do and balance (A = "
-             f"{a0['as_is']['A_end']:.2g} after a further 6000)."]
     ph = ru["phases"]
-    n_above = sum(v > 1 for v in ph[0.1])
     worse = ru["worse_phases"]
     spans = lambda iv: " and ".join(f"({a / math.pi:.3f} pi, {b / math.pi:.3f} pi)" for a, b in iv) or "no phase"  # noqa: E731
-    notes += ["", "**Figure 16(d), ABB against the plain rotor at the critical speeds: depends on where the balls "
-              "start.**  The paper says the balls start \"on opposite sides of the race\" but not where; ours start "
-              "at theta = 0, pi.  Over the eight starting phases (0, pi/8, ..., 7pi/8) of the opposite pairs "
-              f"(t <= 300) the ratio ABB / plain rotor spans {min(ph[0.1]):.2f}-{max(ph[0.1]):.2f} for c_b/m = 0.1 "
-              f"(above 1, the paper's statement, for {n_above} of 8) and {min(ph[0.01]):.3f}-{max(ph[0.01]):.3f} "
-              "for 0.01.  **The paper's \"worse than the plain rotor\" holds for c_b/m = 0.1 when the pairs start at "
-              f"phases in {spans(worse[0.1])}** (of the phases mod pi, located by brentq to 1e-3 rad; "
-              f"{sum(b - a for a, b in worse[0.1]) / math.pi:.0%} of them), for c_b/m = 0.01 at {spans(worse[0.01])}.  "
-              "Our default phase 0 gives "
-              f"{M['crit_16b'] / M['crit_plain']:.3f}: the difference is the unstated starting phase, not the model."]
+    off, mass = ru["perturbed"]["offset"], ru["perturbed"]["mass"]
+    notes = render(
+        "runup_notes", burst=f"{M['burst_16a']:.1f}", burst_diff=_pct(_rel(M["burst_16a"], 800.0)),
+        end_A_15b=f"{M['end_A_15b']:.3g}",
+        coincident="—" if a1["coincident_from"] is None else
+        f"{a1['coincident_from']:.0f} (Omega = {3.6 * a1['coincident_from'] / 6000:.3f})",
+        as_is=f"{a1['as_is']['A_end']:.3g}", moved="—" if a1["moved"] is None else f"{a1['moved']:.0e}",
+        unstable=(f"{a1['unstable']} unstable eigenvalues (" + ", ".join(f"{z.real:.4f}" for z in a1["leading"]) + ")"
+                  if a1["unstable"] is not None else "no Newton convergence"),
+        kick=f"{a1['kick']:g}", kicked=f"{a1['kicked']['A_end']:.2g}", offset_coincident=_t(off["coincident_from"]),
+        offset_A=f"{off['A_end']:.3g}", mass_A=f"{mass['A_end']:.3g}", mass_sync=_t(mass["sync"]),
+        low_as_is=f"{a0['as_is']['A_end']:.2g}", span_high=f"{min(ph[0.1]):.2f}-{max(ph[0.1]):.2f}",
+        n_above=sum(v > 1 for v in ph[0.1]), span_low=f"{min(ph[0.01]):.3f}-{max(ph[0.01]):.3f}",
+        worse_high=spans(worse[0.1]), worse_share=f"{sum(b - a for a, b in worse[0.1]) / math.pi:.0%}",
+        worse_low=spans(worse[0.01]), default_ratio=f"{M['crit_16b'] / M['crit_plain']:.3f}")
     L += notes + [""]
     L += [
           f"![Figure 15]({ramp['figure'].relative_to(root).as_posix()})", "",
