@@ -243,7 +243,8 @@ HOPF_ROWS = (1e-4, 1e-3, 1e-2, 0.1)  # eps/R of the rows scanned
 
 def hopf_rows(case: ChartCase, epsilons=HOPF_ROWS, progress=print) -> dict:
     """Every Hopf point of B (the chart's state, `charts.chart_start`) along Omega from the range's top down
-    at each eps/R of `epsilons`, B stable or not (`continuation.scan`): {eps: [Omega, ...]}."""
+    at each eps/R of `epsilons`, B stable or not (`continuation.scan`): {eps: [(Omega, changes B's stability),
+    ...]}."""
     from ....analysis import continuation
     from ....analysis.loading import load_model
     from ....analysis.orbits import charts
@@ -257,7 +258,8 @@ def hopf_rows(case: ChartCase, epsilons=HOPF_ROWS, progress=print) -> dict:
         start = charts.chart_start(m, pm2, (top, eps))
         pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
         sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
-        out[eps] = [b.value for b in sc.points if b.kind == "hopf"]
+        out[eps] = [(b.value, (b.n_unstable_before == 0) != (b.n_unstable_after == 0)) for b in sc.points
+                    if b.kind == "hopf"]
     progress(f"Fig. {case.figure} Hopf points along rows: " + "; ".join(f"{e:g}: {len(v)}" for e, v in out.items()))
     return out
 
@@ -266,12 +268,14 @@ def extra_curve_lines(case: ChartCase, control: ChartCase, progress=print) -> li
     """The paper's "extra curves" of `case` against the symmetric `control`: Hopf points of B along rows."""
     ours = hopf_rows(case, progress=progress)  # the rows at the same m/M (the axis: eps/R times scale2)
     theirs = dict(zip(ours, hopf_rows(control, [e * case.scale2 / control.scale2 for e in ours], progress).values()))
-    rows = [f"| {e * case.scale2:g} | {len(theirs[e])}: " + ", ".join(f"{w:.4f}" for w in theirs[e]) + " | "
-            f"{len(ours[e])}: " + ", ".join(f"{w:.4f}" for w in ours[e]) + " |" for e in ours]
+    cell = lambda pts: f"{len(pts)}: " + ", ".join(f"{w:.4f}" + ("*" if ch else "") for w, ch in pts)  # noqa: E731
+    rows = [f"| {e * case.scale2:g} | {cell(theirs[e])} | {cell(ours[e])} |" for e in ours]
     extra = [e for e in ours if len(ours[e]) > len(theirs[e])]
-    return [f"The chart draws B's stability boundary; the paper's extra curves are Hopf points of a B that is already "
-            f"unstable, which no boundary shows.  Every Hopf point of B along rows (B followed from Omega = "
-            f"{case.range1[1]:g} down to {case.range1[0]:g}, stable or not):", "",
+    changes = lambda d: sum(ch for pts in d.values() for _, ch in pts)  # noqa: E731
+    return [f"The chart draws B's stability boundary only: a Hopf point where B is already unstable on both sides "
+            f"lies on no boundary.  Every Hopf point of B along rows (B followed from Omega = {case.range1[1]:g} "
+            f"down to {case.range1[0]:g}, stable or not; * where B's stability changes, {changes(theirs)} of "
+            f"Fig. {control.figure}'s and {changes(ours)} of Fig. {case.figure}'s):", "",
             f"| m/M | Fig. {control.figure}: Hopf points | Fig. {case.figure}: Hopf points |", "|---|---|---|",
             *rows, "",
             (f"Extra Hopf points at {', '.join(f'{e * case.scale2:g}' for e in extra)}: the paper's extra curves, from "
