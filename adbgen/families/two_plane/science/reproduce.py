@@ -573,7 +573,7 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
     dyn_agree = sum(q["balanced"] == stable(q["Omega"], f["dyn_floquet"]["stable"]) for q in f["dyn_points"])
     disagree = [q["Omega"] for q in f["dyn_points"] if q["balanced"] != stable(q["Omega"], f["dyn_floquet"]["stable"])]
     return render(
-        "fig12", grid=FIG12_GRID, t1=f"{FIG12_TRANSIENT:g}", t2=f"{2 * FIG12_TRANSIENT:g}", cap=f"{FIG12_CAP:g}",
+        "fig12", grid=FIG12_GRID, step=f"{(FIG12_GRID[1] - FIG12_GRID[0]) / (FIG12_GRID[2] - 1):g}", t1=f"{FIG12_TRANSIENT:g}", t2=f"{2 * FIG12_TRANSIENT:g}", cap=f"{FIG12_CAP:g}",
         carried=note, table=table, floquet=_spans(f["floquet"]["stable"], 4),
         parity_speeds=", ".join(f"{w:.2f}" for w in par) or "no speed", parity_count=len(par),
         parity_min=f"{min((m for m, _ in par.values()), default=float('nan')):.5f}",
@@ -720,7 +720,8 @@ def section(res: dict, root: Path) -> list[str]:
         unstable=(f"{a1['unstable']} unstable eigenvalues (" + ", ".join(f"{z.real:.4f}" for z in a1["leading"]) + ")"
                   if a1["unstable"] is not None else "no Newton convergence"),
         kick=f"{a1['kick']:g}", kicked=f"{a1['kicked']['A_end']:.2g}", offset_coincident=_t(off["coincident_from"]),
-        offset_A=f"{off['A_end']:.3g}", mass_A=f"{mass['A_end']:.3g}", mass_sync=_t(mass["sync"]),
+        offset_A=f"{off['A_end']:.3g}", mass_A=f"{mass['A_end']:.3g}", mass_sync="the balls do not yet turn with the rotor" if mass["sync"] is None else
+        f"the balls turn with the rotor from t = {mass['sync']:.0f}",
         low_as_is=f"{a0['as_is']['A_end']:.2g}", span_high=f"{min(ph[0.1]):.2f}-{max(ph[0.1]):.2f}",
         n_above=sum(v > 1 for v in ph[0.1]), span_low=f"{min(ph[0.01]):.3f}-{max(ph[0.01]):.3f}",
         worse_high=spans(worse[0.1]), worse_share=f"{sum(b - a for a, b in worse[0.1]) / math.pi:.0%}",
