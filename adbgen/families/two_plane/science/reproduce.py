@@ -90,7 +90,7 @@ def exchange(fig_dir: Path) -> dict:
     b.axhline(0, color="0.6", lw=0.6)
     b.set_ylim(-0.012, 0.025)
     _axes_over_omega(b, r"Re $\lambda$ (slowest)", r"full damped model (10), B at $m = m_c(1 + 10^{-3})$, "
-                     r"$\bar c_b$ = 0.01: slowest eigenvalue of each symmetry class", 7)
+                     "$\\bar c_b$ = 0.01:\nslowest eigenvalue of each symmetry class", 7)
     path = _save(fig, fig_dir / "two_plane_exchange.png")
     return {"ex": ex, "figure": path, "even": dict(zip(w, even)), "odd": dict(zip(w, odd))}
 
