@@ -64,3 +64,27 @@ def test_inset_tick_labels_do_not_overlap():
         ax.legend(fontsize=6)
 
     assert overlaps(plain)
+
+
+def _wedge(chart: dict) -> list:
+    """The stable windows of the chart's eps/R = 1e-5 row inside [1.70, 1.75] (B's wedge near the critical speed)."""
+    row = min(chart["windows"]["rows"], key=lambda r: abs(r["epsilon"] - 1e-5))
+    assert abs(row["epsilon"] - 1e-5) < 1e-12
+    return [w for w in row["stable"] if 1.70 <= w[0] and w[1] <= 1.75]
+
+
+def test_figure_11_chart_shades_the_wedge_near_the_critical_speed():
+    """Issue 34: docs/reproduction/orbits_chart_11.json (certified) has B stable on about [1.722, 1.734] at
+    eps/R = 1e-5 and states the resolution it certifies."""
+    import json
+    from pathlib import Path
+
+    chart = json.loads((Path(po.__file__).resolve().parents[4] / "docs" / "reproduction" / "orbits_chart_11.json")
+                       .read_text())
+    assert chart["resolution"]["certified"]["refined"] and chart["resolution"]["certified"]["Omega"] < 0.01
+    (a, b), = _wedge(chart)
+    assert a == pytest.approx(1.722, abs=2e-3) and b == pytest.approx(1.734, abs=2e-3)
+    # negative control: the same chart with the wedge's window taken out is caught
+    for row in chart["windows"]["rows"]:
+        row["stable"] = [w for w in row["stable"] if not 1.70 <= w[0] <= 1.75]
+    assert _wedge(chart) == []
