@@ -17,6 +17,6 @@ def run_verify(models, ns) -> int:
         results += family.verify(show, tuple(ns))
     unreproduced = sum(r.passed and r.label != "ok" for r in results)
     print(f"{len(results) - failed} passed, {failed} failed"
-          + (f" ({unreproduced} of the passed: printed values not reproduced, as the README's errata say)"
+          + (f" ({unreproduced} of the passed: printed values not reproduced, see docs/errata.md)"
              if unreproduced else ""))
     return 1 if failed else 0

@@ -1,4 +1,4 @@
-"""The paper's stability charts (Figs. 10(a), 11, 13(a-d), 14(a, b)) as data: the model, its parameter set, the
+"""The paper's stability charts (Figs. 10(a-c), 11, 13(a-d), 14(a, b)) as data: the model, its parameter set, the
 parameters tied to the imbalance (m/M = eps/R: what `adbgen continue --tie` is given), the ranges and the paper's
 words.  Read by the family's science (`science.periodic_orbits`, the reproduction) and by `adbgen bench orbits`
 (which times the charts); no computation here.
@@ -43,6 +43,18 @@ CHARTS = [
               "hence, there is no stable region in the subcritical regime.\"",
               note="isotropic supports: the rotating-frame model, where the fixed frame's torus curves are Hopf curves "
                    "of the steady state B"),
+    ChartCase("10(b)", "two_plane_rotating", {"beta": 1.0}, ties(dynamic=True), scale2=2.0, label2="eps/R + chi = m/M",
+              text="dynamic imbalance, (41): \"We find that the regions of stability remain largely unchanged, however, "
+                   "extra torus curves are now present. As discussed in Section 3, these arise because the introduction "
+                   "of a small misalignment breaks the symmetry between the two races.\"",
+              note="eps/R = chi, beta = 1, c_b/m = 0.01: the set-up of Fig. 14(a), which is this chart"),
+    ChartCase("10(c)", "two_plane_rotating", {"beta": 0.0, "chi": 0.0, "l_1": 9.0}, ties(),
+              "static imbalance, coupled supports (42) (l_1 = 9, l_2 = 3; Omega_cyl ~ 0.89, Omega_con ~ 4.07): "
+              "\"bifurcation curves asymptote to the critical frequencies as the ball mass and eccentricity both tend "
+              "to zero. The stable regions in the high eccentricity regimes have now almost disappeared, although more "
+              "importantly, we find that the stable region for low eccentricities still exists, and has the same "
+              "qualitative shape as before.\"",
+              note="(42): bearing 1 at l_1 = 9, the rest as (10)"),
     ChartCase("11", "two_plane_fixed", {"beta": 0.0, "chi": 0.0}, ties(),
               "anisotropic supports (43), static imbalance: \"The stable region for the high eccentricity regime no "
               "longer exists, however, new 'wedge' shaped stable regions now occur for low eccentricities when the "
@@ -67,7 +79,7 @@ CHARTS = [
               "for low eccentricities and supercritical rotation speeds.\""),
     ChartCase("14(a)", "two_plane_rotating", {"beta": 1.0}, ties(dynamic=True), scale2=2.0, label2="eps/R + chi = m/M",
               text="'long' rotor, dynamic imbalance (eps/R = chi, beta = 1), c_b/m = 0.01: the chart with the marked "
-                   "Hopf point (eps/R + chi = 0.01) whose limit cycles Fig. 14(c, d) continue."),
+                   "Hopf point (eps/R + chi = 0.01) whose limit cycles Fig. 14(c, d) continue.", same_as="10(b)"),
     ChartCase("14(b)", "two_plane_rotating", {"beta": 1.0}, ties(0.1, dynamic=True), scale2=2.0,
               label2="eps/R + chi = m/M",
               text="the same with c_b/m = 0.1: \"As a consequence much of the complicated structure in the high "

@@ -17,6 +17,7 @@ import numpy as np
 
 from ....analysis.reproduction import Reproduction
 
+from . import coverage
 from ..charts import CHARTS, ChartCase, ties  # noqa: F401  (the paper's charts as data; bench times them too)
 
 
@@ -143,13 +144,25 @@ def _plot_14cd(m, br, lam, T, st, A, near, flow, out: Path) -> None:
         ax = axes[0] if j == 0 else axes[1]
         ax.plot(Y[:, 0], Y[:, 1], lw=0.8, label="(" + "i" * (j + 1) + f") Omega {o.p_value:.3f}, T {o.period:.3f}")
     for ax in axes:
-        ax.set_aspect("equal", "datalim")
-        ax.legend(fontsize=6)
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
+        inset_style(ax)
     fig.suptitle("Fig. 14(c, d): limit cycles from the Hopf point at eps/R + chi = 0.01 (two_plane_rotating)", fontsize=9)
     fig.savefig(out / "orbits_fig14cd.png", dpi=110)
     plt.close(fig)
+
+
+def inset_style(ax) -> None:
+    """An inset's whirl orbit: equal aspect, at most four x ticks in scientific notation on one offset (the
+    x labels of inset (i), ~1e-3 wide, overlapped as plain decimals)."""
+    from matplotlib.ticker import MaxNLocator
+
+    ax.set_aspect("equal", "datalim")
+    ax.legend(fontsize=6)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(MaxNLocator(4))
+    ax.ticklabel_format(style="sci", scilimits=(-2, 2), useMathText=True)
+    ax.tick_params(labelsize=7)
 
 
 def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: int = 3000) -> str:
@@ -194,20 +207,22 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
           "change of stability, each seen on both sides; the curves, the windows and the certified `resolution` "
           "as data in the figure's .json).  Grey: B stable (a window narrower than the grid outlined).", ""]
     done: dict = {}
+    by_figure = {c.figure: c for c in CHARTS}
     for case in CHARTS:
-        if case.same_as and case.same_as in done:
-            c, name = done[case.same_as]
-        else:
-            c, name = chart(case, out, n1, n2, progress)
-            done[case.figure] = (c, name)
+        key = case.same_as or case.figure
+        if key not in done:
+            done[key] = chart(by_figure[key], out, n1, n2, progress)
+        c, name = done[key]
         kinds = {}
         for cv in c.curves:
             kinds[cv.kind] = kinds.get(cv.kind, 0) + 1
         L += [f"#### Fig. {case.figure}", "", f"Paper: {case.text}", "",
               f"Ours ({case.model}{'; ' + case.note if case.note else ''}; ties: `{' '.join(case.ties)}`): "
-              + (", ".join(f"{v} {k} curve(s)" for k, v in kinds.items()) or "no curve") + "; "
-              + _chart_summary(c, case), ""]
-        if case.figure in ("10(a)", "11", "13(b)"):
+              + (", ".join(f"{v} {k} curve(s) of B's stability boundary" for k, v in kinds.items()) or "no curve")
+              + "; " + _chart_summary(c, case), ""]
+        if case.figure in EXTRA_CURVES:
+            L += extra_curve_lines(case, by_figure[EXTRA_CURVES[case.figure]], progress) + [""]
+        if case.figure in ("10(a)", "10(c)", "11", "13(b)"):
             lim = limit(case, progress=progress)
             L += ["As the imbalance vanishes (the same ties, B followed from Omega = 5 down to 0.5), its stability "
                   "changes (stable on one side, unstable on the other; bifurcations of an unstable B left out) at: " + "; ".join(f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
@@ -217,6 +232,55 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
     # which must come out byte-identical from run to run
     progress(f"two-plane orbits section: {time.perf_counter() - t0:.0f} s")
     return "\n".join(L)
+
+
+# The charts whose text says "extra curves are present" against the symmetric chart they are compared with:
+# the chart traces B's stability boundary only, so the extra Hopf (torus) curves, where B is already unstable,
+# are counted along rows by one-parameter scans (`hopf_rows`).
+EXTRA_CURVES = {"10(b)": "10(a)", "13(c)": "13(a)"}
+HOPF_ROWS = (1e-4, 1e-3, 1e-2, 0.1)  # eps/R of the rows scanned
+
+
+def hopf_rows(case: ChartCase, epsilons=HOPF_ROWS, progress=print) -> dict:
+    """Every Hopf point of B (the chart's state, `charts.chart_start`) along Omega from the range's top down
+    at each eps/R of `epsilons`, B stable or not (`continuation.scan`): {eps: [(Omega, changes B's stability),
+    ...]}."""
+    from ....analysis import continuation
+    from ....analysis.loading import load_model
+    from ....analysis.orbits import charts
+    from ....analysis.orbits.parameters import ParameterMap
+
+    m = load_model(case.model)
+    pm2 = ParameterMap(m, m.params(case.sets), ["Omega", "epsilon"], case.ties)
+    top, bottom = case.range1[1], case.range1[0]
+    out = {}
+    for eps in epsilons:
+        start = charts.chart_start(m, pm2, (top, eps))
+        pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
+        sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
+        out[eps] = [(b.value, (b.n_unstable_before == 0) != (b.n_unstable_after == 0)) for b in sc.points
+                    if b.kind == "hopf"]
+    progress(f"Fig. {case.figure} Hopf points along rows: " + "; ".join(f"{e:g}: {len(v)}" for e, v in out.items()))
+    return out
+
+
+def extra_curve_lines(case: ChartCase, control: ChartCase, progress=print) -> list[str]:
+    """The paper's "extra curves" of `case` against the symmetric `control`: Hopf points of B along rows."""
+    ours = hopf_rows(case, progress=progress)  # the rows at the same m/M (the axis: eps/R times scale2)
+    theirs = dict(zip(ours, hopf_rows(control, [e * case.scale2 / control.scale2 for e in ours], progress).values()))
+    cell = lambda pts: f"{len(pts)}: " + ", ".join(f"{w:.4f}" + ("*" if ch else "") for w, ch in pts)  # noqa: E731
+    rows = [f"| {e * case.scale2:g} | {cell(theirs[e])} | {cell(ours[e])} |" for e in ours]
+    extra = [e for e in ours if len(ours[e]) > len(theirs[e])]
+    changes = lambda d: sum(ch for pts in d.values() for _, ch in pts)  # noqa: E731
+    return [f"The chart draws B's stability boundary only: a Hopf point where B is already unstable on both sides "
+            f"lies on no boundary.  Every Hopf point of B along rows (B followed from Omega = {case.range1[1]:g} "
+            f"down to {case.range1[0]:g}, stable or not; * where B's stability changes, {changes(theirs)} of "
+            f"Fig. {control.figure}'s and {changes(ours)} of Fig. {case.figure}'s):", "",
+            f"| m/M | Fig. {control.figure}: Hopf points | Fig. {case.figure}: Hopf points |", "|---|---|---|",
+            *rows, "",
+            (f"Extra Hopf points at {', '.join(f'{e * case.scale2:g}' for e in extra)}: the paper's extra curves, from "
+             "the broken symmetry." if extra else "**No extra Hopf point on these rows**: the paper's extra curves "
+             "are not found here.")]
 
 
 def _runs(x: np.ndarray, mask: np.ndarray) -> list[tuple[float, float]]:
@@ -305,4 +369,5 @@ def _lines(results: dict, root: Path) -> list[str]:
     return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
 
 
-REPRODUCTION = Reproduction("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)", _compute, _lines)
+REPRODUCTION = Reproduction("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)", _compute,
+                            _lines, coverage=coverage.ORBITS)

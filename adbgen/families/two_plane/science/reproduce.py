@@ -15,7 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from ....analysis.reproduction import Reproduction
+from . import coverage
 from . import exchange as tx
+from .prose import render
 from . import runs as tr
 
 FIG12_GRID = (0.2, 5.0, 97)  # Omega from, to, count (step 0.05)
@@ -51,6 +53,20 @@ def _rel(ours, pub):
     return (ours - pub) / pub
 
 
+def kappa_panel(ax, w, k) -> None:
+    """kappa(Omega) of section 3.2.3 drawn whole: a symmetric-log axis (linear within |kappa| <= 1), so that the
+    pole at Omega_2 and the values beyond +-4 are drawn at their size, not clipped; kappa > 0 shaded."""
+    w, k = np.asarray(w, float), np.asarray(k, float)
+    ax.plot(w, k, "k.", ms=3, label=r"$\kappa = (a_1 - a_2)/(a_1 + a_2)$, full model's branches")
+    ax.axhline(0, color="0.6", lw=0.6)
+    ax.fill_between(w, 0, 1, where=k > 0, color="0.85", step="mid", transform=ax.get_xaxis_transform(),
+                    label=r"$a_1 > a_2$: B stable, C3 unstable for $m$ just above $m_c$ (37)-(38)")
+    ax.set_yscale("symlog", linthresh=1.0)
+    top = float(np.nanmax(np.abs(k))) if k.size else 1.0
+    ax.set_ylim(-1.5 * top, 1.5 * top)
+    ax.set_ylabel(r"$\kappa$ (symmetric log)")
+
+
 def exchange(fig_dir: Path) -> dict:
     omegas = np.linspace(0.5, 3.0, 101)
     ex = tx.compute(omegas=omegas)
@@ -58,11 +74,7 @@ def exchange(fig_dir: Path) -> dict:
     fig, (a, b) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True, constrained_layout=True)
     w = np.array(list(ex.curve))
     k = np.array(list(ex.curve.values()))
-    a.plot(w, np.clip(k, -4, 4), "k.", ms=3, label=r"$\kappa = (a_1 - a_2)/(a_1 + a_2)$, full model's branches")
-    a.axhline(0, color="0.6", lw=0.6)
-    a.fill_between(w, -4, 4, where=k > 0, color="0.85", step="mid", label=r"$a_1 > a_2$: B stable, C3 unstable for $m$ just above $m_c$ (37)-(38)")
-    a.set_ylim(-4, 4)
-    a.set_ylabel(r"$\kappa$")
+    kappa_panel(a, w, k)
     for v, ls in zip((ex.omega_1, ex.omega_2), ("-", "-")):
         a.axvline(v, color="C3", lw=0.8, ls=ls)
         b.axvline(v, color="C3", lw=0.8, ls=ls)
@@ -78,7 +90,7 @@ def exchange(fig_dir: Path) -> dict:
     b.axhline(0, color="0.6", lw=0.6)
     b.set_ylim(-0.012, 0.025)
     _axes_over_omega(b, r"Re $\lambda$ (slowest)", r"full damped model (10), B at $m = m_c(1 + 10^{-3})$, "
-                     r"$\bar c_b$ = 0.01: slowest eigenvalue of each symmetry class", 7)
+                     "$\\bar c_b$ = 0.01:\nslowest eigenvalue of each symmetry class", 7)
     path = _save(fig, fig_dir / "two_plane_exchange.png")
     return {"ex": ex, "figure": path, "even": dict(zip(w, even)), "odd": dict(zip(w, odd))}
 
@@ -118,6 +130,66 @@ def figure_5a(Omega: float = 3.0) -> dict:
     return {"m_c": mc, "stable_at_pitchfork": g[0] < 0, "points": points, "m_max": float(ms[-1])}
 
 
+FIG12_CAP = 128000.0  # the longest transient a point of Figure 12 is carried on to (FIG12_TRANSIENT doubled)
+
+
+def balanced_by(A_bar) -> np.ndarray:
+    """The brute force's verdict: the balancer balances where A_bar < 1e-3 eps/R (eps/R = m/M = 1e-4)."""
+    return np.asarray(A_bar) < 1e-3 * tr.FIG12_EPS
+
+
+def settle(omegas, first, second, rerun, stable=None, t_first: float = FIG12_TRANSIENT,
+           cap: float = FIG12_CAP) -> list[dict]:
+    """Each Omega's converged verdict of the brute force: A_bar after the transient t_first (`first`) and after
+    2 t_first (`second`); a point whose verdict changes between them, or (where `stable(Omega)`, B's Floquet
+    stability, is given) disagrees with B's stability, is carried on, `rerun(omegas, t)` -> A_bar at the
+    transient doubled, until two successive transients agree (and agree with `stable`) or the transient reaches
+    `cap`.  Per point: Omega, balanced, A_bar, the transient of the verdict, `settled` (False: still changing
+    or against B's stability at the cap) and the verdict at t_first."""
+    out, pending = [], []
+    for i, w in enumerate(omegas):
+        a, b = bool(balanced_by(first[i])), bool(balanced_by(second[i]))
+        out.append({"Omega": float(w), "balanced": b, "A_bar": float(second[i]), "t": 2 * t_first, "settled": True,
+                    "first": a})
+        if a != b or (stable is not None and b != stable(float(w))):
+            pending.append(i)
+    t = 2 * t_first
+    while pending and t < cap:
+        t *= 2
+        again = rerun([float(omegas[i]) for i in pending], t)
+        still = []
+        for i, A in zip(pending, again):
+            v = bool(balanced_by(A))
+            agree = v == out[i]["balanced"] and (stable is None or v == stable(out[i]["Omega"]))
+            out[i].update(balanced=v, A_bar=float(A), t=t)
+            if not agree:
+                still.append(i)
+        pending = still
+    for i in pending:
+        out[i]["settled"] = False
+    return out
+
+
+FIG12A_TITLE = ("paper Fig. 12(a): supports (43), static imbalance\n"
+                r"$\epsilon/R = m/M = 10^{-4}$, $\chi$ = 0, $\bar c_b$ = 0.01")
+FIG12B_TITLE = ("paper Fig. 12(b): supports (43), dynamic imbalance\n"
+                r"$\epsilon/R = \chi = 5\times10^{-5}$, $\beta$ = 1, $m/M = 10^{-4}$, $\bar c_b$ = 0.01")
+
+
+def brute_force_figure(omegas, plain, abb, bands, band_label: str, title: str, step: float):
+    """A brute-force diagram of Figure 12: A_bar of the plain rotor (grey) and of the ABB at its converged
+    transient (black) over Omega, B's Floquet-stable windows shaded; the title on two lines (one line was cut)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.4, 3.8), constrained_layout=True)
+    for k, (a, b) in enumerate(bands):
+        ax.axvspan(a, b, color="C2", alpha=0.15, lw=0, label=band_label if k == 0 else None)
+    ax.semilogy(omegas, plain, color="0.6", lw=1.5, label="plain rotor")
+    ax.semilogy(omegas, np.maximum(np.asarray(abb, float), 1e-14), "k.-", lw=0.8, ms=3,
+                label="ABB (converged transient)")
+    _axes_over_omega(ax, r"$\bar A$", f"{title} (grid step {step:g})", 8)
+    return fig
+
+
 def figure_12a(fig_dir: Path) -> dict:
     from scipy.optimize import minimize_scalar
 
@@ -135,38 +207,38 @@ def figure_12a(fig_dir: Path) -> dict:
                             bounds=(peak - h, peak + h), method="bounded", options={"xatol": 1e-5})
         refined.append((peak, float(r.x)))
     limit = tr.plain_limit()
-    balanced = abb < 1e-3 * tr.FIG12_EPS
-    floq = floquet_section(omegas, balanced)
+
+    def rerun(dynamic):
+        return lambda ws, t: [o.A_bar for o in tr.figure_12a(ws, t_transient=t, with_plain=False, dynamic=dynamic)["abb"]]
+
     longer = tr.figure_12a(omegas, t_transient=2 * FIG12_TRANSIENT, with_plain=False)  # the transient doubled
-    balanced_tight = np.array([o.A_bar for o in longer["abb"]]) < 1e-3 * tr.FIG12_EPS
+    points = settle(omegas, abb, [o.A_bar for o in longer["abb"]], rerun(False))
+    balanced = np.array([q["balanced"] for q in points])
+    abb_conv = np.array([q["A_bar"] for q in points])
+    floq = floquet_section(omegas, balanced)
     dyn_omegas = np.linspace(*FIG12B_GRID[:2], FIG12B_GRID[2])
     dyn = tr.figure_12a(dyn_omegas, dynamic=True)
     dyn_abb = np.array([o.A_bar for o in dyn["abb"]])
     dyn_plain = np.array([o.A_bar for o in dyn["plain"]])
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6.4, 3.8), constrained_layout=True)
-    for k, (a, b) in enumerate(floq["stable"]):
-        ax.axvspan(a, b, color="C2", alpha=0.15, lw=0, label="B stable (Floquet)" if k == 0 else None)
-    ax.semilogy(omegas, plain, color="0.6", lw=1.5, label="plain rotor")
-    ax.semilogy(omegas, np.maximum(abb, 1e-14), "k.-", lw=0.8, ms=3, label="ABB")
-    _axes_over_omega(ax, r"$\bar A$", r"paper Fig. 12(a): supports (43), static imbalance $\epsilon/R = m/M = "
-                     r"10^{-4}$, $\chi$ = 0, $\bar c_b$ = 0.01 (grid step 0.05)", 8)
+    dyn_floq = floquet_section(dyn_omegas, np.zeros(len(dyn_omegas), bool), dynamic=True)
+    dyn_stable = lambda w: any(a <= w <= b for a, b in dyn_floq["stable"])  # noqa: E731
+    dyn_longer = tr.figure_12a(dyn_omegas, t_transient=2 * FIG12_TRANSIENT, with_plain=False, dynamic=True)
+    dyn_points = settle(dyn_omegas, dyn_abb, [o.A_bar for o in dyn_longer["abb"]], rerun(True), stable=dyn_stable)
+    dyn_bal = np.array([q["balanced"] for q in dyn_points])
+    fig = brute_force_figure(omegas, plain, abb_conv, floq["stable"], "B stable (Floquet)", FIG12A_TITLE, 0.05)
     path = _save(fig, fig_dir / "two_plane_fig12a.png")
-    fig, ax = plt.subplots(figsize=(6.4, 3.8), constrained_layout=True)
-    ax.semilogy(dyn_omegas, dyn_plain, color="0.6", lw=1.5, label="plain rotor")
-    ax.semilogy(dyn_omegas, np.maximum(dyn_abb, 1e-14), "k.-", lw=0.8, ms=3, label="ABB")
-    _axes_over_omega(ax, r"$\bar A$", r"paper Fig. 12(b): supports (43), dynamic imbalance $\epsilon/R = \chi = "
-                     r"5\times10^{-5}$, $\beta$ = 1, $m/M = 10^{-4}$, $\bar c_b$ = 0.01 (grid step 0.1)", 8)
+    fig = brute_force_figure(dyn_omegas, dyn_plain, [q["A_bar"] for q in dyn_points], dyn_floq["stable"],
+                             "B stable (Floquet, dynamic imbalance)", FIG12B_TITLE, 0.1)
     path_b = _save(fig, fig_dir / "two_plane_fig12b.png")
-    dyn_bal = dyn_abb < 1e-3 * tr.FIG12_EPS
     intervals = _intervals(omegas, balanced)
-    worse = [(w, a / p) for w, a, p in zip(omegas, abb, plain) if not balanced[omegas.tolist().index(w)]]
-    return {"omegas": omegas, "abb": abb, "plain": plain, "peaks": refined, "limit": limit, "figure": path,
-            "intervals": intervals, "wall": time.time() - t0, "floquet": floq,
+    worse = [(w, a / p) for w, a, p, ok in zip(omegas, abb_conv, plain, balanced) if not ok]
+    return {"omegas": omegas, "abb": abb_conv, "plain": plain, "peaks": refined, "limit": limit, "figure": path,
+            "intervals": intervals, "wall": time.time() - t0, "floquet": floq, "points": points,
+            "first_intervals": _intervals(omegas, balanced_by(abb)),
             "worst_ratio": max(worse, key=lambda x: x[1]) if worse else None,
             "drift": np.array([o.drift for o in res["abb"]]),
-            "tight_changed": [float(w) for w, a, b in zip(omegas, balanced, balanced_tight) if a != b],
             "figure_b": path_b, "dyn_omegas": dyn_omegas, "dyn_abb": dyn_abb, "dyn_plain": dyn_plain,
+            "dyn_points": dyn_points, "dyn_floquet": dyn_floq, "dyn_first_intervals": _intervals(dyn_omegas, balanced_by(dyn_abb)),
             "dyn_intervals": _intervals(dyn_omegas, dyn_bal)}
 
 
@@ -218,17 +290,19 @@ def _all_runs(rtol: float) -> dict:
     return runs
 
 
-def floquet_section(omegas, balanced) -> dict:
-    """B's stability along the section (the paper's Figure 11 through Figure 12(a)): Floquet multipliers on
-    FLOQUET_GRID, each change of stability refined by brentq on log max|mu| (xtol 1e-4); and, at the
-    brute-force grid's balanced points where B is unstable, the gamma_r parity of the unstable multiplier's
-    eigenvector (+1 even, -1 odd)."""
+def floquet_section(omegas, balanced, dynamic: bool = False) -> dict:
+    """B's stability along the section (the paper's Figure 11 through Figure 12(a); `dynamic`: the dynamic
+    imbalance of Figure 12(b), eps/R = chi = 5e-5, beta = 1): Floquet multipliers on FLOQUET_GRID, each change
+    of stability refined by brentq on log max|mu| (xtol 1e-4); and, at the brute-force grid's balanced points
+    where B is unstable, the gamma_r parity of the unstable multiplier's eigenvector (+1 even, -1 odd)."""
     from scipy.optimize import brentq
 
     from ....analysis.loading import load_model
 
     model = load_model("two_plane_fixed")
-    values = {"epsilon": tr.FIG12_EPS, "chi": 0.0, "beta": 0.0, **tr._ball_values(tr.FIG12_EPS, tr.FIG12_RATIO)}
+    imbalance = ({"epsilon": tr.FIG12_EPS / 2, "chi": tr.FIG12_EPS / 2, "beta": 1.0} if dynamic
+                 else {"epsilon": tr.FIG12_EPS, "chi": 0.0, "beta": 0.0})
+    values = {**imbalance, **tr._ball_values(tr.FIG12_EPS, tr.FIG12_RATIO)}
     P = tx.race_swap(model)
 
     def growth(w):
@@ -246,7 +320,7 @@ def floquet_section(omegas, balanced) -> dict:
             mu, V = tr.floquet(model, values, float(w))
             v = V[:, int(np.argmax(np.abs(mu)))]
             parity[float(w)] = (float(np.abs(mu).max()), float((np.vdot(v, P @ v) / np.vdot(v, v)).real))
-    return {"stable": stable, "parity": parity}
+    return {"stable": stable, "parity": parity, "growth": {float(w): v for w, v in zip(grid, g)}}
 
 
 def runups(fig_dir: Path) -> dict:
@@ -256,11 +330,21 @@ def runups(fig_dir: Path) -> dict:
         study[rtol] = runup_metrics(all_runs)
     out = {"study": study, "after": {ratio: tr.after_ramp(ratio, rtol=RUN_RTOLS[-1]) for ratio in tr.RATIOS}}
     out["spin_check"] = spin_angle_check()
+    # Figure 15(b) without the exact symmetry: a start not exactly opposite, balls not exactly alike
+    out["perturbed"] = {}
+    for what, kw in (("offset", {"offset": 1e-6}), ("mass", {"mass_spread": 1e-6})):
+        r = tr.run_up("two_plane_ramp", 0.1, 6000.0, samples=6001, rtol=RUN_RTOLS[-1], **kw)
+        out["perturbed"][what] = {"A_end": float(r.A[-1]), "coincident_from": tr.coincident_from(r),
+                                  "sync": tr.synchronised_from(r)}
     # the paper does not say where on the race the opposite pairs start: Figure 16(d)'s ratio over phases
     plain = all_runs["two_plane_hill", None]
     peak = float(plain.A[plain.t <= 300].max())
-    out["phases"] = {ratio: [float(tr.run_up("two_plane_hill", ratio, 300.0, samples=3001, rtol=RUN_RTOLS[-1],
-                                             phase=ph).A.max() / peak) for ph in PHASES] for ratio in tr.RATIOS}
+    def ratio_at(ratio):
+        return lambda ph: float(tr.run_up("two_plane_hill", ratio, 300.0, samples=3001, rtol=RUN_RTOLS[-1],
+                                          phase=ph).A.max() / peak)
+
+    out["phases"] = {ratio: [ratio_at(ratio)(ph) for ph in PHASES] for ratio in tr.RATIOS}
+    out["worse_phases"] = {ratio: worse_phases(ratio_at(ratio), PHASES, out["phases"][ratio]) for ratio in tr.RATIOS}
     plt = _plt()
     for fig_name, name, t_end in RUNUPS:
         runs = {ratio: all_runs[name, ratio] for ratio in tr.RATIOS}
@@ -303,6 +387,30 @@ def runups(fig_dir: Path) -> dict:
             fig.suptitle(r"paper Fig. 16: Hill run-up (45), $(\Omega_{max}, \bar t_{1/2}, n)$ = (3.6, 200, 3), "
                          r"set-up (10), $\epsilon/R = \chi = 5\times10^{-5}$, $\beta$ = 1, $m/M = 10^{-4}$", fontsize=8)
         out[name]["figure"] = _save(fig, fig_dir / f"two_plane_{fig_name.split()[1]}.png")
+    return out
+
+
+def worse_phases(ratio_at, phases=PHASES, values=None, xtol: float = 1e-3) -> list[tuple[float, float]]:
+    """The starting phases of the opposite pairs (mod pi: the pair at phase and phase + pi is the same pair of
+    equal balls) where the ABB's vibration at the critical speeds exceeds the plain rotor's, ratio_at(phase) > 1
+    (Figure 16(d)'s "worse than plain"): the sign changes of ratio - 1 between neighbouring `phases` (values:
+    ratio_at there, if known; the last neighbour is phase 0 again at pi) located by brentq (xtol), as intervals of
+    [0, pi)."""
+    from scipy.optimize import brentq
+
+    values = [ratio_at(p) for p in phases] if values is None else list(values)
+    ph, v = list(phases) + [math.pi], values + [values[0]]
+    edges = [brentq(lambda x: ratio_at(x) - 1.0, ph[i], ph[i + 1], xtol=xtol)
+             for i in range(len(phases)) if (v[i] > 1) != (v[i + 1] > 1)]
+    out, start = [], 0.0 if v[0] > 1 else None
+    for e in edges:
+        if start is None:
+            start = e
+        else:
+            out.append((start, e))
+            start = None
+    if start is not None:
+        out.append((start, math.pi))
     return out
 
 
@@ -378,6 +486,10 @@ def compute(fig_dir: Path, progress=None) -> dict:
 SYNC = "t_sync: from then on every ball |theta_k' - Omega| <= 1e-3 Omega"
 
 
+def _t(v) -> str:
+    return "—" if v is None else f"{v:.0f}"
+
+
 def _stall_list(v) -> str:
     return "; ".join(f"{m:.4f} ({a:.2f}-{b:.2f})" for m, a, b in v) or "none"
 
@@ -407,6 +519,75 @@ def _figure_5a_lines(r: dict) -> list[str]:
 
 def _pct(x):
     return f"{100 * x:+.2f} %"
+
+
+def _spans(iv, digits: int = 2) -> str:
+    return ", ".join(f"[{a:.{digits}f}, {b:.{digits}f}]" for a, b in iv) or "no speed of the grid"
+
+
+def _verdict(ok: bool) -> str:
+    return "balanced" if ok else "not balanced"
+
+
+def fig12_lines(f: dict, root: Path) -> list[str]:
+    """Figures 12(a), (b): the converged brute force beside the paper's words and B's Floquet stability
+    (prose/fig12.md.j2)."""
+    (p1g, p1), (p2g, p2) = f["peaks"][:2]
+    lim = f["limit"]
+    carried = [q for q in f["points"] if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"]]
+    if carried:
+        note = ("Carried on: " + "; ".join(f"Omega = {q['Omega']:.2f} ({_verdict(q['first'])} at t = "
+                                          f"{FIG12_TRANSIENT:g}, {_verdict(q['balanced'])} at t = {q['t']:g}"
+                                          + ("" if q["settled"] else ", **still changing at the cap**") + ")"
+                                          for q in carried)
+                + f".  Converged: balanced on {_spans(f['intervals'])}; the t = {FIG12_TRANSIENT:g} run alone gave "
+                f"{_spans(f['first_intervals'])}.")
+    else:
+        note = f"No point changes: balanced on {_spans(f['intervals'])}."
+    table = [
+        ["plain rotor, first peak (Omega_cyl,X)", "1", f"{p1:.5f} (grid {p1g:.3f})", _pct(_rel(p1, 1.0))],
+        ["plain rotor, second peak (Omega_cyl,Y)", "2.24", f"{p2:.5f} (grid {p2g:.3f})", _pct(_rel(p2, 2.24))],
+        ["plain rotor, A_bar -> eps/R as Omega -> infinity", "1e-4",
+         ", ".join(f"{v:.4g} (Omega = {k:g})" for k, v in sorted(lim.items())),
+         ", ".join(_pct(_rel(v, 1e-4)) for k, v in sorted(lim.items()))],
+        ["conical resonances 1.65, 3.79 not excited in the plain rotor (chi = 0)", "no peak",
+         "no peak" if len(f["peaks"]) == 2 else "peaks at " + ", ".join(f"{b:.3f}" for _, b in f["peaks"]),
+         "same" if len(f["peaks"]) == 2 else "**differs**"],
+        ["ABB balances between resonances and above the highest critical speed", "intervals (no number)",
+         f"{_spans(f['intervals'])} (t = {FIG12_TRANSIENT:g} alone: {_spans(f['first_intervals'])})", "—"]]
+    par = f["floquet"]["parity"]
+    stable = lambda w, iv: any(a <= w <= b for a, b in iv)  # noqa: E731
+    static_agree = sum(q["balanced"] == stable(q["Omega"], f["floquet"]["stable"]) for q in f["points"])
+    growth = f["dyn_floquet"]["growth"]
+    rows, slow = [], None
+    for q in f["dyn_points"]:
+        b_stable = stable(q["Omega"], f["dyn_floquet"]["stable"])
+        if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"] or q["balanced"] != b_stable:
+            rows.append([f"{q['Omega']:.1f}", _verdict(q["first"]), f"{q['t']:g}" + ("" if q["settled"] else
+                         " (cap, still changing)"), f"{q['A_bar']:.3g}", _verdict(q["balanced"]),
+                         "stable" if b_stable else "unstable"])
+            g = growth.get(q["Omega"])
+            if g is not None and g < 0 and (slow is None or q["t"] > slow["t_raw"]):
+                slow = {"Omega": f"{q['Omega']:.1f}", "mu": f"{math.exp(g):.5f}",
+                        "time": f"{2 * math.pi / q['Omega'] / -g:.0f}", "t": f"{q['t']:g}", "t_raw": q["t"]}
+    dyn_agree = sum(q["balanced"] == stable(q["Omega"], f["dyn_floquet"]["stable"]) for q in f["dyn_points"])
+    disagree = [q["Omega"] for q in f["dyn_points"] if q["balanced"] != stable(q["Omega"], f["dyn_floquet"]["stable"])]
+    return render(
+        "fig12", grid=FIG12_GRID, step=f"{(FIG12_GRID[1] - FIG12_GRID[0]) / (FIG12_GRID[2] - 1):g}", t1=f"{FIG12_TRANSIENT:g}", t2=f"{2 * FIG12_TRANSIENT:g}", cap=f"{FIG12_CAP:g}",
+        carried=note, table=table, floquet=_spans(f["floquet"]["stable"], 4),
+        parity_speeds=", ".join(f"{w:.2f}" for w in par) or "no speed", parity_count=len(par),
+        parity_min=f"{min((m for m, _ in par.values()), default=float('nan')):.5f}",
+        parity_max=f"{max((m for m, _ in par.values()), default=float('nan')):.5f}",
+        parity_signs=", ".join(sorted({f"{s:+.0f}" for _, s in par.values()})) or "—",
+        limit_note=", ".join(f"{_pct(1 / (1 - 5 / k**2) - 1)} at Omega = {k:g}" for k in sorted(lim))
+        + f"; at the grid's end, Omega = {f['omegas'][-1]:g}: {f['plain'][-1]:.4g}",
+        worst=f"{f['worst_ratio'][1]:.0f}", worst_at=f"{f['worst_ratio'][0]:.2f}",
+        figure=f["figure"].relative_to(root).as_posix(), figure_b=f["figure_b"].relative_to(root).as_posix(),
+        dyn_floquet=_spans(f["dyn_floquet"]["stable"], 4), dyn_rows=rows,
+        dyn_intervals=_spans(f["dyn_intervals"], 1), dyn_first=_spans(f["dyn_first_intervals"], 1),
+        dyn_agree=dyn_agree, dyn_total=len(f["dyn_points"]),
+        dyn_disagree="" if not disagree else " (not at Omega = " + ", ".join(f"{w:.1f}" for w in disagree) + ")",
+        static_agree=static_agree, static_total=len(f["points"]), slow=slow) + [""]
 
 
 def section(res: dict, root: Path) -> list[str]:
@@ -467,79 +648,7 @@ def section(res: dict, root: Path) -> list[str]:
           f"![B/C3 exchange]({res['exchange']['figure'].relative_to(root).as_posix()})", ""]
 
     L += _figure_5a_lines(res["fig5a"])
-    f = res["fig12"]
-    (p1g, p1), (p2g, p2) = f["peaks"][:2]
-    lim = f["limit"]
-    L += ["### Section 4.2, Figure 12(a): brute-force diagram, anisotropic supports", "",
-          "(The issue calls it section 5's sweep: the figure is printed at the start of section 5, its text is in "
-          "section 4.2.)  ",
-          "As the paper: for each Omega the transients die away (t = 4000, a whole number of periods), then "
-          "A_bar = the maximum over 20 periods of the average displacement at the two points one unit from the "
-          "midspan; the rotor starts at rest, the balls at rest relative to it on opposite sides of each race.  "
-          f"`two_plane_fixed`, (43), eps/R = m/M = 1e-4, chi = 0, c_b/m = 0.01; Omega from {FIG12_GRID[0]:g} to "
-          f"{FIG12_GRID[1]:g} in steps of 0.05 ({FIG12_GRID[2]} points; the paper does not state its grid); "
-          "plain rotor: balls of mass 1e-10.  DOP853 (`cyrk-dop853`), rtol 1e-9, with the right-hand side "
-          "symmetrized under the race swap gamma_r (`engines/symmetrized.py`: f_S(y) = (f(y) + S f(S y))/2, "
-          "exactly equivariant; the set-up (chi = 0, equal balls) is gamma_r-symmetric, so f_S = f up to "
-          "rounding), so that the symmetric start stays symmetric to the last bit: the tilt stays exactly 0 "
-          "instead of growing from 1e-17 by an unstable odd mode (a test shows both).  The balancer again with "
-          f"the transient doubled (t = {2 * FIG12_TRANSIENT:g}): the set of speeds where it balances (A_bar < 1e-3 "
-          "eps/R) " + ("is the same" if not f["tight_changed"] else "changes at Omega = "
-                        + ", ".join(f"{w:.2f}" for w in f["tight_changed"])) + ".  The paper prints no number read "
-          "off this figure other than the limit eps/R and the critical speeds of (43):", "",
-          "| statement | published | ours | rel. diff. |", "|---|---|---|---|",
-          f"| plain rotor, first peak (Omega_cyl,X) | 1 | {p1:.5f} (grid {p1g:.3f}) | {_pct(_rel(p1, 1.0))} |",
-          f"| plain rotor, second peak (Omega_cyl,Y) | 2.24 | {p2:.5f} (grid {p2g:.3f}) | {_pct(_rel(p2, 2.24))} |",
-          f"| plain rotor, A_bar -> eps/R as Omega -> infinity | 1e-4 | "
-          + ", ".join(f"{v:.4g} (Omega = {k:g})" for k, v in sorted(lim.items())) + " | "
-          + ", ".join(_pct(_rel(v, 1e-4)) for k, v in sorted(lim.items())) + " |",
-          "| conical resonances 1.65, 3.79 not excited in the plain rotor (chi = 0) | no peak | "
-          f"{'no peak' if len(f['peaks']) == 2 else 'peaks at ' + ', '.join(f'{b:.3f}' for _, b in f['peaks'])} | "
-          f"{'same' if len(f['peaks']) == 2 else '**differs**'} |",
-          "| ABB balances between resonances and above the highest critical speed | intervals | "
-          + ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in f["intervals"]) + " | — |", "",
-          "**B's stability along this section** (the paper's Figure 11, of which Figure 12(a) is a section; "
-          "green bands): Floquet multipliers of the balanced orbit B (rotor at rest, balls at pi +- arccos(m_c/m), "
-          "a constant state of the forced system) from the monodromy matrix of the generated jac over one period "
-          "(DOP853, rtol 1e-11), on a grid of step 0.1 with each change refined to 1e-4: B is stable on "
-          + ", ".join(f"[{a:.4f}, {b:.4f}]" for a, b in f["floquet"]["stable"]) + ".  The paper: \"the ABB seems "
-          "to balance the rotor for a greater range of speeds than is predicted by the section through Figure 11. "
-          "This discrepancy occurs because the symmetry of the initial conditions prevent the balls from "
-          "destabilising as expected.\"  Ours: the brute force balances at "
-          + (", ".join(f"{w:.2f}" for w in f["floquet"]["parity"]) or "no speed") + " where B is unstable "
-          "(largest |multiplier| " + ", ".join(f"{m:.5f}" for m, _ in f["floquet"]["parity"].values())
-          + "), and there the unstable multiplier's eigenvector has gamma_r parity "
-          + ", ".join(f"{par:+.0f}" for _, par in f["floquet"]["parity"].values())
-          + " (-1: odd): the start, balls at 0 and pi in both races, is gamma_r-symmetric, and with the exactly "
-          "equivariant right-hand side the run stays on the symmetric subspace, where that mode is absent.  The "
-          "same discrepancy, with the same cause; it holds for the exact symmetric set-up only (the physical rotor "
-          "is never exactly symmetric: Figure 12(b)).", "",
-          "The peaks are located by a bounded scalar search (xatol 1e-5) on the brute-force A_bar around the "
-          "grid's maxima; they are the damped response peaks of the derived model ([Two-plane rotor](two-plane.md), `response_peaks`: 1.000100, 2.237185), so 2.24 is met at its "
-          "printed precision.  The plain rotor approaches eps/R from above as its Y response "
-          "1/(1 - Omega_Y^2/Omega^2) with Omega_Y^2 = (k_1Y + k_2Y)/M = 5 does ("
-          + ", ".join(f"{_pct(1 / (1 - 5 / k**2) - 1)} at Omega = {k:g}" for k in sorted(lim))
-          + f"; at the grid's end, Omega = {f['omegas'][-1]:g}: {f['plain'][-1]:.4g}): the difference is the "
-          "limit not yet reached, not an error.  The printed 1.65 and 3.79 (the conical "
-          "critical speeds of (43)) remain NOT REPRODUCED ([Errata](errata.md): the derived model gives 1.659235 and "
-          "3.776920); a static imbalance does not excite them, so this figure cannot test them.  Where the balls "
-          "do not balance they run behind the rotor (alpha_k' != 0 over the window) and the ABB is worse than "
-          f"the plain rotor up to {f['worst_ratio'][1]:.0f} times (at Omega = {f['worst_ratio'][0]:.2f}), as the "
-          "paper says (\"the ABB performs far worse than the plain rotor when in the vicinity of the critical "
-          "speeds\").", "",
-          f"![Figure 12(a)]({f['figure'].relative_to(root).as_posix()})", "",
-          "### Section 4.2, Figure 12(b): dynamic imbalance", "",
-          "The same brute force (t = 4000, 20 periods; grid step 0.1) with the dynamic imbalance of the paper: "
-          "m/M = eps/R + chi = 1e-4, eps/R = chi = 5e-5, phase beta = 1.  This set-up is not gamma_r-symmetric, so "
-          "the plain engine.  The paper: \"there is a better agreement with the stability results of Figure 11, and "
-          "we find that the ABB still compensates for the imbalance in the highly supercritical frequency range\".  "
-          "Ours: the balancer balances (A_bar < 1e-3 x 1e-4) on "
-          + (", ".join(f"[{a:.1f}, {b:.1f}]" for a, b in f["dyn_intervals"]) or "no speed of the grid")
-          + "; against Figure 12(a)'s " + ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in f["intervals"])
-          + " and B's Floquet-stable " + ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in f["floquet"]["stable"])
-          + " (Figure 11's section: for the static imbalance; the paper prints no number of Figure 12(b)).", "",
-          f"![Figure 12(b)]({f['figure_b'].relative_to(root).as_posix()})", ""]
-
+    L += fig12_lines(res["fig12"], root)
     ru = res["runups"]
     ramp, hill = ru["two_plane_ramp"], ru["two_plane_hill"]
     study = ru["study"]
@@ -598,35 +707,25 @@ def section(res: dict, root: Path) -> list[str]:
     L.append("")
     after = ru["after"]
     a1, a0 = after[0.1], after[0.01]
-    notes = ["The paper prints one number here, \"around t = 800\": ours "
-             f"{M['burst_16a']:.1f} ({_pct(_rel(M['burst_16a'], 800.0))}).  The stall speeds are compared with the "
-             "eigenfrequency they stall \"just below\" ((11): 1 and 1.81); the paper gives no number for them.", "",
-             "**Figure 15(b), balanced operation: a floating-point artefact, shown by a study.**  With c_b/m = 0.1 the "
-             "balls resynchronise, but A stays at "
-             f"{M['end_A_15b']:.3g}: the two balls of each race have met to the last bit at t = "
-             + ("—" if a1["coincident_from"] is None else f"{a1['coincident_from']:.0f} (Omega = "
-                f"{3.6 * a1['coincident_from'] / 6000:.3f}") + "), while the coincident state was attracting, and the "
-             "exactly exchange-symmetric equations keep them together from then on (as on the diagonal of the "
-             "thesis' Fig. 5.18).  Continued at the constant Omega = 3.6 in the rotating frame "
-             f"(`two_plane_rotating`, autonomous there) the run stays at A = {a1['as_is']['A_end']:.3g} after a further "
-             "6000, on a steady state (Newton moves it by "
-             + ("—" if a1["moved"] is None else f"{a1['moved']:.0e}") + ") with "
-             + (f"{a1['unstable']} unstable eigenvalues (" + ", ".join(f"{z.real:.4f}" for z in a1["leading"])
-                + ")" if a1["unstable"] is not None else "no Newton convergence") + ": unstable, held only by the "
-             f"exact symmetry.  Moving balls 1 and 3 by {a1['kick']:g} rad, it balances: A = "
-             f"{a1['kicked']['A_end']:.2g} after 6000.  So the paper's \"eventually this leads to balanced operation\" "
-             "holds for the physical system.  With c_b/m = 0.01 the balls never synchronise during the ramp "
-             "(the paper's stall), and at the constant speed after it they do and balance (A = "
-             f"{a0['as_is']['A_end']:.2g} after a further 6000)."]
     ph = ru["phases"]
-    n_above = sum(v > 1 for v in ph[0.1])
-    notes += ["", "**Figure 16(d), ABB against the plain rotor at the critical speeds: depends on where the balls "
-              "start.**  The paper says the balls start \"on opposite sides of the race\" but not where; ours start "
-              "at theta = 0, pi.  Over the eight starting phases (0, pi/8, ..., 7pi/8) of the opposite pairs "
-              f"(t <= 300) the ratio ABB / plain rotor spans {min(ph[0.1]):.2f}-{max(ph[0.1]):.2f} for c_b/m = 0.1 "
-              f"(above 1, the paper's statement, for {n_above} of 8) and {min(ph[0.01]):.3f}-{max(ph[0.01]):.3f} "
-              "for 0.01.  Our default phase 0 gives "
-              f"{M['crit_16b'] / M['crit_plain']:.3f}: the difference is the unstated starting phase, not the model."]
+    worse = ru["worse_phases"]
+    spans = lambda iv: " and ".join(f"({a / math.pi:.3f} pi, {b / math.pi:.3f} pi)" for a, b in iv) or "no phase"  # noqa: E731
+    off, mass = ru["perturbed"]["offset"], ru["perturbed"]["mass"]
+    notes = render(
+        "runup_notes", burst=f"{M['burst_16a']:.1f}", burst_diff=_pct(_rel(M["burst_16a"], 800.0)),
+        end_A_15b=f"{M['end_A_15b']:.3g}",
+        coincident="—" if a1["coincident_from"] is None else
+        f"{a1['coincident_from']:.0f} (Omega = {3.6 * a1['coincident_from'] / 6000:.3f})",
+        as_is=f"{a1['as_is']['A_end']:.3g}", moved="—" if a1["moved"] is None else f"{a1['moved']:.0e}",
+        unstable=(f"{a1['unstable']} unstable eigenvalues (" + ", ".join(f"{z.real:.4f}" for z in a1["leading"]) + ")"
+                  if a1["unstable"] is not None else "no Newton convergence"),
+        kick=f"{a1['kick']:g}", kicked=f"{a1['kicked']['A_end']:.2g}", offset_coincident=_t(off["coincident_from"]),
+        offset_A=f"{off['A_end']:.3g}", mass_A=f"{mass['A_end']:.3g}", mass_sync="the balls do not yet turn with the rotor" if mass["sync"] is None else
+        f"the balls turn with the rotor from t = {mass['sync']:.0f}",
+        low_as_is=f"{a0['as_is']['A_end']:.2g}", span_high=f"{min(ph[0.1]):.2f}-{max(ph[0.1]):.2f}",
+        n_above=sum(v > 1 for v in ph[0.1]), span_low=f"{min(ph[0.01]):.3f}-{max(ph[0.01]):.3f}",
+        worse_high=spans(worse[0.1]), worse_share=f"{sum(b - a for a, b in worse[0.1]) / math.pi:.0%}",
+        worse_low=spans(worse[0.01]), default_ratio=f"{M['crit_16b'] / M['crit_plain']:.3f}")
     L += notes + [""]
     L += [
           f"![Figure 15]({ramp['figure'].relative_to(root).as_posix()})", "",
@@ -634,4 +733,4 @@ def section(res: dict, root: Path) -> list[str]:
     return L
 
 
-REPRODUCTION = Reproduction("two-plane", "Two-plane paper", compute, section)
+REPRODUCTION = Reproduction("two-plane", "Two-plane paper", compute, section, coverage=coverage.SECTION)

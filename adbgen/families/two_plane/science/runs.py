@@ -142,13 +142,38 @@ def balanced_orbit(model: Model, values: dict) -> np.ndarray:
     return model.state(dict(zip(model.leaves, (math.pi + a, math.pi - a, math.pi + a, math.pi - a))))
 
 
+def balanced_state(model: Model, values: dict, tol: float = 1e-13) -> np.ndarray:
+    """B of `two_plane_fixed` for any imbalance (static, or dynamic: chi != 0, Figure 12(b)): the rotor at rest,
+    the balls at the constant angles alpha_k where the balls' centrifugal forces and moments cancel the
+    imbalance's ((9), both planes), so that no support force acts at any speed.  Solved (scipy fsolve) for the
+    ball angles from the rotor's accelerations at t = 0 (two complex balance conditions, four real equations;
+    the forcing turns with Omega t, so t = 0 stands for every t), starting from the static closed form
+    (`balanced_orbit` with the whole imbalance as eps/R); raises AnalysisError where the balls cannot balance."""
+    from scipy.optimize import fsolve
+
+    if values.get("chi", 0.0) == 0.0:
+        return balanced_orbit(model, values)
+    p = model.params(dict(values, Omega=1.0))
+    rotor = [model.state_names.index(n + "_dot") for n in model.state_names[:4]]
+    guess = balanced_orbit(model, dict(values, epsilon=values["epsilon"] + values["chi"], chi=0.0))
+    scale = 1.0 / max(abs(values["epsilon"]), abs(values["chi"]))
+
+    def residual(a):
+        return np.asarray(model.module.rhs(0.0, model.state(dict(zip(model.leaves, a))), p))[rotor] * scale
+
+    a = fsolve(residual, [guess[model.index(k)] for k in model.leaves], xtol=1e-14, full_output=True)[0]
+    if np.abs(residual(a)).max() > tol:
+        raise AnalysisError(f"B not found for {values}: the balance conditions leave {np.abs(residual(a)).max():.1e}")
+    return model.state(dict(zip(model.leaves, a)))
+
+
 def floquet(model: Model, values: dict, Omega: float, rtol: float = 1e-11) -> tuple[np.ndarray, np.ndarray]:
-    """Floquet multipliers and eigenvectors of B at constant speed Omega: the monodromy matrix over
-    T = 2 pi/Omega of Phi' = J(t) Phi, J the generated jac along the (constant) orbit (scipy DOP853)."""
+    """Floquet multipliers and eigenvectors of B (`balanced_state`) at constant speed Omega: the monodromy matrix
+    over T = 2 pi/Omega of Phi' = J(t) Phi, J the generated jac along the (constant) orbit (scipy DOP853)."""
     from scipy.integrate import solve_ivp
 
     p = model.params(dict(values, Omega=Omega))
-    y = balanced_orbit(model, values)
+    y = balanced_state(model, values)
     n = model.n_states
     jac = model.module.jac
     sol = solve_ivp(lambda t, z: (np.asarray(jac(t, y, p)) @ z.reshape(n, n)).ravel(), (0.0, 2 * math.pi / Omega),
@@ -198,11 +223,17 @@ def spin_law(model: Model, p: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np
 
 
 def run_up(name: str, ratio: float, t_end: float, m: float = RUNUP_MASS, samples: int = 30001,
-           rtol: float = RTOL, phase: float = 0.0) -> RunUp:
-    """The run-up from rest, the balls of each race at `phase` and `phase` + pi."""
+           rtol: float = RTOL, phase: float = 0.0, offset: float = 0.0, mass_spread: float = 0.0) -> RunUp:
+    """The run-up from rest, the balls of each race at `phase` and `phase` + pi (+ `offset`: the second ball of
+    each race moved, a start that is not exactly opposite, as no physical start is; `mass_spread`: the second
+    ball of each race heavier by that fraction, balls that are not exactly alike)."""
     model = load_model(name)
-    p = model.params({"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(m, ratio)})
-    y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi, "theta_3": phase, "theta_4": phase + math.pi})
+    values = {"epsilon": RUNUP_EPS, "chi": RUNUP_EPS, "beta": 1.0, **_ball_values(m, ratio)}
+    if mass_spread:
+        values.update(m_2=m * (1 + mass_spread), m_4=m * (1 + mass_spread))
+    p = model.params(values)
+    y0 = model.state({"theta_1": phase, "theta_2": phase + math.pi + offset, "theta_3": phase,
+                      "theta_4": phase + math.pi + offset})
     sim = simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=ATOL, samples=samples, engine=ENGINE)
     angle, spin = spin_law(model, p, sim.t)
     balls = list(model.role_indices("ball_angle"))

@@ -75,3 +75,53 @@ def test_the_start_up_lag_is_not_a_stall_and_a_real_stall_is_found_after_it():
     # lag is then beyond the drive's, and it is a stall from the start, as the relative 5 % measure had it
     (_, start, _), *_ = rtp.stalls(run(follow, ratio=1.0))
     assert start < 0.01
+
+
+def test_kappa_is_drawn_whole_not_clipped_at_4():
+    """Section 3.2.3's kappa has a pole at Omega_2: the panel draws every value at its size (issue 36)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    w = np.linspace(0.5, 3.0, 101)
+    k = 0.3 / (w - 1.8101)  # a pole between grid points, values far beyond +-4
+
+    def drawn_whole(ax):
+        y = ax.lines[0].get_ydata()
+        lo, hi = ax.get_ylim()
+        return np.array_equal(y, k) and lo <= k.min() and hi >= k.max()
+
+    fig, ax = plt.subplots()
+    rtp.kappa_panel(ax, w, k)
+    assert drawn_whole(ax) and ax.get_yscale() == "symlog"
+    plt.close(fig)
+    fig, ax = plt.subplots()  # negative control: the old panel, clipped at +-4
+    ax.plot(w, np.clip(k, -4, 4), "k.")
+    ax.set_ylim(-4, 4)
+    assert not drawn_whole(ax)
+    plt.close(fig)
+
+
+def test_worse_phases_locates_where_the_ratio_exceeds_one():
+    import math
+
+    f = lambda ph: 1.0 + 0.5 * math.sin(2 * ph - 0.5)  # noqa: E731  (period pi, above 1 on (0.25, 0.25 + pi/2))
+    iv = rtp.worse_phases(f)
+    assert len(iv) == 1 and iv[0] == pytest.approx((0.25, 0.25 + math.pi / 2), abs=2e-3)
+    # wrapping through phase 0 = pi gives two pieces; a ratio below 1 everywhere gives none (negative control)
+    g = lambda ph: 1.0 + 0.5 * math.cos(2 * ph)  # noqa: E731
+    assert rtp.worse_phases(g) == pytest.approx([(0.0, math.pi / 4), (3 * math.pi / 4, math.pi)], abs=2e-3)
+    assert rtp.worse_phases(lambda ph: 0.9) == []
+
+
+def test_figure_16d_worse_than_plain_depends_on_the_starting_phase():
+    """c_b/m = 0.1: ABB / plain rotor at the critical speeds 0.72 at phase 0, 1.89 at pi/2; c_b/m = 0.01 below 1."""
+    import math
+
+    plain = tr.run_up("two_plane_hill", 0.1, 300.0, m=tr.PLAIN_MASS, samples=3001, rtol=1e-11).A.max()
+    ratio = lambda r, ph: tr.run_up("two_plane_hill", r, 300.0, samples=3001, rtol=1e-11,  # noqa: E731
+                                    phase=ph).A.max() / plain
+    assert ratio(0.1, 0.0) == pytest.approx(0.7192, abs=1e-3)
+    assert ratio(0.1, math.pi / 2) == pytest.approx(1.8883, abs=1e-3)
+    assert ratio(0.01, 0.0) < 1 and ratio(0.01, math.pi / 2) < 1

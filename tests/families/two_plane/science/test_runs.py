@@ -145,3 +145,14 @@ def test_floquet_of_B_along_figure_12a():
     assert abs(mu[k]) > 1
     P = race_swap(model)
     assert (np.vdot(V[:, k], P @ V[:, k]) / np.vdot(V[:, k], V[:, k])).real == pytest.approx(-1.0)
+
+
+def test_figure_15b_is_not_balanced_by_its_own_run_nor_by_an_offset_start():
+    """The balls of each race meet to the last bit even from a start 1e-6 rad off opposite (A stays 3.87e-4 at
+    t = 6000); balls alike only to 1e-6 in mass cannot meet, and A falls below 1e-4 by then (issue 36)."""
+    exact = tr.run_up("two_plane_ramp", 0.1, 6000.0, samples=6001, rtol=1e-11)
+    off = tr.run_up("two_plane_ramp", 0.1, 6000.0, samples=6001, rtol=1e-11, offset=1e-6)
+    mass = tr.run_up("two_plane_ramp", 0.1, 6000.0, samples=6001, rtol=1e-11, mass_spread=1e-6)
+    assert exact.A[-1] == pytest.approx(3.87e-4, rel=5e-3) and off.A[-1] == pytest.approx(3.87e-4, rel=5e-3)
+    assert tr.coincident_from(off) is not None
+    assert tr.coincident_from(mass) is None and mass.A[-1] < 1e-4

@@ -1,0 +1,26 @@
+"""The two-plane reproduction's prose templates: a paragraph comes out as one line, tables and headings kept,
+a value the template names but the caller does not give is an error (never an empty word)."""
+
+import jinja2
+import pytest
+
+from adbgen.families.two_plane.science import prose
+
+
+def test_paragraphs_joined_tables_kept(tmp_path, monkeypatch):
+    (tmp_path / "t.md.j2").write_text("### Head\n\nfirst {{ a }}\nsecond\n\n| x | y |\n|---|---|\n| {{ a }} | 2 |\n")
+    monkeypatch.setattr(prose, "FOLDER", tmp_path)
+    prose._environment.cache_clear()
+    try:
+        assert prose.render("t", a=1) == ["### Head", "", "first 1 second", "", "| x | y |", "|---|---|", "| 1 | 2 |"]
+        with pytest.raises(jinja2.UndefinedError):  # negative control: a missing value
+            prose.render("t")
+    finally:
+        prose._environment.cache_clear()
+
+
+def test_the_shipped_templates_name_only_given_values():
+    names = sorted(p.name for p in prose.FOLDER.glob("*.md.j2"))
+    assert names == ["fig12.md.j2", "runup_notes.md.j2"]
+    with pytest.raises(jinja2.UndefinedError):
+        prose.render("runup_notes", burst="1")
