@@ -51,7 +51,7 @@ def test_n3_has_a_subcritical_hopf_point_below_h1():
     assert crit[1.8754] == "supercritical" and crit[1.6128] == "subcritical"
 
 
-def test_n4_past_h1_the_free_angle_drifts_and_the_balls_do_not_lap():
+def test_n4_past_h1_balls_at_one_angle_drift_and_moved_apart_they_lap():
     """Issue 36: docs/orbits.md (0.39 rad) and the reproduction (r = 0.436, balls lapping) disagreed; the run on
     `simulate` at two rtols gives docs/orbits.md's drift."""
     from adbgen.analysis import continuation
