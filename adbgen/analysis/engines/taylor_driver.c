@@ -563,13 +563,7 @@ static double switch_limit(const TsWork *w, int b, double t, double h)
 
 /* ------------------------------------------------------------------------------ integration */
 
-typedef struct {
-    double *t; /* step ends, malloc'd (adb_taylor_release frees them) */
-    double *y;
-    long k;
-} Trajectory;
-
-/* What a run is asked (shared by the trajectories of a batch) */
+/* What a run is asked (shared by the trajectories of a batch): adb_settings with the threshold squared */
 typedef struct {
     double t_end, rtol, atol, fac, H2, check_dt;
     long max_steps;
@@ -784,62 +778,62 @@ static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *
     if (L->t >= st->t_end) L->running = 0;
 }
 
-/* A finished lane's outputs (out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [order passes
- * (steps x P, the analogue of rhs evaluations), steps]) */
-static void lane_finish(Lane *L, const Settings *st, int *target, double *y_end, double *out_stats,
-                        long *out_counts)
+/* A finished lane's outputs (adb_result; n_rhs: order passes, steps x P, the analogue of rhs evaluations) */
+static void lane_finish(Lane *L, const Settings *st, double *y_end, adb_result *r)
 {
-    out_stats[0] = out_stats[1] = NAN;
+    r->r_max = r->t_dec = NAN;
     if (st->measures) {
         resolve_max(L);
         resolve_dec(L, st->H2);
-        out_stats[0] = sqrt(L->r2max);
+        r->r_max = sqrt(L->r2max);
         if (L->status == ADB_SUCCESS)
-            out_stats[1] = adb_r2(L->y, st->amp[0], st->amp[1]) >= st->H2 ? NAN
-                           : (L->last_above < 0.0 ? 0.0 : L->last_above);
+            r->t_dec = adb_r2(L->y, st->amp[0], st->amp[1]) >= st->H2 ? NAN
+                       : (L->last_above < 0.0 ? 0.0 : L->last_above);
     }
-    out_stats[2] = L->t;
-    out_stats[3] = L->t_fail;
+    r->t_last = L->t;
+    r->t_fail = L->t_fail;
     memcpy(y_end, L->y, sizeof L->y);
-    out_counts[0] = L->steps * P;
-    out_counts[1] = L->steps;
-    if (target) *target = L->target;
+    r->n_rhs = L->steps * P;
+    r->n_steps = L->steps;
+    r->target = L->target;
+    r->status = L->status;
 }
 
-static int bad_settings(double t_end, double rtol, double atol, double fac)
+static int bad_settings(const adb_settings *s)
 {
-    return !(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !(fac > 0.0);
+    return !(s->t_end > 0.0) || !(s->rtol > 0.0) || !(s->atol > 0.0) || !(s->step_factor > 0.0);
+}
+
+/* the run's Settings from the interface's */
+static Settings settings_of(const adb_settings *s)
+{
+    const Settings st = {s->t_end, s->rtol, s->atol, s->step_factor, s->threshold * s->threshold, s->check_dt,
+                         s->max_steps, s->amp, s->measures, s->n_targets, s->centres, s->weights, s->cubics,
+                         s->levels, s->periodic};
+    return st;
 }
 
 #if TS_B == 1
-/* One trajectory from t = 0 to t_end (the contract of cyrk_driver.c's adb_cyrk_integrate, with fac, the
- * step factor, in place of the method).  With check_dt > 0 the state is tested at every multiple of
- * check_dt (on the step's polynomial: the steps are the same with or without targets) and the run
- * stops in the first target region holding it. */
-int adb_taylor_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, double fac,
-                         long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
-                         const double *centres, const double *weights, const double *cubics, const double *levels,
-                         const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target,
-                         double *y_end, double *out_stats, long *out_counts)
+/* One trajectory from t = 0 to s->t_end (adb_engine.h, with s->step_factor, the step factor; s->method
+ * unused).  With check_dt > 0 the state is tested at every multiple of check_dt (on the step's polynomial:
+ * the steps are the same with or without targets) and the run stops in the first target region holding
+ * it. */
+static int adb_run(const double *y0, const double *p, const adb_settings *s, adb_trajectory *traj, double *y_end,
+                   adb_result *r)
 {
-    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
-    out_counts[0] = out_counts[1] = 0;
-    if (target) *target = -1;
-    if (traj) traj->t = traj->y = NULL, traj->k = 0;
-    if (bad_settings(t_end, rtol, atol, fac) || !adb_all_finite(y0, NY)) return ADB_BAD_INPUT;
+    if (bad_settings(s) || !adb_all_finite(y0, NY)) return ADB_BAD_INPUT;
     binoms();
     Stepper *S = ts_alloc(sizeof(Stepper));
     if (!S) return ADB_SOLVER_FAILURE;
-    const Settings st = {t_end, rtol, atol, fac, threshold * threshold, check_dt, max_steps, amp_idx, measures,
-                         n_targets, centres, weights, cubics, levels, periodic};
+    const Settings st = settings_of(s);
     TSF(_ts_setup)(&S->w, p);
     Lane L;
-    lane_start(&L, &st, y0, keep && traj != NULL);
+    lane_start(&L, &st, y0, s->keep && traj != NULL);
     while (L.running) {
         jet_of(S, L.t, L.y);
         lane_step(&L, &st, (const double(*)[NY])S->jet, &S->w, 0);
     }
-    lane_finish(&L, &st, target, y_end, out_stats, out_counts);
+    lane_finish(&L, &st, y_end, r);
     free(S);
     if (traj && L.keep) {
         traj->t = L.T, traj->y = L.Y, traj->k = (long)L.K;
@@ -850,34 +844,8 @@ int adb_taylor_integrate(const double *y0, const double *p, double t_end, double
     return L.status;
 }
 
-void adb_taylor_release(Trajectory *traj)
-{
-    free(traj->t);
-    free(traj->y);
-    traj->t = traj->y = NULL;
-    traj->k = 0;
-}
-
-/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
-void adb_taylor_integrate_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
-                               double fac, long max_steps, const int *amp_idx, double threshold, int measures,
-                               double check_dt, int n_targets, const double *centres, const double *weights,
-                               const double *cubics, const double *levels, const unsigned char *periodic,
-                               int threads, int *status, int *target, double *Y_end, double *stats, long *counts)
-{
-    binoms();
-#ifdef _OPENMP
-    if (threads < 1) threads = omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-#else
-    (void)threads;
-#endif
-    for (int k = 0; k < n; ++k)
-        status[k] = adb_taylor_integrate(Y0 + (size_t)k * NY, Pm + (size_t)k * ADB_NP, t_end, rtol, atol, fac,
-                                         max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights,
-                                         cubics, levels, periodic, 0, measures, NULL, target + k,
-                                         Y_end + (size_t)k * NY, stats + (size_t)k * 4, counts + (size_t)k * 2);
-}
+#define ADB_MANY_SETUP() binoms() /* the binomial table once, before the threads */
+#include "adb_entries.h"
 
 #endif
 
@@ -1231,25 +1199,19 @@ static void batch_horner(const BStepper *S, const double *h, double *y)
     }
 }
 
-/* The contract of adb_taylor_integrate_many; `threads` OpenMP threads, each with its own batch. */
-void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
-                           double fac, long max_steps, const int *amp_idx, double threshold, int measures,
-                           double check_dt, int n_targets, const double *centres, const double *weights,
-                           const double *cubics, const double *levels, const unsigned char *periodic, int threads,
-                           int *status, int *target, double *Y_end, double *stats, long *counts)
+/* The batch build's adb_integrate_many (adb_engine.h): TS_B trajectories per lane group, a group per thread */
+void adb_integrate_many(int n, const double *Y0, const double *Pm, const adb_settings *s, int threads,
+                        double *Y_end, adb_result *res)
 {
     binoms();
-    const Settings st = {t_end, rtol, atol, fac, threshold * threshold, check_dt, max_steps, amp_idx, measures,
-                         n_targets, centres, weights, cubics, levels, periodic};
+    const Settings st = settings_of(s);
     for (int k = 0; k < n; ++k) {
-        status[k] = ADB_BAD_INPUT;
-        target[k] = -1;
-        for (int i = 0; i < 4; ++i) stats[(size_t)k * 4 + i] = NAN;
-        counts[(size_t)k * 2] = counts[(size_t)k * 2 + 1] = 0;
+        adb_result_clear(res + k);
+        res[k].status = ADB_BAD_INPUT;
     }
-    if (bad_settings(t_end, rtol, atol, fac)) return;
+    if (bad_settings(s)) return;
     /* nothing asked of a lane but its end state: every step over the lanes at once */
-    const int whole = !measures && n_targets == 0 && TS_N_SWITCH == 0;
+    const int whole = !s->measures && s->n_targets == 0 && TS_N_SWITCH == 0;
     int next = 0;
 #ifdef _OPENMP
     if (threads < 1) threads = omp_get_max_threads();
@@ -1325,9 +1287,7 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
                     }
                     if (!Lb->running) {
                         const int k = traj[b];
-                        lane_finish(Lb, &st, target + k, Y_end + (size_t)k * NY, stats + (size_t)k * 4,
-                                    counts + (size_t)k * 2);
-                        status[k] = Lb->status;
+                        lane_finish(Lb, &st, Y_end + (size_t)k * NY, res + k);
                     }
                 }
                 continue;
@@ -1339,9 +1299,7 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
                 lane_step(&L[b], &st, (const double(*)[NY])lj, &S->w, b);
                 if (!L[b].running) {
                     const int k = traj[b];
-                    lane_finish(&L[b], &st, target + k, Y_end + (size_t)k * NY, stats + (size_t)k * 4,
-                                counts + (size_t)k * 2);
-                    status[k] = L[b].status;
+                    lane_finish(&L[b], &st, Y_end + (size_t)k * NY, res + k);
                 }
             }
         }
@@ -1353,9 +1311,10 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
 #if TS_B == 1
 /* The continuous solution of a run at `times` (n, increasing, within [T[0], T[K-1]]) into out (n x NY):
  * each step's polynomial, computed again from its start (the same coefficients as in the run). */
-int adb_taylor_dense(const double *T, const double *Y, long K, const double *p, int n, const double *times,
-                     double *out)
+int adb_dense(const double *T, const double *Y, long K, const double *p, const adb_settings *s, int n,
+              const double *times, double *out)
 {
+    (void)s; /* each step's polynomial: no tolerance needed */
     Stepper *S = ts_alloc(sizeof(Stepper));
     if (!S) return ADB_SOLVER_FAILURE;
     TSF(_ts_setup)(&S->w, p);
