@@ -87,7 +87,9 @@ def build(model, order: int, batch: int = 1, vector_math: bool = False, norm: st
     vector_math = vector_math and batch > 1
     defines = [f'-DADB_TS_SOURCE="{source}"', f"-DADB_TS_PREFIX={model.name}", f"-DADB_TS_ORDER={order}",
                f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}", f"-DTS_B={batch}",
-               f"-DTS_VECTOR_MATH={1 if vector_math else 0}", f"-DADB_TS_NORM={NORMS[norm]}"]
+               f"-DTS_VECTOR_MATH={1 if vector_math else 0}", f"-DADB_TS_NORM={NORMS[norm]}",
+               # the per-order functions and their table (taylor_driver.c): one FN(K) per order K < order
+               "-DADB_TS_ORDERS(FN)=" + " ".join(f"FN({k})" for k in range(order))]
     kind = f"taylor{order}" + (f"x{batch}" if batch > 1 else "") + ("v" if vector_math else "") + \
         ("m" if norm == "max" else "")
     # not builtins: GCC would merge sin and cos into a scalar sincos per lane before the vectoriser sees the
