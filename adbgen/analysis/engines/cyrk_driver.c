@@ -141,13 +141,9 @@ static void measure(const Settings *s, Args *args, const double *t, const double
                     double H, int n_peaks, double *r_max, double *t_dec)
 {
     int ix = amp[0], iy = amp[1];
-    double H2 = H * H, best = 0.0;
-    size_t last = (size_t)-1;
-    for (size_t k = 0; k < K; ++k) {
-        double v = adb_r2(Y + k * ADB_NY, ix, iy);
-        if (v >= H2) last = k;
-        if (v > best) best = v;
-    }
+    double H2 = H * H;
+    size_t last;
+    double best = adb_scan_ends(Y, K, ix, iy, H2, &last);
     if (adb_r2(Y + (K - 1) * ADB_NY, ix, iy) >= H2) *t_dec = NAN;
     else {
         /* sup{t : r(t) >= H}: an excursion inside a later step, else the last crossing at step ends */
@@ -159,15 +155,8 @@ static void measure(const Settings *s, Args *args, const double *t, const double
     /* the n_peaks largest local maxima of r at accepted steps (at least a quarter of the largest) */
     double floor_ = 0.25 * best, done_above = INFINITY, refined = best;
     for (int p = 0; p < n_peaks; ++p) {
-        size_t kb = (size_t)-1;
-        double vb = -1.0;
-        for (size_t k = 0; k < K; ++k) {
-            double v = adb_r2(Y + k * ADB_NY, ix, iy);
-            if (v < floor_ || v >= done_above || v <= vb) continue;
-            if (k > 0 && adb_r2(Y + (k - 1) * ADB_NY, ix, iy) > v) continue;
-            if (k + 1 < K && adb_r2(Y + (k + 1) * ADB_NY, ix, iy) > v) continue;
-            kb = k, vb = v;
-        }
+        double vb;
+        size_t kb = adb_next_peak(Y, K, ix, iy, floor_, done_above, &vb);
         if (kb == (size_t)-1) break;
         done_above = vb;
         size_t lo = kb > 0 ? kb - 1 : 0, hi = kb + 1 < K ? kb + 1 : K - 1;

@@ -79,14 +79,10 @@ static void measure(const double *p, const double *T, const double *Y, size_t K,
                     int n_peaks, double *r_max, double *t_dec)
 {
     int ix = amp[0], iy = amp[1];
-    double H2 = H * H, best = 0.0;
-    size_t last = (size_t)-1;
+    double H2 = H * H;
+    size_t last;
+    double best = adb_scan_ends(Y, K, ix, iy, H2, &last);
     Dense d;
-    for (size_t k = 0; k < K; ++k) {
-        double v = adb_r2(Y + k * ADB_NY, ix, iy);
-        if (v >= H2) last = k;
-        if (v > best) best = v;
-    }
     if (adb_r2(Y + (K - 1) * ADB_NY, ix, iy) >= H2) *t_dec = NAN;
     else {
         double found = -1.0;
@@ -108,15 +104,8 @@ static void measure(const double *p, const double *T, const double *Y, size_t K,
      * steps around each searched on their interpolants */
     double floor_ = 0.25 * best, done_above = INFINITY, refined = best;
     for (int q = 0; q < n_peaks; ++q) {
-        size_t kb = (size_t)-1;
-        double vb = -1.0;
-        for (size_t k = 0; k < K; ++k) {
-            double v = adb_r2(Y + k * ADB_NY, ix, iy);
-            if (v < floor_ || v >= done_above || v <= vb) continue;
-            if (k > 0 && adb_r2(Y + (k - 1) * ADB_NY, ix, iy) > v) continue;
-            if (k + 1 < K && adb_r2(Y + (k + 1) * ADB_NY, ix, iy) > v) continue;
-            kb = k, vb = v;
-        }
+        double vb;
+        size_t kb = adb_next_peak(Y, K, ix, iy, floor_, done_above, &vb);
         if (kb == (size_t)-1) break;
         done_above = vb;
         for (size_t k = kb > 0 ? kb - 1 : 0; k <= kb && k + 1 < K; ++k) {
