@@ -28,6 +28,7 @@ FINGERPRINTS = Path(__file__).parent / "data" / "engine_fingerprints.json"
 ENGINE_NAMES = ("cyrk-dop853", "rk-dop853", "rk-dop853-batch", "cvode-adams", "arkode-dp5", "taylor",
                 "taylor-batch", "matlab-ode45")
 PHI_A = {"phi_1": math.pi / 3, "phi_2": -math.pi / 3, "phi_3": math.pi}  # problem A (thesis (5.1))
+H = 0.02  # r falls below it before t = 120: t_dec is a crossing located on the continuous solution
 
 
 def _library(tmp_path: Path, *flags: str):
@@ -81,10 +82,11 @@ def _hex(v) -> list[str]:
 
 def fingerprint(name: str) -> dict:
     """What engine `name` computes on problem A: a kept run (status, r_max, t_dec, final state, counts, a
-    digest of the steps) and a batch with early stop in two target regions, every float as hex."""
+    digest of the steps), a batch with early stop in two target regions and one without measures, every
+    float as hex."""
     m, p, y0 = _problem()
     e = ENGINES[name]
-    r = e.run(m, p, y0, 120.0, 1e-7, 1e-9, 1e-3, 10**7)
+    r = e.run(m, p, y0, 120.0, 1e-7, 1e-9, H, 10**7)
     steps = np.concatenate([np.ravel(r["t"]), np.ravel(r["y"])]).astype(float)
     out = {"run": {"status": r["status"], "r_max": _hex(r["r_max"]), "t_dec": _hex(r["t_dec"]),
                    "y_end": _hex(r["y_end"]), "counts": [int(r["n_rhs"]), int(r["n_steps"])],
@@ -95,9 +97,13 @@ def fingerprint(name: str) -> dict:
     targets = () if name == "matlab-ode45" else (
         (r["y_end"], np.full(m.n_states, 3.0)),
         (r["y_end"] + 0.01, 4 * np.eye(m.n_states), np.full((m.n_states,) * 3, 0.1), 0.9))
-    b = e.run_many(m, P, Y0, 120.0, 1e-8, 1e-10, 1e-3, 10**7, threads=2, check_dt=15.0, targets=targets)
+    b = e.run_many(m, P, Y0, 120.0, 1e-8, 1e-10, H, 10**7, threads=2, check_dt=15.0, targets=targets)
     out["many"] = {k: (list(map(str, b[k])) if k == "status" else _hex(b[k]))
                    for k in ("status", "r_max", "t_dec", "t_last", "t_fail", "y_end", "target", "n_rhs", "n_steps")}
+    # without measures or targets: the lane-group steppers (rk_batch_driver.c, taylor_driver.c's batch build)
+    c = e.run_many(m, P, Y0, 120.0, 1e-8, 1e-10, H, 10**7, threads=2, measures=False)
+    out["lanes"] = {k: (list(map(str, c[k])) if k == "status" else _hex(c[k]))
+                    for k in ("status", "t_last", "y_end", "n_rhs", "n_steps")}
     return out
 
 
