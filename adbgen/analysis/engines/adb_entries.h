@@ -1,6 +1,7 @@
 /* The exported entry points of a driver with a single-trajectory stepper adb_run (adb_engine.h): included
- * by the driver after adb_run.  ADB_MANY_SETUP(): what must run once before the threads (optional).
- * ADB_OWN_MANY: the driver exports its own adb_integrate_many (taylor_driver.c's batch build). */
+ * by the driver after adb_run.  ADB_MANY_SETUP(): what must run once before the threads (optional).  (The
+ * lane-group builds, rk_batch_driver.c and taylor_driver.c with TS_B > 1, export their own
+ * adb_integrate_many with the same signature instead.) */
 #ifndef ADB_ENTRIES_H
 #define ADB_ENTRIES_H
 
@@ -31,7 +32,6 @@ void adb_release(adb_trajectory *traj)
     traj->k = 0;
 }
 
-#ifndef ADB_OWN_MANY
 /* Many trajectories on `threads` OpenMP threads (< 1: all): row k of Y0 (n x ADB_NY) with row k of Pm (n x
  * ADB_NP), outputs in row k of Y_end and res[k]; no steps kept, no samples.  A trajectory's result does not
  * depend on the thread that ran it. */
@@ -53,6 +53,5 @@ void adb_integrate_many(int n, const double *Y0, const double *Pm, const adb_set
                                 Y_end + (size_t)k * ADB_NY, res + k);
     }
 }
-#endif
 
 #endif
