@@ -254,7 +254,8 @@ static int adb_run(const double *y0, const double *p, const adb_settings *s, adb
             break;
         }
         if (segmented && t < s->t_end) {
-            int k = adb_in_target(Y + (K - 1) * ADB_NY, s->n_targets, s->centres, s->weights, s->cubics, s->levels, s->periodic);
+            int k = adb_in_target(Y + (K - 1) * ADB_NY, s->n_targets, s->centres, s->weights, s->cubics, s->levels,
+                                  s->periodic);
             if (k >= 0) {
                 r->target = k;
                 status = ADB_STOPPED;

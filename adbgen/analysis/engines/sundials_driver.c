@@ -289,7 +289,8 @@ static int adb_run(const double *y0, const double *p, const adb_settings *set, a
             ++sample;
         }
         if (t >= next_check) {
-            int k = adb_in_target(yd, set->n_targets, set->centres, set->weights, set->cubics, set->levels, set->periodic);
+            int k = adb_in_target(yd, set->n_targets, set->centres, set->weights, set->cubics, set->levels,
+                                  set->periodic);
             if (k >= 0) {
                 out->target = k;
                 status = ADB_STOPPED;
