@@ -32,12 +32,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .loading import AnalysisError, Model
-from .steady import (SteadyStateError, _require_autonomous, classify, family_tangent, jacobian, refine, residual,
-                     transverse_spectrum)
-from .windows import vertex_near_zero
+from .steady import _require_autonomous, classify, refine
 
 NEWTON_TOL = 1e-12
 LOCATE_TOL = 1e-12
@@ -116,241 +113,87 @@ class Scan:
                 **self.extra}
 
 
-class _Problem:
-    """rhs, jac and d rhs/d lambda of the model with parameter `k` free."""
+def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float, ds: float = 0.005,
+         ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000, progress=None,
+         ds_floor: float | None = None, watch: bool = True) -> Scan:
+    """Follow the steady state near y0 from name = start to stop; Hopf points, folds, stable intervals.
 
-    def __init__(self, model: Model, p: np.ndarray, k: int):
-        self.model, self.p, self.k = model, np.array(p, float), k
+    The branch is the generic continuer's (`orbits.continuer.run`) on the equilibrium curve
+    (`orbits.equilibrium.EquilibriumCurve`): steps at most ds_max long in (y, lambda) until lambda leaves
+    [min, max](start, stop), or `max_steps` steps ("step limit") or a step below ds_min ("step size underflow")
+    end it early; `progress(lambda)` is called at each accepted point.  Steps that miss nothing (issue 21 item
+    5): the LEADING largest real parts are the curve's margins, so a step is bounded by how fast they head for
+    zero (down to ds_floor, default ds_max / 50) and an extremum of one inside a step is checked (watch=False:
+    neither, plain stepping)."""
+    from .orbits import continuer
+    from .orbits.equilibrium import EquilibriumCurve
+    from .orbits.parameters import ParameterMap
 
-    def at(self, lam: float) -> np.ndarray:
-        p = self.p.copy()
-        p[self.k] = lam
-        return p
-
-    def f(self, y, lam):
-        return residual(self.model, y, self.at(lam))
-
-    def jacs(self, y, lam):
-        p = self.at(lam)
-        return jacobian(self.model, y, p), np.asarray(self.model.module.jac_p(0.0, y, p))[:, self.k]
-
-    def family(self, y, lam) -> np.ndarray:
-        return family_tangent(self.model, y, self.at(lam))
-
-    def tangent(self, y, lam, previous: np.ndarray | None) -> np.ndarray:
-        """Unit null vector of [[J, F_lambda], [T^T, 0]], oriented along `previous`."""
-        J, fl = self.jacs(y, lam)
-        T = self.family(y, lam)
-        A = np.vstack([np.hstack([J, fl[:, None]]), np.hstack([T.T, np.zeros((T.shape[1], 1))])])
-        t = np.linalg.svd(A)[2][-1]
-        if previous is not None and np.dot(t, previous) < 0:
-            t = -t
-        return t
-
-    def correct(self, z_pred: np.ndarray, direction: np.ndarray, offset: float = 0.0,
-                anchor: np.ndarray | None = None, max_iter: int = 15) -> np.ndarray:
-        """Newton on rhs = 0, family pins, direction . (z - anchor) = offset (anchor defaults to z_pred)."""
-        anchor = z_pred if anchor is None else anchor
-        z = z_pred.copy()
-        N = z.size - 1
-        T = self.family(z_pred[:N], z_pred[N])
-        for _ in range(max_iter):
-            y, lam = z[:N], z[N]
-            f = self.f(y, lam)
-            g = np.r_[f, T.T @ (y - z_pred[:N]), np.dot(direction, z - anchor) - offset]
-            if not np.all(np.isfinite(g)):
-                break
-            if np.max(np.abs(g)) <= NEWTON_TOL:
-                return z
-            J, fl = self.jacs(y, lam)
-            A = np.vstack([np.hstack([J, fl[:, None]]), np.hstack([T.T, np.zeros((T.shape[1], 1))]), direction[None, :]])
-            z = z + np.linalg.lstsq(A, -g, rcond=1e-13)[0]
-        raise SteadyStateError("continuation: Newton failed")
-
-    def point(self, z: np.ndarray, previous_tangent) -> BranchPoint:
-        N = z.size - 1
-        y, lam = z[:N], float(z[N])
-        J, _ = self.jacs(y, lam)
-        spectrum = transverse_spectrum(J, self.family(y, lam))
-        kind, unstable, _ = classify(spectrum)
-        return BranchPoint(lam, y, self.tangent(y, lam, previous_tangent), spectrum, unstable, kind)
-
-
-def _sorted_real(spectrum: np.ndarray) -> np.ndarray:
-    return np.sort(spectrum.real)[::-1]
-
-
-LEADING = 4  # the leading real parts watched for the step bound and the extremum checks
-APPROACH = 0.5  # a leading real part heading for zero covers at most this part of its distance per step
-NEAR = 0.1  # an extremum of a leading real part within NEAR of its spread from zero is checked
-
-
-def _leading(b: BranchPoint) -> np.ndarray:
-    r = _sorted_real(b.spectrum)[:LEADING]
-    return np.pad(r, (0, LEADING - len(r)), constant_values=np.nan)
-
-
-def _arc(a: BranchPoint, b: BranchPoint) -> float:
-    return float(np.linalg.norm(np.r_[b.y - a.y, b.lam - a.lam]))
-
-
-def _extremum_inside(z: BranchPoint, a: BranchPoint, b: BranchPoint) -> float | None:
-    """Where (as a fraction of the step a -> b) a leading real part has an extremum that may reach the other
-    side of zero although both ends are on the same side: the parabola through z, a, b (in arclength) has its
-    vertex inside the step and its value there of the other sign, or within NEAR of its spread from zero."""
-    sz, sb = -_arc(z, a), _arc(a, b)
-    found = None
-    for vz, va, vb in zip(_leading(z), _leading(a), _leading(b)):
-        if not np.all(np.isfinite([vz, va, vb])) or va == 0 or np.sign(va) != np.sign(vb):
-            continue
-        sx = vertex_near_zero(np.array([sz, 0.0, sb]), np.array([vz, va, vb]), va, sb, NEAR)
-        if sx is not None:
-            found = sx / sb if found is None else min(found, sx / sb)
-    return found
-
-
-def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float,
-           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000, progress=None,
-           ds_floor: float | None = None, watch: bool = True):
-    """The branch through the steady state near y0 at name = start, continued towards `stop` (pseudo-
-    arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop),
-    or `max_steps` steps ("step limit") or a step below ds_min ("step size underflow") end it early.
-    `progress(lambda)` is called after each step.
-
-    Steps that miss nothing (issue 21 item 5): each step is bounded by how fast the LEADING largest real
-    parts of the transverse spectrum move (one heading for zero may cover at most APPROACH of its distance
-    in a step, down to ds_floor, default ds_max / 50); and where one of them has an extremum inside a step
-    (the parabola through the last three points) that may reach the other side of zero, the branch is
-    corrected at that extremum too, so two crossings inside one step are seen (watch=False: neither, the
-    plain stepping of before).  Returns (problem, branch, end reason, statistics: the floor, the extremum
-    checks made and the largest parameter step)."""
     _require_autonomous(model)
     if name not in model.param_names:
         raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
     if not start != stop:
         raise AnalysisError(f"empty scan range {name}={start}:{stop}")
     floor = ds_max / 50 if ds_floor is None else ds_floor
-    k = model.param_names.index(name)
-    prob = _Problem(model, p, k)
-    first = refine(model, prob.at(start), y0)
-    lo, hi = min(start, stop), max(start, stop)
-    sign = 1.0 if stop > start else -1.0
-    t0 = prob.tangent(first.y, start, None)
-    if t0[-1] * sign < 0:
-        t0 = -t0
-    if abs(t0[-1]) < 1e-8:
+    pmap = ParameterMap(model, np.array(p, float), [name])
+    first = refine(model, pmap(start), y0)
+    curve = EquilibriumCurve(model, pmap)
+    x0 = np.r_[first.y, start]
+    curve.accept(x0, curve.data(x0))
+    if abs(np.linalg.svd(curve.evaluate(x0)[1])[2][-1][-1]) < 1e-8:
         raise AnalysisError(f"the start state is a fold in {name}: move {name} a little")
-    branch = [prob.point(np.r_[first.y, start], t0)]
-    branch[0].tangent = t0
-    h, reason, checks = ds, "step limit", 0
-    for _ in range(max_steps):
-        a = branch[-1]
-        za = np.r_[a.y, a.lam]
-        try:
-            z = prob.correct(za + h * a.tangent, a.tangent, offset=h, anchor=za)
-            if np.linalg.norm(z - za) > 2 * h:
-                raise SteadyStateError("jumped")
-        except SteadyStateError:
-            h /= 2
-            if h < ds_min:
-                reason = "step size underflow"
-                break
-            continue
-        b = prob.point(z, a.tangent)
-        frac = _extremum_inside(branch[-2], a, b) if watch and len(branch) >= 2 else None
-        if frac is not None:
-            checks += 1
-            zb = np.r_[b.y, b.lam]
-            d = (zb - za) / np.linalg.norm(zb - za)
-            try:
-                zm = prob.correct(za + frac * (zb - za), d, offset=frac * np.linalg.norm(zb - za), anchor=za)
-                branch.append(prob.point(zm, a.tangent))
-            except SteadyStateError:
-                pass
-        branch.append(b)
-        if progress is not None:
-            progress(b.lam)
-        if not lo - 1e-12 <= b.lam <= hi + 1e-12:
-            reason = "left the range"
-            break
-        h = min(ds_max, h * 1.3)
-        if not watch:
-            continue
-        prev, last = branch[-2], branch[-1]
-        dsl = max(_arc(prev, last), 1e-300)
-        for va, vb in zip(_leading(prev), _leading(last)):
-            rate = (vb - va) / dsl
-            if np.isfinite(rate) and rate * vb < 0:  # heading for zero
-                h = min(h, max(APPROACH * abs(vb) / abs(rate), floor))
+    curve.progress = progress
+    lo, hi = min(start, stop), max(start, stop)
+    settings = continuer.Settings(ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_steps + 1, bounds=(lo, hi),
+                                  newton_tol=NEWTON_TOL, newton_max=15, resolution=floor, locate_tol=LOCATE_TOL,
+                                  watch=watch)
+    run = continuer.run(curve, x0, 1.0 if stop > start else -1.0, settings)
+    branch = [_branch_point(pt) for pt in run.points]
+    found = _bifurcations(branch, run, lo, hi)
+    reason = {"max_points": "step limit"}.get(run.end, run.end)
     lam = np.array([b.lam for b in branch])
-    stats = {"ds_floor": floor, "ds_max": ds_max, "extremum_checks": checks,
+    stats = {"ds_floor": floor, "ds_max": ds_max, "extremum_checks": run.checks,
              "largest_step": float(np.max(np.abs(np.diff(lam)))) if len(lam) > 1 else 0.0}
-    return prob, branch, reason, stats
+    return Scan(model, name, start, stop, branch, [b for _, b in found], _stable_intervals(branch, found, lo, hi),
+                reason, {"resolution": _resolution(branch, stats)}, np.array(pmap.base, float))
 
 
-def _segment(prob: _Problem, a: BranchPoint, b: BranchPoint):
-    """z(s) on the branch between a and b, s in [0, |z_b - z_a|], corrected at a fixed chord coordinate."""
-    za, zb = np.r_[a.y, a.lam], np.r_[b.y, b.lam]
-    d = (zb - za) / np.linalg.norm(zb - za)
-    cache = {}
-
-    def z_at(s):
-        if s not in cache:
-            frac = s / np.linalg.norm(zb - za)
-            cache[s] = prob.correct(za + frac * (zb - za), d, offset=s, anchor=za)
-        return cache[s]
-    return z_at, float(np.linalg.norm(zb - za)), d
+def _branch_point(pt) -> BranchPoint:
+    kind, unstable, _ = classify(pt.data.spectrum)
+    return BranchPoint(float(pt.x[-1]), pt.x[:-1], pt.tangent, pt.data.spectrum, unstable, kind)
 
 
-def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
-    """The stability change between consecutive branch points a and b; where root finding fails
-    (no sign change of the test function on the chord, Newton failing), the step it lies in."""
-    try:
-        return _locate_exactly(prob, a, b)
-    except (ValueError, SteadyStateError):
+KINDS = {"hopf": "hopf", "real": "branch", "fold": "fold"}  # the equilibrium curve's test -> the point's kind
+
+
+def _bifurcations(branch: list[BranchPoint], run, lo: float, hi: float) -> list[tuple[int, Bifurcation]]:
+    """The located special points (Hopf points, folds, branch points: a real eigenvalue through zero where the
+    branch does not turn; at a fold only the fold), each with the step it lies in; a change of the unstable
+    count or a turn that could not be located is reported with that step as `bracket`."""
+    def direction(a, b):
+        return "stabilising" if b.n_unstable < a.n_unstable else "destabilising" if b.n_unstable > a.n_unstable else None
+
+    folds = {sp.index for sp in run.specials if sp.name == "fold"}
+    found, seen = [], set()
+    for sp in run.specials:
+        if sp.name == "real" and sp.index in folds:
+            continue
+        a, b = branch[sp.index], branch[sp.index + 1]
+        freq = abs(sp.info["frequency"]) if sp.info["kind"] == "hopf" else None
+        found.append((sp.index, Bifurcation(sp.info["kind"], float(sp.x[-1]), freq, direction(a, b), sp.x[:-1],
+                                            a.n_unstable, b.n_unstable)))
+        seen.add(sp.index)
+    for i, (a, b) in enumerate(zip(branch, branch[1:])):
         turned = a.tangent[-1] * b.tangent[-1] < 0
+        if i in seen or not (turned or a.n_unstable != b.n_unstable):
+            continue
         kind = "fold" if turned else ("hopf" if abs(a.n_unstable - b.n_unstable) == 2 else "branch")
         near = b.spectrum[np.argsort(np.abs(b.spectrum.real))[:2]]
-        direction = ("stabilising" if b.n_unstable < a.n_unstable else
-                     "destabilising" if b.n_unstable > a.n_unstable else None)
-        return [Bifurcation(kind, 0.5 * (a.lam + b.lam), float(np.max(np.abs(near.imag))) if kind == "hopf" else None,
-                            direction, 0.5 * (a.y + b.y), a.n_unstable, b.n_unstable, (a.lam, b.lam))]
-
-
-def _locate_exactly(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
-    N = a.y.size
-    z_at, length, d = _segment(prob, a, b)
-    direction = ("stabilising" if b.n_unstable < a.n_unstable else
-                 "destabilising" if b.n_unstable > a.n_unstable else None)  # None: a fold that keeps stability
-    out = []
-    if a.tangent[-1] * b.tangent[-1] < 0:  # the branch turns back: a fold
-        def g(s):
-            z = z_at(s)
-            return prob.tangent(z[:N], z[N], d)[-1]
-        s = brentq(g, 0.0, length, xtol=LOCATE_TOL, rtol=4 * np.finfo(float).eps)
-        z = z_at(s)
-        out.append(Bifurcation("fold", float(z[N]), None, direction, z[:N], a.n_unstable, b.n_unstable))
-        return out
-    m = min(a.n_unstable, b.n_unstable)
-
-    def spectrum(s):
-        z = z_at(s)
-        J, _ = prob.jacs(z[:N], z[N])
-        return transverse_spectrum(J, prob.family(z[:N], z[N]))
-
-    def g(s):
-        return _sorted_real(spectrum(s))[m]
-    s = brentq(g, 0.0, length, xtol=LOCATE_TOL, rtol=4 * np.finfo(float).eps)
-    z = z_at(s)
-    ev = spectrum(s)
-    # the eigenvalue(s) nearest the axis decide: a complex pair is a Hopf point, a real one a branch point
-    near = ev[np.argsort(np.abs(ev.real))[:2]]
-    freq = float(np.max(np.abs(near.imag)))
-    tol = 1e-7 * max(1.0, float(np.max(np.abs(ev))))
-    kind = "hopf" if freq > tol and abs(abs(a.n_unstable - b.n_unstable) - 2) == 0 else "branch"
-    out.append(Bifurcation(kind, float(z[N]), freq if kind == "hopf" else None, direction, z[:N],
-                           a.n_unstable, b.n_unstable))
-    return out
+        found.append((i, Bifurcation(kind, 0.5 * (a.lam + b.lam), float(np.max(np.abs(near.imag))) if kind == "hopf"
+                                     else None, direction(a, b), 0.5 * (a.y + b.y), a.n_unstable, b.n_unstable,
+                                     (a.lam, b.lam))))
+    found.sort(key=lambda f: f[0])
+    return [(i, bif) for i, bif in found if lo <= bif.value <= hi]
 
 
 def _stable_intervals(branch: list[BranchPoint], bifurcations: list[tuple[int, Bifurcation]],
@@ -381,22 +224,6 @@ def _stable_intervals(branch: list[BranchPoint], bifurcations: list[tuple[int, B
         else:
             merged.append([a, b])
     return [(float(a), float(b)) for a, b in merged]
-
-
-def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float, **options) -> Scan:
-    """Follow the steady state near y0 from name = start to stop; Hopf points, folds, stable intervals."""
-    prob, branch, reason, stats = follow(model, p, y0, name, start, stop, **options)
-    lo, hi = min(start, stop), max(start, stop)
-    found: list[tuple[int, Bifurcation]] = []
-    for i, (a, b) in enumerate(zip(branch, branch[1:])):
-        turned = a.tangent[-1] * b.tangent[-1] < 0
-        if a.n_unstable != b.n_unstable or turned:
-            for bif in _locate(prob, a, b):
-                if lo <= bif.value <= hi:
-                    found.append((i, bif))
-    return Scan(model, name, start, stop, branch, [b for _, b in found],
-                _stable_intervals(branch, found, lo, hi), reason, {"resolution": _resolution(branch, stats)},
-                np.array(prob.p, float))
 
 
 def _resolution(branch: list[BranchPoint], stats: dict) -> dict:
