@@ -101,7 +101,9 @@ def test_a_change_that_root_finding_cannot_locate_is_reported_with_its_step(thes
 
     def fail(*args, **kwargs):
         raise ValueError("f(a) and f(b) must have different signs")
-    monkeypatch.setattr(continuation, "brentq", fail)
+    from adbgen.analysis.orbits import continuer
+
+    monkeypatch.setattr(continuer, "brentq", fail)
     s = continuation.scan(m, m.params({"Omega": 2.0, **CH4}), m.module.START, "Omega", 2.0, 1.8)
     (hopf,) = s.points
     lo, hi = sorted(hopf.bracket)
