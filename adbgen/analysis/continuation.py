@@ -1,25 +1,19 @@
 """Follow a steady state in one parameter and locate where its stability changes (thesis ch. 4).
 
     scan(model, p, y0, "Omega", 4.0, 0.5)   -> Scan: the branch, Hopf points and folds, stable intervals
-    write_scan(scan, out)                   scan.csv and scan.png in the folder out
 
-Pseudo-arclength continuation on the generated rhs, jac and jac_p: unknowns z = (y, lambda); each
-step predicts along the unit tangent and corrects by Newton on
+The branch is followed by the one continuer, `orbits.continuer.run` (pseudo-arclength, test functions,
+step bound, extremum checks, Brent location), on the equilibrium curve `orbits.equilibrium.EquilibriumCurve`:
+unknowns z = (y, lambda), F = rhs(y, lambda) with the pins T^T (y - y_a) = 0 onto one member of the balanced
+family (3.6) when the state lies on it (n >= 3; T is N x 0 otherwise).  Stability along the branch is that of
+the transverse spectrum (`steady.transverse_spectrum`: the family's zero eigenvalues removed exactly).  This
+module turns the continuer's branch and special points into the scan's points:
 
-    rhs(y, lambda) = 0,   T^T (y - y_pred) = 0,   t . (z - z_pred) = 0,
-
-where T is the tangent space of the balanced family (3.6) when the state lies on it (n >= 3: the
-pins keep Newton from drifting along the family; T is N x 0 otherwise).  Stability along the branch
-is that of the transverse spectrum (`steady.transverse_spectrum`: the family's zero eigenvalues
-removed exactly).  Where the number of eigenvalues with positive real part changes between two
-steps, the point is located by root finding (brentq) on the segment, parameterised by the distance
-along the chord so that folds are crossed too:
-
-* a Hopf point: a complex pair crosses; the root of the (m+1)-th largest real part (m = the smaller
-  of the two counts); frequency = |Im| of that pair there;
-* a fold (saddle-node): the branch turns back in lambda; the root of d lambda/ds of the tangent;
-* a real eigenvalue crossing zero where the branch does not turn is a branch point (pitchfork),
-  reported apart from `points`.
+* a Hopf point: a complex pair crosses (the curve's "hopf" test); frequency = |Im| of that pair there;
+* a fold (saddle-node): the branch turns back in lambda (the root of d lambda/ds of the tangent);
+* a real eigenvalue crossing zero where the branch does not turn (the "real" test) is a branch point
+  (pitchfork), reported apart from `points`;
+* a change of the unstable count (or a turn) that was not located: reported with its step as `bracket`.
 
 Direction: "stabilising" when the count of unstable eigenvalues drops in the direction of the scan
 (from FROM to TO), "destabilising" when it grows, null for a fold where it does not change (the
@@ -29,7 +23,6 @@ balanced branch turning at mu_c into its mirror copy phi_1 <-> phi_2, the thesis
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -237,68 +230,3 @@ def _resolution(branch: list[BranchPoint], stats: dict) -> dict:
             if min(abs(lead[i]), abs(lead[i + 1])) < 1e-2 or np.sign(lead[i]) != np.sign(lead[i + 1])]
     return {"largest_step": stats["largest_step"], "step_near_axis": float(max(near, default=0.0)),
             "ds_max": stats["ds_max"], "ds_floor": stats["ds_floor"], "extremum_checks": stats["extremum_checks"]}
-
-
-def write_scan(result, out: Path, values: dict | None = None, scene: str | None = None) -> None:
-    """scan.csv (one row per continuation step) and scan.png: the leading real part of the transverse
-    spectrum and the rotor amplitude along the parameter, stable stretches solid, Hopf points and folds
-    marked and labelled (the thesis' one-parameter diagrams, Fig. 4.2, 4.6, 4.11); each file written
-    whole."""
-    import io
-
-    from ..outputs import save_figure, writing
-    from .figure_style import latex_name, pyplot, title
-    from .units import axis_label, units
-
-    out.mkdir(parents=True, exist_ok=True)
-    m = result.model
-    u = units(m)
-    unit = u.params.get(result.name, "1")
-    ix, iy = m.amplitude_indices[:2]
-    lam = np.array([b.lam for b in result.branch])
-    lead = np.array([float(np.max(b.spectrum.real)) for b in result.branch])
-    amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
-    amp[amp < 1e-14 * max(1.0, float(np.max(amp)))] = 0.0  # the balanced state: rounding only
-    unstable = np.array([b.n_unstable for b in result.branch])
-    body = io.StringIO()
-    np.savetxt(body, np.column_stack([lam, lead, unstable, amp]), delimiter=",", fmt="%.17g")
-    with writing(out / "scan.csv") as fh:
-        fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
-                 f"to {result.stop!r}; complete: {str(result.complete).lower()} ({result.end_reason}, last step at "
-                 f"{result.end_at!r}); units: {result.name} {unit}, amplitude {u.length}, leading_real_part "
-                 f"{'1' if u.time == '1' else '1/' + u.time}\n")
-        fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
-        fh.write(body.getvalue())
-    plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 5.5), sharex=True, constrained_layout=True)
-    rate = "" if u.time == "1" else f"1/{u.time}"
-    balanced = not np.any(amp > 0)
-    # on the balanced state r = 0 all along: the lower panel counts the unstable eigenvalues instead
-    lower = (unstable.astype(float), "eigenvalues with Re > 0") if balanced else \
-        (amp, axis_label("$r = \\sqrt{x^2 + y^2}$", u.length))
-    for ax, values_, label in ((a1, lead, axis_label("max Re $\\lambda$ (transverse)", rate)), (a2, *lower)):
-        stable = np.where(unstable == 0, values_, np.nan)
-        ax.plot(lam, values_, "--", color="C0", lw=0.8, label="unstable")
-        ax.plot(lam, stable, "-", color="C0", lw=1.6, label="stable")
-        ax.set_ylabel(label)
-        for b in result.points:
-            ax.axvline(b.value, color="C3" if b.kind == "hopf" else "C2", lw=0.6, ls=":")
-    for b in result.points:
-        a1.annotate(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}", (b.value, 1.0), xycoords=("data", "axes fraction"),
-                    textcoords="offset points", xytext=(3, -4), ha="left", va="top", fontsize=7,
-                    color="C3" if b.kind == "hopf" else "C2", rotation=90)
-    a1.axhline(0.0, color="0.5", lw=0.5)
-    a1.legend(loc="best", fontsize=7)
-    if balanced:
-        a2.set_yticks(range(int(unstable.max()) + 1))
-        a2.set_title("r = 0 along the whole branch (the balanced state)", fontsize=8)
-    a2.set_xlabel(axis_label(latex_name(result.name), unit))
-    if not result.complete:
-        for ax in (a1, a2):
-            ax.axvspan(min(result.end_at, result.stop), max(result.end_at, result.stop), color="0.9", zorder=0)
-        a2.text(0.5 * (result.end_at + result.stop), 0.02, "not scanned", ha="center", va="bottom", fontsize=8,
-                color="0.4", transform=a2.get_xaxis_transform())
-    name = f"{Path(scene).name} ({m.name})" if scene else m.name
-    marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points) or "no Hopf point or fold"
-    a1.set_title(title(name, values or {}, u.params, f"solid stable, dashed unstable; {marks}"), fontsize=8)
-    save_figure(fig, out / "scan.png", dpi=120)
