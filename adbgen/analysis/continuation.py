@@ -161,7 +161,8 @@ KINDS = {"hopf": "hopf", "real": "branch", "fold": "fold"}  # the equilibrium cu
 
 def _bifurcations(branch: list[BranchPoint], run, lo: float, hi: float) -> list[tuple[int, Bifurcation]]:
     """The located special points (Hopf points, folds, branch points: a real eigenvalue through zero where the
-    branch does not turn; at a fold only the fold), each with the step it lies in; a change of the unstable
+    branch does not turn; at a fold only the fold; Hopf and branch points only where the number of unstable
+    eigenvalues changes), each with the step it lies in; a change of the unstable
     count or a turn that could not be located is reported with that step as `bracket`."""
     def direction(a, b):
         return "stabilising" if b.n_unstable < a.n_unstable else "destabilising" if b.n_unstable > a.n_unstable else None
@@ -169,9 +170,9 @@ def _bifurcations(branch: list[BranchPoint], run, lo: float, hi: float) -> list[
     folds = {sp.index for sp in run.specials if sp.name == "fold"}
     found, seen = [], set()
     for sp in run.specials:
-        if sp.name == "real" and sp.index in folds:
-            continue
         a, b = branch[sp.index], branch[sp.index + 1]
+        if sp.name != "fold" and (sp.index in folds or a.n_unstable == b.n_unstable):
+            continue  # a test's zero that changes no stability (at the turn of a pitchfork PF1,2): not a point
         freq = abs(sp.info["frequency"]) if sp.info["kind"] == "hopf" else None
         found.append((sp.index, Bifurcation(sp.info["kind"], float(sp.x[-1]), freq, direction(a, b), sp.x[:-1],
                                             a.n_unstable, b.n_unstable)))
