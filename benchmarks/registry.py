@@ -36,6 +36,7 @@ REGISTRY: dict[str, str] = {
     "rk": "benchmarks.rk:BENCHMARK",
     "ensemble": "benchmarks.ensemble:BENCHMARK",
     "reproduce": "benchmarks.reproduce:BENCHMARK",
+    "tolerance": "benchmarks.tolerance:BENCHMARK",
 }
 
 
