@@ -127,16 +127,89 @@ def admissible(cand: dict, requested: float, safety: float = SAFETY) -> bool:
     return cand["rtol_run"] <= requested * (1 + 1e-9)
 
 
-def choose(problems: dict, cands: list[dict], targets, safety: float = SAFETY) -> list[dict]:
-    """The table's rows (see the module docstring): for each T, the fastest admissible candidate reaching
-    an error of T x scale on every problem."""
+RK_STAGES = {"cyrk-dop853": 12, "cyrk-vern8": 13}  # rhs evaluations a step (DOP853: 12, Vern8: 13)
+
+
+def step_work(cand: dict) -> float:
+    """The deterministic work of one step, in rhs evaluations: an RK candidate's stages (`RK_STAGES`); a
+    Taylor step of order p computes the series' coefficients 0..p-1, coefficient k costing k + 1 terms
+    of each product's convolution (Cauchy product), p (p + 1) / 2 in all."""
+    if "order" in cand:
+        return cand["order"] * (cand["order"] + 1) / 2
+    return float(RK_STAGES[cand["engine"]])
+
+
+def proxy_cost(run: dict, cand: dict) -> float:
+    """A candidate's cost on a problem that the machine's load does not move: the steps the run took
+    (counted by the engine) times `step_work`.  The table is chosen and made monotone on it; wall time
+    is the final check on a quiet machine (`adbgen bench precision`)."""
+    return run["steps"] * step_work(cand)
+
+
+def cpu_cost(run: dict, cand: dict) -> float:
+    """The measured best CPU time (the criterion before issue 35; noise on a loaded machine)."""
+    return run["cpu_s"]
+
+
+COSTS = {"proxy": proxy_cost, "cpu": cpu_cost}
+# The table is chosen on CPU time (ties within `TIE`) and made monotone on the proxy.  Choosing on the proxy
+# was tried (2026-11-28, on benchmarks/auto.json of 2026-11-27 23:31): p (p + 1) / 2 rhs evaluations a
+# Taylor step overstates the Taylor step against an RK stage (order 20 on problem A: 1340 ns a step, about
+# a DOP853 step's 12 rhs), so it picked CyRK everywhere that CPU time had Taylor 1.1-2.4x faster; among
+# Taylor rows (the table's) the proxy's ratio of orders is the convolutions', which dominate the step.
+COST = "cpu"  # the cost the table is chosen on
+MONOTONE_COST = "proxy"  # the cost it is made monotone on: a loaded machine's timings do not move it
+
+
+def monotone_violations(rows: list[dict], problems: dict, cands: list[dict], cost: str = MONOTONE_COST) -> list[dict]:
+    """Where a looser tolerance costs more than a tighter one on a learning problem (issue 35 item 2):
+    [{problem, looser, tighter, cost_looser, cost_tighter}], empty for a monotone table."""
+    by_key = {c["key"]: c for c in cands}
+    out = []
+    ordered = sorted(rows, key=lambda r: r["rtol"])
+    for label, res in problems.items():
+        costs = [COSTS[cost](res["runs"][r["key"]], by_key[r["key"]]) for r in ordered]
+        for i in range(len(ordered)):
+            for j in range(i):  # ordered[j] is tighter than ordered[i]
+                if costs[i] > costs[j] * (1 + 1e-12):
+                    out.append({"problem": label, "looser": ordered[i]["rtol"], "tighter": ordered[j]["rtol"],
+                                "cost_looser": costs[i], "cost_tighter": costs[j]})
+    return out
+
+
+def make_monotone(rows: list[dict], problems: dict, cands: list[dict], cost: str = MONOTONE_COST) -> list[dict]:
+    """The rows with every looser tolerance's row replaced by the next tighter row where it costs more
+    on some learning problem.  The tighter row stands for the looser tolerance: it is admissible there
+    (its step aims lower, its error was at most the tighter tolerance) and, the rows tighter than it being
+    monotone already (by induction from the tightest), it costs no more than any of them on every problem."""
+    by_key = {c["key"]: c for c in cands}
+    out: list[dict] = []
+    for row in sorted(rows, key=lambda r: r["rtol"]):
+        if out:
+            prev = out[-1]
+            dearer = any(COSTS[cost](res["runs"][row["key"]], by_key[row["key"]]) >
+                         COSTS[cost](res["runs"][prev["key"]], by_key[prev["key"]]) * (1 + 1e-12)
+                         for res in problems.values())
+            if dearer:
+                row = {**{k: v for k, v in prev.items() if k != "rtol"}, "rtol": row["rtol"],
+                       "monotone_from": prev.get("monotone_from", prev["rtol"])}
+        out.append(row)
+    place = {r["rtol"]: i for i, r in enumerate(rows)}
+    return sorted(out, key=lambda r: place[r["rtol"]])  # in the order given
+
+
+def choose(problems: dict, cands: list[dict], targets, safety: float = SAFETY, criterion: str = COST) -> list[dict]:
+    """The table's rows (see the module docstring): for each T, the cheapest (`criterion`: CPU time by
+    default, `COSTS`) admissible candidate reaching an error of T x scale on every problem, made monotone
+    in `MONOTONE_COST` (`make_monotone`)."""
+    by_cost = COSTS[criterion]
     rows = []
     for level in targets:
         allowed = [c for c in cands if admissible(c, level, safety)]
         fastest = {}
         for label, res in problems.items():
-            ok = [r["cpu_s"] for r in (res["runs"][c["key"]] for c in allowed)
-                  if r["error"] is not None and r["error"] <= level * res["scale"]]
+            ok = [by_cost(res["runs"][c["key"]], c) for c in allowed
+                  if res["runs"][c["key"]]["error"] is not None and res["runs"][c["key"]]["error"] <= level * res["scale"]]
             fastest[label] = min(ok) if ok else None
         if any(v is None for v in fastest.values()):
             continue
@@ -148,7 +221,7 @@ def choose(problems: dict, cands: list[dict], targets, safety: float = SAFETY) -
                 if r["error"] is None or r["error"] > level * res["scale"]:
                     cost = float("inf")
                     break
-                cost = max(cost, r["cpu_s"] / fastest[label])
+                cost = max(cost, by_cost(r, c) / fastest[label])
                 slack = max(slack, r["error"] / (level * res["scale"]))
             costs.append((cost, slack, c))
         best_cost = min(cost for cost, _, _ in costs)
@@ -158,10 +231,11 @@ def choose(problems: dict, cands: list[dict], targets, safety: float = SAFETY) -
         # most accurate is kept: a candidate as fast but more accurate moves the work-precision curve left
         best_cost, _, best = min(((cost, slack, c) for cost, slack, c in costs if cost <= best_cost * TIE),
                                  key=lambda x: (x[1], x[0]))
-        row = {"rtol": level, "engine": best["engine"], "key": best["key"], "time_ratio_to_fastest": best_cost}
+        row = {"rtol": level, "engine": best["engine"], "key": best["key"], "time_ratio_to_fastest": best_cost,
+               "cost": criterion}  # time_ratio_to_fastest: the ratio in `cost` (kept by that name)
         row.update({k: best[k] for k in ("order", "step_factor", "rtol_run") if k in best})
         rows.append(row)
-    return rows
+    return make_monotone(rows, problems, cands)
 
 
 # ------------------------------------------------------------------------------ cost per step
@@ -240,7 +314,8 @@ def table_of(result: dict) -> dict:
     by_problem = {label: {"roles": roles_of(label), "rows": choose({label: res}, cands, targets)}
                   for label, res in sorted(problems.items())}
     return {"benchmark": "auto", "date": result["date"], "problems": sorted(problems), "machine": result["machine"],
-            "rows": choose(problems, cands, targets), "by_problem": by_problem, "safety": SAFETY,
+            "rows": choose(problems, cands, targets), "by_problem": by_problem, "safety": SAFETY, "cost": COST,
+            "monotone_cost": MONOTONE_COST,
             "source": "adbgen bench auto (benchmarks/engine_table.py)"}
 
 

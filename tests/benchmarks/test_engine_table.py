@@ -15,8 +15,8 @@ from benchmarks import peers as bench_peers
 from adbgen.cli import main
 
 
-def _problem(runs: dict, scale: float = 1.0) -> dict:
-    return {"scale": scale, "runs": {k: {"error": e, "cpu_s": t} for k, (e, t) in runs.items()}}
+def _problem(runs: dict, scale: float = 1.0, steps: int = 100) -> dict:
+    return {"scale": scale, "runs": {k: {"error": e, "cpu_s": t, "steps": steps} for k, (e, t) in runs.items()}}
 
 
 def test_choose_keeps_the_fastest_that_reaches_each_tolerance():
@@ -103,3 +103,59 @@ def test_bench_auto_quick(tmp_path, capsys):
     table.unlink()
     assert main(["bench", "auto", "--table-only", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
     assert json.loads(table.read_text())["rows"] == made["rows"]
+
+
+# ------------------------------------------------------------------ issue 35: monotone and admissible table
+
+def _shipped():
+    from adbgen.analysis.engines.auto import TABLE
+
+    table = json.loads(TABLE.read_text())
+    measured = json.loads((bench_auto.Path(__file__).resolve().parents[2] / "benchmarks" / "auto.json").read_text())
+    return table, measured
+
+
+def _row_sets(table):
+    yield "joint", table["rows"], None
+    for label, p in table["by_problem"].items():
+        yield label, p["rows"], label
+
+
+def test_the_shipped_table_is_monotone_in_cost_on_every_learning_problem():
+    """Issue 35 item 2: on problems A and B a looser rtol's row never takes more steps x work a step
+    (`proxy_cost`, counted from the stored run, not timed) than a tighter rtol's row; also in CPU time."""
+    table, measured = _shipped()
+    for name, rows, label in _row_sets(table):
+        problems = measured["problems"] if label is None else {label: measured["problems"][label]}
+        assert bench_auto.monotone_violations(rows, problems, measured["candidates"]) == [], name
+        assert bench_auto.monotone_violations(rows, problems, measured["candidates"], cost="cpu") == [], name
+
+
+def test_a_planted_non_monotone_table_is_caught_and_made_monotone():
+    """Negative control: problem A's 1e-6 row swapped for its 1e-12 row (more steps of a higher order) is
+    a violation; `make_monotone` gives the looser tolerance a tighter row instead, admissible there."""
+    table, measured = _shipped()
+    rows = [dict(r) for r in table["by_problem"]["A"]["rows"]]
+    tight = next(r for r in rows if r["rtol"] == pytest.approx(1e-12))
+    planted = [dict(r) if r["rtol"] != pytest.approx(1e-6) else {**tight, "rtol": 1e-6} for r in rows]
+    planted = [{**r, "key": "taylor:o20:f1", "order": 20, "step_factor": 1.0} if r["rtol"] == pytest.approx(1e-6)
+               else r for r in planted]
+    problems = {"A": measured["problems"]["A"]}
+    bad = bench_auto.monotone_violations(planted, problems, measured["candidates"])
+    assert bad and all(v["looser"] == pytest.approx(1e-6) for v in bad)
+    fixed = bench_auto.make_monotone(planted, problems, measured["candidates"])
+    assert bench_auto.monotone_violations(fixed, problems, measured["candidates"]) == []
+    by_key = {c["key"]: c for c in measured["candidates"]}
+    assert all(bench_auto.admissible(by_key[r["key"]], r["rtol"]) for r in fixed)
+    assert next(r for r in fixed if r["rtol"] == pytest.approx(1e-6))["monotone_from"] < 1e-6
+
+
+def test_every_shipped_row_is_admissible_and_a_planted_aggressive_step_factor_is_caught():
+    """Each row's step aims at a tenth of its tolerance or less (`admissible`, the learning's constraint);
+    negative control: order 10 with factor 3.5 planted at 1e-8 is refused."""
+    table, measured = _shipped()
+    for name, rows, _ in _row_sets(table):
+        for r in rows:
+            assert bench_auto.admissible(r, r["rtol"]), (name, r)
+    planted = {"engine": "taylor", "key": "taylor:o10:f3.5", "order": 10, "step_factor": 3.5, "rtol": 1e-8}
+    assert not bench_auto.admissible(planted, planted["rtol"])
