@@ -182,6 +182,50 @@ def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fre
     return result
 
 
+PAGE = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "tolerance.md"
+
+
+def _cell(c: dict) -> str:
+    if "ratio" not in c:
+        return c["status"]
+    text = f"{c['ratio']:.3g}"
+    return text if c["decided"] else f"({text})"
+
+
+def page(result: dict) -> str:
+    """The benchmark's page (docs/benchmarks/tolerance.md) from its results: the run's record, the
+    scenes' generator and seed, the reference and its check, the worst ratio per scene family and the
+    ratio per scene and tolerance."""
+    s = result.get("summary") or summary(result["scenes"])
+    ref = result["reference"]
+    m = result["machine"]
+    lines = [
+        f"# Tolerance proportionality on held-out scenes (`adbgen bench tolerance`)", "",
+        f"**Run record** (from [`benchmarks/tolerance.json`](../../benchmarks/tolerance.json)): started "
+        f"{result['date']}, the shared 2-core machine ({m.get('cpu', 'not recorded')}), load average at the end "
+        f"{m.get('load_average_at_end')}; command `adbgen bench tolerance` (resumable: each run adds the scenes "
+        f"not yet in the file; `--scenes` for a part). {len(result['scenes'])} of {len(load())} scenes measured.", "",
+        f"What it measures: the `{result['engine']}` engine on the held-out scenes of "
+        f"[`benchmarks/tolerance_scenes/`](../../benchmarks/tolerance_scenes/) (generator "
+        f"`benchmarks/tolerance_scenes.py`, seed {result['seed']}; never used to learn the auto engine's table), "
+        f"at rtol {', '.join(f'{r:g}' for r in result['rtols'])} with atol = rtol x {result['atol_ratio']:g}: "
+        "the ratio max_i |y_i - y_ref,i| / (atol + rtol |y_ref,i|) at t_end (target: at most "
+        f"{result['target']:g}), and t_dec's error over rtol x t_end.", "",
+        f"Reference: {ref['engine']} at rtol {ref['rtol']:g}, atol {ref['atol']:g}, checked by the Taylor engine "
+        f"(order {ref['check']['order']}, step factor {ref['check']['step_factor']:g}) at the same tolerance. A "
+        f"cell counts only where the two references agree within {ref['limit']:g} tolerance unit at that rtol; "
+        "other cells are shown in parentheses (undecided: the reference cannot resolve them).", "",
+        "## Worst counted ratio per scene family", "", "| family / units / drive | worst ratio |", "| --- | --- |"]
+    lines += [f"| {k} | {v:.3g} |" for k, v in sorted(s["worst_by_family"].items())]
+    lines += ["", f"Cells above the target: {len(s['over_target'])}.", "", "## Ratio per scene and tolerance", "",
+              "| scene | " + " | ".join(f"{r:g}" for r in result["rtols"]) + " |",
+              "| --- | " + " | ".join("---" for _ in result["rtols"]) + " |"]
+    for name, res in sorted(result["scenes"].items()):
+        cells = res.get("cells")
+        lines.append(f"| {name} | " + (" | ".join(_cell(c) for c in cells) if cells else res.get("undecided", "")) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def run(args, out: str) -> int:
     res = bench_tolerance(out, args.engine or "auto", args.scenes, fresh=args.fresh,
                           progress=lambda line: print(line, flush=True))
@@ -190,6 +234,9 @@ def run(args, out: str) -> int:
         print(f"{key}: worst ratio {worst:.3g}")
     done = len(res["scenes"])
     print(f"{done} scenes; worst ratio {s['worst']}; {len(s['over_target'])} cells above {TARGET:g}; wrote {out}")
+    if args.page:
+        PAGE.write_text(page(res))
+        print(f"wrote {PAGE}")
     return 0
 
 
@@ -197,6 +244,7 @@ BENCHMARK = Benchmark("tolerance", run, (
     option("--engine", default=None, help="the engine measured (default: auto, the default engine)"),
     option("--scenes", nargs="+", default=None, help="only these scenes (names of benchmarks/tolerance_scenes/)"),
     option("--fresh", action="store_true", help="start over instead of resuming the results file"),
+    option("--page", action="store_true", help="also write docs/benchmarks/tolerance.md from the results"),
 ))
 
 __all__ = ["BENCHMARK", "RTOLS", "TARGET", "bench_tolerance", "ratio", "summary", "t_dec_ratio"]

@@ -63,3 +63,15 @@ def test_summary_counts_decided_cells_only():
     cells[1]["decided"] = True  # negative control: the same cell, decided, misses the target
     s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
     assert s["worst"] == 500.0 and not s["met"] and s["over_target"][0]["rtol"] == 1e-12
+
+
+def test_the_page_shows_each_scene_and_marks_undecided_cells():
+    scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
+    cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True, "status": "success"},
+             {"rtol": 1e-12, "ratio": 500.0, "decided": False, "status": "success"}]
+    result = {"scenes": {"36_two_plane_torque": {"scene": scene, "cells": cells}}, "rtols": [1e-6, 1e-12],
+              "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
+                            "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
+              "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
+    text = tolerance.page(result)
+    assert "| 36_two_plane_torque | 3 | (500) |" in text and "| two_plane / thesis / torque | 3 |" in text
