@@ -198,7 +198,8 @@ def make_monotone(rows: list[dict], problems: dict, cands: list[dict], cost: str
     return sorted(out, key=lambda r: place[r["rtol"]])  # in the order given
 
 
-def choose(problems: dict, cands: list[dict], targets, safety: float = SAFETY, criterion: str = COST) -> list[dict]:
+def choose(problems: dict, cands: list[dict], targets, safety: float = SAFETY, criterion: str = COST,
+           margin: float = 1.0) -> list[dict]:
     """The table's rows (see the module docstring): for each T, the cheapest (`criterion`: CPU time by
     default, `COSTS`) admissible candidate reaching an error of T x scale on every problem, made monotone
     in `MONOTONE_COST` (`make_monotone`)."""
@@ -209,7 +210,7 @@ def choose(problems: dict, cands: list[dict], targets, safety: float = SAFETY, c
         fastest = {}
         for label, res in problems.items():
             ok = [by_cost(res["runs"][c["key"]], c) for c in allowed
-                  if res["runs"][c["key"]]["error"] is not None and res["runs"][c["key"]]["error"] <= level * res["scale"]]
+                  if res["runs"][c["key"]]["error"] is not None and res["runs"][c["key"]]["error"] <= level * res["scale"] / margin]
             fastest[label] = min(ok) if ok else None
         if any(v is None for v in fastest.values()):
             continue
@@ -218,7 +219,7 @@ def choose(problems: dict, cands: list[dict], targets, safety: float = SAFETY, c
             cost, slack = 0.0, 0.0
             for label, res in problems.items():
                 r = res["runs"][c["key"]]
-                if r["error"] is None or r["error"] > level * res["scale"]:
+                if r["error"] is None or r["error"] > level * res["scale"] / margin:
                     cost = float("inf")
                     break
                 cost = max(cost, by_cost(r, c) / fastest[label])
@@ -308,15 +309,109 @@ def roles_of(label: str) -> list[str]:
     return sorted(set(load_model(PROBLEMS[label].problem.model).roles))
 
 
-def table_of(result: dict) -> dict:
-    """The auto engine's table from a `bench auto` result: joint rows and rows per problem."""
+# ------------------------------------------------------------------------------ the check scene (issue 35)
+
+CHECK_SCENE = Path(__file__).resolve().parent / "engine_table_check.toml"
+CHECK_Y0 = {f"phi_{i + 1}": a for i, a in enumerate([0.3, 1.5, 2.9, 4.2, 5.5])}  # notebook 06's start
+CHECK_T_END = 1.0
+CHECK_RK = "cyrk-dop853"  # a row must be as accurate as this engine at the same rtol on the check scene
+FLOOR_FACTOR = 2.0  # errors within twice the references' disagreement are not told apart
+
+
+def check_errors(rows: list[dict], targets, progress=print) -> dict:
+    """On the check scene (notebook 06's, errors amplified ~1e3-fold), against CyRK's Vern8 at rtol 1e-13,
+    atol 1e-16, errors relative to max(1, |y_ref|) as notebook 06 measures them: each Taylor row's key's
+    error ("taylor": {key: error}; at any rtol with atol = rtol / 100 the step rule's weights |y| + atol /
+    rtol, hence the steps and the error, are the same: run at 1e-8) and `CHECK_RK`'s at each tolerance
+    ("rk": {rtol: error})."""
+    from adbgen.analysis.engines import ENGINES
+    from adbgen.analysis.engines.taylor import TaylorEngine
+    from .tolerance import scene_model
+
+    model = scene_model({"scene": str(CHECK_SCENE)})
+    p, y0 = model.params(), model.state(CHECK_Y0)
+    ref = None
+
+    def err(eng, rtol, atol):
+        out = eng.run(model, p, y0, CHECK_T_END, rtol, atol, 1e-3, 10**7, keep_trajectory=False)
+        if out["status"] != "success":
+            return None
+        y = np.asarray(out["y_end"], float)
+        return y if ref is None else float(np.max(np.abs(y - ref) / np.maximum(1.0, np.abs(ref))))
+
+    ref = err(ENGINES["cyrk-vern8"], 1e-13, 1e-16)
+    # the reference's own error: its distance from the Taylor engine at order 20, factor 1 (another method)
+    floor = err(TaylorEngine(table=[(0.0, 20, 1.0)]), 1e-14, 1e-16)
+    progress(f"  check scene: the references differ by {floor}")
+    taylor = {}
+    for r in rows:
+        if "order" in r and r["key"] not in taylor:
+            taylor[r["key"]] = err(TaylorEngine(table=[(0.0, r["order"], r["step_factor"])]), 1e-8, 1e-10)
+            progress(f"  check scene: {r['key']}: {taylor[r['key']]}")
+    rk = {}
+    for t in targets:
+        rk[t] = err(ENGINES[CHECK_RK], t, t * 1e-2)
+        progress(f"  check scene: {CHECK_RK} at rtol {t:g}: {rk[t]}")
+    return {"taylor": taylor, "rk": rk, "floor": floor}
+
+
+def passes_check(row: dict, rtol: float, checked: dict) -> bool:
+    """Whether a row may stand for `rtol`: a Taylor row's error on the check scene at most `CHECK_RK`'s at
+    that rtol, or within `FLOOR_FACTOR` x the references' disagreement (below it the comparison cannot
+    tell; an RK row: yes)."""
+    if "order" not in row:
+        return True
+    e, rk = checked["taylor"].get(row["key"]), checked["rk"].get(rtol)
+    if rk is None:
+        rk = next((v for t, v in checked["rk"].items() if abs(t - rtol) <= 1e-9 * rtol), None)
+    return e is not None and (rk is None or e <= max(rk, FLOOR_FACTOR * checked.get("floor", 0.0)))
+
+
+def apply_check(rows: list[dict], checked: dict) -> list[dict]:
+    """The rows with each one that fails the check scene (`passes_check`) replaced by the nearest tighter row
+    that passes at its tolerance (admissible there; monotone as `make_monotone` argues), or kept and marked
+    `check_failed` when none does.  So the candidates are checked on a scene beyond the learning problems
+    while the table is learned, not after."""
+    ordered = sorted(rows, key=lambda r: r["rtol"])
+    out = []
+    for i, row in enumerate(ordered):
+        if not passes_check(row, row["rtol"], checked):
+            stand_in = next((r for r in reversed(ordered[:i]) if passes_check(r, row["rtol"], checked)), None)
+            row = ({**{k: v for k, v in stand_in.items() if k not in ("rtol", "monotone_from")}, "rtol": row["rtol"],
+                    "check_replaced": row["key"]} if stand_in is not None else {**row, "check_failed": True})
+        out.append(row)
+    place = {r["rtol"]: i for i, r in enumerate(rows)}
+    return sorted(out, key=lambda r: place[r["rtol"]])
+
+
+def table_of(result: dict, checked: dict | None = None) -> dict:
+    """The auto engine's table from a `bench auto` result: joint rows and rows per problem, each checked on
+    the check scene when `checked` (`check_errors` of the rows) is given."""
     problems, cands, targets = result["problems"], result["candidates"], result["tolerances"]
-    by_problem = {label: {"roles": roles_of(label), "rows": choose({label: res}, cands, targets)}
+
+    def finish(rows):
+        if checked is None:
+            return rows
+        return make_monotone(apply_check(rows, checked), problems, cands)
+
+    by_problem = {label: {"roles": roles_of(label), "rows": finish(choose({label: res}, cands, targets))}
                   for label, res in sorted(problems.items())}
-    return {"benchmark": "auto", "date": result["date"], "problems": sorted(problems), "machine": result["machine"],
-            "rows": choose(problems, cands, targets), "by_problem": by_problem, "safety": SAFETY, "cost": COST,
-            "monotone_cost": MONOTONE_COST,
-            "source": "adbgen bench auto (benchmarks/engine_table.py)"}
+    made = {"benchmark": "auto", "date": result["date"], "problems": sorted(problems), "machine": result["machine"],
+            "rows": finish(choose(problems, cands, targets)), "by_problem": by_problem, "safety": SAFETY, "cost": COST,
+            "monotone_cost": MONOTONE_COST, "source": "adbgen bench auto (benchmarks/engine_table.py)"}
+    if checked is not None:
+        made["check"] = {"scene": "benchmarks/" + CHECK_SCENE.name, "y0": CHECK_Y0, "t_end": CHECK_T_END,
+                         "as_accurate_as": CHECK_RK, "taylor_errors": checked["taylor"],
+                         "rk_errors": {f"{t:g}": e for t, e in checked["rk"].items()},
+                         "reference_disagreement": checked["floor"], "floor_factor": FLOOR_FACTOR}
+    return made
+
+
+def check_and_table(result: dict, progress=print) -> dict:
+    """`table_of` with the check scene measured for every Taylor row the learning problems choose."""
+    problems, cands, targets = result["problems"], result["candidates"], result["tolerances"]
+    rows = choose(problems, cands, targets) + [r for res in problems.values() for r in choose({0: res}, cands, targets)]
+    return table_of(result, check_errors(rows, targets, progress))
 
 
 def bench_auto(labels=("A", "B"), *, quick: bool = False, repeats: int | None = None, t_end: float | None = None,
@@ -384,7 +479,7 @@ def run(args, out: str) -> int:
                             progress=lambda line: print(line, flush=True))
         path = write(result, out)
     table = args.table or (None if args.quick else str(TABLE_PATH))
-    made = table_of(result)
+    made = check_and_table(result, progress=lambda line: print(line, flush=True)) if not args.quick else table_of(result)
     if table:
         write(made, table)
     for rows_of, rows in [("joint", made["rows"])] + [(f"problem {k}", p["rows"]) for k, p in made["by_problem"].items()]:

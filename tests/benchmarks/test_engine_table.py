@@ -159,3 +159,18 @@ def test_every_shipped_row_is_admissible_and_a_planted_aggressive_step_factor_is
             assert bench_auto.admissible(r, r["rtol"]), (name, r)
     planted = {"engine": "taylor", "key": "taylor:o10:f3.5", "order": 10, "step_factor": 3.5, "rtol": 1e-8}
     assert not bench_auto.admissible(planted, planted["rtol"])
+
+
+def test_a_row_less_accurate_than_dop853_on_the_check_scene_is_replaced_by_a_tighter_one():
+    """`apply_check`: the 1e-10 row (error 2e-7 on the check scene, DOP853 1.4e-7) gives way to the 1e-11
+    row (4e-8); a row that passes stays; with no tighter row passing the row is kept and marked.  Negative
+    control: with the check scene's errors planted equal, nothing is replaced."""
+    rows = [{"rtol": 1e-9, "key": "a", "engine": "taylor", "order": 18, "step_factor": 2.0},
+            {"rtol": 1e-10, "key": "b", "engine": "taylor", "order": 16, "step_factor": 1.5},
+            {"rtol": 1e-11, "key": "c", "engine": "taylor", "order": 18, "step_factor": 1.5}]
+    checked = {"taylor": {"a": 1e-7, "b": 2e-7, "c": 4e-8}, "rk": {1e-9: 1.3e-6, 1e-10: 1.4e-7, 1e-11: 1.4e-8}}
+    out = {r["rtol"]: r for r in bench_auto.apply_check(rows, checked)}
+    assert out[1e-9]["key"] == "a" and out[1e-10]["key"] == "c" and out[1e-10]["check_replaced"] == "b"
+    assert out[1e-11].get("check_failed") and out[1e-11]["key"] == "c"  # 4e-8 > 1.4e-8, nothing tighter
+    same = {"taylor": {"a": 1e-9, "b": 1e-9, "c": 1e-9}, "rk": checked["rk"]}
+    assert [r["key"] for r in bench_auto.apply_check(rows, same)] == ["a", "b", "c"]
