@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from adbgen.analysis.engines.auto import TABLE
+from adbgen.analysis.engines.by_tolerance import TABLE
 from adbgen.cli_types import UsageError
 
 from .registry import QUICK, REPEATS, Benchmark, option, require_positive_repeats

@@ -67,14 +67,14 @@ def bench_newton(repeats: int = 20, say=print) -> dict:
 
 
 def bench_branch(points: int = 200, say=print) -> dict:
-    from adbgen.analysis import auto, continuation
+    from adbgen.analysis import auto07p, equilibrium_scan
     from adbgen.analysis.loading import load_model
     from adbgen.analysis.orbits import auto_cycles, branches, continuer, hopf
     from adbgen.analysis.orbits.parameters import ParameterMap
 
     m = load_model("thesis_rotating_n2")
     p = m.params({"Omega": 4.0, "mu": 0.05, "zeta": 0.01, "beta": 0.01, "delta": 0.01})
-    sc = continuation.scan(m, p, m.module.START, "Omega", 4.0, 1.7)
+    sc = equilibrium_scan.scan(m, p, m.module.START, "Omega", 4.0, 1.7)
     pm = ParameterMap(m, p, ["Omega"])
     hp = hopf.HopfPoint.at(m, pm, sc.points[0].y, sc.points[0].value)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -86,18 +86,18 @@ def bench_branch(points: int = 200, say=print) -> dict:
            "ours_range": [j["parameter"][0], j["parameter"][-1]], "ours_specials": ours.specials}
     say(f"branch: shooting {len(j['parameter'])} points in {ours_s:.2f} s, Omega {j['parameter'][0]:.4f} to "
         f"{j['parameter'][-1]:.4f}")
-    if auto.missing_tools():
+    if auto07p.missing_tools():
         out["auto"] = None
         return out
     k = m.param_names.index("Omega")
-    a, amp = auto.auto_parameter(k), auto.auto_parameter(m.n_params)
-    with auto.Session(m) as session:
-        one = auto.continue_one(m, "Omega", p, None, 0.5, session=session)  # also builds AUTO's executable
+    a, amp = auto07p.auto_parameter(k), auto07p.auto_parameter(m.n_params)
+    with auto07p.Session(m) as session:
+        one = auto07p.continue_one(m, "Omega", p, None, 0.5, session=session)  # also builds AUTO's executable
         session.keep_solutions(m.name)
         hb = min((q for q in one.labelled() if q.kind == "HB"), key=lambda q: abs(q.values[f"PAR({a})"] - hp.lam))
         t0, c0 = time.perf_counter(), _children_cpu()
         pts, _, _ = session.run(s=repr(m.name), IRS=hb.label, IPS=2, ISW=1, ICP=f"[{a}, 11, {amp}]", NTST=60, NCOL=4,
-                                ISP=2, DS=-0.01, DSMAX=0.05, NMX=points, NPR=points, UZSTOP=auto._mapping({a: [0.5, 4.0]}),
+                                ISP=2, DS=-0.01, DSMAX=0.05, NMX=points, NPR=points, UZSTOP=auto07p._mapping({a: [0.5, 4.0]}),
                                 U=None, PAR=None)
         auto_s, auto_cpu = time.perf_counter() - t0, _children_cpu() - c0
     theirs = auto_cycles._branch_json(pts, "Omega", f"PAR({a})", f"PAR({amp})", hb.values[f"PAR({a})"], False)

@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import sympy as sp
 
-from adbgen.analysis import auto, continuation, steady
+from adbgen.analysis import auto07p, equilibrium_scan, steady
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import amplitude, simulate
 from adbgen.cli import main as adbgen
@@ -269,15 +269,15 @@ assert worst <= 1e-13
 thesis3 = load_model("thesis_rotating_n3")
 p0 = np.array(thesis3.module.START_PARAMETERS, float)
 y_start = np.array(thesis3.module.START, float)
-scan = continuation.scan(thesis3, p0, y_start, "Omega", 4.0, 1.5)
+scan = equilibrium_scan.scan(thesis3, p0, y_start, "Omega", 4.0, 1.5)
 for b in scan.points:
     print(f"{b.kind} at Omega = {b.value:.10f}, frequency {b.frequency:.7f}, {b.direction}")
 print("stable for Omega in", [tuple(round(v, 7) for v in iv) for iv in scan.stable_intervals])
 hopf = [b.value for b in scan.points if b.kind == "hopf"]
 assert np.allclose(hopf, [1.8753674503, 1.7124468663, 1.6127672512], atol=1e-8)  # the README's table
 
-assert not auto.missing_tools(), auto.missing_tools()
-run_auto = auto.continue_one(thesis3, "Omega", to=1.5)
+assert not auto07p.missing_tools(), auto07p.missing_tools()
+run_auto = auto07p.continue_one(thesis3, "Omega", to=1.5)
 labelled = [(pt.type, pt.values["PAR(1)"] if "PAR(1)" in pt.values else None) for pt in run_auto.points if pt.label]
 print("AUTO-07p labelled points:", labelled)
 hb = sorted((v for kind, v in labelled if kind == "HB"), reverse=True)

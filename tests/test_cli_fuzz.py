@@ -42,7 +42,7 @@ def _stop(*args, **kwargs):
 @pytest.fixture()
 def stubbed(monkeypatch, tmp_path):
     """The expensive entry points replaced by `_stop`; the parser built once."""
-    from adbgen.analysis import auto, auto_orbits, continuation, design, loading, sweep
+    from adbgen.analysis import auto07p, auto_orbits, equilibrium_scan, design, loading, sweep
     from adbgen.analysis import engines
     from benchmarks import registry
     from adbgen.cli import docs as cli_docs, notebooks as cli_notebooks, reproduce as cli_reproduce, verify as fam_commands
@@ -52,7 +52,7 @@ def stubbed(monkeypatch, tmp_path):
     from adbgen.families.two_plane import commands as tp_commands
     import adbgen.notebooks as notebooks
 
-    for module, name in [(regenerate, "render_all"), (continuation, "scan"), (auto.Session, "__init__"),
+    for module, name in [(regenerate, "render_all"), (continuation, "scan"), (auto07p.Session, "__init__"),
                          (auto_orbits, "refine_orbit"), (sweep, "run_sweep"), (design, "solve"), (cli_reproduce, "build"),
                          (cli_reproduce, "_pinned_rerun"),  # the pinned child process would escape the stubs
                          (cli_docs, "build"),

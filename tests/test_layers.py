@@ -58,8 +58,8 @@ def test_the_layers_hold():
      "adbgen.families.single_plane.model -> adbgen.families.single_plane.science.published",
      "the families' derivations import neither"),
     # the package importing the benchmarks, and the benchmarks the command line
-    ("adbgen/analysis/engines/auto.py", "import benchmarks.engine_table",
-     "adbgen.analysis.engines.auto -> benchmarks.engine_table", "the package does not import the benchmarks"),
+    ("adbgen/analysis/engines/by_tolerance.py", "import benchmarks.engine_table",
+     "adbgen.analysis.engines.by_tolerance -> benchmarks.engine_table", "the package does not import the benchmarks"),
     ("benchmarks/report.py", "from adbgen.cli import arguments", "benchmarks.report -> adbgen.cli.arguments",
      "the benchmarks do not import the command line"),
     # a generated module importing SymPy

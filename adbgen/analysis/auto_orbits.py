@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .auto import TYPES, AutoError, Point, Session, Solution, _mapping, auto_parameter
+from .auto07p import TYPES, AutoError, Point, Session, Solution, _mapping, auto_parameter
 from .loading import AnalysisError, Model
 
 CLOSURE_TOL = 1e-7  # an orbit closes when |y(T) - y(0)| <= CLOSURE_TOL (1 + |y|) (angles mod 2 pi)

@@ -99,8 +99,8 @@ def _add_stability(p) -> None:
 
 
 def run_stability(args) -> int:
-    from ..analysis import continuation, steady
-    from ..analysis.orbits.lyapunov import add_to_scan
+    from ..analysis import equilibrium_scan, steady
+    from ..analysis.orbits.first_lyapunov import add_to_scan
     from ..analysis.units import params, units
 
     if args.out is not None:
@@ -132,7 +132,7 @@ def run_stability(args) -> int:
     unit = units(model).params[name]
     with progress_bar(abs(b - a), f"{model.name}: {name} from {show(a, unit)} to {show(b, unit)}",
                       show_progress) as update:
-        result = continuation.scan(model, p, y0, name, a, b, ds=ds_max / 2, ds_max=ds_max, ds_min=ds_max * 1e-5,
+        result = equilibrium_scan.scan(model, p, y0, name, a, b, ds=ds_max / 2, ds_max=ds_max, ds_min=ds_max * 1e-5,
                                    max_steps=args.max_steps, progress=lambda lam: update(abs(lam - a)))
     add_to_scan(result)
     if args.out is not None:
@@ -304,7 +304,7 @@ def _add_continue(p) -> None:
 
 
 def run_continue(args) -> int:
-    from ..analysis import auto, steady
+    from ..analysis import auto07p, steady
     from ..analysis.orbits import continue_command
     from ..analysis.identify import check, default_label
     from ..analysis.starts import default_start, follower, pinned
@@ -334,7 +334,7 @@ def run_continue(args) -> int:
     p = model.params({**continue_command._start_parameters(model), **values})
     k = model.param_names.index(args.par)
     if to is None and args.par2 is not None:  # the whole range the model's AUTO constants continue over
-        to = auto.default_stop(model, args.par, float(p[k]))
+        to = auto07p.default_stop(model, args.par, float(p[k]))
     if to is None:
         to = 0.5 * p[k] if p[k] > 0 else p[k] - 1.0
     pmap = continue_command.pmap_for(model, p, [args.par, args.par2], args)
@@ -378,15 +378,15 @@ def run_continue(args) -> int:
     with activity(f"{model.name}: AUTO-07p in {args.par}", show_progress):
         if args.par2 is None:
             if args.keep:
-                with auto.Session(model, keep=args.keep) as session:
-                    run = auto.continue_one(model, args.par, p, y, to, ds=ds_max / 2, ds_max=ds_max, session=session)
+                with auto07p.Session(model, keep=args.keep) as session:
+                    run = auto07p.continue_one(model, args.par, p, y, to, ds=ds_max / 2, ds_max=ds_max, session=session)
             else:
-                run = auto.continue_one(model, args.par, p, y, to, ds=ds_max / 2, ds_max=ds_max)
+                run = auto07p.continue_one(model, args.par, p, y, to, ds=ds_max / 2, ds_max=ds_max)
             out = {"model": model.name, "parameter": args.par, "points": run.to_json()}
             one = run
         else:
-            curves = auto.continue_two(model, args.par, args.par2, p, y, to, range2)
-            curves.double_hopf = auto.double_hopf_points(model, curves.curves, p, args.par, args.par2,
+            curves = auto07p.continue_two(model, args.par, args.par2, p, y, to, range2)
+            curves.double_hopf = auto07p.double_hopf_points(model, curves.curves, p, args.par, args.par2,
                                                          follower(model, y))
             out = {"model": model.name, "parameter": args.par, "parameter2": args.par2,
                    "points": curves.one.to_json(), **curves.to_json()}

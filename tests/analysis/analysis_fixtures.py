@@ -30,12 +30,12 @@ def thesis():
 @pytest.fixture(scope="session")
 def balanced_scan(thesis):
     """n -> the scan of the balanced state (START) from Omega = 4 down to 0.5 at CH4."""
-    from adbgen.analysis import continuation
+    from adbgen.analysis import equilibrium_scan
 
-    def get(n: int) -> continuation.Scan:
+    def get(n: int) -> equilibrium_scan.Scan:
         if n not in _scans:
             m = thesis[n]
             p = m.params({"Omega": 4.0, **CH4})
-            _scans[n] = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
+            _scans[n] = equilibrium_scan.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
         return _scans[n]
     return get

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from adbgen.analysis import auto
+from adbgen.analysis import auto07p
 
 # tests/codegen/toolchain.py (conftest.py puts its folder on sys.path): a missing tool fails under CI
 from toolchain import require_tool
@@ -13,5 +13,5 @@ CH4 = {"mu": 0.05, "zeta": 0.01, "beta": 0.01, "delta": 0.01}
 
 def require_auto() -> None:
     """Fail (CI=true) or skip (elsewhere) when AUTO-07p or its toolchain is missing."""
-    missing = auto.missing_tools()
+    missing = auto07p.missing_tools()
     require_tool(not missing, ", ".join(missing) + " (Debian packages auto-07p gfortran gcc make)")

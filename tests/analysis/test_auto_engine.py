@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from adbgen.analysis.engines import ENGINES
-from adbgen.analysis.engines.auto import TABLE, AutoEngine, load_table
+from adbgen.analysis.engines.by_tolerance import TABLE, AutoEngine, load_table
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
 from adbgen.cli import main
@@ -34,7 +34,7 @@ def test_each_model_takes_the_rows_of_the_problem_measured_on_its_kind_of_machin
     own family (problem A's: single plane, B's: two planes), read here from the models' FAMILY and the
     benchmark's problems.  Negative control: with problem B's kinds planted wrong (a coordinate no model
     has), the two-plane models fall to problem A's rows."""
-    from adbgen.analysis.engines.auto import table_rows
+    from adbgen.analysis.engines.by_tolerance import table_rows
     from adbgen.analysis.loading import available_models
     from benchmarks.precision import PROBLEMS
 

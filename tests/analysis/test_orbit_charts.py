@@ -10,7 +10,7 @@ import types
 import numpy as np
 import pytest
 
-from adbgen.analysis import continuation, steady
+from adbgen.analysis import equilibrium_scan, steady
 from adbgen.analysis.loading import AnalysisError, load_model
 from adbgen.analysis.orbits import auto_cycles, charts, describe, orbit
 from adbgen.analysis.orbits.boundary import OrbitFollower
@@ -44,7 +44,7 @@ def test_scan_finds_the_window_inside_one_step(capsys):
     m = load_model("thesis_rotating_n2")
     p = m.params({"mu": 0.034, "Omega": 1.0})
     y = steady.refine(m, p, m.module.START).y
-    plain = continuation.scan(m, p, y, "Omega", 1.0, 1.15, watch=False)
+    plain = equilibrium_scan.scan(m, p, y, "Omega", 1.0, 1.15, watch=False)
     assert plain.points == []
 
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from adbgen.analysis.loading import load_model
-from adbgen.analysis.orbits import auto_cycles, branches, continuer, hopf, jets, lyapunov, orbit
+from adbgen.analysis.orbits import auto_cycles, branches, continuer, hopf, jets, first_lyapunov, orbit
 from adbgen.analysis.orbits.cycle import torus_test
 from adbgen.analysis.orbits.flow import Flow
 from adbgen.analysis.orbits.parameters import ParameterMap
@@ -279,10 +279,10 @@ def test_first_lyapunov_of_the_normal_form(tmp_path, l):
     m = load_model(toys.hopf_toy(tmp_path / str(l), l=l))
     p = m.params({"l": l})
     for kind in ("jet", "differences"):
-        l1, info = lyapunov.first_lyapunov(m, p, np.zeros(2), derivatives=kind)
+        l1, info = first_lyapunov.first_lyapunov(m, p, np.zeros(2), derivatives=kind)
         assert l1 == pytest.approx(2 * l, rel=1e-12 if kind == "jet" else 1e-6)
         assert info["frequency"] == pytest.approx(1.0)
-    assert lyapunov.criticality(2 * l) == ("supercritical" if l < 0 else "subcritical")
+    assert first_lyapunov.criticality(2 * l) == ("supercritical" if l < 0 else "subcritical")
 
 
 def test_jets_equal_differences_of_the_exact_jacobian():
@@ -307,14 +307,14 @@ def test_hopf_cycle_amplitude_grows_as_predicted(n2):
     """n = 2, H1 at Omega = 1.8822 (thesis (5.1)'s other parameters): supercritical; near it the cycle's
     r_max^2 grows linearly in the distance from the Hopf point, with the slope -4 s Re lambda' / (w l1)
     predicted by l1 (s the largest squared rotor part of Re(e^(i theta) q))."""
-    from adbgen.analysis import continuation
+    from adbgen.analysis import equilibrium_scan
 
     p = n2.params({"Omega": 4.0, **CH4})
-    sc = continuation.scan(n2, p, n2.module.START, "Omega", 4.0, 1.5)
+    sc = equilibrium_scan.scan(n2, p, n2.module.START, "Omega", 4.0, 1.5)
     b = sc.points[0]
     pm = ParameterMap(n2, p, ["Omega"])
     hp = hopf.HopfPoint.at(n2, pm, b.y, b.value)
-    l1d, _ = lyapunov.first_lyapunov(n2, hp.p, hp.y, derivatives="differences")
+    l1d, _ = first_lyapunov.first_lyapunov(n2, hp.p, hp.y, derivatives="differences")
     assert hp.l1 == pytest.approx(l1d, rel=1e-5) and hp.criticality == "supercritical"
     br = branches.from_hopf(n2, pm, hp, continuer.Settings(ds=0.002, ds_max=0.004, max_points=8, bounds=(1.5, 4.0)))
     lam = np.array([o.p_value for o in br.orbits[1:]])
@@ -322,7 +322,7 @@ def test_hopf_cycle_amplitude_grows_as_predicted(n2):
     slope, icpt = np.polyfit(lam - hp.lam, r2, 1)
     assert np.max(np.abs(np.polyval([slope, icpt], lam - hp.lam) - r2)) < 0.02 * r2.max()  # linear
     # the prediction
-    ev = lambda lam_: lyapunov.hopf_vectors(np.asarray(n2.module.jac(0.0, hp.y, pm(lam_))), hp.omega)[0]  # noqa: E731
+    ev = lambda lam_: first_lyapunov.hopf_vectors(np.asarray(n2.module.jac(0.0, hp.y, pm(lam_))), hp.omega)[0]  # noqa: E731
     dre = (ev(hp.lam + 1e-6).real - ev(hp.lam - 1e-6).real) / 2e-6
     th = np.linspace(0, 2 * PI, 721)
     s = max(float(np.sum(np.real(np.exp(1j * a) * hp.q[:2]) ** 2)) for a in th)
@@ -339,10 +339,10 @@ def test_cycle_branch_agrees_with_auto(n2):
     value, or (where the branch runs more in the period) the same parameter value at AUTO's period, to 1e-9
     relative (AUTO prints 11 digits), and the torus point is the same to 1e-6 in Omega."""
     require_auto()
-    from adbgen.analysis import continuation
+    from adbgen.analysis import equilibrium_scan
 
     p = n2.params({"Omega": 4.0, **CH4})
-    sc = continuation.scan(n2, p, n2.module.START, "Omega", 4.0, 1.7)
+    sc = equilibrium_scan.scan(n2, p, n2.module.START, "Omega", 4.0, 1.7)
     pm = ParameterMap(n2, p, ["Omega"])
     hp = hopf.HopfPoint.at(n2, pm, sc.points[0].y, sc.points[0].value)
     ours = branches.from_hopf(n2, pm, hp, continuer.Settings(ds=0.01, ds_max=0.05, max_points=40, bounds=(1.7, 4.0)),

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from adbgen.analysis.engines import DEFAULT, ENGINES
-from adbgen.analysis.engines.auto import AutoEngine
+from adbgen.analysis.engines.by_tolerance import AutoEngine
 from adbgen.analysis.engines.taylor import TaylorBatchEngine, TaylorEngine, heyoka_order
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.results import IntegrationError
@@ -163,7 +163,7 @@ def test_auto_runs_a_model_without_a_series_on_the_fallback(thesis, tmp_path):
     generated module would compile its numba functions again.)"""
     from types import SimpleNamespace
 
-    from adbgen.analysis.engines.auto import FALLBACK
+    from adbgen.analysis.engines.by_tolerance import FALLBACK
 
     m = thesis[2]
     bare = SimpleNamespace(name=m.name, folder=tmp_path, module=m.module)
@@ -180,7 +180,7 @@ def test_auto_runs_ensembles_without_measures_on_the_batch_engine(thesis, tmp_pa
     (negative controls)."""
     from types import SimpleNamespace
 
-    from adbgen.analysis.engines.auto import ENSEMBLE
+    from adbgen.analysis.engines.by_tolerance import ENSEMBLE
     from adbgen.analysis.simulate import simulate_many
 
     m = thesis[2]

@@ -108,7 +108,7 @@ def test_bench_auto_quick(tmp_path, capsys):
 # ------------------------------------------------------------------ issue 35: monotone and admissible table
 
 def _shipped():
-    from adbgen.analysis.engines.auto import TABLE
+    from adbgen.analysis.engines.by_tolerance import TABLE
 
     table = json.loads(TABLE.read_text())
     measured = json.loads((bench_auto.Path(__file__).resolve().parents[2] / "benchmarks" / "auto.json").read_text())

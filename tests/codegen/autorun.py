@@ -1,4 +1,4 @@
-"""AUTO-07p for the tests: the toolchain fixture and asserting wrappers over adbgen.analysis.auto
+"""AUTO-07p for the tests: the toolchain fixture and asserting wrappers over adbgen.analysis.auto07p
 (which builds, runs and reads AUTO's files for users; one implementation of the readers)."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from adbgen.analysis.auto import (AUTO_DIR, BIFURCATIONS, Point, Solution, _number as fortran_number,  # noqa: F401
+from adbgen.analysis.auto07p import (AUTO_DIR, BIFURCATIONS, Point, Solution, _number as fortran_number,  # noqa: F401
                                   build_and_run, header_dir as auto_header, missing_tools, read_fort7, read_fort8,
                                   read_multipliers, unlabelled_stability_changes)
 from toolchain import require_tool

@@ -10,7 +10,7 @@ that start together bit-for-bit together (tested).  To add an engine: a class wi
 from __future__ import annotations
 
 from ..loading import AnalysisError
-from .auto import AutoEngine
+from .by_tolerance import AutoEngine
 from .compiled import CyRKEngine, SundialsEngine
 from .matlab_ode45 import ENGINE as MATLAB_ODE45
 from .rk import RKBatchEngine, RKEngine

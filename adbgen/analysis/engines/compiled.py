@@ -6,7 +6,7 @@ into a shared library cached under ``$ADBGEN_CACHE`` (default ``~/.cache/adbgen`
 the model's C source and the flags; later runs only load it (milliseconds).  Every driver exports the one
 C interface of adb_engine.h, called through its typed mirror (c_interface.py).  ctypes releases the GIL
 for the call, and a batch runs on OpenMP threads inside the library: no Python per step, per evaluation
-or per trajectory.  (The default engine is `auto`, engines/auto.py.)
+or per trajectory.  (The default engine is `auto`, engines/by_tolerance.py.)
 
     cyrk-dop853, cyrk-vern8, cyrk-vern7, cyrk-rk45, cyrk-rk23
         CyRK's C++ explicit Runge-Kutta solvers (CyRK.nb.numba_c_api's C entry points)

@@ -5,7 +5,7 @@
     auto_orbit(model, orbit, name)                      AUTO's correction of an orbit given as data (its
                                                         `dat` file: t, u), with its Floquet multipliers
 
-Both run in a temporary copy of the model's auto/ folder (`auto.Session`).  For n >= 3 thesis models
+Both run in a temporary copy of the model's auto/ folder (`auto07p.Session`).  For n >= 3 thesis models
 the emitted func carries the regularising term that pins the balanced continuum's free angles; it
 vanishes on the pinned equilibrium but not along a cycle, so AUTO's cycles there are those of the
 regularised system (said in the output as `regularised: true`).
@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .. import auto
+from .. import auto07p
 from ..loading import AnalysisError, Model
 
 NTST, NCOL = 60, 4
@@ -25,7 +25,7 @@ NTST, NCOL = 60, 4
 
 def _pinned_model(model: Model) -> bool:
     """The model's AUTO user file regularises the continuum of balanced states (its data: `pinned`)."""
-    data = auto.stages_data(model)
+    data = auto07p.stages_data(model)
     return bool(data and data.get("pinned"))
 
 
@@ -42,16 +42,16 @@ def auto_branches(model: Model, name: str, p: np.ndarray, hb_values, to: float |
                   ds: float = 0.01, ds_max: float = 0.05, y: np.ndarray | None = None) -> list[dict]:
     """AUTO's cycle branches (IPS = 2, ISP = 2: TR, PD, LP detected) from the HB labels nearest hb_values."""
     k = model.param_names.index(name)
-    a = auto.auto_parameter(k)
-    amp = auto.auto_parameter(model.n_params)
+    a = auto07p.auto_parameter(k)
+    amp = auto07p.auto_parameter(model.n_params)
     column = f"PAR({a})"
     start = float(p[k])
     to = (0.5 * start if start > 0 else start - 1.0) if to is None else float(to)
     lo, hi = min(start, to), max(start, to)
     nmx = getattr(args, "max_points", None) or nmx
     out = []
-    with auto.Session(model) as session:
-        one = auto.continue_one(model, name, p, y if y is not None else None, to, session=session)
+    with auto07p.Session(model) as session:
+        one = auto07p.continue_one(model, name, p, y if y is not None else None, to, session=session)
         session.keep_solutions(model.name)
         hb = [pt for pt in one.labelled() if pt.kind == "HB"]
         for value in hb_values:
@@ -62,7 +62,7 @@ def auto_branches(model: Model, name: str, p: np.ndarray, hb_values, to: float |
             for sign in (-1.0, 1.0):
                 points, _, _ = session.run(s=repr(model.name), IRS=pt.label, IPS=2, ISW=1, ICP=f"[{a}, 11, {amp}]",
                                            NTST=NTST, NCOL=NCOL, ISP=2, DS=sign * ds, DSMAX=ds_max, NMX=nmx, NPR=nmx,
-                                           UZSTOP=auto._mapping({a: [lo, hi]}), U=None, PAR=None)
+                                           UZSTOP=auto07p._mapping({a: [lo, hi]}), U=None, PAR=None)
                 runs.append(points)
             # the side the cycles exist on: the run that got away from the Hopf point
             best = max(runs, key=lambda pts: len(pts))
@@ -80,20 +80,20 @@ def auto_orbit(model: Model, orbit, name: str, samples: int = 400) -> dict:
     if orbit.forced:
         raise AnalysisError("auto_orbit: an autonomous orbit (a forced model's AUTO files carry the oscillator)")
     k = model.param_names.index(name)
-    a = auto.auto_parameter(k)
-    amp = auto.auto_parameter(model.n_params)
+    a = auto07p.auto_parameter(k)
+    amp = auto07p.auto_parameter(model.n_params)
     t, Y = trace(orbit, Flow(model), samples)
     # AUTO reads the angles as they are: unwrap them along the orbit (a lapping angle gains 2 pi k)
-    with auto.Session(model) as session:
+    with auto07p.Session(model) as session:
         rows = "\n".join(" ".join(f"{v:.17g}" for v in (ti, *yi)) for ti, yi in zip(t, Y))
         (session.dir / f"{model.name}.dat").write_text(rows + "\n")
-        par = {auto.auto_parameter(j): float(v) for j, v in enumerate(orbit.p)}
+        par = {auto07p.auto_parameter(j): float(v) for j, v in enumerate(orbit.p)}
         points, solutions, log = session.run(
             IPS=2, IRS=0, ISW=1, dat=repr(model.name), ICP=f"[{a}, 11, {amp}]", NTST=NTST, NCOL=NCOL, ISP=2,
-            DS=1e-7, DSMIN=1e-9, DSMAX=1e-6, NMX=2, NPR=2, U=None, PAR=auto._mapping(par), UZSTOP=None)
+            DS=1e-7, DSMIN=1e-9, DSMAX=1e-6, NMX=2, NPR=2, U=None, PAR=auto07p._mapping(par), UZSTOP=None)
         if not points:
             raise AnalysisError(f"AUTO-07p did not converge the orbit:\n{log}")
-        mu = auto.read_multipliers(session.dir / "fort.9", model.n_states)
+        mu = auto07p.read_multipliers(session.dir / "fort.9", model.n_states)
     # the start is the data itself; the step after it is AUTO's own solution, a little way along the branch
     last = points[-1]
     return {"period": last.values["PERIOD"], name: last.values[f"PAR({a})"], "stable": bool(last.stable),
@@ -185,32 +185,32 @@ def auto_forced_bifurcations(model: Model, name: str, p: np.ndarray, lo: float, 
                              nmx: int = 400) -> list[dict]:
     """A forced model's emitted AUTO files (the oscillator extension, IPS = 2) continued in `name` from their
     stpnt orbit, with the model parameters `p` (AUTO's PAR key): the TR, PD and LP points AUTO detects
-    between lo and hi.  (`auto.Session` runs the autonomous models' steady-state files; this runs the
+    between lo and hi.  (`auto07p.Session` runs the autonomous models' steady-state files; this runs the
     forced model's own.)"""
     import shutil
     import tempfile
     from pathlib import Path
 
-    missing = auto.missing_tools()
+    missing = auto07p.missing_tools()
     if missing:
-        raise auto.AutoError("AUTO-07p cannot run here: missing " + ", ".join(missing))
+        raise auto07p.AutoError("AUTO-07p cannot run here: missing " + ", ".join(missing))
     src = model.folder / "auto"
     k = model.param_names.index(name)
-    a = auto.auto_parameter(k)
+    a = auto07p.auto_parameter(k)
     with tempfile.TemporaryDirectory(prefix="adbgen-auto-") as tmp:
         d = Path(tmp)
         for f in src.iterdir():
             if f.is_file():
                 shutil.copy(f, d / f.name)
         base = (d / f"c.{model.name}").read_text()
-        par = {auto.auto_parameter(j): float(v) for j, v in enumerate(p)}
-        consts = dict(NMX=nmx, NPR=nmx, UZSTOP=auto._mapping({a: [lo, hi]}), PAR=auto._mapping(par))
+        par = {auto07p.auto_parameter(j): float(v) for j, v in enumerate(p)}
+        consts = dict(NMX=nmx, NPR=nmx, UZSTOP=auto07p._mapping({a: [lo, hi]}), PAR=auto07p._mapping(par))
         if ds is not None:
             consts.update(DS=ds, DSMAX=4 * abs(ds))
-        (d / "c.run").write_text(auto.set_constants(base, **consts))
-        log = auto.build_and_run({}, model.name, d, "c.run")
+        (d / "c.run").write_text(auto07p.set_constants(base, **consts))
+        log = auto07p.build_and_run({}, model.name, d, "c.run")
         if not (d / "fort.7").is_file():
-            raise auto.AutoError(f"AUTO-07p did not run:\n{log}")
-        points = auto.read_fort7(d / "fort.7")
+            raise auto07p.AutoError(f"AUTO-07p did not run:\n{log}")
+        points = auto07p.read_fort7(d / "fort.7")
     return [{"type": pt.type, name: pt.values[f"PAR({a})"], "period": pt.values.get("PERIOD")}
             for pt in points if pt.label > 0 and pt.type in ("TR", "PD", "LP")]

@@ -63,7 +63,7 @@ def pmap_for(model, p, names, args):
 
 def add_lyapunov(model, points: list[dict], name: str, p: np.ndarray, follower, args) -> None:
     """first_lyapunov, criticality at each HB point of AUTO's run (its state refined at its parameter)."""
-    from .lyapunov import criticality, first_lyapunov
+    from .first_lyapunov import criticality, first_lyapunov
 
     k = model.param_names.index(name)
     for row in points:
@@ -104,7 +104,7 @@ def refine_hopf(model, pmap, y, lam, omega, follower):
     from scipy.optimize import brentq
 
     from .hopf import HopfPoint
-    from .lyapunov import hopf_vectors
+    from .first_lyapunov import hopf_vectors
 
     state = {"y": np.array(y, float)}
 

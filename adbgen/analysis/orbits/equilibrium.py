@@ -1,7 +1,7 @@
 """The equilibrium curve: a steady state followed in one parameter, and the solver the two-parameter
 curves of `boundary` use to re-find it.
 
-    EquilibriumCurve(model, pmap)        for `continuer.run`: x = (y, lambda) (`continuation.scan` runs it)
+    EquilibriumCurve(model, pmap)        for `continuer.run`: x = (y, lambda) (`equilibrium_scan.scan` runs it)
     EquilibriumFollower(model, y0, p0)   the steady state near y0 at any p, warm-started, with its spectrum
     homotopy(model, y0, p0, p1)          y0 (a steady state at p0) carried to p1 along the straight line
 

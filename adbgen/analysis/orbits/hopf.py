@@ -19,7 +19,7 @@ import numpy as np
 
 from ..loading import Model
 from .boundary import BoundaryCurve
-from .lyapunov import criticality, first_lyapunov, hopf_vectors
+from .first_lyapunov import criticality, first_lyapunov, hopf_vectors
 from .parameters import ParameterMap
 
 

@@ -61,7 +61,7 @@ def simulated_period(model, p, y0, o, t_end: float = 6000.0, t_from: float = 400
 
 def fig54b(out: Path, progress=print) -> dict:
     """Fig. 5.4(b): the n = 2 run from (pi/4, -pi/4) at (5.1) ends on a limit cycle."""
-    from ....analysis import auto
+    from ....analysis import auto07p
     from ....analysis.orbits import auto_cycles, orbit
     from ....analysis.orbits.flow import Flow
 
@@ -73,7 +73,7 @@ def fig54b(out: Path, progress=print) -> dict:
     wall = time.perf_counter() - t0
     T_sim, count = simulated_period(m, p, y0, o)
     res = {"orbit": o, "wall": wall, "T_sim": T_sim, "returns": count}
-    if not auto.missing_tools():
+    if not auto07p.missing_tools():
         a = auto_cycles.auto_orbit(m, o, "Omega")
         ours = orbit.refine(m, m.params({"Omega": a["Omega"]}), o.y, o.period)
         res["auto"] = a
@@ -111,7 +111,7 @@ def fig54b(out: Path, progress=print) -> dict:
 def h1_cycles(out: Path, progress=print) -> list[dict]:
     """The cycles born at H1 (the Hopf point where the balanced state stabilises as Omega grows) for n = 2, 3,
     4 at mu = 0.05, zeta = beta = delta = 0.01."""
-    from ....analysis import continuation
+    from ....analysis import equilibrium_scan
     from ....analysis.orbits import branches, continuer, hopf
     from ....analysis.orbits.parameters import ParameterMap
 
@@ -119,7 +119,7 @@ def h1_cycles(out: Path, progress=print) -> list[dict]:
     for n in (2, 3, 4):
         m = _model(n)
         p = m.params({"Omega": 4.0, **CH4})
-        sc = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
+        sc = equilibrium_scan.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
         h1 = sc.points[0]
         pm = ParameterMap(m, p, ["Omega"])
         hp = hopf.HopfPoint.at(m, pm, h1.y, h1.value)

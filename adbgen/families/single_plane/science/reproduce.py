@@ -624,7 +624,7 @@ def lines(res: dict, root: Path) -> list[str]:
 def lyapunov_runs() -> dict:
     """The largest Lyapunov exponent of Figs. 5.12-5.14 (b) (Omega = 1.6, starts (5.3)-(5.5)) and of the
     limit cycle of Fig. 5.4(b) as the control."""
-    from .lyapunov import largest_exponent
+    from .lyapunov_exponents import largest_exponent
 
     out = {}
     runs = [(f"5.{10 + n}(b), n = {n}", n, EQUIDISTANT[n][0], {"Omega": 1.6}) for n in (2, 3, 4)]

@@ -41,7 +41,7 @@ def chart(case: ChartCase, out: Path, n1: int = 81, n2: int = 25, progress=print
 
 def criticality(progress=print) -> list[dict]:
     """The boundary Hopf point of Fig. 14(a) (B losing stability as Omega falls) at eps/R + chi = 0.01 and 1e-4."""
-    from ....analysis import continuation
+    from ....analysis import equilibrium_scan
     from ....analysis.loading import load_model
     from ....analysis.orbits import hopf
     from ....analysis.orbits.equilibrium import carried_start
@@ -54,7 +54,7 @@ def criticality(progress=print) -> list[dict]:
         pm2 = ParameterMap(m, m.params({"beta": 1.0}), ["Omega", "epsilon"], ties(dynamic=True))
         y = carried_start(m, pm2((4.0, eps)), pm2)
         pm = ParameterMap(m, pm2((4.0, eps)), ["Omega"], ties(dynamic=True))
-        sc = continuation.scan(m, pm(4.0), y, "Omega", 4.0, 1.5)
+        sc = equilibrium_scan.scan(m, pm(4.0), y, "Omega", 4.0, 1.5)
         hp = hopf.HopfPoint.at(m, pm, sc.points[0].y, sc.points[0].value)
         rows.append({"total": total, "hopf": hp, "pm": pm})
         progress(f"Fig. 14(a) Hopf at eps/R + chi = {total:g}: Omega = {hp.lam:.8f}, l1 = {hp.l1:.5g} ({hp.criticality})")
@@ -243,9 +243,9 @@ HOPF_ROWS = (1e-4, 1e-3, 1e-2, 0.1)  # eps/R of the rows scanned
 
 def hopf_rows(case: ChartCase, epsilons=HOPF_ROWS, progress=print) -> dict:
     """Every Hopf point of B (the chart's state, `charts.chart_start`) along Omega from the range's top down
-    at each eps/R of `epsilons`, B stable or not (`continuation.scan`): {eps: [(Omega, changes B's stability),
+    at each eps/R of `epsilons`, B stable or not (`equilibrium_scan.scan`): {eps: [(Omega, changes B's stability),
     ...]}."""
-    from ....analysis import continuation
+    from ....analysis import equilibrium_scan
     from ....analysis.loading import load_model
     from ....analysis.orbits import charts
     from ....analysis.orbits.parameters import ParameterMap
@@ -257,7 +257,7 @@ def hopf_rows(case: ChartCase, epsilons=HOPF_ROWS, progress=print) -> dict:
     for eps in epsilons:
         start = charts.chart_start(m, pm2, (top, eps))
         pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
-        sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
+        sc = equilibrium_scan.scan(m, pm(top), start, "Omega", top, bottom)
         out[eps] = [(b.value, (b.n_unstable_before == 0) != (b.n_unstable_after == 0)) for b in sc.points
                     if b.kind == "hopf"]
     progress(f"Fig. {case.figure} Hopf points along rows: " + "; ".join(f"{e:g}: {len(v)}" for e, v in out.items()))
@@ -301,7 +301,7 @@ def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[
     """Where B's stability changes along Omega (from the range's top down) at imbalances below the chart's:
     the values the curves tend to as eps/R = m/M -> 0 (the paper: the critical speeds).  A steady state's Hopf
     points and folds (autonomous model), or the torus and period-doubling points of the forced response."""
-    from ....analysis import continuation
+    from ....analysis import equilibrium_scan
     from ....analysis.loading import load_model
     from ....analysis.orbits import branches, charts, continuer
     from ....analysis.orbits.parameters import ParameterMap
@@ -314,7 +314,7 @@ def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[
         start = charts.chart_start(m, pm2, (top, eps))
         pm = ParameterMap(m, pm2((top, eps)), ["Omega"], case.ties)
         if m.autonomous:
-            sc = continuation.scan(m, pm(top), start, "Omega", top, bottom)
+            sc = equilibrium_scan.scan(m, pm(top), start, "Omega", top, bottom)
             # a change of stability only: stable on one side, unstable on the other (a Hopf point of a state
             # unstable on both sides is a bifurcation of an unstable state)
             out.append((eps, [(b.kind, b.value) for b in sc.points

@@ -28,13 +28,13 @@ def test_a_special_point_is_marked_on_the_sheet_of_its_period():
 
 
 def _every_hopf(n):
-    from adbgen.analysis import continuation
+    from adbgen.analysis import equilibrium_scan
     from adbgen.analysis.loading import load_model
     from adbgen.analysis.orbits.parameters import ParameterMap
 
     m = load_model(f"thesis_rotating_n{n}")
     p = m.params({"Omega": 4.0, **periodic_orbits.CH4})
-    sc = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
+    sc = equilibrium_scan.scan(m, p, m.module.START, "Omega", 4.0, 0.5)
     return periodic_orbits.every_hopf(m, ParameterMap(m, p, ["Omega"]), sc)
 
 
@@ -54,13 +54,13 @@ def test_n3_has_a_subcritical_hopf_point_below_h1():
 def test_n4_past_h1_balls_at_one_angle_drift_and_moved_apart_they_lap():
     """Issue 36: docs/orbits.md (0.39 rad) and the reproduction (r = 0.436, balls lapping) disagreed; the run on
     `simulate` at two rtols gives docs/orbits.md's drift."""
-    from adbgen.analysis import continuation
+    from adbgen.analysis import equilibrium_scan
     from adbgen.analysis.loading import load_model
     from adbgen.analysis.orbits.parameters import ParameterMap
 
     m = load_model("thesis_rotating_n4")
     p = m.params({"Omega": 4.0, **periodic_orbits.CH4})
-    h1 = continuation.scan(m, p, m.module.START, "Omega", 4.0, 0.5).points[0]
+    h1 = equilibrium_scan.scan(m, p, m.module.START, "Omega", 4.0, 0.5).points[0]
     d = periodic_orbits.drift_past_h1(m, ParameterMap(m, p, ["Omega"]), h1.y, h1.value)
     assert d["angle_change"] == pytest.approx(0.3918, abs=1e-3) and d["r_end"] == pytest.approx(0.0401, abs=1e-3)
     (r1, a1), (r2, a2) = d["runs"].values()

@@ -1,4 +1,4 @@
-"""AUTO-07p driven from Python on the emitted files (adbgen.analysis.auto), against the analysis
+"""AUTO-07p driven from Python on the emitted files (adbgen.analysis.auto07p), against the analysis
 layer's own continuation: the Hopf points of the balanced state along Omega agree to 1e-6 for
 n = 2, 3, 4 (for n >= 3 through the regularising term of templates/auto/_family.j2), and the
 regularised func's Jacobian on the followed state has exactly the transverse spectrum plus -1.
@@ -13,7 +13,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from adbgen.analysis import auto, continuation, steady
+from adbgen.analysis import auto07p, equilibrium_scan, steady
 from adbgen.analysis.starts import labelled_state
 
 from analysis_helpers import CH4, require_auto  # this folder is on sys.path: see conftest.py
@@ -33,7 +33,7 @@ def auto_runs(auto_ok, thesis):
     def get(n):
         if n not in cache:
             m = thesis[n]
-            cache[n] = auto.continue_one(m, "Omega", to=0.5)
+            cache[n] = auto07p.continue_one(m, "Omega", to=0.5)
         return cache[n]
     return get
 
@@ -47,7 +47,7 @@ def test_auto_hopf_points_equal_the_scan(auto_runs, balanced_scan, thesis, n):
     hb = [pt for pt in run.labelled() if pt.kind == "HB"]
     ours = [b for b in scan.points if b.kind == "hopf"]
     assert len(hb) == len(ours) == 3
-    assert run.points[0].stable and not auto.unlabelled_stability_changes(run.points)
+    assert run.points[0].stable and not auto07p.unlabelled_stability_changes(run.points)
     assert not [pt for pt in run.points if pt.kind in ("BP", "LP")], "a regular branch: no spurious BP/LP"
     rows = {r["label"]: r for r in run.to_json()}
     for pt, b in zip(hb, ours):
@@ -62,9 +62,9 @@ def test_auto_from_set_parameters_uses_u_and_par(auto_ok, thesis):
     m = thesis[3]
     p = m.params({"Omega": 4.0, **CH4, "mu": 0.04})
     y = labelled_state(m, "1", p)
-    run = auto.continue_one(m, "Omega", p, y, to=1.5)
+    run = auto07p.continue_one(m, "Omega", p, y, to=1.5)
     hb = [pt.values["PAR(1)"] for pt in run.points if pt.kind == "HB"]
-    ours = [b.value for b in continuation.scan(m, p, y, "Omega", 4.0, 1.5).points if b.kind == "hopf"]
+    ours = [b.value for b in equilibrium_scan.scan(m, p, y, "Omega", 4.0, 1.5).points if b.kind == "hopf"]
     assert len(hb) == len(ours) >= 1 and np.max(np.abs(np.array(hb) - ours)) < TOL
     first = next(sol for sol in run.solutions if sol.label == 1)
     assert first.par[3] == 0.04 and np.allclose(first.u[0], y, atol=1e-12), "AUTO started from U, PAR"
@@ -84,7 +84,7 @@ def _func(m, tmp_path):
     (tmp_path / f"{m.name}.c").write_text(user)
     (tmp_path / "harness.c").write_text(HARNESS.format(name=m.name, ndim=m.n_states))
     r = subprocess.run(["gcc", "-std=gnu99", "-O1", "-Wall", "-Wextra", "-Werror", "-fPIC", "-shared", "-I",
-                        str(auto.header_dir()), "-o", "h.so", "harness.c", "-lm"], cwd=tmp_path, capture_output=True,
+                        str(auto07p.header_dir()), "-o", "h.so", "harness.c", "-lm"], cwd=tmp_path, capture_output=True,
                        text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     lib = ctypes.CDLL(str(tmp_path / "h.so"))
@@ -143,12 +143,12 @@ def test_two_parameter_hopf_curves_are_hopf_points_of_the_analysis_layer(auto_ok
     of each curve are Hopf points of the balanced state (3.6) at that (Omega, mu) by the analysis
     layer's own spectrum; the codimension-two points are reported once."""
     m = thesis[2]
-    res = auto.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
+    res = auto07p.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
     assert [c.kind for c in res.curves] == ["hopf", "hopf"], "H2 and H3 lie on one closed curve"
     assert res.curves[1].also_from == [pytest.approx(1.0296942, abs=1e-6)]
     out = res.to_json()
     assert {"curves", "special"} <= set(out) and out["special"]
-    assert all(s["type"] in auto.CODIM2 for s in out["special"])
+    assert all(s["type"] in auto07p.CODIM2 for s in out["special"])
     keys = {(s["type"], round(s["Omega"], 5), round(s["mu"], 5)) for s in out["special"]}
     assert len(keys) == len(out["special"]), "each special point once"
     for curve in res.curves:
@@ -169,9 +169,9 @@ def test_double_hopf_points_of_n3_are_two_pairs_on_the_axis(auto_ok, thesis):
     from adbgen.analysis.starts import follower as _follower
 
     m = thesis[3]
-    res = auto.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
+    res = auto07p.continue_two(m, "Omega", "mu", to=0.5, range2=(0.001, 0.2))
     y = np.array(m.module.START)
-    hh = auto.double_hopf_points(m, res.curves, res.one.p, "Omega", "mu", _follower(m, y))
+    hh = auto07p.double_hopf_points(m, res.curves, res.one.p, "Omega", "mu", _follower(m, y))
     assert len(hh) >= 1
     for point in hh:
         p = m.params({**CH4, "Omega": point["Omega"], "mu": point["mu"]})
@@ -190,7 +190,7 @@ def test_fold_curve_of_the_coincident_state_passes_the_wedge_tip(auto_ok, thesis
     tip (4.1), (mu_c, Omega_c) = (delta/2, 1/sqrt(1 + 2 mu_c)) (to the curve's sampling)."""
     m = thesis[2]
     p = m.params({**CH4, "Omega": 0.5})
-    res = auto.continue_two(m, "Omega", "mu", p, labelled_state(m, "2-", p), to=1.5, range2=(0.001, 0.2))
+    res = auto07p.continue_two(m, "Omega", "mu", p, labelled_state(m, "2-", p), to=1.5, range2=(0.001, 0.2))
     assert [c.kind for c in res.curves] == ["fold"]
     pts = np.array(res.curves[0].points)
     tip = pts[np.argmin(pts[:, 1])]
@@ -205,10 +205,10 @@ def test_zeta_limit_of_n4_at_omega_3(auto_ok, thesis):
 
     m = thesis[4]
     p = m.params({**CH4, "Omega": 3.0})
-    scan = continuation.scan(m, p, m.module.START, "zeta", 0.01, 0.2)
+    scan = equilibrium_scan.scan(m, p, m.module.START, "zeta", 0.01, 0.2)
     assert [b.kind for b in scan.points] == ["hopf"] and scan.points[0].direction == "destabilising"
     assert scan.stable_intervals == [pytest.approx((0.01, scan.points[0].value))]
-    run = auto.continue_one(m, "zeta", p, _pinned_start(m, p), to=0.2)
+    run = auto07p.continue_one(m, "zeta", p, _pinned_start(m, p), to=0.2)
     hb = [pt.values["PAR(5)"] for pt in run.points if pt.kind == "HB"]
     assert len(hb) == 1 and abs(hb[0] - scan.points[0].value) < TOL
     assert 0.09 < hb[0] < 0.1
@@ -220,13 +220,13 @@ def test_n3_in_mu_the_balanced_branch_turns_at_mu_c(auto_ok, thesis):
     change of stability; scan and AUTO-07p agree on both points."""
     m = thesis[3]
     p = m.params({**CH4, "Omega": 1.5})
-    scan = continuation.scan(m, p, m.module.START, "mu", 0.05, 0.002)
+    scan = equilibrium_scan.scan(m, p, m.module.START, "mu", 0.05, 0.002)
     kinds = [(b.kind, b.direction) for b in scan.points]
     assert kinds == [("hopf", "stabilising"), ("fold", None), ("hopf", "destabilising")]
     fold = scan.points[1]
     assert abs(fold.value - CH4["delta"] / 3) < 1e-10
     assert scan.stable_intervals == [pytest.approx((CH4["delta"] / 3, scan.points[0].value), abs=1e-10)]
-    run = auto.continue_one(m, "mu", p, m.module.START, to=0.002)
+    run = auto07p.continue_one(m, "mu", p, m.module.START, to=0.002)
     lp = [pt.values["PAR(4)"] for pt in run.points if pt.kind == "LP"]
     hb = [pt.values["PAR(4)"] for pt in run.points if pt.kind == "HB"]
     assert lp and all(abs(v - fold.value) < TOL for v in lp)
@@ -240,9 +240,9 @@ def test_two_plane_rotor_hopf_point_from_the_scan_and_auto(auto_ok):
 
     m = load_model("two_plane_rotating")
     p = np.array(m.module.START_PARAMETERS)
-    scan = continuation.scan(m, p, m.module.START, "Omega", 3.0, 2.5)
+    scan = equilibrium_scan.scan(m, p, m.module.START, "Omega", 3.0, 2.5)
     assert [(b.kind, b.direction) for b in scan.points] == [("hopf", "destabilising")]
-    run = auto.continue_one(m, "Omega", to=2.5)
+    run = auto07p.continue_one(m, "Omega", to=2.5)
     hb = [pt.values[run.column()] for pt in run.points if pt.kind == "HB"]
     assert len(hb) == 1 and abs(hb[0] - scan.points[0].value) < TOL
     assert abs(scan.points[0].value - 2.731992) < 1e-6

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from adbgen.analysis.loading import load_model
-from adbgen.families.single_plane.science.lyapunov import largest_exponent
+from adbgen.families.single_plane.science.lyapunov_exponents import largest_exponent
 
 
 @pytest.fixture(scope="module")

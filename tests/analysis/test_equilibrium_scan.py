@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from adbgen.analysis import continuation, steady
+from adbgen.analysis import equilibrium_scan, steady
 from adbgen.analysis.starts import labelled_state
 from adbgen.analysis.loading import AnalysisError
 
@@ -73,7 +73,7 @@ def test_coincident_state_folds_at_the_critical_speeds(thesis):
 
     m = thesis[2]
     p = m.params({"Omega": 0.5, **CH4})
-    s = continuation.scan(m, p, labelled_state(m, "2-", p), "Omega", 0.5, 1.5)
+    s = equilibrium_scan.scan(m, p, labelled_state(m, "2-", p), "Omega", 0.5, 1.5)
     folds = [b for b in s.points if b.kind == "fold"]
     assert len(folds) == 1 and folds[0].frequency is None
     expected = critical_speeds(2, 2, CH4["mu"], CH4["zeta"], CH4["delta"])[0]
@@ -89,9 +89,9 @@ def test_coincident_state_folds_at_the_critical_speeds(thesis):
 def test_bad_scans(thesis):
     m = thesis[2]
     with pytest.raises(AnalysisError, match="not a parameter"):
-        continuation.scan(m, m.params(), m.module.START, "Omega_x", 4.0, 3.0)
+        equilibrium_scan.scan(m, m.params(), m.module.START, "Omega_x", 4.0, 3.0)
     with pytest.raises(AnalysisError, match="empty scan range"):
-        continuation.scan(m, m.params(), m.module.START, "Omega", 4.0, 4.0)
+        equilibrium_scan.scan(m, m.params(), m.module.START, "Omega", 4.0, 4.0)
 
 
 def test_a_change_that_root_finding_cannot_locate_is_reported_with_its_step(thesis, monkeypatch):
@@ -104,7 +104,7 @@ def test_a_change_that_root_finding_cannot_locate_is_reported_with_its_step(thes
     from adbgen.analysis.orbits import continuer
 
     monkeypatch.setattr(continuer, "brentq", fail)
-    s = continuation.scan(m, m.params({"Omega": 2.0, **CH4}), m.module.START, "Omega", 2.0, 1.8)
+    s = equilibrium_scan.scan(m, m.params({"Omega": 2.0, **CH4}), m.module.START, "Omega", 2.0, 1.8)
     (hopf,) = s.points
     lo, hi = sorted(hopf.bracket)
     assert hopf.kind == "hopf" and lo <= 1.8822393 <= hi and hi - lo <= 0.011
@@ -117,7 +117,7 @@ def test_a_located_zero_that_changes_no_stability_is_no_point():
     branch point (the control)."""
     from types import SimpleNamespace
 
-    from adbgen.analysis.continuation import BranchPoint, _bifurcations
+    from adbgen.analysis.equilibrium_scan import BranchPoint, _bifurcations
     from adbgen.analysis.orbits.continuer import Special
 
     def pt(lam, unstable, turn=1.0):
