@@ -45,6 +45,9 @@ class DimensionalSymbols:
     kappa: sp.Symbol
     parameters: tuple[Parameter, ...]
     mu_r: tuple[sp.Expr, ...] = ()  # rolling resistance per ball (the same symbol n times for one value); () without friction
+    mu_s: tuple[sp.Expr, ...] = ()  # stiction per ball; () without static_friction
+    stuck: tuple[sp.Symbol, ...] = ()  # each ball's mode: 1 stuck on the race (phi_i' = 0 held), 0 slipping
+    slip_dir: tuple[sp.Symbol, ...] = ()  # the slip direction at phi_i' = 0 (+1 or -1), set when a ball starts slipping
 
     @classmethod
     def for_scene(cls, scene: Scene) -> "DimensionalSymbols":
@@ -94,7 +97,24 @@ class DimensionalSymbols:
                              for i in range(n))
             else:
                 mu_r = (add(nonnegative("mu_r"), what, "dimensionless", values[0]),) * n
-        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted(), mu_r)
+        mu_s: tuple[sp.Expr, ...] = ()
+        stuck: tuple[sp.Symbol, ...] = ()
+        slip_dir: tuple[sp.Symbol, ...] = ()
+        if scene.stiction:  # the hybrid system's mode is a parameter of the model, set by the event driver
+            what = "stiction of a ball at rest on the race (largest tangential force / normal force)"
+            values = scene.static_frictions()
+            if isinstance(scene.static_friction, tuple):
+                mu_s = tuple(add(nonnegative(f"mu_s_{i + 1}"), f"{what}, ball {i + 1}", "dimensionless", values[i])
+                             for i in range(n))
+            else:
+                mu_s = (add(nonnegative("mu_s"), what, "dimensionless", values[0]),) * n
+            stuck = tuple(add(sp.Symbol(f"stuck_{i + 1}", real=True), f"mode of ball {i + 1}: 1 stuck on the race, "
+                              "0 slipping (set by the event driver)", "dimensionless", 0.0) for i in range(n))
+            slip_dir = tuple(add(sp.Symbol(f"slip_dir_{i + 1}", real=True), f"direction (+1, -1) of ball {i + 1}'s "
+                                 "slip while its phi' is 0 (set by the event driver)", "dimensionless", 0.0)
+                             for i in range(n))
+        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted(), mu_r, mu_s, stuck,
+                   slip_dir)
 
 
 def nondimensional_parameters(values: dict[str, float] | None = None, gravity: bool = False) -> tuple[Parameter, ...]:
