@@ -83,7 +83,12 @@ def slip_direction(rate: sp.Expr, at_rest: sp.Expr = sp.S.Zero) -> sp.Expr:
     Dirac delta, which no target prints).  At rate = 0 the slip law alone says nothing: without stiction the
     force is 0 there; with stiction (`at_rest` the ball's slip_dir_i) it is the direction the event driver
     found when the ball left the stick phase, so the first step of a slip is smooth."""
-    return sp.Piecewise((1, rate > 0), (-1, rate < 0), (at_rest, True))
+    moving = sp.Piecewise((1, rate > 0), (-1, rate < 0), (0, True))
+    if at_rest == 0:
+        return moving
+    # at_rest outside the branches (times 1 - sign^2: 1 at rest, 0 in motion), so the per-ball block stays
+    # a polynomial in the ball's parameters (the loop form's split compares blocks after scaling them)
+    return moving + at_rest * (1 - moving**2)
 
 
 def normal_forces(lag: SinglePlaneLagrangian) -> tuple[sp.Expr, ...]:
