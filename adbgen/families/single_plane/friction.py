@@ -50,21 +50,15 @@ def stick_forces_in(scene: Scene, system: FirstOrderSystem) -> tuple[sp.Expr, ..
     lag = lagrangian(scene)
     frictionless = lagrange_equations(lag.coordinates, lag.terms, t, forces=lag.forces, driven=lag.driven,
                                       parameters=lag.symbols.parameters)
-    s = lag.symbols
-    out = []
-    for i, F in enumerate(stick_forces(lag, frictionless)):
-        # meaningful in the stuck mode only (the driver evaluates it there): stuck_i = 1 and phi_i'' = 0
-        # written in, which keeps the other balls' accelerations out of it
-        stuck = {s.stuck[i]: sp.S.One}
-        F = F.xreplace({Coordinate.make(f"phi_{i + 1}").qdd: sp.S.Zero})
-        out.append(_in_model(scene, system, (F,), stuck)[0])
-    return tuple(out)
+    # meaningful in the stuck mode only (the driver evaluates it with stuck_i = 1): phi_i'' = 0 written in
+    forces = [F.xreplace({Coordinate.make(f"phi_{i + 1}").qdd: sp.S.Zero})
+              for i, F in enumerate(stick_forces(lag, frictionless))]
+    return _in_model(scene, system, forces)
 
 
-def _in_model(scene: Scene, system: FirstOrderSystem, forces, fixed: dict | None = None) -> tuple[sp.Expr, ...]:
+def _in_model(scene: Scene, system: FirstOrderSystem, forces) -> tuple[sp.Expr, ...]:
     """Fixed-frame expressions in X, Y, psi, phi_i, their rates and accelerations, written in the coordinates
-    of `system`: its frame, its speed law, its accelerations from its closed-form solve (with the parameters
-    `fixed` given their values first)."""
+    of `system`: its frame, its speed law, its accelerations from its solve."""
     lag = lagrangian(scene)
     eom = system.solve.eom
     names = [c.name for c in eom.coordinates]
@@ -84,9 +78,25 @@ def _in_model(scene: Scene, system: FirstOrderSystem, forces, fixed: dict | None
             if t in N.free_symbols:
                 raise AssertionError("a force still depends on t in the rotating frame")
         if accelerations is None and any(c.qdd in N.free_symbols for c in eom.coordinates):
-            accelerations = {c.qdd: a.xreplace(fixed or {}) for c, a in zip(eom.coordinates, system.solve.accelerations())}
+            accelerations = dict(zip((c.qdd for c in eom.coordinates), _solved(system.solve)))
         out.append(N.xreplace(accelerations or {}).xreplace(dict(eom.driven_law)))  # the solve keeps a run-up's inputs
     return tuple(out)
+
+
+def _solved(solve) -> list[sp.Expr]:
+    """Every acceleration of the structured solve, the core's by Cramer's rule on its Schur complement left
+    unexpanded (`StructuredSolve.accelerations` expands it, which with the hybrid model's mode parameters
+    takes minutes; unexpanded, the measures' common subexpressions are found when they are emitted)."""
+    S = solve.schur
+    det, adj = S.det(method="berkowitz"), S.adjugate(method="berkowitz")
+    core = [sum((adj[i, j] * solve.rhs[j] for j in range(S.rows)), sp.S.Zero) / det for i in range(S.rows)]
+    subs = dict(zip(solve.core_accel_symbols, core))
+    out: list[sp.Expr] = [sp.S.Zero] * solve.eom.size
+    for k, a in zip(solve.core, core):
+        out[k] = a
+    for k, a in zip(solve.leaves, solve.leaf_accel):
+        out[k] = a.xreplace(subs)
+    return out
 
 
 def measures(scene: Scene, system: FirstOrderSystem) -> dict[str, sp.Expr]:
