@@ -78,25 +78,9 @@ def _in_model(scene: Scene, system: FirstOrderSystem, forces) -> tuple[sp.Expr, 
             if t in N.free_symbols:
                 raise AssertionError("a force still depends on t in the rotating frame")
         if accelerations is None and any(c.qdd in N.free_symbols for c in eom.coordinates):
-            accelerations = dict(zip((c.qdd for c in eom.coordinates), _solved(system.solve)))
+            accelerations = dict(zip((c.qdd for c in eom.coordinates), system.solve.accelerations(expand=False)))
         out.append(N.xreplace(accelerations or {}).xreplace(dict(eom.driven_law)))  # the solve keeps a run-up's inputs
     return tuple(out)
-
-
-def _solved(solve) -> list[sp.Expr]:
-    """Every acceleration of the structured solve, the core's by Cramer's rule on its Schur complement left
-    unexpanded (`StructuredSolve.accelerations` expands it, which with the hybrid model's mode parameters
-    takes minutes; unexpanded, the measures' common subexpressions are found when they are emitted)."""
-    S = solve.schur
-    det, adj = S.det(method="berkowitz"), S.adjugate(method="berkowitz")
-    core = [sum((adj[i, j] * solve.rhs[j] for j in range(S.rows)), sp.S.Zero) / det for i in range(S.rows)]
-    subs = dict(zip(solve.core_accel_symbols, core))
-    out: list[sp.Expr] = [sp.S.Zero] * solve.eom.size
-    for k, a in zip(solve.core, core):
-        out[k] = a
-    for k, a in zip(solve.leaves, solve.leaf_accel):
-        out[k] = a.xreplace(subs)
-    return out
 
 
 def measures(scene: Scene, system: FirstOrderSystem) -> dict[str, sp.Expr]:
