@@ -172,7 +172,7 @@ def friction_energy(n: int, wrong: bool = False) -> CheckResult:
     first-order system) E(t) + W(t) = E(0) with E = T + V from the energies (2.7)-(2.8) and W the work of
     the support and ball damping (2F) and of friction, R mu_r_i N_i |phi_i'|, N_i the derived normal force
     at the solution's accelerations.  Every ball keeps slipping (the run ends before any phi_i' = 0, checked):
-    the stick phase is not built.  wrong: the friction's work counted twice."""
+    the stick phase (the hybrid engine) is not in this check.  wrong: the friction's work counted twice."""
     def run():
         import numpy as np
         from scipy.integrate import solve_ivp
