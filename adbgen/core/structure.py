@@ -42,13 +42,15 @@ class StructuredSolve:
     def core_accel_symbols(self) -> list[sp.Symbol]:
         return [self.eom.coordinates[k].qdd for k in self.core]
 
-    def core_accel(self) -> list[sp.Expr]:
+    def core_accel(self, expand: bool = True) -> list[sp.Expr]:
         """Closed form of the core accelerations by Cramer's rule (r <= 3; for checks)."""
-        return cramer(self.schur, self.rhs)
+        return cramer(self.schur, self.rhs, expand)
 
-    def accelerations(self) -> list[sp.Expr]:
-        """All accelerations in closed form, ordered as the coordinates (size O(n^2): checks only)."""
-        core = self.core_accel()
+    def accelerations(self, expand: bool = True) -> list[sp.Expr]:
+        """All accelerations in closed form, ordered as the coordinates (size O(n^2): checks only).
+        expand=False leaves the adjugate's products unexpanded (measures that emit them: common
+        subexpressions are found when they are emitted, and expanding can take minutes)."""
+        core = self.core_accel(expand)
         subs = dict(zip(self.core_accel_symbols, core))
         out: list[sp.Expr] = [sp.S.Zero] * self.eom.size
         for k, a in zip(self.core, core):
@@ -63,14 +65,15 @@ class StructuredSolve:
         return int(sum(sp.count_ops(e) for e in exprs))
 
 
-def cramer(S: sp.Matrix, rhs: sp.Matrix) -> list[sp.Expr]:
-    """S^-1 rhs by the adjugate, for the small r x r core systems (r <= 3)."""
+def cramer(S: sp.Matrix, rhs: sp.Matrix, expand: bool = True) -> list[sp.Expr]:
+    """S^-1 rhs by the adjugate, for the small r x r core systems (r <= 3); numerators expanded or not."""
     r = S.rows
     if r > 3:
         raise ValueError("closed-form core solve is for r <= 3; solve S numerically instead")
     det = S.det(method="berkowitz")
     adj = S.adjugate(method="berkowitz")
-    return [sp.expand(sum(adj[i, j] * rhs[j] for j in range(r))) / det for i in range(r)]
+    numerators = (sum((adj[i, j] * rhs[j] for j in range(r)), sp.S.Zero) for i in range(r))
+    return [(sp.expand(u) if expand else u) / det for u in numerators]
 
 
 def schur_solve(eom: EquationsOfMotion, core: Sequence[str]) -> StructuredSolve:

@@ -77,12 +77,18 @@ def lagrangian(scene: Scene) -> SinglePlaneLagrangian:
     return SinglePlaneLagrangian(scene, s, coordinates, driven, tuple(terms), forces, positions)
 
 
-def slip_direction(rate: sp.Expr) -> sp.Expr:
-    """sign(rate) as a Piecewise (1, -1, and 0 at rest): the direction of a ball's slip on the race.
-    Written with branches rather than sign() so that its derivative is 0 on each side (sign's is a
-    Dirac delta, which no target prints); at rate = 0 the slip law gives no force (Coulomb's law in
-    slip says nothing there: the stick phase, issue 37 item 2, is not built)."""
-    return sp.Piecewise((1, rate > 0), (-1, rate < 0), (0, True))
+def slip_direction(rate: sp.Expr, at_rest: sp.Expr = sp.S.Zero) -> sp.Expr:
+    """sign(rate) as a Piecewise (1, -1, and `at_rest` at rate = 0): the direction of a ball's slip on the
+    race.  Written with branches rather than sign() so that its derivative is 0 on each side (sign's is a
+    Dirac delta, which no target prints).  At rate = 0 the slip law alone says nothing: without stiction the
+    force is 0 there; with stiction (`at_rest` the ball's slip_dir_i) it is the direction the event driver
+    found when the ball left the stick phase, so the first step of a slip is smooth."""
+    moving = sp.Piecewise((1, rate > 0), (-1, rate < 0), (0, True))
+    if at_rest == 0:
+        return moving
+    # at_rest outside the branches (times 1 - sign^2: 1 at rest, 0 in motion), so the per-ball block stays
+    # a polynomial in the ball's parameters (the loop form's split compares blocks after scaling them)
+    return moving + at_rest * (1 - moving**2)
 
 
 def normal_forces(lag: SinglePlaneLagrangian) -> tuple[sp.Expr, ...]:
@@ -118,8 +124,33 @@ def friction_forces(lag: SinglePlaneLagrangian) -> dict[str, sp.Expr]:
     which the emitted normal force shows."""
     s = lag.symbols
     normal = normal_forces(lag)
-    return {f"phi_{i + 1}": -s.R * s.mu_r[i] * slip_direction(Coordinate.make(f"phi_{i + 1}").qd) * normal[i]
-            for i in range(lag.scene.n)}
+    at_rest = s.slip_dir or (sp.S.Zero,) * lag.scene.n
+    return {f"phi_{i + 1}": -s.R * s.mu_r[i] * slip_direction(Coordinate.make(f"phi_{i + 1}").qd, at_rest[i])
+            * normal[i] for i in range(lag.scene.n)}
+
+
+def stick_rows(lag: SinglePlaneLagrangian, residuals: list[sp.Expr], coordinates) -> list[sp.Expr]:
+    """The hybrid system's rows (issue 37 item 2): ball i's row is its slip row while stuck_i = 0 and the
+    constraint m_i R^2 phi_i'' = 0 while stuck_i = 1 (the race's friction, the only force that row has
+    beyond the frictionless ones, is then whatever holds phi_i' = 0: a Lagrange multiplier, given by
+    `stick_forces`).  No other row holds the friction force, so the constrained system is exactly this."""
+    s = lag.symbols
+    names = [c.name for c in coordinates]
+    out = list(residuals)
+    for i in range(lag.scene.n):
+        k = names.index(f"phi_{i + 1}")
+        out[k] = (1 - s.stuck[i]) * residuals[k] + s.stuck[i] * s.m[i] * s.R**2 * coordinates[k].qdd
+    return out
+
+
+def stick_forces(lag: SinglePlaneLagrangian, frictionless: EquationsOfMotion) -> tuple[sp.Expr, ...]:
+    """F_i, the tangential force the race must exert on ball i (positive along increasing phi_i) for the
+    accelerations in it to hold: the frictionless model's phi_i row M q'' - f (Lagrange's equation (2.1)
+    without the friction) divided by R, since with friction that row reads M q'' - f = Q_i = R F_i.
+    Evaluated at the constrained accelerations (phi_i'' = 0) it is the stuck ball's required force, which
+    holds while |F_i| <= mu_s N_i (the stiction cone); fixed-frame coordinates."""
+    return tuple(frictionless.residual(frictionless.index(f"phi_{i + 1}")) / lag.symbols.R
+                 for i in range(lag.scene.n))
 
 
 def speed_law_substitution(scene: Scene, symbols: DimensionalSymbols) -> dict[sp.Symbol, sp.Expr]:
@@ -155,10 +186,15 @@ def derive(scene: Scene) -> EquationsOfMotion:
     if scene.friction:
         forces |= friction_forces(lag)
         reference += " with ball-race friction in slip (issue 37)"
+    if scene.stiction:
+        reference += " and stick"
     eom = lagrange_equations(lag.coordinates, lag.terms, t, forces=forces, driven=lag.driven,
                              parameters=lag.symbols.parameters, reference=reference)
     if scene.friction:  # the friction rows hold X'', Y'' (in N_i): moved into the mass matrix (rows only)
-        eom = EquationsOfMotion.from_residuals(eom.residuals(), eom.coordinates, t, driven=eom.driven,
+        rows = eom.residuals()
+        if scene.stiction:
+            rows = stick_rows(lag, rows, eom.coordinates)
+        eom = EquationsOfMotion.from_residuals(rows, eom.coordinates, t, driven=eom.driven,
                                                parameters=eom.parameters, reference=eom.reference)
     law = speed_law_substitution(scene, lag.symbols)
     if scene.speed.law == "constant":

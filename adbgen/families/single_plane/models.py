@@ -222,7 +222,7 @@ def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
     forced = selected.kind == "fixed-frame" and scene.speed.law == "constant"
     if scene.friction:
         # the balanced states are stuck states (every ball at rest on the race): Coulomb's law in slip
-        # chatters there and the stick phase (issue 37 item 2) is not built, so no start is offered
+        # chatters there and the stick phase (issue 37 item 2) runs only on the hybrid engine, so no start is offered
         start = lambda system: (None, "")  # noqa: E731
     elif rotating:
         start = lambda system: balanced_start(system, scene.n)  # noqa: E731

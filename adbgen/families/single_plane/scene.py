@@ -174,7 +174,8 @@ KEYS = (
         "absent: no friction (the models of the thesis)"),
     Key("static_friction", "", "nonnegative",
         "mu_s >= mu_r, stiction coefficient of a ball at rest on the race: one value or a list of n; "
-        "recorded and checked, not yet in the equations (the stick phase, issue 37 item 2, is not built)",
+        "given, the stick phase is modelled: a ball at rest on the race stays there while the tangential force it "
+        "needs is within mu_s N (an event-driven hybrid system, docs/friction.md)",
         context={"rolling_resistance": 0.0}),
     Key("stiffness", "N/m", "nonnegative", "k (isotropic support) or [k_X, k_Y] (anisotropic)"),
     Key("damping", "N s/m", "nonnegative", "c (isotropic) or [c_X, c_Y]"),
@@ -222,7 +223,7 @@ class Scene:
     g: float = 9.80665
     speed: SpeedLaw = field(default_factory=SpeedLaw)
     rolling_resistance: float | tuple[float, ...] | None = None  # mu_r or mu_r_i; None: no friction
-    static_friction: float | tuple[float, ...] | None = None  # mu_s or mu_s_i (the stick phase: not built)
+    static_friction: float | tuple[float, ...] | None = None  # mu_s or mu_s_i: the stick phase (hybrid)
 
     # --- construction ------------------------------------------------------------------
     @classmethod
@@ -301,6 +302,15 @@ class Scene:
     def friction(self) -> bool:
         """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
         return self.rolling_resistance is not None
+
+    @property
+    def stiction(self) -> bool:
+        """The stick phase is modelled (static_friction given): the model carries each ball's mode."""
+        return self.static_friction is not None
+
+    def static_frictions(self) -> tuple[float, ...]:
+        s = self.static_friction
+        return s if isinstance(s, tuple) else (0.0 if s is None else s,) * self.n
 
     def rolling_resistances(self) -> tuple[float, ...]:
         r = self.rolling_resistance

@@ -45,6 +45,9 @@ class DimensionalSymbols:
     kappa: sp.Symbol
     parameters: tuple[Parameter, ...]
     mu_r: tuple[sp.Expr, ...] = ()  # rolling resistance per ball (the same symbol n times for one value); () without friction
+    mu_s: tuple[sp.Expr, ...] = ()  # stiction per ball; () without static_friction
+    stuck: tuple[sp.Symbol, ...] = ()  # each ball's mode: 1 stuck on the race (phi_i' = 0 held), 0 slipping
+    slip_dir: tuple[sp.Symbol, ...] = ()  # the slip direction at phi_i' = 0 (+1 or -1), set when a ball starts slipping
 
     @classmethod
     def for_scene(cls, scene: Scene) -> "DimensionalSymbols":
@@ -86,15 +89,28 @@ class DimensionalSymbols:
             add(tau0, "stall torque of the drive", "N m", scene.speed.tau0)
             add(kappa, "slope of the drive's torque-speed line", "N m s/rad", scene.speed.motor_slope)
         mu_r: tuple[sp.Expr, ...] = ()
-        if scene.friction:
-            what = "rolling resistance of the balls on the race while slipping (tangential force / normal force)"
-            values = scene.rolling_resistances()
-            if isinstance(scene.rolling_resistance, tuple):
-                mu_r = tuple(add(nonnegative(f"mu_r_{i + 1}"), f"{what}, ball {i + 1}", "dimensionless", values[i])
+        def coefficient(name, what, given, values):  # one symbol for every ball, or one each
+            if isinstance(given, tuple):
+                return tuple(add(nonnegative(f"{name}_{i + 1}"), f"{what}, ball {i + 1}", "dimensionless", values[i])
                              for i in range(n))
-            else:
-                mu_r = (add(nonnegative("mu_r"), what, "dimensionless", values[0]),) * n
-        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted(), mu_r)
+            return (add(nonnegative(name), what, "dimensionless", values[0]),) * n
+
+        if scene.friction:
+            mu_r = coefficient("mu_r", "rolling resistance of the balls on the race while slipping (tangential "
+                               "force / normal force)", scene.rolling_resistance, scene.rolling_resistances())
+        mu_s: tuple[sp.Expr, ...] = ()
+        stuck: tuple[sp.Symbol, ...] = ()
+        slip_dir: tuple[sp.Symbol, ...] = ()
+        if scene.stiction:  # the hybrid system's mode is a parameter of the model, set by the event driver
+            mu_s = coefficient("mu_s", "stiction of a ball at rest on the race (largest tangential force / normal "
+                               "force)", scene.static_friction, scene.static_frictions())
+            stuck = tuple(add(sp.Symbol(f"stuck_{i + 1}", real=True), f"mode of ball {i + 1}: 1 stuck on the race, "
+                              "0 slipping (set by the event driver)", "dimensionless", 0.0) for i in range(n))
+            slip_dir = tuple(add(sp.Symbol(f"slip_dir_{i + 1}", real=True), f"direction (+1, -1) of ball {i + 1}'s "
+                                 "slip while its phi' is 0 (set by the event driver)", "dimensionless", 0.0)
+                             for i in range(n))
+        return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted(), mu_r, mu_s, stuck,
+                   slip_dir)
 
 
 def nondimensional_parameters(values: dict[str, float] | None = None, gravity: bool = False) -> tuple[Parameter, ...]:

@@ -101,9 +101,13 @@ def friction_zero_limit(n: int, wrong: bool = False) -> CheckResult:
         plain = Scene(n=n, ball_mass=tuple(0.01 * (i + 2) for i in range(n)))
         pairs.append((rotating_frame_dimensional(replace(plain, rolling_resistance=(0.02,) * n)),
                       rotating_frame_dimensional(plain)))
+        # the hybrid model (static_friction given), every ball slipping (stuck_i = 0), any slip_dir_i
+        sticky = replace(friction_scene(n, "torque"), static_friction=tuple(0.05 * (i + 1) for i in range(n)))
+        pairs.append((derive(sticky), derive(general_scene(n, "torque"))))
         bad = []
         for k, (rough, smooth) in enumerate(pairs):
-            zero = {p.symbol: 0 for p in rough.parameters if p.name.startswith("mu_r")}
+            zero = {p.symbol: 0 for p in rough.parameters if p.name.startswith(("mu_r", "mu_s", "stuck_"))}
+            zero |= {p.symbol: 1 for p in rough.parameters if p.name.startswith("slip_dir_")}
             if not zero:
                 return False, "the friction model has no rolling-resistance parameter"
             if all(sp.expand(rough.residual(r) - smooth.residual(r)) == 0 for r in range(smooth.size)):
@@ -114,8 +118,9 @@ def friction_zero_limit(n: int, wrong: bool = False) -> CheckResult:
                 if wrong and k == 0 and row == 0:
                     ref = flip_term(ref)
                 if limit.coordinates[row].name != c.name or sp.expand(limit.residual(row) - ref) != 0:
-                    bad.append(f"{('torque', 'constant speed', 'rotating frame')[k]}: {c.name}")
-        return not bad, ("mu_r = 0: every row identical (torque, constant speed, rotating frame)" if not bad
+                    bad.append(f"{('torque', 'constant speed', 'rotating frame', 'hybrid')[k]}: {c.name}")
+        return not bad, ("mu_r = 0: every row identical (torque, constant speed, rotating frame; the hybrid model "
+                         "with every ball slipping)" if not bad
                          else f"rows differ: {', '.join(bad)}")
     return _timed(f"friction, zero limit, n={n}", "thesis (2.10)-(2.13), (2.25) at mu_r = 0 (issue 37)", run)
 
@@ -167,7 +172,7 @@ def friction_energy(n: int, wrong: bool = False) -> CheckResult:
     first-order system) E(t) + W(t) = E(0) with E = T + V from the energies (2.7)-(2.8) and W the work of
     the support and ball damping (2F) and of friction, R mu_r_i N_i |phi_i'|, N_i the derived normal force
     at the solution's accelerations.  Every ball keeps slipping (the run ends before any phi_i' = 0, checked):
-    the stick phase is not built.  wrong: the friction's work counted twice."""
+    the stick phase (the hybrid engine) is not in this check.  wrong: the friction's work counted twice."""
     def run():
         import numpy as np
         from scipy.integrate import solve_ivp

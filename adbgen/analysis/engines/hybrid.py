@@ -1,0 +1,128 @@
+"""Stick and slip as an event-driven hybrid system (issue 37, item 2): the `hybrid-dop853` engine
+(hybrid_driver.c, DOP853 compiled with the model's C rhs and measures).
+
+A model whose stick phase is modelled says so in its self-description: per ball k (1, 2, ...) the
+parameters stuck_k (its mode: 1 stuck, 0 slipping) and slip_dir_k (the direction of a slip starting at
+rest), and the measures slip_rate_k, stick_margin_k and stick_force_k (the switching functions, emitted from
+the symbolic model).  This module finds them by those names, so it names no family.  The driver sets the
+modes at the start (every ball at rest on the race is decided there) and at every event; the parameters'
+values given for stuck_k and slip_dir_k are ignored.
+"""
+
+from __future__ import annotations
+
+import ctypes
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..loading import AnalysisError
+from .compiled import D, I
+from .rk import _sizes, build
+
+STATUS = {0: "success", 1: "max_steps", 2: "max_events", 3: "step_underflow", 4: "nonfinite"}
+MODES = {0: "stick", 1: "slip+", -1: "slip-"}
+
+
+@dataclass(frozen=True)
+class Switching:
+    """Indices of the hybrid system's modes and switching functions in a model."""
+
+    stuck: tuple[int, ...]  # parameter indices
+    slip_dir: tuple[int, ...]
+    rate_state: tuple[int, ...]  # state index of each ball's slip rate
+    rate: tuple[int, ...]  # measure indices
+    margin: tuple[int, ...]
+    force: tuple[int, ...]
+
+
+def switching(model) -> Switching:
+    """The model's switching balls, from its self-description; a one-line error if it has none."""
+    balls = 0
+    while f"stuck_{balls + 1}" in model.param_names:
+        balls += 1
+    measures = model.measures
+    need = [f"{kind}_{k}" for k in range(1, balls + 1) for kind in ("slip_rate", "stick_margin", "stick_force")]
+    if not balls or any(name not in measures for name in need):
+        raise AnalysisError(f"{model.name} has no stick phase (a scene with static_friction makes one)")
+    rate_state = []
+    probe = np.arange(1.0, model.n_states + 1.0)
+    p = model.params()
+    for k in range(1, balls + 1):  # the slip rate is a state: the one whose value the measure returns
+        value = model.measure(f"slip_rate_{k}", 0.0, probe, p)
+        hits = np.flatnonzero(probe == value)
+        if len(hits) != 1:
+            raise AnalysisError(f"{model.name}: slip_rate_{k} is not one of its states")
+        rate_state.append(int(hits[0]))
+    index = measures.index
+    return Switching(tuple(model.param_names.index(f"stuck_{k}") for k in range(1, balls + 1)),
+                     tuple(model.param_names.index(f"slip_dir_{k}") for k in range(1, balls + 1)),
+                     tuple(rate_state),
+                     tuple(index(f"slip_rate_{k}") for k in range(1, balls + 1)),
+                     tuple(index(f"stick_margin_{k}") for k in range(1, balls + 1)),
+                     tuple(index(f"stick_force_{k}") for k in range(1, balls + 1)))
+
+
+@dataclass(frozen=True)
+class HybridRun:
+    t: np.ndarray  # the requested times reached
+    y: np.ndarray  # (len(t), states)
+    events: tuple[tuple[float, int, str], ...]  # (time, ball 1.., new mode: stick, slip+, slip-)
+    status: str
+    t_end: float
+    y_end: np.ndarray
+    params_end: np.ndarray  # with the modes at t_end
+    steps: int
+
+    def modes(self, n_balls: int) -> tuple[str, ...]:
+        """Each ball's mode at t_end."""
+        out = ["?"] * n_balls
+        for _, b, mode in self.events:
+            out[b - 1] = mode
+        return tuple(out)
+
+
+def library(model):
+    source = model.c_source()
+    defines = [f'-DADB_MODEL_SOURCE="{source.name}"', f"-DADB_RHS={model.name}_rhs",
+               f"-DADB_MEASURE={model.name}_measure", *_sizes(model)]
+    lib = ctypes.CDLL(str(build(model, "hybrid_driver.c", source, defines, [])))
+    lib.adb_hybrid_run.restype = ctypes.c_int
+    return lib
+
+
+def run(model, p, y0, t0: float, t1: float, t_eval=None, rtol: float = 1e-10, atol: float = 1e-12,
+        max_steps: int = 10_000_000, max_events: int = 100_000) -> HybridRun:
+    """One hybrid run from (t0, y0) to t1 with parameters p (modes: set by the driver)."""
+    sw = switching(model)
+    if not t1 > t0:
+        raise AnalysisError(f"t_end {t1} must be after t0 {t0}")
+    t_eval = np.ascontiguousarray(np.linspace(t0, t1, 201) if t_eval is None else t_eval, dtype=float)
+    if t_eval.ndim != 1 or np.any(np.diff(t_eval) < 0) or (len(t_eval) and (t_eval[0] < t0 or t_eval[-1] > t1)):
+        raise AnalysisError("t_eval must be increasing and within [t0, t_end]")
+    y0 = np.ascontiguousarray(y0, dtype=float).copy()
+    p = np.ascontiguousarray(p, dtype=float).copy()
+    ny = model.n_states
+    Y = np.full((len(t_eval), ny), np.nan)
+    ev_t = np.zeros(max_events)
+    ev_b = np.zeros(max_events, dtype=np.int32)
+    ev_m = np.zeros(max_events, dtype=np.int32)
+    n_ev, n_steps = ctypes.c_long(0), ctypes.c_long(0)
+    t_end = ctypes.c_double(0.0)
+    y_end = np.zeros(ny)
+
+    def ints(values):
+        return np.ascontiguousarray(values, dtype=np.int32)
+
+    arrays = [ints(v) for v in (sw.stuck, sw.slip_dir, sw.rate_state, sw.rate, sw.margin, sw.force)]
+    code = library(model).adb_hybrid_run(
+        y0.ctypes.data_as(D), ctypes.c_double(t0), ctypes.c_double(t1), p.ctypes.data_as(D),
+        ctypes.c_int(len(sw.stuck)), *(a.ctypes.data_as(I) for a in arrays), ctypes.c_double(rtol),
+        ctypes.c_double(atol), ctypes.c_long(max_steps), t_eval.ctypes.data_as(D), ctypes.c_long(len(t_eval)),
+        Y.ctypes.data_as(D), ev_t.ctypes.data_as(D), ev_b.ctypes.data_as(I), ev_m.ctypes.data_as(I),
+        ctypes.c_long(max_events), ctypes.byref(n_ev), ctypes.byref(t_end), y_end.ctypes.data_as(D),
+        ctypes.byref(n_steps))
+    reached = t_eval <= t_end.value
+    events = tuple((float(ev_t[k]), int(ev_b[k]) + 1, MODES[int(ev_m[k])]) for k in range(n_ev.value))
+    return HybridRun(t_eval[reached], Y[reached], events, STATUS.get(code, f"status {code}"), float(t_end.value),
+                     y_end, p, int(n_steps.value))

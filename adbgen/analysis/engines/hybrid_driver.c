@@ -1,0 +1,193 @@
+/* Stick and slip of balls on a race as an event-driven hybrid system (issue 37, item 2), on DOP853 (the
+ * step and 7th-order interpolant of rk_dop853.h) compiled in one translation unit with the model's
+ * generated C rhs and measures:
+ *
+ *     -DADB_MODEL_SOURCE='"<model>.c"' -DADB_RHS=<model>_rhs -DADB_MEASURE=<model>_measure
+ *     -DADB_NY=<states> -DADB_NP=<parameters>
+ *
+ * The model carries each switching ball's mode in its parameters (stuck_b: 1 stuck, 0 slipping; slip_dir_b:
+ * the direction of a slip that starts at phi_b' = 0) and emits the switching functions as measures: the
+ * slip rate (slip -> stick when it reaches 0), the stick margin mu_s N - |F| (stick -> slip when it turns
+ * negative) and the required tangential force F of a stuck ball (its sign: which way a released ball
+ * slips).  The driver only reads them; no physics is written here.
+ *
+ * Per accepted step, every ball's switching function g is evaluated at the step's end (slipping: slip_dir
+ * times the slip rate; stuck: the margin).  Where one is negative, its root is located on the step's
+ * interpolant by bisection to the last representable time (so an event sits within the interpolant's
+ * error, which the step's error control keeps at the engine's tolerance); the earliest root ends the step,
+ * and every ball whose root lies within 64 ulp of it switches there (symmetric balls switch together).  A
+ * ball that switches is decided at the event's state: held stuck (stuck = 1, phi' = 0) if the margin
+ * computed in the stuck mode is >= 0, else slipping in the direction opposite to the force it would need
+ * (slip_dir = -sign F; friction then acts with the kinetic coefficient).  The run restarts from the event
+ * (DOP853 is one-step: no history is lost).  An excursion of g below 0 and back within one step is not seen
+ * (a slip reversing twice in one step); the step size keeps that to features shorter than a step.
+ *
+ * Why this and not CVODE's root finding: the events change the model's parameters (its mode), after which
+ * CVODE restarts at order 1 with a tiny step (CVodeReInit loses its history) at every stick and release;
+ * a one-step method restarts at full order.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include ADB_MODEL_SOURCE
+
+#define RK_T double
+#define RK_NY ADB_NY
+#define RK_ABS(x) fabs(x)
+#define RK_MAX(a, b) fmax(a, b)
+#define RK_RHS(t, y, f) ADB_RHS((t), (y), ((const double *)ctx), (f))
+#include "rk_dop853.h"
+
+enum { HY_OK = 0, HY_MAX_STEPS = 1, HY_MAX_EVENTS = 2, HY_UNDERFLOW = 3, HY_NONFINITE = 4 };
+
+typedef struct {
+    int nb;
+    const int *stuck, *dir, *rate_state, *m_rate, *m_margin, *m_force;
+} Balls;
+
+typedef struct {
+    double t0, h, y[ADB_NY], F[7][ADB_NY];
+} Step;
+
+static void step_at(const Step *s, double t, double *out)
+{
+    double x = (t - s->t0) / s->h, w = 1.0 - x;
+    for (int i = 0; i < ADB_NY; ++i) {
+        double v = s->F[6][i];
+        v = v * x + s->F[5][i], v = v * w + s->F[4][i], v = v * x + s->F[3][i];
+        v = v * w + s->F[2][i], v = v * x + s->F[1][i], v = v * w + s->F[0][i];
+        out[i] = s->y[i] + v * x;
+    }
+}
+
+/* ball b's switching function in its present mode: >= 0 while the mode holds */
+static double switching(const Balls *B, int b, double t, const double *y, const double *p)
+{
+    if (p[B->stuck[b]] > 0.5) return ADB_MEASURE(B->m_margin[b], t, y, p);
+    return p[B->dir[b]] * ADB_MEASURE(B->m_rate[b], t, y, p);
+}
+
+/* the mode of ball b at rest on the race (phi_b' = 0 in y): stuck if the margin allows, else slipping away
+ * from the force it would need; returns the mode as +1 / -1 (slip direction) or 0 (stuck) */
+static int decide(const Balls *B, int b, double t, double *y, double *p)
+{
+    y[B->rate_state[b]] = 0.0;
+    p[B->stuck[b]] = 1.0;
+    if (ADB_MEASURE(B->m_margin[b], t, y, p) >= 0.0) {
+        p[B->dir[b]] = 0.0;
+        return 0;
+    }
+    double F = ADB_MEASURE(B->m_force[b], t, y, p);
+    p[B->stuck[b]] = 0.0;
+    p[B->dir[b]] = F > 0.0 ? -1.0 : 1.0;
+    return (int)p[B->dir[b]];
+}
+
+/* the first t in (a, b] of the step where ball's g < 0, given g(a) >= 0 > g(b): bisection to adjacent doubles */
+static double locate(const Balls *B, int ball, const Step *s, double a, double b, const double *p)
+{
+    double y[ADB_NY];
+    for (int it = 0; it < 200; ++it) {
+        double m = 0.5 * (a + b);
+        if (m <= a || m >= b) break;
+        step_at(s, m, y);
+        if (switching(B, ball, m, y, p) >= 0.0) a = m;
+        else b = m;
+    }
+    return b;
+}
+
+/* Integrates from (t0, y0) to t1 with the modes in p (updated in place, and set at t0 for every ball at rest
+ * on the race); y_eval[k] = the solution at t_eval[k] (increasing, within [t0, t1]); events: ev_t, ev_ball,
+ * ev_mode (0 stuck, +1 / -1 slipping that way) up to max_events; *t_reached and y_end the last state. */
+int adb_hybrid_run(const double *y0, double t0, double t1, double *p, int nb, const int *stuck, const int *dir,
+                   const int *rate_state, const int *m_rate, const int *m_margin, const int *m_force, double rtol,
+                   double atol, long max_steps, const double *t_eval, long n_eval, double *y_eval, double *ev_t,
+                   int *ev_ball, int *ev_mode, long max_events, long *n_events, double *t_reached, double *y_end,
+                   long *n_steps)
+{
+    Balls B = {nb, stuck, dir, rate_state, m_rate, m_margin, m_force};
+    const double *ctx = p;
+    double y[ADB_NY], ynew[ADB_NY], K[DOP_EXTENDED][ADB_NY], e5, e3;
+    memcpy(y, y0, sizeof y);
+    double t = t0;
+    long ne = 0, k_eval = 0, steps = 0;
+    int status = HY_OK;
+    for (int b = 0; b < nb; ++b) { /* the modes at the start */
+        double rate = y[rate_state[b]];
+        if (rate == 0.0) {
+            int mode = decide(&B, b, t, y, p);
+            if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
+            ++ne;
+        } else {
+            p[stuck[b]] = 0.0;
+            p[dir[b]] = rate > 0.0 ? 1.0 : -1.0;
+        }
+    }
+    while (k_eval < n_eval && t_eval[k_eval] <= t) memcpy(y_eval + ADB_NY * k_eval++, y, sizeof y);
+    double h = fmin(1e-4 * (t1 - t0), t1 - t0);
+    RK_RHS(t, y, K[0]);
+    int rejected = 0;
+    while (t < t1) {
+        if (steps >= max_steps) { status = HY_MAX_STEPS; break; }
+        if (h < 10.0 * fabs(nextafter(t, INFINITY) - t)) { status = HY_UNDERFLOW; break; }
+        double hs = fmin(h, t1 - t);
+        dop_step(t, hs, y, K, ynew, rtol, atol, &e5, &e3, ctx);
+        ++steps;
+        double err = dop_norm(hs, e5, e3);
+        if (!isfinite(err)) { status = HY_NONFINITE; break; }
+        if (err > 1.0) {
+            h = hs * dop_factor(err, rejected);
+            rejected = 1;
+            continue;
+        }
+        Step s;
+        s.t0 = t, s.h = hs;
+        memcpy(s.y, y, sizeof y);
+        dop_dense(t, hs, y, ynew, K, s.F, ctx);
+        double tn = t + hs, first = INFINITY, roots[64];
+        int nroots = nb < 64 ? nb : 64;
+        for (int b = 0; b < nroots; ++b) {
+            roots[b] = INFINITY;
+            if (switching(&B, b, tn, ynew, p) < 0.0) {
+                double y0s[ADB_NY];
+                step_at(&s, t, y0s);
+                roots[b] = switching(&B, b, t, y0s, p) < 0.0 ? t : locate(&B, b, &s, t, tn, p);
+                if (roots[b] < first) first = roots[b];
+            }
+        }
+        double tend = isfinite(first) ? fmax(first, t) : tn, yend[ADB_NY];
+        if (isfinite(first)) step_at(&s, tend, yend);
+        else memcpy(yend, ynew, sizeof yend);
+        while (k_eval < n_eval && t_eval[k_eval] <= tend) {
+            double te = t_eval[k_eval];
+            if (te == tend) memcpy(y_eval + ADB_NY * k_eval, yend, sizeof yend);
+            else step_at(&s, te, y_eval + ADB_NY * k_eval);
+            ++k_eval;
+        }
+        h = hs * dop_factor(err, rejected);
+        rejected = 0;
+        t = tend;
+        memcpy(y, yend, sizeof y);
+        if (isfinite(first)) {
+            double close = 64.0 * fabs(nextafter(first, INFINITY) - first);
+            for (int b = 0; b < nroots; ++b) {
+                if (roots[b] > first + close) continue;
+                int mode = decide(&B, b, t, y, p);
+                if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
+                ++ne;
+            }
+            if (ne >= max_events) { status = HY_MAX_EVENTS; RK_RHS(t, y, K[0]); break; }
+            RK_RHS(t, y, K[0]);
+            h = fmax(h, hs);
+        } else {
+            memcpy(K[0], K[DOP_STAGES], sizeof K[0]);
+        }
+    }
+    *n_events = ne < max_events ? ne : max_events;
+    *t_reached = t;
+    *n_steps = steps;
+    memcpy(y_end, y, sizeof y);
+    return status;
+}
