@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..loading import AnalysisError
-from .compiled import D, I
+from .c_interface import D, I
 from .rk import _sizes, build
 
 STATUS = {0: "success", 1: "max_steps", 2: "max_events", 3: "step_underflow", 4: "nonfinite"}
