@@ -38,6 +38,7 @@ REGISTRY: dict[str, str] = {
     "reproduce": "benchmarks.reproduce:BENCHMARK",
     "trust": "benchmarks.trust:BENCHMARK",
     "design": "benchmarks.design:BENCHMARK",
+    "tolerance": "benchmarks.tolerance:BENCHMARK",
 }
 
 

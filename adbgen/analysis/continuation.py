@@ -1,25 +1,19 @@
 """Follow a steady state in one parameter and locate where its stability changes (thesis ch. 4).
 
     scan(model, p, y0, "Omega", 4.0, 0.5)   -> Scan: the branch, Hopf points and folds, stable intervals
-    write_scan(scan, out)                   scan.csv and scan.png in the folder out
 
-Pseudo-arclength continuation on the generated rhs, jac and jac_p: unknowns z = (y, lambda); each
-step predicts along the unit tangent and corrects by Newton on
+The branch is followed by the one continuer, `orbits.continuer.run` (pseudo-arclength, test functions,
+step bound, extremum checks, Brent location), on the equilibrium curve `orbits.equilibrium.EquilibriumCurve`:
+unknowns z = (y, lambda), F = rhs(y, lambda) with the pins T^T (y - y_a) = 0 onto one member of the balanced
+family (3.6) when the state lies on it (n >= 3; T is N x 0 otherwise).  Stability along the branch is that of
+the transverse spectrum (`steady.transverse_spectrum`: the family's zero eigenvalues removed exactly).  This
+module turns the continuer's branch and special points into the scan's points:
 
-    rhs(y, lambda) = 0,   T^T (y - y_pred) = 0,   t . (z - z_pred) = 0,
-
-where T is the tangent space of the balanced family (3.6) when the state lies on it (n >= 3: the
-pins keep Newton from drifting along the family; T is N x 0 otherwise).  Stability along the branch
-is that of the transverse spectrum (`steady.transverse_spectrum`: the family's zero eigenvalues
-removed exactly).  Where the number of eigenvalues with positive real part changes between two
-steps, the point is located by root finding (brentq) on the segment, parameterised by the distance
-along the chord so that folds are crossed too:
-
-* a Hopf point: a complex pair crosses; the root of the (m+1)-th largest real part (m = the smaller
-  of the two counts); frequency = |Im| of that pair there;
-* a fold (saddle-node): the branch turns back in lambda; the root of d lambda/ds of the tangent;
-* a real eigenvalue crossing zero where the branch does not turn is a branch point (pitchfork),
-  reported apart from `points`.
+* a Hopf point: a complex pair crosses (the curve's "hopf" test); frequency = |Im| of that pair there;
+* a fold (saddle-node): the branch turns back in lambda (the root of d lambda/ds of the tangent);
+* a real eigenvalue crossing zero where the branch does not turn (the "real" test) is a branch point
+  (pitchfork), reported apart from `points`;
+* a change of the unstable count (or a turn) that was not located: reported with its step as `bracket`.
 
 Direction: "stabilising" when the count of unstable eigenvalues drops in the direction of the scan
 (from FROM to TO), "destabilising" when it grows, null for a fold where it does not change (the
@@ -29,15 +23,11 @@ balanced branch turning at mu_c into its mirror copy phi_1 <-> phi_2, the thesis
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .loading import AnalysisError, Model
-from .steady import (SteadyStateError, _require_autonomous, classify, family_tangent, jacobian, refine, residual,
-                     transverse_spectrum)
-from .windows import vertex_near_zero
+from .steady import _require_autonomous, classify, refine
 
 NEWTON_TOL = 1e-12
 LOCATE_TOL = 1e-12
@@ -116,241 +106,88 @@ class Scan:
                 **self.extra}
 
 
-class _Problem:
-    """rhs, jac and d rhs/d lambda of the model with parameter `k` free."""
+def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float, ds: float = 0.005,
+         ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000, progress=None,
+         ds_floor: float | None = None, watch: bool = True) -> Scan:
+    """Follow the steady state near y0 from name = start to stop; Hopf points, folds, stable intervals.
 
-    def __init__(self, model: Model, p: np.ndarray, k: int):
-        self.model, self.p, self.k = model, np.array(p, float), k
+    The branch is the generic continuer's (`orbits.continuer.run`) on the equilibrium curve
+    (`orbits.equilibrium.EquilibriumCurve`): steps at most ds_max long in (y, lambda) until lambda leaves
+    [min, max](start, stop), or `max_steps` steps ("step limit") or a step below ds_min ("step size underflow")
+    end it early; `progress(lambda)` is called at each accepted point.  Steps that miss nothing (issue 21 item
+    5): the LEADING largest real parts are the curve's margins, so a step is bounded by how fast they head for
+    zero (down to ds_floor, default ds_max / 50) and an extremum of one inside a step is checked (watch=False:
+    neither, plain stepping)."""
+    from .orbits import continuer
+    from .orbits.equilibrium import EquilibriumCurve
+    from .orbits.parameters import ParameterMap
 
-    def at(self, lam: float) -> np.ndarray:
-        p = self.p.copy()
-        p[self.k] = lam
-        return p
-
-    def f(self, y, lam):
-        return residual(self.model, y, self.at(lam))
-
-    def jacs(self, y, lam):
-        p = self.at(lam)
-        return jacobian(self.model, y, p), np.asarray(self.model.module.jac_p(0.0, y, p))[:, self.k]
-
-    def family(self, y, lam) -> np.ndarray:
-        return family_tangent(self.model, y, self.at(lam))
-
-    def tangent(self, y, lam, previous: np.ndarray | None) -> np.ndarray:
-        """Unit null vector of [[J, F_lambda], [T^T, 0]], oriented along `previous`."""
-        J, fl = self.jacs(y, lam)
-        T = self.family(y, lam)
-        A = np.vstack([np.hstack([J, fl[:, None]]), np.hstack([T.T, np.zeros((T.shape[1], 1))])])
-        t = np.linalg.svd(A)[2][-1]
-        if previous is not None and np.dot(t, previous) < 0:
-            t = -t
-        return t
-
-    def correct(self, z_pred: np.ndarray, direction: np.ndarray, offset: float = 0.0,
-                anchor: np.ndarray | None = None, max_iter: int = 15) -> np.ndarray:
-        """Newton on rhs = 0, family pins, direction . (z - anchor) = offset (anchor defaults to z_pred)."""
-        anchor = z_pred if anchor is None else anchor
-        z = z_pred.copy()
-        N = z.size - 1
-        T = self.family(z_pred[:N], z_pred[N])
-        for _ in range(max_iter):
-            y, lam = z[:N], z[N]
-            f = self.f(y, lam)
-            g = np.r_[f, T.T @ (y - z_pred[:N]), np.dot(direction, z - anchor) - offset]
-            if not np.all(np.isfinite(g)):
-                break
-            if np.max(np.abs(g)) <= NEWTON_TOL:
-                return z
-            J, fl = self.jacs(y, lam)
-            A = np.vstack([np.hstack([J, fl[:, None]]), np.hstack([T.T, np.zeros((T.shape[1], 1))]), direction[None, :]])
-            z = z + np.linalg.lstsq(A, -g, rcond=1e-13)[0]
-        raise SteadyStateError("continuation: Newton failed")
-
-    def point(self, z: np.ndarray, previous_tangent) -> BranchPoint:
-        N = z.size - 1
-        y, lam = z[:N], float(z[N])
-        J, _ = self.jacs(y, lam)
-        spectrum = transverse_spectrum(J, self.family(y, lam))
-        kind, unstable, _ = classify(spectrum)
-        return BranchPoint(lam, y, self.tangent(y, lam, previous_tangent), spectrum, unstable, kind)
-
-
-def _sorted_real(spectrum: np.ndarray) -> np.ndarray:
-    return np.sort(spectrum.real)[::-1]
-
-
-LEADING = 4  # the leading real parts watched for the step bound and the extremum checks
-APPROACH = 0.5  # a leading real part heading for zero covers at most this part of its distance per step
-NEAR = 0.1  # an extremum of a leading real part within NEAR of its spread from zero is checked
-
-
-def _leading(b: BranchPoint) -> np.ndarray:
-    r = _sorted_real(b.spectrum)[:LEADING]
-    return np.pad(r, (0, LEADING - len(r)), constant_values=np.nan)
-
-
-def _arc(a: BranchPoint, b: BranchPoint) -> float:
-    return float(np.linalg.norm(np.r_[b.y - a.y, b.lam - a.lam]))
-
-
-def _extremum_inside(z: BranchPoint, a: BranchPoint, b: BranchPoint) -> float | None:
-    """Where (as a fraction of the step a -> b) a leading real part has an extremum that may reach the other
-    side of zero although both ends are on the same side: the parabola through z, a, b (in arclength) has its
-    vertex inside the step and its value there of the other sign, or within NEAR of its spread from zero."""
-    sz, sb = -_arc(z, a), _arc(a, b)
-    found = None
-    for vz, va, vb in zip(_leading(z), _leading(a), _leading(b)):
-        if not np.all(np.isfinite([vz, va, vb])) or va == 0 or np.sign(va) != np.sign(vb):
-            continue
-        sx = vertex_near_zero(np.array([sz, 0.0, sb]), np.array([vz, va, vb]), va, sb, NEAR)
-        if sx is not None:
-            found = sx / sb if found is None else min(found, sx / sb)
-    return found
-
-
-def follow(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float,
-           ds: float = 0.005, ds_max: float = 0.01, ds_min: float = 1e-7, max_steps: int = 20000, progress=None,
-           ds_floor: float | None = None, watch: bool = True):
-    """The branch through the steady state near y0 at name = start, continued towards `stop` (pseudo-
-    arclength; steps at most ds_max long in (y, lambda)) until lambda leaves [min, max](start, stop),
-    or `max_steps` steps ("step limit") or a step below ds_min ("step size underflow") end it early.
-    `progress(lambda)` is called after each step.
-
-    Steps that miss nothing (issue 21 item 5): each step is bounded by how fast the LEADING largest real
-    parts of the transverse spectrum move (one heading for zero may cover at most APPROACH of its distance
-    in a step, down to ds_floor, default ds_max / 50); and where one of them has an extremum inside a step
-    (the parabola through the last three points) that may reach the other side of zero, the branch is
-    corrected at that extremum too, so two crossings inside one step are seen (watch=False: neither, the
-    plain stepping of before).  Returns (problem, branch, end reason, statistics: the floor, the extremum
-    checks made and the largest parameter step)."""
     _require_autonomous(model)
     if name not in model.param_names:
         raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
     if not start != stop:
         raise AnalysisError(f"empty scan range {name}={start}:{stop}")
     floor = ds_max / 50 if ds_floor is None else ds_floor
-    k = model.param_names.index(name)
-    prob = _Problem(model, p, k)
-    first = refine(model, prob.at(start), y0)
-    lo, hi = min(start, stop), max(start, stop)
-    sign = 1.0 if stop > start else -1.0
-    t0 = prob.tangent(first.y, start, None)
-    if t0[-1] * sign < 0:
-        t0 = -t0
-    if abs(t0[-1]) < 1e-8:
+    pmap = ParameterMap(model, np.array(p, float), [name])
+    first = refine(model, pmap(start), y0)
+    curve = EquilibriumCurve(model, pmap)
+    x0 = np.r_[first.y, start]
+    curve.accept(x0, curve.data(x0))
+    if abs(np.linalg.svd(curve.evaluate(x0)[1])[2][-1][-1]) < 1e-8:
         raise AnalysisError(f"the start state is a fold in {name}: move {name} a little")
-    branch = [prob.point(np.r_[first.y, start], t0)]
-    branch[0].tangent = t0
-    h, reason, checks = ds, "step limit", 0
-    for _ in range(max_steps):
-        a = branch[-1]
-        za = np.r_[a.y, a.lam]
-        try:
-            z = prob.correct(za + h * a.tangent, a.tangent, offset=h, anchor=za)
-            if np.linalg.norm(z - za) > 2 * h:
-                raise SteadyStateError("jumped")
-        except SteadyStateError:
-            h /= 2
-            if h < ds_min:
-                reason = "step size underflow"
-                break
-            continue
-        b = prob.point(z, a.tangent)
-        frac = _extremum_inside(branch[-2], a, b) if watch and len(branch) >= 2 else None
-        if frac is not None:
-            checks += 1
-            zb = np.r_[b.y, b.lam]
-            d = (zb - za) / np.linalg.norm(zb - za)
-            try:
-                zm = prob.correct(za + frac * (zb - za), d, offset=frac * np.linalg.norm(zb - za), anchor=za)
-                branch.append(prob.point(zm, a.tangent))
-            except SteadyStateError:
-                pass
-        branch.append(b)
-        if progress is not None:
-            progress(b.lam)
-        if not lo - 1e-12 <= b.lam <= hi + 1e-12:
-            reason = "left the range"
-            break
-        h = min(ds_max, h * 1.3)
-        if not watch:
-            continue
-        prev, last = branch[-2], branch[-1]
-        dsl = max(_arc(prev, last), 1e-300)
-        for va, vb in zip(_leading(prev), _leading(last)):
-            rate = (vb - va) / dsl
-            if np.isfinite(rate) and rate * vb < 0:  # heading for zero
-                h = min(h, max(APPROACH * abs(vb) / abs(rate), floor))
+    curve.progress = progress
+    lo, hi = min(start, stop), max(start, stop)
+    settings = continuer.Settings(ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_steps + 1, bounds=(lo, hi),
+                                  newton_tol=NEWTON_TOL, newton_max=15, resolution=floor, locate_tol=LOCATE_TOL,
+                                  watch=watch)
+    run = continuer.run(curve, x0, 1.0 if stop > start else -1.0, settings)
+    branch = [_branch_point(pt) for pt in run.points]
+    found = _bifurcations(branch, run, lo, hi)
+    reason = {"max_points": "step limit"}.get(run.end, run.end)
     lam = np.array([b.lam for b in branch])
-    stats = {"ds_floor": floor, "ds_max": ds_max, "extremum_checks": checks,
+    stats = {"ds_floor": floor, "ds_max": ds_max, "extremum_checks": run.checks,
              "largest_step": float(np.max(np.abs(np.diff(lam)))) if len(lam) > 1 else 0.0}
-    return prob, branch, reason, stats
+    return Scan(model, name, start, stop, branch, [b for _, b in found], _stable_intervals(branch, found, lo, hi),
+                reason, {"resolution": _resolution(branch, stats)}, np.array(pmap.base, float))
 
 
-def _segment(prob: _Problem, a: BranchPoint, b: BranchPoint):
-    """z(s) on the branch between a and b, s in [0, |z_b - z_a|], corrected at a fixed chord coordinate."""
-    za, zb = np.r_[a.y, a.lam], np.r_[b.y, b.lam]
-    d = (zb - za) / np.linalg.norm(zb - za)
-    cache = {}
-
-    def z_at(s):
-        if s not in cache:
-            frac = s / np.linalg.norm(zb - za)
-            cache[s] = prob.correct(za + frac * (zb - za), d, offset=s, anchor=za)
-        return cache[s]
-    return z_at, float(np.linalg.norm(zb - za)), d
+def _branch_point(pt) -> BranchPoint:
+    kind, unstable, _ = classify(pt.data.spectrum)
+    return BranchPoint(float(pt.x[-1]), pt.x[:-1], pt.tangent, pt.data.spectrum, unstable, kind)
 
 
-def _locate(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
-    """The stability change between consecutive branch points a and b; where root finding fails
-    (no sign change of the test function on the chord, Newton failing), the step it lies in."""
-    try:
-        return _locate_exactly(prob, a, b)
-    except (ValueError, SteadyStateError):
+KINDS = {"hopf": "hopf", "real": "branch", "fold": "fold"}  # the equilibrium curve's test -> the point's kind
+
+
+def _bifurcations(branch: list[BranchPoint], run, lo: float, hi: float) -> list[tuple[int, Bifurcation]]:
+    """The located special points (Hopf points, folds, branch points: a real eigenvalue through zero where the
+    branch does not turn; at a fold only the fold; Hopf and branch points only where the number of unstable
+    eigenvalues changes), each with the step it lies in; a change of the unstable
+    count or a turn that could not be located is reported with that step as `bracket`."""
+    def direction(a, b):
+        return "stabilising" if b.n_unstable < a.n_unstable else "destabilising" if b.n_unstable > a.n_unstable else None
+
+    folds = {sp.index for sp in run.specials if sp.name == "fold"}
+    found, seen = [], set()
+    for sp in run.specials:
+        a, b = branch[sp.index], branch[sp.index + 1]
+        if sp.name != "fold" and (sp.index in folds or a.n_unstable == b.n_unstable):
+            continue  # a test's zero that changes no stability (at the turn of a pitchfork PF1,2): not a point
+        freq = abs(sp.info["frequency"]) if sp.info["kind"] == "hopf" else None
+        found.append((sp.index, Bifurcation(sp.info["kind"], float(sp.x[-1]), freq, direction(a, b), sp.x[:-1],
+                                            a.n_unstable, b.n_unstable)))
+        seen.add(sp.index)
+    for i, (a, b) in enumerate(zip(branch, branch[1:])):
         turned = a.tangent[-1] * b.tangent[-1] < 0
+        if i in seen or not (turned or a.n_unstable != b.n_unstable):
+            continue
         kind = "fold" if turned else ("hopf" if abs(a.n_unstable - b.n_unstable) == 2 else "branch")
         near = b.spectrum[np.argsort(np.abs(b.spectrum.real))[:2]]
-        direction = ("stabilising" if b.n_unstable < a.n_unstable else
-                     "destabilising" if b.n_unstable > a.n_unstable else None)
-        return [Bifurcation(kind, 0.5 * (a.lam + b.lam), float(np.max(np.abs(near.imag))) if kind == "hopf" else None,
-                            direction, 0.5 * (a.y + b.y), a.n_unstable, b.n_unstable, (a.lam, b.lam))]
-
-
-def _locate_exactly(prob: _Problem, a: BranchPoint, b: BranchPoint) -> list[Bifurcation]:
-    N = a.y.size
-    z_at, length, d = _segment(prob, a, b)
-    direction = ("stabilising" if b.n_unstable < a.n_unstable else
-                 "destabilising" if b.n_unstable > a.n_unstable else None)  # None: a fold that keeps stability
-    out = []
-    if a.tangent[-1] * b.tangent[-1] < 0:  # the branch turns back: a fold
-        def g(s):
-            z = z_at(s)
-            return prob.tangent(z[:N], z[N], d)[-1]
-        s = brentq(g, 0.0, length, xtol=LOCATE_TOL, rtol=4 * np.finfo(float).eps)
-        z = z_at(s)
-        out.append(Bifurcation("fold", float(z[N]), None, direction, z[:N], a.n_unstable, b.n_unstable))
-        return out
-    m = min(a.n_unstable, b.n_unstable)
-
-    def spectrum(s):
-        z = z_at(s)
-        J, _ = prob.jacs(z[:N], z[N])
-        return transverse_spectrum(J, prob.family(z[:N], z[N]))
-
-    def g(s):
-        return _sorted_real(spectrum(s))[m]
-    s = brentq(g, 0.0, length, xtol=LOCATE_TOL, rtol=4 * np.finfo(float).eps)
-    z = z_at(s)
-    ev = spectrum(s)
-    # the eigenvalue(s) nearest the axis decide: a complex pair is a Hopf point, a real one a branch point
-    near = ev[np.argsort(np.abs(ev.real))[:2]]
-    freq = float(np.max(np.abs(near.imag)))
-    tol = 1e-7 * max(1.0, float(np.max(np.abs(ev))))
-    kind = "hopf" if freq > tol and abs(abs(a.n_unstable - b.n_unstable) - 2) == 0 else "branch"
-    out.append(Bifurcation(kind, float(z[N]), freq if kind == "hopf" else None, direction, z[:N],
-                           a.n_unstable, b.n_unstable))
-    return out
+        found.append((i, Bifurcation(kind, 0.5 * (a.lam + b.lam), float(np.max(np.abs(near.imag))) if kind == "hopf"
+                                     else None, direction(a, b), 0.5 * (a.y + b.y), a.n_unstable, b.n_unstable,
+                                     (a.lam, b.lam))))
+    found.sort(key=lambda f: f[0])
+    return [(i, bif) for i, bif in found if lo <= bif.value <= hi]
 
 
 def _stable_intervals(branch: list[BranchPoint], bifurcations: list[tuple[int, Bifurcation]],
@@ -383,22 +220,6 @@ def _stable_intervals(branch: list[BranchPoint], bifurcations: list[tuple[int, B
     return [(float(a), float(b)) for a, b in merged]
 
 
-def scan(model: Model, p: np.ndarray, y0: np.ndarray, name: str, start: float, stop: float, **options) -> Scan:
-    """Follow the steady state near y0 from name = start to stop; Hopf points, folds, stable intervals."""
-    prob, branch, reason, stats = follow(model, p, y0, name, start, stop, **options)
-    lo, hi = min(start, stop), max(start, stop)
-    found: list[tuple[int, Bifurcation]] = []
-    for i, (a, b) in enumerate(zip(branch, branch[1:])):
-        turned = a.tangent[-1] * b.tangent[-1] < 0
-        if a.n_unstable != b.n_unstable or turned:
-            for bif in _locate(prob, a, b):
-                if lo <= bif.value <= hi:
-                    found.append((i, bif))
-    return Scan(model, name, start, stop, branch, [b for _, b in found],
-                _stable_intervals(branch, found, lo, hi), reason, {"resolution": _resolution(branch, stats)},
-                np.array(prob.p, float))
-
-
 def _resolution(branch: list[BranchPoint], stats: dict) -> dict:
     """What the scan resolved: a window of the parameter wider than `largest_step` always holds a step end and
     is seen; narrower ones are seen where the step bound shrank the steps around them (`step_near_axis`: the
@@ -410,68 +231,3 @@ def _resolution(branch: list[BranchPoint], stats: dict) -> dict:
             if min(abs(lead[i]), abs(lead[i + 1])) < 1e-2 or np.sign(lead[i]) != np.sign(lead[i + 1])]
     return {"largest_step": stats["largest_step"], "step_near_axis": float(max(near, default=0.0)),
             "ds_max": stats["ds_max"], "ds_floor": stats["ds_floor"], "extremum_checks": stats["extremum_checks"]}
-
-
-def write_scan(result, out: Path, values: dict | None = None, scene: str | None = None) -> None:
-    """scan.csv (one row per continuation step) and scan.png: the leading real part of the transverse
-    spectrum and the rotor amplitude along the parameter, stable stretches solid, Hopf points and folds
-    marked and labelled (the thesis' one-parameter diagrams, Fig. 4.2, 4.6, 4.11); each file written
-    whole."""
-    import io
-
-    from ..outputs import save_figure, writing
-    from .figure_style import latex_name, pyplot, title
-    from .units import axis_label, units
-
-    out.mkdir(parents=True, exist_ok=True)
-    m = result.model
-    u = units(m)
-    unit = u.params.get(result.name, "1")
-    ix, iy = m.amplitude_indices[:2]
-    lam = np.array([b.lam for b in result.branch])
-    lead = np.array([float(np.max(b.spectrum.real)) for b in result.branch])
-    amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
-    amp[amp < 1e-14 * max(1.0, float(np.max(amp)))] = 0.0  # the balanced state: rounding only
-    unstable = np.array([b.n_unstable for b in result.branch])
-    body = io.StringIO()
-    np.savetxt(body, np.column_stack([lam, lead, unstable, amp]), delimiter=",", fmt="%.17g")
-    with writing(out / "scan.csv") as fh:
-        fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
-                 f"to {result.stop!r}; complete: {str(result.complete).lower()} ({result.end_reason}, last step at "
-                 f"{result.end_at!r}); units: {result.name} {unit}, amplitude {u.length}, leading_real_part "
-                 f"{'1' if u.time == '1' else '1/' + u.time}\n")
-        fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
-        fh.write(body.getvalue())
-    plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 5.5), sharex=True, constrained_layout=True)
-    rate = "" if u.time == "1" else f"1/{u.time}"
-    balanced = not np.any(amp > 0)
-    # on the balanced state r = 0 all along: the lower panel counts the unstable eigenvalues instead
-    lower = (unstable.astype(float), "eigenvalues with Re > 0") if balanced else \
-        (amp, axis_label("$r = \\sqrt{x^2 + y^2}$", u.length))
-    for ax, values_, label in ((a1, lead, axis_label("max Re $\\lambda$ (transverse)", rate)), (a2, *lower)):
-        stable = np.where(unstable == 0, values_, np.nan)
-        ax.plot(lam, values_, "--", color="C0", lw=0.8, label="unstable")
-        ax.plot(lam, stable, "-", color="C0", lw=1.6, label="stable")
-        ax.set_ylabel(label)
-        for b in result.points:
-            ax.axvline(b.value, color="C3" if b.kind == "hopf" else "C2", lw=0.6, ls=":")
-    for b in result.points:
-        a1.annotate(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}", (b.value, 1.0), xycoords=("data", "axes fraction"),
-                    textcoords="offset points", xytext=(3, -4), ha="left", va="top", fontsize=7,
-                    color="C3" if b.kind == "hopf" else "C2", rotation=90)
-    a1.axhline(0.0, color="0.5", lw=0.5)
-    a1.legend(loc="best", fontsize=7)
-    if balanced:
-        a2.set_yticks(range(int(unstable.max()) + 1))
-        a2.set_title("r = 0 along the whole branch (the balanced state)", fontsize=8)
-    a2.set_xlabel(axis_label(latex_name(result.name), unit))
-    if not result.complete:
-        for ax in (a1, a2):
-            ax.axvspan(min(result.end_at, result.stop), max(result.end_at, result.stop), color="0.9", zorder=0)
-        a2.text(0.5 * (result.end_at + result.stop), 0.02, "not scanned", ha="center", va="bottom", fontsize=8,
-                color="0.4", transform=a2.get_xaxis_transform())
-    name = f"{Path(scene).name} ({m.name})" if scene else m.name
-    marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points) or "no Hopf point or fold"
-    a1.set_title(title(name, values or {}, u.params, f"solid stable, dashed unstable; {marks}"), fontsize=8)
-    save_figure(fig, out / "scan.png", dpi=120)

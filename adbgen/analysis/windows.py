@@ -14,7 +14,7 @@ sample is inserted, recursively, wherever
   sides: a sample each side of the root, SIDE of the way to a and to b, must be stable on one side and unstable on the
   other; otherwise it is rejected, not reported);
 * the margin, extrapolated from a neighbour's slope, heads for zero and could cover at least `approach` of
-  its distance inside the interval (the rule the one-parameter scans step by: `continuation.follow`,
+  its distance inside the interval (the rule the one-parameter scans step by:
   `orbits.continuer`);
 * the parabola through three consecutive samples has its vertex inside the interval with its value across
   zero, or within `near` of the samples' spread from zero (an extremum near the boundary).

@@ -100,7 +100,6 @@ def _add_stability(p) -> None:
 
 def run_stability(args) -> int:
     from ..analysis import continuation, steady
-    from ..analysis.continuation import write_scan
     from ..analysis.orbits.lyapunov import add_to_scan
     from ..analysis.units import params, units
 
@@ -477,3 +476,68 @@ def _print_continue(out, name, name2) -> None:
             print(f"  {c['kind']} curve from {name} = {c['origin'][name]:.8g}: {len(pts)} points")
         for s in out["special"]:
             print(f"  {s['type']} ({s['name']}) at {name} = {s[name]:.8g}, {name2} = {s[name2]:.8g}")
+
+
+def write_scan(result, out: Path, values: dict | None = None, scene: str | None = None) -> None:
+    """scan.csv (one row per continuation step) and scan.png: the leading real part of the transverse
+    spectrum and the rotor amplitude along the parameter, stable stretches solid, Hopf points and folds
+    marked and labelled (the thesis' one-parameter diagrams, Fig. 4.2, 4.6, 4.11); each file written
+    whole."""
+    import io
+
+    from ..analysis.figure_style import latex_name, pyplot, title
+    from ..analysis.units import axis_label, units
+    from ..outputs import save_figure, writing
+
+    out.mkdir(parents=True, exist_ok=True)
+    m = result.model
+    u = units(m)
+    unit = u.params.get(result.name, "1")
+    ix, iy = m.amplitude_indices[:2]
+    lam = np.array([b.lam for b in result.branch])
+    lead = np.array([float(np.max(b.spectrum.real)) for b in result.branch])
+    amp = np.array([float(np.hypot(b.y[ix], b.y[iy])) for b in result.branch])
+    amp[amp < 1e-14 * max(1.0, float(np.max(amp)))] = 0.0  # the balanced state: rounding only
+    unstable = np.array([b.n_unstable for b in result.branch])
+    body = io.StringIO()
+    np.savetxt(body, np.column_stack([lam, lead, unstable, amp]), delimiter=",", fmt="%.17g")
+    with writing(out / "scan.csv") as fh:
+        fh.write(f"# model: {m.name}\n# source_hash: {m.source_hash}\n# scan: {result.name} from {result.start!r} "
+                 f"to {result.stop!r}; complete: {str(result.complete).lower()} ({result.end_reason}, last step at "
+                 f"{result.end_at!r}); units: {result.name} {unit}, amplitude {u.length}, leading_real_part "
+                 f"{'1' if u.time == '1' else '1/' + u.time}\n")
+        fh.write(f"{result.name},leading_real_part,n_unstable,amplitude\n")
+        fh.write(body.getvalue())
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.5, 5.5), sharex=True, constrained_layout=True)
+    rate = "" if u.time == "1" else f"1/{u.time}"
+    balanced = not np.any(amp > 0)
+    # on the balanced state r = 0 all along: the lower panel counts the unstable eigenvalues instead
+    lower = (unstable.astype(float), "eigenvalues with Re > 0") if balanced else \
+        (amp, axis_label("$r = \\sqrt{x^2 + y^2}$", u.length))
+    for ax, values_, label in ((a1, lead, axis_label("max Re $\\lambda$ (transverse)", rate)), (a2, *lower)):
+        stable = np.where(unstable == 0, values_, np.nan)
+        ax.plot(lam, values_, "--", color="C0", lw=0.8, label="unstable")
+        ax.plot(lam, stable, "-", color="C0", lw=1.6, label="stable")
+        ax.set_ylabel(label)
+        for b in result.points:
+            ax.axvline(b.value, color="C3" if b.kind == "hopf" else "C2", lw=0.6, ls=":")
+    for b in result.points:
+        a1.annotate(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}", (b.value, 1.0), xycoords=("data", "axes fraction"),
+                    textcoords="offset points", xytext=(3, -4), ha="left", va="top", fontsize=7,
+                    color="C3" if b.kind == "hopf" else "C2", rotation=90)
+    a1.axhline(0.0, color="0.5", lw=0.5)
+    a1.legend(loc="best", fontsize=7)
+    if balanced:
+        a2.set_yticks(range(int(unstable.max()) + 1))
+        a2.set_title("r = 0 along the whole branch (the balanced state)", fontsize=8)
+    a2.set_xlabel(axis_label(latex_name(result.name), unit))
+    if not result.complete:
+        for ax in (a1, a2):
+            ax.axvspan(min(result.end_at, result.stop), max(result.end_at, result.stop), color="0.9", zorder=0)
+        a2.text(0.5 * (result.end_at + result.stop), 0.02, "not scanned", ha="center", va="bottom", fontsize=8,
+                color="0.4", transform=a2.get_xaxis_transform())
+    name = f"{Path(scene).name} ({m.name})" if scene else m.name
+    marks = ", ".join(f"{'H' if b.kind == 'hopf' else 'LP'} {b.value:.6g}" for b in result.points) or "no Hopf point or fold"
+    a1.set_title(title(name, values or {}, u.params, f"solid stable, dashed unstable; {marks}"), fontsize=8)
+    save_figure(fig, out / "scan.png", dpi=120)

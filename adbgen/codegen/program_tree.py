@@ -235,15 +235,16 @@ def rhs_program(ir: ModelIR) -> dict:
     return {"states": ir.n_states, "statements": statements, "outputs": [outputs[k] for k in range(ir.n_states)]}
 
 
-def program_json(ir: ModelIR) -> str:
-    """`rhs_program` as JSON text: one statement per line (readable diffs), floats as Python writes them
-    (exact round trip).  A kernel the trees do not express gives {"states": N, "error": why} (its
+def program_json(ir: ModelIR, source_hash: str) -> str:
+    """`rhs_program` as JSON text, led by the source hash (what it was made from, as every emitted
+    file's header): one statement per line (readable diffs), floats as Python writes them (exact round
+    trip).  A kernel the trees do not express gives {"source_hash", "states": N, "error": why} (its
     readers refuse it, saying why), not a wrong program."""
     try:
         data = rhs_program(ir)
     except ProgramError as exc:
-        return json.dumps({"states": ir.n_states, "error": str(exc)})
-    lines = ['{"states": %d,' % data["states"], ' "statements": [']
+        return json.dumps({"source_hash": source_hash, "states": ir.n_states, "error": str(exc)})
+    lines = ['{"source_hash": %s,' % json.dumps(source_hash), ' "states": %d,' % data["states"], ' "statements": [']
     lines += [" " + json.dumps(s) + ("," if k < len(data["statements"]) - 1 else "") for k, s in enumerate(data["statements"])]
     lines += [' ],', ' "outputs": [']
     lines += [" " + json.dumps(o) + ("," if k < len(data["outputs"]) - 1 else "") for k, o in enumerate(data["outputs"])]

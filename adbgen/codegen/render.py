@@ -109,7 +109,6 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
         used |= sp.sympify(e).free_symbols
     states = [{"ident": names[s.symbol], "index": k} for k, s in enumerate(ir.states) if s.symbol in used]
     params = [{"ident": names[p.symbol], "index": k} for k, p in enumerate(ir.parameters) if p.symbol in used]
-    ncol = program.shape[1] if len(program.shape) == 2 else 1
     printer.set_program(program.assignments)
     outputs = [(i, printer.doprint(e)) for i, e in program.outputs]
     return {
@@ -118,7 +117,6 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
         "uses_t": any(s.name == "t" for s in used),
         "assignments": [(printer.doprint(lhs), printer.doprint(rhs)) for lhs, rhs in program.assignments],
         "outputs": outputs,
-        "outputs2": [(i // ncol, i % ncol, e) for i, e in outputs],
     }
 
 

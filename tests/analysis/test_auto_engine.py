@@ -93,3 +93,27 @@ def test_auto_is_as_accurate_as_dop853_on_a_scene_it_was_not_measured_on(five_ba
     if rtol == 1e-8:  # negative control: the withdrawn table (order 18, factor 3) misses by ~6e-3
         withdrawn = AutoEngine(ENGINES, table=str(WITHDRAWN))
         assert _error(model, y0, ref, withdrawn, rtol) > 30 * dop
+
+
+NB06_BOUND = 1e-6  # derivation notebook 06: the default engine against SciPy's DOP853 at rtol 1e-10, atol 1e-12
+
+
+def test_auto_meets_notebook_06s_bound_with_a_factor_of_10_to_spare(five_balls, tmp_path):
+    """Issue 35: at notebook 06's tolerances the default engine ends within a tenth of the notebook's bound
+    of the reference (Vern8 at 1e-13; its own distance from the Taylor engine at order 20 is ~2.7e-8 here),
+    and within the bound of SciPy's DOP853 (the notebook's own check; DOP853 is itself 1.35e-7 from the
+    reference, so the tenth is asked of the error, not of the difference).  Negative control: problem A's
+    1e-10 row as learned before the check scene (order 16, factor 1.5: 2.2e-7) misses the tenth."""
+    model, y0, ref = five_balls
+    assert _error(model, y0, ref, "auto", 1e-10) <= NB06_BOUND / 10
+    auto = simulate(model, None, y0, t_end=1.0, rtol=1e-10, atol=1e-12, keep_trajectory=False)
+    sp = simulate(model, None, y0, t_end=1.0, rtol=1e-10, atol=1e-12, engine="scipy-dop853", keep_trajectory=False)
+    assert np.max(np.abs(auto.y_end - sp.y_end) / np.maximum(1.0, np.abs(sp.y_end))) < NB06_BOUND
+    planted = json.loads(TABLE.read_text())
+    for rows in [planted["rows"]] + [p["rows"] for p in planted["by_problem"].values()]:
+        for r in rows:
+            if r["rtol"] == pytest.approx(1e-10):
+                r.update(key="taylor:o16:f1.5", order=16, step_factor=1.5)
+    path = tmp_path / "planted.json"
+    path.write_text(json.dumps(planted))
+    assert _error(model, y0, ref, AutoEngine(ENGINES, table=str(path)), 1e-10) > NB06_BOUND / 10

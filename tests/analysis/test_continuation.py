@@ -101,9 +101,32 @@ def test_a_change_that_root_finding_cannot_locate_is_reported_with_its_step(thes
 
     def fail(*args, **kwargs):
         raise ValueError("f(a) and f(b) must have different signs")
-    monkeypatch.setattr(continuation, "brentq", fail)
+    from adbgen.analysis.orbits import continuer
+
+    monkeypatch.setattr(continuer, "brentq", fail)
     s = continuation.scan(m, m.params({"Omega": 2.0, **CH4}), m.module.START, "Omega", 2.0, 1.8)
     (hopf,) = s.points
     lo, hi = sorted(hopf.bracket)
     assert hopf.kind == "hopf" and lo <= 1.8822393 <= hi and hi - lo <= 0.011
     assert s.to_json()["points"][0]["bracket"] == list(hopf.bracket)
+
+
+def test_a_located_zero_that_changes_no_stability_is_no_point():
+    """The continuer's "real" test changes sign at the turn of the balanced branch at mu_c (PF1,2) without the
+    unstable count changing: the scan lists the fold only, as before; a real zero that changes the count is a
+    branch point (the control)."""
+    from types import SimpleNamespace
+
+    from adbgen.analysis.continuation import BranchPoint, _bifurcations
+    from adbgen.analysis.orbits.continuer import Special
+
+    def pt(lam, unstable, turn=1.0):
+        return BranchPoint(lam, np.array([lam]), np.array([0.0, turn]), np.array([-1.0]), unstable, "")
+
+    def special(name, lam, i):
+        return Special(name, np.array([lam, lam]), None, {"kind": {"real": "branch"}.get(name, name)}, i)
+    branch = [pt(0.0, 0), pt(1.0, 0), pt(2.0, 1)]
+    run = SimpleNamespace(specials=[special("real", 0.5, 0), special("real", 1.5, 1)])
+    (found,) = _bifurcations(branch, run, 0.0, 2.0)
+    assert found[0] == 1 and found[1].kind == "branch" and found[1].value == 1.5
+    assert found[1].direction == "destabilising" and found[1].bracket is None

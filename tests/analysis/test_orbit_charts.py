@@ -49,16 +49,40 @@ def test_scan_finds_the_window_inside_one_step(capsys):
 
 
 def test_extremum_check_catches_a_dip_the_step_bound_alone_would_not():
-    """The parabola check: three points whose leading real part dips inside the last step."""
-    from adbgen.analysis.continuation import BranchPoint, _extremum_inside
+    """The continuer's parabola check (the one the equilibrium scans use): three points whose test function
+    dips below zero inside the last step get a point inserted at the dip; a monotone one gets none."""
+    from adbgen.analysis.orbits import continuer
 
-    def pt(lam, lead):
-        return BranchPoint(lam, np.array([lam]), np.zeros(2), np.array([lead, -1.0]), 0, "")
-    # lead = (lam - 1.5)^2 - 0.01 sampled at 0, 1, 2: positive at the ends, negative inside (1.4, 1.6)
-    z, a, b = pt(0.0, 2.24), pt(1.0, 0.24), pt(2.0, 0.24)
-    assert _extremum_inside(z, a, b) == pytest.approx(0.5)
-    # a monotone part: nothing to check
-    assert _extremum_inside(pt(0.0, 3.0), pt(1.0, 2.0), pt(2.0, 1.0)) is None
+    class Line:  # the curve y = lambda with one test function of lambda
+        size, test_names = 2, ("dip",)
+
+        def __init__(self, g):
+            self.g = g
+
+        def parameter(self, x):
+            return float(x[-1])
+
+        def evaluate(self, x):
+            return np.array([x[0] - x[1]]), np.array([[1.0, -1.0]])
+
+        def data(self, x):
+            return None
+
+        def tests(self, x, data):
+            return np.array([self.g(float(x[-1]))])
+
+    def check(g):
+        curve, s = Line(g), continuer.Settings(fold_test=False)
+        corr = continuer._Corrector(curve, s)
+        t = np.array([1.0, 1.0]) / np.sqrt(2)
+        pts = [continuer.Point(np.array([v, v]), None, curve.tests(np.array([v, v]), None), t, v * np.sqrt(2))
+               for v in (0.0, 1.0, 2.0)]
+        branch = continuer.Branch(pts[:2], [], "", 0.0)
+        return continuer._check_extrema(curve, corr, branch, pts[2], ["dip"], s)
+    # (lam - 1.5)^2 - 0.01 sampled at 0, 1, 2: 2.24, 0.24, 0.24, positive at the ends, negative inside (1.4, 1.6)
+    (mid,) = check(lambda lam: (lam - 1.5) ** 2 - 0.01)
+    assert mid.x[-1] == pytest.approx(1.5) and mid.tests[0] < 0
+    assert check(lambda lam: 3.0 - lam) == []  # monotone: nothing to check
 
 
 def test_zeta_scan_finds_the_instability_near_zero(capsys):

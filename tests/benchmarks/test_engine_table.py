@@ -15,8 +15,8 @@ from benchmarks import peers as bench_peers
 from adbgen.cli import main
 
 
-def _problem(runs: dict, scale: float = 1.0) -> dict:
-    return {"scale": scale, "runs": {k: {"error": e, "cpu_s": t} for k, (e, t) in runs.items()}}
+def _problem(runs: dict, scale: float = 1.0, steps: int = 100) -> dict:
+    return {"scale": scale, "runs": {k: {"error": e, "cpu_s": t, "steps": steps} for k, (e, t) in runs.items()}}
 
 
 def test_choose_keeps_the_fastest_that_reaches_each_tolerance():
@@ -103,3 +103,74 @@ def test_bench_auto_quick(tmp_path, capsys):
     table.unlink()
     assert main(["bench", "auto", "--table-only", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
     assert json.loads(table.read_text())["rows"] == made["rows"]
+
+
+# ------------------------------------------------------------------ issue 35: monotone and admissible table
+
+def _shipped():
+    from adbgen.analysis.engines.auto import TABLE
+
+    table = json.loads(TABLE.read_text())
+    measured = json.loads((bench_auto.Path(__file__).resolve().parents[2] / "benchmarks" / "auto.json").read_text())
+    return table, measured
+
+
+def _row_sets(table):
+    yield "joint", table["rows"], None
+    for label, p in table["by_problem"].items():
+        yield label, p["rows"], label
+
+
+def test_the_shipped_table_is_monotone_in_cost_on_every_learning_problem():
+    """Issue 35 item 2: on problems A and B a looser rtol's row never takes more steps x work a step
+    (`proxy_cost`, counted from the stored run, not timed) than a tighter rtol's row; also in CPU time."""
+    table, measured = _shipped()
+    for name, rows, label in _row_sets(table):
+        problems = measured["problems"] if label is None else {label: measured["problems"][label]}
+        assert bench_auto.monotone_violations(rows, problems, measured["candidates"]) == [], name
+        assert bench_auto.monotone_violations(rows, problems, measured["candidates"], cost="cpu") == [], name
+
+
+def test_a_planted_non_monotone_table_is_caught_and_made_monotone():
+    """Negative control: problem A's 1e-6 row swapped for its 1e-12 row (more steps of a higher order) is
+    a violation; `make_monotone` gives the looser tolerance a tighter row instead, admissible there."""
+    table, measured = _shipped()
+    rows = [dict(r) for r in table["by_problem"]["A"]["rows"]]
+    tight = next(r for r in rows if r["rtol"] == pytest.approx(1e-12))
+    planted = [dict(r) if r["rtol"] != pytest.approx(1e-6) else {**tight, "rtol": 1e-6} for r in rows]
+    planted = [{**r, "key": "taylor:o20:f1", "order": 20, "step_factor": 1.0} if r["rtol"] == pytest.approx(1e-6)
+               else r for r in planted]
+    problems = {"A": measured["problems"]["A"]}
+    bad = bench_auto.monotone_violations(planted, problems, measured["candidates"])
+    assert bad and all(v["looser"] == pytest.approx(1e-6) for v in bad)
+    fixed = bench_auto.make_monotone(planted, problems, measured["candidates"])
+    assert bench_auto.monotone_violations(fixed, problems, measured["candidates"]) == []
+    by_key = {c["key"]: c for c in measured["candidates"]}
+    assert all(bench_auto.admissible(by_key[r["key"]], r["rtol"]) for r in fixed)
+    assert next(r for r in fixed if r["rtol"] == pytest.approx(1e-6))["monotone_from"] < 1e-6
+
+
+def test_every_shipped_row_is_admissible_and_a_planted_aggressive_step_factor_is_caught():
+    """Each row's step aims at a tenth of its tolerance or less (`admissible`, the learning's constraint);
+    negative control: order 10 with factor 3.5 planted at 1e-8 is refused."""
+    table, measured = _shipped()
+    for name, rows, _ in _row_sets(table):
+        for r in rows:
+            assert bench_auto.admissible(r, r["rtol"]), (name, r)
+    planted = {"engine": "taylor", "key": "taylor:o10:f3.5", "order": 10, "step_factor": 3.5, "rtol": 1e-8}
+    assert not bench_auto.admissible(planted, planted["rtol"])
+
+
+def test_a_row_less_accurate_than_dop853_on_the_check_scene_is_replaced_by_a_tighter_one():
+    """`apply_check`: the 1e-10 row (error 2e-7 on the check scene, DOP853 1.4e-7) gives way to the 1e-11
+    row (4e-8); a row that passes stays; with no tighter row passing the row is kept and marked.  Negative
+    control: with the check scene's errors planted equal, nothing is replaced."""
+    rows = [{"rtol": 1e-9, "key": "a", "engine": "taylor", "order": 18, "step_factor": 2.0},
+            {"rtol": 1e-10, "key": "b", "engine": "taylor", "order": 16, "step_factor": 1.5},
+            {"rtol": 1e-11, "key": "c", "engine": "taylor", "order": 18, "step_factor": 1.5}]
+    checked = {"taylor": {"a": 1e-7, "b": 2e-7, "c": 4e-8}, "rk": {1e-9: 1.3e-6, 1e-10: 1.4e-7, 1e-11: 1.4e-8}}
+    out = {r["rtol"]: r for r in bench_auto.apply_check(rows, checked)}
+    assert out[1e-9]["key"] == "a" and out[1e-10]["key"] == "c" and out[1e-10]["check_replaced"] == "b"
+    assert out[1e-11].get("check_failed") and out[1e-11]["key"] == "c"  # 4e-8 > 1.4e-8, nothing tighter
+    same = {"taylor": {"a": 1e-9, "b": 1e-9, "c": 1e-9}, "rk": checked["rk"]}
+    assert [r["key"] for r in bench_auto.apply_check(rows, same)] == ["a", "b", "c"]

@@ -33,8 +33,8 @@ def thesis2():
 
 
 def test_the_trees_are_the_generated_rhs_bitwise(thesis2):
-    data = json.loads(program_tree.program_json(thesis2))
-    assert data["states"] == thesis2.n_states and len(data["outputs"]) == thesis2.n_states
+    data = json.loads(program_tree.program_json(thesis2, "0123abcd"))
+    assert data["source_hash"] == "0123abcd" and data["states"] == thesis2.n_states and len(data["outputs"]) == thesis2.n_states
     names = [name for name, _ in data["statements"]]
     assert len(names) == len(set(names)) and data["statements"][0] == ["x", ["y", 0]]
     rhs = compile_program(thesis2, "rhs")

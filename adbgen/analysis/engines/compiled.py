@@ -1,12 +1,14 @@
 """The compiled engines: a generated model's C library inside a C driver, called through ctypes.
 
-Each driver (`cyrk_driver.c`, `sundials_driver.c`) is compiled once per model with gcc into a shared
-library cached under ``$ADBGEN_CACHE`` (default ``~/.cache/adbgen``), keyed by the driver, the model's
-C source and the flags; later runs only load it (milliseconds).  ctypes releases the GIL for the
-call, and a batch runs on OpenMP threads inside the library: no Python per step, per evaluation or
-per trajectory.
+Each driver (`cyrk_driver.c`, `sundials_driver.c` here; `rk_driver.c`, `rk_batch_driver.c` in rk.py,
+`taylor_driver.c` in taylor.py, `ode45_driver.c` in matlab_ode45.py) is compiled once per model with gcc
+into a shared library cached under ``$ADBGEN_CACHE`` (default ``~/.cache/adbgen``), keyed by the driver,
+the model's C source and the flags; later runs only load it (milliseconds).  Every driver exports the one
+C interface of adb_engine.h, called through its typed mirror (c_interface.py).  ctypes releases the GIL
+for the call, and a batch runs on OpenMP threads inside the library: no Python per step, per evaluation
+or per trajectory.  (The default engine is `auto`, engines/auto.py.)
 
-    cyrk-dop853 (default), cyrk-vern8, cyrk-vern7, cyrk-rk45, cyrk-rk23
+    cyrk-dop853, cyrk-vern8, cyrk-vern7, cyrk-rk45, cyrk-rk23
         CyRK's C++ explicit Runge-Kutta solvers (CyRK.nb.numba_c_api's C entry points)
     cvode-bdf      SUNDIALS CVODE, BDF with Newton and the generated analytic Jacobian (stiff)
     cvode-adams    SUNDIALS CVODE, Adams-Moulton with fixed-point iteration (no linear algebra)
@@ -23,18 +25,15 @@ import shutil
 import subprocess
 import tempfile
 import threading
-import time
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
 from ..loading import AnalysisError, cache_dir
-from ..results import STOPPED, SUCCESS
+from . import c_interface as ci
 
 HERE = Path(__file__).resolve().parent
-STATUS = {0: SUCCESS, 1: "max_steps", 2: "step_underflow", 3: "nonfinite", 4: "solver_failure", 5: STOPPED,
-          6: "bad_input"}
 SUNDIALS_LIBS = ["-lsundials_arkode", "-lsundials_cvode", "-lsundials_nvecserial", "-lsundials_sunmatrixdense",
                  "-lsundials_sunlinsoldense", "-lsundials_sunnonlinsolfixedpoint"]
 _CFLAGS = ["-std=gnu99", "-O2", "-fPIC", "-shared", "-fopenmp"]
@@ -43,15 +42,6 @@ _CFLAGS = ["-std=gnu99", "-O2", "-fPIC", "-shared", "-fopenmp"]
 PINNED_FLAGS = ["-ffp-contract=off", "-include", "fixed_libm.h"]
 PINNED_LIBS = ["-lsleef"]
 _lock = threading.Lock()
-
-D = ctypes.POINTER(ctypes.c_double)
-I = ctypes.POINTER(ctypes.c_int)
-L = ctypes.POINTER(ctypes.c_long)
-U8 = ctypes.POINTER(ctypes.c_uint8)
-
-
-class _Trajectory(ctypes.Structure):
-    _fields_ = [("t", D), ("y", D), ("k", ctypes.c_long)]
 
 
 def compiler() -> str:
@@ -147,18 +137,15 @@ def build(model, driver: str, libs: list[str], extra: tuple[str, ...] = (), tag:
                           f"{Path(driver).stem} engine")
 
 
-def _ptr(a: np.ndarray, kind=D):
-    return a.ctypes.data_as(kind)
-
-
 class _Compiled:
-    """Shared by the compiled engines: the library per model, the batch call, the outputs."""
+    """Shared by the compiled engines: the library per model, the calls through c_interface, the outputs."""
 
     symmetric = True
     driver = ""
     libs: list[str] = []
     prefix = ""
     tag = ""  # a variant's name in the library cache
+    method_id = 0
 
     def extra(self, model) -> tuple[str, ...]:
         """More compiler arguments for this engine's library of `model` (a variant: symmetrized.py)."""
@@ -167,80 +154,51 @@ class _Compiled:
     def library(self, model):
         return _load(self, model.name, model.source_hash, str(model.folder), model)
 
-    def _common(self, model, threshold):
-        ix, iy, ixd, iyd = model.amplitude_indices
-        return np.array([ix, iy, ixd, iyd], dtype=np.int32)
-
-    @staticmethod
-    def _targets(model, targets):
-        """(n, centres, matrices, cubics, levels, periodic) of early-stop regions (see driver_common.h): a
-        target is (centre, W) or (centre, W, K, level): e'We <= 1 (and e'We + K(e, e, e) <= level), W a
-        matrix or a vector of weights w (W = diag(w^2))."""
-        if not targets:
-            return 0, None, None, None, None, None
-        ny = model.n_states
-        centres = np.ascontiguousarray([t[0] for t in targets], dtype=float)
-        weights = np.ascontiguousarray([np.diag(np.square(t[1])) if np.ndim(t[1]) == 1 else t[1] for t in targets],
-                                       dtype=float)
-        if weights.shape[1:] != (ny, ny) or centres.shape[1:] != (ny,) or any(len(t) not in (2, 4) for t in targets):
-            raise AnalysisError(f"a target region needs a centre of {ny} states and a weight vector or {ny} x {ny} "
-                                f"matrix (and optionally a {ny} x {ny} x {ny} cubic form and a level)")
-        cubics = levels = None
-        if any(len(t) == 4 for t in targets):
-            cubics = np.ascontiguousarray([t[2] if len(t) == 4 else np.zeros((ny,) * 3) for t in targets], dtype=float)
-            levels = np.ascontiguousarray([t[3] if len(t) == 4 else 1.0 for t in targets], dtype=float)
-            if cubics.shape[1:] != (ny, ny, ny):
-                raise AnalysisError(f"a target region's cubic form must be {ny} x {ny} x {ny}")
-        periodic = np.zeros(ny, dtype=np.uint8)
-        periodic[list(model.angle_indices)] = 1
-        return len(targets), centres, weights, cubics, levels, periodic
+    def _single_call(self, model, rtol, atol):
+        """(library, settings fields, what was picked or None) of one run (the Taylor engine: its order's
+        library and its step factor)."""
+        return self.library(model), {"method": self.method_id}, None
 
     def _many_call(self, model, rtol, atol):
-        """(library, entry point, method argument) of a batch call (the Taylor engine: its order's
-        library and its step factor)."""
-        return self.library(model), self.prefix + "_integrate_many", self.method_id
+        """(library, settings fields) of a batch call."""
+        lib, fields, _ = self._single_call(model, rtol, atol)
+        return lib, fields
+
+    def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=0):
+        lib, fields, picked = self._single_call(model, rtol, atol)
+        s = ci.settings(model, t_end, rtol, atol, threshold, max_steps, keep=keep_trajectory, **fields)
+        out = ci.single(*ci.integrate(lib, model, y0, p, s))
+        if picked is not None:
+            out["picked"] = picked
+        return out
 
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
                  targets=(), measures=True):
-        lib, entry, method = self._many_call(model, rtol, atol)
-        n = len(Y0)
-        Y0 = np.ascontiguousarray(Y0, dtype=float)
-        P = np.ascontiguousarray(P, dtype=float)
-        amp = self._common(model, threshold)
-        nt, centres, weights, cubics, levels, periodic = self._targets(model, targets)
-        status = np.zeros(n, np.int32)
-        target = np.full(n, -1, np.int32)
-        y_end = np.zeros((n, model.n_states))
-        stats = np.zeros((n, 4))
-        counts = np.zeros((n, 2), np.int64)
-        start = time.perf_counter()
-        getattr(lib, entry)(
-            n, _ptr(Y0), _ptr(P), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
-            method, ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
-            1 if measures else 0, ctypes.c_double(check_dt), nt, None if centres is None else _ptr(centres),
-            None if weights is None else _ptr(weights), None if cubics is None else _ptr(cubics),
-            None if levels is None else _ptr(levels), None if periodic is None else _ptr(periodic, U8),
-            int(threads or 0), _ptr(status, I), _ptr(target, I), _ptr(y_end), _ptr(stats), _ptr(counts, L))
-        wall = time.perf_counter() - start
-        codes = np.array([STATUS[int(c)] for c in status])
-        return {"status": codes, "r_max": stats[:, 0], "t_dec": stats[:, 1], "t_last": stats[:, 2],
-                "t_fail": stats[:, 3], "y_end": y_end, "target": target, "n_rhs": counts[:, 0],
-                "n_steps": counts[:, 1], "wall_s": wall}
+        lib, fields = self._many_call(model, rtol, atol)
+        s = ci.settings(model, t_end, rtol, atol, threshold, max_steps, check_dt=check_dt, targets=targets,
+                        measures=measures, **fields)
+        return ci.integrate_many(lib, model, P, Y0, s, threads)
+
+    def dense_output(self, model, p, t, y, times, rtol, atol) -> np.ndarray:
+        """The continuous solution of a run (its accepted steps t, y as `run` returns them) at `times`
+        (increasing, within [t[0], t[-1]]), states x times: each step's own interpolant (Taylor: its
+        polynomial), the one r_max and t_dec are located on.  An engine whose driver has adb_dense offers
+        it as `dense`."""
+        lib, fields, _ = self._single_call(model, rtol, atol)
+        code, out = ci.dense(lib, model, p, t, y, times, ci.settings(model, t[-1], rtol, atol, **fields))
+        if code:
+            raise AnalysisError(f"{self.name} failed to integrate a step again for its dense output")
+        return out
 
 
 @lru_cache(maxsize=None)
-def _load_cached(path: str, prefix: str):
-    lib = ctypes.CDLL(path)
-    integrate = getattr(lib, prefix + "_integrate")
-    integrate.restype = ctypes.c_int
-    many = getattr(lib, prefix + "_integrate_many")
-    many.restype = None
-    return lib
+def _load_cached(path: str):
+    return ci.open_library(path)
 
 
 def _load(engine, name, source_hash, folder, model):
     with _lock:
-        lib = _load_cached(str(build(model, engine.driver, engine.libs, engine.extra(model), engine.tag)), engine.prefix)
+        lib = _load_cached(str(build(model, engine.driver, engine.libs, engine.extra(model), engine.tag)))
         if engine.prefix == "adb_cyrk" and not getattr(lib, "_adbgen_ready", False):
             lib.adb_cyrk_init.restype = ctypes.c_int
             ptrs = (ctypes.c_void_p * 9)(*_cyrk_pointers())
@@ -284,50 +242,7 @@ class CyRKEngine(_Compiled):
     def method_id(self) -> int:
         return _cyrk_methods()[self.method]
 
-    def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=0):
-        lib = self.library(model)
-        y0 = np.ascontiguousarray(y0, dtype=float)
-        p = np.ascontiguousarray(p, dtype=float)
-        amp = self._common(model, threshold)
-        traj = _Trajectory()
-        target = ctypes.c_int(-1)
-        y_end = np.zeros(model.n_states)
-        stats = np.zeros(4)
-        counts = np.zeros(2, np.int64)
-        integrate = getattr(lib, self.prefix + "_integrate")
-        integrate.argtypes = None
-        start = time.perf_counter()
-        code = integrate(
-            _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id,
-            ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold), ctypes.c_double(0.0), 0, None,
-            None, None, None, None, 1 if keep_trajectory else 0, 1, ctypes.byref(traj), ctypes.byref(target), _ptr(y_end),
-            _ptr(stats), _ptr(counts, L))
-        wall = time.perf_counter() - start
-        try:
-            k = traj.k
-            t = np.ctypeslib.as_array(traj.t, (k,)).copy() if k else np.zeros(0)
-            y = np.ctypeslib.as_array(traj.y, (k, model.n_states)).T.copy() if k else np.zeros((model.n_states, 0))
-        finally:
-            if traj.k:
-                getattr(lib, self.prefix + "_release")(ctypes.byref(traj))
-        return _single(code, t, y, y_end, stats, counts, wall, "")
-
-    def dense(self, model, p, t, y, times, rtol, atol) -> np.ndarray:
-        """The continuous solution of a run (its accepted steps t, y as `run` returns them) at `times`
-        (increasing, within [t[0], t[-1]]), states x times: each step's own interpolant, the one r_max
-        and t_dec are located on."""
-        lib = self.library(model)
-        T = np.ascontiguousarray(t, dtype=float)
-        Y = np.ascontiguousarray(np.asarray(y).T, dtype=float)
-        times = np.ascontiguousarray(times, dtype=float)
-        out = np.zeros((len(times), model.n_states))
-        code = getattr(lib, self.prefix + "_dense")(_ptr(T), _ptr(Y), ctypes.c_long(len(T)), _ptr(np.ascontiguousarray(p, dtype=float)),
-                                  ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id, len(times),
-                                  _ptr(times), _ptr(out))
-        if code:
-            raise AnalysisError(f"{self.name} failed to integrate a step again for its dense output")
-        return out.T
-
+    dense = _Compiled.dense_output
 
 class SundialsEngine(_Compiled):
     """SUNDIALS CVODE or ARKODE ERKStep (sundials_driver.c); events by SUNDIALS' root finding."""
@@ -344,36 +259,16 @@ class SundialsEngine(_Compiled):
         self.symmetric = symmetric
 
     def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=2001):
+        """One run with `samples` states on an even grid (SUNDIALS keeps no steps: its own output points)."""
         lib = self.library(model)
-        y0 = np.ascontiguousarray(y0, dtype=float)
-        p = np.ascontiguousarray(p, dtype=float)
-        amp = self._common(model, threshold)
         n_s = int(samples) if keep_trajectory else 0
         times = np.linspace(0.0, t_end, n_s + 1)[1:] if n_s else np.zeros(0)
         out = np.zeros((max(n_s, 1), model.n_states))
-        target = ctypes.c_int(-1)
-        y_end = np.zeros(model.n_states)
-        stats = np.zeros(4)
-        counts = np.zeros(2, np.int64)
         msg = ctypes.create_string_buffer(256)
-        start = time.perf_counter()
-        code = lib.adb_sundials_integrate(
-            _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol), self.method_id,
-            ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold), n_s, _ptr(times), _ptr(out),
-            ctypes.c_double(0.0), 0, None, None, None, None, None, ctypes.byref(target), _ptr(y_end), _ptr(stats),
-            _ptr(counts, L), msg)
-        wall = time.perf_counter() - start
-        reached = int(np.searchsorted(times, stats[2], side="right")) if n_s else 0
+        s = ci.settings(model, t_end, rtol, atol, threshold, max_steps, method=self.method_id, sample_times=times,
+                        samples=out, message=msg)
+        code, _, _, y_end, res, wall = ci.integrate(lib, model, y0, p, s)
+        reached = int(np.searchsorted(times, res.t_last, side="right")) if n_s else 0
         t = np.concatenate([[0.0], times[:reached]])
-        y = np.vstack([y0, out[:reached]]).T
-        return _single(code, t, y, y_end, stats, counts, wall, msg.value.decode(errors="replace"))
-
-
-def _single(code, t, y, y_end, stats, counts, wall, message) -> dict:
-    status = STATUS[int(code)]
-    if status == "bad_input":
-        raise AnalysisError("the engine refused its input (t_end, rtol and atol must be > 0, the state finite)")
-    return {"status": status, "t": t, "y": y, "r_max": float(stats[0]),
-            "t_dec": float(stats[1]), "y_end": y_end, "n_rhs": int(counts[0]), "n_steps": int(counts[1]),
-            "t_fail": None if status in (SUCCESS, STOPPED) else float(stats[3]), "wall_s": wall,
-            "message": message}
+        y = np.vstack([np.asarray(y0, dtype=float), out[:reached]]).T
+        return ci.single(code, t, y, y_end, res, wall, msg.value.decode(errors="replace"))

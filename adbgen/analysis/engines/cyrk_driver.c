@@ -27,10 +27,6 @@
 #include "driver_common.h"
 #include "cyrk_bridge.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 /* CyRK's function pointers, once per library (cyrk_bridge.h) */
 int adb_cyrk_init(void *const *ptrs)
 {
@@ -140,24 +136,14 @@ static double refine_peak(const Settings *s, Args *args, const double *t, const 
     return best;
 }
 
-typedef struct {
-    double *t; /* accepted steps, malloc'd (adb_cyrk_release frees them) */
-    double *y;
-    long k;
-} Trajectory;
-
 /* (r_max, t_dec) from the accepted steps; t_dec NaN when r(t_end) >= H, 0 when no step reaches H */
 static void measure(const Settings *s, Args *args, const double *t, const double *Y, size_t K, const int *amp,
                     double H, int n_peaks, double *r_max, double *t_dec)
 {
     int ix = amp[0], iy = amp[1];
-    double H2 = H * H, best = 0.0;
-    size_t last = (size_t)-1;
-    for (size_t k = 0; k < K; ++k) {
-        double v = adb_r2(Y + k * ADB_NY, ix, iy);
-        if (v >= H2) last = k;
-        if (v > best) best = v;
-    }
+    double H2 = H * H;
+    size_t last;
+    double best = adb_scan_ends(Y, K, ix, iy, H2, &last);
     if (adb_r2(Y + (K - 1) * ADB_NY, ix, iy) >= H2) *t_dec = NAN;
     else {
         /* sup{t : r(t) >= H}: an excursion inside a later step, else the last crossing at step ends */
@@ -169,15 +155,8 @@ static void measure(const Settings *s, Args *args, const double *t, const double
     /* the n_peaks largest local maxima of r at accepted steps (at least a quarter of the largest) */
     double floor_ = 0.25 * best, done_above = INFINITY, refined = best;
     for (int p = 0; p < n_peaks; ++p) {
-        size_t kb = (size_t)-1;
-        double vb = -1.0;
-        for (size_t k = 0; k < K; ++k) {
-            double v = adb_r2(Y + k * ADB_NY, ix, iy);
-            if (v < floor_ || v >= done_above || v <= vb) continue;
-            if (k > 0 && adb_r2(Y + (k - 1) * ADB_NY, ix, iy) > v) continue;
-            if (k + 1 < K && adb_r2(Y + (k + 1) * ADB_NY, ix, iy) > v) continue;
-            kb = k, vb = v;
-        }
+        double vb;
+        size_t kb = adb_next_peak(Y, K, ix, iy, floor_, done_above, &vb);
         if (kb == (size_t)-1) break;
         done_above = vb;
         size_t lo = kb > 0 ? kb - 1 : 0, hi = kb + 1 < K ? kb + 1 : K - 1;
@@ -186,33 +165,26 @@ static void measure(const Settings *s, Args *args, const double *t, const double
     *r_max = sqrt(refined);
 }
 
-/* One trajectory from t = 0 to t_end (see sundials_driver.c for the same contract).
+/* One trajectory from t = 0 to s->t_end.
  *
  * Segments: with check_dt > 0 the run goes in segments of check_dt (each a fresh solve from the previous
  * end, first step = the last accepted step), with or without targets, so a run with early stop and one
  * without see bit-identical trajectories until the stop; it stops in the first target region holding
  * the state at a segment's end (early stop).
- * keep: 1 returns every accepted step in *traj (free with adb_cyrk_release), 0 only counts them.
+ * keep: 1 returns every accepted step in *traj (free with adb_release), 0 only counts them.
  * measures: 0 skips r_max and t_dec (NaN; sweeps' attractor labels need neither), and with keep = 0
  * only the last state is kept instead of every accepted step.
- * out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [rhs evaluations, steps]. */
-int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, int method,
-                       long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
-                       const double *centres, const double *weights, const double *cubics, const double *levels,
-                       const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target, double *y_end, double *out_stats,
-                       long *out_counts)
+ * The settings and the report: adb_engine.h. */
+static int adb_run(const double *y0, const double *p, const adb_settings *s, adb_trajectory *traj, double *y_end,
+                   adb_result *r)
 {
-    Settings s = {method, rtol, atol, max_steps > 0 ? (size_t)max_steps : 0};
+    Settings cs = {s->method, s->rtol, s->atol, s->max_steps > 0 ? (size_t)s->max_steps : 0};
     long count = 0;
     Args args;
     memcpy(args.p, p, sizeof args.p);
     args.count = &count;
-    int ix = amp_idx[0], iy = amp_idx[1];
-    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
-    out_counts[0] = out_counts[1] = 0;
-    if (target) *target = -1;
-    if (traj) traj->t = traj->y = NULL, traj->k = 0;
-    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
+    int ix = s->amp[0], iy = s->amp[1];
+    if (!(s->t_end > 0.0) || !(s->rtol > 0.0) || !(s->atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
 
     size_t cap = 1024, K = 0;
     double *T = malloc(cap * sizeof(double)), *Y = malloc(cap * ADB_NY * sizeof(double));
@@ -222,15 +194,15 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
     int status = ADB_SUCCESS;
     long steps = 0;
     double t = 0.0, h = 0.0;
-    int segmented = check_dt > 0.0, store = keep || measures;
-    while (t < t_end) {
-        double t1 = segmented ? fmin(t_end, t + check_dt) : t_end;
+    int segmented = s->check_dt > 0.0, store = s->keep || s->measures;
+    while (t < s->t_end) {
+        double t1 = segmented ? fmin(s->t_end, t + s->check_dt) : s->t_end;
         double ystart[ADB_NY];
         memcpy(ystart, Y + (K - 1) * ADB_NY, sizeof ystart);
-        void *res = solve(&s, t, t1, ystart, &args, false, h);
+        void *res = solve(&cs, t, t1, ystart, &args, false, h);
         if (!res) {
             status = ADB_SOLVER_FAILURE;
-            out_stats[3] = t;
+            r->t_fail = t;
             break;
         }
         size_t n = cy.size(res);
@@ -244,7 +216,7 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
             for (size_t j = 1; j < n - 2; ++j)
                 if (!adb_all_finite(ry + j * ADB_NY, ADB_NY)) {
                     status = ADB_NONFINITE;
-                    out_stats[3] = rt[j];
+                    r->t_fail = rt[j];
                     break;
                 }
             rt += n - 3, ry += (n - 3) * ADB_NY, n = 3;
@@ -258,7 +230,7 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
         for (size_t j = 1; j < n && status == ADB_SUCCESS; ++j) {
             if (!adb_all_finite(ry + j * ADB_NY, ADB_NY)) {
                 status = ADB_NONFINITE;
-                out_stats[3] = rt[j];
+                r->t_fail = rt[j];
                 break;
             }
             T[K] = rt[j];
@@ -271,40 +243,41 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
         if (status != ADB_SUCCESS) break;
         if (!ok) {
             status = adb_cyrk_decode(code);
-            out_stats[3] = T[K - 1];
+            r->t_fail = T[K - 1];
             break;
         }
         if (K >= 2) h = T[K - 1] - T[K - 2];
         t = T[K - 1];
-        if (max_steps > 0 && steps >= max_steps && t < t_end) {
+        if (s->max_steps > 0 && steps >= s->max_steps && t < s->t_end) {
             status = ADB_MAX_STEPS;
-            out_stats[3] = t;
+            r->t_fail = t;
             break;
         }
-        if (segmented && t < t_end) {
-            int k = adb_in_target(Y + (K - 1) * ADB_NY, n_targets, centres, weights, cubics, levels, periodic);
+        if (segmented && t < s->t_end) {
+            int k = adb_in_target(Y + (K - 1) * ADB_NY, s->n_targets, s->centres, s->weights, s->cubics, s->levels,
+                                  s->periodic);
             if (k >= 0) {
-                if (target) *target = k;
+                r->target = k;
                 status = ADB_STOPPED;
                 break;
             }
         }
     }
     long evals = count;
-    if (!measures) {
+    if (!s->measures) {
         /* r_max and t_dec not asked for: NaN */
     } else if (status == ADB_SUCCESS)
-        measure(&s, &args, T, Y, K, amp_idx, threshold, 8, &out_stats[0], &out_stats[1]);
+        measure(&cs, &args, T, Y, K, s->amp, s->threshold, 8, &r->r_max, &r->t_dec);
     else {
         double best = 0.0;
         for (size_t k = 0; k < K; ++k) best = fmax(best, adb_r2(Y + k * ADB_NY, ix, iy));
-        out_stats[0] = sqrt(best);
+        r->r_max = sqrt(best);
     }
-    out_stats[2] = T[K - 1];
+    r->t_last = T[K - 1];
     memcpy(y_end, Y + (K - 1) * ADB_NY, sizeof(double) * ADB_NY);
-    out_counts[0] = evals;
-    out_counts[1] = steps;
-    if (traj && keep) {
+    r->n_rhs = evals;
+    r->n_steps = steps;
+    if (traj && s->keep) {
         traj->t = T, traj->y = Y, traj->k = (long)K;
     } else {
         free(T);
@@ -313,39 +286,15 @@ int adb_cyrk_integrate(const double *y0, const double *p, double t_end, double r
     return status;
 }
 
-void adb_cyrk_release(Trajectory *traj)
-{
-    free(traj->t);
-    free(traj->y);
-    traj->t = traj->y = NULL;
-    traj->k = 0;
-}
-
-/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
-void adb_cyrk_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
-                             int method, long max_steps, const int *amp_idx, double threshold, int measures,
-                             double check_dt, int n_targets, const double *centres, const double *weights,
-                             const double *cubics, const double *levels, const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
-                             double *stats, long *counts)
-{
-#ifdef _OPENMP
-    if (threads < 1) threads = omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-#endif
-    for (int k = 0; k < n; ++k)
-        status[k] = adb_cyrk_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, method,
-                                       max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights,
-                                       cubics, levels, periodic, 0, measures, NULL, target + k, Y_end + (size_t)k * ADB_NY,
-                                       stats + (size_t)k * 4, counts + (size_t)k * 2);
-}
+#include "adb_entries.h"
 
 /* The continuous solution of a run at `times` (n, increasing, within [T[0], T[K-1]]) into out (n x ADB_NY):
  * each step holding a time is integrated again with dense output, as measure() does, so this is the
  * interpolant r_max and t_dec are located on.  Returns 0, or ADB_SOLVER_FAILURE. */
-int adb_cyrk_dense(const double *T, const double *Y, long K, const double *p, double rtol, double atol, int method,
-                   int n, const double *times, double *out)
+int adb_dense(const double *T, const double *Y, long K, const double *p, const adb_settings *set, int n,
+              const double *times, double *out)
 {
-    Settings s = {method, rtol, atol, 0};
+    Settings s = {set->method, set->rtol, set->atol, 0};
     long count = 0;
     Args args;
     memcpy(args.p, p, sizeof args.p);

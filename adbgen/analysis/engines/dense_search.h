@@ -1,6 +1,9 @@
-/* Searches of r = |(x, y)| on a step's continuous solution, shared by the RK drivers (cyrk_driver.c on
- * CyRK's dense output, rk_driver.c on DOP853's own interpolant): the last crossing of a threshold, the
- * largest value on an interval, and the screen for an excursion above the threshold inside one step.
+/* The event measures r_max and t_dec of the drivers that keep their accepted steps (cyrk_driver.c on
+ * CyRK's dense output, rk_driver.c on DOP853's own interpolant): the scan of the step ends, the choice of
+ * the peaks to refine, and the searches of r = |(x, y)| on a step's continuous solution (the last crossing
+ * of a threshold, the largest value on an interval, the screen for an excursion above the threshold
+ * inside one step).  (sundials_driver.c finds both by SUNDIALS' root finding, taylor_driver.c on each
+ * step's polynomial, ode45_driver.c on its output points, as MATLAB's users read them.)
  *
  * The includer defines ADB_DENSE, the type of its handle on an interpolant, and before the #include
  *     static double dense_r2(ADB_DENSE h, double t, int ix, int iy);     r^2 at time t
@@ -68,6 +71,37 @@ static int adb_may_exceed(const double *t, const double *Y, size_t k, const int 
         if (p >= 0.5 * H2) return 1;
     }
     return 0;
+}
+
+/* The largest r^2 at the K step ends of Y; *last: the last step k with r^2 >= H2 ((size_t)-1: none) */
+static double adb_scan_ends(const double *Y, size_t K, int ix, int iy, double H2, size_t *last)
+{
+    double best = 0.0;
+    *last = (size_t)-1;
+    for (size_t k = 0; k < K; ++k) {
+        double v = adb_r2(Y + k * ADB_NY, ix, iy);
+        if (v >= H2) *last = k;
+        if (v > best) best = v;
+    }
+    return best;
+}
+
+/* The step end of the largest local maximum of r^2 at step ends in [floor_, done_above), or (size_t)-1;
+ * its r^2 in *value.  Called with done_above = the previous one's value, it gives the peaks in turn. */
+static size_t adb_next_peak(const double *Y, size_t K, int ix, int iy, double floor_, double done_above,
+                            double *value)
+{
+    size_t kb = (size_t)-1;
+    double vb = -1.0;
+    for (size_t k = 0; k < K; ++k) {
+        double v = adb_r2(Y + k * ADB_NY, ix, iy);
+        if (v < floor_ || v >= done_above || v <= vb) continue;
+        if (k > 0 && adb_r2(Y + (k - 1) * ADB_NY, ix, iy) > v) continue;
+        if (k + 1 < K && adb_r2(Y + (k + 1) * ADB_NY, ix, iy) > v) continue;
+        kb = k, vb = v;
+    }
+    *value = vb;
+    return kb;
 }
 
 #endif

@@ -1,12 +1,15 @@
-/* What both compiled drivers (CyRK, SUNDIALS) share: status codes, the rotor amplitude, early-stop
- * target regions.  Included after the model's generated C source, with ADB_NY defined. */
+/* What every compiled engine's driver shares: the C interface (adb_engine.h), status codes, the rotor
+ * amplitude, early-stop target regions.  Included after the model's generated C source, with ADB_NY
+ * defined. */
 #ifndef ADB_DRIVER_COMMON_H
 #define ADB_DRIVER_COMMON_H
 
 #include <math.h>
 #include <stddef.h>
 
-/* status codes, mirrored in adbgen/analysis/engines/compiled.py */
+#include "adb_engine.h"
+
+/* status codes, mirrored in adbgen/analysis/engines/c_interface.py (STATUS) */
 #define ADB_SUCCESS 0
 #define ADB_MAX_STEPS 1
 #define ADB_STEP_UNDERFLOW 2

@@ -26,14 +26,6 @@
 #include ADB_MODEL_SOURCE
 #include "driver_common.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
-typedef struct {
-    double *t, *y;
-    long k;
-} Ode45Trajectory;
 
 /* MATLAB's eps(t): the distance from |t| to the next larger double (eps(0) = 2^-1074) */
 static double matlab_eps(double t)
@@ -99,24 +91,22 @@ static void stage_state(const double *y, double f[7][ADB_NY], const double *hB_c
     }
 }
 
-/* Returns a status code; out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [rhs evaluations, steps]. */
-int adb_ode45_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, long max_steps,
-                        const int *amp_idx, double threshold, int keep, Ode45Trajectory *traj, double *y_end,
-                        double *out_stats, long *out_counts)
+/* One trajectory (adb_engine.h; no targets, no segments: s->check_dt and the regions are ignored, the
+ * Python side refuses them); returns a status code. */
+static int adb_run(const double *y0, const double *p, const adb_settings *s, adb_trajectory *traj, double *y_end,
+                   adb_result *r)
 {
-    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
-    out_counts[0] = out_counts[1] = 0;
-    if (traj) traj->t = traj->y = NULL, traj->k = 0;
-    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
+    double rtol = s->rtol; /* raised below as MATLAB does */
+    if (!(s->t_end > 0.0) || !(rtol > 0.0) || !(s->atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
     if (rtol < 100.0 * DBL_EPSILON) rtol = 100.0 * DBL_EPSILON; /* as odearguments does (with a warning) */
 
-    Output o = {NULL, NULL, 0, 1024, keep && traj, amp_idx[0], amp_idx[1], threshold * threshold, 0.0, 0.0};
+    Output o = {NULL, NULL, 0, 1024, s->keep && traj, s->amp[0], s->amp[1], s->threshold * s->threshold, 0.0, 0.0};
     if (o.keep) {
         o.T = malloc(o.cap * sizeof(double));
         o.Y = malloc(o.cap * ADB_NY * sizeof(double));
     }
-    const double pw = 1.0 / 5.0, t0 = 0.0, tfinal = t_end;
-    const double threshold_w = atol / rtol;
+    const double pw = 1.0 / 5.0, t0 = 0.0, tfinal = s->t_end;
+    const double threshold_w = s->atol / rtol;
     const double hmax = fmin(fabs(tfinal - t0), 0.1 * fabs(tfinal - t0));
     const double htspan = fabs(tfinal - t0);
     double t = t0, y[ADB_NY], ynew[ADB_NY], ys[ADB_NY], f[7][ADB_NY];
@@ -174,12 +164,12 @@ int adb_ode45_integrate(const double *y0, const double *p, double t_end, double 
             if (!(err <= rtol)) {
                 if (!isfinite(err) && !adb_all_finite(ynew, ADB_NY) && absh <= hmin) {
                     status = ADB_NONFINITE;
-                    out_stats[3] = t;
+                    r->t_fail = t;
                     goto finish;
                 }
                 if (absh <= hmin) {
                     status = ADB_STEP_UNDERFLOW;
-                    out_stats[3] = t;
+                    r->t_fail = t;
                     goto finish;
                 }
                 if (nofailed) {
@@ -215,7 +205,7 @@ int adb_ode45_integrate(const double *y0, const double *p, double t_end, double 
         memcpy(f[0], f[6], sizeof f[0]);
         if (!adb_all_finite(y, ADB_NY)) {
             status = ADB_NONFINITE;
-            out_stats[3] = t;
+            r->t_fail = t;
             break;
         }
         if (nofailed) {
@@ -225,44 +215,23 @@ int adb_ode45_integrate(const double *y0, const double *p, double t_end, double 
             else
                 absh = 5.0 * absh;
         }
-        if (max_steps > 0 && nsteps >= max_steps && !done) {
+        if (s->max_steps > 0 && nsteps >= s->max_steps && !done) {
             status = ADB_MAX_STEPS;
-            out_stats[3] = t;
+            r->t_fail = t;
             break;
         }
     }
 finish:
-    out_stats[0] = sqrt(o.r2max);
-    out_stats[1] = o.t_dec;
-    out_stats[2] = t;
+    r->r_max = sqrt(o.r2max);
+    r->t_dec = o.t_dec;
+    r->t_last = t;
     memcpy(y_end, y, sizeof y);
-    out_counts[0] = nfev;
-    out_counts[1] = nsteps;
+    r->n_rhs = nfev;
+    r->n_steps = nsteps;
     if (o.keep) {
         traj->t = o.T, traj->y = o.Y, traj->k = (long)o.k;
     }
     return status;
 }
 
-void adb_ode45_release(Ode45Trajectory *traj)
-{
-    free(traj->t);
-    free(traj->y);
-    traj->t = traj->y = NULL;
-    traj->k = 0;
-}
-
-/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
-void adb_ode45_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
-                              long max_steps, const int *amp_idx, double threshold, int threads, int *status,
-                              double *Y_end, double *stats, long *counts)
-{
-#ifdef _OPENMP
-    if (threads < 1) threads = omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-#endif
-    for (int k = 0; k < n; ++k)
-        status[k] = adb_ode45_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, max_steps,
-                                        amp_idx, threshold, 0, NULL, Y_end + (size_t)k * ADB_NY, stats + (size_t)k * 4,
-                                        counts + (size_t)k * 2);
-}
+#include "adb_entries.h"

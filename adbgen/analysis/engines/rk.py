@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..loading import AnalysisError
+from . import c_interface as ci
 from .compiled import HERE, CyRKEngine, _Compiled, compile_cached
 
 CFLAGS = ["-std=gnu99", "-O3", "-march=native", "-ffp-contract=off", "-fPIC", "-shared", "-fopenmp"]
@@ -73,10 +74,7 @@ def build(model, driver: str, source: Path, defines: list[str], libs: list[str])
 
 @lru_cache(maxsize=None)
 def _open(path: str):
-    lib = ctypes.CDLL(path)
-    for name in ("adb_rk_integrate", "adb_rk_dense"):
-        if hasattr(lib, name):
-            getattr(lib, name).restype = ctypes.c_int
+    lib = ci.open_library(path)
     if hasattr(lib, "adb_rk_time_rhs"):
         lib.adb_rk_time_rhs.restype = ctypes.c_double
     if hasattr(lib, "adb_rk_time_rhs_along"):
@@ -163,9 +161,7 @@ class RKBatchEngine(RKEngine):
 
     def _many_call(self, model, rtol, atol):
         lib = batch_library(model, self.n_lanes, self.exact_math)
-        if lib is None:
-            return self.library(model), "adb_rk_integrate_many", 0
-        return lib, "adb_rk_batch_integrate_many", 0
+        return (self.library(model) if lib is None else lib), {"method": 0}
 
     def run_many(self, model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=None, check_dt=0.0,
                  targets=(), measures=True):

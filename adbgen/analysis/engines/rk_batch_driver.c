@@ -53,9 +53,8 @@ typedef struct {
     int n_targets;
     const double *centres, *weights, *cubics, *levels;
     const unsigned char *periodic;
-    int *status, *target;
-    double *Y_end, *stats;
-    long *counts;
+    double *Y_end;
+    adb_result *res;
 } Job;
 
 static void get_lane(const adb_lanes *v, int b, double *out, int n)
@@ -73,14 +72,14 @@ static void finish(const Job *J, Lane *L, const adb_lanes *Y, int b, int status)
     long k = L->k;
     double y[ADB_NY];
     get_lane(Y, b, y, ADB_NY);
-    J->status[k] = status;
+    adb_result *r = J->res + k;
+    r->status = status;
     memcpy(J->Y_end + (size_t)k * ADB_NY, y, sizeof y);
-    double *s = J->stats + (size_t)k * 4;
-    s[0] = s[1] = NAN;
-    s[2] = L->t;
-    s[3] = (status == ADB_SUCCESS || status == ADB_STOPPED) ? NAN : L->t;
-    J->counts[(size_t)k * 2] = L->evals;
-    J->counts[(size_t)k * 2 + 1] = L->steps;
+    r->r_max = r->t_dec = NAN;
+    r->t_last = L->t;
+    r->t_fail = (status == ADB_SUCCESS || status == ADB_STOPPED) ? NAN : L->t;
+    r->n_rhs = L->evals;
+    r->n_steps = L->steps;
     L->k = -1;
 }
 
@@ -103,7 +102,7 @@ static void run_group(const Job *J, int n, const double *Y0, const double *P, lo
                 if (k >= n) break;
                 const double *y0 = Y0 + (size_t)k * ADB_NY;
                 L[b] = (Lane){k, 0.0, 0.0, J->check_dt > 0.0 ? fmin(J->t_end, J->check_dt) : J->t_end, 0.0, 0, 2, 0};
-                J->target[k] = -1;
+                J->res[k].target = -1;
                 if (!adb_all_finite(y0, ADB_NY)) {
                     set_lane(Y, b, y0, ADB_NY);
                     for (int i = 0; i < ADB_NY; ++i) Y[i][b] = 0.0;
@@ -209,7 +208,7 @@ static void run_group(const Job *J, int n, const double *Y0, const double *P, lo
                     get_lane(Y, b, y, ADB_NY);
                     int tk = adb_in_target(y, J->n_targets, J->centres, J->weights, J->cubics, J->levels, J->periodic);
                     if (tk >= 0) {
-                        J->target[l->k] = tk;
+                        J->res[l->k].target = tk;
                         finish(J, l, Y, b, ADB_STOPPED);
                         continue;
                     }
@@ -221,24 +220,19 @@ static void run_group(const Job *J, int n, const double *Y0, const double *P, lo
     }
 }
 
-/* adb_rk_integrate_many's contract (measures ignored: r_max, t_dec NaN) on lane groups: one group per
+/* adb_integrate_many (adb_engine.h; s->measures ignored: r_max, t_dec NaN) on lane groups: one group per
  * OpenMP thread, all taking trajectories from one queue. */
-void adb_rk_batch_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
-                                 int method, long max_steps, const int *amp_idx, double threshold, int measures,
-                                 double check_dt, int n_targets, const double *centres, const double *weights,
-                                 const double *cubics, const double *levels, const unsigned char *periodic,
-                                 int threads, int *status, int *target, double *Y_end, double *stats, long *counts)
+void adb_integrate_many(int n, const double *Y0, const double *P, const adb_settings *s, int threads,
+                        double *Y_end, adb_result *res)
 {
-    (void)method, (void)amp_idx, (void)threshold, (void)measures;
-    Job J = {t_end, rtol, atol, check_dt, max_steps, n_targets, centres, weights, cubics, levels, periodic,
-             status, target, Y_end, stats, counts};
+    Job J = {s->t_end, s->rtol, s->atol, s->check_dt, s->max_steps, s->n_targets, s->centres, s->weights,
+             s->cubics, s->levels, s->periodic, Y_end, res};
     long next = 0;
-    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0)) {
+    if (!(s->t_end > 0.0) || !(s->rtol > 0.0) || !(s->atol > 0.0)) {
         for (int k = 0; k < n; ++k) {
-            status[k] = ADB_BAD_INPUT, target[k] = -1;
+            adb_result_clear(res + k);
+            res[k].status = ADB_BAD_INPUT;
             memcpy(Y_end + (size_t)k * ADB_NY, Y0 + (size_t)k * ADB_NY, sizeof(double) * ADB_NY);
-            for (int j = 0; j < 4; ++j) stats[(size_t)k * 4 + j] = NAN;
-            counts[2 * (size_t)k] = counts[2 * (size_t)k + 1] = 0;
         }
         return;
     }

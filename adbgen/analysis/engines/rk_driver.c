@@ -5,8 +5,8 @@
  *
  *     -DADB_MODEL_SOURCE='"<model>.c"' -DADB_RHS=<model>_rhs -DADB_NY=<states> -DADB_NP=<parameters>
  *
- * It reports what cyrk_driver.c reports, with the same entry points (adb_rk_integrate, _integrate_many,
- * _dense, _release; the same arguments): status codes, early stop in target regions at segment ends,
+ * It reports what cyrk_driver.c reports, through the same entry points (adb_engine.h: adb_integrate,
+ * adb_integrate_many, adb_release; adb_dense): status codes, early stop in target regions at segment ends,
  * r_max and t_dec on the continuous solution.  The continuous solution is the method's own 7th-order
  * interpolant of each accepted step, rebuilt when needed from the stored step (t_k, y_k, t_{k+1}): the
  * same arithmetic as the step itself, so the rebuilt step ends bitwise at y_{k+1}.  t_dec = sup{t : r(t)
@@ -28,10 +28,6 @@
 
 #include ADB_MODEL_SOURCE
 #include "driver_common.h"
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #define RK_T double
 #define RK_NY ADB_NY
@@ -83,14 +79,10 @@ static void measure(const double *p, const double *T, const double *Y, size_t K,
                     int n_peaks, double *r_max, double *t_dec)
 {
     int ix = amp[0], iy = amp[1];
-    double H2 = H * H, best = 0.0;
-    size_t last = (size_t)-1;
+    double H2 = H * H;
+    size_t last;
+    double best = adb_scan_ends(Y, K, ix, iy, H2, &last);
     Dense d;
-    for (size_t k = 0; k < K; ++k) {
-        double v = adb_r2(Y + k * ADB_NY, ix, iy);
-        if (v >= H2) last = k;
-        if (v > best) best = v;
-    }
     if (adb_r2(Y + (K - 1) * ADB_NY, ix, iy) >= H2) *t_dec = NAN;
     else {
         double found = -1.0;
@@ -112,15 +104,8 @@ static void measure(const double *p, const double *T, const double *Y, size_t K,
      * steps around each searched on their interpolants */
     double floor_ = 0.25 * best, done_above = INFINITY, refined = best;
     for (int q = 0; q < n_peaks; ++q) {
-        size_t kb = (size_t)-1;
-        double vb = -1.0;
-        for (size_t k = 0; k < K; ++k) {
-            double v = adb_r2(Y + k * ADB_NY, ix, iy);
-            if (v < floor_ || v >= done_above || v <= vb) continue;
-            if (k > 0 && adb_r2(Y + (k - 1) * ADB_NY, ix, iy) > v) continue;
-            if (k + 1 < K && adb_r2(Y + (k + 1) * ADB_NY, ix, iy) > v) continue;
-            kb = k, vb = v;
-        }
+        double vb;
+        size_t kb = adb_next_peak(Y, K, ix, iy, floor_, done_above, &vb);
         if (kb == (size_t)-1) break;
         done_above = vb;
         for (size_t k = kb > 0 ? kb - 1 : 0; k <= kb && k + 1 < K; ++k) {
@@ -155,29 +140,15 @@ static double first_step(double t, const double *y, const double *f0, double t_b
     return fmin(fmin(100.0 * h0, h1), span);
 }
 
-typedef struct {
-    double *t; /* accepted steps, malloc'd (adb_rk_release frees them) */
-    double *y;
-    long k;
-} Trajectory;
-
-/* One trajectory from t = 0 to t_end: cyrk_driver.c's adb_cyrk_integrate contract (method is unused:
- * DOP853).  out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [rhs evaluations, steps]. */
-int adb_rk_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, int method,
-                     long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
-                     const double *centres, const double *weights, const double *cubics, const double *levels,
-                     const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target,
-                     double *y_end, double *out_stats, long *out_counts)
+/* One trajectory from t = 0 to s->t_end (adb_engine.h; s->method is unused: DOP853), segments and early stop
+ * as cyrk_driver.c's. */
+static int adb_run(const double *y0, const double *p, const adb_settings *s, adb_trajectory *traj, double *y_end,
+                   adb_result *r)
 {
-    (void)method;
     const double *ctx = p;
-    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
-    out_counts[0] = out_counts[1] = 0;
-    if (target) *target = -1;
-    if (traj) traj->t = traj->y = NULL, traj->k = 0;
-    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
+    if (!(s->t_end > 0.0) || !(s->rtol > 0.0) || !(s->atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
     long evals = 2; /* f(0, y0) and the first step's estimate, then DOP_STAGES per step attempt */
-    int store = keep || measures, segmented = check_dt > 0.0, status = ADB_SUCCESS;
+    int store = s->keep || s->measures, segmented = s->check_dt > 0.0, status = ADB_SUCCESS;
     size_t cap = store ? 1024 : 1, K = 1;
     double *T = malloc(cap * sizeof(double)), *Y = malloc(cap * ADB_NY * sizeof(double));
     double y[ADB_NY], ynew[ADB_NY], Kst[DOP_EXTENDED][ADB_NY], t = 0.0;
@@ -185,12 +156,12 @@ int adb_rk_integrate(const double *y0, const double *p, double t_end, double rto
     T[0] = 0.0;
     memcpy(Y, y0, sizeof y);
     RK_RHS(t, y, Kst[0]);
-    double seg_end = segmented ? fmin(t_end, check_dt) : t_end;
-    double h_abs = first_step(t, y, Kst[0], seg_end, rtol, atol, ctx);
+    double seg_end = segmented ? fmin(s->t_end, s->check_dt) : s->t_end;
+    double h_abs = first_step(t, y, Kst[0], seg_end, s->rtol, s->atol, ctx);
     long steps = 0;
-    double r2max = adb_r2(y, amp_idx[0], amp_idx[1]);
-    while (t < t_end) {
-        if (max_steps > 0 && steps >= max_steps) {
+    double r2max = adb_r2(y, s->amp[0], s->amp[1]);
+    while (t < s->t_end) {
+        if (s->max_steps > 0 && steps >= s->max_steps) {
             status = ADB_MAX_STEPS;
             break;
         }
@@ -206,7 +177,7 @@ int adb_rk_integrate(const double *y0, const double *p, double t_end, double rto
             if (t_new > seg_end) t_new = seg_end;
             h = t_new - t;
             double e5, e3;
-            dop_step(t, h, y, Kst, ynew, rtol, atol, &e5, &e3, ctx);
+            dop_step(t, h, y, Kst, ynew, s->rtol, s->atol, &e5, &e3, ctx);
             evals += DOP_STAGES;
             double err = dop_norm(h, e5, e3);
             if (!adb_all_finite(ynew, ADB_NY) || !adb_all_finite(Kst[DOP_STAGES], ADB_NY)) {
@@ -236,35 +207,35 @@ int adb_rk_integrate(const double *y0, const double *p, double t_end, double rto
         } else {
             T[0] = t;
             memcpy(Y, y, sizeof y);
-            r2max = fmax(r2max, adb_r2(y, amp_idx[0], amp_idx[1]));
+            r2max = fmax(r2max, adb_r2(y, s->amp[0], s->amp[1]));
         }
-        if (t >= seg_end && t < t_end) {
-            if (n_targets > 0) {
-                int k = adb_in_target(y, n_targets, centres, weights, cubics, levels, periodic);
+        if (t >= seg_end && t < s->t_end) {
+            if (s->n_targets > 0) {
+                int k = adb_in_target(y, s->n_targets, s->centres, s->weights, s->cubics, s->levels, s->periodic);
                 if (k >= 0) {
-                    if (target) *target = k;
+                    r->target = k;
                     status = ADB_STOPPED;
                     break;
                 }
             }
-            seg_end = fmin(t_end, seg_end + check_dt);
+            seg_end = fmin(s->t_end, seg_end + s->check_dt);
         }
     }
-    if (status != ADB_SUCCESS && status != ADB_STOPPED) out_stats[3] = t;
-    if (!measures) {
+    if (status != ADB_SUCCESS && status != ADB_STOPPED) r->t_fail = t;
+    if (!s->measures) {
         /* r_max and t_dec not asked for: NaN */
     } else if (status == ADB_SUCCESS)
-        measure(p, T, Y, K, amp_idx, threshold, 8, &out_stats[0], &out_stats[1]);
+        measure(p, T, Y, K, s->amp, s->threshold, 8, &r->r_max, &r->t_dec);
     else {
         double best = r2max;
-        for (size_t k = 0; k < K; ++k) best = fmax(best, adb_r2(Y + k * ADB_NY, amp_idx[0], amp_idx[1]));
-        out_stats[0] = sqrt(best);
+        for (size_t k = 0; k < K; ++k) best = fmax(best, adb_r2(Y + k * ADB_NY, s->amp[0], s->amp[1]));
+        r->r_max = sqrt(best);
     }
-    out_stats[2] = t;
+    r->t_last = t;
     memcpy(y_end, y, sizeof y);
-    out_counts[0] = evals;
-    out_counts[1] = steps;
-    if (traj && keep) {
+    r->n_rhs = evals;
+    r->n_steps = steps;
+    if (traj && s->keep) {
         traj->t = T, traj->y = Y, traj->k = (long)K;
     } else {
         free(T);
@@ -273,38 +244,14 @@ int adb_rk_integrate(const double *y0, const double *p, double t_end, double rto
     return status;
 }
 
-void adb_rk_release(Trajectory *traj)
-{
-    free(traj->t);
-    free(traj->y);
-    traj->t = traj->y = NULL;
-    traj->k = 0;
-}
-
-/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
-void adb_rk_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
-                           int method, long max_steps, const int *amp_idx, double threshold, int measures,
-                           double check_dt, int n_targets, const double *centres, const double *weights,
-                           const double *cubics, const double *levels, const unsigned char *periodic, int threads,
-                           int *status, int *target, double *Y_end, double *stats, long *counts)
-{
-#ifdef _OPENMP
-    if (threads < 1) threads = omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-#endif
-    for (int k = 0; k < n; ++k)
-        status[k] = adb_rk_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, method,
-                                     max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights, cubics,
-                                     levels, periodic, 0, measures, NULL, target + k, Y_end + (size_t)k * ADB_NY,
-                                     stats + (size_t)k * 4, counts + (size_t)k * 2);
-}
+#include "adb_entries.h"
 
 /* The continuous solution of a run (its stored steps T, Y) at `times` (increasing, in [T[0], T[K-1]])
  * into out (n x ADB_NY): each step's interpolant, the one r_max and t_dec are located on.  Returns 0. */
-int adb_rk_dense(const double *T, const double *Y, long K, const double *p, double rtol, double atol, int method,
-                 int n, const double *times, double *out)
+int adb_dense(const double *T, const double *Y, long K, const double *p, const adb_settings *s, int n,
+              const double *times, double *out)
 {
-    (void)rtol, (void)atol, (void)method;
+    (void)s;
     Dense d;
     size_t k = 0, held = (size_t)-1;
     for (int j = 0; j < n; ++j) {

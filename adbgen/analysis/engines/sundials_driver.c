@@ -2,13 +2,13 @@
  * call per step or per right-hand-side evaluation.
  *
  * One translation unit per model: it #includes the model's generated C source (ADB_MODEL_SOURCE), so
- * the compiler sees the right-hand side and may inline it.  Compiled by adbgen.analysis.engines.sundials
+ * the compiler sees the right-hand side and may inline it.  Compiled by adbgen.analysis.engines.compiled
  * with
  *
  *     -DADB_MODEL_SOURCE='"<model>.c"' -DADB_RHS=<model>_rhs -DADB_JAC=<model>_jac
  *     -DADB_NY=<states> -DADB_NP=<parameters>
  *
- * Methods (argument `method`):
+ * Methods (adb_settings.method):
  *   0  ARKODE ERKStep, Fehlberg 13-stage 7(8)        explicit, order 8
  *   1  ARKODE ERKStep, Dormand-Prince 7-stage 4(5)   explicit, order 5
  *   2  ARKODE ERKStep, Verner 8-stage 5(6)           explicit, order 6
@@ -40,10 +40,6 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include ADB_MODEL_SOURCE
 #include "driver_common.h"
@@ -208,30 +204,25 @@ static void solver_stats(Solver *s, long *nfe, long *nsteps, double *hcur)
 
 /* Integrate one trajectory from t = 0 to t_end.
  *
- * sample_times (n_samples, increasing, in (0, t_end]) and samples (n_samples x ADB_NY) may be NULL/0.
- * Early stop: every check_dt (> 0) time units, if the state lies in one of the n_targets target
- * regions (in_target), the run stops with ADB_STOPPED and *target = its index (else -1).
- * out_stats: [r_max, t_dec (NaN when r(t_end) >= threshold), t_last (time reached), t_fail (NaN)],
- * out_counts: [rhs evaluations, steps].  y_end: the state at t_last.  message: 256 bytes or NULL.
+ * set->sample_times (set->n_samples, increasing, in (0, t_end]) and set->samples (n_samples x ADB_NY) may be
+ * NULL/0.  Early stop: every check_dt (> 0) time units, if the state lies in one of the n_targets target
+ * regions (adb_in_target), the run stops with ADB_STOPPED and out->target = its index (else -1).
+ * out->t_dec is NaN when r(t_end) >= threshold.  y_end: the state at out->t_last.  set->message: 256 bytes
+ * or NULL.  No steps are kept (traj unused): samples instead.
  */
-int adb_sundials_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, int method,
-                  long max_steps, const int *amp_idx, double threshold, int n_samples, const double *sample_times,
-                  double *samples, double check_dt, int n_targets, const double *centres, const double *weights,
-                  const double *cubics, const double *levels, const unsigned char *periodic, int *target, double *y_end, double *out_stats, long *out_counts,
-                  char *message)
+static int adb_run(const double *y0, const double *p, const adb_settings *set, adb_trajectory *traj, double *y_end,
+                   adb_result *out)
 {
+    (void)traj;
     RunData d;
     memset(&d, 0, sizeof d);
     d.p = p;
-    d.ix = amp_idx[0];
-    d.iy = amp_idx[1];
-    d.ixd = amp_idx[2];
-    d.iyd = amp_idx[3];
-    d.threshold = threshold;
-    if (target) *target = -1;
-    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
-    out_counts[0] = out_counts[1] = 0;
-    if (!(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0)) return ADB_BAD_INPUT;
+    d.ix = set->amp[0];
+    d.iy = set->amp[1];
+    d.ixd = set->amp[2];
+    d.iyd = set->amp[3];
+    d.threshold = set->threshold;
+    if (!(set->t_end > 0.0) || !(set->rtol > 0.0) || !(set->atol > 0.0)) return ADB_BAD_INPUT;
 
     SUNContext ctx;
     if (SUNContext_Create(NULL, &ctx)) return ADB_SOLVER_FAILURE;
@@ -241,20 +232,20 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
 
     Solver s;
     int status = ADB_SUCCESS;
-    if (solver_create(&s, method, ctx, y, &d, rtol, atol, max_steps)) {
+    if (solver_create(&s, set->method, ctx, y, &d, set->rtol, set->atol, set->max_steps)) {
         N_VDestroy(y);
         SUNContext_Free(&ctx);
         return ADB_BAD_INPUT;
     }
-    if (s.method < 10) ERKStepSetStopTime(s.mem, t_end);
-    else CVodeSetStopTime(s.mem, t_end);
+    if (s.method < 10) ERKStepSetStopTime(s.mem, set->t_end);
+    else CVodeSetStopTime(s.mem, set->t_end);
 
     double r_max = amplitude(&d, y0), t_cross = NAN, t = 0.0;
     int sample = 0;
-    double next_check = check_dt > 0.0 && n_targets > 0 ? check_dt : INFINITY;
-    while (t < t_end) {
-        double tout = t_end;
-        if (sample < n_samples && sample_times[sample] < tout) tout = sample_times[sample];
+    double next_check = set->check_dt > 0.0 && set->n_targets > 0 ? set->check_dt : INFINITY;
+    while (t < set->t_end) {
+        double tout = set->t_end;
+        if (sample < set->n_samples && set->sample_times[sample] < tout) tout = set->sample_times[sample];
         if (next_check < tout) tout = next_check;
         int flag = solver_evolve(&s, tout, y, &t);
         if (flag < 0) {
@@ -263,16 +254,16 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
             solver_stats(&s, &nfe, &nst, &h);
             if (d.nonfinite) {
                 status = ADB_NONFINITE;
-                out_stats[3] = d.t_nonfinite;
+                out->t_fail = d.t_nonfinite;
             } else if (flag == ARK_TOO_MUCH_WORK) {
                 status = ADB_MAX_STEPS;
-                out_stats[3] = t;
+                out->t_fail = t;
             } else if (fabs(h) <= 16.0 * 2.220446049250313e-16 * fmax(fabs(t), 1.0)) {
                 status = ADB_STEP_UNDERFLOW;
-                out_stats[3] = t;
+                out->t_fail = t;
             } else {
                 status = ADB_SOLVER_FAILURE;
-                out_stats[3] = t;
+                out->t_fail = t;
             }
             break;
         }
@@ -285,68 +276,49 @@ int adb_sundials_integrate(const double *y0, const double *p, double t_end, doub
             /* sup{t : r >= H} includes maxima above H between crossings; after such a root SUNDIALS
              * checks r^2 - H^2 again from it to the step's end, so the excursion's end is the next
              * crossing root even when both step ends are below H */
-            if (found[1] && r >= threshold) t_cross = fmax(t_cross, t);
+            if (found[1] && r >= set->threshold) t_cross = fmax(t_cross, t);
             continue;
         }
         if (!isfinite(r)) {
             status = ADB_NONFINITE;
-            out_stats[3] = t;
+            out->t_fail = t;
             break;
         }
-        while (sample < n_samples && sample_times[sample] <= t) {
-            memcpy(samples + (size_t)sample * ADB_NY, yd, sizeof(double) * ADB_NY);
+        while (sample < set->n_samples && set->sample_times[sample] <= t) {
+            memcpy(set->samples + (size_t)sample * ADB_NY, yd, sizeof(double) * ADB_NY);
             ++sample;
         }
         if (t >= next_check) {
-            int k = adb_in_target(yd, n_targets, centres, weights, cubics, levels, periodic);
+            int k = adb_in_target(yd, set->n_targets, set->centres, set->weights, set->cubics, set->levels,
+                                  set->periodic);
             if (k >= 0) {
-                if (target) *target = k;
+                out->target = k;
                 status = ADB_STOPPED;
                 break;
             }
-            next_check += check_dt;
+            next_check += set->check_dt;
         }
     }
     double h;
     long nfe, nst;
     solver_stats(&s, &nfe, &nst, &h);
     memcpy(y_end, yd, sizeof(double) * ADB_NY);
-    out_stats[0] = r_max;
+    out->r_max = r_max;
     /* t_dec = sup{t <= t_end : r >= H}: the last crossing when r has settled below H, 0 when never above */
     if (status == ADB_SUCCESS) {
         double r_end = amplitude(&d, yd);
-        if (r_end >= threshold) out_stats[1] = NAN;
-        else out_stats[1] = isnan(t_cross) ? 0.0 : t_cross;
+        if (r_end >= set->threshold) out->t_dec = NAN;
+        else out->t_dec = isnan(t_cross) ? 0.0 : t_cross;
     }
-    out_stats[2] = t;
-    out_counts[0] = nfe;
-    out_counts[1] = nst;
-    if (message) memcpy(message, d.message, sizeof d.message);
+    out->t_last = t;
+    out->n_rhs = nfe;
+    out->n_steps = nst;
+    if (set->message) memcpy(set->message, d.message, sizeof d.message);
     solver_free(&s);
     N_VDestroy(y);
     SUNContext_Free(&ctx);
     return status;
 }
 
-/* Many trajectories on `threads` OpenMP threads (dynamic schedule): row k of Y0 (N x ADB_NY) with row k
- * of P (N x ADB_NP).  Per trajectory the outputs of adb_integrate (no samples), in rows.  The result of
- * a trajectory does not depend on the thread that ran it. */
-void adb_sundials_integrate_many(int n, const double *Y0, const double *P, double t_end, double rtol, double atol,
-                        int method, long max_steps, const int *amp_idx, double threshold, int measures,
-                        double check_dt, int n_targets, const double *centres, const double *weights,
-                        const double *cubics, const double *levels, const unsigned char *periodic, int threads, int *status, int *target, double *Y_end,
-                        double *stats, long *counts)
-{
-    (void)measures; /* r_max and t_dec come from the root finding along the way: nothing to save */
-#ifdef _OPENMP
-    if (threads < 1) threads = omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-#endif
-    for (int k = 0; k < n; ++k) {
-        status[k] = adb_sundials_integrate(Y0 + (size_t)k * ADB_NY, P + (size_t)k * ADB_NP, t_end, rtol, atol, method,
-                                  max_steps, amp_idx, threshold, 0, NULL, NULL, check_dt, n_targets, centres,
-                                  weights, cubics, levels, periodic, target + k, Y_end + (size_t)k * ADB_NY, stats + (size_t)k * 4,
-                                  counts + (size_t)k * 2, NULL);
-    }
-}
-
+/* r_max and t_dec come from the root finding along the way: set->measures saves nothing */
+#include "adb_entries.h"

@@ -23,14 +23,14 @@ import math
 import os
 import platform
 import threading
-import time
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
 from ..loading import AnalysisError
-from .compiled import HERE, I, L, _Compiled, _ptr, _single, _Trajectory, compile_cached
+from . import c_interface as ci
+from .compiled import HERE, _Compiled, compile_cached
 from .rk import lanes
 
 CFLAGS = ["-std=gnu99", "-O3", "-march=native", "-ffp-contract=off", "-fPIC", "-shared", "-fopenmp"]
@@ -87,7 +87,9 @@ def build(model, order: int, batch: int = 1, vector_math: bool = False, norm: st
     vector_math = vector_math and batch > 1
     defines = [f'-DADB_TS_SOURCE="{source}"', f"-DADB_TS_PREFIX={model.name}", f"-DADB_TS_ORDER={order}",
                f"-DADB_NY={model.n_states}", f"-DADB_NP={model.n_params}", f"-DTS_B={batch}",
-               f"-DTS_VECTOR_MATH={1 if vector_math else 0}", f"-DADB_TS_NORM={NORMS[norm]}"]
+               f"-DTS_VECTOR_MATH={1 if vector_math else 0}", f"-DADB_TS_NORM={NORMS[norm]}",
+               # the per-order functions and their table (taylor_driver.c): one FN(K) per order K < order
+               "-DADB_TS_ORDERS(FN)=" + " ".join(f"FN({k})" for k in range(order))]
     kind = f"taylor{order}" + (f"x{batch}" if batch > 1 else "") + ("v" if vector_math else "") + \
         ("m" if norm == "max" else "")
     # not builtins: GCC would merge sin and cos into a scalar sincos per lane before the vectoriser sees the
@@ -100,14 +102,10 @@ def build(model, order: int, batch: int = 1, vector_math: bool = False, norm: st
 
 @lru_cache(maxsize=None)
 def _load_cached(path: str, batch: int):
-    lib = ctypes.CDLL(path)
-    if batch > 1:
-        lib.adb_taylor_batch_many.restype = None
-        return lib
-    lib.adb_taylor_integrate.restype = ctypes.c_int
-    lib.adb_taylor_integrate_many.restype = None
-    lib.adb_taylor_dense.restype = ctypes.c_int
-    lib.adb_taylor_jet.restype = ctypes.c_int
+    lib = ci.open_library(path)
+    if batch == 1:
+        lib.adb_taylor_jet.restype = ctypes.c_int
+        lib.adb_taylor_jet.argtypes = [ctypes.c_double, ci.D, ci.D, ci.D]
     return lib
 
 
@@ -159,63 +157,27 @@ class TaylorEngine(_Compiled):
     def library(self, model, order: int | None = None):
         return library(model, order if order is not None else heyoka_order(1e-8), norm=self.norm)
 
-    def run(self, model, p, y0, t_end, rtol, atol, threshold, max_steps, keep_trajectory=True, samples=0):
+    def _single_call(self, model, rtol, atol):
         order, fac = self.settings(rtol, atol)
-        lib = library(model, order, norm=self.norm)
-        y0 = np.ascontiguousarray(y0, dtype=float)
-        p = np.ascontiguousarray(p, dtype=float)
-        amp = self._common(model, threshold)
-        traj = _Trajectory()
-        target = ctypes.c_int(-1)
-        y_end = np.zeros(model.n_states)
-        stats = np.zeros(4)
-        counts = np.zeros(2, np.int64)
-        start = time.perf_counter()
-        code = lib.adb_taylor_integrate(
-            _ptr(y0), _ptr(p), ctypes.c_double(t_end), ctypes.c_double(rtol), ctypes.c_double(atol),
-            ctypes.c_double(fac), ctypes.c_long(int(max_steps)), _ptr(amp, I), ctypes.c_double(threshold),
-            ctypes.c_double(0.0), 0, None, None, None, None, None, 1 if keep_trajectory else 0, 1, ctypes.byref(traj),
-            ctypes.byref(target), _ptr(y_end), _ptr(stats), _ptr(counts, L))
-        wall = time.perf_counter() - start
-        try:
-            k = traj.k
-            t = np.ctypeslib.as_array(traj.t, (k,)).copy() if k else np.zeros(0)
-            y = np.ctypeslib.as_array(traj.y, (k, model.n_states)).T.copy() if k else np.zeros((model.n_states, 0))
-        finally:
-            if traj.k:
-                lib.adb_taylor_release(ctypes.byref(traj))
-        out = _single(code, t, y, y_end, stats, counts, wall, "")
-        out["picked"] = {"engine": self.name, "rtol": rtol, "atol": atol, "order": order, "step_factor": fac}
-        return out
+        picked = {"engine": self.name, "rtol": rtol, "atol": atol, "order": order, "step_factor": fac}
+        return library(model, order, norm=self.norm), {"step_factor": fac}, picked
 
     batch = 1  # trajectories per lane group of the compiled series (the batch variant: the CPU's lanes)
     vector_math = False  # sin, cos and pow from libmvec over the lanes (the batch variant unless exact_math)
-    entry = "adb_taylor_integrate_many"
 
     def _many_call(self, model, rtol, atol):
         order, fac = self.settings(rtol, atol)
-        return library(model, order, self.batch, self.vector_math, self.norm), self.entry, ctypes.c_double(fac)
+        return library(model, order, self.batch, self.vector_math, self.norm), {"step_factor": fac}
 
-    def dense(self, model, p, t, y, times, rtol, atol) -> np.ndarray:
-        """The continuous solution of a run (its steps t, y as `run` returns them) at `times` (increasing,
-        within [t[0], t[-1]]), states x times: each step's Taylor polynomial."""
-        order, _ = self.settings(rtol, atol)
-        lib = library(model, order, norm=self.norm)
-        T = np.ascontiguousarray(t, dtype=float)
-        Y = np.ascontiguousarray(np.asarray(y).T, dtype=float)
-        times = np.ascontiguousarray(times, dtype=float)
-        out = np.zeros((len(times), model.n_states))
-        lib.adb_taylor_dense(_ptr(T), _ptr(Y), ctypes.c_long(len(T)), _ptr(np.ascontiguousarray(p, dtype=float)),
-                             len(times), _ptr(times), _ptr(out))
-        return out.T
+    dense = _Compiled.dense_output
 
     def jet(self, model, t: float, y, p, order: int) -> np.ndarray:
         """The solution's Taylor coefficients (order + 1 rows of states) through (t, y), by the engine's
         compiled stepper of that order."""
         lib = library(model, order)
         out = np.zeros((order + 1, model.n_states))
-        lib.adb_taylor_jet(ctypes.c_double(t), _ptr(np.ascontiguousarray(y, dtype=float)),
-                           _ptr(np.ascontiguousarray(p, dtype=float)), _ptr(out))
+        lib.adb_taylor_jet(float(t), ci.ptr(np.ascontiguousarray(y, dtype=float)),
+                           ci.ptr(np.ascontiguousarray(p, dtype=float)), ci.ptr(out))
         return out
 
 
@@ -233,7 +195,6 @@ class TaylorBatchEngine(TaylorEngine):
     one's scale (the rotor's x, y beside the balls' angles), which suits ensembles that ask for
     attractors (labels), not for r_max/t_dec of small whirls."""
 
-    entry = "adb_taylor_batch_many"
 
     def __init__(self, name: str = "taylor-batch", description: str = "", table=None, exact_math: bool = False,
                  n_lanes: int | None = None, norm: str = "component"):

@@ -6,7 +6,8 @@
  * convolution unrolled; compiled by adbgen.analysis.engines.taylor with
  *
  *     -DADB_TS_SOURCE='"<model>_taylor.c"' -DADB_TS_PREFIX=<model> -DADB_TS_ORDER=<p> -DADB_NY=<states>
- *     -DADB_NP=<parameters>   (gcc -O3 -march=native -ffp-contract=off)
+ *     -DADB_NP=<parameters> -D'ADB_TS_ORDERS(FN)=FN(0) ... FN(<p - 1>)'   (gcc -O3 -march=native
+ *     -ffp-contract=off)
  *
  * A step from (t, y): the coefficients y_0..y_p of the solution (y_{K+1} = f_K / (K + 1)); the step
  * h = fac * rho exp(-0.7 / (p - 1)) / e^2 (Jorba & Zou's rule, heyoka's with fac = 1) with rho taken per
@@ -85,7 +86,8 @@ typedef struct {
 } Stepper;
 
 /* Order K of the series program, K constant: one function per order (each compiled on its own, which
- * keeps gcc's time linear in the order's size), its convolutions unrolled. */
+ * keeps gcc's time linear in the order's size), its convolutions unrolled.  The build's orders come from
+ * ADB_TS_ORDERS(FN), FN(0) FN(1) ... FN(P - 1), rendered for the order by engines/taylor.py (build). */
 #define ADB_ORDER_FN(K)                                                                                      \
     static __attribute__((noinline)) void order_##K(Stepper *S)                                              \
     {                                                                                                        \
@@ -100,249 +102,9 @@ static void jet_of(Stepper *S, double t, const double *y);
 #if P > 40 || P < 2
 #error "ADB_TS_ORDER must be in 2..40"
 #endif
-#if P > 0
-ADB_ORDER_FN(0)
-#endif
-#if P > 1
-ADB_ORDER_FN(1)
-#endif
-#if P > 2
-ADB_ORDER_FN(2)
-#endif
-#if P > 3
-ADB_ORDER_FN(3)
-#endif
-#if P > 4
-ADB_ORDER_FN(4)
-#endif
-#if P > 5
-ADB_ORDER_FN(5)
-#endif
-#if P > 6
-ADB_ORDER_FN(6)
-#endif
-#if P > 7
-ADB_ORDER_FN(7)
-#endif
-#if P > 8
-ADB_ORDER_FN(8)
-#endif
-#if P > 9
-ADB_ORDER_FN(9)
-#endif
-#if P > 10
-ADB_ORDER_FN(10)
-#endif
-#if P > 11
-ADB_ORDER_FN(11)
-#endif
-#if P > 12
-ADB_ORDER_FN(12)
-#endif
-#if P > 13
-ADB_ORDER_FN(13)
-#endif
-#if P > 14
-ADB_ORDER_FN(14)
-#endif
-#if P > 15
-ADB_ORDER_FN(15)
-#endif
-#if P > 16
-ADB_ORDER_FN(16)
-#endif
-#if P > 17
-ADB_ORDER_FN(17)
-#endif
-#if P > 18
-ADB_ORDER_FN(18)
-#endif
-#if P > 19
-ADB_ORDER_FN(19)
-#endif
-#if P > 20
-ADB_ORDER_FN(20)
-#endif
-#if P > 21
-ADB_ORDER_FN(21)
-#endif
-#if P > 22
-ADB_ORDER_FN(22)
-#endif
-#if P > 23
-ADB_ORDER_FN(23)
-#endif
-#if P > 24
-ADB_ORDER_FN(24)
-#endif
-#if P > 25
-ADB_ORDER_FN(25)
-#endif
-#if P > 26
-ADB_ORDER_FN(26)
-#endif
-#if P > 27
-ADB_ORDER_FN(27)
-#endif
-#if P > 28
-ADB_ORDER_FN(28)
-#endif
-#if P > 29
-ADB_ORDER_FN(29)
-#endif
-#if P > 30
-ADB_ORDER_FN(30)
-#endif
-#if P > 31
-ADB_ORDER_FN(31)
-#endif
-#if P > 32
-ADB_ORDER_FN(32)
-#endif
-#if P > 33
-ADB_ORDER_FN(33)
-#endif
-#if P > 34
-ADB_ORDER_FN(34)
-#endif
-#if P > 35
-ADB_ORDER_FN(35)
-#endif
-#if P > 36
-ADB_ORDER_FN(36)
-#endif
-#if P > 37
-ADB_ORDER_FN(37)
-#endif
-#if P > 38
-ADB_ORDER_FN(38)
-#endif
-#if P > 39
-ADB_ORDER_FN(39)
-#endif
-
-static void (*const orders[P])(Stepper *) = {
-#if P > 0
-    order_0,
-#endif
-#if P > 1
-    order_1,
-#endif
-#if P > 2
-    order_2,
-#endif
-#if P > 3
-    order_3,
-#endif
-#if P > 4
-    order_4,
-#endif
-#if P > 5
-    order_5,
-#endif
-#if P > 6
-    order_6,
-#endif
-#if P > 7
-    order_7,
-#endif
-#if P > 8
-    order_8,
-#endif
-#if P > 9
-    order_9,
-#endif
-#if P > 10
-    order_10,
-#endif
-#if P > 11
-    order_11,
-#endif
-#if P > 12
-    order_12,
-#endif
-#if P > 13
-    order_13,
-#endif
-#if P > 14
-    order_14,
-#endif
-#if P > 15
-    order_15,
-#endif
-#if P > 16
-    order_16,
-#endif
-#if P > 17
-    order_17,
-#endif
-#if P > 18
-    order_18,
-#endif
-#if P > 19
-    order_19,
-#endif
-#if P > 20
-    order_20,
-#endif
-#if P > 21
-    order_21,
-#endif
-#if P > 22
-    order_22,
-#endif
-#if P > 23
-    order_23,
-#endif
-#if P > 24
-    order_24,
-#endif
-#if P > 25
-    order_25,
-#endif
-#if P > 26
-    order_26,
-#endif
-#if P > 27
-    order_27,
-#endif
-#if P > 28
-    order_28,
-#endif
-#if P > 29
-    order_29,
-#endif
-#if P > 30
-    order_30,
-#endif
-#if P > 31
-    order_31,
-#endif
-#if P > 32
-    order_32,
-#endif
-#if P > 33
-    order_33,
-#endif
-#if P > 34
-    order_34,
-#endif
-#if P > 35
-    order_35,
-#endif
-#if P > 36
-    order_36,
-#endif
-#if P > 37
-    order_37,
-#endif
-#if P > 38
-    order_38,
-#endif
-#if P > 39
-    order_39,
-#endif
-};
+ADB_TS_ORDERS(ADB_ORDER_FN)
+#define ADB_ORDER_PTR(K) order_##K,
+static void (*const orders[P])(Stepper *) = {ADB_TS_ORDERS(ADB_ORDER_PTR)};
 
 static void jet_of(Stepper *S, double t, const double *y)
 {
@@ -563,13 +325,7 @@ static double switch_limit(const TsWork *w, int b, double t, double h)
 
 /* ------------------------------------------------------------------------------ integration */
 
-typedef struct {
-    double *t; /* step ends, malloc'd (adb_taylor_release frees them) */
-    double *y;
-    long k;
-} Trajectory;
-
-/* What a run is asked (shared by the trajectories of a batch) */
+/* What a run is asked (shared by the trajectories of a batch): adb_settings with the threshold squared */
 typedef struct {
     double t_end, rtol, atol, fac, H2, check_dt;
     long max_steps;
@@ -784,62 +540,62 @@ static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *
     if (L->t >= st->t_end) L->running = 0;
 }
 
-/* A finished lane's outputs (out_stats: [r_max, t_dec, t_last, t_fail]; out_counts: [order passes
- * (steps x P, the analogue of rhs evaluations), steps]) */
-static void lane_finish(Lane *L, const Settings *st, int *target, double *y_end, double *out_stats,
-                        long *out_counts)
+/* A finished lane's outputs (adb_result; n_rhs: order passes, steps x P, the analogue of rhs evaluations) */
+static void lane_finish(Lane *L, const Settings *st, double *y_end, adb_result *r)
 {
-    out_stats[0] = out_stats[1] = NAN;
+    r->r_max = r->t_dec = NAN;
     if (st->measures) {
         resolve_max(L);
         resolve_dec(L, st->H2);
-        out_stats[0] = sqrt(L->r2max);
+        r->r_max = sqrt(L->r2max);
         if (L->status == ADB_SUCCESS)
-            out_stats[1] = adb_r2(L->y, st->amp[0], st->amp[1]) >= st->H2 ? NAN
-                           : (L->last_above < 0.0 ? 0.0 : L->last_above);
+            r->t_dec = adb_r2(L->y, st->amp[0], st->amp[1]) >= st->H2 ? NAN
+                       : (L->last_above < 0.0 ? 0.0 : L->last_above);
     }
-    out_stats[2] = L->t;
-    out_stats[3] = L->t_fail;
+    r->t_last = L->t;
+    r->t_fail = L->t_fail;
     memcpy(y_end, L->y, sizeof L->y);
-    out_counts[0] = L->steps * P;
-    out_counts[1] = L->steps;
-    if (target) *target = L->target;
+    r->n_rhs = L->steps * P;
+    r->n_steps = L->steps;
+    r->target = L->target;
+    r->status = L->status;
 }
 
-static int bad_settings(double t_end, double rtol, double atol, double fac)
+static int bad_settings(const adb_settings *s)
 {
-    return !(t_end > 0.0) || !(rtol > 0.0) || !(atol > 0.0) || !(fac > 0.0);
+    return !(s->t_end > 0.0) || !(s->rtol > 0.0) || !(s->atol > 0.0) || !(s->step_factor > 0.0);
+}
+
+/* the run's Settings from the interface's */
+static Settings settings_of(const adb_settings *s)
+{
+    const Settings st = {s->t_end, s->rtol, s->atol, s->step_factor, s->threshold * s->threshold, s->check_dt,
+                         s->max_steps, s->amp, s->measures, s->n_targets, s->centres, s->weights, s->cubics,
+                         s->levels, s->periodic};
+    return st;
 }
 
 #if TS_B == 1
-/* One trajectory from t = 0 to t_end (the contract of cyrk_driver.c's adb_cyrk_integrate, with fac, the
- * step factor, in place of the method).  With check_dt > 0 the state is tested at every multiple of
- * check_dt (on the step's polynomial: the steps are the same with or without targets) and the run
- * stops in the first target region holding it. */
-int adb_taylor_integrate(const double *y0, const double *p, double t_end, double rtol, double atol, double fac,
-                         long max_steps, const int *amp_idx, double threshold, double check_dt, int n_targets,
-                         const double *centres, const double *weights, const double *cubics, const double *levels,
-                         const unsigned char *periodic, int keep, int measures, Trajectory *traj, int *target,
-                         double *y_end, double *out_stats, long *out_counts)
+/* One trajectory from t = 0 to s->t_end (adb_engine.h, with s->step_factor, the step factor; s->method
+ * unused).  With check_dt > 0 the state is tested at every multiple of check_dt (on the step's polynomial:
+ * the steps are the same with or without targets) and the run stops in the first target region holding
+ * it. */
+static int adb_run(const double *y0, const double *p, const adb_settings *s, adb_trajectory *traj, double *y_end,
+                   adb_result *r)
 {
-    out_stats[0] = out_stats[1] = out_stats[2] = out_stats[3] = NAN;
-    out_counts[0] = out_counts[1] = 0;
-    if (target) *target = -1;
-    if (traj) traj->t = traj->y = NULL, traj->k = 0;
-    if (bad_settings(t_end, rtol, atol, fac) || !adb_all_finite(y0, NY)) return ADB_BAD_INPUT;
+    if (bad_settings(s) || !adb_all_finite(y0, NY)) return ADB_BAD_INPUT;
     binoms();
     Stepper *S = ts_alloc(sizeof(Stepper));
     if (!S) return ADB_SOLVER_FAILURE;
-    const Settings st = {t_end, rtol, atol, fac, threshold * threshold, check_dt, max_steps, amp_idx, measures,
-                         n_targets, centres, weights, cubics, levels, periodic};
+    const Settings st = settings_of(s);
     TSF(_ts_setup)(&S->w, p);
     Lane L;
-    lane_start(&L, &st, y0, keep && traj != NULL);
+    lane_start(&L, &st, y0, s->keep && traj != NULL);
     while (L.running) {
         jet_of(S, L.t, L.y);
         lane_step(&L, &st, (const double(*)[NY])S->jet, &S->w, 0);
     }
-    lane_finish(&L, &st, target, y_end, out_stats, out_counts);
+    lane_finish(&L, &st, y_end, r);
     free(S);
     if (traj && L.keep) {
         traj->t = L.T, traj->y = L.Y, traj->k = (long)L.K;
@@ -850,34 +606,8 @@ int adb_taylor_integrate(const double *y0, const double *p, double t_end, double
     return L.status;
 }
 
-void adb_taylor_release(Trajectory *traj)
-{
-    free(traj->t);
-    free(traj->y);
-    traj->t = traj->y = NULL;
-    traj->k = 0;
-}
-
-/* Many trajectories on `threads` OpenMP threads; row k of Y0 with row k of P; outputs in rows. */
-void adb_taylor_integrate_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
-                               double fac, long max_steps, const int *amp_idx, double threshold, int measures,
-                               double check_dt, int n_targets, const double *centres, const double *weights,
-                               const double *cubics, const double *levels, const unsigned char *periodic,
-                               int threads, int *status, int *target, double *Y_end, double *stats, long *counts)
-{
-    binoms();
-#ifdef _OPENMP
-    if (threads < 1) threads = omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-#else
-    (void)threads;
-#endif
-    for (int k = 0; k < n; ++k)
-        status[k] = adb_taylor_integrate(Y0 + (size_t)k * NY, Pm + (size_t)k * ADB_NP, t_end, rtol, atol, fac,
-                                         max_steps, amp_idx, threshold, check_dt, n_targets, centres, weights,
-                                         cubics, levels, periodic, 0, measures, NULL, target + k,
-                                         Y_end + (size_t)k * NY, stats + (size_t)k * 4, counts + (size_t)k * 2);
-}
+#define ADB_MANY_SETUP() binoms() /* the binomial table once, before the threads */
+#include "adb_entries.h"
 
 #endif
 
@@ -900,249 +630,9 @@ typedef struct {
         for (int i = 0; i < NY * TS_B; ++i) S->jet[(K) + 1][i] = S->f[i] * ts_rec[(K) + 1];                   \
         TSF(_ts_load)(&S->w, (K) + 1, S->jet[(K) + 1]);                                                      \
     }
-#if P > 0
-ADB_BORDER_FN(0)
-#endif
-#if P > 1
-ADB_BORDER_FN(1)
-#endif
-#if P > 2
-ADB_BORDER_FN(2)
-#endif
-#if P > 3
-ADB_BORDER_FN(3)
-#endif
-#if P > 4
-ADB_BORDER_FN(4)
-#endif
-#if P > 5
-ADB_BORDER_FN(5)
-#endif
-#if P > 6
-ADB_BORDER_FN(6)
-#endif
-#if P > 7
-ADB_BORDER_FN(7)
-#endif
-#if P > 8
-ADB_BORDER_FN(8)
-#endif
-#if P > 9
-ADB_BORDER_FN(9)
-#endif
-#if P > 10
-ADB_BORDER_FN(10)
-#endif
-#if P > 11
-ADB_BORDER_FN(11)
-#endif
-#if P > 12
-ADB_BORDER_FN(12)
-#endif
-#if P > 13
-ADB_BORDER_FN(13)
-#endif
-#if P > 14
-ADB_BORDER_FN(14)
-#endif
-#if P > 15
-ADB_BORDER_FN(15)
-#endif
-#if P > 16
-ADB_BORDER_FN(16)
-#endif
-#if P > 17
-ADB_BORDER_FN(17)
-#endif
-#if P > 18
-ADB_BORDER_FN(18)
-#endif
-#if P > 19
-ADB_BORDER_FN(19)
-#endif
-#if P > 20
-ADB_BORDER_FN(20)
-#endif
-#if P > 21
-ADB_BORDER_FN(21)
-#endif
-#if P > 22
-ADB_BORDER_FN(22)
-#endif
-#if P > 23
-ADB_BORDER_FN(23)
-#endif
-#if P > 24
-ADB_BORDER_FN(24)
-#endif
-#if P > 25
-ADB_BORDER_FN(25)
-#endif
-#if P > 26
-ADB_BORDER_FN(26)
-#endif
-#if P > 27
-ADB_BORDER_FN(27)
-#endif
-#if P > 28
-ADB_BORDER_FN(28)
-#endif
-#if P > 29
-ADB_BORDER_FN(29)
-#endif
-#if P > 30
-ADB_BORDER_FN(30)
-#endif
-#if P > 31
-ADB_BORDER_FN(31)
-#endif
-#if P > 32
-ADB_BORDER_FN(32)
-#endif
-#if P > 33
-ADB_BORDER_FN(33)
-#endif
-#if P > 34
-ADB_BORDER_FN(34)
-#endif
-#if P > 35
-ADB_BORDER_FN(35)
-#endif
-#if P > 36
-ADB_BORDER_FN(36)
-#endif
-#if P > 37
-ADB_BORDER_FN(37)
-#endif
-#if P > 38
-ADB_BORDER_FN(38)
-#endif
-#if P > 39
-ADB_BORDER_FN(39)
-#endif
-
-static void (*const borders[P])(BStepper *) = {
-#if P > 0
-    border_0,
-#endif
-#if P > 1
-    border_1,
-#endif
-#if P > 2
-    border_2,
-#endif
-#if P > 3
-    border_3,
-#endif
-#if P > 4
-    border_4,
-#endif
-#if P > 5
-    border_5,
-#endif
-#if P > 6
-    border_6,
-#endif
-#if P > 7
-    border_7,
-#endif
-#if P > 8
-    border_8,
-#endif
-#if P > 9
-    border_9,
-#endif
-#if P > 10
-    border_10,
-#endif
-#if P > 11
-    border_11,
-#endif
-#if P > 12
-    border_12,
-#endif
-#if P > 13
-    border_13,
-#endif
-#if P > 14
-    border_14,
-#endif
-#if P > 15
-    border_15,
-#endif
-#if P > 16
-    border_16,
-#endif
-#if P > 17
-    border_17,
-#endif
-#if P > 18
-    border_18,
-#endif
-#if P > 19
-    border_19,
-#endif
-#if P > 20
-    border_20,
-#endif
-#if P > 21
-    border_21,
-#endif
-#if P > 22
-    border_22,
-#endif
-#if P > 23
-    border_23,
-#endif
-#if P > 24
-    border_24,
-#endif
-#if P > 25
-    border_25,
-#endif
-#if P > 26
-    border_26,
-#endif
-#if P > 27
-    border_27,
-#endif
-#if P > 28
-    border_28,
-#endif
-#if P > 29
-    border_29,
-#endif
-#if P > 30
-    border_30,
-#endif
-#if P > 31
-    border_31,
-#endif
-#if P > 32
-    border_32,
-#endif
-#if P > 33
-    border_33,
-#endif
-#if P > 34
-    border_34,
-#endif
-#if P > 35
-    border_35,
-#endif
-#if P > 36
-    border_36,
-#endif
-#if P > 37
-    border_37,
-#endif
-#if P > 38
-    border_38,
-#endif
-#if P > 39
-    border_39,
-#endif
-};
+ADB_TS_ORDERS(ADB_BORDER_FN)
+#define ADB_BORDER_PTR(K) border_##K,
+static void (*const borders[P])(BStepper *) = {ADB_TS_ORDERS(ADB_BORDER_PTR)};
 
 static int take_next(int *next, int n)
 {
@@ -1231,25 +721,19 @@ static void batch_horner(const BStepper *S, const double *h, double *y)
     }
 }
 
-/* The contract of adb_taylor_integrate_many; `threads` OpenMP threads, each with its own batch. */
-void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_end, double rtol, double atol,
-                           double fac, long max_steps, const int *amp_idx, double threshold, int measures,
-                           double check_dt, int n_targets, const double *centres, const double *weights,
-                           const double *cubics, const double *levels, const unsigned char *periodic, int threads,
-                           int *status, int *target, double *Y_end, double *stats, long *counts)
+/* The batch build's adb_integrate_many (adb_engine.h): TS_B trajectories per lane group, a group per thread */
+void adb_integrate_many(int n, const double *Y0, const double *Pm, const adb_settings *s, int threads,
+                        double *Y_end, adb_result *res)
 {
     binoms();
-    const Settings st = {t_end, rtol, atol, fac, threshold * threshold, check_dt, max_steps, amp_idx, measures,
-                         n_targets, centres, weights, cubics, levels, periodic};
+    const Settings st = settings_of(s);
     for (int k = 0; k < n; ++k) {
-        status[k] = ADB_BAD_INPUT;
-        target[k] = -1;
-        for (int i = 0; i < 4; ++i) stats[(size_t)k * 4 + i] = NAN;
-        counts[(size_t)k * 2] = counts[(size_t)k * 2 + 1] = 0;
+        adb_result_clear(res + k);
+        res[k].status = ADB_BAD_INPUT;
     }
-    if (bad_settings(t_end, rtol, atol, fac)) return;
+    if (bad_settings(s)) return;
     /* nothing asked of a lane but its end state: every step over the lanes at once */
-    const int whole = !measures && n_targets == 0 && TS_N_SWITCH == 0;
+    const int whole = !s->measures && s->n_targets == 0 && TS_N_SWITCH == 0;
     int next = 0;
 #ifdef _OPENMP
     if (threads < 1) threads = omp_get_max_threads();
@@ -1325,9 +809,7 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
                     }
                     if (!Lb->running) {
                         const int k = traj[b];
-                        lane_finish(Lb, &st, target + k, Y_end + (size_t)k * NY, stats + (size_t)k * 4,
-                                    counts + (size_t)k * 2);
-                        status[k] = Lb->status;
+                        lane_finish(Lb, &st, Y_end + (size_t)k * NY, res + k);
                     }
                 }
                 continue;
@@ -1339,9 +821,7 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
                 lane_step(&L[b], &st, (const double(*)[NY])lj, &S->w, b);
                 if (!L[b].running) {
                     const int k = traj[b];
-                    lane_finish(&L[b], &st, target + k, Y_end + (size_t)k * NY, stats + (size_t)k * 4,
-                                counts + (size_t)k * 2);
-                    status[k] = L[b].status;
+                    lane_finish(&L[b], &st, Y_end + (size_t)k * NY, res + k);
                 }
             }
         }
@@ -1353,9 +833,10 @@ void adb_taylor_batch_many(int n, const double *Y0, const double *Pm, double t_e
 #if TS_B == 1
 /* The continuous solution of a run at `times` (n, increasing, within [T[0], T[K-1]]) into out (n x NY):
  * each step's polynomial, computed again from its start (the same coefficients as in the run). */
-int adb_taylor_dense(const double *T, const double *Y, long K, const double *p, int n, const double *times,
-                     double *out)
+int adb_dense(const double *T, const double *Y, long K, const double *p, const adb_settings *s, int n,
+              const double *times, double *out)
 {
+    (void)s; /* each step's polynomial: no tolerance needed */
     Stepper *S = ts_alloc(sizeof(Stepper));
     if (!S) return ADB_SOLVER_FAILURE;
     TSF(_ts_setup)(&S->w, p);

@@ -6,7 +6,8 @@
     describe        what the orbit code reads of a module's self-description (angles, amplitude, forcing)
     parameters      the free parameters and the ones tied to them (--tie)
     continuer       a generic pseudo-arclength continuer with test functions (knows nothing of its curve)
-    equilibrium     the equilibrium curve; the steady-state follower; homotopies
+    equilibrium     the equilibrium curve (the one-parameter scans of `analysis.continuation` run it);
+                    the steady-state follower; homotopies
     cycle           the limit-cycle curve (fold, period-doubling, torus detected)
     hopf            Hopf points, the start of their cycles, the Hopf curve
     boundary        two-parameter curves' shared defining system; the fold curve; followers

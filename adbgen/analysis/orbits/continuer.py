@@ -64,6 +64,7 @@ class Settings:
     near: float = 0.1  # an extremum within near * (the test's range over the three points) of zero is checked
     locate_tol: float = 1e-10
     fold_test: bool = True  # watch d parameter / ds (folds of the curve)
+    watch: bool = True  # False: no step bound by the test functions and no extremum checks (plain stepping)
 
 
 @dataclass
@@ -243,7 +244,7 @@ def run(curve, x0: np.ndarray, direction, settings: Settings | None = None, tang
             continue
         b = Point(xb, data, _tests(curve, xb, data, tb, s), tb, a.s + corr.norm(xb - a.x))
         remesh = getattr(curve, "remesh", None)
-        inserted = _check_extrema(curve, corr, branch, b, tnames, s)
+        inserted = _check_extrema(curve, corr, branch, b, tnames, s) if s.watch else []
         for mid in inserted:
             _append(curve, corr, branch, mid, tnames, s)
         _append(curve, corr, branch, b, tnames, s)
@@ -272,6 +273,8 @@ def run(curve, x0: np.ndarray, direction, settings: Settings | None = None, tang
                 branch.points[-1] = Point(xn, dn, _tests(curve, xn, dn, tn, s), tn, branch.points[-1].s)
         # the next step: Newton's effort, then the test functions' approach to zero
         h = min(s.ds_max, h * 1.3)
+        if not s.watch:
+            continue
         last = branch.points[-1]
         prev = branch.points[-2]
         ds = max(last.s - prev.s, 1e-300)

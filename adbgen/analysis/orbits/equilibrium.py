@@ -1,7 +1,7 @@
 """The equilibrium curve: a steady state followed in one parameter, and the solver the two-parameter
 curves of `boundary` use to re-find it.
 
-    EquilibriumCurve(model, pmap)        for `continuer.run`: x = (y, lambda)
+    EquilibriumCurve(model, pmap)        for `continuer.run`: x = (y, lambda) (`continuation.scan` runs it)
     EquilibriumFollower(model, y0, p0)   the steady state near y0 at any p, warm-started, with its spectrum
     homotopy(model, y0, p0, p1)          y0 (a steady state at p0) carried to p1 along the straight line
 
@@ -27,6 +27,7 @@ from ..loading import AnalysisError, Model
 from .parameters import ParameterMap
 
 SPECIAL_TOL = 1e-6
+LEADING = 4  # the leading real parts watched as margins
 
 
 @dataclass
@@ -67,8 +68,8 @@ class EquilibriumCurve:
 
     test_names = ("hopf", "real")
 
-    def __init__(self, model: Model, pmap: ParameterMap):
-        self.model, self.pmap = model, pmap
+    def __init__(self, model: Model, pmap: ParameterMap, progress=None):
+        self.model, self.pmap, self.progress = model, pmap, progress
         self.N = model.n_states
         self.T = np.zeros((self.N, 0))
         self.anchor = None
@@ -105,9 +106,11 @@ class EquilibriumCurve:
         return np.array([hopf_test(data.spectrum), real_test(data.spectrum)])
 
     def margins(self, data: EquilibriumData) -> np.ndarray:
-        """The stability margin, the leading real part of the transverse spectrum (watched by the continuer)."""
-        ev = np.asarray(data.spectrum, complex)
-        return np.array([float(np.max(ev.real)) if ev.size else -1.0])
+        """The stability margins watched by the continuer: the LEADING largest real parts of the transverse
+        spectrum (one heading for zero bounds the step; an extremum of one inside a step is checked), padded
+        with -1 (constant: no bound) on a smaller spectrum."""
+        r = np.sort(np.asarray(data.spectrum, complex).real)[::-1][:LEADING]
+        return np.pad(r, (0, LEADING - len(r)), constant_values=-1.0)
 
     def special(self, name, x, data: EquilibriumData):
         ev = data.spectrum
@@ -127,6 +130,8 @@ class EquilibriumCurve:
 
     def accept(self, x, data: EquilibriumData) -> None:
         self.T, self.anchor = data.tangent, x[:-1].copy()
+        if self.progress is not None:
+            self.progress(float(x[-1]))
 
 
 class EquilibriumFollower:

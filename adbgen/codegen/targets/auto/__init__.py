@@ -101,7 +101,9 @@ class AutoTarget(Target):
                                  f"{ir.forcing_frequency!r}")
             out.update(stages=stages, stage2=names.index(ir.forcing_frequency),
                        osc=(ir.state_names.index(OSC_SIN.name), ir.state_names.index(OSC_COS.name)))
-        out["stages_json"] = json.dumps(stages_data(ir, out), indent=1)
+        from ...render import source_hash
+
+        out["stages_json"] = json.dumps({"source_hash": source_hash(ir)} | stages_data(ir, out), indent=1)
         return out
 
     def prove(self, proof):

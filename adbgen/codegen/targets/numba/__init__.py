@@ -13,8 +13,9 @@ class NumbaTarget(Target):
 
     def context(self, ir) -> dict:
         from ...program_tree import program_json
+        from ...render import source_hash
 
-        return {"program_json": program_json(ir)}
+        return {"program_json": program_json(ir, source_hash(ir))}
 
     def prove(self, proof):
         from .prove import prove

@@ -141,9 +141,14 @@ DRIFT_RTOLS = (1e-10, 1e-12)
 def drift_past_h1(model, pm, y_h1, lam: float, t_end: float = 20000.0) -> dict:
     """The free angles drift: a run just past H1 (Omega = H1 - 0.01) from the balanced state at H1 with x moved
     by 1e-3, on ENGINE at DRIFT_RTOLS: r at the end and the largest change of a free angle, at each rtol.
-    (An earlier version sampled the orbit machinery's flow at 200 points 100 time units apart and reported the
-    balls lapping, r = 0.436; the flow sampled at 2000 points, and `simulate` on two engines at any rtol, give
-    the drift below: docs/orbits.md's 0.39 rad for n = 4.)"""
+
+    For n >= 4 the followed member has free balls at the same angle (phi_3 = phi_4 = pi).  Balls at one angle
+    are an invariant set of the equations (the right-hand side is symmetric in them), unstable here: a start on
+    it stays on it only while round-off keeps the balls bit-for-bit equal, which one solver setting does and
+    another does not (the flow at rtol 1e-11, atol 1e-12 leaves it after t ~ 500 and the balls lap, r = 0.41;
+    at the rtols below the runs stay on it, r = 0.040).  So the drift is reported with `split`: the same run
+    with the coincident balls moved apart by SPLIT (a generic start), the answer a real rotor gives (None when
+    no two free balls coincide)."""
     from ....analysis.simulate import simulate
 
     q = pm(lam - 0.01)
@@ -155,7 +160,30 @@ def drift_past_h1(model, pm, y_h1, lam: float, t_end: float = 20000.0) -> dict:
         sim = simulate(model, q, y, t_end=t_end, rtol=rtol, atol=rtol * 1e-2, engine=ENGINE, check=False)
         runs[rtol] = (float(np.hypot(sim.y_end[0], sim.y_end[1])), float(np.max(np.abs(sim.y_end[free] - y[free]))))
     r_end, change = runs[DRIFT_RTOLS[-1]]
-    return {"Omega": lam - 0.01, "r_end": r_end, "angle_change": change, "runs": runs}
+    return {"Omega": lam - 0.01, "r_end": r_end, "angle_change": change, "runs": runs,
+            "split": _split_run(model, q, y, free, t_end)}
+
+
+SPLIT = 1e-9  # rad between coincident balls: far above round-off, far below anything physical
+
+
+def _split_run(model, q, y, free, t_end: float):
+    """The drift run with coincident free balls moved apart: the k-th ball of a group at one angle by k SPLIT."""
+    from ....analysis.simulate import simulate
+
+    ys = np.array(y, float)
+    moved = False
+    for k, i in enumerate(free):
+        same = sum(1 for j in free[:k] if y[j] == y[i])  # earlier balls at this ball's angle
+        if same:
+            ys[i] += same * SPLIT
+            moved = True
+    if not moved:
+        return None
+    rtol = DRIFT_RTOLS[-1]
+    sim = simulate(model, q, ys, t_end=t_end, rtol=rtol, atol=rtol * 1e-2, engine=ENGINE, check=False)
+    return {"size": SPLIT, "rtol": rtol, "r_end": float(np.hypot(sim.y_end[0], sim.y_end[1])),
+            "angle_change": float(np.max(np.abs(sim.y_end[free] - ys[free])))}
 
 
 def every_hopf(model, pm, scan) -> list:
@@ -292,6 +320,11 @@ def section(out: Path, progress=print) -> str:
                     f"perturbed, a run of t = 20000 ends with r = {d['r_end']:.2e} and the free angle moved by "
                     f"{d['angle_change']:.3f} rad (rtol " + ", ".join(f"{k:g}: r {v[0]:.6e}, {v[1]:.6f} rad"
                                                                for k, v in d["runs"].items()) + ")")
+            if d.get("split"):
+                sp = d["split"]
+                what += (f"; but that start has free balls at one angle, an unstable invariant set: with them "
+                         f"{sp['size']:g} rad apart the balls lap, r = {sp['r_end']:.3f} and a free angle moved by "
+                         f"{sp['angle_change']:.0f} rad (rtol {sp['rtol']:g})")
             cyc = "none"
         L.append(f"| {row['n']} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | {hp.criticality} | {cyc} | {what} |")
     L += ["", "Every Hopf point of the balanced state between Omega = 4 and 0.5 (the state followed down from Omega = 4; "

@@ -1,6 +1,8 @@
 """The thesis' periodic orbits section (issue 36): Fig. 5.10(b)'s desynchronised orbit, the special points drawn
 on their own sheet of a folded branch."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -49,7 +51,7 @@ def test_n3_has_a_subcritical_hopf_point_below_h1():
     assert crit[1.8754] == "supercritical" and crit[1.6128] == "subcritical"
 
 
-def test_n4_past_h1_the_free_angle_drifts_and_the_balls_do_not_lap():
+def test_n4_past_h1_balls_at_one_angle_drift_and_moved_apart_they_lap():
     """Issue 36: docs/orbits.md (0.39 rad) and the reproduction (r = 0.436, balls lapping) disagreed; the run on
     `simulate` at two rtols gives docs/orbits.md's drift."""
     from adbgen.analysis import continuation
@@ -63,3 +65,22 @@ def test_n4_past_h1_the_free_angle_drifts_and_the_balls_do_not_lap():
     assert d["angle_change"] == pytest.approx(0.3918, abs=1e-3) and d["r_end"] == pytest.approx(0.0401, abs=1e-3)
     (r1, a1), (r2, a2) = d["runs"].values()
     assert abs(a1 - a2) < 1e-5 and abs(r1 - r2) < 1e-6  # the same at both tolerances
+    # the start has balls 3, 4 at one angle, an unstable invariant set: split by 1e-9 they lap (the flow at
+    # rtol 1e-11 left the set by round-off and reported this; sampling density was not the cause)
+    sp = d["split"]
+    assert sp["r_end"] > 0.3 and sp["angle_change"] > 1e3
+
+
+def test_split_run_only_when_free_balls_coincide():
+    """Negative control for `split`: free balls at distinct angles are left alone (no run, None); coincident ones
+    are moved apart (a 1-unit run, so it is cheap)."""
+    from adbgen.analysis.loading import load_model
+
+    m = load_model("thesis_rotating_n4")
+    p = m.params({"Omega": 2.1666, **periodic_orbits.CH4})
+    free = list(m.angle_indices)[2:]
+    apart = m.state({"phi_3": 3.0, "phi_4": 3.3})
+    assert periodic_orbits._split_run(m, p, apart, free, 1.0) is None
+    together = m.state({"phi_3": math.pi, "phi_4": math.pi})
+    sp = periodic_orbits._split_run(m, p, together, free, 1.0)
+    assert sp is not None and sp["size"] == periodic_orbits.SPLIT

@@ -1,0 +1,250 @@
+"""Benchmark (not a test): tolerance proportionality of the default engine on held-out scenes, `adbgen bench
+tolerance` (issue 35 item 1).
+
+For each scene of `benchmarks.tolerance_scenes` (never used to learn the auto engine's table) and each
+rtol of `RTOLS` (atol = rtol x `ATOL_RATIO`), the engine (default: `auto`, the default engine) runs to
+t_end and its final state is compared with a reference:
+
+    ratio = max_i |y_i - y_ref,i| / (atol + rtol |y_ref,i|)
+
+(the error in units of the requested tolerance, the weights the engines' own step control uses; target:
+at most `TARGET` on every scene and tolerance), and the time the whirl last falls below the threshold,
+t_dec, as |t_dec - t_dec,ref| / (rtol t_end) (its tolerance: rtol of the run's time scale).
+
+The reference is CyRK's Vern8 at rtol `REF_RTOL`, atol `REF_RTOL` x `ATOL_RATIO` / 100 (`REFERENCE`),
+checked by a second, independent one: the emitted Taylor series at order 20, step factor 1, at the same
+tolerance (`CHECK`).  Their disagreement, in the same units at each rtol (`reference_ratio`), bounds what
+the comparison can resolve: a cell whose reference ratio exceeds `REFERENCE_LIMIT` is reported as
+undecided (not counted for or against the target).
+
+Results go to benchmarks/tolerance.json after every scene; a rerun skips the scenes already there
+(`--fresh` starts over), so the benchmark can run in pieces (`--scenes`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from adbgen.cli_types import UsageError
+
+from .registry import Benchmark, option
+from .report import jsonable, load_average, machine, utc_now, write
+from .tolerance_scenes import FOLDER, SEED, load
+
+RTOLS = tuple(10.0 ** -k for k in range(4, 13))
+ATOL_RATIO = 1e-2  # atol = rtol / 100, as `adbgen simulate`'s defaults (rtol 1e-8, atol 1e-10)
+TARGET = 10.0
+REF_RTOL = 1e-14
+REFERENCE = "cyrk-vern8"
+CHECK = ("taylor", 20, 1.0)  # the second reference: the Taylor engine, order 20, step factor 1
+REFERENCE_LIMIT = 1.0  # the references must agree to within one tolerance unit for a cell to count
+THRESHOLD = 1e-3
+MAX_STEPS = 10**7
+
+
+def scene_model(scene: dict):
+    """The scene's model: a generated model by name, or the scene TOML's model generated once (every
+    target, the Taylor series too) into the cache (`loading.cache_dir() / "tolerance"`)."""
+    from adbgen.analysis.loading import cache_dir, load_model
+
+    if "model" in scene:
+        return load_model(scene["model"])
+    toml = FOLDER / scene["scene"]
+    key = hashlib.sha256(toml.read_bytes()).hexdigest()[:16]
+    name = f"tol_{toml.stem}"
+    out = cache_dir() / "tolerance" / key
+    if not (out / name / "__init__.py").is_file():
+        subprocess.run([sys.executable, "-m", "adbgen.cli", "regenerate", "--scene", str(toml), "--name", name,
+                        "--out", str(out), "--quiet"], check=True)
+    return load_model(out / name)
+
+
+def ratio(y, y_ref, rtol: float, atol: float) -> float:
+    """max_i |y_i - y_ref,i| / (atol + rtol |y_ref,i|): the error in units of the tolerance."""
+    y, y_ref = np.asarray(y, float), np.asarray(y_ref, float)
+    return float(np.max(np.abs(y - y_ref) / (atol + rtol * np.abs(y_ref))))
+
+
+def t_dec_ratio(t_dec, t_ref, rtol: float, t_end: float):
+    """|t_dec - t_dec,ref| / (rtol t_end); None where either run's whirl never settles (no t_dec)."""
+    if t_dec is None or t_ref is None:
+        return None if (t_dec is None) == (t_ref is None) else float("inf")
+    return abs(t_dec - t_ref) / (rtol * t_end)
+
+
+def _run(model, eng, p, y0, t_end, rtol, atol) -> dict:
+    started = time.process_time()
+    out = eng.run(model, p, y0, t_end, rtol, atol, THRESHOLD, MAX_STEPS, keep_trajectory=False)
+    t_dec = out["t_dec"]
+    return {"status": out["status"], "y_end": np.asarray(out["y_end"], float), "n_steps": int(out["n_steps"]),
+            "t_dec": None if t_dec is None or not np.isfinite(t_dec) else float(t_dec),
+            "cpu_s": time.process_time() - started, "picked": out.get("picked")}
+
+
+def references(model, p, y0, t_end) -> tuple[dict, dict]:
+    from adbgen.analysis.engines import ENGINES
+    from adbgen.analysis.engines.taylor import TaylorEngine
+
+    atol = REF_RTOL * ATOL_RATIO / 100
+    ref = _run(model, ENGINES[REFERENCE], p, y0, t_end, REF_RTOL, atol)
+    chk = _run(model, TaylorEngine(table=[(0.0, CHECK[1], CHECK[2])]), p, y0, t_end, REF_RTOL, atol)
+    return ref, chk
+
+
+def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
+    from adbgen.analysis.engines import engine as get_engine
+
+    model = scene_model(scene)
+    p, y0 = model.params(scene.get("set", {})), model.state(scene.get("y0", {}))
+    t_end = float(scene["t_end"])
+    ref, chk = references(model, p, y0, t_end)
+    if ref["status"] != "success" or chk["status"] != "success":
+        return {"scene": scene, "undecided": f"reference failed ({ref['status']}, {chk['status']})"}
+    eng = get_engine(engine)
+    cells = []
+    for rtol in rtols:
+        atol = rtol * ATOL_RATIO
+        run = _run(model, eng, p, y0, t_end, rtol, atol)
+        ref_ratio = ratio(chk["y_end"], ref["y_end"], rtol, atol)
+        cell = {"rtol": rtol, "atol": atol, "status": run["status"], "n_steps": run["n_steps"],
+                "picked": run["picked"], "reference_ratio": ref_ratio,
+                "decided": bool(ref_ratio <= REFERENCE_LIMIT and run["status"] == "success")}
+        if run["status"] == "success":
+            cell["ratio"] = ratio(run["y_end"], ref["y_end"], rtol, atol)
+            cell["t_dec"] = run["t_dec"]
+            cell["t_dec_ratio"] = t_dec_ratio(run["t_dec"], ref["t_dec"], rtol, t_end)
+        cells.append(cell)
+        progress(f"  {scene['name']} rtol {rtol:g}: ratio {cell.get('ratio', float('nan')):.3g} "
+                 f"(reference {ref_ratio:.2g}), t_dec ratio {cell.get('t_dec_ratio')}, {run['n_steps']} steps")
+    decided = [c["ratio"] for c in cells if c["decided"]]
+    return {"scene": scene, "model": model.name, "t_dec_ref": ref["t_dec"], "check_t_dec": chk["t_dec"],
+            "reference_steps": ref["n_steps"], "cells": cells, "worst_ratio": max(decided) if decided else None,
+            "undecided_cells": sum(not c["decided"] for c in cells)}
+
+
+def summary(scenes: dict) -> dict:
+    """Worst decided ratio per scene family (family, units, drive) and over all; cells above target."""
+    groups: dict = {}
+    over = []
+    for name, res in sorted(scenes.items()):
+        s = res["scene"]
+        key = f"{s['family']} / {s['units']} / {s['drive']}"
+        for c in res.get("cells", []):
+            if c["decided"]:
+                groups[key] = max(groups.get(key, 0.0), c["ratio"])
+                if c["ratio"] > TARGET:
+                    over.append({"scene": name, "rtol": c["rtol"], "ratio": c["ratio"]})
+    worst = max(groups.values(), default=None)
+    return {"worst_by_family": groups, "worst": worst, "over_target": over, "target": TARGET,
+            "met": worst is not None and not over}
+
+
+def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fresh: bool = False,
+                    progress=print) -> dict:
+    import json
+
+    path = Path(out)
+    result = {}
+    if path.is_file() and not fresh:
+        result = json.loads(path.read_text())
+        if result.get("engine") != engine or result.get("rtols") != list(rtols):
+            raise UsageError(f"{out} holds a run of another engine or tolerances; give --fresh or another --out")
+    if not result:
+        result = {"benchmark": "tolerance", "engine": engine, "rtols": list(rtols), "atol_ratio": ATOL_RATIO,
+                  "target": TARGET, "seed": SEED, "generator": "benchmarks/tolerance_scenes.py",
+                  "reference": {"engine": REFERENCE, "rtol": REF_RTOL, "atol": REF_RTOL * ATOL_RATIO / 100,
+                                "check": {"engine": CHECK[0], "order": CHECK[1], "step_factor": CHECK[2]},
+                                "limit": REFERENCE_LIMIT},
+                  "date": utc_now(), "machine": machine(), "scenes": {}}
+    scenes = load()
+    if names:
+        known = {s["name"] for s in scenes}
+        bad = [n for n in names if n not in known]
+        if bad:
+            raise UsageError(f"unknown scene {bad[0]!r}; scenes are the files of {FOLDER}")
+        scenes = [s for s in scenes if s["name"] in names]
+    for scene in scenes:
+        if scene["name"] in result["scenes"]:
+            continue
+        progress(f"scene {scene['name']}")
+        result["scenes"][scene["name"]] = measure_scene(scene, engine, rtols, progress)
+        result["summary"] = summary(result["scenes"])
+        result["machine"]["load_average_at_end"] = load_average()
+        write(jsonable(result), path)  # after every scene: an interrupted run resumes from here
+    result["summary"] = summary(result["scenes"])
+    write(jsonable(result), path)
+    return result
+
+
+PAGE = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "tolerance.md"
+
+
+def _cell(c: dict) -> str:
+    if "ratio" not in c:
+        return c["status"]
+    text = f"{c['ratio']:.3g}"
+    return text if c["decided"] else f"({text})"
+
+
+def page(result: dict) -> str:
+    """The benchmark's page (docs/benchmarks/tolerance.md) from its results: the run's record, the
+    scenes' generator and seed, the reference and its check, the worst ratio per scene family and the
+    ratio per scene and tolerance."""
+    s = result.get("summary") or summary(result["scenes"])
+    ref = result["reference"]
+    m = result["machine"]
+    lines = [
+        f"# Tolerance proportionality on held-out scenes (`adbgen bench tolerance`)", "",
+        f"**Run record** (from [`benchmarks/tolerance.json`](../../benchmarks/tolerance.json)): started "
+        f"{result['date']}, the shared 2-core machine ({m.get('cpu', 'not recorded')}), load average at the end "
+        f"{m.get('load_average_at_end')}; command `adbgen bench tolerance` (resumable: each run adds the scenes "
+        f"not yet in the file; `--scenes` for a part). {len(result['scenes'])} of {len(load())} scenes measured.", "",
+        f"What it measures: the `{result['engine']}` engine on the held-out scenes of "
+        f"[`benchmarks/tolerance_scenes/`](../../benchmarks/tolerance_scenes/) (generator "
+        f"`benchmarks/tolerance_scenes.py`, seed {result['seed']}; never used to learn the auto engine's table), "
+        f"at rtol {', '.join(f'{r:g}' for r in result['rtols'])} with atol = rtol x {result['atol_ratio']:g}: "
+        "the ratio max_i |y_i - y_ref,i| / (atol + rtol |y_ref,i|) at t_end (target: at most "
+        f"{result['target']:g}), and t_dec's error over rtol x t_end.", "",
+        f"Reference: {ref['engine']} at rtol {ref['rtol']:g}, atol {ref['atol']:g}, checked by the Taylor engine "
+        f"(order {ref['check']['order']}, step factor {ref['check']['step_factor']:g}) at the same tolerance. A "
+        f"cell counts only where the two references agree within {ref['limit']:g} tolerance unit at that rtol; "
+        "other cells are shown in parentheses (undecided: the reference cannot resolve them).", "",
+        "## Worst counted ratio per scene family", "", "| family / units / drive | worst ratio |", "| --- | --- |"]
+    lines += [f"| {k} | {v:.3g} |" for k, v in sorted(s["worst_by_family"].items())]
+    lines += ["", f"Cells above the target: {len(s['over_target'])}.", "", "## Ratio per scene and tolerance", "",
+              "| scene | " + " | ".join(f"{r:g}" for r in result["rtols"]) + " |",
+              "| --- | " + " | ".join("---" for _ in result["rtols"]) + " |"]
+    for name, res in sorted(result["scenes"].items()):
+        cells = res.get("cells")
+        lines.append(f"| {name} | " + (" | ".join(_cell(c) for c in cells) if cells else res.get("undecided", "")) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def run(args, out: str) -> int:
+    res = bench_tolerance(out, args.engine or "auto", args.scenes, fresh=args.fresh,
+                          progress=lambda line: print(line, flush=True))
+    s = res["summary"]
+    for key, worst in sorted(s["worst_by_family"].items()):
+        print(f"{key}: worst ratio {worst:.3g}")
+    done = len(res["scenes"])
+    print(f"{done} scenes; worst ratio {s['worst']}; {len(s['over_target'])} cells above {TARGET:g}; wrote {out}")
+    if args.page:
+        PAGE.write_text(page(res))
+        print(f"wrote {PAGE}")
+    return 0
+
+
+BENCHMARK = Benchmark("tolerance", run, (
+    option("--engine", default=None, help="the engine measured (default: auto, the default engine)"),
+    option("--scenes", nargs="+", default=None, help="only these scenes (names of benchmarks/tolerance_scenes/)"),
+    option("--fresh", action="store_true", help="start over instead of resuming the results file"),
+    option("--page", action="store_true", help="also write docs/benchmarks/tolerance.md from the results"),
+))
+
+__all__ = ["BENCHMARK", "RTOLS", "TARGET", "bench_tolerance", "ratio", "summary", "t_dec_ratio"]

@@ -1,0 +1,77 @@
+"""`adbgen bench tolerance` (issue 35 item 1): the held-out scenes are the seeded generator's, cover what
+the issue asks (both families, thesis and SI units, isotropic and anisotropic supports, forced, run-up and
+torque-driven, n = 2..6, at least 40) and repeat neither learning problem; the ratio is the error in
+tolerance units, and a cell whose references disagree is not counted."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from benchmarks import tolerance, tolerance_scenes
+from benchmarks.precision import PROBLEMS
+
+
+def test_the_committed_scenes_are_the_generators_and_a_changed_one_is_caught(tmp_path):
+    committed = tolerance_scenes.load()
+    assert committed == tolerance_scenes.generate(tolerance_scenes.SEED)
+    assert committed != tolerance_scenes.generate(tolerance_scenes.SEED + 1)  # negative control: another seed
+    tolerance_scenes.write_files(folder=tmp_path)
+    first = sorted(tmp_path.glob("*.json"))[0]
+    planted = json.loads(first.read_text())
+    planted["t_end"] *= 2
+    first.write_text(json.dumps(planted))
+    assert tolerance_scenes.load(tmp_path) != committed
+
+
+def test_the_scenes_cover_the_issue_and_none_is_a_learning_problem():
+    scenes = tolerance_scenes.load()
+    assert len(scenes) >= 40
+    assert {s["family"] for s in scenes} == {"single_plane", "two_plane"}
+    assert {s["units"] for s in scenes} == {"thesis", "SI"}
+    assert {s["support"] for s in scenes} == {"isotropic", "anisotropic"}
+    assert {s["drive"] for s in scenes} == {"forced", "run-up", "torque"}
+    assert {s["n"] for s in scenes} == {2, 3, 4, 5, 6}
+    learning = [(p.problem.model, p.problem.params, p.problem.y0) for p in PROBLEMS.values()]
+    assert all((s.get("model"), s["set"], s["y0"]) not in learning for s in scenes)
+    a = PROBLEMS["A"].problem  # negative control: problem A as a scene is caught
+    assert (a.model, a.params, a.y0) in learning
+    for s in scenes:
+        if "scene" in s:
+            assert (tolerance_scenes.FOLDER / s["scene"]).is_file()
+
+
+def test_ratio_is_the_error_in_tolerance_units():
+    y_ref = np.array([1.0, 0.0, -100.0])
+    assert tolerance.ratio(y_ref, y_ref, 1e-8, 1e-10) == 0.0
+    # 1e-10 off a zero component is one atol; 1e-6 off -100 is one rtol x 100 (+ atol)
+    assert tolerance.ratio(y_ref + [0, 1e-10, 0], y_ref, 1e-8, 1e-10) == pytest.approx(1.0)
+    assert tolerance.ratio(y_ref + [0, 0, 1e-6], y_ref, 1e-8, 1e-10) == pytest.approx(1e-6 / (1e-10 + 1e-6))
+    assert tolerance.ratio(y_ref + [0, 1e-9, 0], y_ref, 1e-8, 1e-10) > tolerance.TARGET - 1e-9
+    assert tolerance.t_dec_ratio(None, None, 1e-8, 100.0) is None
+    assert tolerance.t_dec_ratio(5.0, None, 1e-8, 100.0) == float("inf")
+    assert tolerance.t_dec_ratio(50.0 + 1e-6, 50.0, 1e-8, 100.0) == pytest.approx(1.0)
+
+
+def test_summary_counts_decided_cells_only():
+    scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
+    cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True}, {"rtol": 1e-12, "ratio": 500.0, "decided": False}]
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    assert s["worst"] == 3.0 and s["met"] and s["over_target"] == []
+    cells[1]["decided"] = True  # negative control: the same cell, decided, misses the target
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    assert s["worst"] == 500.0 and not s["met"] and s["over_target"][0]["rtol"] == 1e-12
+
+
+def test_the_page_shows_each_scene_and_marks_undecided_cells():
+    scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
+    cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True, "status": "success"},
+             {"rtol": 1e-12, "ratio": 500.0, "decided": False, "status": "success"}]
+    result = {"scenes": {"36_two_plane_torque": {"scene": scene, "cells": cells}}, "rtols": [1e-6, 1e-12],
+              "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
+                            "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
+              "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
+    text = tolerance.page(result)
+    assert "| 36_two_plane_torque | 3 | (500) |" in text and "| two_plane / thesis / torque | 3 |" in text
