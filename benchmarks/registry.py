@@ -37,6 +37,7 @@ REGISTRY: dict[str, str] = {
     "ensemble": "benchmarks.ensemble:BENCHMARK",
     "reproduce": "benchmarks.reproduce:BENCHMARK",
     "trust": "benchmarks.trust:BENCHMARK",
+    "design": "benchmarks.design:BENCHMARK",
     "tolerance": "benchmarks.tolerance:BENCHMARK",
 }
 
