@@ -52,7 +52,7 @@ def stubbed(monkeypatch, tmp_path):
     from adbgen.families.two_plane import commands as tp_commands
     import adbgen.notebooks as notebooks
 
-    for module, name in [(regenerate, "render_all"), (continuation, "scan"), (auto07p.Session, "__init__"),
+    for module, name in [(regenerate, "render_all"), (equilibrium_scan, "scan"), (auto07p.Session, "__init__"),
                          (auto_orbits, "refine_orbit"), (sweep, "run_sweep"), (design, "solve"), (cli_reproduce, "build"),
                          (cli_reproduce, "_pinned_rerun"),  # the pinned child process would escape the stubs
                          (cli_docs, "build"),
