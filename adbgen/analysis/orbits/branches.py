@@ -124,8 +124,11 @@ def _run(model: Model, curve: CycleCurve, x0, name: str, origin: dict, settings:
         orbits.append(o)
     # a fold of cycles also zeroes the branch test (a real multiplier at +1): reported once, as the fold
     folds = [sp.x[-1] for sp in br.specials if sp.info["kind"] == "fold"]
+    # and a branch born at a Hopf point starts with two multipliers at +1 (the zero-amplitude cycle): the branch
+    # test's zero there is the Hopf point itself, not a branch point
+    start = [br.points[0].x[-1]] if br.points and origin.get("kind") == "hopf" else []
     kept = [sp for sp in br.specials if sp.info["kind"] != "branch point"
-            or not any(abs(sp.x[-1] - f) <= 1e-6 * (1 + abs(f)) for f in folds)]
+            or not any(abs(sp.x[-1] - f) <= 1e-6 * (1 + abs(f)) for f in folds + start)]
     specials = [_special_json(name, curve, sp, br.points) for sp in kept]
     return CycleBranch(name, origin, orbits, specials, br.end, dict(curve.windings), br.resolution,
                        {"checks": br.checks, "largest_step": float(np.max(np.abs(np.diff(

@@ -222,7 +222,8 @@ def _plot_h1(rows, out: Path) -> None:
             ax.plot(lam, np.where(st, v, np.nan), "-", color=f"C{row['n']}", lw=2.4, label=f"n = {row['n']}")
         for s in br.specials:
             k = special_index(lam, per, s)
-            mk = {"torus": "*", "period-doubling": "D", "fold": "s"}[s["kind"]]
+            # every special the cycle branch reports is drawn (a branch point too: a real multiplier through +1)
+            mk = {"torus": "*", "period-doubling": "D", "fold": "s", "branch point": "^"}.get(s["kind"], "x")
             a1.plot(lam[k], amp[k], mk, color="k", ms=6)
             a2.plot(lam[k], per[k], mk, color="k", ms=6)
     a1.set_xlabel("Omega")
@@ -231,7 +232,7 @@ def _plot_h1(rows, out: Path) -> None:
     a2.set_ylabel("period")
     a1.legend(fontsize=7)
     fig.suptitle("Cycles born at H1 (mu = 0.05, zeta = beta = delta = 0.01): thick stable; * torus, D period-doubling, "
-                 "s fold", fontsize=8)
+                 "s fold, ^ branch point", fontsize=8)
     fig.savefig(out / "orbits_h1.png", dpi=110)
     plt.close(fig)
 
