@@ -215,7 +215,7 @@ def page(result: dict) -> str:
         f"{m.get('load_average_at_end')}; command `adbgen bench tolerance` (resumable: each run adds the scenes "
         f"not yet in the file; `--scenes` for a part). {len(result['scenes'])} of {len(load())} scenes measured.", "",
         f"What it measures: the `{result['engine']}` engine on the held-out scenes of "
-        f"[`benchmarks/tolerance_scenes/`](../../benchmarks/tolerance_scenes/) (generator "
+        f"`benchmarks/tolerance_scenes/` (generator "
         f"`benchmarks/tolerance_scenes.py`, seed {result['seed']}; never used to learn the auto engine's table), "
         f"at rtol {', '.join(f'{r:g}' for r in result['rtols'])} with atol = rtol x {result['atol_ratio']:g}: "
         "the ratio max_i |y_i - y_ref,i| / (atol + rtol |y_ref,i|) at t_end (target: at most "

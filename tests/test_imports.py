@@ -55,7 +55,9 @@ def imports_of(name: str) -> set[str]:
                 stem = ".".join(base + ([node.module] if node.module else []))
             else:
                 stem = node.module
-            targets = [stem] + [f"{stem}.{a.name}" for a in node.names]
+            # `from package import submodule` needs the submodule, not the package's own names (Python imports
+            # it even while the package's __init__ is still running); any other name is the package's
+            targets = [f"{stem}.{a.name}" if f"{stem}.{a.name}" in MODULES else stem for a in node.names]
         else:
             continue
         out.update(t for t in targets if t in MODULES and t != name)
