@@ -27,7 +27,6 @@ import hashlib
 import subprocess
 import sys
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -35,7 +34,7 @@ import numpy as np
 from adbgen.cli_types import UsageError
 
 from .registry import Benchmark, option
-from .report import jsonable, load_average, machine, utc_now, write
+from .report import jsonable, load_average, machine, utc_now, when, write
 from .tolerance_scenes import FOLDER, SEED, load
 
 RTOLS = tuple(10.0 ** -k for k in range(4, 13))
@@ -193,14 +192,6 @@ def _cell(c: dict) -> str:
     return text if c["decided"] else f"({text})"
 
 
-def _minutes(stamp: str) -> str:
-    """An ISO time as the benchmark pages state a run (2026-11-28 17:05 UTC); anything else as given."""
-    try:
-        return f"{datetime.fromisoformat(stamp).astimezone(timezone.utc):%Y-%m-%d %H:%M} UTC"
-    except (TypeError, ValueError):
-        return str(stamp)
-
-
 def page(result: dict) -> str:
     """The benchmark's page (docs/benchmarks/tolerance.md) from its results: the run's record, the
     scenes' generator and seed, the reference and its check, the worst ratio per scene family and the
@@ -211,7 +202,7 @@ def page(result: dict) -> str:
     lines = [
         f"# Tolerance proportionality on held-out scenes (`adbgen bench tolerance`)", "",
         f"**Run record** (from [`benchmarks/tolerance.json`](../../benchmarks/tolerance.json)): started "
-        f"{_minutes(result['date'])}, the shared 2-core machine ({m.get('cpu', 'not recorded')}), load average at the end "
+        f"{when(result)} UTC, the shared 2-core machine ({m.get('cpu', 'not recorded')}), load average at the end "
         f"{m.get('load_average_at_end')}; command `adbgen bench tolerance` (resumable: each run adds the scenes "
         f"not yet in the file; `--scenes` for a part). {len(result['scenes'])} of {len(load())} scenes measured.", "",
         f"What it measures: the `{result['engine']}` engine on the held-out scenes of "
