@@ -10,6 +10,7 @@ CH3 = "Thesis, chapter 3: steady states and critical speeds"
 CH4 = "Thesis, chapter 4: stability of the balanced state"
 ONE_PARAMETER_DIAGRAMS = "Thesis, chapter 4: one-parameter diagrams of every steady state"
 COINCIDENT = "Thesis, chapter 4: where the coincident state 2- is stable"
+PLANE = "Thesis, Figs. 4.1, 4.5, 4.10: every steady state over (Omega, mu)"
 TRANSIENTS = "Thesis, chapter 5: transients"
 RANDOM = "Thesis, Figs. 5.1-5.3: random starts of the rotor"
 SCANS = "Thesis, Figs. 5.5, 5.7, 5.9: r_max against the starting position"
@@ -44,9 +45,8 @@ THESIS = (
     _no("4", "(4.3), (4.4): wedge tips of the in-line states",
         "the thesis' closed forms, re-evaluated by `adbgen verify` (docs/checks.md), not located on the model"),
     _yes("4", "Figs. 4.1, 4.5, 4.10: where 2- is stable (the lines mu = 0.05, 0.0025 the text reads)", COINCIDENT),
-    _no("4", "Figs. 4.1, 4.5, 4.10: the bifurcation curves of the coincident and in-line states",
-        "the two-parameter continuation of those states' fold and Hopf curves is not run here (the maps are of the "
-        "balanced state, the 2- windows along two lines of mu)"),
+    _yes("4", "Figs. 4.1, 4.5, 4.10: the bifurcation curves of the coincident and in-line states, located on rows "
+         "of n mu (not continued between them), and the stability region of 2-", PLANE),
     _yes("4", "Figs. 4.2, 4.3 (n = 2): one-parameter diagrams", ONE_PARAMETER_DIAGRAMS),
     _yes("4", "Fig. 4.4: n = 2, Omega > 2.5 in (Omega, delta), (Omega, zeta), (Omega, beta)", CH4),
     _yes("4", "Fig. 4.5: n = 3, (Omega, mu), balanced state", CH4),

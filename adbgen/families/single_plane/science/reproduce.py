@@ -566,6 +566,13 @@ def compute(fig_dir: Path, progress=print) -> dict:
     from . import one_parameter
 
     diagrams = one_parameter.compute()
+    from . import bifurcation_plane
+
+    planes = bifurcation_plane.compute()
+    planes["figures"] = bifurcation_plane.draw(planes, fig_dir)
+    if progress:
+        for c in bifurcation_plane.statements(planes):
+            progress(f"Fig. 4.1/4.5/4.10 n = {c['n']}: {c['text']}: {'holds' if c['holds'] else 'does not hold'}")
     maps = _maps(fig_dir)
     basins = _basins(fig_dir)
     basins_n4 = _basins_n4(fig_dir)
@@ -577,7 +584,7 @@ def compute(fig_dir: Path, progress=print) -> dict:
     return {"transients": transients, "results": results, "figures": figures, "statements": statements,
             "maps": maps, "basins": basins, "basins_n4": basins_n4, "pitchfork": pitchfork, "sweeps": more,
             "sweep_figures": more_paths, "lyapunov": lyap, "sensitivity": tolerance, "starts": named,
-            "chapter3": ch3, "one_parameter": diagrams}
+            "chapter3": ch3, "one_parameter": diagrams, "bifurcation_plane": planes}
 
 
 def lines(res: dict, root: Path) -> list[str]:
@@ -618,6 +625,12 @@ def lines(res: dict, root: Path) -> list[str]:
 
         at = L.index("## Thesis, chapter 4: stability of the balanced state")
         L = L[:at] + one_parameter.lines(res["one_parameter"]) + [""] + L[at:]
+    if "bifurcation_plane" in res:
+        from . import bifurcation_plane
+
+        at = L.index("## Thesis, chapter 4: stability of the balanced state")
+        planes = res["bifurcation_plane"]
+        L = L[:at] + bifurcation_plane.lines(planes, planes["figures"], root) + [""] + L[at:]
     return L
 
 

@@ -41,7 +41,7 @@ def test_maps_are_captioned_by_their_own_figure_and_n2_has_no_zeta_beta_map():
 def test_the_new_sections_are_spliced_where_the_table_says(monkeypatch, tmp_path):
     """Figs. 5.1-5.3 and the named starts after the scans, ch. 3 before ch. 4, the plain rotor before the n = 3
     basins: every covered heading of the section is written once by reproduce.lines."""
-    from adbgen.families.single_plane.science import chapter3, one_parameter, plain, starts, sweeps
+    from adbgen.families.single_plane.science import bifurcation_plane, chapter3, one_parameter, plain, starts, sweeps
 
     monkeypatch.setattr(reproduce, "_document", lambda *a, **k: [
         f"## {coverage.TRANSIENTS}", "", "## Figures", "", f"## {coverage.CH4}"])
@@ -51,10 +51,12 @@ def test_the_new_sections_are_spliced_where_the_table_says(monkeypatch, tmp_path
     monkeypatch.setattr(chapter3, "lines", lambda res: [f"## {coverage.CH3}"])
     monkeypatch.setattr(plain, "lines", lambda results, lyap: [f"## {coverage.PLAIN}"])
     monkeypatch.setattr(one_parameter, "lines", lambda res: [f"## {coverage.ONE_PARAMETER_DIAGRAMS}"])
+    monkeypatch.setattr(bifurcation_plane, "lines", lambda res, paths, root: [f"## {coverage.PLANE}"])
     res = {k: None for k in ("figures", "statements", "maps", "basins", "basins_n4", "sweeps", "sweep_figures",
                              "lyapunov", "starts", "chapter3", "one_parameter")}
+    res["bifurcation_plane"] = {"figures": []}
     res.update(transients=[], results=[])
     heads = [ln[3:] for ln in reproduce.lines(res, tmp_path) if ln.startswith("## ")]
     assert heads == [coverage.TRANSIENTS, "Figures", coverage.SCANS, coverage.RANDOM, coverage.NAMED,
                      coverage.LAUNCHES, coverage.PLAIN, coverage.BASIN_N3, coverage.CH3,
-                     coverage.ONE_PARAMETER_DIAGRAMS, coverage.CH4]
+                     coverage.ONE_PARAMETER_DIAGRAMS, coverage.PLANE, coverage.CH4]
