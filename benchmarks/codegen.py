@@ -155,7 +155,7 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
     """ns per call for one model in one form (`lowering.FORMS`): numba (jitted loop, from Python), C,
     sympy.lambdify; with the emitted source sizes and the first calls' (compilation) times."""
     from adbgen.codegen.lowering import DEFAULT_FORM
-    from adbgen.codegen.scratch import import_numba, render_into
+    from adbgen.codegen.render_and_import import import_numba, render_into
 
     form = form or DEFAULT_FORM
     spec = kinds()[family](n)

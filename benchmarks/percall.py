@@ -44,7 +44,7 @@ def percall_one(n: int, workdir: Path, *, target: float = 0.05, repeats: int = 5
     import sympy as sp
 
     from . import baseline as bench_baseline
-    from adbgen.codegen.scratch import import_numba, render_into
+    from adbgen.codegen.render_and_import import import_numba, render_into
     from adbgen.codegen.spec import build as build_ir
     from adbgen.families.single_plane.model import derive
 

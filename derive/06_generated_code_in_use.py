@@ -34,7 +34,7 @@ from adbgen.analysis import auto07p, equilibrium_scan, steady
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import amplitude, simulate
 from adbgen.cli import main as adbgen
-from adbgen.codegen.interpret import compile_program
+from adbgen.codegen.plain_python import compile_program
 from adbgen.codegen.render import render_model, source_hash
 from adbgen.codegen.spec import build
 from adbgen.families.single_plane import models
@@ -67,7 +67,7 @@ assert all((i, j) not in ir.mass_pattern for i in balls for j in balls if i != j
 # function the numba target prints (the C, CVODE and AUTO-07p targets print the same kernel in C):
 
 # %%
-from adbgen.codegen.interpret import python_source
+from adbgen.codegen.plain_python import python_source
 
 print(python_source(ir, "rhs", "rhs"))
 

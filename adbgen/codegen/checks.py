@@ -21,7 +21,7 @@ import sympy as sp
 
 from ..core.first_order import FirstOrderSystem
 from ..errors import AdbgenError
-from .interpret import compile_program
+from .plain_python import compile_program
 from .ir import ModelIR
 
 LOWERING_TOLERANCE = 1e-12  # rhs, mass_matrix, forcing against the symbolic model (exact arithmetic but rounding)
@@ -134,7 +134,7 @@ def errors_of(functions: dict[str, Callable], ref: Reference, n_states: int, n_c
 
 def program_errors(ir: ModelIR, system: FirstOrderSystem, samples: int = 12, seed: int = 0,
                    reference: Reference | None = None) -> dict[str, float]:
-    """`errors_of` the intermediate form's five programs (run in Python, `interpret`)."""
+    """`errors_of` the intermediate form's five programs (run in Python, `plain_python`)."""
     ref = reference or Reference.of(system)
     return errors_of({name: compile_program(ir, name) for name in PROGRAMS}, ref, ir.n_states, ir.n_coordinates,
                      samples, seed)
@@ -296,7 +296,7 @@ def _check_angles(ir: ModelIR, rhs) -> float:
 
 
 def _check_measures(ir: ModelIR, system: FirstOrderSystem) -> float:
-    from .interpret import compile_measures
+    from .plain_python import compile_measures
 
     d = ir.description
     eom = system.solve.eom
@@ -384,7 +384,7 @@ def _parameter_points(ir: ModelIR, samples: int, seed: int):
 
 
 def _check_steady_states(ir: ModelIR, rhs) -> tuple[float, tuple[str, ...]]:
-    from .interpret import compile_steady_states
+    from .plain_python import compile_steady_states
 
     d = ir.description
     if not d.steady_states:
@@ -432,7 +432,7 @@ def _check_equilibria(ir: ModelIR) -> float:
     on it (its zero states 0) at the random parameter points, the null space T of the emitted constraint
     gradients in the free states annihilates the jac (|J T| <= STEADY_TOLERANCE |J|): moving along the
     manifold keeps an equilibrium to first order.  Returns the largest |J T| / |J| seen."""
-    from .interpret import compile_kernel, compile_steady_states
+    from .plain_python import compile_kernel, compile_steady_states
 
     d = ir.description
     if d.equilibria is None or not d.steady_states:

@@ -11,7 +11,7 @@ is proven does regenerate write anything.
 
 What a target's function is compared with (`Proof.expected`): rhs, mass and forcing with the symbolic
 model (M and f lambdified, the accelerations by a dense solve: `checks.Reference`) and with the
-checked programs of the intermediate form run in Python (`interpret`; `checks.check_programs` has
+checked programs of the intermediate form run in Python (`plain_python`; `checks.check_programs` has
 shown them equal to the symbolic model, jac and jac_p to central differences of the dense solve);
 jac and jac_p with those programs.  A target prints the same operations in the same order, so the
 difference is rounding at most (measured: 0 for C, CVODE, AUTO-07p and numba); `TOLERANCE` leaves
@@ -44,7 +44,7 @@ import numpy as np
 from . import compiler, targets
 from ..errors import AdbgenError
 from .checks import CheckFailed, Reference, _apply, _project, _state_points
-from .interpret import compile_program
+from .plain_python import compile_program
 from .ir import KERNELS, ModelIR
 
 TOLERANCE = 1e-12  # a target's function against the checked programs, norm-wise relative (measured 0)

@@ -15,7 +15,7 @@ import pytest
 
 from adbgen import families
 from adbgen.codegen.regenerate import DEFAULT_OUT
-from adbgen.codegen.scratch import import_numba, render_into
+from adbgen.codegen.render_and_import import import_numba, render_into
 from adbgen.codegen.spec import build as build_ir
 
 # pytest runs with --import-mode=importlib, which puts no test folder on sys.path: put this one there

@@ -26,7 +26,7 @@ import pytest
 from adbgen import families
 from adbgen.codegen.checks import DERIVATIVE_TOLERANCE, Reference, errors_of
 from adbgen.codegen.regenerate import DEFAULT_OUT
-from adbgen.codegen.scratch import import_numba, render_into
+from adbgen.codegen.render_and_import import import_numba, render_into
 from adbgen.codegen.spec import build as build_ir
 
 from autorun import auto_header, auto_toolchain  # noqa: F401 - fixture

@@ -11,7 +11,7 @@ import sympy as sp
 from adbgen.codegen import lowering as I
 from adbgen.codegen.checks import lowering_error
 from adbgen.families.single_plane import models
-from adbgen.codegen.interpret import compile_program
+from adbgen.codegen.plain_python import compile_program
 from adbgen.codegen.checks import CheckFailed, check_start as _check_start
 from adbgen.families.single_plane.scene import Scene
 from adbgen.families.single_plane.model import derive

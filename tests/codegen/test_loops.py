@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 
 from adbgen.codegen.balls import NoBallStructure, split
-from adbgen.codegen.interpret import compile_program
+from adbgen.codegen.plain_python import compile_program
 from adbgen.codegen.ir import KERNELS
 from adbgen.codegen.lowering import _blocks
 from adbgen.codegen.render import render_model

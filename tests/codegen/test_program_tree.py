@@ -13,7 +13,7 @@ import pytest
 import sympy as sp
 
 from adbgen.codegen import program_tree
-from adbgen.codegen.interpret import compile_program
+from adbgen.codegen.plain_python import compile_program
 from adbgen.codegen.printers import BallInvariantOrder
 from adbgen.codegen.spec import build as build_ir
 from adbgen.families.single_plane import models as sp_models

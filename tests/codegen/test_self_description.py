@@ -25,7 +25,7 @@ from adbgen.analysis.loading import load_model
 from adbgen.codegen.checks import CheckFailed, _project, check_description
 from adbgen.codegen.describe import DescriptionError
 from adbgen.codegen.regenerate import DEFAULT_OUT
-from adbgen.codegen.scratch import import_numba, render_into
+from adbgen.codegen.render_and_import import import_numba, render_into
 from adbgen.codegen.spec import build as build_ir
 from adbgen.core.description import ROLES, Symmetry
 from adbgen.families.single_plane import models as sp_models

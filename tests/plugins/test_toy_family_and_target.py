@@ -194,7 +194,7 @@ def test_a_registered_family_and_target_regenerate_with_the_others(toy, tmp_path
 
     # the generated numba module is the pendulum: from rest at X = 0 (no spring force) the cart recoils,
     # phi'' = -(M + m) g sin(phi) / (l (M + m sin^2 phi)), X'' = m l sin(phi) cos(phi) g / (l (M + m sin^2 phi))
-    from adbgen.codegen.scratch import import_numba
+    from adbgen.codegen.render_and_import import import_numba
 
     module = import_numba(out / "toy" / "toy_pendulum", "_adbgen_toy_pendulum")
     phi = 0.3
@@ -229,7 +229,7 @@ def _load_module(path: Path, alias: str):
 def test_the_toy_target_prints_the_loop_form_and_it_runs(toy, tmp_path, capsys):
     """pylist's module equals the generated numba module (rhs, jac) at random points, in the loop form:
     one ball loop whatever n, the same number of lines for 3 and 6 balls."""
-    from adbgen.codegen.scratch import import_numba
+    from adbgen.codegen.render_and_import import import_numba
 
     out = tmp_path / "gen"
     code = main(["regenerate", "--family", "single-plane", "--n", "3", "6", "--targets", "pylist", "numba",

@@ -16,7 +16,7 @@ class PythonDialect(Dialect):
 
     ``scratch``: a per-ball work array of `size` doubles; the numba module puts it on the stack
     (`NUMBA_SCRATCH`: np.empty would cost a heap allocation, ~100 ns, per call); plain Python (the
-    checks' interpreter, `codegen.interpret`) takes np.empty."""
+    checks' interpreter, `codegen.plain_python`) takes np.empty."""
 
     scratch: str = "np.empty({size})"
 

@@ -2,7 +2,7 @@
 
 `lie_coefficients`: the Taylor coefficients y_k = L_f^k y / k! of the solution through (t, y) (L_f the
 Lie derivative along the flow, so y_k = y^(k)(t) / k!), from the model's rhs as the numba target
-prints it (`interpret.python_source`, the kernel the lowering checks compare with the dense symbolic
+prints it (`plain_python.python_source`, the kernel the lowering checks compare with the dense symbolic
 solve), evaluated on truncated power series in s: `Series` composes the elementary functions with
 their Maclaurin series (sin(a + q) = sin a cos q + cos a sin q with cos q = sum (-1)^k q^2k / (2k)!,
 1/(b + q) = sum (-q)^k / b^(k+1), ...), Taylor's theorem as such, not the automatic-differentiation
@@ -20,7 +20,7 @@ from types import SimpleNamespace
 import mpmath
 import numpy as np
 
-from ...interpret import python_source
+from ...plain_python import python_source
 from ...emit import tables
 
 DIGITS = 60
