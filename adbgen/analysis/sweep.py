@@ -327,10 +327,10 @@ def _compute(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, thread
         return out
     from dataclasses import replace
 
-    from .tolerance import differ, tighter
+    from .tolerance import differ, tightened_tolerances
 
     c0 = time.thread_time()
-    rtol, atol = tighter(spec.rtol, spec.atol)
+    rtol, atol = tightened_tolerances(spec.rtol, spec.atol)
     sensitive = np.zeros(len(flat), dtype=bool)
     for key, other in (("tighter", replace(spec, rtol=rtol, atol=atol)),
                        ("second_engine", replace(spec, engine=second_engine_of(spec, model)))):
@@ -547,9 +547,9 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
                                         "stability: the steady state)")
     ds["done"].attrs["description"] = "1 where the point's block is written (resumable sweeps)"
     if checks_tolerance(spec):
-        from .tolerance import REL_TOL, tighter
+        from .tolerance import REL_TOL, tightened_tolerances
 
-        rtol, atol = tighter(spec.rtol, spec.atol)
+        rtol, atol = tightened_tolerances(spec.rtol, spec.atol)
         other = second_engine_of(spec, model)
         ds[f"{spec.measure}_tighter"].attrs["description"] = f"{spec.measure} at rtol {rtol:g}, atol {atol:g}"
         ds[f"{spec.measure}_second_engine"].attrs["description"] = f"{spec.measure} on {other}"

@@ -35,7 +35,7 @@ MIN_RTOL = 1e-14  # the tighter rtol is kept at or above this (double precision 
 MARK = "(!)"  # the mark of a tolerance-sensitive outcome in tables (figures: `mark_points`)
 
 
-def tighter(rtol: float, atol: float) -> tuple[float, float]:
+def tightened_tolerances(rtol: float, atol: float) -> tuple[float, float]:
     """(rtol, atol) of the tighter run: both divided by TIGHTEN, rtol not below MIN_RTOL (atol scaled alike)."""
     factor = min(TIGHTEN, rtol / MIN_RTOL) if rtol > MIN_RTOL else 1.0
     return rtol / factor, atol / factor
@@ -201,7 +201,7 @@ def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float
         return simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=atol, engine=eng, threshold=threshold,
                         keep_trajectory=False, max_steps=max_steps, check=False)
 
-    rt, at = tighter(sim.rtol, sim.atol)
+    rt, at = tightened_tolerances(sim.rtol, sim.atol)
     if tight is None:
         tight = run(engine, rt, at)
     picked = (sim.picked or {}).get("engine", sim.engine)

@@ -21,7 +21,7 @@ from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
 from adbgen.analysis.sweep import SweepSpec, run_sweep
 from adbgen.analysis.tolerance import (TIGHTEN, Outcome, check_simulation, differ, disagreements, judge,
-                                       second_engine, tighter)
+                                       second_engine, tightened_tolerances)
 
 BALANCES = {"phi_1": math.pi / 2, "phi_2": -math.pi / 2}  # Fig. 5.4(a): balanced, t_dec 462.42
 CYCLES = {"phi_1": math.pi / 4, "phi_2": -math.pi / 4}  # Fig. 5.4(b): a limit cycle
@@ -77,8 +77,8 @@ def test_differ_on_codes_and_values():
 
 
 def test_tighter_and_second_engine():
-    assert tighter(1e-8, 1e-10) == pytest.approx((1e-10, 1e-12)) and TIGHTEN == 100
-    assert tighter(1e-13, 1e-15) == pytest.approx((1e-14, 1e-16))  # not below double precision's reach
+    assert tightened_tolerances(1e-8, 1e-10) == pytest.approx((1e-10, 1e-12)) and TIGHTEN == 100
+    assert tightened_tolerances(1e-13, 1e-15) == pytest.approx((1e-14, 1e-16))  # not below double precision's reach
     model = load_model("thesis_rotating_n2")
     assert second_engine("taylor", model) == "rk-dop853" and second_engine("cyrk-dop853", model) == "taylor"
 
