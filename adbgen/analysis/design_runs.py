@@ -200,6 +200,16 @@ def residual_quantile(results: list[dict], q: float = RESIDUAL_QUANTILE) -> floa
     return float(np.quantile(values, q))
 
 
+def check_runs(objective: str, runs: Model) -> None:
+    """A one-line AnalysisError where the run model lacks what `objective` needs (before any computing)."""
+    if objective == "residual" and not has_stick_phase(runs):
+        raise AnalysisError(f"--objective residual: {runs.name} has no stick phase (a scene with static_friction "
+                            "makes one): no residual imbalance to compute")
+    if objective == "r_max-run-up" and "t_ramp" not in runs.param_names:
+        raise AnalysisError(f"--objective r_max-run-up: {runs.name} has no run-up (no t_ramp parameter): give --runs "
+                            "a scene whose [speed] law is a schedule, or a run-up model")
+
+
 def has_stick_phase(model: Model) -> bool:
     from .engines import hybrid
 

@@ -31,9 +31,8 @@ import math
 import numpy as np
 
 from .design import Design, Problem, Verdict, active_limit, sensitivity
-from .design_runs import (RESIDUAL_QUANTILE, Journal, evaluate, has_stick_phase, key_of, residual_quantile, residual_run,
+from .design_runs import (RESIDUAL_QUANTILE, Journal, check_runs, evaluate, key_of, residual_quantile, residual_run,
                           residual_starts, rest_start, run_params, run_up)
-from .loading import AnalysisError
 from .simulate import simulate
 from .units import default_t_end, default_threshold
 
@@ -116,9 +115,7 @@ def by_runs(design: Design, objective: str, runs, journal: Journal | None = None
     residual the smallest quantile of the residual imbalance over design_runs.residual_starts (stick-slip,
     `run_time` long, default units.default_t_end).  A design whose run failed is never chosen."""
     problem = design.problem
-    if objective == "residual" and not has_stick_phase(runs):
-        raise AnalysisError(f"--objective residual: {runs.name} has no stick phase (a scene with static_friction "
-                            "makes one): no residual imbalance to compute")
+    check_runs(objective, runs)
     point = operating_point(problem)
     cands = candidates(design) if verdicts is None else verdicts
     starts = residual_starts(runs) if objective == "residual" else [rest_start(runs)]

@@ -199,7 +199,7 @@ def _by_balls(args, counts: list[int]):
 def _one_design(args, model):
     from ..analysis import design_transients
     from ..analysis.design import Axis, Problem, solve
-    from ..analysis.design_runs import Journal, has_stick_phase
+    from ..analysis.design_runs import Journal, check_runs, run_params
     from ..analysis.loading import AnalysisError
     from ..analysis.units import assignments, params, units
 
@@ -224,9 +224,9 @@ def _one_design(args, model):
     problem = Problem(model, base, box, varied, ties=ties)
     runs = _load_scene(args.runs) if args.runs is not None else model
     run_set = assignments(args.run_set, "--run-set", units(runs).params)
-    if args.objective == "residual" and not has_stick_phase(runs):  # before the design's scans: refused at once
-        raise AnalysisError(f"--objective residual: {runs.name} has no stick phase (a scene with static_friction "
-                            "makes one): no residual imbalance to compute")
+    if args.objective in ("r_max-run-up", "residual"):
+        check_runs(args.objective, runs)  # before the design's scans: refused at once
+        run_params(problem, runs, [a.low for a in varied], {}, run_set)
     if args.workers is not None and args.workers < 1:
         raise AnalysisError(f"--workers: expected a whole number >= 1, got {args.workers}")
     journal = Journal(Path(args.out) if args.out is not None else None)

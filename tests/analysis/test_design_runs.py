@@ -103,3 +103,44 @@ def test_residual_quantile_counts_no_failed_run():
     ok = [{"residual": x, "status": "success"} for x in np.linspace(0.0, 1.0, 11)]
     assert residual_quantile(ok, 0.9) == pytest.approx(0.9)
     assert residual_quantile(ok[:-1] + [{"residual": None, "status": "max_steps"}]) is None
+
+
+# the braked free rotor of tests/analysis/test_hybrid_engine.py (the same bytes: one generated model for both)
+TORQUE_SCENE = """n = 2
+rotor_mass = 1.0
+eccentricity = 0.0
+polar_inertia = 0.001
+race_radius = 0.05
+ball_mass = 0.01
+ball_damping = 0.0
+stiffness = 1000.0
+damping = 1.0
+rolling_resistance = 0.02
+static_friction = 0.05
+[speed]
+law = "torque"
+tau0 = -0.01
+motor_slope = 0.0
+"""
+
+
+def test_residual_runs_are_the_stick_slip_engines(tmp_path):
+    from adbgen.analysis.design_runs import residual_run, residual_starts
+    from adbgen.analysis.engines import hybrid
+
+    path = tmp_path / "torque.toml"
+    path.write_text(TORQUE_SCENE)
+    model = load_model(scene=str(path))
+    p = model.params({"eps": 0.001})
+    starts = residual_starts(model, 3)
+    assert len({tuple(s) for s in starts}) == 3 and np.all(starts[:, list(model.role_indices("ball_angle"))] >= 0)
+    y0 = starts[0].copy()
+    y0[list(model.role_indices("ball_angle_rate"))] = 0.0
+    y0[list(model.role_indices("spin_angle_rate"))] = 100.0  # the rotor spinning (the braked rotor's start)
+    row = residual_run(model, p, y0, 0.5)
+    run = hybrid.run(model, p, y0, 0.0, 0.5)
+    i, j = model.amplitude_indices[:2]
+    assert row["status"] == "success" and row["residual"] == pytest.approx(np.hypot(run.y_end[i], run.y_end[j]), rel=1e-9)
+    assert row["modes"] == list(run.modes(2))
+    # negative control: the residual is the rotor's displacement, not a ball's angle
+    assert row["residual"] != pytest.approx(float(np.hypot(*run.y_end[list(model.role_indices("ball_angle"))])))

@@ -58,7 +58,13 @@ def test_json_keys_as_documented(capsys, tmp_path):
     data = json.loads(out)
     assert set(data) == set(JSON_FIELDS) - {"balls", "chosen_balls"}  # exactly the documented keys (no --balls)
     assert set(data["best"]) == set(BEST_KEYS[1:]) | {"beta"}
-    assert {p.name for p in (tmp_path / "d").iterdir()} == {"design.json", "report.md", "design.png"}
+    assert {p.name for p in (tmp_path / "d").iterdir()} == {"design.json", "report.md", "design.png",
+                                                           "design-journal.jsonl"}
+    # a rerun into the same folder reads the verification runs from the journal: the same answer
+    code, again, err = run(capsys, "design", "thesis_rotating_n3", "--range", "omega=4:4", "--range", "zeta=0.3:0.5",
+                           "--vary", "beta=0.2:0.4", "--json", "--out", str(tmp_path / "d"))
+    assert code == 0 and json.loads(again)["verification"] == data["verification"] != []
+    assert "Boundaries the chart certifies" in (tmp_path / "d" / "report.md").read_text()
     report = (tmp_path / "d" / "report.md").read_text()
     assert "What limits it" in report and "Not covered yet" in report
     helps = [a.help for a in build_parser()._subparsers._group_actions[0].choices["design"]._actions]
@@ -73,7 +79,11 @@ def test_json_keys_as_documented(capsys, tmp_path):
     (["--vary", "beta=0.1:0.2", "--imbalance=-1:0.01"], "must be >= 0"),
     (["--vary", "beta=0.1:0.2", "--imbalance", "0.02:0.01"], "above HIGH"),
     (["--vary", "beta=0.1:0.2", "--range", "beta=0:1"], "given twice"),
-    (["--vary", "beta=0.1:0.2", "--objective", "residual"], "invalid choice"),
+    (["--vary", "beta=0.1:0.2", "--objective", "rmax"], "invalid choice"),
+    (["--vary", "beta=0.1:0.2", "--objective", "residual"], "no stick phase"),
+    (["--vary", "beta=0.1:0.2", "--objective", "r_max-run-up"], "no run-up"),
+    (["--vary", "mu=0.05:0.1", "--objective", "r_max-run-up", "--runs", "two_plane_ramp"], "shares none of the varied"),
+    (["--vary", "beta=0.1:0.2", "--workers", "0"], "--workers"),
     (["--vary", "beta=0.1:0.2", "--balls", "2..3"], "--balls needs a scene file"),
     (["--vary", "beta=0.1:0.2", "--balls", "3..2"], "expected 1 <= N1 <= N2"),
     (["--vary", "beta=0.1:0.2", "--balls", "two"], "whole numbers"),
