@@ -117,3 +117,43 @@ def test_balls_choose_the_count(capsys, tmp_path):
     feasible = [r for r in rows if r["feasible"]]
     assert data["chosen_balls"] == min(feasible, key=lambda r: r["margin"])["n"]
     assert data["best"]["margin"] == min(r["margin"] for r in feasible)
+
+
+def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
+    """`adbgen design --objective t_dec --out DIR` killed (SIGKILL) once its journal holds a finished run, then
+    run again into DIR: the same JSON as a run never killed (the journal read back, not recomputed: the line count
+    grows by the runs left only).  Negative control: the killed folder's journal was incomplete when killed."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    from adbgen.analysis.design_runs import JOURNAL
+
+    argv = [sys.executable, "-m", "adbgen.cli", "design", "thesis_rotating_n3", "--range", "omega=4:4", "--range",
+            "zeta=0.3:0.5", "--vary", "beta=0.3:0.6", "--objective", "t_dec", "--workers", "1", "--no-progress", "--json"]
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
+
+    def json_of(folder):
+        done = subprocess.run(argv + ["--out", str(folder)], capture_output=True, text=True, env=env, timeout=900)
+        assert done.returncode == 0, done.stderr
+        data = json.loads(done.stdout)
+        data.pop("files")
+        return data
+    whole = json_of(tmp_path / "whole")
+    total = len((tmp_path / "whole" / JOURNAL).read_text().splitlines())
+    journal = tmp_path / "killed" / JOURNAL
+    proc = subprocess.Popen(argv + ["--out", str(tmp_path / "killed")], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, env=env)
+    try:
+        while proc.poll() is None and not (journal.is_file() and journal.read_text().count("\n") >= 1):
+            time.sleep(0.05)
+        os.kill(proc.pid, signal.SIGKILL)
+    finally:
+        proc.wait()
+    kept = len(journal.read_text().splitlines())
+    assert 1 <= kept < total, (kept, total)  # killed with runs left to do
+    assert json_of(tmp_path / "killed") == whole
+    assert len(journal.read_text().splitlines()) == total  # only the runs left were run again
