@@ -661,10 +661,12 @@ def sensitivity(problem: Problem, best: Verdict) -> list[dict]:
     out = []
     for k, axis in enumerate(problem.varied):
         col = m.param_names.index(axis.name)
-        dy = -np.linalg.lstsq(J, fp[:, col], rcond=1e-11)[0]
-        h = FD_STEP * (abs(p[col]) or 1.0)
+        # the direction in the parameters: the varied one and every parameter tied to it (--tie) move together
         e = np.zeros_like(p)
-        e[col] = 1.0
+        for name in [axis.name] + [n for n, source in problem.ties.items() if source == axis.name]:
+            e[m.param_names.index(name)] = 1.0
+        dy = -np.linalg.lstsq(J, fp @ e, rcond=1e-11)[0]
+        h = FD_STEP * (abs(p[col]) or 1.0)
         dJ = (jacobian(m, s.y + h * dy, p + h * e) - jacobian(m, s.y - h * dy, p - h * e)) / (2 * h)
         via_jac_p = float((l.conj() @ (S.T @ dJ @ S) @ r / (l.conj() @ r)).real)
         hd = FD_STEP * (abs(best.design[k]) or axis.high - axis.low)
