@@ -40,7 +40,8 @@ each evaluation a certified box scan.
 
 **Sensitivity.**  dg/dv_k at the best design, two ways: (1) from the emitted parameter Jacobian jac_p at the
 box's worst point, the eigenvalue's first-order perturbation d lambda = l^H dJ r / l^H r (Wilkinson) with
-dJ = d/dh J(y + h dy, p + h e_k), dy = -J^+ f_{p_k} (the state's move, from jac_p); (2) by one-sided finite
+dJ = d/dh J(y + h dy, p + h e_k), dy = -J^+ f_p e_k (the state's move, from jac_p; e_k moves v_k and every
+parameter tied to it); (2) by one-sided finite
 differences of g itself.  They agree where the worst point does not jump (the envelope theorem); at a max-min
 optimum (two box points equally worst) g has a kink and jac_p's slope matches one side: the output says
 which, and how far each parameter may move before g reaches 0 at that slope.
