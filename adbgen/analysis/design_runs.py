@@ -80,31 +80,28 @@ class Journal:
 def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progress: bool = True,
              desc: str = "design") -> tuple[dict, int]:
     """({key: result}, how many ran now) for tasks [(key, fn, args)]: the journalled read back, the rest on a
-    local Dask cluster (one process, a thread per core), each journalled as it finishes."""
+    local Dask cluster (one process, a thread per core), each journalled as it finishes; `progress`: the
+    project's bar on stderr (adbgen.progress: from two seconds on)."""
     out = {k: journal.done[k] for k, _, _ in tasks if k in journal.done}
     pending = [(k, fn, args) for k, fn, args in tasks if k not in journal.done]
     pending = list({k: (k, fn, args) for k, fn, args in pending}.values())  # a task given twice runs once
     if not pending:
         return out, 0
     from distributed import Client, LocalCluster, as_completed
-    from tqdm import tqdm
 
+    from ..progress import bar
     from .sweep import default_workers
 
     n = workers or default_workers()
     with LocalCluster(n_workers=1, threads_per_worker=n, processes=False, dashboard_address=":0") as cluster, \
-            Client(cluster) as client:
+            Client(cluster) as client, bar(len(pending), desc, progress, unit="run") as update:
         futures = {client.submit(fn, *args, pure=False): k for k, fn, args in pending}
-        bar = tqdm(total=len(pending), disable=not progress, file=sys.stderr, unit="run", desc=desc)
-        try:
-            for fut in as_completed(futures):
-                k = futures[fut]
-                result = fut.result()
-                journal.put(k, result)
-                out[k] = result
-                bar.update(1)
-        finally:
-            bar.close()
+        for count, fut in enumerate(as_completed(futures), 1):
+            k = futures[fut]
+            result = fut.result()
+            journal.put(k, result)
+            out[k] = result
+            update(count)
     return out, len(pending)
 
 

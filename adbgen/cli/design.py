@@ -79,7 +79,7 @@ def _add_design(p) -> None:
                         "the default run at the final speed, 4000 / speed, or 1000 time units)")
     p.add_argument("--workers", type=int, metavar="N",
                    help="threads of the local Dask cluster the runs go to (default: the cores available)")
-    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr")
+    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr (none either with --json or without a terminal)")
     p.add_argument("--no-verify", dest="verify", action="store_false",
                    help="skip the verification runs of the chosen design at the box's corners")
     p.add_argument("--out", help="folder: design.json, report.md (a one-page report), design.png, and "
@@ -202,6 +202,7 @@ def _one_design(args, model):
     from ..analysis.design_runs import Journal, check_runs, run_params
     from ..analysis.loading import AnalysisError
     from ..analysis.units import assignments, params, units
+    from ..progress import wanted
 
     if "eccentricity" not in model.scales:  # before the arguments are read: the imbalance needs it
         raise AnalysisError(f"{model.name} names no eccentricity parameter (SCALES): no imbalance to design for")
@@ -231,7 +232,7 @@ def _one_design(args, model):
         raise AnalysisError(f"--workers: expected a whole number >= 1, got {args.workers}")
     journal = Journal(Path(args.out) if args.out is not None else None)
     design = solve(problem)
-    how = {"workers": args.workers, "progress": args.progress}
+    how = {"workers": args.workers, "progress": args.progress and wanted(json=args.json)}
     if args.objective == "t_dec":
         design_transients.by_t_dec(design, journal, **how)
     elif args.objective in ("r_max-run-up", "residual"):
