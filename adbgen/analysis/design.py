@@ -40,7 +40,8 @@ each evaluation a certified box scan.
 
 **Sensitivity.**  dg/dv_k at the best design, two ways: (1) from the emitted parameter Jacobian jac_p at the
 box's worst point, the eigenvalue's first-order perturbation d lambda = l^H dJ r / l^H r (Wilkinson) with
-dJ = d/dh J(y + h dy, p + h e_k), dy = -J^+ f_{p_k} (the state's move, from jac_p); (2) by one-sided finite
+dJ = d/dh J(y + h dy, p + h e_k), dy = -J^+ f_p e_k (the state's move, from jac_p; e_k moves v_k and every
+parameter tied to it); (2) by one-sided finite
 differences of g itself.  They agree where the worst point does not jump (the envelope theorem); at a max-min
 optimum (two box points equally worst) g has a kink and jac_p's slope matches one side: the output says
 which, and how far each parameter may move before g reaches 0 at that slope.
@@ -661,10 +662,12 @@ def sensitivity(problem: Problem, best: Verdict) -> list[dict]:
     out = []
     for k, axis in enumerate(problem.varied):
         col = m.param_names.index(axis.name)
-        dy = -np.linalg.lstsq(J, fp[:, col], rcond=1e-11)[0]
-        h = FD_STEP * (abs(p[col]) or 1.0)
+        # the direction in the parameters: the varied one and every parameter tied to it (--tie) move together
         e = np.zeros_like(p)
-        e[col] = 1.0
+        for name in [axis.name] + [n for n, source in problem.ties.items() if source == axis.name]:
+            e[m.param_names.index(name)] = 1.0
+        dy = -np.linalg.lstsq(J, fp @ e, rcond=1e-11)[0]
+        h = FD_STEP * (abs(p[col]) or 1.0)
         dJ = (jacobian(m, s.y + h * dy, p + h * e) - jacobian(m, s.y - h * dy, p - h * e)) / (2 * h)
         via_jac_p = float((l.conj() @ (S.T @ dJ @ S) @ r / (l.conj() @ r)).real)
         hd = FD_STEP * (abs(best.design[k]) or axis.high - axis.low)

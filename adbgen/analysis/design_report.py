@@ -19,11 +19,21 @@ from .design import Design
 from .design_transients import START_STATE, STARTS
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
-NOT_COVERED = ["objectives r_max through a run-up and residual (margin and t_dec only)",
-               "a run-up of the chosen design (the verification runs are at constant speed)",
+NOT_COVERED = ["a run-up of the chosen design in the verification (the verification runs are at constant speed; "
+               "--objective r_max-run-up runs the candidates' run-ups)",
                "the ball count only over whole scenes (--balls with a scene file), not inside the optimiser",
-               "Dask: the designs are assessed in this process",
+               "Dask: the designs' certified box scans are assessed in this process (the objectives' and the "
+               "verification's runs go to the local cluster and the journal)",
                "a torus or fold of periodic orbits as a boundary (only the balancing steady state is designed)"]
+# which boundaries the feasibility chart (and the intervals) locate and certify, said in every output: the
+# balancing steady state's losses only; a boundary of a periodic orbit (torus, period doubling: analysis/orbits/)
+# is not computed, so a region the chart calls feasible may hold such an orbit's bifurcation
+BOUNDARY_TYPES = {"certified": ["capacity limit (the balancing state's closed form ceases to exist)",
+                                "Hopf (a complex pair of the balancing state crosses)",
+                                "real eigenvalue (fold or pitchfork of the balancing state)",
+                                "range end"],
+                  "not_certified": ["torus (Neimark-Sacker) or period doubling of a periodic orbit",
+                                    "fold of periodic orbits", "a basin boundary (a coexisting attractor)"]}
 
 MARKERS = {"capacity limit": ("s", "tab:purple"), "Hopf": ("o", "tab:red"), "real eigenvalue": ("^", "tab:orange"),
            "not located": ("x", "k")}
@@ -43,7 +53,8 @@ def to_json(design: Design, objective: str = "margin") -> dict:
             "active_boundary": design.active.to_json() if design.active is not None else None,
             "sensitivity": design.sensitivity, "chart": design.chart, "resolution": design.resolution,
             "evaluations": design.evaluations, "objective_runs": design.objective_runs,
-            "verification": design.verification, "verification_start": START_STATE, "not_covered": NOT_COVERED}
+            "verification": design.verification, "verification_start": START_STATE, "not_covered": NOT_COVERED,
+            "boundary_types": BOUNDARY_TYPES}
 
 
 def _fmt(x) -> str:
@@ -76,8 +87,10 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
                                            else f"none of the feasible designs settles (objective {objective})."), ""]
     else:
         b = out["best"]
-        what = ("the worst decay rate over the box" if objective == "margin" else
-                f"the shortest t_dec at the operating point from {STARTS[0]}")
+        what = {"margin": "the worst decay rate over the box",
+                "t_dec": f"the shortest t_dec at the operating point from {STARTS[0]}",
+                "r_max-run-up": "the smallest r_max through the run model's run-up",
+                "residual": "the smallest quantile of the residual imbalance over the starts (stick-slip)"}[objective]
         lines += [f"## The best design (objective: {what})", "",
                   "| " + " | ".join(a.name for a in pr.varied) + " | worst margin | uncertainty | where | capacity |",
                   "|" + "---|" * (len(pr.varied) + 4),
@@ -113,6 +126,15 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
                   (design.objective_runs[0]["point"].items() if design.objective_runs else [])) + f"; rotor and balls at "
                   f"rest, {STARTS[0]}): {len(design.objective_runs)} feasible designs run, {len(settled)} settled"
                   + (f"; the shortest t_dec {_fmt(best_t)}." if settled else ". **None settled: no best design by t_dec.**"), ""]
+    if objective in ("r_max-run-up", "residual"):
+        runs = design.objective_runs
+        value = "r_max" if objective == "r_max-run-up" else "residual_quantile"
+        done = [r for r in runs if r[value] is not None]
+        lines += [f"Objective {objective} on the run model {runs[0]['run_model'] if runs else '—'} at "
+                  + ", ".join(f"{k} = {_fmt(v)}" for k, v in (runs[0]["point"].items() if runs else [])) + ": "
+                  f"{len(runs)} feasible designs run, {len(done)} computed"
+                  + (f"; the smallest {value} {_fmt(min(r[value] for r in done))}." if done
+                     else ". **None computed: no best design.**"), ""]
     if design.verification:
         lines += [f"## Verification: the chosen design at the box's corners ({START_STATE})", "",
                   "| point | start | status | t_dec | r_max | r at the end | settled |", "|---|---|---|---|---|---|---|"]
@@ -127,6 +149,8 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
         lines.append("")
     if design.resolution:
         lines += ["## What is certified", "", design.resolution.get("statement", ""), ""]
+    lines += ["Boundaries the chart certifies: " + "; ".join(BOUNDARY_TYPES["certified"]) + ". Not computed: "
+              + "; ".join(BOUNDARY_TYPES["not_certified"]) + ".", ""]
     lines += ["Not covered yet: " + "; ".join(NOT_COVERED) + ".", "", "![design](design.png)", ""]
     return "\n".join(lines)
 

@@ -7,6 +7,10 @@ verification run of the chosen design at the corners of the operating box.
     best_by_t_dec(problem, verdicts)   the feasible design with the smallest t_dec at the operating point
     verify(problem, design)            a run at every corner of the box (each range and the imbalance at its ends)
     by_t_dec(design)                   the Design's best replaced by the t_dec objective's (CANDIDATES at most)
+    by_runs(design, objective, runs)   the same for r_max-run-up (the smallest r_max through the run model's
+                                       run-up) and residual (the smallest RESIDUAL_QUANTILE quantile of the
+                                       residual imbalance over the starts, stick-slip runs); every run evaluated
+                                       by design_runs.evaluate (Dask, progress, the journal in --out)
 
 STARTS: the rotor at rest and the balls at rest, either spread (ball k of n, in state order, at 2 pi k / n) or
 bunched (ball k at 0.1 k rad).  Not exactly together: identical balls started at one angle stay together for
@@ -27,6 +31,8 @@ import math
 import numpy as np
 
 from .design import Design, Problem, Verdict, active_limit, sensitivity
+from .design_runs import (RESIDUAL_QUANTILE, Journal, check_runs, evaluate, key_of, residual_quantile, residual_run,
+                          residual_starts, rest_start, run_params, run_up)
 from .simulate import simulate
 from .units import default_t_end, default_threshold
 
@@ -71,17 +77,81 @@ def transient(problem: Problem, design, point: dict, start: str = STARTS[0]) -> 
             "r_end": r_end if ok else None, "settled": bool(ok and sim.t_dec is not None and r_end < threshold)}
 
 
-def best_by_t_dec(problem: Problem, verdicts: list[Verdict]) -> tuple[Verdict | None, list[dict]]:
+def best_by_t_dec(problem: Problem, verdicts: list[Verdict], journal: Journal | None = None, *,
+                  workers: int | None = None, progress: bool = False) -> tuple[Verdict | None, list[dict]]:
     """The feasible design inside the varied box with the smallest t_dec at the operating point (among the
     designs given: not optimised between them), and every run."""
     point = operating_point(problem)
+    cands = sorted({v.design: v for v in verdicts if v.feasible and _inside(problem, v)}.values(), key=lambda v: v.design)
+    tasks = [(key_of("t_dec", problem.model.source_hash, problem.params(v.design, point).tolist(), STARTS[0]),
+              transient, (problem, v.design, point)) for v in cands]
+    done, _ = evaluate(tasks, journal or Journal(None), workers=workers, progress=progress, desc="design t_dec")
     runs, best, best_t = [], None, math.inf
-    for v in sorted({v.design: v for v in verdicts if v.feasible and _inside(problem, v)}.values(), key=lambda v: v.design):
-        run = {"design": dict(zip([a.name for a in problem.varied], v.design)), **transient(problem, v.design, point)}
+    for v, (k, _, _) in zip(cands, tasks):
+        run = {"design": dict(zip([a.name for a in problem.varied], v.design)), **done[k]}
         runs.append(run)
         if run["settled"] and run["t_dec"] < best_t:
             best, best_t = v, run["t_dec"]
     return best, runs
+
+
+def candidates(design: Design) -> list[Verdict]:
+    """The feasible designs assessed inside the varied box, CANDIDATES at most, evenly through them."""
+    problem = design.problem
+    feasible = sorted({v.design: v for v in design.verdicts if v.feasible and _inside(problem, v)}.values(),
+                      key=lambda v: v.design)
+    if len(feasible) > CANDIDATES:
+        feasible = [feasible[round(k)] for k in np.linspace(0, len(feasible) - 1, CANDIDATES)]
+    return feasible
+
+
+def by_runs(design: Design, objective: str, runs, journal: Journal | None = None, *, run_time: float | None = None,
+            workers: int | None = None, progress: bool = False, verdicts: list[Verdict] | None = None,
+            run_set: dict | None = None) -> Design:
+    """The best design by `objective` among `verdicts` (default: `candidates`), each run on the run model
+    `runs` at the operating point with the parameters design_runs.run_params maps (`run_set`: the run model's own
+    fixed values): r_max-run-up the smallest
+    r_max through the run-up from the spread start (design_runs.run_up, `run_time` after the schedule);
+    residual the smallest quantile of the residual imbalance over design_runs.residual_starts (stick-slip,
+    `run_time` long, default units.default_t_end).  A design whose run failed is never chosen."""
+    problem = design.problem
+    check_runs(objective, runs)
+    point = operating_point(problem)
+    cands = candidates(design) if verdicts is None else verdicts
+    starts = residual_starts(runs) if objective == "residual" else [rest_start(runs)]
+    rows, tasks = [], []
+    for v in cands:
+        q, taken = run_params(problem, runs, v.design, point, run_set)
+        t_after = run_time
+        if objective == "residual" and t_after is None:
+            t_after = default_t_end(runs, q)[0]
+        keys = []
+        for y0 in starts:
+            k = key_of(objective, runs.source_hash, q.tolist(), y0.tolist(), t_after)
+            fn, args = (run_up, (runs, q, y0, t_after)) if objective == "r_max-run-up" else (residual_run, (runs, q, y0, t_after))
+            tasks.append((k, fn, args))
+            keys.append(k)
+        rows.append((v, keys, taken))
+    done, _ = evaluate(tasks, journal or Journal(None), workers=workers, progress=progress, desc=f"design {objective}")
+    out, best, best_value = [], None, math.inf
+    for v, keys, taken in rows:
+        results = [done[k] for k in keys]
+        if objective == "r_max-run-up":
+            value = results[0]["r_max"]
+            run = {**results[0], "start": START_STATE.split(";")[0] + ", balls spread"}
+        else:
+            value = residual_quantile(results)
+            run = {"residual_quantile": value, "quantile": RESIDUAL_QUANTILE, "starts": len(results),
+                   "residuals": [r["residual"] for r in results], "failed": sum(r["status"] != "success" for r in results)}
+        out.append({"design": dict(zip([a.name for a in problem.varied], v.design)), "point": point,
+                    "run_model": runs.name, "mapped": taken, **run})
+        if value is not None and value < best_value:
+            best, best_value = v, value
+    design.objective_runs = out
+    design.best = best
+    design.active = active_limit(problem, best, design.boundaries)
+    design.sensitivity = sensitivity(problem, best) if best is not None else []
+    return design
 
 
 def _inside(problem: Problem, v: Verdict) -> bool:
@@ -89,23 +159,25 @@ def _inside(problem: Problem, v: Verdict) -> bool:
     return all(a.low <= x <= a.high for a, x in zip(problem.varied, v.design))
 
 
-def verify(problem: Problem, design) -> list[dict]:
+def verify(problem: Problem, design, journal: Journal | None = None, *, workers: int | None = None,
+           progress: bool = False) -> list[dict]:
     """A run from each of STARTS at every corner of the box (each non-degenerate axis at its low and high end)."""
     axes = [a for a in problem.box if not a.fixed]
     fixed = {a.name: a.low for a in problem.box if a.fixed}
-    return [transient(problem, design, {**fixed, **dict(zip([a.name for a in axes], ends))}, start)
-            for ends in itertools.product(*[(a.low, a.high) for a in axes]) for start in STARTS]
+    points = [({**fixed, **dict(zip([a.name for a in axes], ends))}, start)
+              for ends in itertools.product(*[(a.low, a.high) for a in axes]) for start in STARTS]
+    tasks = [(key_of("verify", problem.model.source_hash, problem.params(design, pt).tolist(), start),
+              transient, (problem, design, pt, start)) for pt, start in points]
+    done, _ = evaluate(tasks, journal or Journal(None), workers=workers, progress=progress, desc="design verification")
+    return [done[k] for k, _, _ in tasks]
 
 
-def by_t_dec(design: Design) -> Design:
+def by_t_dec(design: Design, journal: Journal | None = None, *, workers: int | None = None,
+             progress: bool = False) -> Design:
     """The best design by t_dec at the operating point among (at most CANDIDATES of) the feasible designs
     assessed inside the varied box; its limit and sensitivities recomputed.  None where no candidate settles within the run."""
     problem = design.problem
-    feasible = sorted({v.design: v for v in design.verdicts if v.feasible and _inside(problem, v)}.values(),
-                      key=lambda v: v.design)
-    if len(feasible) > CANDIDATES:
-        feasible = [feasible[round(k)] for k in np.linspace(0, len(feasible) - 1, CANDIDATES)]
-    best, design.objective_runs = best_by_t_dec(problem, feasible)
+    best, design.objective_runs = best_by_t_dec(problem, candidates(design), journal, workers=workers, progress=progress)
     design.best = best
     design.active = active_limit(problem, best, design.boundaries)
     design.sensitivity = sensitivity(problem, best) if best is not None else []

@@ -3,7 +3,9 @@ imbalance up to a maximum (issue 39; the analysis in adbgen/analysis/design.py, 
 adbgen/analysis/design_report.py, the page docs/design.md).
 
     adbgen design SCENE --range omega=LOW:HIGH [--range NAME=LOW:HIGH ...] --imbalance LOW:HIGH
-                 --vary NAME=LOW:HIGH [--vary ...] [--set NAME=VALUE ...] [--objective margin] [--out DIR] [--json]
+                 --vary NAME=LOW:HIGH [--vary ...] [--set NAME=VALUE ...]
+                 [--objective margin|t_dec|r_max-run-up|residual] [--runs MODEL|SCENE] [--run-set NAME=VALUE ...]
+                 [--run-time T] [--workers N] [--out DIR] [--json]
 
 SCENE: a generated model's name, a model folder, or a scene file (TOML).
 """
@@ -29,8 +31,11 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "sensitivity": "[{parameter, dmargin, dmargin_finite_difference, agree, kink, direction_to_boundary, "
                               "room_linear}]", "chart": "", "resolution": "", "evaluations": "",
                "objective_runs": "(--objective t_dec: [{design, point, start, status, t_end, threshold, t_dec, r_max, r_end, "
-                                 "settled}])", "verification": "(the same run keys, at the box's corners)",
+                                 "settled}]; r_max-run-up: [{design, point, run_model, mapped, status, t_end, "
+                                 "threshold, r_max, t_dec, start}]; residual: [{design, point, run_model, mapped, "
+                                 "residual_quantile, quantile, starts, residuals, failed}])", "verification": "(the same run keys, at the box's corners)",
                "verification_start": "", "not_covered": "",
+               "boundary_types": "{certified: [...], not_certified: [...]}",
                "balls": "(--balls: [{n, feasible, best, margin, t_dec}])", "chosen_balls": "(--balls)",
                "files": "(with --out)"}
 JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
@@ -57,13 +62,29 @@ def _add_design(p) -> None:
     p.add_argument("--balls", metavar="N1..N2",
                    help="with a scene file: design for each ball count from N1 to N2 (the scene's n replaced; its "
                         "per-ball values must be given once, not as lists) and choose the best count by the objective")
-    p.add_argument("--objective", default="margin", choices=("margin", "t_dec"),
-                   help="what chooses the best design: margin (the largest worst decay rate over the box) or t_dec "
-                        "(the shortest t_dec at the operating point, among at most 25 feasible designs assessed; "
-                        "r_max-run-up and residual are not built yet: issue 39)")
+    p.add_argument("--objective", default="margin", choices=("margin", "t_dec", "r_max-run-up", "residual"),
+                   help="what chooses the best design: margin (the largest worst decay rate over the box), t_dec "
+                        "(the shortest t_dec at the operating point), r_max-run-up (the smallest r_max through the "
+                        "run model's run-up: --runs, a scene whose [speed] law is a schedule) or residual (the "
+                        "smallest 0.9 quantile over 16 starts of the residual imbalance, stick-slip runs on --runs, a "
+                        "scene with static_friction; refused where there is no stick phase); the last three among at "
+                        "most 25 feasible designs assessed")
+    p.add_argument("--runs", metavar="MODEL|SCENE",
+                   help="the model the r_max-run-up or residual runs use (default: the design's own): parameters it "
+                        "shares by name take the design's values, its speed parameter the operating speed")
+    p.add_argument("--run-set", action="append", default=[], metavar="NAME=VALUE",
+                   help="a fixed parameter of the --runs model (its speed law's or friction's), e.g. t_ramp=100")
+    p.add_argument("--run-time", type=float, metavar="T",
+                   help="r_max-run-up: the run's time after the schedule; residual: the run's length (default: "
+                        "the default run at the final speed, 4000 / speed, or 1000 time units)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="threads of the local Dask cluster the runs go to (default: the cores available)")
+    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr (none either with --json or without a terminal)")
     p.add_argument("--no-verify", dest="verify", action="store_false",
                    help="skip the verification runs of the chosen design at the box's corners")
-    p.add_argument("--out", help="folder: design.json, report.md (a one-page report) and design.png")
+    p.add_argument("--out", help="folder: design.json, report.md (a one-page report), design.png, and "
+                                 "design-journal.jsonl (every finished run: a killed design run again with the same "
+                                 "--out skips them)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout; keys: " + JSON_KEYS)
     p.set_defaults(fn=run_design)
 
@@ -178,8 +199,10 @@ def _by_balls(args, counts: list[int]):
 def _one_design(args, model):
     from ..analysis import design_transients
     from ..analysis.design import Axis, Problem, solve
+    from ..analysis.design_runs import Journal, check_runs, run_params
     from ..analysis.loading import AnalysisError
     from ..analysis.units import assignments, params, units
+    from ..progress import wanted
 
     if "eccentricity" not in model.scales:  # before the arguments are read: the imbalance needs it
         raise AnalysisError(f"{model.name} names no eccentricity parameter (SCALES): no imbalance to design for")
@@ -200,11 +223,22 @@ def _one_design(args, model):
             raise AnalysisError(f"--tie: expected NAME=VARIED, got {item!r}")
         ties[name.strip()] = source.strip()
     problem = Problem(model, base, box, varied, ties=ties)
+    runs = _load_scene(args.runs) if args.runs is not None else model
+    run_set = assignments(args.run_set, "--run-set", units(runs).params)
+    if args.objective in ("r_max-run-up", "residual"):
+        check_runs(args.objective, runs)  # before the design's scans: refused at once
+        run_params(problem, runs, [a.low for a in varied], {}, run_set)
+    if args.workers is not None and args.workers < 1:
+        raise AnalysisError(f"--workers: expected a whole number >= 1, got {args.workers}")
+    journal = Journal(Path(args.out) if args.out is not None else None)
     design = solve(problem)
+    how = {"workers": args.workers, "progress": args.progress and wanted(json=args.json)}
     if args.objective == "t_dec":
-        design_transients.by_t_dec(design)
+        design_transients.by_t_dec(design, journal, **how)
+    elif args.objective in ("r_max-run-up", "residual"):
+        design_transients.by_runs(design, args.objective, runs, journal, run_time=args.run_time, run_set=run_set, **how)
     if args.verify and design.best is not None and design.best.feasible:
-        design.verification = design_transients.verify(problem, design.best.design)
+        design.verification = design_transients.verify(problem, design.best.design, journal, **how)
     return design
 
 

@@ -58,7 +58,13 @@ def test_json_keys_as_documented(capsys, tmp_path):
     data = json.loads(out)
     assert set(data) == set(JSON_FIELDS) - {"balls", "chosen_balls"}  # exactly the documented keys (no --balls)
     assert set(data["best"]) == set(BEST_KEYS[1:]) | {"beta"}
-    assert {p.name for p in (tmp_path / "d").iterdir()} == {"design.json", "report.md", "design.png"}
+    assert {p.name for p in (tmp_path / "d").iterdir()} == {"design.json", "report.md", "design.png",
+                                                           "design-journal.jsonl"}
+    # a rerun into the same folder reads the verification runs from the journal: the same answer
+    code, again, err = run(capsys, "design", "thesis_rotating_n3", "--range", "omega=4:4", "--range", "zeta=0.3:0.5",
+                           "--vary", "beta=0.2:0.4", "--json", "--out", str(tmp_path / "d"))
+    assert code == 0 and json.loads(again)["verification"] == data["verification"] != []
+    assert "Boundaries the chart certifies" in (tmp_path / "d" / "report.md").read_text()
     report = (tmp_path / "d" / "report.md").read_text()
     assert "What limits it" in report and "Not covered yet" in report
     helps = [a.help for a in build_parser()._subparsers._group_actions[0].choices["design"]._actions]
@@ -73,7 +79,11 @@ def test_json_keys_as_documented(capsys, tmp_path):
     (["--vary", "beta=0.1:0.2", "--imbalance=-1:0.01"], "must be >= 0"),
     (["--vary", "beta=0.1:0.2", "--imbalance", "0.02:0.01"], "above HIGH"),
     (["--vary", "beta=0.1:0.2", "--range", "beta=0:1"], "given twice"),
-    (["--vary", "beta=0.1:0.2", "--objective", "residual"], "invalid choice"),
+    (["--vary", "beta=0.1:0.2", "--objective", "rmax"], "invalid choice"),
+    (["--vary", "beta=0.1:0.2", "--objective", "residual"], "no stick phase"),
+    (["--vary", "beta=0.1:0.2", "--objective", "r_max-run-up"], "no run-up"),
+    (["--vary", "mu=0.05:0.1", "--objective", "r_max-run-up", "--runs", "two_plane_ramp"], "shares none of the varied"),
+    (["--vary", "beta=0.1:0.2", "--workers", "0"], "--workers"),
     (["--vary", "beta=0.1:0.2", "--balls", "2..3"], "--balls needs a scene file"),
     (["--vary", "beta=0.1:0.2", "--balls", "3..2"], "expected 1 <= N1 <= N2"),
     (["--vary", "beta=0.1:0.2", "--balls", "two"], "whole numbers"),
@@ -107,3 +117,43 @@ def test_balls_choose_the_count(capsys, tmp_path):
     feasible = [r for r in rows if r["feasible"]]
     assert data["chosen_balls"] == min(feasible, key=lambda r: r["margin"])["n"]
     assert data["best"]["margin"] == min(r["margin"] for r in feasible)
+
+
+def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
+    """`adbgen design --objective t_dec --out DIR` killed (SIGKILL) once its journal holds a finished run, then
+    run again into DIR: the same JSON as a run never killed (the journal read back, not recomputed: the line count
+    grows by the runs left only).  Negative control: the killed folder's journal was incomplete when killed."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    from adbgen.analysis.design_runs import JOURNAL
+
+    argv = [sys.executable, "-m", "adbgen.cli", "design", "thesis_rotating_n3", "--range", "omega=4:4", "--range",
+            "zeta=0.3:0.5", "--vary", "beta=0.3:0.6", "--objective", "t_dec", "--workers", "1", "--no-progress", "--json"]
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
+
+    def json_of(folder):
+        done = subprocess.run(argv + ["--out", str(folder)], capture_output=True, text=True, env=env, timeout=900)
+        assert done.returncode == 0, done.stderr
+        data = json.loads(done.stdout)
+        data.pop("files")
+        return data
+    whole = json_of(tmp_path / "whole")
+    total = len((tmp_path / "whole" / JOURNAL).read_text().splitlines())
+    journal = tmp_path / "killed" / JOURNAL
+    proc = subprocess.Popen(argv + ["--out", str(tmp_path / "killed")], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, env=env)
+    try:
+        while proc.poll() is None and not (journal.is_file() and journal.read_text().count("\n") >= 1):
+            time.sleep(0.05)
+        os.kill(proc.pid, signal.SIGKILL)
+    finally:
+        proc.wait()
+    kept = len(journal.read_text().splitlines())
+    assert 1 <= kept < total, (kept, total)  # killed with runs left to do
+    assert json_of(tmp_path / "killed") == whole
+    assert len(journal.read_text().splitlines()) == total  # only the runs left were run again
