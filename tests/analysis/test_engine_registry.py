@@ -62,20 +62,22 @@ def check_exact_symmetry(name, thesis, reference):
 
 
 def check_batch_is_one_by_one(name, thesis, reference):
-    """"batch": each row of run_many is the trajectory run alone (to the tolerance: a lane-group stepper
-    may use vector math), with its own r_max and t_dec."""
+    """"batch": each row of run_many is the trajectory run alone (to 1e-7 of the state: a lane-group stepper
+    may use vector math), with its own r_max and t_dec; at rtol 1e-7 (the check is of the batch path, not
+    of the accuracy: the implicit SciPy engines take minutes at 1e-9)."""
     m = thesis[3]
-    Y0 = np.repeat(m.state(PHI_A)[None], 3, axis=0)
-    Y0[:, list(m.angle_indices)] += np.array([[0.0], [0.2], [-0.3]])
-    batch = simulate_many(m, m.params(), Y0, t_end=T_END, rtol=RTOL, atol=ATOL, threshold=H, engine=name, threads=2)
-    assert list(batch.status) == ["success"] * 3
-    for k in range(3):
-        one = simulate(m, None, Y0[k], t_end=T_END, rtol=RTOL, atol=ATOL, threshold=H, engine=name,
-                       keep_trajectory=False)
+    Y0 = np.repeat(m.state(PHI_A)[None], 2, axis=0)
+    Y0[1, list(m.angle_indices)] += 0.2
+    kw = dict(t_end=T_END, rtol=1e-7, atol=1e-9, threshold=H, engine=name)
+    batch = simulate_many(m, m.params(), Y0, threads=2, **kw)
+    assert list(batch.status) == ["success"] * 2
+    for k in range(2):
+        one = simulate(m, None, Y0[k], keep_trajectory=False, **kw)
         assert _rel(batch.y_end[k], one.y_end) < 1e-7
         assert batch.r_max[k] == pytest.approx(one.r_max, rel=1e-7)
         assert batch.t_dec[k] == pytest.approx(one.t_dec, abs=1e-3)
-    assert _rel(batch.y_end[0], reference.y_end) < 2e-6  # row 0 is problem A itself
+    assert _rel(batch.y_end[0], reference.y_end) < 2e-4  # row 0 is problem A itself
+    assert batch.r_max[1] != batch.r_max[0]  # and row 1 another trajectory, not row 0 again
 
 
 def check_dense_output(name, thesis, reference):

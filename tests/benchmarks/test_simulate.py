@@ -9,7 +9,6 @@ import shutil
 import pytest
 
 import figure_checks as fc
-import numpy as np
 from toolchain import require_tool
 
 from adbgen.analysis.engines import DEFAULT
