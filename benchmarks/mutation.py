@@ -23,6 +23,15 @@ and classifies it.  The proofs themselves (codegen/proof.py, compiler.py, checks
 and the harnesses) are not mutated: a weaker proof writes byte-identical files, which would count as
 "equivalent" and say nothing.
 
+`--runtime` (issue 33 item 5): the code that runs generated models instead, the engines' C drivers and
+headers (adbgen/analysis/engines/*.c, *.h: a Butcher coefficient of dop853_tableau.h, an error-norm term,
+an event bracket of dense_search.h, SUNDIALS' root functions, ...) and the orbit code (the variational
+equations, a monodromy column of orbits/shooting.py, the test functions): the named mutants of `RUNTIME`
+and, with ``--per-driver N``, N seeded line mutants of each driver and header.  Nothing is regenerated
+for these: each is applied alone to the scratch tree and its targeted tests are run there (ENGINE_TESTS,
+ORBIT_TESTS), ``caught`` when they fail, ``survived`` when they pass; the results go to the results
+file's ``runtime`` key beside the codegen run, which is kept.
+
 `SAMPLE` is the fixed set of 30 representative mutants (every one issue 20 names among them) that
 tests/codegen/test_mutation_sample.py requires refused before writing, with one line, in CI.
 """
@@ -165,7 +174,7 @@ SAMPLE: tuple[Mutant, ...] = (
 
 # The engines' C drivers and the orbit code (issue 33 item 5): nothing is regenerated for these; each mutant
 # is applied alone and the targeted tests of what it breaks are run (pytest arguments), `caught` when they fail.
-ENGINE_TESTS = ("tests/analysis/test_c_interface.py", "tests/analysis/test_rk_engines.py",
+ENGINE_TESTS = ("tests/analysis/test_dense_search.py", "tests/analysis/test_c_interface.py", "tests/analysis/test_rk_engines.py",
                 "tests/analysis/test_decay_time.py", "tests/analysis/test_matlab_ode45.py")
 ORBIT_TESTS = ("tests/analysis/test_orbits.py", "-k", "not auto and not command and not continue")
 E, O = "adbgen/analysis/engines", "adbgen/analysis/orbits"
@@ -589,26 +598,34 @@ def run_runtime(args, out) -> int:
     scratch = Scratch()
     path = Path(out)
     data = json.loads(path.read_text()) if path.is_file() else {"benchmark": "mutation"}
-    results: list[dict] = []
     mutants = list(RUNTIME) + (driver_mutants(scratch.root, args.per_driver, args.seed) if args.per_driver else [])
+    # --resume: the earlier run's results kept but for its survivors and crashes (run again: a test may
+    # have been added since), and its commands listed
+    earlier = data.get("runtime", {}) if args.resume else {}
+    results: list[dict] = [r for r in earlier.get("results", []) if r["status"] not in ("survived", "crashed")]
+    done = {r["id"] for r in results}
+    commands = earlier.get("commands", [earlier["command"]] if "command" in earlier else [])
+    commands.append(" ".join(["adbgen", "bench", "mutation", *sys.argv[3:]]))
+    started -= earlier.get("seconds", 0) if results else 0
 
     def section() -> dict:
         return {"date": utc_now(), "machine": machine(), "load_average": load_average(),
                 "seconds": round(time.time() - started), "complete": len(results) == len(mutants),
-                "planned": len(mutants), "command": " ".join(["adbgen", "bench", "mutation", *sys.argv[3:]]),
+                "planned": len(mutants), "command": commands[-1], "commands": commands,
                 "tests": {"engines": " ".join(ENGINE_TESTS), "orbits": " ".join(ORBIT_TESTS)},
                 "sources": sorted({m.file for m in mutants}), "summary": summarize(results), "results": results,
                 "survivors": [r for r in results if r["status"] in ("survived", "crashed")]}
     try:
-        for tests in dict.fromkeys(m.tests for m in mutants):  # the unmutated tree must pass them
+        todo = [m for m in mutants if m.id not in done]
+        for tests in dict.fromkeys(m.tests for m in todo):  # the unmutated tree must pass them
             base = _runtime_outcome(scratch, tests)
             if base["status"] != "survived":
                 print(f"the unmutated tree fails {' '.join(tests)}: {base}", file=sys.stderr)
                 return 1
-        for k, mutant in enumerate(mutants, 1):
+        for k, mutant in enumerate(todo, 1):
             res = classify_runtime(scratch, mutant)
             results.append(res)
-            print(f"[{k}/{len(mutants)}] {res['status']:10} {mutant.id} ({res['seconds']} s)", file=sys.stderr,
+            print(f"[{k}/{len(todo)}] {res['status']:10} {mutant.id} ({res['seconds']} s)", file=sys.stderr,
                   flush=True)
             write({**data, "runtime": section()}, path)  # a run cut short keeps what it did
     finally:
