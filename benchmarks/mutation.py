@@ -174,7 +174,8 @@ SAMPLE: tuple[Mutant, ...] = (
 
 # The engines' C drivers and the orbit code (issue 33 item 5): nothing is regenerated for these; each mutant
 # is applied alone and the targeted tests of what it breaks are run (pytest arguments), `caught` when they fail.
-ENGINE_TESTS = ("tests/analysis/test_dense_search.py", "tests/analysis/test_c_interface.py", "tests/analysis/test_rk_engines.py",
+ENGINE_TESTS = ("tests/analysis/test_dense_search.py", "tests/analysis/test_fixed_libm.py",
+                "tests/analysis/test_c_interface.py", "tests/analysis/test_rk_engines.py",
                 "tests/analysis/test_decay_time.py", "tests/analysis/test_matlab_ode45.py")
 ORBIT_TESTS = ("tests/analysis/test_orbits.py", "-k", "not auto and not command and not continue")
 E, O = "adbgen/analysis/engines", "adbgen/analysis/orbits"
