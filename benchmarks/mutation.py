@@ -179,6 +179,11 @@ ENGINE_TESTS = ("tests/analysis/test_dense_search.py", "tests/analysis/test_fixe
                 "tests/analysis/test_decay_time.py", "tests/analysis/test_matlab_ode45.py")
 ORBIT_TESTS = ("tests/analysis/test_orbits.py", "-k", "not auto and not command and not continue")
 E, O = "adbgen/analysis/engines", "adbgen/analysis/orbits"
+# the drivers and headers whose users have tests of their own beyond ENGINE_TESTS
+DRIVER_TESTS = {"variational_driver.c": ORBIT_TESTS,
+                "hybrid_driver.c": ENGINE_TESTS + ("tests/analysis/test_hybrid_engine.py",),
+                "taylor_driver.c": ENGINE_TESTS + ("tests/analysis/test_taylor_engine.py",),
+                "symmetrize.h": ENGINE_TESTS + ("tests/families/two_plane/science/test_symmetric_integration.py",)}
 
 
 def _runtime(id, file, old, new, tests=ENGINE_TESTS):
@@ -354,13 +359,13 @@ def _sampled_lines(path: Path, rel: str, per_file: int, rng: random.Random) -> l
 def driver_mutants(root: Path, per_file: int, seed: int) -> list[Mutant]:
     """Up to `per_file` line mutants (the templates' mutator: operator, index, constant, swapped-argument,
     dropped-line) of each C driver and header of the engines, a seeded sample, each through ENGINE_TESTS
-    (variational_driver.c: ORBIT_TESTS, the orbit code is its one user)."""
+    and the tests of its own users (DRIVER_TESTS; variational_driver.c: ORBIT_TESTS, the orbit code is
+    its one user)."""
     rng = random.Random(seed)
     out = []
     for path in sorted((root / E).glob("*.[ch]")):
         rel = path.relative_to(root).as_posix()
-        tests = {"variational_driver.c": ORBIT_TESTS,
-                 "hybrid_driver.c": ENGINE_TESTS + ("tests/analysis/test_hybrid_engine.py",)}.get(path.name, ENGINE_TESTS)
+        tests = DRIVER_TESTS.get(path.name, ENGINE_TESTS)
         out += [Mutant(f"c:{path.name}:{m.id}", rel, m.old, m.new, m.kind, (), tests)
                 for m in _sampled_lines(path, rel, per_file, rng)]
     return out
