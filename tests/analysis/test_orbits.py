@@ -101,8 +101,8 @@ def test_monodromy_of_chained_arcs_is_the_periods_and_the_last_arc_closes_with_t
     assert np.max(np.abs(ev.F[2 * N: 3 * N] - (end[0] - X[0] + shift))) > 1.0
 
 
-def test_shooting_jacobian_of_an_autonomous_orbit_has_the_period_column(tmp_path):
-    """Autonomous, three arcs: the Jacobian against central differences of the residual, the period column
+def test_shooting_jacobian_of_a_free_running_orbit_has_the_period_column(tmp_path):
+    """Free-running (the period unknown), three arcs: the Jacobian against central differences of the residual, the period column
     d F_i / d T = f(end_i) / m and the phase row included (the column without its 1/m is refused, the
     negative control)."""
     m = load_model(toys.pd_toy(tmp_path))
