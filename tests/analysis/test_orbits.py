@@ -102,9 +102,9 @@ def test_monodromy_of_chained_arcs_is_the_periods_and_the_last_arc_closes_with_t
 
 
 def test_shooting_jacobian_of_a_free_running_orbit_has_the_period_column(tmp_path):
-    """Free-running (the period unknown), three arcs: the Jacobian against central differences of the residual, the period column
-    d F_i / d T = f(end_i) / m and the phase row included (the column without its 1/m is refused, the
-    negative control)."""
+    """Free-running (the period unknown), three arcs: the Jacobian against central differences of the
+    residual, the period column d F_i / d T = f(end_i) / m and the phase row included (the column without
+    its 1/m is refused, the negative control)."""
     m = load_model(toys.pd_toy(tmp_path))
     p = m.params({"mu": 0.05})
     sh = Shooting(m, Flow(m), arcs=3)
