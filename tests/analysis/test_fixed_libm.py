@@ -48,7 +48,8 @@ def _run(tmp_path, functions) -> list[float]:
     src.write_text(_program(functions))
     exe = tmp_path / "libm"
     proc = subprocess.run([compiler(), "-std=gnu99", "-O2", "-Werror=implicit-function-declaration", f"-I{HERE}",
-                           *PINNED_FLAGS, str(src), "-o", str(exe), *PINNED_LIBS, "-lm"], capture_output=True, text=True)
+                           *PINNED_FLAGS, str(src), "-o", str(exe), *PINNED_LIBS, "-lm"],
+                          capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout.split()
     return [float.fromhex(v) for v in out]
