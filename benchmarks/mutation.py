@@ -572,6 +572,8 @@ REVIEWED_RUNTIME_EQUIVALENTS = {
     "c:hybrid_driver.c:93:operator": "locate()'s stop test `m <= a` -> `m < a`: at adjacent doubles the midpoint "
                                      "rounds to a, g(a) >= 0 keeps `a = m` a no-op, and the same b is returned after "
                                      "the 200 iterations (only the early exit is lost)",
+    "c:lanes.h:95:swapped-argument": "adb_lanes_max's fmax(a, c) -> fmax(c, a): fmax is symmetric but for the sign "
+                                     "of a zero result, and its one user takes the max of two fabs (never -0)",
 }
 
 
