@@ -23,6 +23,15 @@ and classifies it.  The proofs themselves (codegen/proof.py, compiler.py, checks
 and the harnesses) are not mutated: a weaker proof writes byte-identical files, which would count as
 "equivalent" and say nothing.
 
+`--runtime` (issue 33 item 5): the code that runs generated models instead, the engines' C drivers and
+headers (adbgen/analysis/engines/*.c, *.h: a Butcher coefficient of dop853_tableau.h, an error-norm term,
+an event bracket of dense_search.h, SUNDIALS' root functions, ...) and the orbit code (the variational
+equations, a monodromy column of orbits/shooting.py, the test functions): the named mutants of `RUNTIME`
+and, with ``--per-driver N``, N seeded line mutants of each driver and header.  Nothing is regenerated
+for these: each is applied alone to the scratch tree and its targeted tests are run there (ENGINE_TESTS,
+ORBIT_TESTS), ``caught`` when they fail, ``survived`` when they pass; the results go to the results
+file's ``runtime`` key beside the codegen run, which is kept.
+
 `SAMPLE` is the fixed set of 30 representative mutants (every one issue 20 names among them) that
 tests/codegen/test_mutation_sample.py requires refused before writing, with one line, in CI.
 """
@@ -82,6 +91,8 @@ class Mutant:
     kind: str  # the operator (cosmic-ray's name, or the template mutator's)
     # the regenerate run that shows it (the sample: small models, only the targets needed)
     args: tuple[str, ...] = REGENERATE
+    # a mutant of the code that runs generated models (RUNTIME): the pytest arguments of its targeted tests
+    tests: tuple[str, ...] = ()
 
     def apply(self, text: str) -> str:
         if text.count(self.old) != 1:
@@ -158,6 +169,74 @@ SAMPLE: tuple[Mutant, ...] = (
             "    steady_state_inplace(k, np.asarray(p, dtype=np.float64), out)\n    return out", targets=("numba",)),
     _sample("numba-defaults-reversed", f"{T}/numba/module.py.j2", "DEFAULTS = np.array({{ defaults | pylist }})",
             "DEFAULTS = np.array({{ defaults | pylist }}[::-1])", targets=("numba",)),
+)
+
+
+# The engines' C drivers and the orbit code (issue 33 item 5): nothing is regenerated for these; each mutant
+# is applied alone and the targeted tests of what it breaks are run (pytest arguments), `caught` when they fail.
+ENGINE_TESTS = ("tests/analysis/test_dense_search.py", "tests/analysis/test_fixed_libm.py",
+                "tests/analysis/test_c_interface.py", "tests/analysis/test_rk_engines.py",
+                "tests/analysis/test_decay_time.py", "tests/analysis/test_matlab_ode45.py")
+ORBIT_TESTS = ("tests/analysis/test_orbits.py", "-k", "not auto and not command and not continue")
+E, O = "adbgen/analysis/engines", "adbgen/analysis/orbits"
+# the drivers and headers whose users have tests of their own beyond ENGINE_TESTS
+DRIVER_TESTS = {"variational_driver.c": ORBIT_TESTS,
+                "hybrid_driver.c": ENGINE_TESTS + ("tests/analysis/test_hybrid_engine.py",),
+                "taylor_driver.c": ENGINE_TESTS + ("tests/analysis/test_taylor_engine.py",),
+                "symmetrize.h": ENGINE_TESTS + ("tests/families/two_plane/science/test_symmetric_integration.py",)}
+
+
+def _runtime(id, file, old, new, tests=ENGINE_TESTS):
+    return Mutant(id, file, old, new, "runtime", (), tests)
+
+
+RUNTIME: tuple[Mutant, ...] = (
+    # DOP853 (rk_dop853.h over dop853_tableau.h: rk-dop853, its batch and the hybrid engine)
+    _runtime("dop853-a21-last-digit", f"{E}/dop853_tableau.h", "0.0591751709536137", "0.0591751709536138"),
+    _runtime("dop853-b1-rounded", f"{E}/dop853_tableau.h", "static const double dop_b[DOP_STAGES] = {0.054293734116568765",
+             "static const double dop_b[DOP_STAGES] = {0.0542937341165688"),
+    _runtime("dop853-e3-9-sign", f"{E}/dop853_tableau.h", "-0.4226823213237919", "0.4226823213237919"),
+    _runtime("dop853-norm-e3-weight", f"{E}/rk_dop853.h", "0.01 * e3", "0.1 * e3"),
+    _runtime("dop853-error-scale-old-state-only", f"{E}/rk_dop853.h", "RK_MAX(RK_ABS(y[i]), RK_ABS(ynew[i])) * rtol",
+             "RK_ABS(y[i]) * rtol"),
+    _runtime("dop853-safety-factor", f"{E}/rk_dop853.h", "#define DOP_SAFETY 0.9", "#define DOP_SAFETY 0.8"),
+    _runtime("dop853-dense-F2-sign", f"{E}/rk_dop853.h", "h * (K[DOP_STAGES][i] + K[0][i])", "h * (K[DOP_STAGES][i] - K[0][i])"),
+    # the event measures on a step's interpolant (dense_search.h: cyrk-* and rk-dop853)
+    _runtime("dense-bisect-bracket-swapped", f"{E}/dense_search.h", "if (dense_r2(h, m, ix, iy) >= H2) a = m;\n        else b = m;",
+             "if (dense_r2(h, m, ix, iy) >= H2) b = m;\n        else a = m;"),
+    _runtime("dense-golden-section-minimises", f"{E}/dense_search.h", "if (fc > fd) {", "if (fc < fd) {"),
+    _runtime("dense-screen-margin-dropped", f"{E}/dense_search.h", "if (p >= 0.5 * H2) return 1;", "if (p >= H2) return 1;"),
+    _runtime("dense-last-above-strict", f"{E}/dense_search.h", "if (v >= H2) *last = k;", "if (v > 1.01 * H2) *last = k;"),
+    # SUNDIALS' root functions, the ode45 emulation's error and output, Taylor's in-step screen
+    _runtime("sundials-threshold-root-squared-once", f"{E}/sundials_driver.c",
+             "- d->threshold * d->threshold;", "- d->threshold;"),
+    _runtime("sundials-crossing-below-counted", f"{E}/sundials_driver.c",
+             "if (found[1] && r >= set->threshold) t_cross", "if (found[1] && r < set->threshold) t_cross"),
+    _runtime("ode45-error-scale-new-state-dropped", f"{E}/ode45_driver.c",
+             "fabs(fe / fmax(fmax(fabs(y[i]), fabs(ynew[i])), threshold_w))", "fabs(fe / fmax(fabs(y[i]), threshold_w))"),
+    _runtime("ode45-t_dec-strict", f"{E}/ode45_driver.c", "if (r2 >= o->H2) o->t_dec = t;", "if (r2 > 1.01 * o->H2) o->t_dec = t;"),
+    _runtime("taylor-in-step-screen-skipped", f"{E}/taylor_driver.c", "if (end2 < H2 && bound >= H2) {",
+             "if (end2 < H2 && bound >= 4 * H2) {"),
+    # the variational equations (variational_driver.c) and the shooting system (orbits/)
+    _runtime("variational-phi-starts-off-identity", f"{E}/variational_driver.c", "z[ADB_NY + i * ADB_NY + i] = 1.0;",
+             "z[ADB_NY + i * ADB_NY] = 1.0;", ORBIT_TESTS),
+    _runtime("variational-J-Phi-column", f"{E}/variational_driver.c", "row[j] += c * src[j];", "row[j] += c * src[k];",
+             ORBIT_TESTS),
+    _runtime("variational-fp-transposed", f"{E}/variational_driver.c", "s += Fp[i * ADB_NP + k] * a->dp[k];",
+             "s += Fp[k * ADB_NY + i] * a->dp[k];", ORBIT_TESTS),
+    _runtime("monodromy-product-order", f"{O}/shooting.py", "M = P @ M", "M = M @ P", ORBIT_TESTS),
+    _runtime("monodromy-arc-block-transposed", f"{O}/shooting.py", "A[r, i * N:(i + 1) * N] = Phi[i]",
+             "A[r, i * N:(i + 1) * N] = Phi[i].T", ORBIT_TESTS),
+    _runtime("shooting-period-column-unscaled", f"{O}/shooting.py", "A[: m * N, -1] = (fe / m).ravel()",
+             "A[: m * N, -1] = fe.ravel()", ORBIT_TESTS),
+    _runtime("shooting-winding-shift-sign", f"{O}/shooting.py", "nxt[-1] = X[0] + self.shift", "nxt[-1] = X[0] - self.shift",
+             ORBIT_TESTS),
+    _runtime("flip-test-at-plus-one", f"{O}/period_doubling.py", "return float(z.real + 1.0)", "return float(z.real - 1.0)",
+             ORBIT_TESTS),
+    _runtime("torus-test-conjugate-product", f"{O}/cycle.py", "prod = mu[i] * mu[j]", "prod = mu[i] * np.conj(mu[j])",
+             ORBIT_TESTS),
+    _runtime("multipliers-sorted-ascending", f"{O}/orbit.py", "return mu[np.lexsort((-mu.imag, -np.abs(mu)))]",
+             "return mu[np.lexsort((-mu.imag, np.abs(mu)))]", ORBIT_TESTS),
 )
 
 
@@ -247,26 +326,48 @@ def template_mutants(root: Path, per_file: int, seed: int) -> list[Mutant]:
     out = []
     for path in sorted((root / "templates").rglob("*.j2")):
         rel = path.relative_to(root).as_posix()
-        text = path.read_text()
-        lines = text.splitlines(keepends=True)
-        candidates = []
-        for k, line in enumerate(lines):
-            if _COMMENT.match(line):
-                continue
-            for kind, new in _line_mutants(line.rstrip("\n")):
-                new_line = new + "\n" if new or not line.endswith("\n") else ""
-                candidates.append((k, kind, new_line if kind != "dropped-line" else ""))
-        rng.shuffle(candidates)
-        seen = set()
-        for k, kind, new_line in candidates:
-            if len(seen) >= per_file:
-                break
-            mutated = "".join(lines[:k] + [new_line] + lines[k + 1:])
-            change = _one_change(text, mutated) if mutated != text else None
-            if change is None or change in seen:
-                continue
-            seen.add(change)
-            out.append(Mutant(f"tpl:{rel[len('templates/'):]}:{k + 1}:{kind}", rel, change[0], change[1], kind))
+        out += [Mutant(f"tpl:{rel[len('templates/'):]}:{m.id}", rel, m.old, m.new, m.kind)
+                for m in _sampled_lines(path, rel, per_file, rng)]
+    return out
+
+
+def _sampled_lines(path: Path, rel: str, per_file: int, rng: random.Random) -> list[Mutant]:
+    """Up to `per_file` distinct line mutants of one file drawn with `rng` (ids "LINE:KIND")."""
+    text = path.read_text()
+    lines = text.splitlines(keepends=True)
+    candidates = []
+    for k, line in enumerate(lines):
+        if _COMMENT.match(line):
+            continue
+        for kind, new in _line_mutants(line.rstrip("\n")):
+            new_line = new + "\n" if new or not line.endswith("\n") else ""
+            candidates.append((k, kind, new_line if kind != "dropped-line" else ""))
+    rng.shuffle(candidates)
+    seen, out = set(), []
+    for k, kind, new_line in candidates:
+        if len(seen) >= per_file:
+            break
+        mutated = "".join(lines[:k] + [new_line] + lines[k + 1:])
+        change = _one_change(text, mutated) if mutated != text else None
+        if change is None or change in seen:
+            continue
+        seen.add(change)
+        out.append(Mutant(f"{k + 1}:{kind}", rel, change[0], change[1], kind))
+    return out
+
+
+def driver_mutants(root: Path, per_file: int, seed: int) -> list[Mutant]:
+    """Up to `per_file` line mutants (the templates' mutator: operator, index, constant, swapped-argument,
+    dropped-line) of each C driver and header of the engines, a seeded sample, each through ENGINE_TESTS
+    and the tests of its own users (DRIVER_TESTS; variational_driver.c: ORBIT_TESTS, the orbit code is
+    its one user)."""
+    rng = random.Random(seed)
+    out = []
+    for path in sorted((root / E).glob("*.[ch]")):
+        rel = path.relative_to(root).as_posix()
+        tests = DRIVER_TESTS.get(path.name, ENGINE_TESTS)
+        out += [Mutant(f"c:{path.name}:{m.id}", rel, m.old, m.new, m.kind, (), tests)
+                for m in _sampled_lines(path, rel, per_file, rng)]
     return out
 
 
@@ -466,6 +567,94 @@ def _run_test(scratch: Scratch, test: str) -> tuple[bool, str]:
         shutil.copytree(ROOT / "generated", generated, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
 
 
+# Runtime mutants that survive their tests and were read and judged equivalent (the reason says why).
+REVIEWED_RUNTIME_EQUIVALENTS = {
+    "c:hybrid_driver.c:93:operator": "locate()'s stop test `m <= a` -> `m < a`: at adjacent doubles the midpoint "
+                                     "rounds to a, g(a) >= 0 keeps `a = m` a no-op, and the same b is returned after "
+                                     "the 200 iterations (only the early exit is lost)",
+    "c:lanes.h:95:swapped-argument": "adb_lanes_max's fmax(a, c) -> fmax(c, a): fmax is symmetric but for the sign "
+                                     "of a zero result, and its one user takes the max of two fabs (never -0)",
+}
+
+
+def classify_runtime(scratch: Scratch, mutant: Mutant) -> dict:
+    """A mutant of the engines or the orbit code: applied alone in the scratch tree, its targeted tests run
+    there (CI=true: a missing tool fails); ``caught`` when they fail (or do not collect), ``survived`` when
+    they pass (``equivalent`` when REVIEWED_RUNTIME_EQUIVALENTS says why), ``crashed`` on a timeout.  (The compiled engines are rebuilt by their sources' digest.)"""
+    start = time.perf_counter()
+    result = {"id": mutant.id, "file": mutant.file, "kind": mutant.kind, "old": mutant.old, "new": mutant.new,
+              "tested": " ".join(mutant.tests)}
+    with scratch.applied(mutant):
+        result.update(_runtime_outcome(scratch, mutant.tests))
+    if result["status"] == "survived" and mutant.id in REVIEWED_RUNTIME_EQUIVALENTS:
+        result.update(status="equivalent", reason="reviewed: " + REVIEWED_RUNTIME_EQUIVALENTS[mutant.id])
+    result["seconds"] = round(time.perf_counter() - start, 1)
+    return result
+
+
+def _runtime_outcome(scratch: Scratch, tests: tuple[str, ...]) -> dict:
+    try:
+        r = subprocess.run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider", *tests],
+                           cwd=scratch.root, env={**scratch.env(), "CI": "true"}, capture_output=True, text=True,
+                           timeout=2 * TIMEOUT)
+    except subprocess.TimeoutExpired:
+        return {"status": "crashed", "message": f"timeout after {2 * TIMEOUT} s"}
+    if r.returncode == 0:
+        return {"status": "survived"}
+    if r.returncode in (1, 2):  # tests failed, or the mutated module did not import (a collection error)
+        failed = re.findall(r"^(?:FAILED|ERROR) (\S+)", r.stdout, re.M)
+        return {"status": "caught", "test": failed[0] if failed else " ".join(tests)}
+    return {"status": "crashed", "message": (r.stdout + r.stderr).strip()[-300:]}
+
+
+def run_runtime(args, out) -> int:
+    """The RUNTIME mutants (and --per-driver sampled ones) through their targeted tests; the results go to
+    the results file's ``runtime`` key (its codegen run is kept as it is)."""
+    from .report import load_average, machine, utc_now, write
+
+    started = time.time()
+    scratch = Scratch()
+    path = Path(out)
+    data = json.loads(path.read_text()) if path.is_file() else {"benchmark": "mutation"}
+    mutants = list(RUNTIME) + (driver_mutants(scratch.root, args.per_driver, args.seed) if args.per_driver else [])
+    # --resume: the earlier run's results kept but for its survivors and crashes (run again: a test may
+    # have been added since), and its commands listed
+    earlier = data.get("runtime", {}) if args.resume else {}
+    results: list[dict] = [r for r in earlier.get("results", []) if r["status"] not in ("survived", "crashed")]
+    done = {r["id"] for r in results}
+    commands = earlier.get("commands", [earlier["command"]] if "command" in earlier else [])
+    commands.append(" ".join(["adbgen", "bench", "mutation", *sys.argv[3:]]))
+    started -= earlier.get("seconds", 0) if results else 0
+
+    def section() -> dict:
+        return {"date": utc_now(), "machine": machine(), "load_average": load_average(),
+                "seconds": round(time.time() - started), "complete": len(results) == len(mutants),
+                "planned": len(mutants), "command": commands[-1], "commands": commands,
+                "tests": {"engines": " ".join(ENGINE_TESTS), "orbits": " ".join(ORBIT_TESTS)},
+                "sources": sorted({m.file for m in mutants}), "summary": summarize(results), "results": results,
+                "survivors": [r for r in results if r["status"] in ("survived", "crashed")]}
+    try:
+        todo = [m for m in mutants if m.id not in done]
+        for tests in dict.fromkeys(m.tests for m in todo):  # the unmutated tree must pass them
+            base = _runtime_outcome(scratch, tests)
+            if base["status"] != "survived":
+                print(f"the unmutated tree fails {' '.join(tests)}: {base}", file=sys.stderr)
+                return 1
+        for k, mutant in enumerate(todo, 1):
+            res = classify_runtime(scratch, mutant)
+            results.append(res)
+            print(f"[{k}/{len(todo)}] {res['status']:10} {mutant.id} ({res['seconds']} s)", file=sys.stderr,
+                  flush=True)
+            write({**data, "runtime": section()}, path)  # a run cut short keeps what it did
+    finally:
+        scratch.close()
+    summary = summarize(results)
+    write({**data, "runtime": section()}, path)
+    print(f"{path}: runtime: {summary['mutants']} mutants, {summary['counts']}; caught "
+          f"{summary['score_refused_or_caught']:.1%} of the non-equivalent")
+    return 0
+
+
 def summarize(results: list[dict]) -> dict:
     counts: dict[str, int] = {}
     for r in results:
@@ -544,6 +733,8 @@ def run(args, out) -> int:
 
     if args.retest:
         return retest(out)
+    if args.runtime:
+        return run_runtime(args, out)
     started = time.time()
     scratch = Scratch()
     try:
@@ -588,9 +779,13 @@ BENCHMARK = Benchmark("mutation", run, (
     option("--tests", action="store_true", help="put written mutants through the named tests of their target"),
     option("--retest", action="store_true", help="only put the survivors of the results file (--out) through their tests"),
     option("--resume", action="store_true", help="keep the results already in --out and run only the mutants not in it"),
+    option("--runtime", action="store_true", help="the mutants of the engines' C drivers and the orbit code (RUNTIME, "
+           "and --per-driver sampled ones), each through its targeted tests; into the results file's 'runtime' key"),
+    option("--per-driver", type=int, default=0, help="with --runtime: sampled line mutants per C driver or header"),
 ))
 
-__all__ = ["BENCHMARK", "Mutant", "SAMPLE", "Scratch", "classify", "interleaved", "python_mutants", "template_mutants"]
+__all__ = ["BENCHMARK", "Mutant", "RUNTIME", "SAMPLE", "Scratch", "classify", "classify_runtime", "driver_mutants",
+           "interleaved", "python_mutants", "template_mutants"]
 
 if __name__ == "__main__":  # pragma: no cover
     raise SystemExit("run: adbgen bench mutation")

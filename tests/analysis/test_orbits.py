@@ -78,6 +78,70 @@ def test_shooting_jacobian_is_exact_with_arcs_and_forcing(tmp_path):
     assert np.max(np.abs(numk - sh.evaluate(u, p, dp=np.eye(m.n_params)[m.param_names.index("g")]).Fk)) > 1e-3
 
 
+def test_monodromy_of_chained_arcs_is_the_periods_and_the_last_arc_closes_with_the_shift(tmp_path):
+    """Three arcs chained end to start: the monodromy matrix Phi_2 Phi_1 Phi_0 is the derivative of the flow
+    over the whole period (in that order: the other one differs, negative control), the first residual
+    blocks vanish and the last is phi(T; x_0) - x_0 - s, s the windings' shift (shooting.py's F_m)."""
+    m = load_model(toys.pd_toy(tmp_path))
+    p = m.params({"mu": 0.05})
+    flow = Flow(m)
+    shift = np.array([2 * PI, 0.0, 0.0, 0.0])
+    sh = Shooting(m, flow, arcs=3, shift=shift)
+    T = 5.0
+    X = [np.array([1.2, 0.1, 0.3, -0.2])]
+    for i in range(2):
+        X.append(flow.end(X[-1], i * T / 3, T / 3, p))
+    ev = sh.evaluate(sh.pack(np.array(X), T), p)
+    end, Phi, _ = flow.arcs(X[0], 0.0, T, p, phi=True)
+    assert np.max(np.abs(ev.monodromy - Phi[0])) < 1e-8
+    assert np.max(np.abs(ev.Phi[0] @ ev.Phi[1] @ ev.Phi[2] - Phi[0])) > 1e-3
+    N = m.n_states
+    assert np.max(np.abs(ev.F[: 2 * N])) < 1e-10
+    assert np.max(np.abs(ev.F[2 * N: 3 * N] - (end[0] - X[0] - shift))) < 1e-10
+    assert np.max(np.abs(ev.F[2 * N: 3 * N] - (end[0] - X[0] + shift))) > 1.0
+
+
+def test_shooting_jacobian_of_a_free_running_orbit_has_the_period_column(tmp_path):
+    """Free-running (the period unknown), three arcs: the Jacobian against central differences of the
+    residual, the period column d F_i / d T = f(end_i) / m and the phase row included (the column without
+    its 1/m is refused, the negative control)."""
+    m = load_model(toys.pd_toy(tmp_path))
+    p = m.params({"mu": 0.05})
+    sh = Shooting(m, Flow(m), arcs=3)
+    X = np.array([[1.1, 0.2, 0.1, 0.0], [-0.4, 0.9, 0.0, 0.2], [-0.6, -0.8, -0.1, 0.1]])
+    u = sh.pack(X, 6.0)
+    ev = sh.evaluate(u, p)
+    h = 1e-6
+    num = np.column_stack([(sh.evaluate(u + h * e, p, jacobian=False).F - sh.evaluate(u - h * e, p, jacobian=False).F)
+                           / (2 * h) for e in np.eye(len(u))])
+    assert num.shape == ev.A.shape == (3 * m.n_states + 1,) * 2
+    assert np.max(np.abs(num - ev.A)) < 1e-6
+    assert np.max(np.abs(3 * num[:-1, -1] - ev.A[:-1, -1])) > 1e-2
+
+
+def test_multipliers_are_sorted_largest_modulus_first():
+    """sort_multipliers: by modulus, largest first; a conjugate pair with its positive imaginary part first."""
+    mu = np.array([0.45, -1.5, 0.3 - 0.4j, 2.0, 0.3 + 0.4j, 1.0])
+    assert list(orbit.sort_multipliers(mu)) == [2.0, -1.5, 1.0, 0.3 + 0.4j, 0.3 - 0.4j, 0.45]
+    assert list(orbit.sort_multipliers(mu[::-1])) == list(orbit.sort_multipliers(mu))
+
+
+def test_period_doubling_curve_vanishes_where_a_multiplier_is_minus_one(tmp_path):
+    """The pd toy's real multipliers -exp(2 pi (mu -+ d)): the period-doubling curve's g = mu_c + 1 is 0 on
+    mu = d and 1 - exp(-2 pi d) at mu = 0 (the candidate nearest -1 there)."""
+    from adbgen.analysis.orbits.boundary import OrbitFollower
+    from adbgen.analysis.orbits.period_doubling import PeriodDoublingCurve
+
+    m = load_model(toys.pd_toy(tmp_path))
+    p = m.params({"mu": -0.3})
+    o = orbit.refine(m, p, np.array([1.0, 0.0, 0.0, 0.0]), 2 * PI)
+    curve = PeriodDoublingCurve(m, ParameterMap(m, p, ["mu", "d"]), OrbitFollower(m, o))
+    assert curve.g(curve.x_of(0.1, 0.1)) == pytest.approx(0.0, abs=1e-7)
+    assert curve.critical(curve._solve(curve.x_of(0.1, 0.1))[1]).real == pytest.approx(-1.0, abs=1e-7)
+    fresh = PeriodDoublingCurve(m, ParameterMap(m, p, ["mu", "d"]), OrbitFollower(m, o))
+    assert fresh.g(fresh.x_of(0.0, 0.1)) == pytest.approx(1 - math.exp(-2 * PI * 0.1), abs=1e-7)
+
+
 # ------------------------------------------------------------------------------ Fig. 5.4(b)
 
 def test_fig54b_limit_cycle(fig54b):

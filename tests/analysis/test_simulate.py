@@ -44,9 +44,15 @@ def test_default_is_compiled_and_matches_solve_ivp(thesis, reference_a):
     assert fast.n_rhs > 10_000 and fast.n_steps > 500 and fast.wall_s > 0
 
 
-@pytest.mark.parametrize("name", ["cyrk-vern8", "cvode-bdf", "cvode-adams", "arkode-erk8", "arkode-dp5"])
+# every compiled engine of the registry (a C library of its own: `library`); the short run of every
+# registered engine, whatever it is: tests/analysis/test_engine_registry.py
+COMPILED = sorted(n for n, e in ENGINES.items() if callable(getattr(e, "library", None)))
+
+
+@pytest.mark.parametrize("name", COMPILED)
 def test_every_compiled_engine(thesis, reference_a, name):
-    """Each compiled engine reaches problem A's final state; r_max, t_dec by its own event location."""
+    """Each compiled engine reaches problem A's final state at t = 2000; r_max, t_dec by its own event
+    location."""
     s = simulate(thesis[3], None, PHI_A, t_end=2000.0, rtol=1e-9, atol=1e-11, engine=name, keep_trajectory=False)
     assert _rel(s.y_end, reference_a.y_end) < 2e-6
     assert s.r_max == pytest.approx(reference_a.r_max, rel=1e-6)
@@ -84,18 +90,7 @@ def test_figure_5_4(thesis, panel, phi0, r_ref, t_ref):
     assert s.t_dec == pytest.approx(t_ref, rel=5e-3)
 
 
-@pytest.mark.parametrize("name", sorted(n for n, e in ENGINES.items() if e.symmetric))
-def test_exact_symmetry(thesis, name):
-    """Balls started together stay together bit for bit, and n = 3 from (pi, pi, pi) ends at the
-    coincident state 2- (thesis ch. 5: x = 0.1285, y = -0.0083, phi = 3.0772)."""
-    s = simulate(thesis[3], None, PI3, t_end=2000.0, engine=name)
-    angles = s.y[2:5]
-    rates = s.y[7:10]
-    assert np.array_equal(angles[0], angles[1]) and np.array_equal(angles[0], angles[2])
-    assert np.array_equal(rates[0], rates[1]) and np.array_equal(rates[0], rates[2])
-    assert s.y_end[0] == pytest.approx(0.1285, abs=5e-5)
-    assert s.y_end[1] == pytest.approx(-0.0083, abs=5e-5)
-    assert s.y_end[2] == pytest.approx(3.0772, abs=5e-5)
+# the exact symmetry of every engine declaring it: tests/analysis/test_engine_registry.py (check_exact_symmetry)
 
 
 def test_figure_5_4a_ends_balanced(thesis):

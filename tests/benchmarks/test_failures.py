@@ -7,6 +7,7 @@ import json
 import math
 import shutil
 
+import figure_checks as fc
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
@@ -157,7 +158,7 @@ def test_rotating_and_fixed_frame_agree():
     assert np.max(np.abs(to_rotating(c["t"], c["y"], fix)["x"] - a["y"][rot.index("x")])) > 1e-4
 
 
-def test_bench_failures_machinery_quick(tmp_path):
+def test_bench_failures_machinery_quick(tmp_path, monkeypatch):
     from benchmarks import failures as bf
     from benchmarks.report import write
 
@@ -171,8 +172,29 @@ def test_bench_failures_machinery_quick(tmp_path):
     assert 0.8 < rk4["h_blow_over_predicted"] < 1.25
     json.dumps(r)
     write(r, tmp_path / "failures.json")
+    seen = fc.saved_figures(monkeypatch)
     paths = bf.charts(r, tmp_path / "failures.json")
-    assert [p.name for p in paths] == ["failures_fixed_step.png"] and paths[0].stat().st_size > 1000
+    assert [p.name for p in paths] == ["failures_fixed_step.png"] and paths[0].is_file()
+    ax = fc.figure(seen, "failures_fixed_step.tmp.png").axes[0]
+    assert_fixed_step_chart(ax, r["fixed_step"])
+    planted = json.loads(json.dumps(r["fixed_step"]))  # negative control: a stability limit moved
+    planted["tableaus"]["rk4"]["predicted_h_limit"] *= 1.1
+    with pytest.raises(AssertionError):
+        assert_fixed_step_chart(ax, planted)
+
+
+def assert_fixed_step_chart(ax, fx):
+    """Each tableau's error against h as measured (its runs that finished), a dashed line at its measured
+    blow-up step and a dotted one at its predicted stability limit; log-log, the axes' labels."""
+    for name, rec in fx["tableaus"].items():
+        pts = [(q["h"], q["error"]) for q in rec["runs"] if q["ok"] and q["error"]]
+        if pts:
+            fc.assert_line(ax, f"{name} (stages {rec['stages']})", [x for x, _ in pts], [y for _, y in pts])
+        marks = fc.vertical_lines(ax)
+        assert any(x == rec["predicted_h_limit"] for x in marks), (name, rec["predicted_h_limit"], marks)
+        assert not rec["h_blow"] or any(x == rec["h_blow"] for x in marks), (name, rec["h_blow"], marks)
+    assert ax.get_xscale() == ax.get_yscale() == "log"
+    fc.assert_labels(ax, "fixed step h", "error of the final state (max abs)")
 
 
 def test_bench_rejects_unknown_benchmark(capsys):

@@ -34,3 +34,46 @@ def test_the_source_hash_is_blanked_and_nothing_else(tmp_path):
     assert files_of(tmp_path)["m/__init__.py"] == "SOURCE_HASH = '0123456789abcdef'\n"  # raw unless blanked
     assert files == {"m/m.h": '#define M_SOURCE_HASH "<hash>"\n#define M_N 0123456789abcdef\n',
                      "m/__init__.py": "SOURCE_HASH = '<hash>'\n"}
+
+
+def test_every_runtime_mutant_changes_its_file_once_and_names_existing_tests():
+    """The mutants of the engines and the orbit code (issue 33) apply to the tree as it is: each `old` occurs
+    once in its file (Mutant.apply refuses otherwise), and each names test files that exist."""
+    from pathlib import Path
+
+    from benchmarks.mutation import ROOT, RUNTIME, driver_mutants
+
+    files = set()
+    for m in RUNTIME:
+        text = (ROOT / m.file).read_text()
+        assert m.apply(text) != text, m.id
+        files.add(m.file)
+        assert all((ROOT / a).is_file() for a in m.tests if a.startswith("tests/")), m.id
+    # the issue's four: a Butcher coefficient, an error-norm term, an event bracket, a monodromy column
+    assert {"adbgen/analysis/engines/dop853_tableau.h", "adbgen/analysis/engines/rk_dop853.h",
+            "adbgen/analysis/engines/dense_search.h", "adbgen/analysis/orbits/shooting.py"} <= files
+    assert len({m.id for m in RUNTIME}) == len(RUNTIME)
+    sampled = driver_mutants(ROOT, 1, 20)
+    assert [m.id for m in sampled] == [m.id for m in driver_mutants(ROOT, 1, 20)]  # seeded: the same plan
+    assert {Path(m.file).suffix for m in sampled} == {".c", ".h"} and all(m.tests for m in sampled)
+
+
+def test_a_runtime_mutant_is_caught_by_a_failing_test_and_survives_a_passing_one(tmp_path):
+    """classify_runtime on a tiny tree: the mutant a test sees is caught (naming the test), the one no test
+    sees survives (the negative control of the classification)."""
+    from benchmarks.mutation import Scratch, classify_runtime
+
+    src = tmp_path / "src"
+    (src / "adbgen").mkdir(parents=True)
+    (src / "tests").mkdir()
+    (src / "adbgen" / "__init__.py").write_text("")
+    (src / "adbgen" / "toy.py").write_text("def double(x):\n    return 2 * x\n\n\ndef unused(x):\n    return x + 1\n")
+    (src / "tests" / "test_toy.py").write_text("from adbgen.toy import double\n\n\ndef test_double():\n"
+                                               "    assert double(3) == 6\n")
+    scratch = Scratch(root=src, folder=tmp_path / "scratch")
+    seen = Mutant("seen", "adbgen/toy.py", "return 2 * x", "return 3 * x", "runtime", (), ("tests/test_toy.py",))
+    unseen = Mutant("unseen", "adbgen/toy.py", "return x + 1", "return x - 1", "runtime", (), ("tests/test_toy.py",))
+    caught = classify_runtime(scratch, seen)
+    assert caught["status"] == "caught" and caught["test"] == "tests/test_toy.py::test_double"
+    assert classify_runtime(scratch, unseen)["status"] == "survived"
+    assert (tmp_path / "scratch" / "adbgen" / "toy.py").read_text() == (src / "adbgen" / "toy.py").read_text()

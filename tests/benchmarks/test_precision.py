@@ -7,6 +7,7 @@ import json
 import math
 import shutil
 
+import figure_checks as fc
 import numpy as np
 import pytest
 
@@ -102,9 +103,43 @@ def test_quick_run_records_curves_reference_and_targets(quick_result, tmp_path):
             assert "reliable" in q and q["t_dec_how"] != "not available", (c["name"], q)
     assert set(a["loosest_reliable"]) == names
     assert [t["target"] for t in r["targets"]][0].startswith("A, error 1e-8")
-    for label in ("A",):
-        assert precision_charts.chart(r, label, tmp_path / f"p_{label}.png").stat().st_size > 1000
-    assert precision_charts.chart_reliable(r, tmp_path / "rel.png").stat().st_size > 1000
+
+def test_quick_run_charts_draw_its_curves(quick_result, tmp_path, monkeypatch):
+    """The work-precision chart draws each pathway's successful points (CPU time, error), tightest last;
+    the reliability chart a bar of -log10 of each pathway's loosest reliable tolerance."""
+    r = quick_result
+    seen = fc.saved_figures(monkeypatch)
+    assert precision_charts.chart(r, "A", tmp_path / "p_A.png").is_file()
+    assert precision_charts.chart_reliable(r, tmp_path / "rel.png").is_file()
+    ax = fc.figure(seen, "p_A.tmp.png").axes[0]
+    assert_curves_drawn(ax, r)
+    planted = json.loads(json.dumps(r))  # negative control: one point's error changed
+    next(q for c in planted["problems"]["A"]["curves"] for q in c["points"] if q.get("error"))["error"] *= 3
+    with pytest.raises(AssertionError):
+        assert_curves_drawn(ax, planted)
+    bars = fc.figure(seen, "rel.tmp.png").axes[0]
+    drawn = {tick.get_text(): bar.get_width() for tick, bar in zip(bars.get_yticklabels(), bars.patches)}
+    loosest = r["problems"]["A"]["loosest_reliable"]
+    assert drawn == {k: (-math.log10(v["tol"]) if v["tol"] else 0.0) for k, v in loosest.items()}
+    notes = [x.get_text() for x in bars.texts]  # each bar's tolerance, or why it has none
+    assert sorted(notes) == sorted(f"{v['tol']:g}" if v["tol"] else (v.get("why") or "none") for v in loosest.values())
+
+
+def assert_curves_drawn(ax, r):
+    prob = r["problems"]["A"]
+    drawn = 0
+    for c in prob["curves"]:
+        pts = sorted(((q[precision_charts.TIME], q["error"], q["tol"]) for q in c["points"]
+                      if q.get(precision_charts.TIME) and q.get("error") and q["error"] <= 1.0
+                      and q.get("status") == "success"), key=lambda v: -v[2])
+        if not pts:
+            continue
+        label = f"{c['name']} (default)" if c["name"] == r["default_engine"] else c["name"]
+        fc.assert_line(ax, label, [v[0] for v in pts], [v[1] for v in pts])
+        drawn += 1
+    assert drawn >= 2 and ax.get_xscale() == ax.get_yscale() == "log"
+    fc.assert_labels(ax, "CPU time of the integration [s] (best of the repeats, log)",
+                     "global error: max |y(t_end) - y_ref(t_end)| (log)")
 
 
 def test_sweep_skips_a_pathway_predicted_too_slow():

@@ -8,6 +8,7 @@ import shutil
 
 import pytest
 
+import figure_checks as fc
 from toolchain import require_tool
 
 from adbgen.analysis.engines import DEFAULT
@@ -29,7 +30,7 @@ def tiny_result():
                              sweep_tols=(1e-5, 1e-6), many_n=4, many_repeats=1, floor_target=0.002)
 
 
-def test_result_has_every_part(tiny_result, tmp_path):
+def test_result_has_every_part(tiny_result, tmp_path, monkeypatch):
     r = tiny_result
     for key in ("benchmark", "date", "machine", "versions", "problem", "default_engine", "settings", "reference",
                 "engines", "equal_error", "peers", "default_sweep", "baselines", "floor", "symmetry", "many", "targets",
@@ -41,8 +42,30 @@ def test_result_has_every_part(tiny_result, tmp_path):
     json.dumps(r)  # JSON-ready as returned
     path = write(r, tmp_path / "simulate.json")
     assert json.loads(path.read_text())["benchmark"] == "simulate"
-    png = bs.chart(r, tmp_path / "simulate.png")
-    assert png.stat().st_size > 1000
+    seen = fc.saved_figures(monkeypatch)
+    assert bs.chart(r, tmp_path / "simulate.png").is_file()
+    ax = fc.figure(seen, "simulate.tmp.png").axes[0]  # (written through a temporary file)
+    assert_bars_are_the_walls(ax, r)
+    planted = json.loads(json.dumps(r))  # negative control: a wall time drawn that the result does not hold
+    planted["engines"][0]["wall_s"] *= 2
+    with pytest.raises(AssertionError):
+        assert_bars_are_the_walls(ax, planted)
+
+
+def assert_bars_are_the_walls(ax, r):
+    """The chart draws one bar per timed engine and baseline, its width the wall time in ms, labelled with
+    its key, sorted by time; the x label and the problem in the title."""
+    walls = {e["key"]: e["wall_s"] for e in r["engines"] if e.get("wall_s")}
+    walls.update({b["key"].split(":")[1]: b["wall_s"] for b in r.get("baselines", []) if b.get("wall_s")})
+    drawn = {tick.get_text(): bar.get_width() for tick, bar in zip(ax.get_yticklabels(), ax.patches)}
+    assert set(walls) <= set(drawn), (sorted(walls), sorted(drawn))
+    for key, wall in walls.items():
+        assert drawn[key] == pytest.approx(1e3 * wall, rel=1e-12), key
+    widths = [bar.get_width() for bar in ax.patches]
+    assert widths == sorted(widths) and len(widths) == len(ax.get_yticklabels())
+    assert ax.get_xscale() == "log" and ax.get_xlim()[0] <= min(widths) and ax.get_xlim()[1] >= max(widths)
+    fc.assert_labels(ax, "wall time of the integration [ms] (best of the repeats, log scale)")
+    fc.assert_title(ax, f"Problem {r['problem']['label']}", f"t in [0, {r['problem']['t_end']:g}]")
 
 
 def test_errors_against_a_converged_reference(tiny_result):

@@ -4,7 +4,9 @@
 Every engine runs a generated model from t = 0 to t_end and reports the same things (status, r_max,
 t_dec, final state, evaluations, steps, wall time); `symmetric` says whether it keeps identical balls
 that start together bit-for-bit together (tested).  To add an engine: a class with `name`,
-`description`, `symmetric`, `run(...)` and `run_many(...)` (see compiled.py) and one line below.
+`description`, `symmetric`, `run(...)` and `run_many(...)` (see compiled.py) and one line below;
+`register` adds one at run time (tests, plug-ins).  What an engine declares it can do (`capabilities`)
+is what tests/analysis/test_engine_registry.py checks it for.
 """
 
 from __future__ import annotations
@@ -50,3 +52,30 @@ def engine(name: str | None):
         return ENGINES[key]
     except KeyError:
         raise AnalysisError(f"unknown engine {name!r}; engines: {', '.join(ENGINES)}") from None
+
+
+def register(eng, replace: bool = False) -> None:
+    """Add an engine object at run time (e.g. from a test or a plug-in), under its `name`."""
+    if eng.name in ENGINES and not replace:
+        raise ValueError(f"an engine named {eng.name!r} is registered already")
+    ENGINES[eng.name] = eng
+
+
+def unregister(name: str) -> None:
+    ENGINES.pop(name, None)
+
+
+def capabilities(eng) -> frozenset[str]:
+    """What an engine declares: "symmetric" (identical balls started together stay together bit for bit),
+    "dense" (the state between its steps, `dense(...)`), "batch" (`run_many`: trajectories at once),
+    "native-events" (r_max and t_dec located by the solver itself, not on kept steps)."""
+    out = set()
+    if getattr(eng, "symmetric", False):
+        out.add("symmetric")
+    if callable(getattr(eng, "dense", None)):
+        out.add("dense")
+    if callable(getattr(eng, "run_many", None)):
+        out.add("batch")
+    if getattr(eng, "native_events", False):
+        out.add("native-events")
+    return frozenset(out)
