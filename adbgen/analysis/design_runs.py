@@ -26,7 +26,6 @@ import hashlib
 import json
 import math
 import os
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -136,7 +135,8 @@ def rest_start(runs: Model, angles=None) -> np.ndarray:
     """The rotor and every rate at rest, the balls at `angles` (default spread at 2 pi k / n)."""
     y = np.zeros(runs.n_states)
     balls = list(runs.role_indices("ball_angle"))
-    y[balls] = 2 * np.pi * np.arange(len(balls)) / max(len(balls), 1) if angles is None else angles
+    # spread: (2 pi / n) k, the start the design's transients have used (design_transients.STARTS)
+    y[balls] = 2 * np.pi / max(len(balls), 1) * np.arange(len(balls)) if angles is None else angles
     return y
 
 

@@ -43,11 +43,9 @@ CANDIDATES = 25  # objective t_dec: the feasible designs assessed that are run, 
 
 
 def start_state(problem: Problem, which: str = STARTS[0]) -> np.ndarray:
-    y = np.zeros(problem.model.n_states)  # the rotor and every rate at rest
-    balls = list(problem.model.role_indices("ball_angle"))
-    step = 2 * np.pi / max(len(balls), 1) if which == STARTS[0] else BUNCH
-    y[balls] = step * np.arange(len(balls))
-    return y
+    if which == STARTS[0]:
+        return rest_start(problem.model)
+    return rest_start(problem.model, BUNCH * np.arange(len(problem.model.role_indices("ball_angle"))))
 
 
 def operating_point(problem: Problem) -> dict:
@@ -82,7 +80,7 @@ def best_by_t_dec(problem: Problem, verdicts: list[Verdict], journal: Journal | 
     """The feasible design inside the varied box with the smallest t_dec at the operating point (among the
     designs given: not optimised between them), and every run."""
     point = operating_point(problem)
-    cands = sorted({v.design: v for v in verdicts if v.feasible and _inside(problem, v)}.values(), key=lambda v: v.design)
+    cands = _feasible_inside(problem, verdicts)
     tasks = [(key_of("t_dec", problem.model.source_hash, problem.params(v.design, point).tolist(), STARTS[0]),
               transient, (problem, v.design, point)) for v in cands]
     done, _ = evaluate(tasks, journal or Journal(None), workers=workers, progress=progress, desc="design t_dec")
@@ -97,9 +95,7 @@ def best_by_t_dec(problem: Problem, verdicts: list[Verdict], journal: Journal | 
 
 def candidates(design: Design) -> list[Verdict]:
     """The feasible designs assessed inside the varied box, CANDIDATES at most, evenly through them."""
-    problem = design.problem
-    feasible = sorted({v.design: v for v in design.verdicts if v.feasible and _inside(problem, v)}.values(),
-                      key=lambda v: v.design)
+    feasible = _feasible_inside(design.problem, design.verdicts)
     if len(feasible) > CANDIDATES:
         feasible = [feasible[round(k)] for k in np.linspace(0, len(feasible) - 1, CANDIDATES)]
     return feasible
@@ -148,9 +144,19 @@ def by_runs(design: Design, objective: str, runs, journal: Journal | None = None
         if value is not None and value < best_value:
             best, best_value = v, value
     design.objective_runs = out
+    return _choose(design, best)
+
+
+def _feasible_inside(problem: Problem, verdicts: list[Verdict]) -> list[Verdict]:
+    """The feasible designs inside the varied box, each once, in the order of their values."""
+    return sorted({v.design: v for v in verdicts if v.feasible and _inside(problem, v)}.values(), key=lambda v: v.design)
+
+
+def _choose(design: Design, best: Verdict | None) -> Design:
+    """The design's best set to `best`, its active limit and sensitivities recomputed for it."""
     design.best = best
-    design.active = active_limit(problem, best, design.boundaries)
-    design.sensitivity = sensitivity(problem, best) if best is not None else []
+    design.active = active_limit(design.problem, best, design.boundaries)
+    design.sensitivity = sensitivity(design.problem, best) if best is not None else []
     return design
 
 
@@ -178,7 +184,4 @@ def by_t_dec(design: Design, journal: Journal | None = None, *, workers: int | N
     assessed inside the varied box; its limit and sensitivities recomputed.  None where no candidate settles within the run."""
     problem = design.problem
     best, design.objective_runs = best_by_t_dec(problem, candidates(design), journal, workers=workers, progress=progress)
-    design.best = best
-    design.active = active_limit(problem, best, design.boundaries)
-    design.sensitivity = sensitivity(problem, best) if best is not None else []
-    return design
+    return _choose(design, best)

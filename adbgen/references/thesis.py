@@ -20,6 +20,12 @@ printed form is not):
 
 from __future__ import annotations
 
+import sympy as sp
+
+from ..core import Coordinate
+
+sin, cos = sp.sin, sp.cos
+
 # Figs. 5.20-5.22: the captions' panel list (identical in the three captions, transcribed) and the sentence of the
 # text that reads the n = 4 panel: the captions call it "(d)", the figures and the text "(c)" (docs/errata.md)
 PANELS_CAPTION_5_20_22 = (r"The initial positions of the balls were $\phi_1(0) = \pi/2$, and $\phi_2(0) = -\pi/2$ for "
@@ -28,12 +34,6 @@ PANELS_CAPTION_5_20_22 = (r"The initial positions of the balls were $\phi_1(0) =
                           r"$\phi_2(0) = -\pi/2$, $\phi_3(0) = \pi$, and $\phi_4(0) = 0$ for the ADB system with "
                           r"four balls (d).")
 N4_PANEL_SENTENCE_5_20 = "In panel (c) we can see that for four balls, the system does not achieve the balance"
-
-import sympy as sp
-
-from ..core import Coordinate
-
-sin, cos = sp.sin, sp.cos
 
 
 def _c(name: str) -> Coordinate:
