@@ -19,9 +19,7 @@ from .design import Design
 from .design_transients import START_STATE, STARTS
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
-NOT_COVERED = ["a run-up of the chosen design in the verification (the verification runs are at constant speed; "
-               "--objective r_max-run-up runs the candidates' run-ups)",
-               "the ball count only over whole scenes (--balls with a scene file), not inside the optimiser",
+NOT_COVERED = ["the ball count only over whole scenes (--balls with a scene file), not inside the optimiser",
                "Dask: the designs' certified box scans are assessed in this process (the objectives' and the "
                "verification's runs go to the local cluster and the journal)",
                "a torus or fold of periodic orbits as a boundary (only the balancing steady state is designed)"]
@@ -35,6 +33,7 @@ BOUNDARY_TYPES = {"certified": ["capacity limit (the balancing state's closed fo
                   "not_certified": ["torus (Neimark-Sacker) or period doubling of a periodic orbit",
                                     "fold of periodic orbits", "a basin boundary (a coexisting attractor)"]}
 
+RUN_UP_FIGURE = "run-up.png"
 MARKERS = {"capacity limit": ("s", "tab:purple"), "Hopf": ("o", "tab:red"), "real eigenvalue": ("^", "tab:orange"),
            "not located": ("x", "k")}
 
@@ -53,7 +52,10 @@ def to_json(design: Design, objective: str = "margin") -> dict:
             "active_boundary": design.active.to_json() if design.active is not None else None,
             "sensitivity": design.sensitivity, "chart": design.chart, "resolution": design.resolution,
             "evaluations": design.evaluations, "objective_runs": design.objective_runs,
-            "verification": design.verification, "verification_start": START_STATE, "not_covered": NOT_COVERED,
+            "verification": design.verification, "verification_start": START_STATE,
+            "verification_run_up": ({k: v for k, v in design.verification_run_up.items() if k != "trace"}
+                                    if design.verification_run_up is not None else None),
+            "verification_run_up_note": design.verification_run_up_note, "not_covered": NOT_COVERED,
             "boundary_types": BOUNDARY_TYPES}
 
 
@@ -147,12 +149,57 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
                           "start: the balancing state is stable there (the margin) but this start is not in its basin, "
                           "or has not reached it yet."]
         lines.append("")
+    lines += run_up_lines(design)
     if design.resolution:
         lines += ["## What is certified", "", design.resolution.get("statement", ""), ""]
     lines += ["Boundaries the chart certifies: " + "; ".join(BOUNDARY_TYPES["certified"]) + ". Not computed: "
               + "; ".join(BOUNDARY_TYPES["not_certified"]) + ".", ""]
     lines += ["Not covered yet: " + "; ".join(NOT_COVERED) + ".", "", "![design](design.png)", ""]
+    if design.verification_run_up is not None and design.verification_run_up["trace"]["t"]:
+        lines += [f"![run-up]({RUN_UP_FIGURE})", ""]
     return "\n".join(lines)
+
+
+def run_up_lines(design: Design) -> list[str]:
+    """The report's run-up of the chosen design: its numbers, or the one line saying why there is none."""
+    run = design.verification_run_up
+    if run is None:
+        return [f"Run-up of the chosen design: {design.verification_run_up_note}.", ""] if design.verification_run_up_note \
+            else []
+    lines = [f"## Verification: the chosen design's run-up on {run['run_model']}", "",
+             "At " + ", ".join(f"{k} = {_fmt(v)}" for k, v in run["point"].items()) + f" ({run['start']}; mapped by "
+             f"name: {', '.join(run['mapped'])}); the schedule reaches its final speed for good at t = "
+             f"{_fmt(run['schedule_end'])}, the run ends at {_fmt(run['t_end'])}.", "",
+             "| status | r_max | t_dec | r at the end | threshold | settled |", "|---|---|---|---|---|---|",
+             f"| {run['status']} | {_fmt(run['r_max'])} | {_fmt(run['t_dec'])} | {_fmt(run['r_end'])} | "
+             f"{_fmt(run['threshold'])} | {run['settled']} |", ""]
+    if not run["settled"]:
+        lines += [f"**The run-up did not settle** ({run['status']}): r at the end is not below the threshold, or the "
+                  "run failed; nothing here is counted as balanced.", ""]
+    return lines
+
+
+def run_up_figure(design: Design, path: Path) -> None:
+    """r(t) through the chosen design's run-up, the schedule's end and the threshold marked."""
+    from .figure_style import pyplot
+
+    plt = pyplot()
+    run = design.verification_run_up
+    fig, ax = plt.subplots(figsize=(6.4, 3.6))
+    ax.plot(run["trace"]["t"], run["trace"]["r"], color="tab:blue", lw=0.8, label="r(t)")
+    ax.axvline(run["schedule_end"], color="k", ls="--", lw=0.8, label="schedule at its final speed")
+    ax.axhline(run["threshold"], color="tab:red", ls=":", lw=0.8, label="threshold")
+    if run["t_dec"] is not None:
+        ax.axvline(run["t_dec"], color="tab:green", ls="-.", lw=0.8, label=f"t_dec = {run['t_dec']:.4g}")
+    ax.set_yscale("log")
+    ax.set_xlabel("t")
+    ax.set_ylabel("rotor amplitude r")
+    ax.set_title(f"{run['run_model']}: run-up of the chosen design "
+                 + ", ".join(f"{k} = {v:.4g}" for k, v in run["design"].items()), fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def figure(design: Design, path: Path) -> None:
@@ -235,5 +282,9 @@ def write(design: Design, folder: Path, command: str, objective: str = "margin",
     (folder / "design.json").write_text(json.dumps(out, indent=1, allow_nan=False, default=_plain) + "\n")
     (folder / "report.md").write_text(report(design, command, objective, balls))
     figure(design, folder / "design.png")
-    return {"report": str(folder / "report.md"), "figure": str(folder / "design.png"),
-            "json": str(folder / "design.json")}
+    files = {"report": str(folder / "report.md"), "figure": str(folder / "design.png"),
+             "json": str(folder / "design.json")}
+    if design.verification_run_up is not None and design.verification_run_up["trace"]["t"]:
+        run_up_figure(design, folder / RUN_UP_FIGURE)
+        files["run_up_figure"] = str(folder / RUN_UP_FIGURE)
+    return files

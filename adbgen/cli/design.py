@@ -34,7 +34,11 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                                  "settled}]; r_max-run-up: [{design, point, run_model, mapped, status, t_end, "
                                  "threshold, r_max, t_dec, start}]; residual: [{design, point, run_model, mapped, "
                                  "residual_quantile, quantile, starts, residuals, failed}])", "verification": "(the same run keys, at the box's corners)",
-               "verification_start": "", "not_covered": "",
+               "verification_start": "",
+               "verification_run_up": "(the chosen design's run-up on --runs (default the design's model) where its speed law "
+                                      "is a schedule: {design, point, run_model, mapped, start, status, t_end, schedule_end, "
+                                      "threshold, r_max, t_dec, r_end, settled}; null without one)",
+               "verification_run_up_note": "(one line: why there is no run-up; null with one)", "not_covered": "",
                "boundary_types": "{certified: [...], not_certified: [...]}",
                "balls": "(--balls: [{n, feasible, best, margin, t_dec}])", "chosen_balls": "(--balls)",
                "files": "(with --out)"}
@@ -239,6 +243,8 @@ def _one_design(args, model):
         design_transients.by_runs(design, args.objective, runs, journal, run_time=args.run_time, run_set=run_set, **how)
     if args.verify and design.best is not None and design.best.feasible:
         design.verification = design_transients.verify(problem, design.best.design, journal, **how)
+        design.verification_run_up, design.verification_run_up_note = design_transients.verify_run_up(
+            problem, design.best.design, runs, journal, run_time=args.run_time, run_set=run_set, **how)
     return design
 
 

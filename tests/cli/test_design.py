@@ -67,6 +67,9 @@ def test_json_keys_as_documented(capsys, tmp_path):
     assert "Boundaries the chart certifies" in (tmp_path / "d" / "report.md").read_text()
     report = (tmp_path / "d" / "report.md").read_text()
     assert "What limits it" in report and "Not covered yet" in report
+    # the thesis model has no speed schedule: no run-up of the chosen design, said in one line (no figure)
+    assert data["verification_run_up"] is None and "no speed schedule" in data["verification_run_up_note"]
+    assert f"Run-up of the chosen design: {data['verification_run_up_note']}." in report.splitlines()
     helps = [a.help for a in build_parser()._subparsers._group_actions[0].choices["design"]._actions]
     assert any(JSON_KEYS in (h or "") for h in helps)
 
