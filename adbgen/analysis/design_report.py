@@ -19,7 +19,7 @@ from .design import Design
 from .design_transients import START_STATE, STARTS
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
-NOT_COVERED = ["the ball count only over whole scenes (--balls with a scene file), not inside the optimiser",
+NOT_COVERED = ["the ball count with a generated model's name (--balls needs a scene file: the count is a scene's n)",
                "Dask: the designs' certified box scans are assessed in this process (the objectives' and the "
                "verification's runs go to the local cluster and the journal)",
                "a torus or fold of periodic orbits as a boundary (only the balancing steady state is designed)"]
@@ -63,7 +63,8 @@ def _fmt(x) -> str:
     return "—" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.6g}"
 
 
-def report(design: Design, command: str, objective: str = "margin", balls: list | None = None) -> str:
+def report(design: Design, command: str, objective: str = "margin", balls: list | None = None,
+           choice: dict | None = None) -> str:
     pr = design.problem
     out = to_json(design, objective)
     lines = [f"# Balancer design: {pr.model.name}", "", f"Command: `{command}`", "",
@@ -82,6 +83,8 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
                                                        if r["best"] else "—")
                   + f" | {_fmt(r['margin'])} | {_fmt(r['t_dec'])} |" for r in balls]
         lines.append("")
+        if choice is not None:
+            lines += [f"The count: {choice['why']}.", "", f"How: {choice['method']}.", ""]
     best = design.best
     if best is None or not best.feasible:
         lines += ["**No best design**: " + ("no design of the varied box is feasible." if not design.feasible_intervals
@@ -273,14 +276,17 @@ def _class(v) -> str:
     return "feasible" if v.feasible else "unstable"
 
 
-def write(design: Design, folder: Path, command: str, objective: str = "margin", balls: list | None = None) -> dict:
+def write(design: Design, folder: Path, command: str, objective: str = "margin", balls: list | None = None,
+          choice: dict | None = None) -> dict:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     out = to_json(design, objective)
     if balls is not None:
         out["balls"] = balls
+    if choice is not None:
+        out["chosen_balls"], out["balls_choice"] = choice["chosen"], choice
     (folder / "design.json").write_text(json.dumps(out, indent=1, allow_nan=False, default=_plain) + "\n")
-    (folder / "report.md").write_text(report(design, command, objective, balls))
+    (folder / "report.md").write_text(report(design, command, objective, balls, choice))
     figure(design, folder / "design.png")
     files = {"report": str(folder / "report.md"), "figure": str(folder / "design.png"),
              "json": str(folder / "design.json")}
