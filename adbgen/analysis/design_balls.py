@@ -89,8 +89,7 @@ def choose(rows: list[dict], objective: str) -> tuple[int | None, dict]:
     best = ranked[0]
     design = ", ".join(f"{k} = {_fmt(v)}" for k, v in best["best"].items())
     why = f"n = {best['n']} ({design}): {WHAT[objective]} {_fmt(best['objective_value'])}"
-    if best.get("limit"):
-        why += f", limited by its {best['limit']} boundary"
+    why += f", limited by: {best['limit']}" if best.get("limit") else ", no boundary active"
     if len(ranked) > 1:
         second = ranked[1]
         out["runner_up"], out["decided"] = second["n"], _apart(best, second, objective)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 from pathlib import Path
 
 from .design import Design
@@ -22,7 +23,9 @@ from .design_transients import START_STATE, STARTS
 NOT_COVERED = ["the ball count with a generated model's name (--balls needs a scene file: the count is a scene's n)",
                "Dask: the designs' certified box scans are assessed in this process (the objectives' and the "
                "verification's runs go to the local cluster and the journal)",
-               "a torus or fold of periodic orbits as a boundary (only the balancing steady state is designed)"]
+               "boundaries of periodic orbits other than the balancing state (a coexisting limit cycle's fold, torus or "
+               "period doubling) and basin boundaries; a balancing state that is itself a periodic orbit in its "
+               "model's frame (a forced model: an anisotropic rotor in the fixed frame) is refused"]
 # which boundaries the feasibility chart (and the intervals) locate and certify, said in every output: the
 # balancing steady state's losses only; a boundary of a periodic orbit (torus, period doubling: analysis/orbits/)
 # is not computed, so a region the chart calls feasible may hold such an orbit's bifurcation
@@ -31,7 +34,21 @@ BOUNDARY_TYPES = {"certified": ["capacity limit (the balancing state's closed fo
                                 "real eigenvalue (fold or pitchfork of the balancing state)",
                                 "range end"],
                   "not_certified": ["torus (Neimark-Sacker) or period doubling of a periodic orbit",
-                                    "fold of periodic orbits", "a basin boundary (a coexisting attractor)"]}
+                                    "fold of periodic orbits", "a basin boundary (a coexisting attractor)"],
+                  # the orbits' boundaries above are those of other orbits: the balancing state's own, seen from the
+                  # fixed frame, are its Hopf and real crossings here (Floquet-Lyapunov, below)
+                  "scope": "the balancing state as an equilibrium of an autonomous model (forced models are refused). "
+                           "Where the model's frame turns with the rotor at the constant speed Omega, the same state "
+                           "seen from the fixed frame is a periodic orbit of period T = 2 pi / Omega whose Floquet "
+                           "multipliers are exp(lambda T), lambda its eigenvalues here (Floquet-Lyapunov: the frame's "
+                           "rotation is T-periodic): that orbit's torus (Neimark-Sacker; period doubling where the "
+                           "pair crosses at +-i Omega/2) is the Hopf boundary and its fold the real-eigenvalue "
+                           "boundary, certified with them. The not-certified types are those of other periodic "
+                           "orbits and of basins."}
+# the short form drawn under the figure and kept in its PNG metadata (Description)
+BOUNDARY_NOTE = ("Boundaries certified: " + "; ".join(b.split(" (")[0] for b in BOUNDARY_TYPES["certified"])
+                 + " (the balancing state's; in the fixed frame its orbit's torus and fold). Not computed (other orbits than "
+                 "the balancing state, basins): " + "; ".join(BOUNDARY_TYPES["not_certified"]) + ".")
 
 RUN_UP_FIGURE = "run-up.png"
 MARKERS = {"capacity limit": ("s", "tab:purple"), "Hopf": ("o", "tab:red"), "real eigenvalue": ("^", "tab:orange"),
@@ -157,6 +174,7 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
         lines += ["## What is certified", "", design.resolution.get("statement", ""), ""]
     lines += ["Boundaries the chart certifies: " + "; ".join(BOUNDARY_TYPES["certified"]) + ". Not computed: "
               + "; ".join(BOUNDARY_TYPES["not_certified"]) + ".", ""]
+    lines += ["Scope: " + BOUNDARY_TYPES["scope"], ""]
     lines += ["Not covered yet: " + "; ".join(NOT_COVERED) + ".", "", "![design](design.png)", ""]
     if design.verification_run_up is not None and design.verification_run_up["trace"]["t"]:
         lines += [f"![run-up]({RUN_UP_FIGURE})", ""]
@@ -259,8 +277,9 @@ def figure(design: Design, path: Path) -> None:
             ax.plot([best.design[0]], [best.design[1]], "*", color="gold", mec="k", ms=14, label="best design")
     ax.set_title(f"{pr.model.name}: design of {', '.join(a.name for a in pr.varied)}", fontsize=9)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    fig.text(0.01, 0.01, textwrap.fill(BOUNDARY_NOTE, 130), fontsize=5.5, va="bottom")
+    fig.savefig(path, dpi=110, metadata={"Description": BOUNDARY_NOTE})
     plt.close(fig)
 
 

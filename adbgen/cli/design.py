@@ -39,7 +39,7 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                                       "is a schedule: {design, point, run_model, mapped, start, status, t_end, schedule_end, "
                                       "threshold, r_max, t_dec, r_end, settled}; null without one)",
                "verification_run_up_note": "(one line: why there is no run-up; null with one)", "not_covered": "",
-               "boundary_types": "{certified: [...], not_certified: [...]}",
+               "boundary_types": "{certified: [...], not_certified: [...], scope}",
                "balls": "(--balls: [{n, feasible, best, margin, t_dec, objective_value, margin_uncertainty, capacity, "
                         "limit}])", "chosen_balls": "(--balls)",
                "balls_choice": "(--balls: {objective, value, method, ranking, chosen, runner_up, decided, why})",

@@ -51,7 +51,7 @@ def test_choose_ranks_the_counts_and_says_why():
     chosen, choice = db.choose(rows, "margin")
     assert chosen == 3 == choice["chosen"] and choice["runner_up"] == 4 and choice["decided"]
     assert [r["n"] for r in choice["ranking"]] == [3, 4, 2]
-    assert choice["why"].startswith("n = 3 (beta = 0.3): worst margin -0.0097, limited by its Hopf boundary")
+    assert choice["why"].startswith("n = 3 (beta = 0.3): worst margin -0.0097, limited by: Hopf")
     assert "n = 1: beyond the balls' capacity" in choice["why"] and "\n" not in choice["why"]
     # not apart beyond the uncertainties: chosen by the value, said undecided
     close = [_row(2, -0.0097, uncertainty=1e-3), _row(3, -0.0098, uncertainty=1e-3)]
