@@ -424,6 +424,8 @@ class Design:
     verdicts: list = field(default_factory=list)  # every design assessed (sorted by design)
     objective_runs: list = field(default_factory=list)  # objective t_dec: the run of each candidate
     verification: list = field(default_factory=list)  # the chosen design's runs at the box's corners
+    verification_run_up: dict | None = None  # the chosen design's run-up (design_transients.verify_run_up)
+    verification_run_up_note: str | None = None  # why there is none (one line)
 
 
 def _margin_sample(problem: Problem, design, x: float) -> Sample:

@@ -13,18 +13,19 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 from pathlib import Path
 
 from .design import Design
 from .design_transients import START_STATE, STARTS
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
-NOT_COVERED = ["a run-up of the chosen design in the verification (the verification runs are at constant speed; "
-               "--objective r_max-run-up runs the candidates' run-ups)",
-               "the ball count only over whole scenes (--balls with a scene file), not inside the optimiser",
+NOT_COVERED = ["the ball count with a generated model's name (--balls needs a scene file: the count is a scene's n)",
                "Dask: the designs' certified box scans are assessed in this process (the objectives' and the "
                "verification's runs go to the local cluster and the journal)",
-               "a torus or fold of periodic orbits as a boundary (only the balancing steady state is designed)"]
+               "boundaries of periodic orbits other than the balancing state (a coexisting limit cycle's fold, torus or "
+               "period doubling) and basin boundaries; a balancing state that is itself a periodic orbit in its "
+               "model's frame (a forced model: an anisotropic rotor in the fixed frame) is refused"]
 # which boundaries the feasibility chart (and the intervals) locate and certify, said in every output: the
 # balancing steady state's losses only; a boundary of a periodic orbit (torus, period doubling: analysis/orbits/)
 # is not computed, so a region the chart calls feasible may hold such an orbit's bifurcation
@@ -33,8 +34,23 @@ BOUNDARY_TYPES = {"certified": ["capacity limit (the balancing state's closed fo
                                 "real eigenvalue (fold or pitchfork of the balancing state)",
                                 "range end"],
                   "not_certified": ["torus (Neimark-Sacker) or period doubling of a periodic orbit",
-                                    "fold of periodic orbits", "a basin boundary (a coexisting attractor)"]}
+                                    "fold of periodic orbits", "a basin boundary (a coexisting attractor)"],
+                  # the orbits' boundaries above are those of other orbits: the balancing state's own, seen from the
+                  # fixed frame, are its Hopf and real crossings here (Floquet-Lyapunov, below)
+                  "scope": "the balancing state as an equilibrium of an autonomous model (forced models are refused). "
+                           "Where the model's frame turns with the rotor at the constant speed Omega, the same state "
+                           "seen from the fixed frame is a periodic orbit of period T = 2 pi / Omega whose Floquet "
+                           "multipliers are exp(lambda T), lambda its eigenvalues here (Floquet-Lyapunov: the frame's "
+                           "rotation is T-periodic): that orbit's torus (Neimark-Sacker; period doubling where the "
+                           "pair crosses at +-i Omega/2) is the Hopf boundary and its fold the real-eigenvalue "
+                           "boundary, certified with them. The not-certified types are those of other periodic "
+                           "orbits and of basins."}
+# the short form drawn under the figure and kept in its PNG metadata (Description)
+BOUNDARY_NOTE = ("Boundaries certified: " + "; ".join(b.split(" (")[0] for b in BOUNDARY_TYPES["certified"])
+                 + " (the balancing state's; in the fixed frame its orbit's torus and fold). Not computed (other orbits than "
+                 "the balancing state, basins): " + "; ".join(BOUNDARY_TYPES["not_certified"]) + ".")
 
+RUN_UP_FIGURE = "run-up.png"
 MARKERS = {"capacity limit": ("s", "tab:purple"), "Hopf": ("o", "tab:red"), "real eigenvalue": ("^", "tab:orange"),
            "not located": ("x", "k")}
 
@@ -53,7 +69,10 @@ def to_json(design: Design, objective: str = "margin") -> dict:
             "active_boundary": design.active.to_json() if design.active is not None else None,
             "sensitivity": design.sensitivity, "chart": design.chart, "resolution": design.resolution,
             "evaluations": design.evaluations, "objective_runs": design.objective_runs,
-            "verification": design.verification, "verification_start": START_STATE, "not_covered": NOT_COVERED,
+            "verification": design.verification, "verification_start": START_STATE,
+            "verification_run_up": ({k: v for k, v in design.verification_run_up.items() if k != "trace"}
+                                    if design.verification_run_up is not None else None),
+            "verification_run_up_note": design.verification_run_up_note, "not_covered": NOT_COVERED,
             "boundary_types": BOUNDARY_TYPES}
 
 
@@ -61,7 +80,8 @@ def _fmt(x) -> str:
     return "—" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.6g}"
 
 
-def report(design: Design, command: str, objective: str = "margin", balls: list | None = None) -> str:
+def report(design: Design, command: str, objective: str = "margin", balls: list | None = None,
+           choice: dict | None = None) -> str:
     pr = design.problem
     out = to_json(design, objective)
     lines = [f"# Balancer design: {pr.model.name}", "", f"Command: `{command}`", "",
@@ -80,6 +100,8 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
                                                        if r["best"] else "—")
                   + f" | {_fmt(r['margin'])} | {_fmt(r['t_dec'])} |" for r in balls]
         lines.append("")
+        if choice is not None:
+            lines += [f"The count: {choice['why']}.", "", f"How: {choice['method']}.", ""]
     best = design.best
     if best is None or not best.feasible:
         lines += ["**No best design**: " + ("no design of the varied box is feasible." if not design.feasible_intervals
@@ -147,12 +169,58 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
                           "start: the balancing state is stable there (the margin) but this start is not in its basin, "
                           "or has not reached it yet."]
         lines.append("")
+    lines += run_up_lines(design)
     if design.resolution:
         lines += ["## What is certified", "", design.resolution.get("statement", ""), ""]
     lines += ["Boundaries the chart certifies: " + "; ".join(BOUNDARY_TYPES["certified"]) + ". Not computed: "
               + "; ".join(BOUNDARY_TYPES["not_certified"]) + ".", ""]
+    lines += ["Scope: " + BOUNDARY_TYPES["scope"], ""]
     lines += ["Not covered yet: " + "; ".join(NOT_COVERED) + ".", "", "![design](design.png)", ""]
+    if design.verification_run_up is not None and design.verification_run_up["trace"]["t"]:
+        lines += [f"![run-up]({RUN_UP_FIGURE})", ""]
     return "\n".join(lines)
+
+
+def run_up_lines(design: Design) -> list[str]:
+    """The report's run-up of the chosen design: its numbers, or the one line saying why there is none."""
+    run = design.verification_run_up
+    if run is None:
+        return [f"Run-up of the chosen design: {design.verification_run_up_note}.", ""] if design.verification_run_up_note \
+            else []
+    lines = [f"## Verification: the chosen design's run-up on {run['run_model']}", "",
+             "At " + ", ".join(f"{k} = {_fmt(v)}" for k, v in run["point"].items()) + f" ({run['start']}; mapped by "
+             f"name: {', '.join(run['mapped'])}); the schedule reaches its final speed for good at t = "
+             f"{_fmt(run['schedule_end'])}, the run ends at {_fmt(run['t_end'])}.", "",
+             "| status | r_max | t_dec | r at the end | threshold | settled |", "|---|---|---|---|---|---|",
+             f"| {run['status']} | {_fmt(run['r_max'])} | {_fmt(run['t_dec'])} | {_fmt(run['r_end'])} | "
+             f"{_fmt(run['threshold'])} | {run['settled']} |", ""]
+    if not run["settled"]:
+        lines += [f"**The run-up did not settle** ({run['status']}): r at the end is not below the threshold, or the "
+                  "run failed; nothing here is counted as balanced.", ""]
+    return lines
+
+
+def run_up_figure(design: Design, path: Path) -> None:
+    """r(t) through the chosen design's run-up, the schedule's end and the threshold marked."""
+    from .figure_style import pyplot
+
+    plt = pyplot()
+    run = design.verification_run_up
+    fig, ax = plt.subplots(figsize=(6.4, 3.6))
+    ax.plot(run["trace"]["t"], run["trace"]["r"], color="tab:blue", lw=0.8, label="r(t)")
+    ax.axvline(run["schedule_end"], color="k", ls="--", lw=0.8, label="schedule at its final speed")
+    ax.axhline(run["threshold"], color="tab:red", ls=":", lw=0.8, label="threshold")
+    if run["t_dec"] is not None:
+        ax.axvline(run["t_dec"], color="tab:green", ls="-.", lw=0.8, label=f"t_dec = {run['t_dec']:.4g}")
+    ax.set_yscale("log")
+    ax.set_xlabel("t")
+    ax.set_ylabel("rotor amplitude r")
+    ax.set_title(f"{run['run_model']}: run-up of the chosen design "
+                 + ", ".join(f"{k} = {v:.4g}" for k, v in run["design"].items()), fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def figure(design: Design, path: Path) -> None:
@@ -209,8 +277,9 @@ def figure(design: Design, path: Path) -> None:
             ax.plot([best.design[0]], [best.design[1]], "*", color="gold", mec="k", ms=14, label="best design")
     ax.set_title(f"{pr.model.name}: design of {', '.join(a.name for a in pr.varied)}", fontsize=9)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    fig.text(0.01, 0.01, textwrap.fill(BOUNDARY_NOTE, 130), fontsize=5.5, va="bottom")
+    fig.savefig(path, dpi=110, metadata={"Description": BOUNDARY_NOTE})
     plt.close(fig)
 
 
@@ -226,14 +295,21 @@ def _class(v) -> str:
     return "feasible" if v.feasible else "unstable"
 
 
-def write(design: Design, folder: Path, command: str, objective: str = "margin", balls: list | None = None) -> dict:
+def write(design: Design, folder: Path, command: str, objective: str = "margin", balls: list | None = None,
+          choice: dict | None = None) -> dict:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     out = to_json(design, objective)
     if balls is not None:
         out["balls"] = balls
+    if choice is not None:
+        out["chosen_balls"], out["balls_choice"] = choice["chosen"], choice
     (folder / "design.json").write_text(json.dumps(out, indent=1, allow_nan=False, default=_plain) + "\n")
-    (folder / "report.md").write_text(report(design, command, objective, balls))
+    (folder / "report.md").write_text(report(design, command, objective, balls, choice))
     figure(design, folder / "design.png")
-    return {"report": str(folder / "report.md"), "figure": str(folder / "design.png"),
-            "json": str(folder / "design.json")}
+    files = {"report": str(folder / "report.md"), "figure": str(folder / "design.png"),
+             "json": str(folder / "design.json")}
+    if design.verification_run_up is not None and design.verification_run_up["trace"]["t"]:
+        run_up_figure(design, folder / RUN_UP_FIGURE)
+        files["run_up_figure"] = str(folder / RUN_UP_FIGURE)
+    return files

@@ -13,6 +13,8 @@ cluster, with progress, and journalled so a killed design resumes where it stopp
     run_up(runs, p, y0)               r_max through a run-up with the run model's speed law (a prescribed
                                       schedule, core/speed_schedule.py: ramp, hold, reduction, recovery): the run
                                       lasts the schedule plus the default run at the final speed
+    run_up_trace(runs, p, y0)         the same run with r(t) kept (TRACE_SAMPLES points) for the verification's
+                                      figure, r at the end and whether it settled
     residual(runs, p, starts)         the residual imbalance r(t_end) from each start by the stick-slip engine
                                       hybrid-dop853 (engines/hybrid.py) and its RESIDUAL_QUANTILE quantile
 
@@ -168,6 +170,40 @@ def run_up(runs: Model, p: np.ndarray, y0: np.ndarray, t_after: float | None = N
     ok = sim.status == "success"
     return {"status": sim.status, "t_end": float(t_end), "threshold": float(threshold),
             "r_max": float(sim.r_max) if ok else None, "t_dec": sim.t_dec if ok else None}
+
+
+TRACE_SAMPLES = 801  # the verification run-up's r(t) kept for its figure (and the journal)
+
+
+def run_up_trace(runs: Model, p: np.ndarray, y0: np.ndarray, t_after: float | None = None) -> dict:
+    """run_up's numbers with the trajectory kept: `schedule_end` (schedule_time, the final speed reached for
+    good), r at the end, `settled` (r_end below the threshold and t_dec defined, as design_transients.transient
+    says it) and `trace` {t, r} (TRACE_SAMPLES points, for the figure)."""
+    from .engines import engine
+    from .simulate import simulate
+
+    t_after = default_t_end(runs, p)[0] if t_after is None else t_after
+    end = schedule_time(runs, p)
+    t_end = end + t_after
+    threshold = default_threshold(runs, p)[0]
+    sim = simulate(runs, p, y0, t_end=t_end, threshold=threshold, samples=TRACE_SAMPLES, check=False)
+    ok = sim.status == "success"
+    i, j = runs.amplitude_indices[:2]
+    t, r = np.array([]), np.array([])
+    if ok and sim.y is not None:
+        t, y = sim.t, sim.y
+        eng, rtol, atol = engine(sim.engine), sim.rtol, sim.atol
+        if hasattr(eng, "picked"):  # the auto engine: the engine (and tolerance) that ran
+            eng, rtol, atol, _ = eng.picked(sim.rtol, sim.atol, runs)
+        if callable(getattr(eng, "dense", None)):  # an even grid on the continuous solution (the steps alias the spin)
+            t = np.linspace(0.0, sim.t[-1], TRACE_SAMPLES)
+            y = eng.dense(runs, p, sim.t, sim.y, t, rtol, atol)
+        r = np.hypot(y[i], y[j])
+    r_end = float(math.hypot(sim.y_end[i], sim.y_end[j])) if ok else None
+    return {"status": sim.status, "t_end": float(t_end), "schedule_end": float(end), "threshold": float(threshold),
+            "r_max": float(sim.r_max) if ok else None, "t_dec": sim.t_dec if ok else None, "r_end": r_end,
+            "settled": bool(ok and sim.t_dec is not None and r_end < threshold),
+            "trace": {"t": [float(x) for x in t], "r": [float(x) for x in r]}}
 
 
 def residual_starts(runs: Model, count: int = RESIDUAL_STARTS, seed: int = RESIDUAL_SEED) -> np.ndarray:

@@ -6,6 +6,8 @@ verification run of the chosen design at the corners of the operating box.
     transient(problem, design, point)  one run from one of STARTS: t_dec, r_max, status, settled
     best_by_t_dec(problem, verdicts)   the feasible design with the smallest t_dec at the operating point
     verify(problem, design)            a run at every corner of the box (each range and the imbalance at its ends)
+    verify_run_up(problem, design, runs)  the chosen design's run-up (issue 39 item 4) on the run model with a
+                                       speed schedule, at the operating point; (None, why) where there is none
     by_t_dec(design)                   the Design's best replaced by the t_dec objective's (CANDIDATES at most)
     by_runs(design, objective, runs)   the same for r_max-run-up (the smallest r_max through the run model's
                                        run-up) and residual (the smallest RESIDUAL_QUANTILE quantile of the
@@ -32,7 +34,8 @@ import numpy as np
 
 from .design import Design, Problem, Verdict, active_limit, sensitivity
 from .design_runs import (RESIDUAL_QUANTILE, Journal, check_runs, evaluate, key_of, residual_quantile, residual_run,
-                          residual_starts, rest_start, run_params, run_up)
+                          residual_starts, rest_start, run_params, run_up, run_up_trace)
+from .loading import AnalysisError
 from .simulate import simulate
 from .units import default_t_end, default_threshold
 
@@ -185,3 +188,27 @@ def by_t_dec(design: Design, journal: Journal | None = None, *, workers: int | N
     problem = design.problem
     best, design.objective_runs = best_by_t_dec(problem, candidates(design), journal, workers=workers, progress=progress)
     return _choose(design, best)
+
+
+def verify_run_up(problem: Problem, design, runs, journal: Journal | None = None, *,
+                  run_time: float | None = None, run_set: dict | None = None, workers: int | None = None,
+                  progress: bool = False) -> tuple[dict | None, str | None]:
+    """(the run, None) or (None, why in one line): the chosen design's run-up on the run model `runs` (--runs,
+    default the design's own) where its speed law is a schedule (a `t_ramp` parameter; core/speed_schedule.py),
+    at the operating point with the parameters design_runs.run_params maps (`run_set`: the run model's own), from
+    the rotor at rest and the balls spread, `run_time` after the schedule (design_runs.run_up_trace: r_max, t_dec,
+    r at the end, settled, r(t)).  A run model sharing no varied parameter with the design runs no run of it."""
+    if "t_ramp" not in runs.param_names:
+        return None, (f"no run-up: {runs.name} has no speed schedule (no t_ramp parameter); give --runs a run-up "
+                      "model or a scene whose [speed] law is a schedule")
+    point = operating_point(problem)
+    try:
+        q, taken = run_params(problem, runs, design, point, run_set)
+    except AnalysisError as exc:
+        return None, f"no run-up: {exc}"
+    y0 = rest_start(runs)
+    k = key_of("verify-run-up", runs.source_hash, q.tolist(), y0.tolist(), run_time)
+    done, _ = evaluate([(k, run_up_trace, (runs, q, y0, run_time))], journal or Journal(None), workers=workers,
+                       progress=progress, desc="design verification run-up")
+    return {"design": dict(zip([a.name for a in problem.varied], design)), "point": point, "run_model": runs.name,
+            "mapped": taken, "start": START_STATE.split(";")[0] + ", balls spread", **done[k]}, None

@@ -34,9 +34,15 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                                  "settled}]; r_max-run-up: [{design, point, run_model, mapped, status, t_end, "
                                  "threshold, r_max, t_dec, start}]; residual: [{design, point, run_model, mapped, "
                                  "residual_quantile, quantile, starts, residuals, failed}])", "verification": "(the same run keys, at the box's corners)",
-               "verification_start": "", "not_covered": "",
-               "boundary_types": "{certified: [...], not_certified: [...]}",
-               "balls": "(--balls: [{n, feasible, best, margin, t_dec}])", "chosen_balls": "(--balls)",
+               "verification_start": "",
+               "verification_run_up": "(the chosen design's run-up on --runs (default the design's model) where its speed law "
+                                      "is a schedule: {design, point, run_model, mapped, start, status, t_end, schedule_end, "
+                                      "threshold, r_max, t_dec, r_end, settled}; null without one)",
+               "verification_run_up_note": "(one line: why there is no run-up; null with one)", "not_covered": "",
+               "boundary_types": "{certified: [...], not_certified: [...], scope}",
+               "balls": "(--balls: [{n, feasible, best, margin, t_dec, objective_value, margin_uncertainty, capacity, "
+                        "limit}])", "chosen_balls": "(--balls)",
+               "balls_choice": "(--balls: {objective, value, method, ranking, chosen, runner_up, decided, why})",
                "files": "(with --out)"}
 JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
 
@@ -175,25 +181,19 @@ def _scene_with_balls(scene: str, n: int, folder: Path) -> str:
 
 
 def _by_balls(args, counts: list[int]):
-    """(the chosen count's design, one row per count): a design per ball count, the best by the objective."""
+    """(the chosen count's design, one row per count, the chosen count, balls_choice): a design per ball count,
+    the best by the objective (analysis/design_balls.py)."""
     import tempfile
 
-    rows, best = [], None
+    from ..analysis import design_balls
+
+    rows, designs = [], {}
     with tempfile.TemporaryDirectory(prefix="adbgen-design-") as tmp:
         for n in counts:
-            design = _one_design(args, _load_scene(_scene_with_balls(args.scene, n, Path(tmp))))
-            b = design.best
-            runs = [r for r in design.objective_runs if r["design"] == dict(zip([a.name for a in design.problem.varied],
-                                                                             b.design))] if b is not None else []
-            t_dec = runs[0]["t_dec"] if runs else None
-            rows.append({"n": n, "feasible": b is not None and b.feasible,
-                         "best": dict(zip([a.name for a in design.problem.varied], b.design)) if b is not None else None,
-                         "margin": b.margin if b is not None and b.margin == b.margin and abs(b.margin) < float("inf")
-                         else None, "t_dec": t_dec})
-            key = (b.margin if args.objective == "margin" else t_dec) if b is not None and b.feasible else None
-            if key is not None and (best is None or key < best[0]):
-                best = (key, n, design)
-    return (best[2] if best else design), rows, (best[1] if best else None)
+            designs[n] = _one_design(args, _load_scene(_scene_with_balls(args.scene, n, Path(tmp))))
+            rows.append(design_balls.row(n, designs[n], args.objective))
+    chosen, choice = design_balls.choose(rows, args.objective)
+    return designs[chosen if chosen is not None else counts[-1]], rows, chosen, choice
 
 
 def _one_design(args, model):
@@ -239,6 +239,8 @@ def _one_design(args, model):
         design_transients.by_runs(design, args.objective, runs, journal, run_time=args.run_time, run_set=run_set, **how)
     if args.verify and design.best is not None and design.best.feasible:
         design.verification = design_transients.verify(problem, design.best.design, journal, **how)
+        design.verification_run_up, design.verification_run_up_note = design_transients.verify_run_up(
+            problem, design.best.design, runs, journal, run_time=args.run_time, run_set=run_set, **how)
     return design
 
 
@@ -253,17 +255,17 @@ def run_design(args) -> int:
     if counts is not None:
         if not Path(args.scene).is_file():
             raise AnalysisError("--balls needs a scene file (TOML): a generated model's ball count is fixed")
-        design, rows, chosen = _by_balls(args, counts)
+        design, rows, chosen, choice = _by_balls(args, counts)
     else:
-        design, rows, chosen = _one_design(args, _load_scene(args.scene)), None, None
+        design, rows, chosen, choice = _one_design(args, _load_scene(args.scene)), None, None, None
     out = design_report.to_json(design, args.objective)
     if rows is not None:
-        out.update({"balls": rows, "chosen_balls": chosen})
+        out.update({"balls": rows, "chosen_balls": chosen, "balls_choice": choice})
     command = "adbgen design " + shlex.join(sys.argv[2:]) if sys.argv[1:2] == ["design"] else "adbgen design"
     if args.out is not None:
-        out["files"] = design_report.write(design, Path(args.out), command, args.objective, rows)
+        out["files"] = design_report.write(design, Path(args.out), command, args.objective, rows, choice)
     if args.json:
         _emit_json(out)
     else:
-        print(design_report.report(design, command, args.objective, rows).split("![design]")[0].rstrip())
+        print(design_report.report(design, command, args.objective, rows, choice).split("![design]")[0].rstrip())
     return 0

@@ -144,3 +144,48 @@ def test_residual_runs_are_the_stick_slip_engines(tmp_path):
     assert row["modes"] == list(run.modes(2))
     # negative control: the residual is the rotor's displacement, not a ball's angle
     assert row["residual"] != pytest.approx(float(np.hypot(*run.y_end[list(model.role_indices("ball_angle"))])))
+
+
+def test_the_verification_run_up_is_the_chosen_designs_run_up(tmp_path):
+    """The verification's run-up (issue 39 item 4) is design_runs.run_up of the run model with the chosen design's
+    values mapped by name: the same r_max, its r(t) on an even grid of the continuous solution at or below r_max and
+    ending at r_end; the report gives its numbers and design.json its keys without the trace, run-up.png drawn.
+    Negative controls: another design's run-up has another r_max; a model without a speed schedule, or one sharing
+    no varied parameter, gives no run but one line saying why."""
+    from adbgen.analysis import design_report
+    from adbgen.analysis.design_runs import run_up
+
+    m, ramp = load_model("two_plane_rotating"), load_model("two_plane_ramp")
+    pr = Problem(m, m.params({"epsilon": 0.001, "Omega": 3.2}), [Axis("Omega", 3.2, 3.2)], [Axis("c_bb", 1e-5, 1e-3)],
+                 ties={"c_bt": "c_bb"})
+    run, note = dt.verify_run_up(pr, (3e-4,), ramp, run_time=20.0, run_set={"t_ramp": 60.0}, workers=1)
+    assert note is None and run["status"] == "success" and run["schedule_end"] == 60.0 and run["t_end"] == 80.0
+    q, taken = run_params(pr, ramp, (3e-4,), dt.operating_point(pr), {"t_ramp": 60.0})
+    assert {"c_bb", "c_bt", "Omega_max"} <= set(taken) == set(run["mapped"])
+    direct = run_up(ramp, q, dt.rest_start(ramp), 20.0)
+    assert run["r_max"] == pytest.approx(direct["r_max"], rel=1e-12)
+    r = np.array(run["trace"]["r"])
+    assert len(r) == 801 and run["trace"]["t"][-1] == pytest.approx(80.0)
+    assert r.max() <= run["r_max"] * (1 + 1e-9) and r.max() >= 0.95 * run["r_max"]
+    assert r[-1] == pytest.approx(run["r_end"], rel=1e-6)
+    assert run["settled"] == (run["t_dec"] is not None and run["r_end"] < run["threshold"])
+    # negative control: the run depends on the design (another ball damping, another r_max)
+    other, _ = dt.verify_run_up(pr, (1e-4,), ramp, run_time=20.0, run_set={"t_ramp": 60.0}, workers=1)
+    assert abs(other["r_max"] - run["r_max"]) > 1e-6 * run["r_max"]
+    design = Design(pr, "interval", assess(pr, [3e-4]), verdicts=[assess(pr, [3e-4])])
+    design.verification_run_up = run
+    files = design_report.write(design, tmp_path, "adbgen design ...")
+    data = json.loads((tmp_path / "design.json").read_text())
+    assert "trace" not in data["verification_run_up"] and data["verification_run_up"]["r_max"] == run["r_max"]
+    assert data["verification_run_up_note"] is None and files["run_up_figure"].endswith("run-up.png")
+    assert "run-up on two_plane_ramp" in (tmp_path / "report.md").read_text()
+    # negative controls: no speed schedule, or no varied parameter reaching the run model: no run, one line why
+    none, why = dt.verify_run_up(pr, (3e-4,), m, workers=1)
+    assert none is None and why.startswith("no run-up: two_plane_rotating has no speed schedule") and "\n" not in why
+    thesis = load_model("thesis_rotating_n3")
+    none, why = dt.verify_run_up(Problem(thesis, thesis.params(), [], [Axis("mu", 0.05, 0.1)]), (0.06,), ramp,
+                                 workers=1)
+    assert none is None and "shares none of the varied" in why
+    design.verification_run_up, design.verification_run_up_note = None, why
+    lines = [ln for ln in design_report.report(design, "c").splitlines() if "Run-up of the chosen design" in ln]
+    assert lines == [f"Run-up of the chosen design: {why}."]

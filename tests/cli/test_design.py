@@ -56,7 +56,7 @@ def test_json_keys_as_documented(capsys, tmp_path):
                          "--vary", "beta=0.2:0.4", "--json", "--out", str(tmp_path / "d"))
     assert code == 0, err
     data = json.loads(out)
-    assert set(data) == set(JSON_FIELDS) - {"balls", "chosen_balls"}  # exactly the documented keys (no --balls)
+    assert set(data) == set(JSON_FIELDS) - {"balls", "chosen_balls", "balls_choice"}  # the documented keys (no --balls)
     assert set(data["best"]) == set(BEST_KEYS[1:]) | {"beta"}
     assert {p.name for p in (tmp_path / "d").iterdir()} == {"design.json", "report.md", "design.png",
                                                            "design-journal.jsonl"}
@@ -67,6 +67,9 @@ def test_json_keys_as_documented(capsys, tmp_path):
     assert "Boundaries the chart certifies" in (tmp_path / "d" / "report.md").read_text()
     report = (tmp_path / "d" / "report.md").read_text()
     assert "What limits it" in report and "Not covered yet" in report
+    # the thesis model has no speed schedule: no run-up of the chosen design, said in one line (no figure)
+    assert data["verification_run_up"] is None and "no speed schedule" in data["verification_run_up_note"]
+    assert f"Run-up of the chosen design: {data['verification_run_up_note']}." in report.splitlines()
     helps = [a.help for a in build_parser()._subparsers._group_actions[0].choices["design"]._actions]
     assert any(JSON_KEYS in (h or "") for h in helps)
 
@@ -117,6 +120,12 @@ def test_balls_choose_the_count(capsys, tmp_path):
     feasible = [r for r in rows if r["feasible"]]
     assert data["chosen_balls"] == min(feasible, key=lambda r: r["margin"])["n"]
     assert data["best"]["margin"] == min(r["margin"] for r in feasible)
+    # the choice over the counts, from the per-count rows: ranked, with the runner-up and why in one line
+    choice = data["balls_choice"]
+    assert choice["chosen"] == data["chosen_balls"] and choice["ranking"][0]["n"] == data["chosen_balls"]
+    assert [r["value"] for r in choice["ranking"]] == sorted(r["objective_value"] for r in feasible)
+    assert choice["why"].startswith(f"n = {data['chosen_balls']} (beta = ") and "\n" not in choice["why"]
+    assert all(r["objective_value"] == r["margin"] for r in feasible)
 
 
 def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
