@@ -75,3 +75,29 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
               "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
     text = tolerance.page(result)
     assert "| 36_two_plane_torque | 3 | (500) |" in text and "| two_plane / thesis / torque | 3 |" in text
+
+
+def test_the_page_shows_a_recorded_diagnosis_and_only_then():
+    scene = {"family": "single_plane", "units": "thesis", "drive": "forced"}
+    result = {"scenes": {"00_x": {"scene": scene, "cells": []}}, "rtols": [1e-4],
+              "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
+                            "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
+              "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
+    assert "## Why cells miss" not in tolerance.page(result)  # negative control: nothing recorded, no section
+    runs = [{"t_end": 1000.0, "variant": "picked", "order": 10, "step_factor": 2.5, "n_steps": 4812, "ratio": 97.6,
+             "reference_ratio": 2e-5, "nominal_error": 9e-6, "amplification": 1085.0},
+            {"t_end": 1000.0, "variant": "cyrk-dop853", "order": None, "step_factor": None, "n_steps": 3036,
+             "ratio": None, "reference_ratio": 2e-5}]
+    result["diagnosis"] = {"00_x@0.0001": {"runs": runs}}
+    text = tolerance.page(result)
+    assert "| 00_x@0.0001 | 1000 | picked | 10 | 2.5 | 4812 | 97.6 | 1.1e+03 | 2e-05 |" in text
+    assert "| 00_x@0.0001 | 1000 | cyrk-dop853 |  |  | 3036 | failed |  | 2e-05 |" in text
+
+
+def test_diagnose_refuses_an_unknown_scene():
+    from adbgen.cli_types import UsageError
+
+    with pytest.raises(UsageError, match="unknown scene"):
+        tolerance.diagnose("no_such_scene", 1e-4)
+    with pytest.raises(UsageError, match="positive"):
+        tolerance._positive("-1")
