@@ -36,6 +36,10 @@ def test_the_scenes_cover_the_issue_and_none_is_a_learning_problem():
     assert {s["n"] for s in scenes} == {2, 3, 4, 5, 6}
     learning = [(p.problem.model, p.problem.params, p.problem.y0) for p in PROBLEMS.values()]
     assert all((s.get("model"), s["set"], s["y0"]) not in learning for s in scenes)
+    from benchmarks.engine_table import CHECK_SCENES
+
+    held_in = [(c.get("model"), c.get("set", {}), c["y0"]) for c in CHECK_SCENES]
+    assert all((s.get("model"), s["set"], s["y0"]) not in held_in for s in scenes)
     a = PROBLEMS["A"].problem  # negative control: problem A as a scene is caught
     assert (a.model, a.params, a.y0) in learning
     for s in scenes:
