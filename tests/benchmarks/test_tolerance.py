@@ -61,9 +61,14 @@ def test_ratio_is_the_error_in_tolerance_units():
 
 def test_summary_counts_decided_cells_only():
     scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
-    cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True}, {"rtol": 1e-12, "ratio": 500.0, "decided": False}]
+    cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True, "reference_ratio": 1e-3},
+             {"rtol": 1e-12, "ratio": 500.0, "decided": False, "reference_ratio": 60.0}]
     s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
     assert s["worst"] == 3.0 and s["met"] and s["over_target"] == []
+    assert s["missed_beyond_reference"] == []  # 500 is within 10x the references' disagreement of 60
+    cells[1]["reference_ratio"] = 20.0  # undecided still, but the engine misses 25x farther than they differ
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    assert s["met"] and s["missed_beyond_reference"][0]["ratio"] == 500.0
     cells[1]["decided"] = True  # negative control: the same cell, decided, misses the target
     s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
     assert s["worst"] == 500.0 and not s["met"] and s["over_target"][0]["rtol"] == 1e-12
