@@ -128,10 +128,54 @@ def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
             "undecided_cells": sum(not c["decided"] for c in cells)}
 
 
+def diagnose(name: str, rtol: float, progress=print) -> dict:
+    """Why a cell misses the target: the scene at one rtol, to t_end / 10 and to t_end, run with the auto
+    engine's picked row, the same order at step factor 1, heyoka's order (`taylor.heyoka_order`) at factor 1
+    and CyRK's DOP853, each as the ratio of `ratio`, with the row's amplification: the error in the
+    weights (ratio x rtol, the same at every rtol for a Taylor row, whose steps depend on rtol only through
+    atol / rtol) over the per-step aim `taylor.nominal_error`.  An amplification far above 1 that grows with
+    t_end, alike for every order and factor, is global error growth, which no per-step control bounds."""
+    from adbgen.analysis.engines import ENGINES, engine as get_engine
+    from adbgen.analysis.engines.taylor import TaylorEngine, heyoka_order, nominal_error
+
+    scenes = {s["name"]: s for s in load()}
+    if name not in scenes:
+        raise UsageError(f"unknown scene {name!r}; scenes are the files of {FOLDER}")
+    scene = scenes[name]
+    model = scene_model(scene)
+    p, y0 = model.params(scene.get("set", {})), model.state(scene.get("y0", {}))
+    atol = rtol * ATOL_RATIO
+    picked = get_engine("auto").picked(rtol, atol, model)[3]
+    variants = [("picked", picked.get("order"), picked.get("step_factor"))]
+    if "order" in picked:
+        variants.append(("picked order, factor 1", picked["order"], 1.0))
+    variants += [("heyoka's order, factor 1", heyoka_order(rtol), 1.0), ("cyrk-dop853", None, None)]
+    runs = []
+    for t_end in (float(scene["t_end"]) / 10, float(scene["t_end"])):
+        ref, chk = references(model, p, y0, t_end)
+        ref_ratio = ratio(chk["y_end"], ref["y_end"], rtol, atol)
+        for label, order, factor in variants:
+            eng = ENGINES["cyrk-dop853"] if order is None else TaylorEngine(table=[(0.0, order, factor)])
+            run = _run(model, eng, p, y0, t_end, rtol, atol)
+            r = ratio(run["y_end"], ref["y_end"], rtol, atol) if run["status"] == "success" else None
+            row = {"t_end": t_end, "variant": label, "order": order, "step_factor": factor, "ratio": r,
+                   "n_steps": run["n_steps"], "reference_ratio": ref_ratio}
+            if order is not None and r is not None:
+                row["nominal_error"] = nominal_error(order, factor)
+                row["amplification"] = r * rtol / row["nominal_error"]
+            runs.append(row)
+            progress(f"  {name} rtol {rtol:g} t_end {t_end:g} {label} (order {order}, factor {factor}): ratio "
+                     f"{r if r is None else f'{r:.3g}'}, {run['n_steps']} steps (references {ref_ratio:.2g})")
+    return {"scene": name, "rtol": rtol, "engine": "auto", "picked": picked, "runs": runs}
+
+
 def summary(scenes: dict) -> dict:
-    """Worst decided ratio per scene family (family, units, drive) and over all; cells above target."""
+    """Worst decided ratio per scene family (family, units, drive) and over all; cells above target; and
+    undecided cells whose ratio exceeds both the target and `BEYOND` x the references' disagreement
+    (`missed_beyond_reference`: the references cannot grade the cell, but they agree far better than
+    the engine does, so the miss is the engine's; not counted in `worst` or `met`)."""
     groups: dict = {}
-    over = []
+    over, beyond = [], []
     for name, res in sorted(scenes.items()):
         s = res["scene"]
         key = f"{s['family']} / {s['units']} / {s['drive']}"
@@ -140,9 +184,15 @@ def summary(scenes: dict) -> dict:
                 groups[key] = max(groups.get(key, 0.0), c["ratio"])
                 if c["ratio"] > TARGET:
                     over.append({"scene": name, "rtol": c["rtol"], "ratio": c["ratio"]})
+            elif "ratio" in c and "reference_ratio" in c and c["ratio"] > max(TARGET, BEYOND * c["reference_ratio"]):
+                beyond.append({"scene": name, "rtol": c["rtol"], "ratio": c["ratio"],
+                               "reference_ratio": c["reference_ratio"]})
     worst = max(groups.values(), default=None)
     return {"worst_by_family": groups, "worst": worst, "over_target": over, "target": TARGET,
-            "met": worst is not None and not over}
+            "met": worst is not None and not over, "missed_beyond_reference": beyond}
+
+
+BEYOND = 10.0  # an undecided cell this many times farther from the reference than the references are apart
 
 
 def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fresh: bool = False,
@@ -217,16 +267,86 @@ def page(result: dict) -> str:
         "other cells are shown in parentheses (undecided: the reference cannot resolve them).", "",
         "## Worst counted ratio per scene family", "", "| family / units / drive | worst ratio |", "| --- | --- |"]
     lines += [f"| {k} | {v:.3g} |" for k, v in sorted(s["worst_by_family"].items())]
-    lines += ["", f"Cells above the target: {len(s['over_target'])}.", "", "## Ratio per scene and tolerance", "",
+    beyond = s.get("missed_beyond_reference", [])
+    lines += ["", f"Cells above the target: {len(s['over_target'])}" + (
+        ": " + ", ".join(f"{o['scene']} at {o['rtol']:g} ({o['ratio']:.3g})" for o in s["over_target"])
+        if s["over_target"] else "") + ".", "",
+              f"Undecided cells above the target and more than {BEYOND:g}x the references' disagreement (the "
+              f"references cannot grade them, but the engine's miss is far beyond their own; not counted above): "
+              f"{len(beyond)}" + (": " + ", ".join(f"{o['scene']} at {o['rtol']:g} ({o['ratio']:.3g} against "
+                                                    f"{o['reference_ratio']:.2g})" for o in beyond) if beyond else "")
+              + ".", "", "## Ratio per scene and tolerance", "",
               "| scene | " + " | ".join(f"{r:g}" for r in result["rtols"]) + " |",
               "| --- | " + " | ".join("---" for _ in result["rtols"]) + " |"]
     for name, res in sorted(result["scenes"].items()):
         cells = res.get("cells")
         lines.append(f"| {name} | " + (" | ".join(_cell(c) for c in cells) if cells else res.get("undecided", "")) + " |")
+    if result.get("diagnosis"):
+        lines += diagnosis_lines(result["diagnosis"])
     return "\n".join(lines) + "\n"
 
 
+DIAGNOSIS = (
+    "Why cells miss the target (`adbgen bench tolerance --diagnose SCENE RTOL`, recorded under `diagnosis`): "
+    "each failing cell rerun alone to t_end / 10 and t_end with the picked row, the same order at step factor 1, "
+    "heyoka's order at factor 1 and CyRK's DOP853. A Taylor row's steps depend on rtol only through atol / rtol, "
+    "so its error in the weights (ratio x rtol) is the same at every rtol; amplification is that error over the "
+    "row's per-step aim (`taylor.nominal_error`). Measured (table below): the error follows the per-step aim "
+    "(the Taylor error estimate holds: order 10 at factor 1 against 2 or 2.5 cuts both by ~1e3-1e4), but the "
+    "amplification is 60-100 at t_end / 10 and 500-1100 at t_end on 00_thesis_rotating_n2 (t_end 1000: it grows "
+    "with the length of the transient), 2-3 at t_end / 10 and 2e4-5e4 at t_end on the SI scene "
+    "04_single_plane_fixed_n2, alike for every order and factor, and DOP853 misses as well (622 and 6.7e5): "
+    "global error growth over the transient, which no per-step control bounds. So the cause is neither the "
+    "Taylor error estimate nor atol in SI units, but the table's constraint: it admitted a row aiming each step "
+    "at T / 10 (an amplification up to 100 allowed) and checked it on notebook 06's scene against DOP853's "
+    "error (DOP853 itself misses by 6.7e5 on "
+    "04_single_plane_fixed_n2) in the norm max(1, |y|): a bound the per-component promise does not share. "
+    "These runs used the table before the fix (their `picked` rows); the table is now learned with held-in check "
+    "scenes in the promise's norm (`benchmarks.engine_table.CHECK_SCENES`, [the engines page](../engines.md)), "
+    "and the ratios above are the new table's. With it, 07_thesis_rotating_n3 still misses at 1e-4 (3.7e3, its "
+    "diagnosis run with the new table's row, order 12 factor 2): from t_end / 10 to t_end its amplification grows "
+    "from 1e2-2e4 to 7e4-2e8, and its two references (both at rtol 1e-14) differ there by 0.2 tolerance units at "
+    "rtol 1e-4, i.e. by 2e-5 in the weights; heyoka's rule (1.8e3) and DOP853 (4.6e3) miss as well. A transient "
+    "this ill-conditioned (a conditioning near 1e9 against the check scenes' 5e4) is beyond what a per-step rule "
+    "learned on check scenes can promise; it would take a global error estimate (e.g. a second run with a tighter "
+    "row, compared at t_end), not attempted here. A hint at the step factor as a second cause, measured ad hoc "
+    "(not recorded here; 16_thesis_rotating_n4 at rtol 1e-5 run to t = 1000, past its t_end of 600, where the "
+    "references differ by 0.02 units): order 20 at factor 2.5 / 2 / 1 ends at ratio 157 / 0.082 / 0.021, order "
+    "18 at factor 1.5 at 0.014, order 12 at factor 2 / 1 at 239 / 0.0074, DOP853 at 1.6e3: from factor 2 to 2.5 "
+    "at order 20 the error grows 1900x for a per-step aim 85x larger, from factor 1 to 2 at order 12 32000x for "
+    "4000x, as if Jorba & Zou's radius from the last two coefficients overshot the series' true radius on this "
+    "scene; a factor cap learned on a held-in scene of this kind is the next step.")
+
+
+def diagnosis_lines(diagnosis: dict) -> list[str]:
+    lines = ["", "## Why cells miss: diagnosis", "", DIAGNOSIS, "",
+             "| scene @ rtol | t_end | run | order | factor | steps | ratio | amplification | references |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for key, d in sorted(diagnosis.items()):
+        for r in d["runs"]:
+            amp, factor, value = r.get("amplification"), r["step_factor"], r["ratio"]
+            lines.append(f"| {key} | {r['t_end']:g} | {r['variant']} | {r['order'] or ''} | "
+                         f"{'' if factor is None else f'{factor:g}'} | {r['n_steps']} | "
+                         f"{'failed' if value is None else f'{value:.3g}'} | "
+                         f"{'' if amp is None else f'{amp:.2g}'} | {r['reference_ratio']:.2g} |")
+    return lines
+
+
 def run(args, out: str) -> int:
+    if args.diagnose:
+        import json
+
+        name, rtol = args.diagnose[0], _positive(args.diagnose[1])
+        path = Path(out)
+        res = json.loads(path.read_text()) if path.is_file() else {}
+        if not res:
+            raise UsageError(f"{out}: no tolerance results to add a diagnosis to; run `adbgen bench tolerance` first")
+        res.setdefault("diagnosis", {})[f"{name}@{rtol:g}"] = diagnose(name, rtol, lambda l: print(l, flush=True))
+        write(jsonable(res), path)
+        if args.page:
+            PAGE.write_text(page(res))
+            print(f"wrote {PAGE}")
+        return 0
     res = bench_tolerance(out, args.engine or "auto", args.scenes, fresh=args.fresh,
                           progress=lambda line: print(line, flush=True))
     s = res["summary"]
@@ -245,6 +365,19 @@ BENCHMARK = Benchmark("tolerance", run, (
     option("--scenes", nargs="+", default=None, help="only these scenes (names of benchmarks/tolerance_scenes/)"),
     option("--fresh", action="store_true", help="start over instead of resuming the results file"),
     option("--page", action="store_true", help="also write docs/benchmarks/tolerance.md from the results"),
+    option("--diagnose", nargs=2, metavar=("SCENE", "RTOL"), default=None,
+           help="instead: run one cell with the picked row and its variants at t_end / 10 and t_end (why it misses), "
+                "recorded under the results' diagnosis"),
 ))
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value > 0:
+        raise UsageError(f"--diagnose: the rtol must be a positive number, not {text!r}")
+    return value
 
 __all__ = ["BENCHMARK", "RTOLS", "TARGET", "bench_tolerance", "ratio", "summary", "t_dec_ratio"]

@@ -87,7 +87,8 @@ def test_a_model_without_a_hand_written_form_is_refused(hy):
 
 def test_bench_auto_quick(tmp_path, capsys):
     """The quick benchmark on problem A (2 orders x 2 factors, 2 rtols, t_end 200): results, a table
-    with rows per problem, and the cost-per-step target line; --table-only remakes the table."""
+    with rows per problem, and the cost-per-step target line; --table-only remakes the table from the
+    stored results, learned with the check scenes it measures (every row passes them)."""
     out, table = tmp_path / "auto.json", tmp_path / "table.json"
     assert main(["bench", "auto", "--quick", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
     res = json.loads(out.read_text())
@@ -102,7 +103,10 @@ def test_bench_auto_quick(tmp_path, capsys):
     assert "Taylor's cost per step" in capsys.readouterr().out
     table.unlink()
     assert main(["bench", "auto", "--table-only", "--problems", "A", "--out", str(out), "--table", str(table)]) == 0
-    assert json.loads(table.read_text())["rows"] == made["rows"]
+    remade = json.loads(table.read_text())  # --table-only (not quick) learns with the check scenes
+    checked = {"scenes": remade["check"]["errors"]}
+    assert remade["rows"] == bench_auto.table_of(res, checked)["rows"]
+    assert all(bench_auto.passes_check(r, r["rtol"], checked) for r in remade["rows"])
 
 
 # ------------------------------------------------------------------ issue 35: monotone and admissible table
@@ -161,16 +165,49 @@ def test_every_shipped_row_is_admissible_and_a_planted_aggressive_step_factor_is
     assert not bench_auto.admissible(planted, planted["rtol"])
 
 
-def test_a_row_less_accurate_than_dop853_on_the_check_scene_is_replaced_by_a_tighter_one():
-    """`apply_check`: the 1e-10 row (error 2e-7 on the check scene, DOP853 1.4e-7) gives way to the 1e-11
-    row (4e-8); a row that passes stays; with no tighter row passing the row is kept and marked.  Negative
-    control: with the check scene's errors planted equal, nothing is replaced."""
-    rows = [{"rtol": 1e-9, "key": "a", "engine": "taylor", "order": 18, "step_factor": 2.0},
-            {"rtol": 1e-10, "key": "b", "engine": "taylor", "order": 16, "step_factor": 1.5},
-            {"rtol": 1e-11, "key": "c", "engine": "taylor", "order": 18, "step_factor": 1.5}]
-    checked = {"taylor": {"a": 1e-7, "b": 2e-7, "c": 4e-8}, "rk": {1e-9: 1.3e-6, 1e-10: 1.4e-7, 1e-11: 1.4e-8}}
-    out = {r["rtol"]: r for r in bench_auto.apply_check(rows, checked)}
-    assert out[1e-9]["key"] == "a" and out[1e-10]["key"] == "c" and out[1e-10]["check_replaced"] == "b"
-    assert out[1e-11].get("check_failed") and out[1e-11]["key"] == "c"  # 4e-8 > 1.4e-8, nothing tighter
-    same = {"taylor": {"a": 1e-9, "b": 1e-9, "c": 1e-9}, "rk": checked["rk"]}
-    assert [r["key"] for r in bench_auto.apply_check(rows, same)] == ["a", "b", "c"]
+def test_weighted_error_is_the_promise_at_unit_rtol():
+    """`weighted_error` x (1 / rtol) is `tolerance.ratio` at that rtol with atol = rtol x ATOL_RATIO."""
+    from benchmarks import tolerance
+
+    y_ref = np.array([8.0, 1e-3, -0.05])
+    y = y_ref + [1e-7, 1e-9, 3e-8]
+    for rtol in (1e-4, 1e-9):
+        assert bench_auto.weighted_error(y, y_ref) / rtol == pytest.approx(
+            tolerance.ratio(y, y_ref, rtol, rtol * tolerance.ATOL_RATIO))
+
+
+def test_the_check_scenes_constrain_the_learning_not_after_it():
+    """`choose` with check scenes: the fastest candidate ("fast", within T on the learning problem) whose
+    error on a check scene exceeds T (the promise's 10 / CHECK_MARGIN) may not stand for T, the next one
+    that passes does; at a T where the check's references cannot tell (floor), the fast one stands.
+    Negative control: without the check the fast candidate is chosen at both."""
+    cands = [{"key": k, "engine": "taylor", "order": o, "step_factor": f}
+             for k, o, f in (("fast", 10, 1.0), ("slow", 20, 1.0))]
+    problems = {"A": _problem({"fast": (1e-12, 1.0), "slow": (1e-13, 2.0)})}
+    checked = {"scenes": {"long": {"errors": {"fast": 3e-9, "slow": 5e-12}, "floor": 1e-12}}}
+    assert not bench_auto.passes_check(cands[0], 1e-9, checked) and bench_auto.passes_check(cands[1], 1e-9, checked)
+    assert bench_auto.passes_check(cands[0], 3e-9, checked)  # exactly T: the margin's bound, met
+    every = 1e-30
+    rows = bench_auto.choose(problems, cands, (1e-6, 1e-9), safety=every, checked=checked)
+    assert [r["key"] for r in rows] == ["fast", "slow"]
+    assert [r["key"] for r in bench_auto.choose(problems, cands, (1e-6, 1e-9), safety=every)] == ["fast", "fast"]
+    floored = {"scenes": {"long": {"errors": {"fast": 3e-9, "slow": 5e-12}, "floor": 2e-9}}}
+    assert bench_auto.passes_check(cands[0], 1e-12, floored)  # within 2 x the references' disagreement
+    failed = {"scenes": {"long": {"errors": {"fast": None, "slow": 5e-12}, "floor": 1e-12}}}
+    assert not bench_auto.passes_check(cands[0], 1e-3, failed)  # a failed run never passes
+
+
+def test_every_shipped_row_passes_its_check_scenes():
+    """The shipped table was learned with the check scenes (its `check` record): each Taylor row's
+    recorded error on each scene is within its tolerance (ratio <= 10 / CHECK_MARGIN) or the floor."""
+    table, _ = _shipped()
+    checked = {"scenes": table["check"]["errors"]}
+    assert {s["name"] for s in table["check"]["scenes"]} == {s["name"] for s in bench_auto.CHECK_SCENES}
+    for name, rows, _ in _row_sets(table):
+        for r in rows:
+            assert bench_auto.passes_check(r, r["rtol"], checked), (name, r)
+    loose = next(r for r in table["rows"] if r["rtol"] == pytest.approx(1e-3))
+    # negative control: the tightest row's candidate at the loosest tolerance passes, the old table's 1e-4
+    # row (order 10, factor 2.5: 9.8e-3 on scene 00 of bench tolerance) does not at 1e-4
+    assert bench_auto.passes_check(table["rows"][-1], loose["rtol"], checked)
+    assert not bench_auto.passes_check({"key": "taylor:o10:f2.5"}, 1e-4, checked)

@@ -36,6 +36,10 @@ def test_the_scenes_cover_the_issue_and_none_is_a_learning_problem():
     assert {s["n"] for s in scenes} == {2, 3, 4, 5, 6}
     learning = [(p.problem.model, p.problem.params, p.problem.y0) for p in PROBLEMS.values()]
     assert all((s.get("model"), s["set"], s["y0"]) not in learning for s in scenes)
+    from benchmarks.engine_table import CHECK_SCENES
+
+    held_in = [(c.get("model"), c.get("set", {}), c["y0"]) for c in CHECK_SCENES]
+    assert all((s.get("model"), s["set"], s["y0"]) not in held_in for s in scenes)
     a = PROBLEMS["A"].problem  # negative control: problem A as a scene is caught
     assert (a.model, a.params, a.y0) in learning
     for s in scenes:
@@ -57,9 +61,14 @@ def test_ratio_is_the_error_in_tolerance_units():
 
 def test_summary_counts_decided_cells_only():
     scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
-    cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True}, {"rtol": 1e-12, "ratio": 500.0, "decided": False}]
+    cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True, "reference_ratio": 1e-3},
+             {"rtol": 1e-12, "ratio": 500.0, "decided": False, "reference_ratio": 60.0}]
     s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
     assert s["worst"] == 3.0 and s["met"] and s["over_target"] == []
+    assert s["missed_beyond_reference"] == []  # 500 is within 10x the references' disagreement of 60
+    cells[1]["reference_ratio"] = 20.0  # undecided still, but the engine misses 25x farther than they differ
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    assert s["met"] and s["missed_beyond_reference"][0]["ratio"] == 500.0
     cells[1]["decided"] = True  # negative control: the same cell, decided, misses the target
     s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
     assert s["worst"] == 500.0 and not s["met"] and s["over_target"][0]["rtol"] == 1e-12
@@ -75,3 +84,29 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
               "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
     text = tolerance.page(result)
     assert "| 36_two_plane_torque | 3 | (500) |" in text and "| two_plane / thesis / torque | 3 |" in text
+
+
+def test_the_page_shows_a_recorded_diagnosis_and_only_then():
+    scene = {"family": "single_plane", "units": "thesis", "drive": "forced"}
+    result = {"scenes": {"00_x": {"scene": scene, "cells": []}}, "rtols": [1e-4],
+              "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
+                            "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
+              "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
+    assert "## Why cells miss" not in tolerance.page(result)  # negative control: nothing recorded, no section
+    runs = [{"t_end": 1000.0, "variant": "picked", "order": 10, "step_factor": 2.5, "n_steps": 4812, "ratio": 97.6,
+             "reference_ratio": 2e-5, "nominal_error": 9e-6, "amplification": 1085.0},
+            {"t_end": 1000.0, "variant": "cyrk-dop853", "order": None, "step_factor": None, "n_steps": 3036,
+             "ratio": None, "reference_ratio": 2e-5}]
+    result["diagnosis"] = {"00_x@0.0001": {"runs": runs}}
+    text = tolerance.page(result)
+    assert "| 00_x@0.0001 | 1000 | picked | 10 | 2.5 | 4812 | 97.6 | 1.1e+03 | 2e-05 |" in text
+    assert "| 00_x@0.0001 | 1000 | cyrk-dop853 |  |  | 3036 | failed |  | 2e-05 |" in text
+
+
+def test_diagnose_refuses_an_unknown_scene():
+    from adbgen.cli_types import UsageError
+
+    with pytest.raises(UsageError, match="unknown scene"):
+        tolerance.diagnose("no_such_scene", 1e-4)
+    with pytest.raises(UsageError, match="positive"):
+        tolerance._positive("-1")

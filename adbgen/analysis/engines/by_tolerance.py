@@ -4,7 +4,8 @@ the benchmark rewrites it).  It runs the chosen engine and says what it picked (
 `adbgen simulate --json`).
 
 The table's rows: {"rtol": R, "engine": E, "rtol_run": r, "order": p, "step_factor": f}: the
-candidate admissible at R (a Taylor step aimed at R/10 or less, `benchmarks.engine_table.admissible`) that reached an
+candidate admissible at R (a Taylor step aimed at R/10 or less, `benchmarks.engine_table.admissible`) and
+ending within R on the held-in check scenes (`benchmarks.engine_table.passes_check`, issue 35) that reached an
 error of at most R (relative to the state's size, see `adbgen bench auto`) fastest, per measured problem
 (`by_problem`: {label: {"roles", "rows"}}, the problem's model's kinds of coordinate, its
 self-description's STATE_ROLES each once, sorted) and jointly (`rows`, fastest over every problem);
