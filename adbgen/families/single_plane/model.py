@@ -18,6 +18,7 @@ from functools import lru_cache
 import sympy as sp
 
 from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, speed_schedule, time_derivative
+from ...core.friction import race_reaction, slip_direction
 from ...errors import SceneError
 from .scene import Scene, profile_expression
 from .symbols import DimensionalSymbols, t
@@ -77,20 +78,6 @@ def lagrangian(scene: Scene) -> SinglePlaneLagrangian:
     return SinglePlaneLagrangian(scene, s, coordinates, driven, tuple(terms), forces, positions)
 
 
-def slip_direction(rate: sp.Expr, at_rest: sp.Expr = sp.S.Zero) -> sp.Expr:
-    """sign(rate) as a Piecewise (1, -1, and `at_rest` at rate = 0): the direction of a ball's slip on the
-    race.  Written with branches rather than sign() so that its derivative is 0 on each side (sign's is a
-    Dirac delta, which no target prints).  At rate = 0 the slip law alone says nothing: without stiction the
-    force is 0 there; with stiction (`at_rest` the ball's slip_dir_i) it is the direction the event driver
-    found when the ball left the stick phase, so the first step of a slip is smooth."""
-    moving = sp.Piecewise((1, rate > 0), (-1, rate < 0), (0, True))
-    if at_rest == 0:
-        return moving
-    # at_rest outside the branches (times 1 - sign^2: 1 at rest, 0 in motion), so the per-ball block stays
-    # a polynomial in the ball's parameters (the loop form's split compares blocks after scaling them)
-    return moving + at_rest * (1 - moving**2)
-
-
 def normal_forces(lag: SinglePlaneLagrangian) -> tuple[sp.Expr, ...]:
     """N_i, the race's push on ball i towards the rotor's centre C (positive while the ball presses on the
     race's outer wall), from the same Lagrangian: ball i is given a radial coordinate rho_i (its position
@@ -102,16 +89,11 @@ def normal_forces(lag: SinglePlaneLagrangian) -> tuple[sp.Expr, ...]:
     accelerations (X'', Y'' are the model's; the spin's are its inputs or coordinate)."""
     s = lag.symbols
     X, Y, psi = Coordinate.make("X"), Coordinate.make("Y"), Coordinate.make("psi")
-    everything = lag.all_coordinates
     out = []
     for i in range(lag.scene.n):
         phi, rho = Coordinate.make(f"phi_{i + 1}"), Coordinate.make(f"rho_{i + 1}")
         pos = (X.q + rho.q * sp.cos(psi.q + phi.q), Y.q + rho.q * sp.sin(psi.q + phi.q))
-        vx, vy = (time_derivative(e, everything + (rho,), t) for e in pos)
-        term = EnergyTerm(f"ball_{i + 1}", T=s.m[i] * (vx**2 + vy**2) / 2, V=s.m[i] * s.g * pos[1])
-        radial = lagrange_equations((rho,), (term,), t, driven=everything)
-        on_race = {rho.q: s.R, rho.qd: sp.S.Zero, rho.qdd: sp.S.Zero}
-        out.append(sp.expand(-radial.residual(0).xreplace(on_race)))  # residual = Q_rho = -N_i
+        out.append(sp.expand(race_reaction(s.m[i], pos, rho, s.R, lag.all_coordinates, t, s.m[i] * s.g * pos[1])))
     return tuple(out)
 
 

@@ -42,6 +42,7 @@ import sympy as sp
 
 from ...core import (Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, reduce_pythagorean,
                          speed_schedule, time_derivative)
+from ...core.friction import race_reaction, slip_direction
 from .scene import TwoPlaneScene
 from .symbols import TwoPlaneSymbols, t
 
@@ -162,6 +163,60 @@ def _first_order_rows(eom: EquationsOfMotion, lag: TwoPlaneLagrangian) -> Equati
                                             parameters=eom.parameters, reference=eom.reference)
 
 
+def ball_position(s: TwoPlaneSymbols, k: int, radius, tilt_T: sp.Matrix) -> sp.Matrix:
+    """Ball k in the space frame: its race centre on the shaft at z_k, at `radius` along theta_k in the
+    race plane turned by the tilt (paper (2)-(4), section 2.1)."""
+    ball = Coordinate.make(f"theta_{k + 1}")
+    X, Y = Coordinate.make("X"), Coordinate.make("Y")
+    return sp.Matrix([X.q, Y.q, 0]) + tilt_T * sp.Matrix([radius * sp.cos(ball.q), radius * sp.sin(ball.q), s.z[k]])
+
+
+def first_order(expr: sp.Expr) -> sp.Expr:
+    """An exact expression in the vibration (X, Y, phi_X, phi_Y, their rates and accelerations) to first
+    order in it, as the ball rows are kept (item 3 of the module docstring)."""
+    small_angle = {sp.sin(a): a for a in (Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q)}
+    small_angle.update({sp.cos(a): 1 for a in (Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q)})
+    scale = {sym: h * sym for c in vibration_coordinates() for sym in (c.q, c.qd, c.qdd)}
+    return truncate(sp.expand(sp.expand(expr).xreplace(small_angle)).xreplace(scale), gens=(h,), order=1)
+
+
+def normal_forces(lag: TwoPlaneLagrangian) -> tuple[sp.Expr, ...]:
+    """N_k, the race's push on ball k towards the shaft within the race plane (positive while the ball
+    presses on the race's outer wall), from the ball's kinetic energy of the Lagrangian (paper section 2.1,
+    exact rotations): ball k gets a radial coordinate rho_k in place of R_k, Lagrange's equation for rho_k
+    carries the race constraint through its multiplier -N_k, evaluated on the race (`core.friction.
+    race_reaction`), then kept to first order in the vibration like the ball rows.  Centrifugal and Coriolis
+    (together m_k R_k theta_k'^2, theta_k the absolute angle), the rotor's translation and tilt accelerations
+    appear without being written here; the paper's scene has no gravity."""
+    s = lag.symbols
+    R1, R2, _ = rotations(Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q, Coordinate.make("theta_0").q)
+    tilt_T = (R2 * R1).T
+    out = []
+    for k in range(lag.scene.n):
+        rho = Coordinate.make(f"rho_{k + 1}")
+        position = ball_position(s, k, rho.q, tilt_T)
+        out.append(first_order(race_reaction(s.m[k], list(position), rho, s.R[k], lag.coordinates + lag.driven, t)))
+    return tuple(out)
+
+
+def friction_forces(lag: TwoPlaneLagrangian) -> dict[str, sp.Expr]:
+    """{theta_k: -R_k mu_r_k N_k sign(theta_k' - theta_0'), [theta_0: minus their sum]}: the race's friction
+    on a slipping ball, a tangential force mu_r_k N_k against the ball's motion relative to the race.  The
+    pair of forces on ball and race does virtual work through the ball's angle relative to the race,
+    theta_k - theta_0, only (tilt and translation move the ball and its contact point alike), so the ball's
+    row gets R_k F_k and the spin's row, where the spin is free, -R_k F_k."""
+    s = lag.symbols
+    normal = normal_forces(lag)
+    th0 = Coordinate.make("theta_0")
+    out = {}
+    for k in range(lag.scene.n):
+        rate = Coordinate.make(f"theta_{k + 1}").qd - th0.qd
+        out[f"theta_{k + 1}"] = -s.R[k] * s.mu_r[k] * slip_direction(rate) * normal[k]
+    if lag.scene.speed.law == "torque":
+        out["theta_0"] = lag.forces["theta_0"] - sum(out.values(), sp.S.Zero)
+    return out
+
+
 def speed_law(scene: TwoPlaneScene, s: TwoPlaneSymbols) -> dict[sp.Symbol, sp.Expr]:
     """theta_0, theta_0', theta_0'' in t for a prescribed speed; {} for the torque drive."""
     th0 = Coordinate.make("theta_0")
@@ -217,9 +272,13 @@ def derive(scene: TwoPlaneScene) -> EquationsOfMotion:
     """
     lag = lagrangian(scene)
     torque = scene.speed.law == "torque"
-    eom = lagrange_equations(lag.coordinates, lag.terms, t, forces=lag.forces, driven=lag.driven,
-                             parameters=lag.symbols.parameters,
-                             reference="paper (2)-(4)" if torque else "paper (2), (4)")
+    forces = dict(lag.forces)
+    reference = "paper (2)-(4)" if torque else "paper (2), (4)"
+    if scene.friction:
+        forces |= friction_forces(lag)
+        reference += " with ball-race friction in slip (issue 37)"
+    eom = lagrange_equations(lag.coordinates, lag.terms, t, forces=forces, driven=lag.driven,
+                             parameters=lag.symbols.parameters, reference=reference)
     eom = _first_order_rows(eom, lag)
     law = speed_law(scene, lag.symbols)
     if scene.speed.law == "constant":

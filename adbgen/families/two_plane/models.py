@@ -173,9 +173,14 @@ def default_set() -> list[ModelSpec]:
 def for_scene(sc: TwoPlaneScene, name: str | None = None) -> ModelSpec:
     """The smallest exact model of a two-plane scene: the rotating frame when it is autonomous there
     (isotropic bearings, constant speed), else the fixed frame (ball angles from the spin at constant
-    speed), with theta_0 a coordinate under a torque drive."""
+    speed), with theta_0 a coordinate under a torque drive.  With ball-race friction (issue 37) the fixed
+    frame of `model.derive` whatever the speed law, without a start or steady state (its balanced states are
+    stuck states, where Coulomb's law in slip says nothing)."""
     law = sc.speed.law
-    if law == "constant" and sc.isotropic:
+    if sc.friction:  # issue 37: friction is derived in the fixed frame only; no closed-form steady state
+        kind, system = f"friction_{law}", (lambda: first_order(derive(sc)))
+        calls = (("friction_zero_limit",), ("friction_normal_force",))
+    elif law == "constant" and sc.isotropic:
         kind, system, calls = "rotating", (lambda: first_order(rotating_frame(sc))), (("fixed_frame",), ("rotating",))
     elif law == "constant":
         kind, system, calls = "fixed", (lambda: first_order(balls_relative_to_spin(sc))), (("fixed_frame",), ("oscillator",))

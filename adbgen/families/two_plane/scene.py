@@ -38,7 +38,7 @@ from typing import Any, Mapping
 
 from ...errors import SceneError
 from ...core import speed_schedule
-from ...core.scene_fields import Key, number as _number, speed_law_name, xy as _xy
+from ...core.scene_fields import Key, number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
 
 _SPEED_FIELDS = {
     "constant": {"law", "omega"},
@@ -194,6 +194,10 @@ KEYS = (
     Key("races[].radius", "m", "positive", "R, radius of the race"),
     Key("races[].masses", "kg", "positive", "the ball masses of the race (a list; any number of balls)"),
     Key("races[].damping", "N m s/rad", "nonnegative", "c_b, race damping of each ball"),
+    Key("rolling_resistance", "", "nonnegative",
+        "mu_r, ball-race friction while a ball slips: a tangential force mu_r N against the ball's motion relative "
+        "to its race, N the race's normal force on the ball (derived); one value or a list (one per ball, race by "
+        "race); absent: no friction (the paper's model)"),
     Key("speed.law", "", "other", "how the spin is governed", '"constant", "ramp", "hill", "schedule" or "torque"'),
     Key("speed.omega", "rad/s", "positive", "constant spin speed (law = \"constant\")"),
     Key("speed.omega_max", "rad/s", "positive", "final spin speed of a run-up (law = \"ramp\" or \"hill\")",
@@ -232,6 +236,7 @@ class TwoPlaneScene:
                                                                Race(-2.0, 1.0, (0.0025,) * 2, 2.5e-5)))
     speed: TwoPlaneSpeed = field(default_factory=TwoPlaneSpeed)
     units: str = "dimensionless"  # or "SI": the units of the scene reference (KEYS)
+    rolling_resistance: float | tuple[float, ...] | None = None  # mu_r or mu_r_k; None: no friction (issue 37)
 
     @property
     def si(self) -> bool:
@@ -246,7 +251,8 @@ class TwoPlaneScene:
         if not isinstance(data, Mapping):
             raise SceneError("<root>", "a scene is a table of options")
         known = {"preset", "rotor_mass", "transverse_inertia", "polar_inertia", "eccentricity", "imbalance_phase",
-                 "misalignment", "bearing_1", "bearing_2", "races", "speed", "units"}
+                 "misalignment", "bearing_1", "bearing_2", "races", "speed", "units",
+                 "rolling_resistance"}
         for key in sorted(map(str, data)):
             if key not in known:
                 raise SceneError(key, "unknown option")
@@ -276,6 +282,9 @@ class TwoPlaneScene:
             speed=speed if isinstance(speed, TwoPlaneSpeed) else TwoPlaneSpeed.from_mapping(speed),
             units=units,
         )
+        rolling = raw.get("rolling_resistance")
+        if rolling is not None:
+            scene = replace(scene, rolling_resistance=_per_ball("rolling_resistance", rolling, scene.n, nonnegative=True))
         scene.validate()
         return scene
 
@@ -321,6 +330,15 @@ class TwoPlaneScene:
     @property
     def n(self) -> int:
         return len(self.ball_race)
+
+    @property
+    def friction(self) -> bool:
+        """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
+        return self.rolling_resistance is not None
+
+    def rolling_resistances(self) -> tuple[float, ...]:
+        r = self.rolling_resistance
+        return r if isinstance(r, tuple) else (r,) * self.n
 
     def masses(self) -> tuple[float, ...]:
         return tuple(m for race in self.races for m in race.masses)

@@ -44,6 +44,7 @@ class TwoPlaneSymbols:
     t_half: sp.Symbol
     Omega_cyl: sp.Symbol
     parameters: tuple[Parameter, ...]
+    mu_r: tuple[sp.Expr, ...] = ()  # rolling resistance per ball (one symbol n times for one value); () without friction
 
     @classmethod
     def for_scene(cls, scene: TwoPlaneScene) -> "TwoPlaneSymbols":
@@ -99,9 +100,18 @@ class TwoPlaneSymbols:
             add(c_r, "torsional damping c_r (3)", "N m s/rad", sp_.torsion_damping)
             add(tau0, "stall torque of the drive", "N m", sp_.tau0)
             add(kappa, "slope of the drive's torque-speed line", "N m s/rad", sp_.motor_slope)
+        mu_r: tuple[sp.Expr, ...] = ()
+        if scene.friction:  # one symbol for every ball, or one each (issue 37)
+            what, values = "rolling resistance of the balls on their race while slipping (tangential / normal force)", \
+                scene.rolling_resistances()
+            if isinstance(scene.rolling_resistance, tuple):
+                mu_r = tuple(params.add(nonnegative(f"mu_r_{i + 1}"), f"{what}, ball {i + 1}", "dimensionless", values[i])
+                             for i in range(scene.n))
+            else:
+                mu_r = (params.add(nonnegative("mu_r"), what, "dimensionless", values[0]),) * scene.n
         return cls(M, Jt, Jp, eps, beta, chi, l1, l2, k, c, m, tuple(race_R[r] for r in races),
                    tuple(race_z[r] for r in races), tuple(race_cb[r] for r in races), Omega, c_r, tau0, kappa,
-                   Om_max, t_ramp, t_half, Om_cyl, params.sorted())
+                   Om_max, t_ramp, t_half, Om_cyl, params.sorted(), mu_r)
 
 
 __all__ = ["TwoPlaneSymbols", "RACE_TAGS", "t"]

@@ -12,7 +12,7 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
-from ...core import Coordinate, is_identity
+from ...core import Coordinate, is_identity, time_derivative
 from ...references import two_plane_2011 as paper
 from ..single_plane.scene import Scene
 from ..single_plane.model import derive as derive_single_plane
@@ -485,6 +485,68 @@ def jacobi_identity(wrong: bool = False) -> CheckResult:
     return _timed("Jacobi integral, rotating frame", "paper (7)-(8), c = c_b = 0", run)
 
 
+def friction_scene(law: str = "torque") -> TwoPlaneScene:
+    """`general_scene` with ball-race friction, a rolling resistance of its own for each ball (issue 37)."""
+    scene = general_scene(law)
+    return replace(scene, rolling_resistance=tuple(0.01 * (k + 1) for k in range(scene.n)))
+
+
+def friction_zero_limit(wrong: bool = False) -> CheckResult:
+    """With friction (issue 37), mu_r_k = 0 gives the paper's equations exactly, row by row, under the torque
+    drive (the spin's row holds the reaction of the friction) and at constant speed; at mu_r_k > 0 the rows
+    must differ.  wrong: the frictionless model's first row with a flipped term."""
+    def run():
+        for law in ("torque", "constant"):
+            scene = friction_scene(law)
+            mine, today = derive(scene), derive(general_scene(law))
+            mu = set(TwoPlaneSymbols.for_scene(scene).mu_r)
+            if not mu or [c.name for c in mine.coordinates] != [c.name for c in today.coordinates]:
+                return False, f"{law}: the friction model has other coordinates or no rolling resistance"
+            zero = {m_: 0 for m_ in mu}
+            rows = [today.residual(k_) for k_ in range(today.size)]
+            if wrong:
+                rows[0] = flip_term(rows[0])
+            bad = [c.name for k_, c in enumerate(mine.coordinates)
+                   if not is_identity(mine.residual(k_).xreplace(zero), rows[k_])]
+            if bad:
+                return False, f"{law}: rows {bad} differ from the frictionless model at mu_r = 0"
+            if all(is_identity(mine.residual(k_), rows[k_]) for k_ in range(mine.size)):
+                return False, f"{law}: the friction model equals the frictionless one at mu_r > 0: no friction derived"
+        return True, "every row identical at mu_r = 0 (torque drive and constant speed, 3 + 1 balls); rows differ at mu_r > 0"
+    return _timed("friction, zero limit", "paper (2)-(4) at mu_r = 0 (issue 37)", run)
+
+
+def friction_normal_force(wrong: bool = False) -> CheckResult:
+    """N_k (`model.normal_forces`, Lagrange's equation of a radial coordinate) against Newton's law along the
+    race radius, N_k = -m_k a_k . e_r, a_k the ball's position (exact rotations of section 2.1) differentiated
+    twice and e_r the race plane's radial unit vector, both kept to first order in the vibration, identical
+    under the torque drive (theta_0 a coordinate).  wrong: the Coriolis part of the derived force,
+    2 m_k R_k theta_0' (theta_k' - theta_0'), dropped."""
+    from .model import ball_position, first_order, lagrangian, normal_forces, rotations
+
+    def run():
+        lag = lagrangian(friction_scene("torque"))
+        s = lag.symbols
+        th0 = Coordinate.make("theta_0")
+        R1, R2, _ = rotations(Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q, th0.q)
+        tilt_T = (R2 * R1).T
+        everything = lag.coordinates + lag.driven
+        bad = []
+        for k_, N in enumerate(normal_forces(lag)):
+            ball = Coordinate.make(f"theta_{k_ + 1}")
+            if wrong:
+                N = N - 2 * s.m[k_] * s.R[k_] * th0.qd * (ball.qd - th0.qd)
+            position = ball_position(s, k_, s.R[k_], tilt_T)
+            a = position.applyfunc(lambda x: time_derivative(time_derivative(x, everything, t), everything, t))
+            e_r = tilt_T * sp.Matrix([sp.cos(ball.q), sp.sin(ball.q), 0])
+            if not is_identity(N, first_order(-s.m[k_] * a.dot(e_r))):
+                bad.append(k_ + 1)
+        if bad:
+            return False, f"the normal force of balls {bad} differs from Newton's law along the radius"
+        return True, f"N_k = -m_k a_k . e_r to first order in the vibration, identically, for all {lag.scene.n} balls"
+    return _timed("friction, normal force", "paper section 2.1 kinematics, Newton along the race radius (issue 37)", run)
+
+
 def registered(ns=()) -> list[Registered]:
     """Every check of the family with what it compares and its deliberately wrong variant."""
     def one(fn, *args):
@@ -512,6 +574,8 @@ def registered(ns=()) -> list[Registered]:
                    "printed (documented) values moved by 3 units of the last digit"),
         Registered("Figure 13 caption", DERIVED, one(figure_13_caption), "the caption's long J_p > J_t"),
         Registered("Figure 9", DERIVED, lambda wrong: figure_9(wrong=wrong), "normal-form slopes and masses 2 % too large"),
+        Registered("friction, zero limit", DERIVED, one(friction_zero_limit), "the frictionless first row with a flipped term"),
+        Registered("friction, normal force", DERIVED, one(friction_normal_force), "the Coriolis term 2 m R theta_0' (theta_k' - theta_0') dropped"),
     ]
 
 
