@@ -24,6 +24,7 @@ from typing import Sequence
 
 import sympy as sp
 
+from . import symbol_kinds as kinds
 from .balls import BallSplit
 
 
@@ -235,7 +236,7 @@ class _Kernels:
     # -- the structured solve shared by rhs and the Jacobians
     def accelerations(self) -> tuple[list[sp.Symbol], sp.Symbol]:
         """The names `solve` gives the core's accelerations, and the ball's (`ball_accel`)."""
-        return [_sym(f"xa_{a}") for a in range(self.r)], _sym("ball_acc")
+        return [kinds.make(f"xa_{a}", kinds.SOLVE_RESULT, a) for a in range(self.r)], _sym("ball_acc")
 
     def solve(self, later: Sequence[sp.Expr] = ()) -> tuple:
         """The structured solve's ops, the core accelerations' symbols and the LU factors.
@@ -248,8 +249,8 @@ class _Kernels:
         s, r = self.s, self.r
         pre, red = _cse([e for row in s.A0 for e in row] + list(s.f0), "wc_")
         ops: list = list(pre)
-        Sacc = [[_sym(f"S_{a}_{b}") for b in range(r)] for a in range(r)]
-        G = [_sym(f"g_{a}") for a in range(r)]
+        Sacc = [[kinds.make(f"S_{a}_{b}", kinds.SCHUR, a, b) for b in range(r)] for a in range(r)]
+        G = [kinds.make(f"g_{a}", kinds.SCHUR_RHS, a) for a in range(r)]
         for a in range(r):
             for b in range(r):
                 ops.append(Var(Sacc[a][b], red[a * r + b]))
@@ -307,13 +308,13 @@ class _Kernels:
         L = [[sp.S.Zero] * r for _ in range(r)]
         for k in range(r):
             for i in range(k + 1, r):
-                L[i][k] = _sym(f"LU_{i}_{k}")
+                L[i][k] = kinds.make(f"LU_{i}_{k}", kinds.SOLVE_FACTOR, i, k)
                 ops.append(Let(L[i][k], U[i][k] / U[k][k]))
                 for j in range(k + 1, r):
-                    sym = _sym(f"LU_{i}_{j}_{k}")
+                    sym = kinds.make(f"LU_{i}_{j}_{k}", kinds.SOLVE_FACTOR, i, j, k)
                     ops.append(Let(sym, U[i][j] - L[i][k] * U[k][j]))
                     U[i][j] = sym
-        Uinv = [_sym(f"Uinv_{k}") for k in range(r)]
+        Uinv = [kinds.make(f"Uinv_{k}", kinds.SOLVE_FACTOR, k) for k in range(r)]
         ops += [Let(Uinv[k], 1 / U[k][k]) for k in range(r)]
         return ops, {"L": L, "U": U, "Uinv": Uinv}
 
@@ -321,12 +322,12 @@ class _Kernels:
         r = self.r
         ops, z = [], []
         for a in range(r):
-            sym = _sym(f"z{tag}_{a}")
+            sym = kinds.make(f"z{tag}_{a}", kinds.SOLVE_FORWARD, a)
             ops.append(Let(sym, g[a] - sp.Add(*[fac["L"][a][b] * z[b] for b in range(a)])))
             z.append(sym)
         x = [None] * r
         for a in reversed(range(r)):
-            sym = _sym(f"x{tag}_{a}")
+            sym = kinds.make(f"x{tag}_{a}", kinds.SOLVE_RESULT, a)
             ops.append(Let(sym, (z[a] - sp.Add(*[fac["U"][a][b] * x[b] for b in range(a + 1, r)])) * fac["Uinv"][a]))
             x[a] = sym
         return ops, x

@@ -29,6 +29,7 @@ import sympy as sp
 from ..core.first_order import FirstOrderSystem
 from ..core.oscillator import Oscillator
 from ..errors import AdbgenError
+from . import symbol_kinds as kinds
 from .balls import BALL_PREFIX, NoBallStructure, split as split_balls
 from .loops import build_loops
 from .names import validate_name
@@ -110,12 +111,15 @@ class _Builder:
         self.D = [mass[(i, i)] for i in self.leaves]
         self.f = list(blocks.f)
 
-    def emit(self, name: str, expr: sp.Expr) -> sp.Expr:
-        """Assign expr to a named statement unless it is trivial (a number or a symbol)."""
+    def emit(self, name: str, expr: sp.Expr, kind: str | None = None, *index: int) -> sp.Expr:
+        """Assign expr to a named statement unless it is trivial (a number or a symbol); a `kind`
+        registers the name (`symbol_kinds`)."""
         expr = sp.sympify(expr)
         if expr.is_Atom:
             return expr
         sym = self.names(name)
+        if kind is not None:
+            kinds.register(sym, kind, *index)
         self.statements.append((sym, expr))
         return sym
 
@@ -156,16 +160,16 @@ class _Builder:
         r, L = self.r, len(self.leaves)
         Dinv = [self.emit(f"Mllinv_{i}", 1 / h["D"][i]) for i in range(L)]
         BD = [[self.emit(f"BD_{i}_{a}", h["B"][i][a] * Dinv[i]) for a in range(r)] for i in range(L)]
-        S = [[self.emit(f"S_{a}_{b}", h["A"][a][b] - sp.Add(*[BD[i][a] * h["C"][i][b] for i in range(L)]))
+        S = [[self.emit(f"S_{a}_{b}", h["A"][a][b] - sp.Add(*[BD[i][a] * h["C"][i][b] for i in range(L)]), kinds.SCHUR, a, b)
               for b in range(r)] for a in range(r)]
         U = [row[:] for row in S]
         Lf = [[sp.S.Zero] * r for _ in range(r)]
         for k in range(r):
             for i in range(k + 1, r):
-                Lf[i][k] = self.emit(f"LU_{i}_{k}", U[i][k] / U[k][k])
+                Lf[i][k] = self.emit(f"LU_{i}_{k}", U[i][k] / U[k][k], kinds.SOLVE_FACTOR, i, k)
                 for j in range(k + 1, r):
-                    U[i][j] = self.emit(f"LU_{i}_{j}_{k}", U[i][j] - Lf[i][k] * U[k][j])
-        Uinv = [self.emit(f"Uinv_{k}", 1 / U[k][k]) for k in range(r)]
+                    U[i][j] = self.emit(f"LU_{i}_{j}_{k}", U[i][j] - Lf[i][k] * U[k][j], kinds.SOLVE_FACTOR, i, j, k)
+        Uinv = [self.emit(f"Uinv_{k}", 1 / U[k][k], kinds.SOLVE_FACTOR, k) for k in range(r)]
         return {**h, "Dinv": Dinv, "BD": BD, "L": Lf, "U": U, "Uinv": Uinv}
 
     def solve(self, fac: dict, core_rhs: Sequence[sp.Expr], leaf_rhs: Sequence[sp.Expr], tag: str) -> list[sp.Expr]:

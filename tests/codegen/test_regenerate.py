@@ -235,3 +235,54 @@ def test_the_source_hash_covers_every_templates_name_and_bytes(tmp_path, monkeyp
     (package / "extra.j2").write_text("")
     added = digest(0)
     assert len({first, edited, renamed, added}) == 4
+
+
+def test_render_all_runs_its_named_stages_in_order_and_times_each(caplog):
+    """`render_all` is `STAGES` in order, the "models" stage `MODEL_STAGES` per model (issue 33 item 4);
+    each stage's time is in `Rendered.timings` and a debug log line, not in the files."""
+    import logging
+
+    from adbgen.codegen.regenerate import MODEL_STAGES, STAGES
+    from adbgen.families.single_plane import models
+
+    spec = models.thesis_rotating(1)
+    with caplog.at_level(logging.DEBUG, logger="adbgen.codegen.regenerate"):
+        rendered = render_all([spec], ("numba",), run_checks=False)
+    per_model = [(spec.name, s.name) for s in MODEL_STAGES]
+    assert [(t.model, t.stage) for t in rendered.timings] == \
+        [("", "names"), ("", "reduction checks")] + per_model + [("", "models"), ("", "index")]
+    assert [s.name for s in STAGES] == ["names", "reduction checks", "models", "index"]
+    assert all(t.seconds >= 0 for t in rendered.timings)
+    # the models stage holds its model's stages (the clock is monotonic)
+    models_time = next(t.seconds for t in rendered.timings if t.stage == "models")
+    assert sum(t.seconds for t in rendered.timings if t.model) <= models_time
+    lines = [r.getMessage() for r in caplog.records if r.name == "adbgen.codegen.regenerate"]
+    assert len(lines) == len(rendered.timings) and f"stage {spec.name} lower: " in "\n".join(lines)
+    assert not any("stage " in text or "seconds" in text for text in rendered.files.values())
+
+
+def test_a_failing_stage_stops_the_run_before_the_later_stages(monkeypatch):
+    """Negative control: a planted failing stage raises (named for its model) and no later stage runs;
+    two models of one name are refused by the first stage, before any model is derived."""
+    from adbgen.codegen import regenerate
+    from adbgen.codegen.regenerate import CheckFailed, MODEL_STAGES, Stage
+    from adbgen.families.single_plane import models
+
+    ran = []
+
+    def record(stage):
+        return Stage(stage.name, lambda m: (ran.append(stage.name), stage.run(m)))
+
+    def broken(m):
+        raise ValueError("planted")
+
+    staged = [record(s) for s in MODEL_STAGES]
+    monkeypatch.setattr(regenerate, "MODEL_STAGES", (*staged[:2], Stage("broken", broken), *staged[2:]))
+    spec = models.thesis_rotating(1)
+    with pytest.raises(CheckFailed, match=f"{spec.name}: ValueError: planted"):
+        render_all([spec], ("numba",), run_checks=False)
+    assert ran == ["derive", "lower"]
+    ran.clear()
+    with pytest.raises(CheckFailed, match="two models named"):
+        render_all([spec, spec], ("numba",), run_checks=False)
+    assert ran == []

@@ -55,7 +55,7 @@ class CEmitter:
         self.ball_consts: list = []
         self.slot_syms = {sym for _, sym, _, _ in prog.slots}
         self.param_names = {sym: f"pb[{k}]" for k, sym in enumerate(prog.params)}
-        self.recips: list[str] = []
+        self.recips: dict[str, bool] = {}  # reciprocal's name -> per ball (insertion order)
         self.solve_fields: list[str] = []
         for c in self.prog.constants():
             self.const(c)
@@ -170,8 +170,7 @@ class CEmitter:
     def recip(self, nd) -> str:
         """A quotient's 1 / v_0 (per lane), inside a lane loop."""
         name = ("rb_" if nd.ball else "rc_") + nd.name
-        if name not in self.recips:
-            self.recips.append(name)
+        self.recips.setdefault(name, nd.ball)
         return f"w->{name}[TS_L]" if nd.ball else f"w->{name}[b]"
 
     # ------------------------------------------------------------------ statements
@@ -289,7 +288,7 @@ class CEmitter:
             out.append(f"double {name}[{self.rows(name)}][{'TS_LB' if nd.ball else 'TS_B'}];")
         out += [f"double {name}[TS_B];" for name, _ in self.core_consts]
         out += [f"double {name}[TS_LB];" for name, _ in self.ball_consts]
-        out += [f"double {name}[{'TS_LB' if name.startswith('rb_') else 'TS_B'}];" for name in self.recips]
+        out += [f"double {name}[{'TS_LB' if ball else 'TS_B'}];" for name, ball in self.recips.items()]
         out += [f"double {name}[TS_B];" for name in self.solve_fields]
         out += [f"int {f.name}[TS_B];" for f in self.prog.flags]
         if not out:

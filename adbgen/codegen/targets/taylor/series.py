@@ -44,14 +44,13 @@ from typing import Sequence
 import numpy as np
 import sympy as sp
 
+from ... import symbol_kinds as kinds
 from ...balls import BallSplit
 from ...loops import Balls, Fetch, Inc, Kernel, Let, Put, Save, Var
 from ...printers import BallInvariantOrder
 
 INF = 1 << 30  # the degree of a series that is not a polynomial in s
 RELATIONS = {sp.StrictLessThan: "<", sp.LessThan: "<=", sp.StrictGreaterThan: ">", sp.GreaterThan: ">="}
-# names of the structured solve's statements in the loop form (`loops._Kernels.solve`)
-SOLVE_PREFIXES = ("LU_", "Uinv_", "za_", "xa_")
 
 
 class NotSeries(ValueError):
@@ -794,8 +793,9 @@ def _walk(stmts):
 
 
 def _find_solve(ops) -> tuple[int, int] | None:
-    """[start, stop) of the top-level run of the structured solve's statements, if any."""
-    idx = [k for k, op in enumerate(ops) if isinstance(op, Let) and op.sym.name.startswith(SOLVE_PREFIXES)]
+    """[start, stop) of the top-level run of the structured solve's statements (the symbols made as
+    `symbol_kinds.SOLVE` by `loops._Kernels.solve`), if any."""
+    idx = [k for k, op in enumerate(ops) if isinstance(op, Let) and kinds.kind_of(op.sym) in kinds.SOLVE]
     if not idx:
         return None
     start, stop = idx[0], idx[-1] + 1
@@ -809,11 +809,12 @@ def _solve_symbols(lets) -> tuple[list, list, list, list]:
     statements must compute x = S^-1 g (random diagonally dominant S, random g, against numpy)."""
     defined = {op.sym for op in lets}
     free = set().union(*(sp.sympify(op.expr).free_symbols for op in lets)) - defined
-    x_syms = sorted((op.sym for op in lets if op.sym.name.startswith("xa_")), key=lambda s: int(s.name[3:]))
+    x_syms = sorted((op.sym for op in lets if kinds.kind_of(op.sym) == kinds.SOLVE_RESULT), key=kinds.index_of)
     r = len(x_syms)
-    by_name = {s.name: s for s in free}
-    S_syms = [[by_name.get(f"S_{a}_{b}", sp.Symbol(f"S_{a}_{b}", real=True)) for b in range(r)] for a in range(r)]
-    g_syms = [by_name.get(f"g_{a}") for a in range(r)]
+    by_index = {(kinds.kind_of(s), kinds.index_of(s)): s for s in free if kinds.kind_of(s) in (kinds.SCHUR, kinds.SCHUR_RHS)}
+    S_syms = [[by_index.get((kinds.SCHUR, (a, b)), sp.Symbol(f"S_{a}_{b}", real=True)) for b in range(r)]
+              for a in range(r)]
+    g_syms = [by_index.get((kinds.SCHUR_RHS, (a,))) for a in range(r)]
     if r == 0 or any(s is None for s in g_syms) or free - set(g_syms) - {s for row in S_syms for s in row}:
         raise NotSeries("the structured solve's statements are not LU, forward and back substitution of S, g")
     rng = np.random.default_rng(7)
