@@ -123,9 +123,9 @@ def prepare(spec: SweepSpec) -> tuple[Model, Grid]:
     elif spec.measure == "attractor" and not model.autonomous:
         raise AnalysisError(f"{model.name} is not autonomous: --measure attractor classifies steady states "
                             f"and limit cycles of autonomous models (use r_max or t_dec)")
-    from .engines import engine
+    from .engines import engine_for
 
-    engine(spec.engine)
+    engine_for(model, spec.engine)  # an unknown engine, or one that cannot run the model's stick phase: refused
     return model, grid
 
 
