@@ -128,6 +128,8 @@ def prepare(spec: SweepSpec) -> tuple[Model, Grid]:
     if spec.measure == "residual" and not has_stick_phase(model):
         raise AnalysisError(f"{model.name} has no stick/slip modes: --measure residual is the imbalance left when "
                             f"the balls stick (a scene with static_friction)")
+    if spec.measure == "residual" and spec.check_tolerance:
+        raise AnalysisError("--check-tolerance has no second engine for stick/slip modes: not with --measure residual")
     engine_for(model, spec.engine)  # an unknown engine, or one that cannot run the model's stick phase: refused
     return model, grid
 

@@ -77,3 +77,10 @@ def test_residual_needs_a_stick_slip_model(tmp_path):
     spec = SweepSpec(model="thesis_rotating_n2", grid=["phi_1=0:1:2"], measure="residual", t_end=1.0)
     with pytest.raises(AnalysisError, match="no stick/slip modes"):
         run_sweep(spec, tmp_path / "sw", workers=1, progress=False)
+
+
+def test_residual_refuses_the_tolerance_check(stick_model, tmp_path):
+    spec = SweepSpec(model=str(stick_model.folder), grid=["phi_1=0:1:2"], measure="residual", t_end=1.0,
+                     check_tolerance=True)
+    with pytest.raises(AnalysisError, match="no second engine"):
+        run_sweep(spec, tmp_path / "sw", workers=1, progress=False)
