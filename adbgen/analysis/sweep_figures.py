@@ -91,13 +91,7 @@ def write_figures(store: Path) -> list[Path]:
     if flagged:
         title += f" ({flagged} tolerance-sensitive, marked)"
     ax.set_title(title_lines(title, _caption(ds, dims)), fontsize=9)
-    out = []
-    for ext in ("png", "pdf"):
-        path = store.parent / f"{measure}.{ext}"
-        fig.savefig(path, dpi=150)
-        out.append(path)
-    plt.close(fig)
-    return out
+    return _save(fig, store, measure)
 
 
 def _mark_sensitive(ax, ds, da, done, dims, measure) -> int:
@@ -258,9 +252,16 @@ def _residual_histogram(ds, store: Path) -> list[Path]:
     title = (f"{ds.attrs['model']}: residual imbalance at rest, {d['at_rest']} starts "
              f"({d['not_at_rest']} not at rest by $t_{{end}}$, {d['failed']} failed: not drawn)")
     ax.set_title(title_lines(title, _caption(ds, [d_ for d_ in ds["residual"].dims])), fontsize=9)
+    return _save(fig, store, "residual")
+
+
+def _save(fig, store: Path, name: str) -> list[Path]:
+    """The figure as name.png and name.pdf beside the store, closed."""
+    import matplotlib.pyplot as plt
+
     out = []
     for ext in ("png", "pdf"):
-        path = store.parent / f"residual.{ext}"
+        path = store.parent / f"{name}.{ext}"
         fig.savefig(path, dpi=150)
         out.append(path)
     plt.close(fig)
