@@ -136,13 +136,13 @@ def run(args, out: str) -> int:
     if not (math.isfinite(t_end) and t_end > 0):
         raise UsageError(f"--t-end must be a finite number > 0, got {t_end}")
     result = bench_friction(starts, float(t_end), progress=lambda line: print(line, flush=True))
-    path = write(result, out)
-    print(f"{result['starts']} starts: with stiction {result['with_stiction']['wall_s']} s, without "
-          f"{result['without_stiction']['wall_s']} s, ratio {result['ratio']} (target {result['target']})")
-    print(f"wrote {path}")
+    written = [write(result, out)]
     if args.page:
         PAGE.write_text(page(result))
-        print(f"wrote {PAGE}")
+        written.append(PAGE)
+    print(f"{result['starts']} starts: with stiction {result['with_stiction']['wall_s']} s, without "
+          f"{result['without_stiction']['wall_s']} s, ratio {result['ratio']} (target {result['target']}); wrote "
+          + ", ".join(map(str, written)))
     return 0
 
 
