@@ -39,6 +39,7 @@ REGISTRY: dict[str, str] = {
     "trust": "benchmarks.trust:BENCHMARK",
     "design": "benchmarks.design:BENCHMARK",
     "tolerance": "benchmarks.tolerance:BENCHMARK",
+    "friction": "benchmarks.friction:BENCHMARK",
 }
 
 

@@ -82,6 +82,8 @@ class Simulation:
     t_fail: float | None = None
     message: str = ""
     picked: dict | None = None  # what the engine ran: the auto engine's choice, the Taylor engine's order
+    stuck: tuple[bool, ...] | None = None  # stick/slip models: per ball, whether it ended stuck on the race
+    r_end: float | None = None  # stick/slip models: the residual imbalance, r at t_end
 
     @property
     def ok(self) -> bool:
@@ -102,6 +104,7 @@ class Simulation:
             "n_rhs": self.n_rhs, "n_steps": self.n_steps, "wall_s": self.wall_s,
             "picked": self.picked if self.picked is not None else {"engine": self.engine},
             "parameters": self.parameters, "t_fail": self.t_fail,
+            **({} if self.stuck is None else {"stuck": list(self.stuck), "r_end": self.r_end}),
         }
 
 
@@ -120,6 +123,8 @@ class Ensemble:
     n_steps: np.ndarray
     wall_s: float
     picked: dict | None = None  # the auto engine's choice (engine, tolerances, reason), as Simulation's
+    stuck: np.ndarray | None = None  # stick/slip models: (trajectories, balls), whether each ball ended stuck
+    r_end: np.ndarray | None = None  # stick/slip models: the residual imbalance, r at t_end (NaN: failed)
 
     def __len__(self) -> int:
         return len(self.status)

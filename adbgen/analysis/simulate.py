@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .engines import engine as get_engine
+from .engines import engine_for
 from .loading import AnalysisError, Model
 from .results import Ensemble, Simulation
 
@@ -47,7 +47,7 @@ def simulate(model: Model, params=None, y0=None, *, t_end: float = 1000.0, rtol:
 
     t_dec = sup{t <= t_end : r(t) >= threshold} on the continuous solution (None if r(t_end) >= it)."""
     _settings(t_end, rtol, atol, threshold, max_steps)
-    eng = get_engine(engine)
+    eng = engine_for(model, engine)
     p = _vector(model, params, "parameter")
     y = _vector(model, y0, "state")
     out = eng.run(model, p, y, float(t_end), float(rtol), float(atol), float(threshold), int(max_steps),
@@ -59,7 +59,8 @@ def simulate(model: Model, params=None, y0=None, *, t_end: float = 1000.0, rtol:
         r_max=float(out["r_max"]), t_dec=None if t_dec is None or not math.isfinite(t_dec) else float(t_dec),
         y_end=np.asarray(out["y_end"], float), n_rhs=out["n_rhs"], n_steps=out["n_steps"], wall_s=out["wall_s"],
         state_names=model.state_names, parameters=dict(zip(model.param_names, map(float, p))),
-        t_fail=out["t_fail"], message=out.get("message", ""), picked=out.get("picked"))
+        t_fail=out["t_fail"], message=out.get("message", ""), picked=out.get("picked"),
+        stuck=None if out.get("stuck") is None else tuple(out["stuck"]), r_end=out.get("r_end"))
     return sim.raise_for_status() if check else sim
 
 
@@ -75,7 +76,7 @@ def simulate_many(model: Model, P, Y0, *, t_end: float = 1000.0, rtol: float = 1
     are not computed (NaN), which spares the CyRK engines their refinement and the stored steps.
     Failures are reported per trajectory in `status`."""
     _settings(t_end, rtol, atol, threshold, max_steps)
-    eng = get_engine(engine)
+    eng = engine_for(model, engine)
     Y0 = np.atleast_2d(np.asarray(Y0, float))
     P = np.atleast_2d(np.asarray(P, float))
     model.check_vector(Y0, "state")
@@ -92,7 +93,7 @@ def simulate_many(model: Model, P, Y0, *, t_end: float = 1000.0, rtol: float = 1
                     t_dec=np.asarray(out["t_dec"], float), y_end=np.asarray(out["y_end"], float),
                     t_last=np.asarray(out["t_last"], float), target=np.asarray(out["target"]),
                     n_rhs=np.asarray(out["n_rhs"]), n_steps=np.asarray(out["n_steps"]), wall_s=out["wall_s"],
-                    picked=out.get("picked"))
+                    picked=out.get("picked"), stuck=out.get("stuck"), r_end=out.get("r_end"))
 
 
 def amplitude(model: Model, y: np.ndarray) -> np.ndarray:

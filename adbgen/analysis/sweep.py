@@ -57,7 +57,7 @@ from .engines import DEFAULT as DEFAULT_ENGINE
 from .grid import Grid, axis_symbol, make_grid
 from .loading import AnalysisError, Model, load_model, parse_assignments
 
-MEASURES = ("attractor", "r_max", "t_dec", "stability")
+MEASURES = ("attractor", "r_max", "t_dec", "stability", "residual")
 STORE = "sweep.zarr"
 SETTINGS_ATTR = "adbgen_sweep"
 
@@ -123,9 +123,14 @@ def prepare(spec: SweepSpec) -> tuple[Model, Grid]:
     elif spec.measure == "attractor" and not model.autonomous:
         raise AnalysisError(f"{model.name} is not autonomous: --measure attractor classifies steady states "
                             f"and limit cycles of autonomous models (use r_max or t_dec)")
-    from .engines import engine
+    from .engines import engine_for, has_stick_phase
 
-    engine(spec.engine)
+    if spec.measure == "residual" and not has_stick_phase(model):
+        raise AnalysisError(f"{model.name} has no stick/slip modes: --measure residual is the imbalance left when "
+                            f"the balls stick (a scene with static_friction)")
+    if spec.measure == "residual" and spec.check_tolerance:
+        raise AnalysisError("--check-tolerance has no second engine for stick/slip modes: not with --measure residual")
+    engine_for(model, spec.engine)  # an unknown engine, or one that cannot run the model's stick phase: refused
     return model, grid
 
 
@@ -374,11 +379,18 @@ def _compute_once(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, t
 
     ens = simulate_many(model, P, Y0, t_end=spec.t_end, rtol=spec.rtol, atol=spec.atol, engine=spec.engine,
                         threshold=spec.threshold, threads=threads)
-    value = ens.r_max if spec.measure == "r_max" else ens.t_dec
     failed = np.array([s not in ("success", "stopped") for s in ens.status])
+    extra = {}
+    if spec.measure == "residual":  # r at t_end, and whether the balls are at rest there (residual.py)
+        from .residual import at_rest_codes
+
+        value = ens.r_end
+        extra["at_rest"] = at_rest_codes(ens.stuck, failed)
+    else:
+        value = ens.r_max if spec.measure == "r_max" else ens.t_dec
     value = np.where(failed, np.nan, value)
     return {"value": value, "y_end": ens.y_end, "t_last": ens.t_last, "failed": failed.astype(np.uint8),
-            "integrated": len(flat), "n_rhs": int(ens.n_rhs.sum())}
+            "integrated": len(flat), "n_rhs": int(ens.n_rhs.sum()), **extra}
 
 
 FAILURES = ("computed", "not computed: Newton failed from START and from the closed form",
@@ -498,13 +510,16 @@ def settings(spec: SweepSpec, model: Model) -> dict:
 def _variables(spec: SweepSpec, model: Model):
     """(name, dtype, fill, extra dims) of the stored variables."""
     main = {"attractor": ("attractor", "int8", -1), "r_max": ("r_max", "float64", np.nan),
-            "t_dec": ("t_dec", "float64", np.nan), "stability": ("stability", "int8", -1)}[spec.measure]
+            "t_dec": ("t_dec", "float64", np.nan), "stability": ("stability", "int8", -1),
+            "residual": ("residual", "float64", np.nan)}[spec.measure]
     out = [(*main, ()), ("y_end", "float64", np.nan, ("state",)), ("t_last", "float64", np.nan, ())]
     if spec.measure == "stability":
         out += [("abscissa", "float64", np.nan, ()), ("neutral", "int8", -1, ()), ("steady_state", "int8", -1, ()),
                 ("failure", "int8", 0, ())]
-    if spec.measure in ("r_max", "t_dec"):
+    if spec.measure in ("r_max", "t_dec", "residual"):
         out += [("failed", "uint8", 0, ())]
+    if spec.measure == "residual":
+        out += [("at_rest", "int8", -1, ())]
     if checks_tolerance(spec):
         out += [(f"{main[0]}_tighter", *main[1:], ()), (f"{main[0]}_second_engine", *main[1:], ()),
                 ("tolerance_sensitive", "int8", -1, ())]
@@ -537,7 +552,8 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
     desc = {"attractor": "label code: index into the attribute `labels` (-1: not computed)",
             "r_max": "largest rotor amplitude r = sqrt(x^2 + y^2) over [0, t_end]",
             "t_dec": "last time r >= threshold (NaN: not settled by t_end, or not computed)",
-            "stability": "number of unstable eigenvalues of the steady state (deflated; -1: none found)"}
+            "stability": "number of unstable eigenvalues of the steady state (deflated; -1: none found)",
+            "residual": "residual imbalance: r = sqrt(x^2 + y^2) at t_end (at rest where at_rest = 1)"}
     ds[spec.measure].attrs["description"] = desc[spec.measure]
     if spec.measure in ("attractor", "stability"):
         names = labels(model)
@@ -597,6 +613,9 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
         ds.attrs["undecided_reasons"] = json.dumps(list(UNDECIDED_REASONS))
         ds.attrs["carry_on"] = (f"a run not named at t_end is carried on to {CARRY_FACTOR:g} t_end (the cap) and "
                                 "decided by the rate of approach of r (adbgen.analysis.approach)")
+    if spec.measure == "residual":
+        ds["at_rest"].attrs["description"] = ("1: every ball stuck at t_end (the residual is at rest), 0: some ball "
+                                              "still slipping (undecided), -1: failed or not computed")
     if spec.measure == "stability":
         ds["failure"].attrs.update(description="why a point has no steady state (0: it has one)",
                                    flag_values=list(range(len(FAILURES))), flag_meanings=list(FAILURES))
@@ -724,6 +743,8 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
         summary.update(tolerance_summary(path))
     if spec.measure == "attractor":
         summary["outcomes"] = outcome_counts(path)
+    if spec.measure == "residual":
+        summary["residual"] = residual_summary(path, write=True)
     if spec.measure == "stability" and len(grid.shape) == 2 and spec.refine:
         from .stability_map import certify_store
 
@@ -750,6 +771,21 @@ def tolerance_summary(path: Path) -> dict:
     check = json.loads(group.attrs["tolerance_check"])
     return {"tolerance_sensitive": int((flags[done] == 1).sum()),
             "tolerance_check": {**check, "checked": int(done.sum())}}
+
+
+def residual_summary(store: Path, write: bool = False) -> dict:
+    """A residual store's distribution of r at rest over its computed points (`residual.distribution`); with
+    `write`, also kept in the store as the attribute `residual_distribution`."""
+    import zarr
+
+    from .residual import distribution
+
+    group = zarr.open_group(str(store), mode="r+" if write else "r")
+    done = np.asarray(group["done"][...], dtype=bool)
+    out = distribution(np.asarray(group["residual"][...])[done], np.asarray(group["at_rest"][...])[done])
+    if write:
+        group.attrs["residual_distribution"] = json.dumps(out)
+    return out
 
 
 def outcome_counts(store: Path) -> dict:

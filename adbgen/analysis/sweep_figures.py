@@ -59,6 +59,8 @@ def write_figures(store: Path) -> list[Path]:
 
     ds = xr.open_zarr(store, consolidated=False)
     measure = ds.attrs["measure"]
+    if measure == "residual":  # a distribution over the starts, whatever the grid's dimension
+        return _residual_histogram(ds, store)
     dims = [d for d in ds[measure].dims]
     if len(dims) not in (1, 2):
         return []
@@ -89,13 +91,7 @@ def write_figures(store: Path) -> list[Path]:
     if flagged:
         title += f" ({flagged} tolerance-sensitive, marked)"
     ax.set_title(title_lines(title, _caption(ds, dims)), fontsize=9)
-    out = []
-    for ext in ("png", "pdf"):
-        path = store.parent / f"{measure}.{ext}"
-        fig.savefig(path, dpi=150)
-        out.append(path)
-    plt.close(fig)
-    return out
+    return _save(fig, store, measure)
 
 
 def _mark_sensitive(ax, ds, da, done, dims, measure) -> int:
@@ -233,6 +229,43 @@ def _stability(fig, ax, da, done, dims, other=None, failed=None):
         i, j = np.nonzero(failed)
         ax.plot(x[i], y[j], "x", color="C3", ms=4, ls="none")
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8, frameon=False)
+
+
+def _residual_histogram(ds, store: Path) -> list[Path]:
+    """The residual imbalance at rest over the sweep's starts (residual.distribution), its quantiles marked;
+    runs not at rest and failed runs are counted in the title, not drawn."""
+    import matplotlib.pyplot as plt
+
+    from .residual import distribution
+
+    done = ds["done"].load().values.astype(bool)
+    d = distribution(ds["residual"].load().values[done], ds["at_rest"].load().values[done])
+    fig, ax = plt.subplots(figsize=(7.5, 5.0), constrained_layout=True)
+    edges, counts = np.asarray(d["histogram"]["edges"]), np.asarray(d["histogram"]["counts"])
+    if len(counts):
+        ax.stairs(counts, edges, fill=True, alpha=0.6)
+        for q, style in (("50", "-"), ("90", "--"), ("99", ":")):
+            ax.axvline(d["quantiles"][q], color="k", ls=style, lw=1, label=f"{q} %: {d['quantiles'][q]:.3g}")
+        ax.legend(fontsize=8)
+    ax.set_xlabel("residual imbalance $r$ at rest")
+    ax.set_ylabel("starts")
+    title = (f"{ds.attrs['model']}: residual imbalance at rest, {d['at_rest']} starts "
+             f"({d['not_at_rest']} not at rest by $t_{{end}}$, {d['failed']} failed: not drawn)")
+    ax.set_title(title_lines(title, _caption(ds, [d_ for d_ in ds["residual"].dims])), fontsize=9)
+    return _save(fig, store, "residual")
+
+
+def _save(fig, store: Path, name: str) -> list[Path]:
+    """The figure as name.png and name.pdf beside the store, closed."""
+    import matplotlib.pyplot as plt
+
+    out = []
+    for ext in ("png", "pdf"):
+        path = store.parent / f"{name}.{ext}"
+        fig.savefig(path, dpi=150)
+        out.append(path)
+    plt.close(fig)
+    return out
 
 
 def _continuous(fig, ax, da, done, dims, measure):

@@ -44,9 +44,9 @@ def tightened_tolerances(rtol: float, atol: float) -> tuple[float, float]:
 def resolved(engine, model: Model, rtol: float, atol: float, *, ensemble: bool = False,
              measures: bool = True) -> str:
     """The name of the engine that actually runs (the auto engine's pick), for choosing a second one."""
-    from .engines import engine as get_engine
+    from .engines import engine_for
 
-    eng = get_engine(engine)
+    eng = engine_for(model, engine)
     if ensemble and hasattr(eng, "picked_many"):
         return eng.picked_many(rtol, atol, model, measures)[3]["engine"]
     if hasattr(eng, "picked"):

@@ -16,7 +16,7 @@ def test_every_registered_benchmark_is_declared_by_its_module():
     assert [b.name for b in benchmarks] == list(registry.REGISTRY)
     assert [b.name for b in benchmarks] == ["derive", "codegen", "simulate", "sweep", "failures", "smallest",
                                              "precision", "mutation", "orbits", "auto", "rk", "ensemble", "reproduce",
-                                             "trust", "design", "tolerance"]
+                                             "trust", "design", "tolerance", "friction"]
     for b in benchmarks:
         assert b.default_out == f"benchmarks/{b.name}.json" and callable(b.run)
 

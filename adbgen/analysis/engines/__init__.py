@@ -14,6 +14,8 @@ from __future__ import annotations
 from ..loading import AnalysisError
 from .by_tolerance import AutoEngine
 from .compiled import CyRKEngine, SundialsEngine
+from .hybrid_engine import ENGINE as HYBRID
+from .hybrid_engine import has_stick_phase
 from .matlab_ode45 import ENGINE as MATLAB_ODE45
 from .rk import RKBatchEngine, RKEngine
 from .scipy_ivp import ScipyEngine
@@ -38,6 +40,7 @@ ENGINES = {e.name: e for e in (
     ScipyEngine("dop853"), ScipyEngine("rk45"), ScipyEngine("radau"), ScipyEngine("lsoda"), ScipyEngine("bdf"),
     ScipyEngine("radau", use_jac=False), ScipyEngine("lsoda", use_jac=False),
     MATLAB_ODE45,
+    HYBRID,
 )}
 ENGINES["auto"] = AutoEngine(ENGINES)  # picks one of the above per tolerance (auto_table.json)
 
@@ -54,6 +57,20 @@ def engine(name: str | None):
         raise AnalysisError(f"unknown engine {name!r}; engines: {', '.join(ENGINES)}") from None
 
 
+def engine_for(model, name: str | None):
+    """The engine that runs `model`: as `engine(name)`, except that a model with stick/slip modes (its
+    self-description: parameters stuck_k) gets the stick-slip engine by default and refuses any other."""
+    if not has_stick_phase(model):
+        return engine(name)
+    if name is None or (isinstance(name, str) and name in ("", "default", "auto")):
+        return HYBRID
+    eng = engine(name)
+    if not getattr(eng, "stick_slip", False):
+        raise AnalysisError(f"{model.name} has stick/slip modes (static friction): engine {eng.name!r} cannot run "
+                            f"them; use {HYBRID.name} (its default)")
+    return eng
+
+
 def register(eng, replace: bool = False) -> None:
     """Add an engine object at run time (e.g. from a test or a plug-in), under its `name`."""
     if eng.name in ENGINES and not replace:
@@ -68,7 +85,8 @@ def unregister(name: str) -> None:
 def capabilities(eng) -> frozenset[str]:
     """What an engine declares: "symmetric" (identical balls started together stay together bit for bit),
     "dense" (the state between its steps, `dense(...)`), "batch" (`run_many`: trajectories at once),
-    "native-events" (r_max and t_dec located by the solver itself, not on kept steps)."""
+    "native-events" (r_max and t_dec located by the solver itself, not on kept steps), "stick-slip" (runs a
+    model's stick/slip modes as an event-driven hybrid system)."""
     out = set()
     if getattr(eng, "symmetric", False):
         out.add("symmetric")
@@ -78,4 +96,6 @@ def capabilities(eng) -> frozenset[str]:
         out.add("batch")
     if getattr(eng, "native_events", False):
         out.add("native-events")
+    if getattr(eng, "stick_slip", False):
+        out.add("stick-slip")
     return frozenset(out)
