@@ -227,3 +227,49 @@ def table(rotor: Rotor, mu_values, points: int = 1441) -> list[dict]:
                      "area_fraction": area, "r_max": largest, "r_max_first_order": r_max_first_order(rotor, mu_s),
                      "imbalance_max": largest / abs(rotor.gain), "band_closed": closed})
     return rows
+
+
+MU_S_VALUES = (0.0005, 0.001, 0.002, 0.005, 0.01, 0.015, 0.02, 0.025)
+
+
+def figure(out, rotor: Rotor = Rotor(), mu_values=MU_S_VALUES) -> list[dict]:
+    """docs/figures/stiction_band.png and .json: the band's width along phi_1 = -phi_2 and its area share
+    of the torus, and the largest residual r and imbalance on it, against mu_s (exact; first order dashed).
+    Drawn by `python3 -m adbgen.families.single_plane.science.stiction_band docs/figures`."""
+    import json
+    from pathlib import Path
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = table(rotor, mu_values)
+    mus = [row["mu_s"] for row in rows]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    left.plot(mus, [row["width"] for row in rows], "o-", label="width along phi_1 = -phi_2 (rad)")
+    left.plot(mus, [row["width_first_order"] for row in rows], "--", label="its first order")
+    left.plot(mus, [row["area_fraction"] for row in rows], "s-", label="area share of the torus (grid)")
+    left.set_xlabel("mu_s")
+    left.legend(fontsize=8)
+    left.set_title("stuck band around the balanced state, thesis (5.1), n = 2", fontsize=9)
+    right.plot(mus, [row["r_max"] for row in rows], "o-", label="largest residual r = |z| on the band")
+    right.plot(mus, [row["imbalance_max"] for row in rows], "s-", label="largest |delta + mu sum e^{i phi}|")
+    right.plot(mus, [min(row["r_max_first_order"], rows[-1]["r_max"] * 1.5) for row in rows], "--",
+               label="first order mu_s / |cos theta*| (clipped)")
+    right.set_xlabel("mu_s")
+    right.legend(fontsize=8)
+    right.set_title("residual vibration at rest (lengths over R)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out / "stiction_band.png", dpi=110)
+    plt.close(fig)
+    (out / "stiction_band.json").write_text(json.dumps(rows, indent=1) + "\n")
+    return rows
+
+
+if __name__ == "__main__":
+    import sys
+
+    for row in figure(sys.argv[1] if len(sys.argv) > 1 else "docs/figures"):
+        print(row)
