@@ -15,6 +15,7 @@ SymPy.  Bad names, counts and values raise `AnalysisError` with one line that sa
 from __future__ import annotations
 
 import ast
+import fcntl
 import hashlib
 import importlib
 import importlib.util
@@ -392,21 +393,34 @@ def _scene_model(scene: str | os.PathLike, on_line=None) -> Path:
     name = f"scene_{key}"
     out = cache_dir() / "scenes" / key
     folder = out / name
-    if not (folder / "__init__.py").is_file():
-        cmd = [sys.executable, "-m", "adbgen.cli", "regenerate", "--scene", str(path), "--name", name,
-               "--out", str(out), "--targets", *SCENE_TARGETS] + ([] if on_line else ["--quiet"])
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        lines = []
-        for line in proc.stderr:
-            lines.append(line)
-            if on_line and line.strip():
-                on_line(line.strip())
-        proc.wait()
-        if proc.returncode != 0:
-            errors = [line for line in lines if line.startswith("adbgen: error: ")] or lines[-1:]
-            message = errors[-1].strip() if errors else f"exit status {proc.returncode}"
-            raise AnalysisError(message.removeprefix("adbgen: error: "))
+    if (folder / "__init__.py").is_file():
+        return folder
+    # two processes asking for the same new scene at once (two sweeps, pytest's workers) would both generate it
+    # into one folder: the second waits for the first's lock and then finds the model written
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with open(out.parent / f"{key}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (folder / "__init__.py").is_file():
+            _generate(path, name, out, on_line)
     return folder
+
+
+def _generate(path: Path, name: str, out: Path, on_line) -> None:
+    """`adbgen regenerate --scene` into out (SCENE_TARGETS), its progress lines to on_line; its last error line
+    raised as an AnalysisError."""
+    cmd = [sys.executable, "-m", "adbgen.cli", "regenerate", "--scene", str(path), "--name", name,
+           "--out", str(out), "--targets", *SCENE_TARGETS] + ([] if on_line else ["--quiet"])
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    lines = []
+    for line in proc.stderr:
+        lines.append(line)
+        if on_line and line.strip():
+            on_line(line.strip())
+    proc.wait()
+    if proc.returncode != 0:
+        errors = [line for line in lines if line.startswith("adbgen: error: ")] or lines[-1:]
+        message = errors[-1].strip() if errors else f"exit status {proc.returncode}"
+        raise AnalysisError(message.removeprefix("adbgen: error: "))
 
 
 def _consistent(model: Model) -> Model:

@@ -17,6 +17,7 @@ from adbgen.analysis.design import Axis, Design, Problem, assess
 from adbgen.analysis.design_runs import JOURNAL, Journal, residual_quantile, run_params, schedule_time
 from adbgen.analysis.loading import AnalysisError, load_model
 from adbgen.analysis.simulate import simulate
+from stick_slip_scene import TORQUE_SCENE
 
 
 @pytest.fixture(scope="module")
@@ -105,23 +106,6 @@ def test_residual_quantile_counts_no_failed_run():
     assert residual_quantile(ok[:-1] + [{"residual": None, "status": "max_steps"}]) is None
 
 
-# the braked free rotor of tests/analysis/test_hybrid_engine.py (the same bytes: one generated model for both)
-TORQUE_SCENE = """n = 2
-rotor_mass = 1.0
-eccentricity = 0.0
-polar_inertia = 0.001
-race_radius = 0.05
-ball_mass = 0.01
-ball_damping = 0.0
-stiffness = 1000.0
-damping = 1.0
-rolling_resistance = 0.02
-static_friction = 0.05
-[speed]
-law = "torque"
-tau0 = -0.01
-motor_slope = 0.0
-"""
 
 
 def test_residual_runs_are_the_stick_slip_engines(tmp_path):

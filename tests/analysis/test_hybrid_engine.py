@@ -13,37 +13,15 @@ takes over ten minutes to generate: not a test yet.)
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from adbgen.analysis.engines import hybrid
-from adbgen.analysis.loading import load_model
-
-MU_R, MU_S, R, MASS = 0.02, 0.05, 0.05, 0.01
-
+from stick_slip_scene import I_Z, MASS, MU_R, MU_S, R, TAU0, braked_model
 
 # --- a braked free rotor (law = "torque", tau = tau0 < 0): no speed law, so the model stays small ---
-I_Z, TAU0, OMEGA0 = 1e-3, -0.01, 100.0
-TORQUE_SCENE = f"""n = 2
-rotor_mass = 1.0
-eccentricity = 0.0
-polar_inertia = {I_Z}
-race_radius = {R}
-ball_mass = {MASS}
-ball_damping = 0.0
-stiffness = 1000.0
-damping = 1.0
-rolling_resistance = {MU_R}
-static_friction = {MU_S}
-[speed]
-law = "torque"
-tau0 = {TAU0}
-motor_slope = 0.0
-"""
+OMEGA0 = 100.0
 
 
 def braked(normal: str = "ball"):
@@ -77,13 +55,8 @@ def braked(normal: str = "ball"):
 
 @pytest.fixture(scope="module")
 def torque_model(tmp_path_factory):
-    """The scene's model generated for the targets the engine needs (numba for loading, c for the driver)."""
-    out = Path(tmp_path_factory.mktemp("hybrid_torque"))
-    path = out / "braked.toml"
-    path.write_text(TORQUE_SCENE)
-    subprocess.run([sys.executable, "-m", "adbgen.cli", "regenerate", "--scene", str(path), "--name", "braked",
-                    "--out", str(out), "--targets", "numba", "c", "--quiet"], check=True)
-    return load_model(out / "braked")
+    """The scene's model, from the scene cache (shared with the other stick/slip tests)."""
+    return braked_model(tmp_path_factory)
 
 
 def _braked_run(model, tau_after=0.8, rtol=1e-11, atol=1e-13):

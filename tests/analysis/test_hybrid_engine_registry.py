@@ -17,7 +17,7 @@ import pytest
 from adbgen.analysis.engines import capabilities, engine_for, hybrid
 from adbgen.analysis.loading import AnalysisError, load_model
 from adbgen.analysis.simulate import simulate, simulate_many
-from test_hybrid_engine import TORQUE_SCENE
+from stick_slip_scene import TORQUE_SCENE
 
 FRICTION = {"eps": 1e-3, "tau0": 0.0, "kappa": 0.0, "mu_r": 0.002, "mu_s": 0.005}
 START = {"phi_1": 1.0, "phi_2": 2.5, "psi_dot": 100.0}

@@ -105,3 +105,37 @@ def test_a_numba_cache_written_under_the_generated_name_loads_in_adbgen(tmp_path
     assert second.returncode == 0, second.stderr[-800:]
     assert first.stdout == second.stdout
     assert any((tmp_path / "numba").rglob("*.nbi"))  # the first process did write the cache the second read
+
+
+def test_two_callers_of_a_new_scene_generate_it_once(tmp_path, monkeypatch):
+    """Two processes (pytest's workers, two sweeps) asking for one new scene at once: the lock on its cache
+    entry makes the second wait and find the model, not generate it again into the same folder.  Negative
+    control: without the lock both generate."""
+    import time
+    import types
+    from concurrent.futures import ThreadPoolExecutor
+
+    from adbgen.analysis import loading
+
+    scene = tmp_path / "s.toml"
+    scene.write_text("n = 2\n")
+
+    def callers(cache):
+        monkeypatch.setenv("ADBGEN_CACHE", str(tmp_path / cache))
+        calls = []
+
+        def generate(path, name, out, on_line):
+            calls.append(name)
+            time.sleep(0.5)
+            (out / name).mkdir(parents=True, exist_ok=True)
+            (out / name / "__init__.py").write_text("")
+
+        monkeypatch.setattr(loading, "_generate", generate)
+        with ThreadPoolExecutor(2) as pool:
+            folders = list(pool.map(lambda _: loading._scene_model(scene), range(2)))
+        assert folders[0] == folders[1] and (folders[0] / "__init__.py").is_file()
+        return len(calls)
+
+    assert callers("locked") == 1
+    monkeypatch.setattr(loading, "fcntl", types.SimpleNamespace(flock=lambda *_: None, LOCK_EX=0))
+    assert callers("unlocked") == 2

@@ -14,7 +14,7 @@ from adbgen.analysis.loading import AnalysisError, load_model
 from adbgen.analysis.residual import AT_REST, MOVING, NOT_RUN, at_rest_codes, distribution
 from adbgen.analysis.simulate import simulate
 from adbgen.analysis.sweep import SweepSpec, run_sweep
-from test_hybrid_engine import TORQUE_SCENE
+from stick_slip_scene import TORQUE_SCENE
 
 FRICTION = {"eps": 1e-3, "tau0": 0.0, "kappa": 0.0, "mu_r": 0.002, "mu_s": 0.005}
 

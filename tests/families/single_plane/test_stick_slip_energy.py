@@ -16,35 +16,29 @@ friction's work counted twice, and the normal force taken from the race's speed 
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 import sympy as sp
 
 from adbgen.analysis.engines import hybrid
-from adbgen.analysis.loading import load_model
 from adbgen.families.single_plane.model import lagrangian
 from adbgen.families.single_plane.scene import Scene
+from stick_slip_scene import braked_model
 
 SCENE = {"n": 2, "rotor_mass": 1.0, "eccentricity": 2e-3, "polar_inertia": 1e-3, "race_radius": 0.05,
          "ball_mass": 0.01, "ball_damping": 1e-5, "stiffness": 1000.0, "damping": 1.0, "rolling_resistance": 0.02,
          "static_friction": 0.05, "speed": {"law": "torque", "tau0": -0.01, "motor_slope": 0.0}}
-TOML = "\n".join(f"{k} = {v}" for k, v in SCENE.items() if k != "speed") + (
-    '\n[speed]\nlaw = "torque"\ntau0 = -0.01\nmotor_slope = 0.0\n')
+# the shared scene has eps = 0 and no ball drag: every value is a parameter, set here to SCENE's
+OVERRIDES = {"eps": SCENE["eccentricity"], "D": SCENE["ball_damping"]}
 T_END, RTOL, ATOL = 1.0, 1e-11, 1e-13
 NODES, PIECE = 8, 0.01  # Gauss-Legendre nodes per piece of at most PIECE seconds
 
 
 @pytest.fixture(scope="module")
 def model(tmp_path_factory):
-    out = Path(tmp_path_factory.mktemp("stick_slip_energy"))
-    (out / "braked.toml").write_text(TOML)
-    subprocess.run([sys.executable, "-m", "adbgen.cli", "regenerate", "--scene", str(out / "braked.toml"), "--name",
-                    "braked", "--out", str(out), "--targets", "numba", "c", "--quiet"], check=True)
-    return load_model(out / "braked")
+    """The shared stick/slip scene's model (tests/stick_slip_scene.py), run at SCENE's values (OVERRIDES)."""
+    return braked_model(tmp_path_factory)
 
 
 @pytest.fixture(scope="module")
@@ -83,7 +77,7 @@ def _run(model, t_eval=None):
     y0 = np.zeros(model.n_states)
     y0[model.index("phi_1")], y0[model.index("phi_2")] = 0.3, math.pi
     y0[model.index("psi_dot")] = 16.0  # released near sqrt(|a| / mu_s) = 13.8 rad/s
-    p = model.params()
+    p = model.params(OVERRIDES)
     return hybrid.run(model, p, y0, 0.0, T_END, t_eval=t_eval, rtol=RTOL, atol=ATOL), p
 
 
