@@ -6,11 +6,11 @@ the race.  The spin is prescribed, psi = omega t (thesis (2.14)).  Positions:
 - the balancer node (race centre) at Phi q (Phi: the node's 2 x k translational mode shapes);
 - ball i at Phi q + R (cos(psi + phi_i), sin(psi + phi_i)) (thesis (2.4) with the node for (X, Y)).
 
-Energies: the rotor's T = q'^T M_q q' / 2 + U psi' (Phi q') . (-sin psi, cos psi) (the unbalance U = m_u e
+Energies: the rotor's T = q'^T M_q q' / 2 + U psi' (Phi q') . (-sin psi, cos psi) (the unbalance U = m_u eps
 at the node: the cross term of m_u |Phi q' + e psi' (-sin psi, cos psi)|^2 / 2 not already in M_q; its
 Lagrange term is the forcing U omega^2 Phi^T (cos psi, sin psi)), V = q^T K_q q / 2 + g w . q (w the
 modal gravity load), Rayleigh F = q'^T C_q q' / 2; the gyroscopic force Q = -omega G_q q' (G_q skew: no
-work).  Balls as in thesis (2.7)-(2.9).  With k = 2, Phi = I, M_q = M I, w = (0, M), U = M eps this is the
+work).  Balls as in thesis (2.7)-(2.9).  With k = 2, Phi = I, M_q = M I, w = (0, M), m_u = M this is the
 single-plane fixed-frame model (2.10), (2.11), (2.13) with X, Y = q_1, q_2 (checked in `verify`).
 """
 

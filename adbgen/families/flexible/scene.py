@@ -16,7 +16,8 @@ A scene in TOML::
     ball_mass = 0.05
     ball_damping = 1.25e-4
     race_radius = 0.05
-    unbalance = 5.0e-4          # m_u e (kg m) at the balancer node
+    unbalance_mass = 1.0        # m_u (kg): the unbalanced body at the balancer node (its disk)
+    eccentricity = 5.0e-4       # e (m): its centre of mass off the shaft's axis
     gravity = false
     [speed]
     law = "constant"
@@ -37,11 +38,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from ...core.scene_fields import number, per_ball
+from ...core.scene_fields import Key, number, per_ball
 from ...errors import SceneError
 
 Matrix = tuple[tuple[float, ...], ...]
-_TOP = ("n", "ball_mass", "ball_damping", "race_radius", "unbalance", "gravity", "g", "speed", "modal")
+_TOP = ("n", "ball_mass", "ball_damping", "race_radius", "unbalance_mass", "eccentricity", "gravity", "g", "speed", "modal")
 _MODAL = ("mass", "stiffness", "damping", "gyroscopic", "node_shape", "gravity_load", "reduction")
 _SYMMETRY_TOL = 1e-9  # relative: what round-off in a projection Phi^T A Phi leaves of a symmetric A
 
@@ -97,6 +98,14 @@ def jeffcott_modal(mass: float, stiffness: tuple[float, float], damping: tuple[f
 
 
 @dataclass(frozen=True)
+class FlexibleSpeed:
+    """The spin: constant, psi = omega t (thesis (2.14)); the only law the family offers."""
+
+    law: str = "constant"
+    omega: float = 400.0
+
+
+@dataclass(frozen=True)
 class FlexibleScene:
     """A flexible rotor with n balls in a race at one balancer node, spun at a constant speed."""
 
@@ -104,15 +113,20 @@ class FlexibleScene:
     ball_mass: float | tuple[float, ...] = 0.05
     ball_damping: float | tuple[float, ...] = 1.25e-4
     race_radius: float = 0.05
-    unbalance: float = 5.0e-4  # m_u e at the balancer node, kg m
+    unbalance_mass: float = 1.0  # m_u, kg: the unbalanced body at the balancer node
+    eccentricity: float = 5.0e-4  # e, m: its centre of mass off the axis (unbalance m_u e)
     gravity: bool = False
     g: float = 9.80665
-    omega: float = 400.0
+    speed: FlexibleSpeed = field(default_factory=FlexibleSpeed)
     modal: Modal = field(default_factory=lambda: jeffcott_modal(1.0, (1.0e4, 1.0e4), (2.0, 2.0)))
 
     @property
     def k(self) -> int:
         return self.modal.k
+
+    @property
+    def omega(self) -> float:
+        return self.speed.omega
 
     @property
     def equal_balls(self) -> bool:
@@ -168,10 +182,11 @@ class FlexibleScene:
             ball_mass=per_ball("ball_mass", data.get("ball_mass", 0.05), n, positive=True),
             ball_damping=per_ball("ball_damping", data.get("ball_damping", 1.25e-4), n, nonnegative=True),
             race_radius=number("race_radius", data.get("race_radius", 0.05), positive=True),
-            unbalance=number("unbalance", data.get("unbalance", 5.0e-4), nonnegative=True),
+            unbalance_mass=number("unbalance_mass", data.get("unbalance_mass", 1.0), positive=True),
+            eccentricity=number("eccentricity", data.get("eccentricity", 5.0e-4), nonnegative=True),
             gravity=gravity,
             g=number("g", data.get("g", 9.80665), positive=True),
-            omega=number("speed.omega", speed.get("omega", 400.0), positive=True),
+            speed=FlexibleSpeed("constant", number("speed.omega", speed.get("omega", 400.0), positive=True)),
             modal=Modal(mass, stiffness, damping, gyro, shape, load, reduction),
         )
 
@@ -185,3 +200,38 @@ class FlexibleScene:
         except tomllib.TOMLDecodeError as exc:
             raise SceneError("<file>", f"{path} is not valid TOML: {exc}") from None
         return cls.from_mapping(data)
+
+
+# the smallest scene file: the Jeffcott rotor's two identity modes (the scene reference's base mapping)
+DEFAULT_PRESET = "jeffcott"
+
+
+def _preset(name: str) -> dict:
+    if name != DEFAULT_PRESET:
+        raise SceneError("preset", f"unknown preset {name!r}")
+    m = jeffcott_modal(1.0, (1.0e4, 1.0e4), (2.0, 2.0))
+    return {"modal": {"mass": [list(r) for r in m.mass], "stiffness": [list(r) for r in m.stiffness],
+                      "damping": [list(r) for r in m.damping], "node_shape": [list(r) for r in m.node_shape]}}
+
+
+KEYS = (
+    Key("n", "", "other", "number of balls in the race at the balancer node", "a whole number >= 1"),
+    Key("ball_mass", "kg", "positive", "m or [m_1, ..., m_n]"),
+    Key("ball_damping", "N m s/rad", "nonnegative", "D or [D_1, ..., D_n], viscous drag on each ball"),
+    Key("race_radius", "m", "positive", "R, radius of the race"),
+    Key("unbalance_mass", "kg", "positive", "m_u, the unbalanced body (disk) at the balancer node"),
+    Key("eccentricity", "m", "nonnegative", "eps, its centre of mass off the shaft's axis (unbalance m_u eps)"),
+    Key("gravity", "", "other", "gravity along -y through the modal gravity load", "true or false"),
+    Key("g", "m/s^2", "positive", "gravitational acceleration"),
+    Key("speed.law", "", "other", "how the spin is governed", '"constant"'),
+    Key("speed.omega", "rad/s", "positive", "constant spin speed"),
+    Key("modal.mass", "kg", "other", "M_q = Phi^T M Phi, k x k", "symmetric"),
+    Key("modal.stiffness", "N/m", "other", "K_q = Phi^T K Phi, k x k", "symmetric"),
+    Key("modal.damping", "N s/m", "other", "C_q = Phi^T C Phi, k x k (default 0)", "symmetric"),
+    Key("modal.gyroscopic", "kg", "other", "G_q = Phi^T G Phi, k x k, force -omega G_q q' (default 0)",
+        "skew-symmetric"),
+    Key("modal.node_shape", "", "other", "the balancer node's x and y translation per unit of each mode", "2 x k"),
+    Key("modal.gravity_load", "kg", "other", "Phi^T M e_y, k values (default 0)", "k numbers"),
+    Key("modal.reduction", "", "other", "how the matrices were reduced (text, carried to the model's title)",
+        "text"),
+)

@@ -27,7 +27,7 @@ class FlexibleSymbols:
     G: sp.Matrix
     Phi: sp.Matrix  # 2 x k
     w: sp.Matrix  # k x 1 gravity load
-    U: sp.Symbol
+    U: sp.Expr  # m_u eps
     R: sp.Symbol
     m: tuple[sp.Symbol, ...]
     D: tuple[sp.Symbol, ...]
@@ -68,7 +68,9 @@ class FlexibleSymbols:
                 if modal.gravity_load[j] != 0.0:
                     w[j] = add(sp.Symbol(f"w_{j + 1}", real=True), f"gravity load of mode {j + 1} (Phi^T M e_y)",
                                "kg", modal.gravity_load[j])
-        U = add(nonnegative("U"), "unbalance m_u e at the balancer node", "kg m", scene.unbalance)
+        U = add(positive("m_u"), "mass of the unbalanced body (disk) at the balancer node", "kg",
+                scene.unbalance_mass) * add(nonnegative("eps"), "eccentricity of its centre of mass", "m",
+                                            scene.eccentricity)
         R = add(positive("R"), "race radius", "m", scene.race_radius)
         masses, drags = scene.masses(), scene.ball_dampings()
         if scene.equal_balls:

@@ -1,7 +1,7 @@
 """Checks of the flexible-rotor family (issue 38 item 4: proven equal where the families overlap).
 
 `single_plane_limit`: one node, two modes with identity mode shapes (the node's x, y translation), M_q =
-M I, K_q = diag(k_X, k_Y), C_q = diag(c_X, c_Y), G_q = 0, w = (0, M), U = M eps: a Jeffcott rotor, whose
+M I, K_q = diag(k_X, k_Y), C_q = diag(c_X, c_Y), G_q = 0, w = (0, M), m_u = M: a Jeffcott rotor, whose
 right-hand side x'' = M(x)^-1 f(x, x', t) must equal the single-plane fixed-frame model's, thesis (2.10),
 (2.11), (2.13), with (X, Y) = (q_1, q_2), to round-off at random states and times.  Its negative control
 is a wrong mode shape at the balancer node (the node's x picking up 5 % of mode 2), which must be caught.
@@ -20,7 +20,7 @@ from ...core.lagrange import EquationsOfMotion
 from ..single_plane.model import derive as derive_single_plane
 from ..single_plane.scene import Scene, SpeedLaw
 from .model import derive
-from .scene import FlexibleScene, Modal, jeffcott_modal
+from .scene import FlexibleScene, FlexibleSpeed, Modal, jeffcott_modal
 from .symbols import t
 
 RHS_TOLERANCE = 1e-11  # relative to the largest acceleration: round-off of a 2 + n linear solve
@@ -31,8 +31,9 @@ def jeffcott_scene(single: Scene, modal: Modal | None = None) -> FlexibleScene:
     """The flexible scene of a single-plane scene (constant speed): its rotor as two identity modes."""
     (kx, ky), (cx, cy) = single.stiffness_xy(), single.damping_xy()
     return FlexibleScene(n=single.n, ball_mass=single.ball_mass, ball_damping=single.ball_damping,
-                         race_radius=single.race_radius, unbalance=single.rotor_mass * single.eccentricity,
-                         gravity=single.gravity, g=single.g, omega=float(single.speed.omega),
+                         race_radius=single.race_radius, unbalance_mass=single.rotor_mass,
+                         eccentricity=single.eccentricity,
+                         gravity=single.gravity, g=single.g, speed=FlexibleSpeed("constant", float(single.speed.omega)),
                          modal=modal or jeffcott_modal(single.rotor_mass, (kx, ky), (cx, cy)))
 
 
@@ -89,6 +90,13 @@ def single_plane_limit(wrong: bool = False) -> list[CheckResult]:
         label = "wrong node shape" if wrong else f"n = {single.n}"
         out.append(timed(f"Jeffcott = single-plane ({label}, scene {i + 1})", "thesis (2.10), (2.11), (2.13)", run))
     return out
+
+
+def single_plane_limit_check() -> CheckResult:
+    """The check behind a generated flexible model (`models`): both scenes in one result."""
+    results = single_plane_limit()
+    return CheckResult("Jeffcott = single-plane", results[0].reference, all(r.passed for r in results),
+                       "; ".join(r.detail for r in results), sum(r.seconds for r in results))
 
 
 def registered(ns=()) -> list[Registered]:
