@@ -160,13 +160,13 @@ class Convergence:
 def forward_speeds(modal, top: float, count: int) -> list[float]:
     from ..families.flexible.critical_speeds import crossings
 
-    return [c.speed for c in crossings(modal, top) if c.whirl == "forward"][:count]
+    return [c.speed for c in crossings(modal, top) if c.whirl == "forward"][:count]  # count None: all
 
 
-def convergence(rotor, node: int, speed: float, top: float, count: int = 3, tolerance: float = TOLERANCE,
+def convergence(rotor, node: int, speed: float, top: float, count: int | None = 3, tolerance: float = TOLERANCE,
                 k_max: int | None = None) -> Convergence:
     """Modal convergence (the smallest-model rule, issue 38 item 3): the first `count` forward critical
-    speeds below `top` for every admissible k (a k splitting a degenerate pair is skipped) up to `k_max`
+    speeds below `top` (None: as many as the full model has there) for every admissible k (a k splitting a degenerate pair is skipped) up to `k_max`
     (default: every lateral mode but one, the full model to round-off), and the fewest k whose speeds are
     within `tolerance` of every larger k's.  Why not "one more mode changes them by less than the
     tolerance": on ROSS's example rotor (node 2) k = 6, 7, 8 all give a third forward critical speed of
@@ -177,6 +177,9 @@ def convergence(rotor, node: int, speed: float, top: float, count: int = 3, tole
     index, _ = lateral_dofs(rotor)
     k_max = k_max or len(index) - 1
     speeds: dict = {}
+    if count is None:
+        count = len(forward_speeds(FlexibleScene.from_mapping(scene_mapping(rotor, node, k_max, 1, 1.0, 1.0, speed))
+                                   .modal, top, None))
     for k in range(1, k_max + 1):
         try:
             mapping = scene_mapping(rotor, node, k, 1, 1.0, 1.0, speed)
@@ -192,3 +195,32 @@ def convergence(rotor, node: int, speed: float, top: float, count: int = 3, tole
         if all(close(speeds[k], speeds[j]) for j in ks[i:]):
             return Convergence(k, tolerance, speeds)
     return Convergence(None, tolerance, speeds)
+
+
+def flexible_scene(rotor, node: int, balls: int, ball_mass: float, race_radius: float, speed: float, top: float, *,
+                   unbalance: Unbalance | None = None, ball_damping: float | None = None, modes: int | None = None,
+                   tolerance: float = TOLERANCE) -> tuple[dict, Convergence | None]:
+    """The flexible scene's mapping in the converged number of modes for the forward critical speeds below
+    `top` (or `modes` given), and the convergence that chose it (None when `modes` was given)."""
+    conv = None
+    if modes is None:
+        conv = convergence(rotor, node, speed, top, None, tolerance)
+        if conv.k is None:
+            raise RotorError(f"modal truncation does not converge to {tolerance:g} below the full lateral model "
+                             f"(k = {max(conv.speeds)}): give --modes")
+        modes = conv.k
+    return scene_mapping(rotor, node, modes, balls, ball_mass, race_radius, speed, unbalance, ball_damping), conv
+
+
+def write(mapping: dict, out, header: str) -> str:
+    """The flexible scene as TOML, checked to read back."""
+    import tomllib
+    from pathlib import Path
+
+    from ..families.flexible.scene import FlexibleScene
+    from .scene import to_toml
+
+    text = to_toml(mapping, header)
+    FlexibleScene.from_mapping(tomllib.loads(text))
+    Path(out).write_text(text, encoding="utf-8")
+    return text
