@@ -42,6 +42,18 @@ def balanced_orbit(scene: FlexibleScene):
     return start
 
 
+def ball_slots(scene: FlexibleScene):
+    """Each ball's own parameters for the loop form (`codegen.balls`): m_i, D_i for unequal balls, none for
+    equal ones (they share m, D).  Given, not found by name: the mode shapes' Phi_x_1, Phi_x_2, ... and the
+    matrices' entries are indexed like ball parameters but belong to the rotor."""
+    def slots(system) -> list[dict]:
+        if scene.equal_balls:
+            return [{} for _ in range(scene.n)]
+        names = {p.name: p.symbol for p in system.parameters}
+        return [{"m": names[f"m_{i + 1}"], "D": names[f"D_{i + 1}"]} for i in range(scene.n)]
+    return slots
+
+
 def for_scene(scene: FlexibleScene, name: str | None = None) -> ModelSpec:
     check = Check((FAMILY, "single_plane_limit"), verify.single_plane_limit_check)
     return ModelSpec(
@@ -49,6 +61,7 @@ def for_scene(scene: FlexibleScene, name: str | None = None) -> ModelSpec:
         f"Flexible rotor, {scene.k} modes ({scene.modal.reduction}), {scene.n} balls at one node, fixed frame",
         scene.n, lambda: first_order(derive(scene), core(scene)), orbit_start=balanced_orbit(scene), family=FAMILY,
         checks=(check,), orbit_continuation=Continuation("omega", direction=-1), kind="flexible_fixed",
+        balls=ball_slots(scene),
         describe=lambda system: description.describe(system, scene, {"scene": {p.name: p.default
                                                                                 for p in system.parameters}}))
 

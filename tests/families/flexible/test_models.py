@@ -46,3 +46,29 @@ def test_description_roles_and_balanced_state():
                        "phi_1": "ball_angle", "phi_2": "ball_angle"}
     assert d.forcing_frequency == "omega" and d.scales["eccentricity"] == "eps"
     assert [s.label for s in d.steady_states] == ["B"]
+
+
+def test_loop_form_generates_with_mode_shapes_indexed_like_balls(tmp_path):
+    """Phi_x_1, Phi_x_2 (two modes moving the node in x) look like two balls' parameters by name; the
+    family gives the balls' slots itself, so the loop form (size independent of n) is emitted.  Negative
+    control: the same model without the slots is refused by the loop form."""
+    import dataclasses
+
+    from adbgen.cli import main
+    from adbgen.families.flexible import models
+
+    data = {"n": 2, "modal": {"mass": [[1.0, 0.0], [0.0, 1.0]], "stiffness": [[1e4, 0.0], [0.0, 2e4]],
+                              "node_shape": [[1.0, 0.5], [0.0, 1.0]]}}
+    scene_file = tmp_path / "two_modes.toml"
+    scene_file.write_text("n = 2\n[modal]\nmass = [[1.0, 0.0], [0.0, 1.0]]\nstiffness = [[1e4, 0.0], [0.0, 2e4]]\n"
+                          "node_shape = [[1.0, 0.5], [0.0, 1.0]]\n")
+    assert FlexibleScene.load(scene_file) == FlexibleScene.from_mapping(data)
+    assert main(["regenerate", "--scene", str(scene_file), "--out", str(tmp_path / "gen"), "--targets", "numba",
+                 "--quiet"]) == 0
+    original = models.for_scene
+    try:
+        models.for_scene = lambda scene, name=None: dataclasses.replace(original(scene, name), balls=None)
+        assert main(["regenerate", "--scene", str(scene_file), "--out", str(tmp_path / "gen2"), "--targets", "numba",
+                     "--quiet", "--family", "flexible"]) != 0
+    finally:
+        models.for_scene = original
