@@ -17,4 +17,5 @@ MODELS = {
     'two_plane_ramp': 'Two-plane balancer (10), 2 + 2 balls, run-up at constant acceleration (section 6)',
     'two_plane_hill': 'Two-plane balancer (10), 2 + 2 balls, Hill run-up (45)',
     'two_plane_torque': 'Two-plane balancer (10), 2 + 2 balls, torque drive with the torsional equation (3)',
+    'flexible_jeffcott_n2': "Flexible rotor, 2 modes (identity (the node's x, y translation: a Jeffcott rotor)), 2 balls at one node, fixed frame",
 }

@@ -2,6 +2,8 @@
 
 A ROSS rotor (the .toml or .json `Rotor.save` writes) -> a two-plane scene file, written only when the
 rigid model is enough for the rotor over the scene's speeds (`adbgen.ross.rigidity`; docs/ross.md).
+With --flexible, where rigid is not enough a flexible-rotor scene (one plane: `adbgen.ross.flexible`,
+docs/flexible.md) is written instead.
 Exit 0 written; 1 the rigid model is not enough (one line with the numbers, nothing written); 2 bad input.
 """
 
@@ -35,6 +37,8 @@ def cmd_from_ross(args) -> int:
     if args.json:
         print(json.dumps({"written": v is None or v.enough, "out": str(args.out), "scene": res.bridged.mapping,
                           "verdict": v.as_dict() if v is not None else None}, indent=2, sort_keys=True))
+    if v is not None and not v.enough and args.flexible:
+        return _write_flexible(args, unbalances, res, v, line)
     if v is not None and not v.enough:
         print(f"adbgen scene from-ross: {args.out} not written: {line}", file=sys.stderr)
         return 1
@@ -43,6 +47,34 @@ def cmd_from_ross(args) -> int:
     write(res.bridged, Path(args.out), header)
     if not args.json:
         print(f"wrote {args.out}: {line}")
+    return 0
+
+
+def _write_flexible(args, unbalances, res, v, line) -> int:
+    """Rigid is not enough: the flexible scene at the (one) plane, in the converged number of modes for the
+    forward critical speeds up to the range the verdict scanned."""
+    from ..ross.flexible import flexible_scene, write
+    from ..ross.rotor import RotorError, load_rotor
+
+    if len(args.plane) != 1:
+        raise RotorError("the flexible scene has one balancer plane: give one --plane with --flexible")
+    if len(unbalances) > 1:
+        raise RotorError("the flexible scene carries one unbalance, at the balancer node")
+    mapping, conv = flexible_scene(load_rotor(args.rotor), args.plane[0], args.balls, args.ball_mass,
+                                   args.race_radius, res.bridged.speed, v.scanned_to,
+                                   unbalance=unbalances[0] if unbalances else None, ball_damping=args.ball_damping,
+                                   modes=args.modes, tolerance=args.modal_tolerance)
+    k = len(mapping["modal"]["mass"])
+    modes = conv.line() if conv is not None else f"k = {k} modes (--modes)"
+    if args.json:
+        print(json.dumps({"flexible": {"out": str(args.out), "modes": k, "scene": mapping,
+                                       "convergence": {str(j): s for j, s in conv.speeds.items()} if conv else None}},
+                         indent=2, sort_keys=True))
+    header = (f"flexible-rotor scene from the ROSS rotor {args.rotor} (adbgen scene from-ross --flexible), balancer "
+              f"at node {args.plane[0]}\n{line}\n{modes}")
+    write(mapping, Path(args.out), header)
+    if not args.json:
+        print(f"wrote {args.out} (flexible, {k} modes): {line}; {modes}")
     return 0
 
 
@@ -70,6 +102,13 @@ def register(sub, parser_class) -> None:
                    help=f"first bending critical at least this times the top speed (default {MARGIN:g})")
     f.add_argument("--agreement", type=finite, default=AGREEMENT,
                    help=f"rigid and ROSS critical speeds within this relative difference (default {AGREEMENT:g})")
+    f.add_argument("--flexible", action="store_true",
+                   help="where rigid is not enough, write the flexible-rotor scene instead (one plane; docs/flexible.md)")
+    f.add_argument("--modes", metavar="K", type=positive_int, default=None,
+                   help="with --flexible: K modes instead of the fewest whose forward critical speeds up to the "
+                        "checked range are within --modal-tolerance of every larger K's")
+    f.add_argument("--modal-tolerance", metavar="TOL", type=finite, default=1e-3,
+                   help="with --flexible: relative tolerance of modal convergence (default 1e-3)")
     f.add_argument("--no-check", action="store_true", help="write without comparing with ROSS's Campbell diagram")
     f.add_argument("--json", action="store_true", help="print the scene and the verdict as JSON")
     f.set_defaults(fn=cmd_from_ross)

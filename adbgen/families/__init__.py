@@ -17,6 +17,7 @@ from .family import Family
 REGISTRY: dict[str, str] = {
     "single-plane": "adbgen.families.single_plane.family:FAMILY",
     "two-plane": "adbgen.families.two_plane.family:FAMILY",
+    "flexible": "adbgen.families.flexible.family:FAMILY",
 }
 _loaded: dict[str, Family] = {}
 

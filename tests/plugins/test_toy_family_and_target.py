@@ -215,7 +215,7 @@ def test_a_registered_family_and_target_regenerate_with_the_others(toy, tmp_path
 
 def test_unregistered_after_the_test():
     assert "toy-pendulum" not in families.names() and "listing" not in targets.names()
-    assert families.names() == ("single-plane", "two-plane")
+    assert families.names() == ("single-plane", "two-plane", "flexible")
     assert targets.names() == ("numba", "c", "cvode", "auto", "taylor", "lanes")
 
 

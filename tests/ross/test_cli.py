@@ -48,3 +48,19 @@ def test_bad_input(saved, tmp_path, capsys, extra, message):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
+
+
+def test_flexible_example_writes_the_flexible_scene(saved, tmp_path, capsys):
+    """--flexible: where rigid is not enough, the flexible scene at the one plane; it reads back in the
+    flexible family with the unbalance at the node (m_u eps = 1e-4 kg m)."""
+    from adbgen.families.flexible.scene import FlexibleScene
+
+    out = tmp_path / "flexible.toml"
+    args = ["--plane", "2", "--balls", "2", "--ball-mass", "0.05", "--race-radius", "0.1", "--speed", "545",
+            "--unbalance", "2", "1e-4", "0", "--flexible", "--modes", "6", "--out", str(out)]
+    assert main(["scene", "from-ross", str(saved / "example.toml"), *args]) == 0
+    assert "flexible, 6 modes" in capsys.readouterr().out
+    scene = FlexibleScene.load(out)
+    assert scene.k == 6 and scene.n == 2 and scene.omega == 545.0
+    assert scene.unbalance_mass * scene.eccentricity == pytest.approx(1e-4, rel=1e-12)
+    assert not (tmp_path / "flexible.toml").read_text().count("rigid is enough")  # negative: said not enough
