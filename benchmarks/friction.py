@@ -24,7 +24,7 @@ import time
 from pathlib import Path
 
 from .registry import Benchmark, option
-from .report import closing, opening, write
+from .report import closing, opening, when, write
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = Path(__file__).with_name("friction_scene.toml")
@@ -103,7 +103,7 @@ def page(result: dict) -> str:
     fmt = (lambda v: "-" if v is None else f"{v:.3g}")
     return "\n".join([
         "# What stiction costs a sweep (`adbgen bench friction`)", "",
-        f"**Run record** (from [`benchmarks/friction.json`](../../benchmarks/friction.json)): {result['date'][:16]} "
+        f"**Run record** (from [`benchmarks/friction.json`](../../benchmarks/friction.json)): {when(result)} "
         f"UTC, {m.get('cpu', 'machine not recorded')}, load average {m.get('load_average_at_start')} at the start and "
         f"{m.get('load_average_at_end')} at the end (shared with other sessions: not a quiet machine); command "
         f"`adbgen bench friction --starts {result['starts_asked']} --t-end {result['t_end']:g}`.{reduced}", "",

@@ -95,7 +95,7 @@ def test_pipeline_stages_are_timed():
 
     result = derive.bench_pipeline((1,))
     kinds = {r["kind"] for r in result["rows"]}
-    assert kinds == {"thesis_rotating", "single_plane_fixed"}
+    assert kinds == {"thesis_rotating", "single_plane_fixed", "flexible_fixed"}  # n = 1: each family's fixed-step kinds
     for r in result["rows"]:
         assert r["form"] == "loops" and r["files"] > 0 and r["bytes"] > 0
         assert r["total_seconds"] >= r["derive_seconds"] + r["emit_seconds"]

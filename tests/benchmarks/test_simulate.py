@@ -72,6 +72,10 @@ def test_errors_against_a_converged_reference(tiny_result):
     r = tiny_result
     ref = r["reference"]
     assert ref["converged"] and 0 <= ref["check_difference"] < 1e-10
+    # runs as accurate as the reference are named, not graded: every other error is 100x above its check
+    graded = [e["error"] for e in r["engines"] if e.get("error") and e["name"] not in ref["below_resolution"]]
+    assert ref["resolution"] == 100 * ref["check_difference"] and all(e > ref["resolution"] for e in graded)
+    assert all(e["error"] <= ref["resolution"] for e in r["engines"] if e["name"] in ref["below_resolution"])
     engines = {e["key"]: e for e in r["engines"]}
     # the default engine is always measured beside the ones asked for
     assert set(engines) == {"cyrk-dop853", "cyrk-rk45", "scipy-dop853", DEFAULT}
