@@ -62,6 +62,18 @@ class Registered:
         return list(out) if isinstance(out, (list, tuple)) else [out]
 
 
+def run_registered(checks, progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
+    """Every result of a family's registered checks, in order, each given to `progress` as it comes (what
+    each family's `verify.run_all` runs)."""
+    results = []
+    for check in checks:
+        for r in check.results():
+            results.append(r)
+            if progress:
+                progress(r)
+    return results
+
+
 def flip_term(expr: sp.Expr) -> sp.Expr:
     """The negative control's mutation of an equation: the first term (in SymPy's sorted order) of the
     expanded expression with its sign flipped (an expression that is not a sum is doubled)."""

@@ -15,7 +15,7 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
-from ...core.checks import DERIVED, CheckResult, Registered, timed
+from ...core.checks import DERIVED, CheckResult, Registered, run_registered, timed
 from ...core.lagrange import EquationsOfMotion
 from ..single_plane.model import derive as derive_single_plane
 from ..single_plane.scene import Scene, SpeedLaw
@@ -105,10 +105,4 @@ def registered(ns=()) -> list[Registered]:
 
 
 def run_all(progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
-    results = []
-    for check in registered():
-        for r in check.results():
-            results.append(r)
-            if progress:
-                progress(r)
-    return results
+    return run_registered(registered(), progress)

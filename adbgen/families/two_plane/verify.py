@@ -18,7 +18,7 @@ from ..single_plane.scene import Scene
 from ..single_plane.model import derive as derive_single_plane
 from ..single_plane.symbols import DimensionalSymbols
 from ...core.checks import (CONSISTENCY, DERIVED, NOT_REPRODUCED, CheckResult, Registered, flip_term,
-                             moved, printed_tolerance, timed as _timed)
+                             moved, printed_tolerance, run_registered, timed as _timed)
 from . import critical_speeds as cs
 from . import normal_form as nf
 from .model import derive
@@ -580,13 +580,7 @@ def registered(ns=()) -> list[Registered]:
 
 
 def run_all(progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
-    results = []
-    for check in registered():
-        for r in check.results():
-            results.append(r)
-            if progress:
-                progress(r)
-    return results
+    return run_registered(registered(), progress)
 
 
 __all__ = ["run_all", "general_scene"]
