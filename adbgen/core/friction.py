@@ -13,18 +13,12 @@ import sympy as sp
 from .lagrange import Coordinate, EnergyTerm, lagrange_equations, time_derivative
 
 
-def slip_direction(rate: sp.Expr, at_rest: sp.Expr = sp.S.Zero) -> sp.Expr:
-    """sign(rate) as a Piecewise (1, -1, and `at_rest` at rate = 0): the direction of a ball's slip on the
-    race.  Written with branches rather than sign() so that its derivative is 0 on each side (sign's is a
-    Dirac delta, which no target prints).  At rate = 0 the slip law alone says nothing: without stiction the
-    force is 0 there; with stiction (`at_rest` the ball's slip_dir_i) it is the direction the event driver
-    found when the ball left the stick phase, so the first step of a slip is smooth."""
-    moving = sp.Piecewise((1, rate > 0), (-1, rate < 0), (0, True))
-    if at_rest == 0:
-        return moving
-    # at_rest outside the branches (times 1 - sign^2: 1 at rest, 0 in motion), so the per-ball block stays
-    # a polynomial in the ball's parameters (the loop form's split compares blocks after scaling them)
-    return moving + at_rest * (1 - moving**2)
+def slip_direction(rate: sp.Expr) -> sp.Expr:
+    """sign(rate) as a Piecewise (1, -1, and 0 at rate = 0): the direction of a ball's slip on the race in a
+    model without stiction (at rest the slip law says nothing and the force is 0).  Written with branches
+    rather than sign() so that its derivative is 0 on each side (sign's is a Dirac delta, which no target
+    prints).  A model with stiction takes the direction from the ball's mode instead (slip_dir_i)."""
+    return sp.Piecewise((1, rate > 0), (-1, rate < 0), (0, True))
 
 
 def race_reaction(mass: sp.Expr, position, rho: Coordinate, radius: sp.Expr, coordinates, t: sp.Symbol,

@@ -22,6 +22,14 @@
  * (DOP853 is one-step: no history is lost).  An excursion of g below 0 and back within one step is not seen
  * (a slip reversing twice in one step); the step size keeps that to features shorter than a step.
  *
+ * Within a mode the vector field is smooth: a slipping ball's friction acts along its mode (slip_dir), not
+ * along the sign of its rate, so the field continues past phi_b' = 0 and the stop is located on it like any
+ * root (the event-driven treatment of Coulomb friction: each of forward slip, backward slip and stick is
+ * its own smooth system, the switch a state event; Otter, Elmqvist and Mattsson 1999, the Modelica
+ * library's friction elements).  With sign(phi_b') in the field, as the models had before, the field
+ * flipped inside a step near the stop, the solution chattered at phi_b' ~ 1e-11 without crossing 0 at a
+ * step's end, and the step size shrank without end (tests/analysis/test_hybrid_stall.py).
+ *
  * Why this and not CVODE's root finding: the events change the model's parameters (its mode), after which
  * CVODE restarts at order 1 with a tiny step (CVodeReInit loses its history) at every stick and release;
  * a one-step method restarts at full order.
@@ -30,7 +38,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifndef ADB_MODEL_INCLUDED /* a test that wraps the model's rhs includes it first */
 #include ADB_MODEL_SOURCE
+#endif
 
 #define RK_T double
 #define RK_NY ADB_NY

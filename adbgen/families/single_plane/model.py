@@ -106,9 +106,13 @@ def friction_forces(lag: SinglePlaneLagrangian) -> dict[str, sp.Expr]:
     which the emitted normal force shows."""
     s = lag.symbols
     normal = normal_forces(lag)
-    at_rest = s.slip_dir or (sp.S.Zero,) * lag.scene.n
-    return {f"phi_{i + 1}": -s.R * s.mu_r[i] * slip_direction(Coordinate.make(f"phi_{i + 1}").qd, at_rest[i])
-            * normal[i] for i in range(lag.scene.n)}
+    # With stiction the direction is the ball's mode slip_dir_i (set by the event driver), not sign(phi_i'):
+    # each mode's vector field is then smooth and continues past phi_i' = 0, so the driver locates the
+    # stop on it (Leine & Nijmeijer's event-driven integration).  sign(phi_i') in the field would flip
+    # inside a step, the numerical solution would chatter at phi_i' ~ 0 without crossing it at a step's
+    # end, and the step size would shrink without bound (the stall of docs/friction.md).
+    direction = s.slip_dir or tuple(slip_direction(Coordinate.make(f"phi_{i + 1}").qd) for i in range(lag.scene.n))
+    return {f"phi_{i + 1}": -s.R * s.mu_r[i] * direction[i] * normal[i] for i in range(lag.scene.n)}
 
 
 def stick_rows(lag: SinglePlaneLagrangian, residuals: list[sp.Expr], coordinates) -> list[sp.Expr]:

@@ -47,7 +47,7 @@ class DimensionalSymbols:
     mu_r: tuple[sp.Expr, ...] = ()  # rolling resistance per ball (the same symbol n times for one value); () without friction
     mu_s: tuple[sp.Expr, ...] = ()  # stiction per ball; () without static_friction
     stuck: tuple[sp.Symbol, ...] = ()  # each ball's mode: 1 stuck on the race (phi_i' = 0 held), 0 slipping
-    slip_dir: tuple[sp.Symbol, ...] = ()  # the slip direction at phi_i' = 0 (+1 or -1), set when a ball starts slipping
+    slip_dir: tuple[sp.Symbol, ...] = ()  # the direction (+1 or -1) of ball i's slip (its mode), set by the event driver
 
     @classmethod
     def for_scene(cls, scene: Scene) -> "DimensionalSymbols":
@@ -107,7 +107,7 @@ class DimensionalSymbols:
             stuck = tuple(add(sp.Symbol(f"stuck_{i + 1}", real=True), f"mode of ball {i + 1}: 1 stuck on the race, "
                               "0 slipping (set by the event driver)", "dimensionless", 0.0) for i in range(n))
             slip_dir = tuple(add(sp.Symbol(f"slip_dir_{i + 1}", real=True), f"direction (+1, -1) of ball {i + 1}'s "
-                                 "slip while its phi' is 0 (set by the event driver)", "dimensionless", 0.0)
+                                 "slip, its mode while slipping (set by the event driver)", "dimensionless", 0.0)
                              for i in range(n))
         return cls(M, eps, R, m, D, kX, kY, cX, cY, g, I_z, omega, tau0, kappa, params.sorted(), mu_r, mu_s, stuck,
                    slip_dir)
