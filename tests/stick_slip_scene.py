@@ -1,31 +1,15 @@
 """The one stick/slip scene the tests generate: a braked free rotor (law = "torque", tau = tau0 < 0) with two
-balls, rolling resistance and stiction.  A friction model with stiction takes minutes to generate, and every
+balls, rolling resistance and stiction.  A friction model with stiction takes a while to generate (36 s on the shared machine), and every
 value in the scene is a parameter of the model (eps, D, tau0, kappa, mu_r, mu_s ...), so the tests that need
-such a model load this one, from the scene cache (`load_model(scene=...)`, the same bytes: generated once per
+such a model load this one (the scene of `adbgen verify`'s stick/slip energy balance,
+science/stick_slip_energy.py), from the scene cache (`load_model(scene=...)`, the same bytes: generated once per
 machine and generator), and set their own values with `model.params({...})`."""
 
 from __future__ import annotations
 
 from adbgen.analysis.loading import load_model
-
-MU_R, MU_S, R, MASS = 0.02, 0.05, 0.05, 0.01
-I_Z, TAU0 = 1e-3, -0.01
-TORQUE_SCENE = f"""n = 2
-rotor_mass = 1.0
-eccentricity = 0.0
-polar_inertia = {I_Z}
-race_radius = {R}
-ball_mass = {MASS}
-ball_damping = 0.0
-stiffness = 1000.0
-damping = 1.0
-rolling_resistance = {MU_R}
-static_friction = {MU_S}
-[speed]
-law = "torque"
-tau0 = {TAU0}
-motor_slope = 0.0
-"""
+from adbgen.families.single_plane.science.stick_slip_energy import I_Z, MASS, MU_R, MU_S, R, TAU0  # noqa: F401
+from adbgen.families.single_plane.science.stick_slip_energy import SCENE as TORQUE_SCENE
 
 
 def braked_model(tmp_path_factory):

@@ -36,14 +36,15 @@ class SinglePlane:
                 "rotating": reductions.rotating_frame, "first-order": lambda scene: smallest_model(scene).system}
 
     def verify(self, progress, ns=(1, 2, 3, 4, 6)) -> list:
+        from ...core.checks import run_registered
         from .verify import run_all
 
-        return run_all(tuple(ns), progress=progress)
+        return run_all(tuple(ns), progress=progress) + run_registered(science_checks(), progress)
 
     def checks(self, ns=(1, 2, 3, 4, 6)) -> list:
         from .verify import registered
 
-        return registered(tuple(ns))
+        return registered(tuple(ns)) + science_checks()
 
     def models(self) -> list:
         from .models import default_set
@@ -71,6 +72,21 @@ class SinglePlane:
 
     def science_commands(self) -> str:
         return "adbgen.families.single_plane.science.commands:register"
+
+
+# checks that run a generated model (the analysis layer, which the derivation's verify.py may not import): named
+# like the reproductions, "module:attribute" of a core.checks.Registered
+SCIENCE_CHECKS = ("adbgen.families.single_plane.science.stick_slip_energy:REGISTERED",)
+
+
+def science_checks() -> list:
+    from importlib import import_module
+
+    out = []
+    for ref in SCIENCE_CHECKS:
+        module, attribute = ref.split(":")
+        out.append(getattr(import_module(module), attribute))
+    return out
 
 
 FAMILY = SinglePlane()
