@@ -12,6 +12,13 @@ without friction (mu_r = mu_s = 0, where every ball slips and only reverses) set
 length needs, and the run with stiction must take at most twice as many steps (measured: 2074 against 2475;
 over a 21 x 21 grid of starts at most 1.06 times).  Negative control: the old field (the planted driver
 hybrid_old_field.c, which puts the rate's sign in the mode before each rhs call) is stopped by that bound.
+
+Events located to the engine's tolerance, on the same start (21 events: stops from forward and backward slip,
+releases both ways): at rtol = 1e-9 (atol = rtol / 100) the run has the events of a run at rtol = 1e-12, in the
+same order, each within T_END * rtol (the integrator keeps each step's local error to rtol of the state, and
+the error a run carries is of that order over the run's length; measured over rtol = 1e-7 ... 1e-11 against
+1e-13: 0.08 to 0.19 of T_END * rtol).  Negative control: the driver compiled with no bisection
+(HY_LOCATE_ITERATIONS = 0: every event at the end of the step it falls in) is outside that bound.
 """
 
 from __future__ import annotations
@@ -40,11 +47,12 @@ def model(tmp_path_factory):
     return braked_model(tmp_path_factory)
 
 
-def _run(model, friction: dict, max_steps: int = 10_000_000):
+def _run(model, friction: dict, max_steps: int = 10_000_000, rtol: float = 1e-10):
     y0 = np.zeros(model.n_states)
     y0[model.index("phi_1")], y0[model.index("phi_2")] = STALLED
     y0[model.index("psi_dot")] = SPEED
-    return hybrid.run(model, model.params({**ROTOR, **friction}), y0, 0.0, T_END, max_steps=max_steps)
+    return hybrid.run(model, model.params({**ROTOR, **friction}), y0, 0.0, T_END, max_steps=max_steps, rtol=rtol,
+                      atol=rtol / 100)
 
 
 def _old_field_library(model):
@@ -89,3 +97,39 @@ def test_the_old_field_is_stopped_by_the_bound(model, frictionless_steps, monkey
     cap = int(BOUND * frictionless_steps)
     run = _run(model, FRICTION, max_steps=cap)
     assert run.status == "max_steps" and run.t_end < T_END, (run.status, run.t_end, run.steps)
+
+
+RTOL_EVENTS, RTOL_REFERENCE = 1e-9, 1e-12
+
+
+def _event_errors(model, reference) -> tuple[bool, float]:
+    """Whether a run at RTOL_EVENTS has the reference's events in kind and order, and max |t - t_ref| over the
+    events the two have in common before they part."""
+    run = _run(model, FRICTION, rtol=RTOL_EVENTS)
+    assert run.status == "success", run.status
+    common = 0
+    for a, b in zip(run.events, reference.events):
+        if a[1:] != b[1:]:
+            break
+        common += 1
+    same = common == len(run.events) == len(reference.events)
+    return same, max(abs(a[0] - b[0]) for a, b in zip(run.events[:common], reference.events[:common]))
+
+
+@pytest.fixture(scope="module")
+def reference(model):
+    run = _run(model, FRICTION, rtol=RTOL_REFERENCE)
+    assert run.status == "success" and len(run.events) > 10, (run.status, run.events)
+    return run
+
+
+def test_events_are_located_to_the_engines_tolerance(model, reference):
+    same, error = _event_errors(model, reference)
+    assert same and error <= T_END * RTOL_EVENTS, (same, error)
+
+
+def test_events_at_the_steps_end_are_caught(model, reference, monkeypatch):
+    unlocated = hybrid.library
+    monkeypatch.setattr(hybrid, "library", lambda m: unlocated(m, ("-DHY_LOCATE_ITERATIONS=0",)))
+    _, error = _event_errors(model, reference)
+    assert error > T_END * RTOL_EVENTS, error  # already before the events part

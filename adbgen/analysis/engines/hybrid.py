@@ -82,10 +82,11 @@ class HybridRun:
         return tuple(out)
 
 
-def library(model):
+def library(model, extra: tuple[str, ...] = ()):
+    """The driver compiled with the model; `extra`: more -D defines (a test plants HY_LOCATE_ITERATIONS=0)."""
     source = model.c_source()
     defines = [f'-DADB_MODEL_SOURCE="{source.name}"', f"-DADB_RHS={model.name}_rhs",
-               f"-DADB_MEASURE={model.name}_measure", *_sizes(model)]
+               f"-DADB_MEASURE={model.name}_measure", *_sizes(model), *extra]
     lib = ctypes.CDLL(str(build(model, "hybrid_driver.c", source, defines, [])))
     lib.adb_hybrid_run.restype = ctypes.c_int
     return lib

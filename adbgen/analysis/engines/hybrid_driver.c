@@ -49,6 +49,10 @@
 #define RK_RHS(t, y, f) ADB_RHS((t), (y), ((const double *)ctx), (f))
 #include "rk_dop853.h"
 
+#ifndef HY_LOCATE_ITERATIONS /* bisections of an event on the step (a test plants 0: the event at the step's end) */
+#define HY_LOCATE_ITERATIONS 200
+#endif
+
 enum { HY_OK = 0, HY_MAX_STEPS = 1, HY_MAX_EVENTS = 2, HY_UNDERFLOW = 3, HY_NONFINITE = 4 };
 
 typedef struct {
@@ -98,7 +102,7 @@ static int decide(const Balls *B, int b, double t, double *y, double *p)
 static double locate(const Balls *B, int ball, const Step *s, double a, double b, const double *p)
 {
     double y[ADB_NY];
-    for (int it = 0; it < 200; ++it) {
+    for (int it = 0; it < HY_LOCATE_ITERATIONS; ++it) {
         double m = 0.5 * (a + b);
         if (m <= a || m >= b) break;
         step_at(s, m, y);
