@@ -6,10 +6,10 @@
  *     -DADB_NY=<states> -DADB_NP=<parameters>
  *
  * The model carries each switching ball's mode in its parameters (stuck_b: 1 stuck, 0 slipping; slip_dir_b:
- * the direction of a slip that starts at phi_b' = 0) and emits the switching functions as measures: the
- * slip rate (slip -> stick when it reaches 0), the stick margin mu_s N - |F| (stick -> slip when it turns
- * negative) and the required tangential force F of a stuck ball (its sign: which way a released ball
- * slips).  The driver only reads them; no physics is written here.
+ * the direction of its slip, along which the model's friction acts while it slips) and emits the switching
+ * functions as measures: the slip rate (slip -> stick when it reaches 0), the stick margin mu_s N - |F|
+ * (stick -> slip when it turns negative) and the required tangential force F of a stuck ball (its sign:
+ * which way a released ball slips).  The driver only reads them; no physics is written here.
  *
  * Per accepted step, every ball's switching function g is evaluated at the step's end (slipping: slip_dir
  * times the slip rate; stuck: the margin).  Where one is negative, its root is located on the step's

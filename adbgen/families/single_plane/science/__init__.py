@@ -15,4 +15,5 @@ derivation modules (one folder up) never import them.
     lyapunov         the largest Lyapunov exponent (Figs. 5.12-5.14 (b))
     templates        the newer sections' Markdown as jinja2 templates (package data)
     commands         `adbgen demo` (thesis Fig. 5.4 recomputed and plotted)
+    stick_slip_energy  the energy balance over a run with stick and slip (a check of `adbgen verify`)
 """
