@@ -1,7 +1,7 @@
 """The one stick/slip scene the tests generate: a braked free rotor (law = "torque", tau = tau0 < 0) with two
-balls, rolling resistance and stiction.  A friction model with stiction takes a while to generate (36 s on the shared machine), and every
-value in the scene is a parameter of the model (eps, D, tau0, kappa, mu_r, mu_s ...), so the tests that need
-such a model load this one (the scene of `adbgen verify`'s stick/slip energy balance,
+balls, rolling resistance and stiction.  A friction model with stiction takes a while to generate (36 s on the
+shared machine), and every value in the scene is a parameter of the model (eps, D, tau0, kappa, mu_r, mu_s ...),
+so the tests that need such a model load this one (the scene of `adbgen verify`'s stick/slip energy balance,
 science/stick_slip_energy.py), from the scene cache (`load_model(scene=...)`, the same bytes: generated once per
 machine and generator), and set their own values with `model.params({...})`."""
 

@@ -3,10 +3,10 @@
 
 A model whose stick phase is modelled says so in its self-description: per ball k (1, 2, ...) the
 parameters stuck_k (its mode: 1 stuck, 0 slipping) and slip_dir_k (the direction of its slip, along which
-the model's friction acts: each mode's field is smooth), and the measures slip_rate_k, stick_margin_k and stick_force_k (the switching functions, emitted from
-the symbolic model).  This module finds them by those names, so it names no family.  The driver sets the
-modes at the start (every ball at rest on the race is decided there) and at every event; the parameters'
-values given for stuck_k and slip_dir_k are ignored.
+the model's friction acts: each mode's field is smooth), and the measures slip_rate_k, stick_margin_k and
+stick_force_k (the switching functions, emitted from the symbolic model).  This module finds them by those
+names, so it names no family.  The driver sets the modes at the start (every ball at rest on the race is
+decided there) and at every event; the parameters' values given for stuck_k and slip_dir_k are ignored.
 """
 
 from __future__ import annotations

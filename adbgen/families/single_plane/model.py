@@ -100,18 +100,20 @@ def normal_forces(lag: SinglePlaneLagrangian) -> tuple[sp.Expr, ...]:
 def friction_forces(lag: SinglePlaneLagrangian) -> dict[str, sp.Expr]:
     """{phi_i: Q_i}: the generalised force of the race's friction on ball i while it slips, Q_i =
     -R mu_r_i N_i sign(phi_i') (a tangential force mu_r_i N_i against the ball's motion relative to the
-    race, at the race radius R).  The pair of forces on ball and race does virtual work only through
-    phi_i (the contact points move together with X, Y, psi), so no other row gets a term.  N_i is
-    taken signed (`normal_forces`): the model holds while the ball presses on the outer wall (N_i > 0),
-    which the emitted normal force shows."""
+    race, at the race radius R; with stiction slip_dir_i, the ball's mode, in place of sign(phi_i')).  The
+    pair of forces on ball and race does virtual work only through phi_i (the contact points move together
+    with X, Y, psi), so no other row gets a term.  N_i is taken signed (`normal_forces`): the model holds
+    while the ball presses on the outer wall (N_i > 0), which the emitted normal force shows."""
     s = lag.symbols
     normal = normal_forces(lag)
     # With stiction the direction is the ball's mode slip_dir_i (set by the event driver), not sign(phi_i'):
-    # each mode's vector field is then smooth and continues past phi_i' = 0, so the driver locates the
-    # stop on it (Leine & Nijmeijer's event-driven integration).  sign(phi_i') in the field would flip
-    # inside a step, the numerical solution would chatter at phi_i' ~ 0 without crossing it at a step's
+    # each mode's vector field is then smooth and continues past phi_i' = 0, so the driver locates the stop
+    # on it (event-driven Coulomb friction as Otter, Elmqvist and Mattsson 1999 give it for the Modelica
+    # library: forward slip, backward slip and stick each a smooth system).  sign(phi_i') in the field would
+    # flip inside a step, the numerical solution would chatter at phi_i' ~ 0 without crossing it at a step's
     # end, and the step size would shrink without bound (the stall of docs/friction.md).
-    direction = s.slip_dir or tuple(slip_direction(Coordinate.make(f"phi_{i + 1}").qd) for i in range(lag.scene.n))
+    direction = s.slip_dir or tuple(slip_direction(Coordinate.make(f"phi_{i + 1}").qd)
+                                    for i in range(lag.scene.n))
     return {f"phi_{i + 1}": -s.R * s.mu_r[i] * direction[i] * normal[i] for i in range(lag.scene.n)}
 
 

@@ -47,7 +47,7 @@ class DimensionalSymbols:
     mu_r: tuple[sp.Expr, ...] = ()  # rolling resistance per ball (the same symbol n times for one value); () without friction
     mu_s: tuple[sp.Expr, ...] = ()  # stiction per ball; () without static_friction
     stuck: tuple[sp.Symbol, ...] = ()  # each ball's mode: 1 stuck on the race (phi_i' = 0 held), 0 slipping
-    slip_dir: tuple[sp.Symbol, ...] = ()  # the direction (+1 or -1) of ball i's slip (its mode), set by the event driver
+    slip_dir: tuple[sp.Symbol, ...] = ()  # the direction (+1 or -1) of ball i's slip (its mode), set by the driver
 
     @classmethod
     def for_scene(cls, scene: Scene) -> "DimensionalSymbols":
