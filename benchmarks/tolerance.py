@@ -338,7 +338,7 @@ DIAGNOSIS = (
     "04_single_plane_fixed_n2) in the norm max(1, |y|): a bound the per-component promise does not share. "
     "These runs used the table before the fix (their `picked` rows); the table is now learned with held-in check "
     "scenes in the promise's norm (`benchmarks.engine_table.CHECK_SCENES`, [the engines page](../engines.md)), "
-    "and the ratios above are the new table's. With it, 07_thesis_rotating_n3 still misses at 1e-4 (3.7e3, its "
+    "and the ratios then measured were that table's. With it, 07_thesis_rotating_n3 still misses at 1e-4 (3.7e3, its "
     "diagnosis run with the new table's row, order 12 factor 2): from t_end / 10 to t_end its amplification grows "
     "from 1e2-2e4 to 7e4-2e8, and its two references (both at rtol 1e-14) differ there by 0.2 tolerance units at "
     "rtol 1e-4, i.e. by 2e-5 in the weights; heyoka's rule (1.8e3) and DOP853 (4.6e3) miss as well. A transient "
@@ -350,7 +350,12 @@ DIAGNOSIS = (
     "18 at factor 1.5 at 0.014, order 12 at factor 2 / 1 at 239 / 0.0074, DOP853 at 1.6e3: from factor 2 to 2.5 "
     "at order 20 the error grows 1900x for a per-step aim 85x larger, from factor 1 to 2 at order 12 32000x for "
     "4000x, as if Jorba & Zou's radius from the last two coefficients overshot the series' true radius on this "
-    "scene; a factor cap learned on a held-in scene of this kind is the next step.")
+    "scene; a factor cap learned on a held-in scene of this kind is the next step. Done 2026-11-29 (the engines "
+    "page, \"The step-factor cliff\"): two thesis n = 3 transients from another seed (3536) are check scenes, "
+    "on which the cliff shows (order 12 at factor 1 / 1.5 / 2: 5.1e-5 / 5.1e-3 / 1.9e-2 in the weights), and "
+    "the table learned with them takes factor 1.5 (order 18 at 1e-4 and 1e-5, 20 from 1e-6); the diagnosis "
+    "runs below used the tables before it (their `picked` rows), the ratios per scene are the current "
+    "table's where not marked.")
 
 
 def diagnosis_lines(diagnosis: dict) -> list[str]:
