@@ -211,7 +211,10 @@ def summary(scenes: dict, table: str | None = None) -> dict:
     worst = max(groups.values(), default=None)
     return {"worst_by_family": groups, "worst": worst, "over_target": over, "target": TARGET,
             "met": worst is not None and not over, "missed_beyond_reference": beyond, "table": table,
-            "measured": len(counted), "stale": sorted(set(scenes) - set(counted)), "scenes_in_all": len(load())}
+            "measured": len(counted), "stale": sorted(set(scenes) - set(counted)), "scenes_in_all": len(load()),
+            "decided_cells": sum(c["decided"] for r in counted.values() for c in r.get("cells", [])),
+            "cells": sum(len(r.get("cells", [])) for r in counted.values()),
+            "no_decided_cell": sorted(k for k, r in counted.items() if not any(c["decided"] for c in r.get("cells", [])))}
 
 
 BEYOND = 10.0  # an undecided cell this many times farther from the reference than the references are apart
@@ -305,6 +308,9 @@ def page(result: dict) -> str:
     lines += ["", f"Cells above the target: {len(s['over_target'])}" + (
         ": " + ", ".join(f"{o['scene']} at {o['rtol']:g} ({o['ratio']:.3g})" for o in s["over_target"])
         if s["over_target"] else "") + ".", "",
+              f"Decided cells: {s['decided_cells']} of {s['cells']}; scenes without one (their references disagree "
+              f"by more than a tolerance unit at every rtol, so they grade nothing): {len(s['no_decided_cell'])}"
+              + (": " + ", ".join(s["no_decided_cell"]) if s["no_decided_cell"] else "") + ".", "",
               f"Undecided cells above the target and more than {BEYOND:g}x the references' disagreement (the "
               f"references cannot grade them, but the engine's miss is far beyond their own; not counted above): "
               f"{len(beyond)}" + (": " + ", ".join(f"{o['scene']} at {o['rtol']:g} ({o['ratio']:.3g} against "

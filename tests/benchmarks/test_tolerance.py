@@ -84,6 +84,9 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
               "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
     text = tolerance.page(result)
     assert "| 36_two_plane_torque | 3 | (500) |" in text and "| two_plane / thesis / torque | 3 |" in text
+    assert "Decided cells: 1 of 2; scenes without one (their" in text and "every rtol, so they grade nothing): 0." in text
+    cells[0]["decided"] = False  # negative control: a scene with no decided cell is named
+    assert "every rtol, so they grade nothing): 1: 36_two_plane_torque." in tolerance.page(result)
 
 
 def test_the_page_shows_a_recorded_diagnosis_and_only_then():
