@@ -211,6 +211,11 @@ def test_every_shipped_row_passes_its_check_scenes():
     # row (order 10, factor 2.5: 9.8e-3 on scene 00 of bench tolerance) does not at 1e-4
     assert bench_auto.passes_check(table["rows"][-1], loose["rtol"], checked)
     assert not bench_auto.passes_check({"key": "taylor:o10:f2.5"}, 1e-4, checked)
+    # the step-factor cliff: the 1e-4 row learned before the held-in transients (order 13, factor 2; 3.7e3 and
+    # 1.2e4 on held-out thesis n = 3 scenes) passes the first two check scenes and is caught by the transients
+    cliff = {"key": "taylor:o13:f2"}
+    first_two = {"scenes": {k: v for k, v in checked["scenes"].items() if k in ("notebook06_si", "thesis_long")}}
+    assert bench_auto.passes_check(cliff, 1e-4, first_two) and not bench_auto.passes_check(cliff, 1e-4, checked)
 
 
 def test_table_only_reuses_the_recorded_check_scenes_defined_as_now(monkeypatch):
