@@ -193,13 +193,6 @@ def lowering_error(ir: ModelIR, system: FirstOrderSystem, samples: int = 20, see
     return max(_relative(program(t, y, p), ref.rhs(t, y, p)) for t, y, p in ref.points(ir.n_states, ir.n_coordinates, samples, seed))
 
 
-def check_lowering(ir: ModelIR, system: FirstOrderSystem) -> float:
-    """The rhs check alone (kept for callers that want one number); `check_programs` checks them all."""
-    err = lowering_error(ir, system)
-    _refuse(ir.name, {"rhs": err}, _AGAINST)
-    return err
-
-
 def check_start(ir: ModelIR) -> None:
     """The start point is a steady state (an equilibrium; on an oscillator extension, a point of a
     periodic orbit at rest apart from the oscillator) of the rendered rhs, to rounding: 1e-12 of the
