@@ -308,16 +308,10 @@ def _check_measures(ir: ModelIR, system: FirstOrderSystem) -> float:
 
 
 def _check_forcing(ir: ModelIR, system: FirstOrderSystem) -> None:
-    from ..core.oscillator import Oscillator
+    from ..core.description import forcing_frequency
 
     d = ir.description
-    eom = system.solve.eom
-    law = dict(eom.driven_law)
-    exprs = [sp.sympify(v).xreplace(law) for v in eom.mass.values()] + [sp.sympify(e).xreplace(law) for e in eom.forcing]
-    try:
-        frequency = Oscillator.detect(exprs, eom.time).frequency
-    except ValueError:
-        frequency = None
+    frequency = forcing_frequency(system.solve.eom)
     declared = {p.name: p.symbol for p in system.parameters}.get(d.forcing_frequency)
     if frequency is None and declared is not None:
         raise CheckFailed(f"{ir.name}: declares the forcing frequency {d.forcing_frequency} but is not periodically "

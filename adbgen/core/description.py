@@ -166,17 +166,21 @@ def spin_measures(eom: EquationsOfMotion) -> dict[str, sp.Expr]:
     return {"spin_angle": law[c.q], "spin_rate": law[c.qd]}
 
 
-def forcing_parameter(eom: EquationsOfMotion) -> str:
-    """The parameter of a periodic forcing (e.g. the spin speed omega of a fixed frame) in the equations
-    with the run-up law substituted, "" if time does not appear or its frequency is not one parameter."""
+def forcing_frequency(eom: EquationsOfMotion) -> sp.Expr | None:
+    """The frequency of a periodic forcing in the equations with the run-up law substituted (paper (40)'s
+    w), None where time does not enter at one constant frequency."""
     law = dict(eom.driven_law)
     exprs = [sp.sympify(v).xreplace(law) for v in eom.mass.values()] + [sp.sympify(e).xreplace(law) for e in eom.forcing]
-    if not any(eom.time in e.free_symbols for e in exprs):
-        return ""
     try:
-        w = Oscillator.detect(exprs, eom.time).frequency
+        return Oscillator.detect(exprs, eom.time).frequency
     except ValueError:
-        return ""
+        return None
+
+
+def forcing_parameter(eom: EquationsOfMotion) -> str:
+    """The parameter of a periodic forcing (e.g. the spin speed omega of a fixed frame), "" if there is
+    none or its frequency is not one parameter."""
+    w = forcing_frequency(eom)
     return w.name if isinstance(w, sp.Symbol) else ""
 
 
