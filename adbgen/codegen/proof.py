@@ -43,6 +43,7 @@ import numpy as np
 
 from . import compiler, targets
 from ..errors import AdbgenError
+from ..outputs import cache_dir
 from .checks import CheckFailed, Reference, _apply, _project, _state_points
 from .plain_python import compile_program
 from .ir import KERNELS, ModelIR
@@ -331,13 +332,6 @@ class Proof:
 
 
 # ---------------------------------------------------------------------------------------------- cache
-
-
-def cache_dir() -> Path:
-    """$ADBGEN_CACHE, else $XDG_CACHE_HOME/adbgen, else ~/.cache/adbgen (as the analysis layer's)."""
-    base = os.environ.get("ADBGEN_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "adbgen")
-    return Path(base)
 
 
 # what decides whether files are proven, besides the files and the model: the frame, the toolchain, the
