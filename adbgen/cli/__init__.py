@@ -33,7 +33,7 @@ from typing import Callable
 
 from .. import __version__, families
 from ..cli_types import UsageError
-from ..core.registry import load
+from ..registry import load
 from ..errors import AdbgenError
 
 # Command groups besides the families', in the order of `adbgen --help`; one line per group.

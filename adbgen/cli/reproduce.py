@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from .. import families
 from ..analysis.reproduction import Reproduction, build
-from ..core.registry import load
+from ..registry import load
 
 
 def references() -> dict[str, str]:

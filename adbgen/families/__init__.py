@@ -9,7 +9,7 @@ generation, commands) with `family.py` defining ``FAMILY``, and add one line to 
 
 from __future__ import annotations
 
-from ..core.registry import Registry
+from ..registry import Registry
 from .family import Family
 
 # name -> "module:attribute", in order (the order of generated/ and of `adbgen verify`); one line per family

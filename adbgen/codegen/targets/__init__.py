@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ...core.registry import Registry
+from ...registry import Registry
 from ..ir import KERNELS
 
 if TYPE_CHECKING:

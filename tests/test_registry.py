@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from adbgen.core.registry import Registry, load
+from adbgen.registry import Registry, load
 
 
 def test_an_entry_is_imported_when_first_asked_for_and_kept():

@@ -1,6 +1,7 @@
 """A registry of named objects, each given as a "module:attribute" string and imported when first asked for
 (the families', `adbgen.families.REGISTRY`, and the code-generation targets', `adbgen.codegen.targets.REGISTRY`).
-`register` adds an object at run time (tests, plug-ins outside the package)."""
+`register` adds an object at run time (tests, plug-ins outside the package).  Only the standard library is
+imported here (the command line and the analysis layer load without SymPy)."""
 
 from __future__ import annotations
 
