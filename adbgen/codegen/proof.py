@@ -380,7 +380,7 @@ def _remember(key: str) -> None:
 
 
 def _overrides_prove(target: "targets.Target") -> bool:
-    return type(target).prove is not targets.Target.prove
+    return type(target).prove is not targets.Target.prove or targets.proof_module(target) is not None
 
 
 def check_form(ir: ModelIR, form: str) -> None:

@@ -13,6 +13,7 @@ data).  Its Python side lives in `adbgen/codegen/targets/<name>/` (`__init__.py`
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -98,9 +99,24 @@ class Target:
     def prove(self, proof: "Proof") -> None:
         """Prove this target's files before `regenerate` writes them (issue 20): they are written in
         ``proof.folder``; compare what they compute with ``proof.expected`` at ``proof.samples`` and
-        refuse with ``proof.fail(...)``.  A target that does not override this is refused: nothing
-        unproven is written (`codegen.proof`)."""
-        raise NotImplementedError(f"target {self.name!r} has no proof")
+        refuse with ``proof.fail(...)``.  By default ``prove(target, proof)`` of the ``prove`` module in the
+        target class's package (``targets/<name>/prove.py``); a target with neither that nor an override is
+        refused: nothing unproven is written (`codegen.proof`)."""
+        module = proof_module(self)
+        if module is None:
+            raise NotImplementedError(f"target {self.name!r} has no proof")
+        module.prove(self, proof)
+
+
+def proof_module(target: Target):
+    """The ``prove`` module beside the target's class (its package's), None if there is none."""
+    name = f"{type(target).__module__}.prove"
+    try:
+        return importlib.import_module(name)
+    except ModuleNotFoundError as exc:
+        if exc.name != name and not name.startswith(f"{exc.name}."):
+            raise  # a module the proof itself imports is missing: not the same as having no proof
+        return None
 
 
 def columns(kernel: "Kernel") -> int:
