@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .auto07p import TYPES, AutoError, Point, Session, Solution, _mapping, auto_parameter
+from .auto07p import TYPES, AutoError, Point, Session, Solution, _mapping, auto_parameter, continuation_range
 from .loading import AnalysisError, Model
 
 CLOSURE_TOL = 1e-7  # an orbit closes when |y(T) - y(0)| <= CLOSURE_TOL (1 + |y|) (angles mod 2 pi)
@@ -332,13 +332,7 @@ def continue_orbit(model: Model, name: str, p: np.ndarray, to: float | None = No
                    keep: str | None = None) -> OrbitRun:
     """The forced response continued in `name` from p's value to `to` (default half of it): stage 1
     first where p moves the start orbit's parameter, then this continuation (from stage 1's end)."""
-    if name not in model.param_names:
-        raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
-    k = model.param_names.index(name)
-    frm = float(p[k])
-    to = (0.5 * frm if frm > 0 else frm - 1.0) if to is None else float(to)
-    if not math.isfinite(to) or to == frm:
-        raise AnalysisError(f"--to must differ from the start value {name} = {frm:g}")
+    k, frm, to = continuation_range(model, name, p, to)
     with Session(model, keep=keep, forced=True) as session:
         runs, st = _route(model, p, session)
         if k == st.first and not runs:  # continuing stage 1's own parameter straight from stpnt
