@@ -3,8 +3,9 @@ first critical speeds, and a transient through them (issue 38, "what must be sho
 section 5).
 
 The rotor is `ross.rotor_example()` as ROSS ships it (its bearings kxx = 1e6, kyy = 8e5 N/m, no damping:
-the rotor's only dissipation is the balls' drag) with the balancer at the disk of node 2: two balls of
-0.05 kg in a race of radius 0.1 m, the unbalance 1e-4 kg m at node 2.  The speed range 40-200 rad/s
+the rotor's only dissipation is the balls' drag), and the same rotor with bearing damping cxx = cyy =
+1000 N s/m (`damped_bearings`), with the balancer at the disk of node 2: two balls of 0.05 kg in a race
+of radius 0.1 m, the unbalance 1e-4 kg m at node 2.  The speed range 40-200 rad/s
 holds the first backward and forward critical speeds (91.79, 96.30 rad/s, ROSS) and ends below the second
 pair (271.25, 300.35 rad/s).
 
@@ -20,8 +21,10 @@ fixed frame's Floquet multipliers are what decides stability for such a rotor.
 
 Modal convergence (the smallest-model rule, issue 38 item 3) for this answer: the critical speeds below
 the range's top converge at `flexible.convergence`'s k; the stability chart is computed for that k and
-for every larger k in `MODES` and the chart's verdict (stable / unstable at each speed, marginal ones
-apart) and its stability boundaries are compared.
+for every larger k in `MODES`; the fewest k whose verdict at every speed (marginal ones apart) equals
+every larger k's and whose stability boundaries are within `STABILITY_TOLERANCE` of theirs
+(`stability_converged`).  The model drawn and simulated is the larger of the two rules' k.  The scene
+cache generates numba, C and AUTO-07p (no Taylor target: simulate and the Floquet multipliers need none).
 
 Drawn, deterministically, by ``python3 -m adbgen.ross.through_critical docs/figures`` (ROSS needed):
 flexible_stability.png / .json and flexible_transient.png / .json.
@@ -41,9 +44,13 @@ NODE = 2  # the example's first disk
 BALLS, BALL_MASS, RACE_RADIUS = 2, 0.05, 0.1
 UNBALANCE = 1e-4  # kg m at NODE
 LOW, TOP, STEP = 40.0, 200.0, 2.0  # rad/s: the chart's speeds
-MODES = (2, 4, 6)  # the chart's k: the critical speeds' converged k and larger ones (the rule)
-TRANSIENT_SPEED = 110.0  # rad/s: constant speed just above the first forward critical (96.30 rad/s)
-TRANSIENT_T_END = 20.0  # s
+MODES = (2, 4, 6, 10)  # the chart's k: the critical speeds' converged k (2) and larger ones (the rule)
+# a stability boundary's relative change between k and every larger k charted: 1 %, what the chart resolves
+# (its speeds are 2 rad/s apart, 1.8 % at the boundary near 111 rad/s); the critical speeds keep 1e-3
+STABILITY_TOLERANCE = 1e-2
+BEARING_DAMPING = (0.0, 1000.0)  # N s/m: the example as shipped (no damping), and bearings with damping
+TRANSIENT_SPEED = 130.0  # rad/s: constant speed above the first forward critical (96.30 rad/s) and the boundary
+TRANSIENT_T_END = 600.0  # s: the balls' slow mode (|mu| - 1 = -2e-4 per period) needs minutes
 TRANSIENT_START = {"phi_1": 1.0, "phi_2": -1.0}  # the balls displaced from the balanced state (rad)
 
 
@@ -54,6 +61,22 @@ class Point:
     uncertainty: float
     classification: str  # the response's (stable / neutral / unstable); "marginal" when not certified
     n_unstable: int
+
+
+def damped_bearings(rotor, c: float):
+    """The same rotor with each bearing's direct damping cxx = cyy = c (N s/m), its stiffness unchanged; for
+    bearings whose coefficients do not depend on speed (the example's)."""
+    from .rotor import RotorError, import_ross, speed_dependent
+
+    if speed_dependent(rotor):
+        raise RotorError("damped_bearings: the bearings' coefficients depend on speed")
+    ross = import_ross()
+    first = lambda v: float(np.ravel(v)[0])  # noqa: E731  (ROSS keeps a coefficient as a list over frequencies)
+    bearings = [ross.BearingElement(n=b.n, kxx=first(b.kxx), kyy=first(b.kyy), cxx=c, cyy=c,
+                                    kxy=first(b.kxy), kyx=first(b.kyx), scale_factor=b.scale_factor)
+                for b in rotor.bearing_elements]
+    return ross.Rotor(list(rotor.shaft_elements), list(rotor.disk_elements), bearings,
+                      list(rotor.point_mass_elements))
 
 
 def speeds() -> np.ndarray:
@@ -92,15 +115,114 @@ def boundaries(points: list[Point]) -> list[tuple[float, float, str, str]]:
             for a, b in zip(points, points[1:]) if a.classification != b.classification]
 
 
+def boundary(model, low: float, high: float, xtol: float = 1e-6) -> float:
+    """The speed between low and high where the balanced state's leading |mu| - 1 crosses 0 (Brent's method;
+    the margin changes sign there: a stability boundary)."""
+    from scipy.optimize import brentq
+
+    from ..analysis.auto_orbits import response_at
+
+    def margin(w: float) -> float:
+        p = model.params({"omega": w})
+        return float(response_at(model, p, model.steady_state("B", p), 0.0).margin.value)
+
+    return float(brentq(margin, low, high, xtol=xtol))
+
+
+def refined(model, points: list[Point]) -> list[float]:
+    """Each stable <-> unstable change of the chart, refined (a marginal point between them is not refined)."""
+    return [boundary(model, a, b) for a, b, x, y in boundaries(points) if {x, y} == {"stable", "unstable"}]
+
+
+def stability_converged(charts: dict, edges: dict, tolerance: float) -> int | None:
+    """The fewest k (of those charted) whose verdict at every speed (marginal points apart) equals every larger
+    k's and whose stability boundaries are within `tolerance` (relative) of theirs."""
+    ks = sorted(charts)
+
+    def same(a: int, b: int) -> bool:
+        verdicts = all(x.classification == y.classification for x, y in zip(charts[a], charts[b])
+                       if "marginal" not in (x.classification, y.classification))
+        return verdicts and len(edges[a]) == len(edges[b]) and all(
+            abs(u - v) <= tolerance * v for u, v in zip(edges[a], edges[b]))
+
+    for i, k in enumerate(ks):
+        if all(same(k, j) for j in ks[i + 1:]):
+            return k
+    return None
+
+
 def transient(model, omega: float):
-    """The balls released from TRANSIENT_START at constant omega: the node's displacement over time."""
+    """The balls released from TRANSIENT_START at constant omega: times, ball angles and the node's
+    displacement |Phi q| (the model's measure `node`) at every step of the integrator."""
     from ..analysis.simulate import simulate
 
     p = model.params({"omega": omega})
-    sim = simulate(model, p, TRANSIENT_START, t_end=TRANSIENT_T_END, rtol=1e-10, atol=1e-14, threshold=1e-9,
-                   samples=4001)
-    node = np.array([model.measure("node", t, y, p) for t, y in zip(sim.t, sim.y)])
-    return sim, node
+    sim = simulate(model, p, TRANSIENT_START, t_end=TRANSIENT_T_END, rtol=1e-10, atol=1e-14, threshold=1e-9)
+    node = np.array([model.measure("node", t, y, p) for t, y in zip(sim.t, sim.y.T)])
+    angles = sim.y[[model.index(a) for a in model.angles]]
+    return sim, node, angles
+
+
+def envelope(t: np.ndarray, r: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarray]:
+    """The largest r in each of `bins` equal time windows (the node whirls at omega: its envelope)."""
+    edges = np.linspace(t[0], t[-1], bins + 1)
+    which = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, bins - 1)
+    top = np.full(bins, np.nan)
+    np.fmax.at(top, which, r)
+    return (edges[:-1] + edges[1:]) / 2, top
+
+
+def _chart_figure(record: dict, path: Path) -> None:
+    from ..analysis.figure_style import pyplot
+
+    plt = pyplot()
+    cases = record["cases"]
+    fig, axes = plt.subplots(1, len(cases), figsize=(6.2 * len(cases), 4.4), sharey=True)
+    for ax, case in zip(np.atleast_1d(axes), cases):
+        for k, pts in case["charts"].items():
+            w = np.array([p["omega"] for p in pts])
+            m = np.array([p["margin"] for p in pts])
+            ax.plot(w, m, lw=1.2, label=f"k = {k} modes")
+            bad = np.array([p["classification"] == "marginal" for p in pts])
+            if bad.any():
+                ax.plot(w[bad], m[bad], "x", color=ax.lines[-1].get_color(), ms=5,
+                        label=f"k = {k}: marginal (not certified), {int(bad.sum())} speeds")
+        for c in case["critical_speeds"]:
+            ax.axvline(c["speed"], color="grey", ls="--" if c["whirl"] == "forward" else ":", lw=0.8)
+            ax.text(c["speed"], 0.95, f" {c['speed']:.4g} ({c['whirl'][0].upper()})", rotation=90, va="top",
+                    fontsize=7, transform=ax.get_xaxis_transform())
+        for b in case["boundaries"].get(str(case["k"]), []):
+            ax.axvline(b, color="C3", lw=1.0)
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_yscale("symlog", linthresh=1e-5)
+        ax.set_xlabel("spin speed omega (rad/s)")
+        ax.set_title(case["title"], fontsize=9)
+        ax.legend(fontsize=7, loc="lower left")
+    np.atleast_1d(axes)[0].set_ylabel("leading Floquet |mu| - 1 of the balanced state (< 0: stable)")
+    fig.suptitle("ROSS rotor_example(), two balls at the disk (node 2): the balanced state against speed", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _transient_figure(runs: list[dict], path: Path) -> None:
+    from ..analysis.figure_style import angle_panel, pyplot
+
+    plt = pyplot()
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.4), sharex=True)
+    for run in runs:
+        top.semilogy(run["envelope_t"], run["envelope_node"], lw=1.0, label=run["title"])
+    top.set_ylabel("node displacement |Phi q|, envelope (m)")
+    top.legend(fontsize=7)
+    damped = runs[-1]
+    angle_panel(bottom, np.array(damped["t"]), np.array(damped["angles"]), damped["angle_names"])
+    bottom.set_title(f"ball angles: {damped['title']}", fontsize=8)
+    bottom.set_xlabel("t (s)")
+    fig.suptitle(f"ROSS rotor_example(), two balls at node 2, released at phi = (1, -1) rad, "
+                 f"omega = {damped['omega']:g} rad/s", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -111,23 +233,52 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(argv[0])
     out.mkdir(parents=True, exist_ok=True)
     from ..analysis.loading import load_model
-    from .flexible import convergence
+    from ..families.flexible.critical_speeds import crossings
+    from ..families.flexible.scene import FlexibleScene
+    from .flexible import TOLERANCE, convergence
     from .rotor import import_ross
 
-    rotor = import_ross().rotor_example()
-    conv = convergence(rotor, NODE, TOP, TOP, None)
-    charts, models = {}, {}
+    example = import_ross().rotor_example()
+    cases, runs = [], []
     with tempfile.TemporaryDirectory() as tmp:
-        for k in MODES:
-            models[k] = load_model(scene=scene_file(rotor, k, Path(tmp)))
-            charts[k] = stability_chart(models[k], speeds())
-            print(f"k = {k}: " + "; ".join(f"{a:g}-{b:g} rad/s {x} -> {y}" for a, b, x, y in boundaries(charts[k])),
-                  file=sys.stderr)
+        for c in BEARING_DAMPING:
+            rotor = damped_bearings(example, c) if c else example
+            conv = convergence(rotor, NODE, TOP, TOP, None)
+            charts, edges, models = {}, {}, {}
+            for k in MODES:
+                path = scene_file(rotor, k, Path(tmp))
+                models[k] = load_model(scene=path)
+                charts[k] = stability_chart(models[k], speeds())
+                edges[k] = refined(models[k], charts[k])
+                print(f"bearing damping {c:g} N s/m, k = {k}: boundaries {edges[k]}", file=sys.stderr)
+            stable_k = stability_converged(charts, edges, STABILITY_TOLERANCE)
+            k = max(conv.k or 0, stable_k or max(MODES))
+            modal = FlexibleScene.load(scene_file(rotor, k, Path(tmp))).modal
+            title = (f"bearings cxx = cyy = {c:g} N s/m" + (" (the example as ROSS ships it)" if not c else "")
+                     + f"; k = {k}")
+            cases.append({"bearing_damping": c, "title": title, "k": k, "critical_speed_convergence": conv.line(),
+                          "stability_converged_k": stable_k, "stability_tolerance": STABILITY_TOLERANCE,
+                          "critical_speeds": [{"speed": x.speed, "whirl": x.whirl} for x in crossings(modal, TOP)],
+                          "boundaries": {str(j): e for j, e in edges.items()},
+                          "charts": {str(j): [p.__dict__ for p in pts] for j, pts in charts.items()}})
+            sim, node, angles = transient(models[k], TRANSIENT_SPEED)
+            et, en = envelope(sim.t, node, 400)
+            stride = max(1, len(sim.t) // 4000)
+            runs.append({"bearing_damping": c, "k": k, "omega": TRANSIENT_SPEED, "title": title,
+                         "status": sim.status, "engine": sim.engine, "t_end": sim.t_end,
+                         "node_max": float(node.max()), "node_last_second_max": float(node[sim.t >= sim.t_end - 1].max()),
+                         "angles_end": [float(a) for a in angles[:, -1]], "angle_names": list(models[k].angles),
+                         "envelope_t": et.tolist(), "envelope_node": en.tolist(),
+                         "t": sim.t[::stride].tolist(), "angles": angles[:, ::stride].tolist()})
     record = {"rotor": "ross.rotor_example()", "node": NODE, "balls": BALLS, "ball_mass": BALL_MASS,
-              "race_radius": RACE_RADIUS, "unbalance": UNBALANCE, "convergence": conv.line(),
-              "charts": {str(k): [p.__dict__ for p in pts] for k, pts in charts.items()},
-              "boundaries": {str(k): boundaries(pts) for k, pts in charts.items()}}
+              "race_radius": RACE_RADIUS, "unbalance": UNBALANCE, "speeds": [LOW, TOP, STEP],
+              "tolerance": TOLERANCE, "cases": cases}
     (out / "flexible_stability.json").write_text(json.dumps(record, indent=1) + "\n")
+    _chart_figure(record, out / "flexible_stability.png")
+    summary = [{key: r[key] for key in ("bearing_damping", "k", "omega", "status", "engine", "t_end", "node_max",
+                                         "node_last_second_max", "angles_end")} for r in runs]
+    (out / "flexible_transient.json").write_text(json.dumps(summary, indent=1) + "\n")
+    _transient_figure(runs, out / "flexible_transient.png")
     return 0
 
 
