@@ -174,6 +174,7 @@ def envelope(t: np.ndarray, r: np.ndarray, bins: int) -> tuple[np.ndarray, np.nd
 
 def _chart_figure(record: dict, path: Path) -> None:
     from ..analysis.figure_style import pyplot
+    from ..outputs import save_figure
 
     plt = pyplot()
     cases = record["cases"]
@@ -201,12 +202,12 @@ def _chart_figure(record: dict, path: Path) -> None:
     np.atleast_1d(axes)[0].set_ylabel("leading Floquet |mu| - 1 of the balanced state (< 0: stable)")
     fig.suptitle("ROSS rotor_example(), two balls at the disk (node 2): the balanced state against speed", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
 
 
 def _transient_figure(runs: list[dict], path: Path) -> None:
     from ..analysis.figure_style import angle_panel, pyplot
+    from ..outputs import save_figure
 
     plt = pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.4), sharex=True)
@@ -221,8 +222,7 @@ def _transient_figure(runs: list[dict], path: Path) -> None:
     fig.suptitle(f"ROSS rotor_example(), two balls at node 2, released at phi = (1, -1) rad, "
                  f"omega = {damped['omega']:g} rad/s", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
 
 
 def main(argv: list[str] | None = None) -> int:
