@@ -4,6 +4,9 @@ with damped bearings."""
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -71,4 +74,8 @@ def test_the_balancer_stabilises_the_damped_rotor_above_its_critical_speeds(mode
     assert damped == {60.0: "unstable", 150.0: "stable"}
     edge = tc.boundary(models[1000.0], 100.0, 140.0)
     assert 110.0 < edge < 125.0
+    # the committed chart (docs/figures, drawn by `python3 -m adbgen.ross.through_critical`) is this code's
+    record = json.loads((Path(__file__).parents[2] / "docs" / "figures" / "flexible_stability.json").read_text())
+    drawn = next(c for c in record["cases"] if c["bearing_damping"] == 1000.0)["boundaries"]["2"]
+    assert drawn == [pytest.approx(edge, abs=1e-5)]
     assert [p.classification for p in tc.stability_chart(models[0.0], [150.0])] == ["unstable"]
