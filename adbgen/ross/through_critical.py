@@ -90,7 +90,8 @@ def scene_file(rotor, k: int, folder: Path) -> Path:
 
     mapping = scene_mapping(rotor, NODE, k, BALLS, BALL_MASS, RACE_RADIUS, TOP, Unbalance(NODE, UNBALANCE, 0.0))
     path = folder / f"example_k{k}.toml"
-    write(mapping, path, f"ROSS's rotor_example(), balancer at node {NODE}, k = {k} modes (adbgen.ross.through_critical)")
+    write(mapping, path,
+          f"ROSS's rotor_example(), balancer at node {NODE}, k = {k} modes (adbgen.ross.through_critical)")
     return path
 
 
@@ -266,7 +267,8 @@ def main(argv: list[str] | None = None) -> int:
             stride = max(1, len(sim.t) // 4000)
             runs.append({"bearing_damping": c, "k": k, "omega": TRANSIENT_SPEED, "title": title,
                          "status": sim.status, "engine": sim.engine, "t_end": sim.t_end,
-                         "node_max": float(node.max()), "node_last_second_max": float(node[sim.t >= sim.t_end - 1].max()),
+                         "node_max": float(node.max()),
+                         "node_last_second_max": float(node[sim.t >= sim.t_end - 1].max()),
                          "angles_end": [float(a) for a in angles[:, -1]], "angle_names": list(models[k].angles),
                          "envelope_t": et.tolist(), "envelope_node": en.tolist(),
                          "t": sim.t[::stride].tolist(), "angles": angles[:, ::stride].tolist()})

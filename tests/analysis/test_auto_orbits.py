@@ -130,7 +130,8 @@ def test_a_known_orbit_needs_no_auto_route():
     routed = auto_orbits.forced_response(flex, p)
     direct = auto_orbits.response_at(flex, p, flex.steady_state("B", p), 0.0)
     assert routed.route and not direct.route
-    assert np.max(np.abs(np.remainder(direct.y0 - routed.y0 + math.pi, 2 * math.pi) - math.pi)) < 1e-9  # angles mod 2 pi
+    gap = np.remainder(direct.y0 - routed.y0 + math.pi, 2 * math.pi) - math.pi  # the angles modulo 2 pi
+    assert np.max(np.abs(gap)) < 1e-9
     key = lambda z: (round(abs(z), 6), round(z.imag, 6))  # noqa: E731
     a, b = sorted(routed.multipliers, key=key), sorted(direct.multipliers, key=key)
     assert np.max(np.abs(np.array(a) - np.array(b))) < 1e-8
