@@ -439,17 +439,24 @@ def forced_response(model: Model, p: np.ndarray, keep: str | None = None) -> Res
     else:
         _check_start(model, st, p)
     omega = float(p[model.param_names.index(freq)])
-    period = 2 * math.pi / omega
     y0, phase = _model_states(model, u)
-    t0 = (phase % (2 * math.pi)) / omega
-    y, mono, closure, steps = refine_orbit(model, p, y0, t0, period)
+    return response_at(model, p, y0, (phase % (2 * math.pi)) / omega, route)
+
+
+def response_at(model: Model, p: np.ndarray, y0: np.ndarray, t0: float, route: list | None = None) -> Response:
+    """The periodic response through (t0, y0) at p, refined by shooting over one forcing period, and its
+    Floquet multipliers; where the orbit is known (a balanced state exact at every forcing frequency), no
+    AUTO-07p route is needed to reach p."""
+    omega = float(p[model.param_names.index(model.forcing_frequency)])
+    period = 2 * math.pi / omega
+    y, mono, closure, steps = refine_orbit(model, p, np.asarray(y0, float), t0, period)
     scale = 1.0 + float(np.max(np.abs(y)))
     if closure > CLOSURE_TOL * scale:
         raise AnalysisError(f"{model.name}: Newton on the period map did not close the orbit "
                             f"(|y(T) - y(0)| = {closure:.2e} after {steps} steps)")
     multipliers, family = _split_family(model, mono)
     return Response(model, np.array(p, float), y, t0, period, multipliers, family, closure,
-                    _amplitude_max(model, p, y, t0, period), steps, route, monodromy=np.array(mono))
+                    _amplitude_max(model, p, y, t0, period), steps, list(route or []), monodromy=np.array(mono))
 
 
 def _split_family(model: Model, mono: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
