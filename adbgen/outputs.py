@@ -4,6 +4,7 @@
     output_file(path, "--out")         the same for a file to be (re)written
     writing(path)                      a temporary file beside `path`, renamed onto it when complete
     save_figure(fig, path)             a matplotlib figure through `writing`
+    cache_dir()                        where compiled engines, proofs and scene models are cached
 
 A command checks its outputs first (`adbgen simulate --out afile` fails at once, not after the
 integration), and writes each file through a temporary name, so a failure or a kill never leaves a
@@ -119,3 +120,10 @@ def save_figure(fig, path, dpi: int = 120) -> Path:
     finally:
         plt.close(fig)
     return path
+
+
+def cache_dir() -> Path:
+    """$ADBGEN_CACHE, else $XDG_CACHE_HOME/adbgen, else ~/.cache/adbgen."""
+    base = os.environ.get("ADBGEN_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "adbgen")
+    return Path(base)

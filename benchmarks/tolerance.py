@@ -97,6 +97,23 @@ def references(model, p, y0, t_end) -> tuple[dict, dict]:
     return ref, chk
 
 
+def table_id(engine: str) -> str | None:
+    """What the measured engine's choices come from: for `auto`, the first 12 hex digits of the sha256 of
+    its table (adbgen/analysis/engines/auto_table.json), which `adbgen bench auto` rewrites; None for an
+    engine without a table.  A scene measured under another table is stale: remeasured, never counted."""
+    if engine != "auto":
+        return None
+    from adbgen.analysis.engines.by_tolerance import TABLE
+
+    return hashlib.sha256(TABLE.read_bytes()).hexdigest()[:12]
+
+
+def current(scenes: dict, table: str | None) -> dict:
+    """The scenes measured under `table` (all of them for an engine without a table; a scene recorded
+    before tables were recorded has none and is stale)."""
+    return scenes if table is None else {k: v for k, v in scenes.items() if v.get("table") == table}
+
+
 def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
     from adbgen.analysis.engines import engine as get_engine
 
@@ -123,7 +140,9 @@ def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
         progress(f"  {scene['name']} rtol {rtol:g}: ratio {cell.get('ratio', float('nan')):.3g} "
                  f"(reference {ref_ratio:.2g}), t_dec ratio {cell.get('t_dec_ratio')}, {run['n_steps']} steps")
     decided = [c["ratio"] for c in cells if c["decided"]]
-    return {"scene": scene, "model": model.name, "t_dec_ref": ref["t_dec"], "check_t_dec": chk["t_dec"],
+    return {"scene": scene, "model": model.name, "table": table_id(engine), "measured_at": utc_now(),
+            "load_average": load_average(), "t_dec_ref": ref["t_dec"],
+            "check_t_dec": chk["t_dec"],
             "reference_steps": ref["n_steps"], "cells": cells, "worst_ratio": max(decided) if decided else None,
             "undecided_cells": sum(not c["decided"] for c in cells)}
 
@@ -169,14 +188,16 @@ def diagnose(name: str, rtol: float, progress=print) -> dict:
     return {"scene": name, "rtol": rtol, "engine": "auto", "picked": picked, "runs": runs}
 
 
-def summary(scenes: dict) -> dict:
+def summary(scenes: dict, table: str | None = None) -> dict:
     """Worst decided ratio per scene family (family, units, drive) and over all; cells above target; and
     undecided cells whose ratio exceeds both the target and `BEYOND` x the references' disagreement
     (`missed_beyond_reference`: the references cannot grade the cell, but they agree far better than
-    the engine does, so the miss is the engine's; not counted in `worst` or `met`)."""
+    the engine does, so the miss is the engine's; not counted in `worst` or `met`).  Only the scenes
+    measured under `table` count (`current`); the others are listed as `stale`."""
     groups: dict = {}
     over, beyond = [], []
-    for name, res in sorted(scenes.items()):
+    counted = current(scenes, table)
+    for name, res in sorted(counted.items()):
         s = res["scene"]
         key = f"{s['family']} / {s['units']} / {s['drive']}"
         for c in res.get("cells", []):
@@ -189,7 +210,11 @@ def summary(scenes: dict) -> dict:
                                "reference_ratio": c["reference_ratio"]})
     worst = max(groups.values(), default=None)
     return {"worst_by_family": groups, "worst": worst, "over_target": over, "target": TARGET,
-            "met": worst is not None and not over, "missed_beyond_reference": beyond}
+            "met": worst is not None and not over, "missed_beyond_reference": beyond, "table": table,
+            "measured": len(counted), "stale": sorted(set(scenes) - set(counted)), "scenes_in_all": len(load()),
+            "decided_cells": sum(c["decided"] for r in counted.values() for c in r.get("cells", [])),
+            "cells": sum(len(r.get("cells", [])) for r in counted.values()),
+            "no_decided_cell": sorted(k for k, r in counted.items() if not any(c["decided"] for c in r.get("cells", [])))}
 
 
 BEYOND = 10.0  # an undecided cell this many times farther from the reference than the references are apart
@@ -219,15 +244,16 @@ def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fre
         if bad:
             raise UsageError(f"unknown scene {bad[0]!r}; scenes are the files of {FOLDER}")
         scenes = [s for s in scenes if s["name"] in names]
+    table = table_id(engine)
     for scene in scenes:
-        if scene["name"] in result["scenes"]:
-            continue
+        if scene["name"] in current(result["scenes"], table):
+            continue  # measured under this table already (a stale scene, under another table, is remeasured)
         progress(f"scene {scene['name']}")
         result["scenes"][scene["name"]] = measure_scene(scene, engine, rtols, progress)
-        result["summary"] = summary(result["scenes"])
+        result["summary"] = summary(result["scenes"], table)
         result["machine"]["load_average_at_end"] = load_average()
         write(jsonable(result), path)  # after every scene: an interrupted run resumes from here
-    result["summary"] = summary(result["scenes"])
+    result["summary"] = summary(result["scenes"], table)
     write(jsonable(result), path)
     return result
 
@@ -246,15 +272,26 @@ def page(result: dict) -> str:
     """The benchmark's page (docs/benchmarks/tolerance.md) from its results: the run's record, the
     scenes' generator and seed, the reference and its check, the worst ratio per scene family and the
     ratio per scene and tolerance."""
-    s = result.get("summary") or summary(result["scenes"])
+    table = (result.get("summary") or {}).get("table")
+    s = summary(result["scenes"], table)
     ref = result["reference"]
+    stale = s["stale"]
+    counted = current(result["scenes"], table)
+    dates = sorted(v["measured_at"][:16].replace("T", " ") for v in counted.values() if v.get("measured_at"))
+    loads = [v["load_average"][0] for v in counted.values() if v.get("load_average")] or [float("nan")]  # 1 min
+    coverage = f"{s['measured']} of {len(load())} scenes measured" + (
+        f" under the auto engine's current table (auto_table.json, sha256 {table}...)" if table else "") + (
+        f" between {dates[0]} and {dates[-1]} UTC (one-minute load average at each scene's end "
+        f"{min(loads):.3g}-{max(loads):.3g} on 2 cores)" if dates else "") + (
+        f"; {len(stale)} more were measured under an earlier table and are not counted (marked below)"
+        if stale else "") + "."
     m = result["machine"]
     lines = [
         f"# Tolerance proportionality on held-out scenes (`adbgen bench tolerance`)", "",
         f"**Run record** (from [`benchmarks/tolerance.json`](../../benchmarks/tolerance.json)): started "
         f"{when(result)} UTC, the shared 2-core machine ({m.get('cpu', 'not recorded')}), load average at the end "
         f"{m.get('load_average_at_end')}; command `adbgen bench tolerance` (resumable: each run adds the scenes "
-        f"not yet in the file; `--scenes` for a part). {len(result['scenes'])} of {len(load())} scenes measured.", "",
+        f"not yet in the file, or measured under another table; `--scenes` for a part). {coverage}", "",
         f"What it measures: the `{result['engine']}` engine on the held-out scenes of "
         f"`benchmarks/tolerance_scenes/` (generator "
         f"`benchmarks/tolerance_scenes.py`, seed {result['seed']}; never used to learn the auto engine's table), "
@@ -271,6 +308,9 @@ def page(result: dict) -> str:
     lines += ["", f"Cells above the target: {len(s['over_target'])}" + (
         ": " + ", ".join(f"{o['scene']} at {o['rtol']:g} ({o['ratio']:.3g})" for o in s["over_target"])
         if s["over_target"] else "") + ".", "",
+              f"Decided cells: {s['decided_cells']} of {s['cells']}; scenes without one (their references disagree "
+              f"by more than a tolerance unit at every rtol, so they grade nothing): {len(s['no_decided_cell'])}"
+              + (": " + ", ".join(s["no_decided_cell"]) if s["no_decided_cell"] else "") + ".", "",
               f"Undecided cells above the target and more than {BEYOND:g}x the references' disagreement (the "
               f"references cannot grade them, but the engine's miss is far beyond their own; not counted above): "
               f"{len(beyond)}" + (": " + ", ".join(f"{o['scene']} at {o['rtol']:g} ({o['ratio']:.3g} against "
@@ -280,7 +320,8 @@ def page(result: dict) -> str:
               "| --- | " + " | ".join("---" for _ in result["rtols"]) + " |"]
     for name, res in sorted(result["scenes"].items()):
         cells = res.get("cells")
-        lines.append(f"| {name} | " + (" | ".join(_cell(c) for c in cells) if cells else res.get("undecided", "")) + " |")
+        label = f"{name} (earlier table, not counted)" if name in stale else name
+        lines.append(f"| {label} | " + (" | ".join(_cell(c) for c in cells) if cells else res.get("undecided", "")) + " |")
     if result.get("diagnosis"):
         lines += diagnosis_lines(result["diagnosis"])
     return "\n".join(lines) + "\n"
@@ -303,7 +344,7 @@ DIAGNOSIS = (
     "04_single_plane_fixed_n2) in the norm max(1, |y|): a bound the per-component promise does not share. "
     "These runs used the table before the fix (their `picked` rows); the table is now learned with held-in check "
     "scenes in the promise's norm (`benchmarks.engine_table.CHECK_SCENES`, [the engines page](../engines.md)), "
-    "and the ratios above are the new table's. With it, 07_thesis_rotating_n3 still misses at 1e-4 (3.7e3, its "
+    "and the ratios then measured were that table's. With it, 07_thesis_rotating_n3 still misses at 1e-4 (3.7e3, its "
     "diagnosis run with the new table's row, order 12 factor 2): from t_end / 10 to t_end its amplification grows "
     "from 1e2-2e4 to 7e4-2e8, and its two references (both at rtol 1e-14) differ there by 0.2 tolerance units at "
     "rtol 1e-4, i.e. by 2e-5 in the weights; heyoka's rule (1.8e3) and DOP853 (4.6e3) miss as well. A transient "
@@ -315,7 +356,12 @@ DIAGNOSIS = (
     "18 at factor 1.5 at 0.014, order 12 at factor 2 / 1 at 239 / 0.0074, DOP853 at 1.6e3: from factor 2 to 2.5 "
     "at order 20 the error grows 1900x for a per-step aim 85x larger, from factor 1 to 2 at order 12 32000x for "
     "4000x, as if Jorba & Zou's radius from the last two coefficients overshot the series' true radius on this "
-    "scene; a factor cap learned on a held-in scene of this kind is the next step.")
+    "scene; a factor cap learned on a held-in scene of this kind is the next step. Done 2026-11-29 (the engines "
+    "page, \"The step-factor cliff\"): two thesis n = 3 transients from another seed (3536) are check scenes, "
+    "on which the cliff shows (order 12 at factor 1 / 1.5 / 2: 5.1e-5 / 5.1e-3 / 1.9e-2 in the weights), and "
+    "the table learned with them takes factor 1.5 (order 18 at 1e-4 and 1e-5, 20 from 1e-6); the diagnosis "
+    "runs below used the tables before it (their `picked` rows), the ratios per scene are the current "
+    "table's where not marked.")
 
 
 def diagnosis_lines(diagnosis: dict) -> list[str]:
@@ -352,8 +398,9 @@ def run(args, out: str) -> int:
     s = res["summary"]
     for key, worst in sorted(s["worst_by_family"].items()):
         print(f"{key}: worst ratio {worst:.3g}")
-    done = len(res["scenes"])
-    print(f"{done} scenes; worst ratio {s['worst']}; {len(s['over_target'])} cells above {TARGET:g}; wrote {out}")
+    stale = f" ({len(s['stale'])} more under an earlier table, not counted)" if s["stale"] else ""
+    print(f"{s['measured']} scenes{stale}; worst ratio {s['worst']}; {len(s['over_target'])} cells above {TARGET:g}; "
+          f"wrote {out}")
     if args.page:
         PAGE.write_text(page(res))
         print(f"wrote {PAGE}")

@@ -40,7 +40,6 @@ SEGMENTS = 16
 DROP = 0.1  # ln r: a fall (rise) of r by about 10 %
 MONOTONE = 0.75  # share of consecutive stretches in which the envelope falls
 BAND = 0.01  # ln r: the envelope within 1 %
-DECAY_KINDS = ("exponential", "algebraic")
 
 
 @dataclass(frozen=True)

@@ -32,9 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..codegen.compiler import AUTO_DIR, auto_include as header_dir
 from .loading import AnalysisError, Model
 
-AUTO_DIR = Path(os.environ.get("AUTO_DIR", "/usr/lib/auto-07p"))
 BIFURCATIONS = {1: "BP", 2: "LP", 3: "HB"}  # |TY| in fort.7 of IPS = 1; 4 regular/UZ, 9 end points
 TYPES = {1: "BP", 2: "LP", 3: "HB", 4: "RG", -4: "UZ", 9: "EP", -9: "MX", -1: "BT", -2: "CP", -3: "ZH", -32: "GH",
          5: "LP", 6: "BP", 7: "PD", 8: "TR"}
@@ -43,13 +43,6 @@ CODIM2 = {"BT": "Bogdanov-Takens", "CP": "cusp", "ZH": "zero-Hopf", "GH": "gener
 
 class AutoError(AnalysisError):
     """AUTO-07p missing, failed to build, or failed to run."""
-
-
-def header_dir() -> Path | None:
-    for folder in (AUTO_DIR / "include", Path("/usr/include")):
-        if (folder / "auto_f2c.h").is_file():
-            return folder
-    return None
 
 
 def missing_tools() -> list[str]:
@@ -371,19 +364,26 @@ def _start_constants(model: Model, p: np.ndarray, y: np.ndarray) -> dict:
             "PAR": _mapping({auto_parameter(k): float(v) for k, v in enumerate(p)})}
 
 
-def continue_one(model: Model, name: str, p: np.ndarray | None = None, y: np.ndarray | None = None,
-                 to: float | None = None, ds: float = 0.001, ds_max: float = 0.002, nmx: int = 20000,
-                 session: Session | None = None) -> AutoRun:
-    """Continue the steady state (stpnt's, or y at p) in parameter `name` from its value towards `to`."""
+def continuation_range(model: Model, name: str, p: np.ndarray, to: float | None) -> tuple[int, float, float]:
+    """Parameter `name`'s index, its value in p and where its continuation ends: `to`, by default half the
+    start (start - 1 from a start <= 0); one line where the name is unknown or `to` is the start."""
     if name not in model.param_names:
         raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
     k = model.param_names.index(name)
-    p = np.array(model.module.START_PARAMETERS if p is None else p, float)
-    y = np.array(model.module.START if y is None else y, float)
     start = float(p[k])
     to = (0.5 * start if start > 0 else start - 1.0) if to is None else float(to)
     if not math.isfinite(to) or to == start:
         raise AnalysisError(f"--to must differ from the start value {name} = {start:g}")
+    return k, start, to
+
+
+def continue_one(model: Model, name: str, p: np.ndarray | None = None, y: np.ndarray | None = None,
+                 to: float | None = None, ds: float = 0.001, ds_max: float = 0.002, nmx: int = 20000,
+                 session: Session | None = None) -> AutoRun:
+    """Continue the steady state (stpnt's, or y at p) in parameter `name` from its value towards `to`."""
+    p = np.array(model.module.START_PARAMETERS if p is None else p, float)
+    y = np.array(model.module.START if y is None else y, float)
+    k, start, to = continuation_range(model, name, p, to)
     sign = 1.0 if to > start else -1.0
     amp = auto_parameter(model.n_params)
     constants = dict(ICP=f"[{auto_parameter(k)}, {amp}]", IRS=0, ISW=1, DS=sign * ds, DSMAX=ds_max, NMX=nmx,

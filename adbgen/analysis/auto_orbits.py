@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .auto07p import TYPES, AutoError, Point, Session, Solution, _mapping, auto_parameter
+from .auto07p import TYPES, AutoError, Point, Session, Solution, _mapping, auto_parameter, continuation_range
 from .loading import AnalysisError, Model
 
 CLOSURE_TOL = 1e-7  # an orbit closes when |y(T) - y(0)| <= CLOSURE_TOL (1 + |y|) (angles mod 2 pi)
@@ -332,13 +332,7 @@ def continue_orbit(model: Model, name: str, p: np.ndarray, to: float | None = No
                    keep: str | None = None) -> OrbitRun:
     """The forced response continued in `name` from p's value to `to` (default half of it): stage 1
     first where p moves the start orbit's parameter, then this continuation (from stage 1's end)."""
-    if name not in model.param_names:
-        raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
-    k = model.param_names.index(name)
-    frm = float(p[k])
-    to = (0.5 * frm if frm > 0 else frm - 1.0) if to is None else float(to)
-    if not math.isfinite(to) or to == frm:
-        raise AnalysisError(f"--to must differ from the start value {name} = {frm:g}")
+    k, frm, to = continuation_range(model, name, p, to)
     with Session(model, keep=keep, forced=True) as session:
         runs, st = _route(model, p, session)
         if k == st.first and not runs:  # continuing stage 1's own parameter straight from stpnt
@@ -445,17 +439,24 @@ def forced_response(model: Model, p: np.ndarray, keep: str | None = None) -> Res
     else:
         _check_start(model, st, p)
     omega = float(p[model.param_names.index(freq)])
-    period = 2 * math.pi / omega
     y0, phase = _model_states(model, u)
-    t0 = (phase % (2 * math.pi)) / omega
-    y, mono, closure, steps = refine_orbit(model, p, y0, t0, period)
+    return response_at(model, p, y0, (phase % (2 * math.pi)) / omega, route)
+
+
+def response_at(model: Model, p: np.ndarray, y0: np.ndarray, t0: float, route: list | None = None) -> Response:
+    """The periodic response through (t0, y0) at p, refined by shooting over one forcing period, and its
+    Floquet multipliers; where the orbit is known (a balanced state exact at every forcing frequency), no
+    AUTO-07p route is needed to reach p."""
+    omega = float(p[model.param_names.index(model.forcing_frequency)])
+    period = 2 * math.pi / omega
+    y, mono, closure, steps = refine_orbit(model, p, np.asarray(y0, float), t0, period)
     scale = 1.0 + float(np.max(np.abs(y)))
     if closure > CLOSURE_TOL * scale:
         raise AnalysisError(f"{model.name}: Newton on the period map did not close the orbit "
                             f"(|y(T) - y(0)| = {closure:.2e} after {steps} steps)")
     multipliers, family = _split_family(model, mono)
     return Response(model, np.array(p, float), y, t0, period, multipliers, family, closure,
-                    _amplitude_max(model, p, y, t0, period), steps, route, monodromy=np.array(mono))
+                    _amplitude_max(model, p, y, t0, period), steps, list(route or []), monodromy=np.array(mono))
 
 
 def _split_family(model: Model, mono: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

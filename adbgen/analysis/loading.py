@@ -32,6 +32,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import AdbgenError
+from ..outputs import cache_dir
 
 
 class AnalysisError(AdbgenError, ValueError):
@@ -352,12 +353,6 @@ def _model_folder(path: Path) -> Path:
         raise AnalysisError(f"{path}: no generated model in this folder")
     raise AnalysisError(f"{path} holds {len(inner)} models ({', '.join(p.name for p in inner)}): name one "
                         f"folder, e.g. {inner[0]}")
-
-
-def cache_dir() -> Path:
-    base = os.environ.get("ADBGEN_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "adbgen")
-    return Path(base)
 
 
 def _generator_digest() -> str:

@@ -107,6 +107,24 @@ class Reproduction:
     coverage: tuple[Coverage, ...] = ()
 
 
+_DOCS = Path(__file__).resolve().parents[2] / "docs"  # the repository's docs/, beside the package
+
+
+def markdown_section(key: str, title: str, section: Callable[[Path, Callable[[str], None]], str],
+                     coverage: tuple[Coverage, ...] = ()) -> Reproduction:
+    """A section whose markdown `section(fig_dir, progress)` writes with two placeholders, @FIGURES@ (the
+    figure folder) and @DOCS@ (the repository's docs/), made relative to the document's folder."""
+    def compute(fig_dir: Path, progress=None) -> dict:
+        return {"text": section(fig_dir, progress or (lambda *_: None)), "figures": Path(fig_dir)}
+
+    def lines(results: dict, root: Path) -> list[str]:
+        figures = Path(os.path.relpath(results["figures"], root)).as_posix()
+        docs = Path(os.path.relpath(_DOCS, root)).as_posix()
+        return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
+
+    return Reproduction(key, title, compute, lines, coverage)
+
+
 def coverage_table(sections: list[Reproduction]) -> list[str]:
     """The published results covered / not covered, by source, chapter and item, with where or why."""
     rows = [c for s in sections for c in s.coverage]
@@ -157,4 +175,5 @@ def build(sections: list[Reproduction], chosen: tuple[str, ...], out_md: Path, f
 
 
 __all__ = ["MACHINES", "PINNED_HWCAPS", "PINNED_NUMPY_FEATURES", "PINNED_VARIABLES", "Coverage", "Reproduction", "TITLE",
-           "build", "coverage_table", "document", "environment_pinned", "pinned_environment", "write"]
+           "build", "coverage_table", "document", "environment_pinned", "markdown_section", "pinned_environment",
+           "write"]

@@ -27,13 +27,13 @@ traceback only when ADBGEN_TRACEBACK=1.
 from __future__ import annotations
 
 import argparse
-import importlib
 import inspect
 import sys
 from typing import Callable
 
 from .. import __version__, families
 from ..cli_types import UsageError
+from ..registry import load
 from ..errors import AdbgenError
 
 # Command groups besides the families', in the order of `adbgen --help`; one line per group.
@@ -64,11 +64,6 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def _load(entry: str) -> Callable:
-    module, attr = entry.split(":")
-    return getattr(importlib.import_module(module), attr)
-
-
 def _family_commands() -> list[Callable]:
     """Each family's commands, then its science's (`Family.science_commands`, loaded by name; once, when
     families share them, as a family derived from another does)."""
@@ -78,7 +73,7 @@ def _family_commands() -> list[Callable]:
         science = getattr(family, "science_commands", lambda: "")()
         if science and science not in seen:
             seen.add(science)
-            out.append(_load(science))
+            out.append(load(science))
     return out
 
 
@@ -86,7 +81,7 @@ def command_groups() -> list[Callable]:
     """Every register(subparsers) function: verify, each family's commands, then COMMAND_GROUPS."""
     from .verify import register as register_verify
 
-    return [register_verify] + _family_commands() + [_load(e) for e in COMMAND_GROUPS]
+    return [register_verify] + _family_commands() + [load(e) for e in COMMAND_GROUPS]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -4,10 +4,9 @@ docs/reproduction.md with its figures in docs/reproduction/ (`adbgen.analysis.re
 
 from __future__ import annotations
 
-import importlib
-
 from .. import families
 from ..analysis.reproduction import Reproduction, build
+from ..registry import load
 
 
 def references() -> dict[str, str]:
@@ -24,11 +23,7 @@ def references() -> dict[str, str]:
 
 
 def sections() -> list[Reproduction]:
-    out = []
-    for ref in references().values():
-        module, attr = ref.split(":")
-        out.append(getattr(importlib.import_module(module), attr))
-    return out
+    return [load(ref) for ref in references().values()]
 
 
 def _pinned_rerun(args, only: tuple[str, ...]) -> int:

@@ -17,7 +17,7 @@ from ..cli_types import finite, positive_int
 
 
 def cmd_from_ross(args) -> int:
-    from ..ross import MARGIN, Unbalance, from_ross
+    from ..ross import Unbalance, from_ross
     from ..ross.rotor import RotorError
     from ..ross.scene import write
 

@@ -75,10 +75,6 @@ class BallSplit:
     D: sp.Expr
     f: sp.Expr
 
-    @property
-    def ball_symbols(self) -> tuple[sp.Symbol, ...]:
-        return (self.q, self.qd, self.qdd) + tuple(s.symbol for s in self.slots)
-
 
 def default_slots(parameters: Sequence, n: int) -> list[dict]:
     """Ball i's own parameters by name: <stem>_<i> for every stem that every ball has."""

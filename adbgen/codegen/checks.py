@@ -193,13 +193,6 @@ def lowering_error(ir: ModelIR, system: FirstOrderSystem, samples: int = 20, see
     return max(_relative(program(t, y, p), ref.rhs(t, y, p)) for t, y, p in ref.points(ir.n_states, ir.n_coordinates, samples, seed))
 
 
-def check_lowering(ir: ModelIR, system: FirstOrderSystem) -> float:
-    """The rhs check alone (kept for callers that want one number); `check_programs` checks them all."""
-    err = lowering_error(ir, system)
-    _refuse(ir.name, {"rhs": err}, _AGAINST)
-    return err
-
-
 def check_start(ir: ModelIR) -> None:
     """The start point is a steady state (an equilibrium; on an oscillator extension, a point of a
     periodic orbit at rest apart from the oscillator) of the rendered rhs, to rounding: 1e-12 of the
@@ -315,16 +308,10 @@ def _check_measures(ir: ModelIR, system: FirstOrderSystem) -> float:
 
 
 def _check_forcing(ir: ModelIR, system: FirstOrderSystem) -> None:
-    from ..core.oscillator import Oscillator
+    from ..core.description import forcing_frequency
 
     d = ir.description
-    eom = system.solve.eom
-    law = dict(eom.driven_law)
-    exprs = [sp.sympify(v).xreplace(law) for v in eom.mass.values()] + [sp.sympify(e).xreplace(law) for e in eom.forcing]
-    try:
-        frequency = Oscillator.detect(exprs, eom.time).frequency
-    except ValueError:
-        frequency = None
+    frequency = forcing_frequency(system.solve.eom)
     declared = {p.name: p.symbol for p in system.parameters}.get(d.forcing_frequency)
     if frequency is None and declared is not None:
         raise CheckFailed(f"{ir.name}: declares the forcing frequency {d.forcing_frequency} but is not periodically "

@@ -27,7 +27,7 @@ from ..core.description import BALL, ROLES, STATE_CONFIGURATIONS, TIME_UNITS, Ca
 from ..core.first_order import FirstOrderSystem
 from ..core.model_spec import ModelSpec
 from ..errors import AdbgenError
-from .loops import Balls, Guard, Kernel, Let, Pos, Put
+from .loops import Balls, Guard, Kernel, Let, Pos, Put, cse_lets
 
 _RELATIONS = (sp.Ge, sp.Gt, sp.Le, sp.Lt, sp.Eq, sp.Ne)
 
@@ -111,12 +111,6 @@ def _walk(ops):
             yield op
 
 
-def _cse(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[Let], list[sp.Expr]]:
-    symbols = sp.numbered_symbols(prefix, real=True)
-    replacements, reduced = sp.cse(list(exprs), symbols=symbols, optimizations=None, order="canonical")
-    return [Let(s, e) for s, e in replacements], list(reduced)
-
-
 def _refuse(model: str, what: str) -> None:
     raise DescriptionError(f"{model}: self-description: {what}")
 
@@ -124,7 +118,7 @@ def _refuse(model: str, what: str) -> None:
 def _measures(names: list[str], exprs: list[sp.Expr]) -> tuple[Kernel, tuple[Kernel, ...]]:
     """One kernel for every measure, and one per measure with just the statements it needs (the same
     statements, so measure(name) and measures_inplace give the same bits)."""
-    lets, red = _cse(exprs, "w_m_")
+    lets, red = cse_lets(exprs, "w_m_")
     every = Kernel(tuple(lets) + tuple(Put(Pos(k), None, e) for k, e in enumerate(red)), (len(exprs),), False)
     alone = []
     for e in red:
@@ -149,7 +143,7 @@ def _candidate(model: str, cand: Candidate, system: FirstOrderSystem, allowed: s
         diff = sp.sympify(guard.lhs - guard.rhs)
         if not diff.free_symbols <= allowed:
             _refuse(model, f"guard {guard} uses {sorted(map(str, diff.free_symbols - allowed))}, not parameters")
-        lets, (red,) = _cse([diff], f"w_{tag}g{g}_")
+        lets, (red,) = cse_lets([diff], f"w_{tag}g{g}_")
         ops += lets
         ops.append(Guard(type(guard)(red, 0, evaluate=False)))  # (a positive symbol > 0 stays a test)
     values = {}
@@ -164,7 +158,7 @@ def _candidate(model: str, cand: Candidate, system: FirstOrderSystem, allowed: s
     for name, e in values.items():
         if BALL in e.free_symbols:
             _refuse(model, f"closed form value for {name} uses the ball index (only `balls` may)")
-    lets, red = _cse(exprs, f"w_{tag}v_")
+    lets, red = cse_lets(exprs, f"w_{tag}v_")
     outer, inner, ball_syms = [], [], {BALL}
     for let in lets:  # what depends on the ball index goes into the loop
         if let.expr.free_symbols & ball_syms:
@@ -332,7 +326,7 @@ def _equilibria(model: str, d: Description, system: FirstOrderSystem) -> tuple[t
     states = list(system.states)
     entries = [(k, states.index(q), sp.diff(g, q)) for k, g in enumerate(exprs) for q in free]
     entries = [(k, j, v) for k, j, v in entries if v != 0]
-    lets, red = _cse([v for _, _, v in entries], "w_e_")
+    lets, red = cse_lets([v for _, _, v in entries], "w_e_")
     ops = tuple(lets) + tuple(Put(Pos(k), Pos(j), v) for (k, j, _), v in zip(entries, red))
     zero = tuple(c.name for c in system.coordinates if c.name in e.zero) + tuple(
         c.qd.name for c in system.coordinates)

@@ -201,10 +201,18 @@ def _kernel(ops, shape, zero: bool, arrays=()) -> Kernel:
     return Kernel(prune(ops), tuple(shape), zero, tuple((a, w) for a, w in arrays if a in fetched))
 
 
-def _cse(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[Let], list[sp.Expr]]:
+def cse(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
+    """Common subexpressions of `exprs`, in a deterministic order with names prefix0, prefix1, ... (the one
+    CSE of code generation: the lowered programs', the loop form's and the self-description's)."""
     symbols = sp.numbered_symbols(prefix, real=True)
     replacements, reduced = sp.cse(list(exprs), symbols=symbols, optimizations=None, order="canonical")
-    return [Let(s, e) for s, e in replacements], list(reduced)
+    return list(replacements), list(reduced)
+
+
+def cse_lets(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[Let], list[sp.Expr]]:
+    """`cse` with its temporaries as `Let` statements."""
+    replacements, reduced = cse(exprs, prefix)
+    return [Let(s, e) for s, e in replacements], reduced
 
 
 def _sym(name: str) -> sp.Symbol:
@@ -247,7 +255,7 @@ class _Kernels:
         computed in the first loop and kept per ball (array w_keep).  Returns also the second loop's
         prefix (fetches and the statements that need the accelerations) and `later` reduced."""
         s, r = self.s, self.r
-        pre, red = _cse([e for row in s.A0 for e in row] + list(s.f0), "wc_")
+        pre, red = cse_lets([e for row in s.A0 for e in row] + list(s.f0), "wc_")
         ops: list = list(pre)
         Sacc = [[kinds.make(f"S_{a}_{b}", kinds.SCHUR, a, b) for b in range(r)] for a in range(r)]
         G = [kinds.make(f"g_{a}", kinds.SCHUR_RHS, a) for a in range(r)]
@@ -257,7 +265,7 @@ class _Kernels:
         for a in range(r):
             ops.append(Var(G[a], red[r * r + a]))
         body_exprs = [e for row in s.A for e in row] + list(s.fc) + list(s.B) + list(s.C) + [s.D, s.f]
-        lets, red = _cse(body_exprs + list(later), "wb_")
+        lets, red = cse_lets(body_exprs + list(later), "wb_")
         red, red_later = red[: len(body_exprs)], red[len(body_exprs):]
         xa, acc = self.accelerations()
         late_syms = set(xa) | {acc}
@@ -435,7 +443,7 @@ class _Kernels:
                 if d != 0:
                     keys.append((self.core_row(a, N), col))
                     exprs.append(d.xreplace(accel))
-        lets, red = _cse(exprs, "wd_")
+        lets, red = cse_lets(exprs, "wd_")
         ops += lets + [Put(row, col, e) for (row, col), e in zip(keys, red)]
         acc_ops, _ = self.ball_accel(xc)
         return acc_ops
@@ -493,11 +501,11 @@ class _Kernels:
 
     def mass(self) -> Kernel:
         s, r = self.s, self.r
-        pre, red = _cse([e for row in s.A0 for e in row], "wc_")
+        pre, red = cse_lets([e for row in s.A0 for e in row], "wc_")
         ops: list = list(pre)
         Sacc = [[_sym(f"S_{a}_{b}") for b in range(r)] for a in range(r)]
         ops += [Var(Sacc[a][b], red[a * r + b]) for a in range(r) for b in range(r)]
-        lets, red = _cse([e for row in s.A for e in row] + list(s.B) + list(s.C) + [s.D], "wb_")
+        lets, red = cse_lets([e for row in s.A for e in row] + list(s.B) + list(s.C) + [s.D], "wb_")
         body: list = list(lets)
         body += [Inc(Sacc[a][b], red[a * r + b]) for a in range(r) for b in range(r)]
         body += [Put(self.core_row(a), self.ball_row(), red[r * r + a]) for a in range(r)]
@@ -509,11 +517,11 @@ class _Kernels:
 
     def forcing(self) -> Kernel:
         s, r = self.s, self.r
-        pre, red = _cse(list(s.f0), "wc_")
+        pre, red = cse_lets(list(s.f0), "wc_")
         ops: list = list(pre)
         F = [_sym(f"F_{a}") for a in range(r)]
         ops += [Var(F[a], red[a]) for a in range(r)]
-        lets, red = _cse(list(s.fc) + [s.f], "wb_")
+        lets, red = cse_lets(list(s.fc) + [s.f], "wb_")
         body: list = list(lets) + [Inc(F[a], red[a]) for a in range(r)] + [Put(self.ball_row(), None, red[-1])]
         ops.append(Balls(tuple(body)))
         ops += [Put(self.core_row(a), None, F[a]) for a in range(r)]

@@ -31,7 +31,7 @@ from ..core.oscillator import Oscillator
 from ..errors import AdbgenError
 from . import symbol_kinds as kinds
 from .balls import BALL_PREFIX, NoBallStructure, split as split_balls
-from .loops import build_loops
+from .loops import build_loops, cse
 from .names import validate_name
 from .ir import Continuation, ModelIR, Program, State
 
@@ -54,13 +54,6 @@ class _Names:
             raise ValueError(f"statement name {name} used twice")
         self.made.add(name)
         return sp.Symbol(name, real=True)
-
-
-def _cse(exprs: Sequence[sp.Expr], prefix: str) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
-    """Common subexpressions of `exprs`, in a deterministic order with names prefix0, prefix1, ..."""
-    symbols = sp.numbered_symbols(prefix, real=True)
-    replacements, reduced = sp.cse(list(exprs), symbols=symbols, optimizations=None, order="canonical")
-    return list(replacements), list(reduced)
 
 
 @dataclass(frozen=True)
@@ -131,7 +124,7 @@ class _Builder:
         """
         flat = [e for row in self.A for e in row] + [e for row in self.B for e in row] \
             + [e for row in self.C for e in row] + list(self.D) + list(self.f)
-        repl, red = _cse(flat, _TEMP_PREFIX)
+        repl, red = cse(flat, _TEMP_PREFIX)
         full: dict[sp.Symbol, sp.Expr] = {}
         for sym, expr in repl:
             self.names.made.add(sym.name)
@@ -249,7 +242,7 @@ def _derivative_program(blocks: _Blocks, wrt: Sequence[sp.Symbol], top: dict[tup
     # subexpressions already computed for the right-hand side are reused, not recomputed
     accel_of = {c.qdd: acc[k] for k, c in enumerate(blocks.coordinates)}
     exprs = [deriv[key].xreplace(accel_of).xreplace(b.known) for key in keys]
-    repl, red = _cse(exprs, "v_")
+    repl, red = cse(exprs, "v_")
     for sym, expr in repl:
         b.names.made.add(sym.name)
         b.statements.append((sym, expr))
@@ -273,9 +266,9 @@ def _derivative_program(blocks: _Blocks, wrt: Sequence[sp.Symbol], top: dict[tup
 def _mass_forcing_programs(blocks: _Blocks) -> tuple[Program, Program]:
     N = blocks.N
     keys = sorted(blocks.mass)
-    repl, red = _cse([blocks.mass[k] for k in keys], _TEMP_PREFIX)
+    repl, red = cse([blocks.mass[k] for k in keys], _TEMP_PREFIX)
     mass = Program(tuple(repl), tuple((i * N + j, e) for (i, j), e in zip(keys, red)), (N, N))
-    repl, red = _cse(blocks.f, _TEMP_PREFIX)
+    repl, red = cse(blocks.f, _TEMP_PREFIX)
     forcing = Program(tuple(repl), tuple((k, e) for k, e in enumerate(red) if e != 0), (N,))
     return mass, forcing
 

@@ -43,6 +43,7 @@ import numpy as np
 
 from . import compiler, targets
 from ..errors import AdbgenError
+from ..outputs import cache_dir
 from .checks import CheckFailed, Reference, _apply, _project, _state_points
 from .plain_python import compile_program
 from .ir import KERNELS, ModelIR
@@ -333,13 +334,6 @@ class Proof:
 # ---------------------------------------------------------------------------------------------- cache
 
 
-def cache_dir() -> Path:
-    """$ADBGEN_CACHE, else $XDG_CACHE_HOME/adbgen, else ~/.cache/adbgen (as the analysis layer's)."""
-    base = os.environ.get("ADBGEN_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "adbgen")
-    return Path(base)
-
-
 # what decides whether files are proven, besides the files and the model: the frame, the toolchain, the
 # symbolic reference, and every target's proof and harness (the programs `expected` also runs are
 # checked against the symbolic model in the same run, so they need not be part of the key)
@@ -386,7 +380,7 @@ def _remember(key: str) -> None:
 
 
 def _overrides_prove(target: "targets.Target") -> bool:
-    return type(target).prove is not targets.Target.prove
+    return type(target).prove is not targets.Target.prove or targets.proof_module(target) is not None
 
 
 def check_form(ir: ModelIR, form: str) -> None:

@@ -64,7 +64,7 @@ class Registered:
 
 def run_registered(checks, progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
     """Every result of a family's registered checks, in order, each given to `progress` as it comes (what
-    each family's `verify.run_all` runs)."""
+    `PackageFamily.verify` runs)."""
     results = []
     for check in checks:
         for r in check.results():

@@ -22,6 +22,7 @@ from typing import Mapping, Sequence
 import sympy as sp
 
 from .lagrange import EquationsOfMotion
+from .oscillator import Oscillator
 
 # The index of a ball (0-based) in a closed form's per-ball values (`Candidate.balls`): the loop index.
 BALL = sp.Symbol("i", integer=True, nonnegative=True)
@@ -163,6 +164,24 @@ def spin_measures(eom: EquationsOfMotion) -> dict[str, sp.Expr]:
         return {}
     c = driven[0]
     return {"spin_angle": law[c.q], "spin_rate": law[c.qd]}
+
+
+def forcing_frequency(eom: EquationsOfMotion) -> sp.Expr | None:
+    """The frequency of a periodic forcing in the equations with the run-up law substituted (paper (40)'s
+    w), None where time does not enter at one constant frequency."""
+    law = dict(eom.driven_law)
+    exprs = [sp.sympify(v).xreplace(law) for v in eom.mass.values()] + [sp.sympify(e).xreplace(law) for e in eom.forcing]
+    try:
+        return Oscillator.detect(exprs, eom.time).frequency
+    except ValueError:
+        return None
+
+
+def forcing_parameter(eom: EquationsOfMotion) -> str:
+    """The parameter of a periodic forcing (e.g. the spin speed omega of a fixed frame), "" if there is
+    none or its frequency is not one parameter."""
+    w = forcing_frequency(eom)
+    return w.name if isinstance(w, sp.Symbol) else ""
 
 
 def ball_exchanges(balls: Sequence[str], parameters: Mapping[str, Sequence[str]] | None = None,

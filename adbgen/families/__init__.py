@@ -9,8 +9,7 @@ generation, commands) with `family.py` defining ``FAMILY``, and add one line to 
 
 from __future__ import annotations
 
-import importlib
-
+from ..registry import Registry
 from .family import Family
 
 # name -> "module:attribute", in order (the order of generated/ and of `adbgen verify`); one line per family
@@ -19,37 +18,12 @@ REGISTRY: dict[str, str] = {
     "two-plane": "adbgen.families.two_plane.family:FAMILY",
     "flexible": "adbgen.families.flexible.family:FAMILY",
 }
-_loaded: dict[str, Family] = {}
-
-
-def register(family: Family, replace: bool = False) -> None:
-    """Add a family object at run time."""
-    if family.name in REGISTRY and not replace:
-        raise ValueError(f"a family named {family.name!r} is registered already")
-    REGISTRY[family.name] = ""
-    _loaded[family.name] = family
-
-
-def unregister(name: str) -> None:
-    REGISTRY.pop(name, None)
-    _loaded.pop(name, None)
-
-
-def names() -> tuple[str, ...]:
-    return tuple(REGISTRY)
-
-
-def get(name: str) -> Family:
-    if name not in REGISTRY:
-        raise KeyError(f"unknown family {name!r}; families: {', '.join(REGISTRY)}")
-    if name not in _loaded:
-        module, attr = REGISTRY[name].split(":")
-        _loaded[name] = getattr(importlib.import_module(module), attr)
-    return _loaded[name]
-
-
-def all_families() -> tuple[Family, ...]:
-    return tuple(get(name) for name in REGISTRY)
+_registry = Registry("family", "families", REGISTRY)
+register = _registry.register  # add a family object at run time: register(family, replace=False)
+unregister = _registry.unregister
+names = _registry.names
+get = _registry.get
+all_families = _registry.all
 
 
 def kinds() -> dict:

@@ -1,7 +1,9 @@
-"""What a model family offers the rest of adbgen (the `Family` protocol)."""
+"""What a model family offers the rest of adbgen (the `Family` protocol), and `PackageFamily`, the one
+implementation of it that the families in this package share."""
 
 from __future__ import annotations
 
+import importlib
 from typing import TYPE_CHECKING, Any, Callable, Protocol, Sequence, runtime_checkable
 
 if TYPE_CHECKING:
@@ -66,3 +68,57 @@ class Family(Protocol):
 
     def science_commands(self) -> str:
         """"module:function" adding the family's commands that run generated models, or ""."""
+
+
+class PackageFamily:
+    """A family whose parts stand under fixed names in the modules of its own package, imported when first
+    asked for: ``scene.<scene_class>``, ``model.derive``, ``verify.registered``, ``models.default_set`` /
+    ``KINDS`` / ``for_scene`` and ``commands.register``.  A family's ``family.py`` subclasses it (as a
+    frozen dataclass with ``name``, ``title`` and ``reference``) and overrides only what differs."""
+
+    scene_class = "Scene"
+
+    def _module(self, name: str):
+        return importlib.import_module(f"{type(self).__module__.rpartition('.')[0]}.{name}")
+
+    @property
+    def scene_type(self) -> type:
+        return getattr(self._module("scene"), self.scene_class)
+
+    def load_scene(self, path):
+        return self.scene_type.load(path)
+
+    def derive(self, scene):
+        return self._module("model").derive(scene)
+
+    def forms(self) -> dict:
+        for_scene = self._module("models").for_scene
+        return {"fixed": self._module("model").derive, "first-order": lambda scene: for_scene(scene).system()}
+
+    def checks(self, ns=None) -> list:
+        """The ``verify.registered`` checks; ``ns`` None: the family's default numbers of balls."""
+        registered = self._module("verify").registered
+        return registered() if ns is None else registered(tuple(ns))
+
+    def verify(self, progress, ns=None) -> list:
+        from ..core.checks import run_registered
+
+        return run_registered(self.checks(ns), progress)
+
+    def models(self) -> list:
+        return self._module("models").default_set()
+
+    def kinds(self) -> dict:
+        return dict(self._module("models").KINDS)
+
+    def model_for_scene(self, scene, name=None):
+        return self._module("models").for_scene(scene, name)
+
+    def register_commands(self, subparsers) -> None:
+        self._module("commands").register(subparsers)
+
+    def reproductions(self) -> dict:
+        return {}
+
+    def science_commands(self) -> str:
+        return ""

@@ -117,3 +117,26 @@ def test_a_continuum_of_orbits_stops_auto_and_says_so(tmp_path, capsys):
     assert main(["continue", "--scene", str(scene), "--par", "omega", "--to", "300"]) == 3
     err = capsys.readouterr().err
     assert err.startswith("adbgen: ended early:") and "continuum of balanced orbits" in err
+
+
+def test_a_known_orbit_needs_no_auto_route():
+    """`response_at` from the flexible Jeffcott model's closed-form balanced state (exact at every omega)
+    gives the multipliers `forced_response` finds after AUTO-07p carried its start orbit from 400 to
+    300 rad/s.  Negative control: the same start at 310 rad/s gives other multipliers (the comparison
+    sees a 3 % change of the forcing)."""
+    require_auto()
+    flex = load_model("flexible_jeffcott_n2")
+    p = flex.params({"omega": 300.0})
+    routed = auto_orbits.forced_response(flex, p)
+    direct = auto_orbits.response_at(flex, p, flex.steady_state("B", p), 0.0)
+    assert routed.route and not direct.route
+    gap = np.remainder(direct.y0 - routed.y0 + math.pi, 2 * math.pi) - math.pi  # the angles modulo 2 pi
+    assert np.max(np.abs(gap)) < 1e-9
+    key = lambda z: (round(abs(z), 6), round(z.imag, 6))  # noqa: E731
+    a, b = sorted(routed.multipliers, key=key), sorted(direct.multipliers, key=key)
+    assert np.max(np.abs(np.array(a) - np.array(b))) < 1e-8
+    assert direct.classification == routed.classification
+    assert direct.margin.value == pytest.approx(routed.margin.value, abs=1e-8)
+    p2 = flex.params({"omega": 310.0})
+    other = sorted(auto_orbits.response_at(flex, p2, flex.steady_state("B", p2), 0.0).multipliers, key=key)
+    assert np.max(np.abs(np.array(other) - np.array(b))) > 1e-3

@@ -211,3 +211,44 @@ def test_every_shipped_row_passes_its_check_scenes():
     # row (order 10, factor 2.5: 9.8e-3 on scene 00 of bench tolerance) does not at 1e-4
     assert bench_auto.passes_check(table["rows"][-1], loose["rtol"], checked)
     assert not bench_auto.passes_check({"key": "taylor:o10:f2.5"}, 1e-4, checked)
+    # the step-factor cliff: the 1e-4 row learned before the held-in transients (order 13, factor 2; 3.7e3 and
+    # 1.2e4 on held-out thesis n = 3 scenes) passes the first two check scenes and is caught by the transients
+    cliff = {"key": "taylor:o13:f2"}
+    first_two = {"scenes": {k: v for k, v in checked["scenes"].items() if k in ("notebook06_si", "thesis_long")}}
+    assert bench_auto.passes_check(cliff, 1e-4, first_two) and not bench_auto.passes_check(cliff, 1e-4, checked)
+
+
+def test_table_only_reuses_the_recorded_check_scenes_defined_as_now(monkeypatch):
+    """`check_and_table` takes a check scene's errors from the previous table's record when the scene is
+    recorded as it is defined now and every candidate has an error there; it measures the others.  Negative
+    control: a scene recorded with another t_end is measured again."""
+    cands = [{"key": "taylor:o20:f1", "engine": "taylor", "order": 20, "step_factor": 1.0}]
+    scenes = bench_auto.CHECK_SCENES
+    recorded = {"scenes": [bench_auto.json_roundtrip(bench_auto._recorded(s)) for s in scenes],
+                "errors": {s["name"]: {"errors": {"taylor:o20:f1": 1e-12}, "floor": 1e-13} for s in scenes}}
+    measured = []
+
+    def fake(cands, progress=print, scenes=()):
+        measured.extend(s["name"] for s in scenes)
+        return {"scenes": {s["name"]: {"errors": {c["key"]: 2e-12 for c in cands}, "floor": 1e-13} for s in scenes}}
+
+    monkeypatch.setattr(bench_auto, "check_errors", fake)
+    monkeypatch.setattr(bench_auto, "table_of", lambda result, checked: checked)
+    got = bench_auto.check_and_table({"candidates": cands}, progress=lambda line: None, recorded=recorded)
+    assert measured == [] and set(got["scenes"]) == {s["name"] for s in scenes}
+    recorded["scenes"][-1]["t_end"] *= 2  # negative control: the last scene's record is not the scene now
+    got = bench_auto.check_and_table({"candidates": cands}, progress=lambda line: None, recorded=recorded)
+    assert measured == [scenes[-1]["name"]] and got["scenes"][scenes[-1]["name"]]["errors"]["taylor:o20:f1"] == 2e-12
+    measured.clear()
+    got = bench_auto.check_and_table({"candidates": cands + [{"key": "new"}]}, progress=lambda line: None,
+                                     recorded={**recorded, "scenes": recorded["scenes"][:-1]})
+    assert measured == [s["name"] for s in scenes]  # a candidate without a recorded error: all measured
+
+
+def test_the_held_in_transients_are_seeded_and_of_the_held_out_kind():
+    """The check scenes added for the step-factor cliff are `tolerance_scenes._thesis` draws from
+    `HELD_IN_SEED` (deterministic), thesis n = 3, 4 transients; negative control: another seed draws others."""
+    drawn = bench_auto.held_in_transients()
+    assert drawn == bench_auto.held_in_transients() and drawn == bench_auto.CHECK_SCENES[-len(drawn):]
+    assert all(s["model"].startswith("thesis_rotating_n") and s["t_end"] >= 300 for s in drawn)
+    assert bench_auto.held_in_transients(bench_auto.HELD_IN_SEED + 1) != drawn

@@ -84,6 +84,9 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
               "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
     text = tolerance.page(result)
     assert "| 36_two_plane_torque | 3 | (500) |" in text and "| two_plane / thesis / torque | 3 |" in text
+    assert "Decided cells: 1 of 2; scenes without one (their" in text and "every rtol, so they grade nothing): 0." in text
+    cells[0]["decided"] = False  # negative control: a scene with no decided cell is named
+    assert "every rtol, so they grade nothing): 1: 36_two_plane_torque." in tolerance.page(result)
 
 
 def test_the_page_shows_a_recorded_diagnosis_and_only_then():
@@ -110,3 +113,39 @@ def test_diagnose_refuses_an_unknown_scene():
         tolerance.diagnose("no_such_scene", 1e-4)
     with pytest.raises(UsageError, match="positive"):
         tolerance._positive("-1")
+
+
+def test_a_scene_measured_under_another_table_is_stale_remeasured_and_not_counted(tmp_path, monkeypatch):
+    """The auto engine's table is recorded per scene (`table_id`, the table file's hash); a resumed run
+    remeasures the scenes recorded under another table and skips the current ones, and the summary and the
+    page count only the current ones.  Negative control: the same scenes recorded under the current table
+    are skipped and counted."""
+    now = tolerance.table_id("auto")
+    assert now and tolerance.table_id("cyrk-dop853") is None
+    scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
+    bad = [{"rtol": 1e-4, "ratio": 500.0, "decided": True, "status": "success", "reference_ratio": 1e-3}]
+    good = [{"rtol": 1e-4, "ratio": 2.0, "decided": True, "status": "success", "reference_ratio": 1e-3}]
+    old = {"36_two_plane_torque": {"scene": scene, "cells": bad, "table": "0" * 12},
+           "37_two_plane_torque": {"scene": scene, "cells": good, "table": now}}
+    s = tolerance.summary(old, now)
+    assert s["met"] and s["measured"] == 1 and s["stale"] == ["36_two_plane_torque"]
+    assert not tolerance.summary({k: {**v, "table": now} for k, v in old.items()}, now)["met"]  # negative control
+    measured = []
+    monkeypatch.setattr(tolerance, "measure_scene", lambda sc, engine, rtols, progress=print: measured.append(
+        sc["name"]) or {"scene": scene, "cells": good, "table": now, "measured_at": "2026-11-29T04:30:00+00:00",
+                        "load_average": [9.0, 9.0, 9.0]})
+    out = tmp_path / "tolerance.json"
+    result = {"benchmark": "tolerance", "engine": "auto", "rtols": [1e-4], "machine": {}, "scenes": old,
+              "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
+                            "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
+              "date": "2026-11-29T01:20:00+00:00", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
+    out.write_text(json.dumps(result))
+    res = tolerance.bench_tolerance(str(out), names=["36_two_plane_torque", "37_two_plane_torque"], rtols=[1e-4],
+                                    progress=lambda line: None)
+    assert measured == ["36_two_plane_torque"]  # the stale one only
+    assert res["summary"]["measured"] == 2 and res["summary"]["stale"] == [] and res["summary"]["met"]
+    text = tolerance.page(res)
+    assert "2 of 46 scenes measured under the auto engine's current table" in text and "earlier table" not in text
+    res["scenes"]["37_two_plane_torque"]["table"] = "f" * 12  # a stale scene is marked on the page
+    res["summary"] = tolerance.summary(res["scenes"], now)
+    assert "| 37_two_plane_torque (earlier table, not counted) |" in tolerance.page(res)

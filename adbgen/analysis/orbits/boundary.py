@@ -115,7 +115,9 @@ class BoundaryCurve:
     # --- the critical quantity (subclasses) ---------------------------------------------------------
 
     def candidates(self, spectrum: np.ndarray) -> np.ndarray:
-        raise NotImplementedError
+        """The values the critical one is tracked among: by default the real ones (to 1e-9 relative)."""
+        spectrum = np.asarray(spectrum, complex)
+        return spectrum[np.abs(spectrum.imag) <= 1e-9 * (1 + np.abs(spectrum))]
 
     def value(self, z: complex) -> float:
         raise NotImplementedError
@@ -199,10 +201,6 @@ class FoldCurve(BoundaryCurve):
     """A real eigenvalue of a steady state through zero (a fold, or a symmetric state's branch point)."""
 
     kind = "fold"
-
-    def candidates(self, ev):
-        ev = np.asarray(ev, complex)
-        return ev[np.abs(ev.imag) <= 1e-9 * (1 + np.abs(ev))]
 
     def value(self, z):
         return float(z.real)

@@ -7,17 +7,11 @@ matrix is nearly singular; its minimum-norm steps still converge to the tracked 
 
 from __future__ import annotations
 
-import numpy as np
-
 from .boundary import BoundaryCurve
 
 
 class FoldCycleCurve(BoundaryCurve):
     kind = "fold of cycles"
-
-    def candidates(self, mu):
-        mu = np.asarray(mu, complex)
-        return mu[np.abs(mu.imag) <= 1e-9 * (1 + np.abs(mu))]
 
     def value(self, z):
         return float(z.real - 1.0)

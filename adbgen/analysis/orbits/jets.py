@@ -142,10 +142,6 @@ def _power(a, e):
     return r
 
 
-def _lift(x):
-    return x if isinstance(x, Jet) else None
-
-
 def sin_cos(a: Jet):
     n = len(a.c)
     s = np.zeros(n, dtype=a.c.dtype)

@@ -16,10 +16,6 @@ class PeriodDoublingCurve(BoundaryCurve):
     kind = "period-doubling"
     test_names = ("double flip",)
 
-    def candidates(self, mu):
-        mu = np.asarray(mu, complex)
-        return mu[np.abs(mu.imag) <= 1e-9 * (1 + np.abs(mu))]
-
     def value(self, z):
         return float(z.real + 1.0)
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ...registry import Registry
 from ..ir import KERNELS
 
 if TYPE_CHECKING:
@@ -35,7 +36,7 @@ REGISTRY: dict[str, str] = {
     "taylor": "adbgen.codegen.targets.taylor:TARGET",
     "lanes": "adbgen.codegen.targets.lanes:TARGET",
 }
-_loaded: dict[str, "Target"] = {}
+_registry = Registry("target", "targets", REGISTRY)
 
 _PACKAGE = Path(__file__).resolve().parents[2]  # adbgen/
 
@@ -98,9 +99,24 @@ class Target:
     def prove(self, proof: "Proof") -> None:
         """Prove this target's files before `regenerate` writes them (issue 20): they are written in
         ``proof.folder``; compare what they compute with ``proof.expected`` at ``proof.samples`` and
-        refuse with ``proof.fail(...)``.  A target that does not override this is refused: nothing
-        unproven is written (`codegen.proof`)."""
-        raise NotImplementedError(f"target {self.name!r} has no proof")
+        refuse with ``proof.fail(...)``.  By default ``prove(target, proof)`` of the ``prove`` module in the
+        target class's package (``targets/<name>/prove.py``); a target with neither that nor an override is
+        refused: nothing unproven is written (`codegen.proof`)."""
+        module = proof_module(self)
+        if module is None:
+            raise NotImplementedError(f"target {self.name!r} has no proof")
+        module.prove(self, proof)
+
+
+def proof_module(target: Target):
+    """The ``prove`` module beside the target's class (its package's), None if there is none."""
+    name = f"{type(target).__module__}.prove"
+    try:
+        return importlib.import_module(name)
+    except ModuleNotFoundError as exc:
+        if exc.name != name and not name.startswith(f"{exc.name}."):
+            raise  # a module the proof itself imports is missing: not the same as having no proof
+        return None
 
 
 def columns(kernel: "Kernel") -> int:
@@ -108,45 +124,13 @@ def columns(kernel: "Kernel") -> int:
     return kernel.shape[1] if len(kernel.shape) == 2 else 0
 
 
-def register(target: Target, replace: bool = False) -> None:
-    """Add a target object at run time (one line; e.g. from a test or a plug-in)."""
-    if target.name in names() and not replace:
-        raise ValueError(f"a target named {target.name!r} is registered already")
-    REGISTRY[target.name] = ""
-    _loaded[target.name] = target
-    _invalidate()
-
-
-def unregister(name: str) -> None:
-    REGISTRY.pop(name, None)
-    _loaded.pop(name, None)
-    _invalidate()
-
-
-_generation = [0]
-
-
-def _invalidate() -> None:
-    _generation[0] += 1
+register = _registry.register  # add a target object at run time: register(target, replace=False)
+unregister = _registry.unregister
+names = _registry.names
+get = _registry.get
+all_targets = _registry.all
 
 
 def generation() -> int:
     """Changes whenever the registry does (so that caches of rendering know to rebuild)."""
-    return _generation[0]
-
-
-def names() -> tuple[str, ...]:
-    return tuple(REGISTRY)
-
-
-def get(name: str) -> Target:
-    if name not in REGISTRY:
-        raise KeyError(f"unknown target {name!r}; targets: {', '.join(REGISTRY)}")
-    if name not in _loaded:
-        module, attr = REGISTRY[name].split(":")
-        _loaded[name] = getattr(importlib.import_module(module), attr)
-    return _loaded[name]
-
-
-def all_targets() -> tuple[Target, ...]:
-    return tuple(get(name) for name in REGISTRY)
+    return _registry.generation

@@ -15,7 +15,7 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
-from ...core.checks import DERIVED, CheckResult, Registered, run_registered, timed
+from ...core.checks import DERIVED, CheckResult, Registered, timed
 from ...core.lagrange import EquationsOfMotion
 from ..single_plane.model import derive as derive_single_plane
 from ..single_plane.scene import Scene, SpeedLaw
@@ -103,6 +103,3 @@ def registered(ns=()) -> list[Registered]:
     return [Registered("single-plane limit (Jeffcott)", DERIVED, lambda wrong: single_plane_limit(wrong),
                        "the balancer node's x with 5 % of mode 2 (a wrong mode shape)")]
 
-
-def run_all(progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
-    return run_registered(registered(), progress)

@@ -18,10 +18,9 @@ from typing import Mapping
 
 import sympy as sp
 
-from ...core.description import (BALL, Candidate, ClosedForm, Description, Equilibria, SteadyState,
-                                 ball_exchanges, spin_measures)
+from ...core.description import (BALL, Candidate, ClosedForm, Description, Equilibria, SteadyState, ball_exchanges,
+                                 forcing_parameter, spin_measures)
 from ...core.first_order import FirstOrderSystem
-from ...core.oscillator import Oscillator
 from . import steady_states as ss
 from .symbols import Omega, delta, mu, zeta
 
@@ -120,20 +119,6 @@ def _own_parameters(system: FirstOrderSystem, balls: list[str]) -> Mapping[str, 
             for k, b in enumerate(balls)}
 
 
-def _forcing(system: FirstOrderSystem) -> str:
-    """The parameter of a periodic forcing (the spin speed omega of the fixed frame), "" if none."""
-    eom = system.solve.eom
-    law = dict(eom.driven_law)
-    exprs = [sp.sympify(v).xreplace(law) for v in eom.mass.values()] + [sp.sympify(e).xreplace(law) for e in eom.forcing]
-    if not any(eom.time in e.free_symbols for e in exprs):
-        return ""
-    try:
-        w = Oscillator.detect(exprs, eom.time).frequency
-    except ValueError:
-        return ""
-    return w.name if isinstance(w, sp.Symbol) else ""
-
-
 def balanced_manifold(system: FirstOrderSystem) -> Equilibria:
     """Thesis (3.6): the balanced states x = y = 0, sum cos phi_i = -delta/mu, sum sin phi_i = 0 (identical
     balls; dimensionless rotating frame), a manifold of dimension n - 2 (n >= 3)."""
@@ -175,7 +160,7 @@ def describe(system: FirstOrderSystem, *, rotating: bool, dimensionless: bool, t
     names = THESIS_NAMES if thesis_states else {}
     return Description(
         time_unit="1" if dimensionless else "s", units=units, roles=roles, angles=angles, amplitude=rotor,
-        measures=spin_measures(system.solve.eom), forcing_frequency=_forcing(system) if forcing is None else forcing,
+        measures=spin_measures(system.solve.eom), forcing_frequency=forcing_parameter(system.solve.eom) if forcing is None else forcing,
         symmetries=ball_exchanges(balls, _own_parameters(system, balls)),
         parameter_sets=dict(parameter_sets or {}), scales=scales, closed_forms=forms, steady_states=states,
         steady_state_names=names,

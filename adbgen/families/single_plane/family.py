@@ -4,28 +4,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..family import PackageFamily
+
 
 @dataclass(frozen=True)
-class SinglePlane:
+class SinglePlane(PackageFamily):
     name: str = "single-plane"
     title: str = "single-plane rotor with n balls in one race"
     reference: str = "thesis multi-ball ADB (2005)"
-
-    @property
-    def scene_type(self) -> type:
-        from .scene import Scene
-
-        return Scene
-
-    def load_scene(self, path):
-        from .scene import Scene
-
-        return Scene.load(path)
-
-    def derive(self, scene):
-        from .model import derive
-
-        return derive(scene)
 
     def forms(self) -> dict:
         from . import reductions
@@ -35,36 +21,9 @@ class SinglePlane:
         return {"fixed": derive, "nondimensional": reductions.nondimensionalise,
                 "rotating": reductions.rotating_frame, "first-order": lambda scene: smallest_model(scene).system}
 
-    def verify(self, progress, ns=(1, 2, 3, 4, 6)) -> list:
-        from ...core.checks import run_registered
-        from .verify import run_all
-
-        return run_all(tuple(ns), progress=progress) + run_registered(science_checks(), progress)
-
-    def checks(self, ns=(1, 2, 3, 4, 6)) -> list:
-        from .verify import registered
-
-        return registered(tuple(ns)) + science_checks()
-
-    def models(self) -> list:
-        from .models import default_set
-
-        return default_set()
-
-    def kinds(self) -> dict:
-        from .models import KINDS
-
-        return dict(KINDS)
-
-    def model_for_scene(self, scene, name=None):
-        from .models import for_scene
-
-        return for_scene(scene, name)
-
-    def register_commands(self, subparsers) -> None:
-        from .commands import register
-
-        register(subparsers)
+    def checks(self, ns=None) -> list:
+        """The derivation's checks (``verify.registered``) and those that run a generated model."""
+        return super().checks(ns) + science_checks()
 
     def reproductions(self) -> dict:
         return {"thesis": "adbgen.families.single_plane.science.reproduce:REPRODUCTION",

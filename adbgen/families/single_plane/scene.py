@@ -33,7 +33,6 @@ from ...core import speed_schedule
 from ...core.scene_fields import Key, number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
 from ...errors import SceneError
 
-SPEED_LAWS = ("constant", "profile", "schedule", "torque")
 # a schedule's keys in the order of its phases: run-up ramp, hold, temporary speed reduction (fall, plateau,
 # recovery); each a parameter of the generated model (adbgen simulate/sweep --set NAME=VALUE changes it)
 SCHEDULE_KEYS = speed_schedule.KEYS

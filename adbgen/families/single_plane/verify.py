@@ -15,7 +15,7 @@ import sympy as sp
 from ...core import is_identity
 from ...core import speed_schedule as _schedule
 from ...core.checks import (DERIVED, FORMULA, CheckResult, Registered, flip_term,
-                             moved, printed_tolerance, run_registered, timed as _timed)
+                             moved, printed_tolerance, timed as _timed)
 from ...core.structure import cramer
 from ...references import thesis
 from .scene import Scene
@@ -549,6 +549,3 @@ def registered(ns=(1, 2, 3, 4, 6)) -> list[Registered]:
                    "H2-'s end claimed at (4.1)'s 0.9950372, no stable state claimed at Omega = 0.16"),
     ]
 
-
-def run_all(ns=(1, 2, 3, 4, 6), progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
-    return run_registered(registered(ns), progress)

@@ -55,7 +55,7 @@ def cmd_steady(args) -> int:
     from . import critical_speeds as cs
     from . import normal_form as nf
     from .branches import FullSteadyStates
-    from .symbols import R, k, l, m, z
+    from .symbols import R, k, l, z
 
     scene = _scene(args)
     eps = scene.eccentricity if args.eps is None else args.eps

@@ -20,9 +20,8 @@ from typing import Mapping
 import sympy as sp
 
 from ...core.description import (RACE_SWAP, Candidate, ClosedForm, Description, SteadyState, Symmetry,
-                                 ball_exchanges, spin_measures)
+                                 ball_exchanges, forcing_parameter, spin_measures)
 from ...core.first_order import FirstOrderSystem
-from ...core.oscillator import Oscillator
 from .scene import TwoPlaneScene
 
 _TILTS = ("phi_x", "phi_y", "phi_X", "phi_Y")
@@ -116,19 +115,6 @@ def c3_form(system: FirstOrderSystem) -> ClosedForm:
     return ClosedForm("C3", (), (Candidate(guards, values),))
 
 
-def _forcing(system: FirstOrderSystem) -> str:
-    eom = system.solve.eom
-    law = dict(eom.driven_law)
-    exprs = [sp.sympify(v).xreplace(law) for v in eom.mass.values()] + [sp.sympify(e).xreplace(law) for e in eom.forcing]
-    if not any(eom.time in e.free_symbols for e in exprs):
-        return ""
-    try:
-        w = Oscillator.detect(exprs, eom.time).frequency
-    except ValueError:
-        return ""
-    return w.name if isinstance(w, sp.Symbol) else ""
-
-
 def describe(system: FirstOrderSystem, scene: TwoPlaneScene, parameter_sets: Mapping | None = None,
              steady: tuple[str, ...] = (), forcing: str | None = None) -> Description:
     """A two-plane model's description; `steady`: which closed forms it gets ("B", "C3"); `forcing`: the
@@ -157,7 +143,7 @@ def describe(system: FirstOrderSystem, scene: TwoPlaneScene, parameter_sets: Map
     return Description(
         time_unit="s" if scene.si else "1", units=units, roles=roles, angles=tuple(c for c in coords if roles[c].endswith("angle")),
         amplitude=rotor, measures={"A": vibration(system), **spin_measures(system.solve.eom)},
-        forcing_frequency=_forcing(system) if forcing is None else forcing, symmetries=symmetries(system, scene),
+        forcing_frequency=forcing_parameter(system.solve.eom) if forcing is None else forcing, symmetries=symmetries(system, scene),
         parameter_sets=dict(parameter_sets or {}),
         scales={"eccentricity": "epsilon", **({"speed": speed} if speed else {})},
         closed_forms=tuple(forms), steady_states=tuple(states))

@@ -7,7 +7,6 @@ prints.  The tests call them one by one and add negative controls.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Callable
 
 import numpy as np
 import sympy as sp
@@ -18,7 +17,7 @@ from ..single_plane.scene import Scene
 from ..single_plane.model import derive as derive_single_plane
 from ..single_plane.symbols import DimensionalSymbols
 from ...core.checks import (CONSISTENCY, DERIVED, NOT_REPRODUCED, CheckResult, Registered, flip_term,
-                             moved, printed_tolerance, run_registered, timed as _timed)
+                             moved, printed_tolerance, timed as _timed)
 from . import critical_speeds as cs
 from . import normal_form as nf
 from .model import derive
@@ -579,8 +578,5 @@ def registered(ns=()) -> list[Registered]:
     ]
 
 
-def run_all(progress: Callable[[CheckResult], None] | None = None) -> list[CheckResult]:
-    return run_registered(registered(), progress)
 
-
-__all__ = ["run_all", "general_scene"]
+__all__ = ["general_scene"]

@@ -106,11 +106,6 @@ class AutoTarget(Target):
         out["stages_json"] = json.dumps({"source_hash": source_hash(ir)} | stages_data(ir, out), indent=1)
         return out
 
-    def prove(self, proof):
-        from .prove import prove
-
-        prove(self, proof)
-
 
 TARGET = AutoTarget(
     name="auto",

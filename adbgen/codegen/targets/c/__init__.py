@@ -10,11 +10,6 @@ class CTarget(Target):
     def dialect(self, which, kernel):
         return CDialect("y", "p", "dydt" if which == "rhs" else "out", columns(kernel))
 
-    def prove(self, proof):
-        from .prove import prove
-
-        prove(self, proof)
-
 
 TARGET = CTarget(
     name="c",

@@ -33,11 +33,6 @@ class LanesTarget(Target):
                 return "the rhs branches (Piecewise): C vector types have no lane-wise ?:"
         return None
 
-    def prove(self, proof):
-        from .prove import prove
-
-        prove(self, proof)
-
 
 TARGET = LanesTarget(
     name="lanes",

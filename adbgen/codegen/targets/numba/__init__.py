@@ -17,11 +17,6 @@ class NumbaTarget(Target):
 
         return {"program_json": program_json(ir, source_hash(ir))}
 
-    def prove(self, proof):
-        from .prove import prove
-
-        prove(self, proof)
-
 
 TARGET = NumbaTarget(
     name="numba",

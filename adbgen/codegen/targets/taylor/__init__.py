@@ -11,7 +11,8 @@ mpmath's odefun at 30 digits), and printed (`ccode`) as
         and, for a translation unit that #includes the .c (the Taylor engine's driver), the workspace
         struct <model>_ts with _ts_setup, _ts_time, _ts_load and the always-inline _ts_order(w, K, f)
 
-with the loop form over the balls kept (the text does not grow with n).
+with the loop form over the balls kept (the text does not grow with n).  Its proof (issue 20, `prove`):
+the files compiled strictly, both exports compared with the checked series program at the proof's samples.
 """
 
 from __future__ import annotations
@@ -70,13 +71,6 @@ class TaylorTarget(Target):
             "n_constants": len(em.core_consts) + len(em.ball_consts),
             "n_balls": prog.n_balls, "n_ball_lanes": em.nbp,
         }
-
-    def prove(self, proof):
-        """Issue 20's proof of the rendered files (`prove.py`): compiled strictly, both exports compared with
-        the checked series program at the proof's samples."""
-        from .prove import prove
-
-        prove(self, proof)
 
 
 # It prints no kernel functions through a dialect (printer None): its C is the series program, printed by

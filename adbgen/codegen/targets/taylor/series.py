@@ -190,10 +190,6 @@ class SeriesProgram:
         return out
 
 
-def _is_number(e) -> bool:
-    return isinstance(e, (int, float)) or (isinstance(e, sp.Basic) and e.is_number)
-
-
 class Decomposer:
     """Builds a `SeriesProgram` from a kernel (see `decompose`)."""
 

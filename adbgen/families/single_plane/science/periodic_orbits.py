@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ....analysis.reproduction import Reproduction
+from ....analysis.reproduction import markdown_section
 
 PI = math.pi
 CH4 = {"mu": 0.05, "zeta": 0.01, "beta": 0.01, "delta": 0.01}  # (5.1) without Omega: the ch. 4 parameters
@@ -373,20 +373,6 @@ def section(out: Path, progress=print) -> str:
     return "\n".join(L)
 
 
-def _compute(fig_dir: Path, progress=None) -> dict:
-    return {"text": section(fig_dir, progress or (lambda *_: None)), "figures": Path(fig_dir)}
-
-
-def _lines(results: dict, root: Path) -> list[str]:
-    """The section's markdown with its figure links relative to the document's folder `root`."""
-    import os
-
-    figures = Path(os.path.relpath(results["figures"], root)).as_posix()
-    docs = Path(os.path.relpath(Path(__file__).resolve().parents[4] / "docs", root)).as_posix()
-    return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
-
-
 from .coverage import ORBIT_ROWS  # noqa: E402
 
-REPRODUCTION = Reproduction("thesis-orbits", "Thesis: periodic orbits (issue 21)", _compute, _lines,
-                            coverage=ORBIT_ROWS)
+REPRODUCTION = markdown_section("thesis-orbits", "Thesis: periodic orbits (issue 21)", section, ORBIT_ROWS)

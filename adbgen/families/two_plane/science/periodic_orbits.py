@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ....analysis.reproduction import Reproduction
+from ....analysis.reproduction import markdown_section
 
 from . import coverage
 from ..charts import CHARTS, ChartCase, ties  # noqa: F401  (the paper's charts as data; bench times them too)
@@ -356,18 +356,5 @@ def _chart_summary(c, case: ChartCase) -> str:
     return "; ".join(parts) + "."
 
 
-def _compute(fig_dir: Path, progress=None) -> dict:
-    return {"text": section(fig_dir, progress or (lambda *_: None)), "figures": Path(fig_dir)}
-
-
-def _lines(results: dict, root: Path) -> list[str]:
-    """The section's markdown with its figure links relative to the document's folder `root`."""
-    import os
-
-    figures = Path(os.path.relpath(results["figures"], root)).as_posix()
-    docs = Path(os.path.relpath(Path(__file__).resolve().parents[4] / "docs", root)).as_posix()
-    return results["text"].replace("@FIGURES@", figures).replace("@DOCS@", docs).splitlines()
-
-
-REPRODUCTION = Reproduction("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)", _compute,
-                            _lines, coverage=coverage.ORBITS)
+REPRODUCTION = markdown_section("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)",
+                                section, coverage.ORBITS)
