@@ -55,6 +55,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, minimize, minimize_scalar
 
+from .design_runs import Journal, evaluate, key_of
 from .identify import rotor_size, tolerance
 from .loading import AnalysisError, Model
 from .windows import Sample, SolveFailed, certify
@@ -73,6 +74,10 @@ AGREE = 1e-3  # relative agreement of the two sensitivities
 # balancing state is a continuum (the balls' pattern free to turn: a zero eigenvalue, margin 0 whatever the
 # design), and the balancing mode's rate vanishes with the imbalance, so "every imbalance down to 0" has margin 0
 IMBALANCE_FLOOR = 1e-3
+# the journal's verdict record (design-journal.jsonl, design_runs.Journal): its key names what decides a verdict
+# (the model's SOURCE_HASH, the parameters left alone, the box, the varied and tied names, the lines' sampling and
+# this format); raise it when assess computes differently, so an old journal is not read as the new computation
+VERDICT_FORMAT = 1
 
 
 @dataclass(frozen=True)
@@ -98,6 +103,21 @@ class Problem:
     label: str = ""  # the balancing state's label (default: `balancing_label`)
     ties: dict = field(default_factory=dict)  # {parameter: varied parameter it equals} (the balls' masses alike)
     cache: dict = field(default_factory=dict)
+    # how the designs are assessed (issue 39 item 5): `journal` keeps every verdict as it is found and gives back
+    # those of a killed run; `parallel` sends batches of designs (the chart's grid, a line's first samples) to the
+    # local Dask cluster (design_runs.evaluate: `workers` threads, a progress bar when `progress`)
+    journal: Journal | None = None
+    parallel: bool = False
+    workers: int | None = None
+    progress: bool = False
+    resumed: int = 0  # verdicts read back from the journal
+
+    def __getstate__(self):
+        # a copy sent to a Dask task: without the cache (the task's verdict comes back as its result) and the
+        # journal (only this process writes it)
+        state = dict(self.__dict__)
+        state.update(cache={}, journal=None, parallel=False, progress=False)
+        return state
 
     def __post_init__(self):
         m = self.model
@@ -242,6 +262,21 @@ class Verdict:
     def marginal(self) -> bool:
         return bool(abs(self.margin) <= self.margin_uncertainty)
 
+    def record(self) -> dict:
+        """The verdict as the journal keeps it (JSON: floats exactly, non-finite as JSON's NaN and Infinity)."""
+        return {"design": list(self.design), "exists": self.exists, "capacity": self.capacity,
+                "feasible": self.feasible, "margin": self.margin, "margin_uncertainty": self.margin_uncertainty,
+                "worst": self.worst, "leading": [self.leading.real, self.leading.imag],
+                "unstable_at": self.unstable_at, "failures": [[pt, why] for pt, why in self.failures],
+                "samples": self.samples}
+
+    @classmethod
+    def from_record(cls, r: dict) -> Verdict:
+        return cls(tuple(r["design"]), bool(r["exists"]), float(r["capacity"]), feasible=bool(r["feasible"]),
+                   margin=float(r["margin"]), margin_uncertainty=float(r["margin_uncertainty"]), worst=dict(r["worst"]),
+                   leading=complex(*r["leading"]), unstable_at=[dict(pt) for pt in r["unstable_at"]],
+                   failures=[(dict(pt), why) for pt, why in r["failures"]], samples=int(r["samples"]))
+
     @property
     def crossing(self) -> str:
         """How the leading eigenvalue leaves: "Hopf" (a complex pair) or "real eigenvalue" (fold, pitchfork)."""
@@ -293,10 +328,54 @@ def assess(problem: Problem, design) -> Verdict:
     key = ("assess", design)
     if key in problem.cache:
         return problem.cache[key]
+    journal = problem.journal
+    if journal is not None and (k := verdict_key(problem, design)) in journal.done:
+        problem.resumed += 1
+        v = problem.cache[key] = Verdict.from_record(journal.done[k])
+        return v
+    v = problem.cache[key] = _assess(problem, design)
+    if journal is not None:
+        journal.put(k, v.record())
+    return v
+
+
+def verdict_key(problem: Problem, design: tuple) -> str:
+    """The journal key of a design's verdict: everything assess reads besides the design (VERDICT_FORMAT)."""
+    return key_of("assess", VERDICT_FORMAT, problem.model.source_hash, problem.base.tolist(),
+                  [a.to_json() for a in problem.box], [a.name for a in problem.varied], sorted(problem.ties.items()),
+                  problem.label, LINE_POINTS, LINE_REFINE, list(design))
+
+
+def _verdict_record(problem: Problem, design: tuple) -> dict:
+    return assess(problem, design).record()  # a Dask task's: on a copy of the problem (Problem.__getstate__)
+
+
+def prefetch(problem: Problem, designs, desc: str) -> None:
+    """With `problem.parallel`: the designs not yet assessed, assessed together on the local Dask cluster
+    (design_runs.evaluate: journalled as each finishes, those in the journal read back, progress under `desc`)
+    and kept in the cache, so the certified scans that follow read them; without it nothing (each is assessed
+    when the scan reaches it).  The verdicts are the same either way: assess is deterministic."""
+    if not problem.parallel:
+        return
+    todo = {}
+    for d in designs:
+        d = tuple(float(v) for v in np.atleast_1d(d))
+        if ("assess", d) not in problem.cache:
+            todo[verdict_key(problem, d)] = d
+    if not todo:
+        return
+    journal = problem.journal or Journal(None)
+    problem.resumed += sum(k in journal.done for k in todo)
+    done, _ = evaluate([(k, _verdict_record, (problem, d)) for k, d in todo.items()], journal,
+                       workers=problem.workers, progress=problem.progress, desc=desc)
+    for k, d in todo.items():
+        problem.cache[("assess", d)] = Verdict.from_record(done[k])
+
+
+def _assess(problem: Problem, design: tuple) -> Verdict:
     cap = capacity(problem, design)
     v = Verdict(design, exists=capacity_slack(problem, design) >= 0, capacity=cap)
     if not v.exists:
-        problem.cache[key] = v
         return v
     active = [a for a in problem.box if not a.fixed]
     fixed = {a.name: a.low for a in problem.box if a.fixed}
@@ -340,7 +419,6 @@ def assess(problem: Problem, design) -> Verdict:
             for c in line.changes:
                 v.unstable_at.append({**point, axis.name: c.x})
     if best is None:
-        problem.cache[key] = v
         return v
     margin, point, state = _polish(problem, design, active, fixed, best)
     v.margin, v.worst = margin, point
@@ -349,7 +427,6 @@ def assess(problem: Problem, design) -> Verdict:
     # a margin inside what the computation can certify (`margins`) decides nothing: not counted feasible, and
     # the verdict says `marginal`
     v.feasible = not v.unstable_at and not v.failures and margin < -v.margin_uncertainty
-    problem.cache[key] = v
     return v
 
 
@@ -421,6 +498,7 @@ class Design:
     chart: dict | None = None
     resolution: dict = field(default_factory=dict)
     evaluations: int = 0
+    resumed: int = 0  # of the evaluations, those read back from the journal (a killed design run again)
     verdicts: list = field(default_factory=list)  # every design assessed (sorted by design)
     objective_runs: list = field(default_factory=list)  # objective t_dec: the run of each candidate
     verification: list = field(default_factory=list)  # the chosen design's runs at the box's corners
@@ -468,6 +546,7 @@ def scan_line(problem: Problem, axis: Axis, at, points: int, refine: int):
     # a sample just inside each capacity edge, so a window reaching the edge is drawn to it
     inside = [x - 1e-9 * (axis.high - axis.low) if below else x + 1e-9 * (axis.high - axis.low) for x, below in edges]
     xs = sorted(set(xs) | set(inside))
+    prefetch(problem, [design(x) for x in xs], f"design line over {axis.name}")
     samples = []
     for x in xs:
         try:
@@ -508,6 +587,7 @@ def solve(problem: Problem) -> Design:
     if out.best is not None and out.best.feasible:
         out.sensitivity = sensitivity(problem, out.best)
     out.evaluations = len([k for k in problem.cache if k[0] == "assess"])
+    out.resumed = problem.resumed
     out.verdicts = [v for k, v in sorted(problem.cache.items(), key=lambda kv: str(kv[0])) if k[0] == "assess"]
     return out
 
@@ -569,6 +649,7 @@ def _chart(problem: Problem) -> Design:
     margin = np.full((CHART_POINTS, CHART_POINTS), np.nan)
     feasible = np.zeros((CHART_POINTS, CHART_POINTS), bool)
     exists = np.zeros((CHART_POINTS, CHART_POINTS), bool)
+    prefetch(problem, [[x, y] for x in g1 for y in g2], "design chart")
     for i, x in enumerate(g1):
         for j, y in enumerate(g2):
             v = assess(problem, [x, y])

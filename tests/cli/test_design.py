@@ -130,7 +130,7 @@ def test_balls_choose_the_count(capsys, tmp_path):
 
 def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
     """`adbgen design --objective t_dec --out DIR` killed (SIGKILL) once its journal holds a finished run, then
-    run again into DIR: the same JSON as a run never killed (the journal read back, not recomputed: the line count
+    run again into DIR (its journal holds the designs' verdicts and the runs): the same JSON as a run never killed (the journal read back, not recomputed: the line count
     grows by the runs left only).  Negative control: the killed folder's journal was incomplete when killed."""
     import os
     import signal
@@ -150,6 +150,7 @@ def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
         assert done.returncode == 0, done.stderr
         data = json.loads(done.stdout)
         data.pop("files")
+        data["resumed"] = data.pop("evaluations_resumed")  # the designs' verdicts read back (issue 39 item 5)
         return data
     whole = json_of(tmp_path / "whole")
     total = len((tmp_path / "whole" / JOURNAL).read_text().splitlines())
@@ -164,5 +165,6 @@ def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
         proc.wait()
     kept = len(journal.read_text().splitlines())
     assert 1 <= kept < total, (kept, total)  # killed with runs left to do
-    assert json_of(tmp_path / "killed") == whole
+    again = json_of(tmp_path / "killed")
+    assert whole.pop("resumed") == 0 and again.pop("resumed") >= 1 and again == whole
     assert len(journal.read_text().splitlines()) == total  # only the runs left were run again
