@@ -110,7 +110,6 @@ class Problem:
     parallel: bool = False
     workers: int | None = None
     progress: bool = False
-    resumed: int = 0  # verdicts read back from the journal
 
     def __getstate__(self):
         # a copy sent to a Dask task: without the cache (the task's verdict comes back as its result) and the
@@ -330,7 +329,6 @@ def assess(problem: Problem, design) -> Verdict:
         return problem.cache[key]
     journal = problem.journal
     if journal is not None and (k := verdict_key(problem, design)) in journal.done:
-        problem.resumed += 1
         v = problem.cache[key] = Verdict.from_record(journal.done[k])
         return v
     v = problem.cache[key] = _assess(problem, design)
@@ -365,11 +363,42 @@ def prefetch(problem: Problem, designs, desc: str) -> None:
     if not todo:
         return
     journal = problem.journal or Journal(None)
-    problem.resumed += sum(k in journal.done for k in todo)
     done, _ = evaluate([(k, _verdict_record, (problem, d)) for k, d in todo.items()], journal,
                        workers=problem.workers, progress=problem.progress, desc=desc)
     for k, d in todo.items():
         problem.cache[("assess", d)] = Verdict.from_record(done[k])
+
+
+def _line_task(problem: Problem, k: int, at: list, points: int, refine: int, known: dict) -> dict:
+    """scan_line over the k-th varied parameter on a copy of the problem (a Dask task), reading the verdicts of
+    `known` as from a journal: the line, its capacity edges and every verdict it used ({key: record})."""
+    problem.journal = Journal(None)
+    problem.journal.done.update(known)
+    line, edges = scan_line(problem, problem.varied[k], at, points, refine)
+    used = {verdict_key(problem, key[1]): v.record() for key, v in problem.cache.items() if key[0] == "assess"}
+    return {"line": line, "edges": edges, "used": used}
+
+
+def scan_lines(problem: Problem, specs: list, points: int, refine: int, desc: str) -> list:
+    """[(line, edges)] of scan_line for each (k, at) of `specs` (the k-th varied parameter, the others at `at`).
+    With `problem.parallel` the lines run together on the local Dask cluster (design_runs.evaluate, progress
+    under `desc`), each on a copy of the problem that knows every verdict found so far; as each line finishes the
+    verdicts it used are cached here and its new ones journalled, so a kill loses only the lines in flight.  The lines are those of
+    the sequential scan: each is determined by its verdicts, and assess is deterministic."""
+    if not problem.parallel:
+        return [scan_line(problem, problem.varied[k], at, points, refine) for k, at in specs]
+    known = dict(problem.journal.done) if problem.journal is not None else {}
+    known.update({verdict_key(problem, key[1]): v.record() for key, v in problem.cache.items() if key[0] == "assess"})
+
+    def each(_, result):
+        for key, record in result["used"].items():
+            if problem.journal is not None and key not in problem.journal.done:
+                problem.journal.put(key, record)
+            problem.cache.setdefault(("assess", tuple(record["design"])), Verdict.from_record(record))
+    tasks = [(key_of("line", k, list(at), points, refine), _line_task, (problem, k, list(at), points, refine, known))
+             for k, at in specs]
+    done, _ = evaluate(tasks, Journal(None), workers=problem.workers, progress=problem.progress, desc=desc, each=each)
+    return [(done[key]["line"], done[key]["edges"]) for key, _, _ in tasks]
 
 
 def _assess(problem: Problem, design: tuple) -> Verdict:
@@ -578,6 +607,7 @@ def _boundaries_of(problem: Problem, axis: Axis, at, line, edges) -> list[Bounda
 def solve(problem: Problem) -> Design:
     """The design over the varied parameters (see the module's docstring)."""
     d = len(problem.varied)
+    journalled = set(problem.journal.done) if problem.journal is not None else set()  # a killed run's verdicts
     if d == 1:
         out = _interval(problem)
     elif d == 2:
@@ -587,7 +617,7 @@ def solve(problem: Problem) -> Design:
     if out.best is not None and out.best.feasible:
         out.sensitivity = sensitivity(problem, out.best)
     out.evaluations = len([k for k in problem.cache if k[0] == "assess"])
-    out.resumed = problem.resumed
+    out.resumed = sum(verdict_key(problem, key[1]) in journalled for key in problem.cache if key[0] == "assess")
     out.verdicts = [v for k, v in sorted(problem.cache.items(), key=lambda kv: str(kv[0])) if k[0] == "assess"]
     return out
 
@@ -656,16 +686,16 @@ def _chart(problem: Problem) -> Design:
             seen.append(v)
             margin[i, j], feasible[i, j], exists[i, j] = v.margin, v.feasible, v.exists
     bounds, rows, cols = [], [], []
-    for j, y in enumerate(g2):  # rows: along the first parameter
-        line, edges = scan_line(problem, a1, [a1.low, float(y)], CHART_POINTS, CHART_REFINE)
-        bounds += _boundaries_of(problem, a1, [a1.low, float(y)], line, edges)
+    # rows along the first parameter, columns along the second
+    specs = [(0, [a1.low, float(y)]) for y in g2] + [(1, [float(x), a2.low]) for x in g1]
+    lines = scan_lines(problem, specs, CHART_POINTS, CHART_REFINE, "design chart lines")
+    for (k, at), (line, edges) in zip(specs, lines):
+        bounds += _boundaries_of(problem, problem.varied[k], at, line, edges)
         seen += [s.state for s in line.samples]
-        rows.append({a2.name: float(y), "feasible": [list(w) for w in line.windows]})
-    for i, x in enumerate(g1):  # columns: along the second
-        line, edges = scan_line(problem, a2, [float(x), a2.low], CHART_POINTS, CHART_REFINE)
-        bounds += _boundaries_of(problem, a2, [float(x), a2.low], line, edges)
-        seen += [s.state for s in line.samples]
-        cols.append({a1.name: float(x), "feasible": [list(w) for w in line.windows]})
+        if k == 0:
+            rows.append({a2.name: at[1], "feasible": [list(w) for w in line.windows]})
+        else:
+            cols.append({a1.name: at[0], "feasible": [list(w) for w in line.windows]})
     res = [(a.high - a.low) / (CHART_POINTS - 1) / CHART_REFINE for a in (a1, a2)]
     chart = {"axes": [a1.name, a2.name], a1.name: g1.tolist(), a2.name: g2.tolist(),
              "margin": [[_num(m) for m in row] for row in margin], "feasible": feasible.tolist(),

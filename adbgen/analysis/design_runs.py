@@ -79,10 +79,11 @@ class Journal:
 
 
 def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progress: bool = True,
-             desc: str = "design") -> tuple[dict, int]:
+             desc: str = "design", each=None) -> tuple[dict, int]:
     """({key: result}, how many ran now) for tasks [(key, fn, args)]: the journalled read back, the rest on a
     local Dask cluster (one process, a thread per core), each journalled as it finishes; `progress`: the
-    project's bar on stderr (adbgen.progress: from two seconds on)."""
+    project's bar on stderr (adbgen.progress: from two seconds on); `each(key, result)`, when given, is called
+    in this thread as each task finishes (a result the journal cannot hold is kept by the caller)."""
     out = {k: journal.done[k] for k, _, _ in tasks if k in journal.done}
     pending = [(k, fn, args) for k, fn, args in tasks if k not in journal.done]
     pending = list({k: (k, fn, args) for k, fn, args in pending}.values())  # a task given twice runs once
@@ -102,6 +103,8 @@ def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progr
             result = fut.result()
             journal.put(k, result)
             out[k] = result
+            if each is not None:
+                each(k, result)
             update(count)
     return out, len(pending)
 

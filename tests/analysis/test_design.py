@@ -235,9 +235,10 @@ def test_a_killed_design_resumes_to_the_same_answer(thesis3, tmp_path, monkeypat
         count = {"puts": 0}
 
         def dies_after_k(self, key, result, count=count, k=k):
-            if count["puts"] == k:
-                raise KeyboardInterrupt  # the kill
-            count["puts"] += 1
+            if self.path is not None:  # a journal in a folder (not the lines' in-memory one)
+                if count["puts"] == k:
+                    raise KeyboardInterrupt  # the kill
+                count["puts"] += 1
             put(self, key, result)
         monkeypatch.setattr(Journal, "put", dies_after_k)
         with pytest.raises(KeyboardInterrupt):
@@ -261,3 +262,52 @@ def test_a_killed_design_resumes_to_the_same_answer(thesis3, tmp_path, monkeypat
     bad = solve(_journalled(thesis3, tmp_path / "bad"))
     # (every sample now reads as more stable: the refinement goes elsewhere, so only some are read back)
     assert bad.resumed > 0 and _answer(bad) != _answer(whole)
+
+
+def _chart_problem(model, folder, zeta=0.5, parallel=True):
+    from adbgen.analysis.design_runs import Journal
+
+    # thesis (5.1) at Omega = 4 and zeta = 0.5 (the ch. 4 question), a chart over (beta, mu): its Hopf boundary
+    # near beta = 0.235
+    pr = Problem(model, model.params({"zeta": zeta}), [Axis("Omega", 4.0, 4.0)],
+                 [Axis("beta", 0.1, 0.6), Axis("mu", 0.03, 0.1)])
+    pr.journal, pr.parallel, pr.workers = Journal(folder), parallel, 2
+    return pr
+
+
+def test_a_killed_chart_resumes_to_the_same_chart(thesis3, tmp_path, monkeypatch):
+    """Issue 39 item 5 for two varied parameters: the chart's grid and its certified rows and columns run on the
+    local Dask cluster (the lines together, each on a copy of the problem) and give the sequential chart; killed
+    after k verdicts (in the grid's batch, and while the lines' verdicts are journalled) and run again into the
+    same journal, the same chart, nothing computed twice.  Negative control: another zeta reads nothing back and
+    gives another chart."""
+    import json
+
+    from adbgen.analysis.design_runs import JOURNAL, Journal
+
+    whole = solve(_chart_problem(thesis3, tmp_path / "whole"))
+    total = whole.evaluations
+    assert whole.method == "chart" and {b.kind for b in whole.boundaries} == {"Hopf"} and total > 60
+    assert len((tmp_path / "whole" / JOURNAL).read_text().splitlines()) == total
+    assert _answer(solve(_chart_problem(thesis3, tmp_path / "seq", parallel=False))) == _answer(whole)
+    put = Journal.put
+    for k in (20, 60):  # 20: in the grid's batch (49 designs); 60: in the lines' (after the grid)
+        count = {"puts": 0}
+
+        def dies_after_k(self, key, result, count=count, k=k):
+            if self.path is not None:  # a journal in a folder (not the lines' in-memory one)
+                if count["puts"] == k:
+                    raise KeyboardInterrupt  # the kill
+                count["puts"] += 1
+            put(self, key, result)
+        monkeypatch.setattr(Journal, "put", dies_after_k)
+        with pytest.raises(KeyboardInterrupt):
+            solve(_chart_problem(thesis3, tmp_path / f"cut{k}"))
+        monkeypatch.setattr(Journal, "put", put)
+        assert len((tmp_path / f"cut{k}" / JOURNAL).read_text().splitlines()) == k
+        resumed = solve(_chart_problem(thesis3, tmp_path / f"cut{k}"))
+        assert resumed.resumed == k and resumed.evaluations == total and _answer(resumed) == _answer(whole)
+        lines = (tmp_path / f"cut{k}" / JOURNAL).read_text().splitlines()
+        assert len(lines) == total and len({json.loads(x)["key"] for x in lines}) == total
+    other = solve(_chart_problem(thesis3, tmp_path / "whole", zeta=0.4))  # the negative control
+    assert other.resumed == 0 and _answer(other) != _answer(whole)
