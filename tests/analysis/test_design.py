@@ -215,6 +215,28 @@ def _answer(design) -> str:
     return json.dumps(out, sort_keys=True)
 
 
+def _killed_and_resumed(make, folder, k: int, monkeypatch):
+    """solve(make(folder)) killed (KeyboardInterrupt) after its k-th verdict is journalled, then run again into the
+    same folder: (the resumed design, the journal's lines)."""
+    from adbgen.analysis.design_runs import JOURNAL, Journal
+
+    put, count = Journal.put, {"puts": 0}
+
+    def dies_after_k(self, key, result):
+        if self.path is not None:  # a journal in a folder (not the lines' in-memory one)
+            if count["puts"] == k:
+                raise KeyboardInterrupt  # the kill
+            count["puts"] += 1
+        put(self, key, result)
+    monkeypatch.setattr(Journal, "put", dies_after_k)
+    with pytest.raises(KeyboardInterrupt):
+        solve(make(folder))
+    monkeypatch.setattr(Journal, "put", put)
+    assert len((folder / JOURNAL).read_text().splitlines()) == k
+    resumed = solve(make(folder))
+    return resumed, (folder / JOURNAL).read_text().splitlines()
+
+
 def test_a_killed_design_resumes_to_the_same_answer(thesis3, tmp_path, monkeypatch):
     """Issue 39 item 5: a design killed after k verdicts (in the Dask batch of the line's first samples, and later
     in the line's refinement, assessed in this process) and run again into the same journal gives the uninterrupted
@@ -223,32 +245,16 @@ def test_a_killed_design_resumes_to_the_same_answer(thesis3, tmp_path, monkeypat
     gives another answer; a planted wrong verdict in the journal is read back and changes the answer."""
     import json
 
-    from adbgen.analysis.design_runs import JOURNAL, Journal
+    from adbgen.analysis.design_runs import JOURNAL
 
     whole = solve(_journalled(thesis3, tmp_path / "whole"))
     total = whole.evaluations
     assert whole.resumed == 0 and total > 12
     assert len((tmp_path / "whole" / JOURNAL).read_text().splitlines()) == total
     assert _answer(solve(_journalled(thesis3, tmp_path / "seq", parallel=False))) == _answer(whole)
-    put = Journal.put
     for k in (4, 12):  # 4: inside the first Dask batch (VARY_POINTS designs); 12: in the refinement
-        count = {"puts": 0}
-
-        def dies_after_k(self, key, result, count=count, k=k):
-            if self.path is not None:  # a journal in a folder (not the lines' in-memory one)
-                if count["puts"] == k:
-                    raise KeyboardInterrupt  # the kill
-                count["puts"] += 1
-            put(self, key, result)
-        monkeypatch.setattr(Journal, "put", dies_after_k)
-        with pytest.raises(KeyboardInterrupt):
-            solve(_journalled(thesis3, tmp_path / f"cut{k}"))
-        monkeypatch.setattr(Journal, "put", put)
-        assert len((tmp_path / f"cut{k}" / JOURNAL).read_text().splitlines()) == k
-        resumed = solve(_journalled(thesis3, tmp_path / f"cut{k}"))
-        assert resumed.resumed == k and resumed.evaluations == total
-        assert _answer(resumed) == _answer(whole)
-        lines = (tmp_path / f"cut{k}" / JOURNAL).read_text().splitlines()
+        resumed, lines = _killed_and_resumed(lambda f: _journalled(thesis3, f), tmp_path / f"cut{k}", k, monkeypatch)
+        assert resumed.resumed == k and resumed.evaluations == total and _answer(resumed) == _answer(whole)
         assert len(lines) == total and len({json.loads(x)["key"] for x in lines}) == total  # nothing computed twice
     # negative control: another speed, the same journal: nothing read back, another answer
     other = solve(_journalled(thesis3, tmp_path / "whole", omega=4.5))
@@ -283,31 +289,16 @@ def test_a_killed_chart_resumes_to_the_same_chart(thesis3, tmp_path, monkeypatch
     gives another chart."""
     import json
 
-    from adbgen.analysis.design_runs import JOURNAL, Journal
+    from adbgen.analysis.design_runs import JOURNAL
 
     whole = solve(_chart_problem(thesis3, tmp_path / "whole"))
     total = whole.evaluations
     assert whole.method == "chart" and {b.kind for b in whole.boundaries} == {"Hopf"} and total > 60
     assert len((tmp_path / "whole" / JOURNAL).read_text().splitlines()) == total
     assert _answer(solve(_chart_problem(thesis3, tmp_path / "seq", parallel=False))) == _answer(whole)
-    put = Journal.put
     for k in (20, 60):  # 20: in the grid's batch (49 designs); 60: in the lines' (after the grid)
-        count = {"puts": 0}
-
-        def dies_after_k(self, key, result, count=count, k=k):
-            if self.path is not None:  # a journal in a folder (not the lines' in-memory one)
-                if count["puts"] == k:
-                    raise KeyboardInterrupt  # the kill
-                count["puts"] += 1
-            put(self, key, result)
-        monkeypatch.setattr(Journal, "put", dies_after_k)
-        with pytest.raises(KeyboardInterrupt):
-            solve(_chart_problem(thesis3, tmp_path / f"cut{k}"))
-        monkeypatch.setattr(Journal, "put", put)
-        assert len((tmp_path / f"cut{k}" / JOURNAL).read_text().splitlines()) == k
-        resumed = solve(_chart_problem(thesis3, tmp_path / f"cut{k}"))
+        resumed, lines = _killed_and_resumed(lambda f: _chart_problem(thesis3, f), tmp_path / f"cut{k}", k, monkeypatch)
         assert resumed.resumed == k and resumed.evaluations == total and _answer(resumed) == _answer(whole)
-        lines = (tmp_path / f"cut{k}" / JOURNAL).read_text().splitlines()
         assert len(lines) == total and len({json.loads(x)["key"] for x in lines}) == total
     other = solve(_chart_problem(thesis3, tmp_path / "whole", zeta=0.4))  # the negative control
     assert other.resumed == 0 and _answer(other) != _answer(whole)
