@@ -38,6 +38,12 @@ maps are, `stability_map`), with the located boundary points and the resolution 
 scipy's COBYLA, maximising the worst decay rate with the capacity slack and the worst margin as constraints,
 each evaluation a certified box scan.
 
+**Dask and resuming** (issue 39 item 5).  With `Problem.parallel` the chart's grid and the first samples of a
+line go to the local Dask cluster as one batch (`prefetch`), and the chart's rows and columns run together
+(`scan_lines`); with `Problem.journal` every verdict is journalled as it is found, keyed by `verdict_key`, and
+read back by a rerun (`Design.resumed` counts them).  The answer does not depend on either: each verdict is a
+deterministic function of the problem and the design, and the certified lines are determined by their verdicts.
+
 **Sensitivity.**  dg/dv_k at the best design, two ways: (1) from the emitted parameter Jacobian jac_p at the
 box's worst point, the eigenvalue's first-order perturbation d lambda = l^H dJ r / l^H r (Wilkinson) with
 dJ = d/dh J(y + h dy, p + h e_k), dy = -J^+ f_p e_k (the state's move, from jac_p; e_k moves v_k and every

@@ -1,9 +1,11 @@
 """The runs behind a design's transient objectives (issue 39 items 3 and 5): evaluated on the local Dask
-cluster, with progress, and journalled so a killed design resumes where it stopped.
+cluster, with progress, and journalled so a killed design resumes where it stopped.  The designs' verdicts
+(design.assess) go to the same journal and cluster (design.prefetch, design.scan_lines).
 
-    Journal(folder)                   FOLDER/design-journal.jsonl: one line per finished evaluation, keyed by
-                                      what it computed (the run model's SOURCE_HASH, the parameters, the start,
-                                      the settings); a rerun reads it and skips those evaluations
+    Journal(folder)                   FOLDER/design-journal.jsonl: one line per finished evaluation (a run, or a
+                                      design's verdict), keyed by what it computed (the run model's SOURCE_HASH,
+                                      the parameters, the start, the settings; design.verdict_key); a rerun reads
+                                      it and skips those evaluations
     evaluate(tasks, journal, ...)     {key: result} for tasks [(key, fn, args)]: the journalled ones read back,
                                       the others run on a local Dask cluster (threads: the compiled engines
                                       release the GIL, as `sweep` does), each journalled as it finishes
