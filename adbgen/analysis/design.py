@@ -739,15 +739,21 @@ def _optimiser(problem: Problem) -> Design:
     def at(u):
         return lo + span * np.clip(u, 0, 1)
 
-    def worst(u):
-        v = assess(problem, at(u))
-        return v.margin if math.isfinite(v.margin) else 1.0
-    cons = [{"type": "ineq", "fun": lambda u: min(capacity_slack(problem, at(u)), 1e6)},
-            {"type": "ineq", "fun": lambda u: -worst(u)}]
-    cons += [{"type": "ineq", "fun": lambda u, k=k: u[k]} for k in range(len(lo))]
-    cons += [{"type": "ineq", "fun": lambda u, k=k: 1 - u[k]} for k in range(len(lo))]
-    r = minimize(worst, np.full(len(lo), 0.5), method="COBYLA", constraints=cons,
-                 options={"rhobeg": 0.25, "tol": 1e-6, "maxiter": 200})
+    from ..progress import activity
+
+    desc = "design optimiser (COBYLA)"
+    with activity(desc, problem.progress) as note:  # one design after another: elapsed time and the count
+
+        def worst(u):
+            v = assess(problem, at(u))
+            note(f"{desc}: {sum(k[0] == 'assess' for k in problem.cache)} designs assessed")
+            return v.margin if math.isfinite(v.margin) else 1.0
+        cons = [{"type": "ineq", "fun": lambda u: min(capacity_slack(problem, at(u)), 1e6)},
+                {"type": "ineq", "fun": lambda u: -worst(u)}]
+        cons += [{"type": "ineq", "fun": lambda u, k=k: u[k]} for k in range(len(lo))]
+        cons += [{"type": "ineq", "fun": lambda u, k=k: 1 - u[k]} for k in range(len(lo))]
+        r = minimize(worst, np.full(len(lo), 0.5), method="COBYLA", constraints=cons,
+                     options={"rhobeg": 0.25, "tol": 1e-6, "maxiter": 200})
     v = assess(problem, at(r.x))
     out = Design(problem, "optimiser", v if v.feasible else None)
     out.active = active_limit(problem, out.best, [])  # a varied range's end where the optimum sits on it

@@ -189,3 +189,15 @@ def test_a_killed_chart_resumes_to_the_uninterrupted_chart(tmp_path):
          "--vary", "mu=0.03:0.1", "--no-verify", "--workers", "2", "--no-progress", "--json"], tmp_path, 60)
     assert whole["method"] == "chart" and 60 <= kept < total, (kept, total)
     assert whole.pop("resumed") == 0 and again.pop("resumed") == kept and again == whole
+
+def test_the_optimiser_shows_its_progress(capsys, monkeypatch, tmp_path):
+    """More than two varied parameters: COBYLA assesses one design after another (no Dask batch), so the command
+    shows the elapsed time on stderr while it runs (adbgen.progress.activity); negative control: not with
+    --no-progress."""
+    monkeypatch.setenv("ADBGEN_PROGRESS", "1")  # drawn at once, though stderr is not a terminal
+    argv = ["design", "thesis_rotating_n3", "--set", "zeta=0.5", "--vary", "Omega=3:5", "--vary", "beta=0.2:1",
+            "--vary", "mu=0.03:0.1", "--no-verify"]
+    code, out, err = run(capsys, *argv, "--out", str(tmp_path / "a"))
+    assert code == 0 and "design optimiser (COBYLA)" in err and "optimiser" in out
+    code, out, err = run(capsys, *argv, "--no-progress", "--out", str(tmp_path / "b"))
+    assert code == 0 and "design optimiser (COBYLA)" not in err
