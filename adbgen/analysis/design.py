@@ -38,6 +38,12 @@ maps are, `stability_map`), with the located boundary points and the resolution 
 scipy's COBYLA, maximising the worst decay rate with the capacity slack and the worst margin as constraints,
 each evaluation a certified box scan.
 
+**Dask and resuming** (issue 39 item 5).  With `Problem.parallel` the chart's grid and the first samples of a
+line go to the local Dask cluster as one batch (`prefetch`), and the chart's rows and columns run together
+(`scan_lines`); with `Problem.journal` every verdict is journalled as it is found, keyed by `verdict_key`, and
+read back by a rerun (`Design.resumed` counts them).  The answer does not depend on either: each verdict is a
+deterministic function of the problem and the design, and the certified lines are determined by their verdicts.
+
 **Sensitivity.**  dg/dv_k at the best design, two ways: (1) from the emitted parameter Jacobian jac_p at the
 box's worst point, the eigenvalue's first-order perturbation d lambda = l^H dJ r / l^H r (Wilkinson) with
 dJ = d/dh J(y + h dy, p + h e_k), dy = -J^+ f_p e_k (the state's move, from jac_p; e_k moves v_k and every
@@ -55,6 +61,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, minimize, minimize_scalar
 
+from .design_runs import Journal, evaluate, key_of
 from .identify import rotor_size, tolerance
 from .loading import AnalysisError, Model
 from .windows import Sample, SolveFailed, certify
@@ -73,6 +80,10 @@ AGREE = 1e-3  # relative agreement of the two sensitivities
 # balancing state is a continuum (the balls' pattern free to turn: a zero eigenvalue, margin 0 whatever the
 # design), and the balancing mode's rate vanishes with the imbalance, so "every imbalance down to 0" has margin 0
 IMBALANCE_FLOOR = 1e-3
+# the journal's verdict record (design-journal.jsonl, design_runs.Journal): its key names what decides a verdict
+# (the model's SOURCE_HASH, the parameters left alone, the box, the varied and tied names, the lines' sampling and
+# this format); raise it when assess computes differently, so an old journal is not read as the new computation
+VERDICT_FORMAT = 1
 
 
 @dataclass(frozen=True)
@@ -98,6 +109,20 @@ class Problem:
     label: str = ""  # the balancing state's label (default: `balancing_label`)
     ties: dict = field(default_factory=dict)  # {parameter: varied parameter it equals} (the balls' masses alike)
     cache: dict = field(default_factory=dict)
+    # how the designs are assessed (issue 39 item 5): `journal` keeps every verdict as it is found and gives back
+    # those of a killed run; `parallel` sends batches of designs (the chart's grid, a line's first samples) to the
+    # local Dask cluster (design_runs.evaluate: `workers` threads, a progress bar when `progress`)
+    journal: Journal | None = None
+    parallel: bool = False
+    workers: int | None = None
+    progress: bool = False
+
+    def __getstate__(self):
+        # a copy sent to a Dask task: without the cache (the task's verdict comes back as its result) and the
+        # journal (only this process writes it)
+        state = dict(self.__dict__)
+        state.update(cache={}, journal=None, parallel=False, progress=False)
+        return state
 
     def __post_init__(self):
         m = self.model
@@ -242,6 +267,21 @@ class Verdict:
     def marginal(self) -> bool:
         return bool(abs(self.margin) <= self.margin_uncertainty)
 
+    def record(self) -> dict:
+        """The verdict as the journal keeps it (JSON: floats exactly, non-finite as JSON's NaN and Infinity)."""
+        return {"design": list(self.design), "exists": self.exists, "capacity": self.capacity,
+                "feasible": self.feasible, "margin": self.margin, "margin_uncertainty": self.margin_uncertainty,
+                "worst": self.worst, "leading": [self.leading.real, self.leading.imag],
+                "unstable_at": self.unstable_at, "failures": [[pt, why] for pt, why in self.failures],
+                "samples": self.samples}
+
+    @classmethod
+    def from_record(cls, r: dict) -> Verdict:
+        return cls(tuple(r["design"]), bool(r["exists"]), float(r["capacity"]), feasible=bool(r["feasible"]),
+                   margin=float(r["margin"]), margin_uncertainty=float(r["margin_uncertainty"]), worst=dict(r["worst"]),
+                   leading=complex(*r["leading"]), unstable_at=[dict(pt) for pt in r["unstable_at"]],
+                   failures=[(dict(pt), why) for pt, why in r["failures"]], samples=int(r["samples"]))
+
     @property
     def crossing(self) -> str:
         """How the leading eigenvalue leaves: "Hopf" (a complex pair) or "real eigenvalue" (fold, pitchfork)."""
@@ -293,10 +333,84 @@ def assess(problem: Problem, design) -> Verdict:
     key = ("assess", design)
     if key in problem.cache:
         return problem.cache[key]
+    journal = problem.journal
+    if journal is not None and (k := verdict_key(problem, design)) in journal.done:
+        v = problem.cache[key] = Verdict.from_record(journal.done[k])
+        return v
+    v = problem.cache[key] = _assess(problem, design)
+    if journal is not None:
+        journal.put(k, v.record())
+    return v
+
+
+def verdict_key(problem: Problem, design: tuple) -> str:
+    """The journal key of a design's verdict: everything assess reads besides the design (VERDICT_FORMAT)."""
+    return key_of("assess", VERDICT_FORMAT, problem.model.source_hash, problem.base.tolist(),
+                  [a.to_json() for a in problem.box], [a.name for a in problem.varied], sorted(problem.ties.items()),
+                  problem.label, LINE_POINTS, LINE_REFINE, list(design))
+
+
+def _verdict_record(problem: Problem, design: tuple) -> dict:
+    return assess(problem, design).record()  # a Dask task's: on a copy of the problem (Problem.__getstate__)
+
+
+def prefetch(problem: Problem, designs, desc: str) -> None:
+    """With `problem.parallel`: the designs not yet assessed, assessed together on the local Dask cluster
+    (design_runs.evaluate: journalled as each finishes, those in the journal read back, progress under `desc`)
+    and kept in the cache, so the certified scans that follow read them; without it nothing (each is assessed
+    when the scan reaches it).  The verdicts are the same either way: assess is deterministic."""
+    if not problem.parallel:
+        return
+    todo = {}
+    for d in designs:
+        d = tuple(float(v) for v in np.atleast_1d(d))
+        if ("assess", d) not in problem.cache:
+            todo[verdict_key(problem, d)] = d
+    if not todo:
+        return
+    journal = problem.journal or Journal(None)
+    done, _ = evaluate([(k, _verdict_record, (problem, d)) for k, d in todo.items()], journal,
+                       workers=problem.workers, progress=problem.progress, desc=desc)
+    for k, d in todo.items():
+        problem.cache[("assess", d)] = Verdict.from_record(done[k])
+
+
+def _line_task(problem: Problem, k: int, at: list, points: int, refine: int, known: dict) -> dict:
+    """scan_line over the k-th varied parameter on a copy of the problem (a Dask task), reading the verdicts of
+    `known` as from a journal: the line, its capacity edges and every verdict it used ({key: record})."""
+    problem.journal = Journal(None)
+    problem.journal.done.update(known)
+    line, edges = scan_line(problem, problem.varied[k], at, points, refine)
+    used = {verdict_key(problem, key[1]): v.record() for key, v in problem.cache.items() if key[0] == "assess"}
+    return {"line": line, "edges": edges, "used": used}
+
+
+def scan_lines(problem: Problem, specs: list, points: int, refine: int, desc: str) -> list:
+    """[(line, edges)] of scan_line for each (k, at) of `specs` (the k-th varied parameter, the others at `at`).
+    With `problem.parallel` the lines run together on the local Dask cluster (design_runs.evaluate, progress
+    under `desc`), each on a copy of the problem that knows every verdict found so far; as each line finishes the
+    verdicts it used are cached here and its new ones journalled, so a kill loses only the lines in flight.  The lines are those of
+    the sequential scan: each is determined by its verdicts, and assess is deterministic."""
+    if not problem.parallel:
+        return [scan_line(problem, problem.varied[k], at, points, refine) for k, at in specs]
+    known = dict(problem.journal.done) if problem.journal is not None else {}
+    known.update({verdict_key(problem, key[1]): v.record() for key, v in problem.cache.items() if key[0] == "assess"})
+
+    def each(_, result):
+        for key, record in result["used"].items():
+            if problem.journal is not None and key not in problem.journal.done:
+                problem.journal.put(key, record)
+            problem.cache.setdefault(("assess", tuple(record["design"])), Verdict.from_record(record))
+    tasks = [(key_of("line", k, list(at), points, refine), _line_task, (problem, k, list(at), points, refine, known))
+             for k, at in specs]
+    done, _ = evaluate(tasks, Journal(None), workers=problem.workers, progress=problem.progress, desc=desc, each=each)
+    return [(done[key]["line"], done[key]["edges"]) for key, _, _ in tasks]
+
+
+def _assess(problem: Problem, design: tuple) -> Verdict:
     cap = capacity(problem, design)
     v = Verdict(design, exists=capacity_slack(problem, design) >= 0, capacity=cap)
     if not v.exists:
-        problem.cache[key] = v
         return v
     active = [a for a in problem.box if not a.fixed]
     fixed = {a.name: a.low for a in problem.box if a.fixed}
@@ -340,7 +454,6 @@ def assess(problem: Problem, design) -> Verdict:
             for c in line.changes:
                 v.unstable_at.append({**point, axis.name: c.x})
     if best is None:
-        problem.cache[key] = v
         return v
     margin, point, state = _polish(problem, design, active, fixed, best)
     v.margin, v.worst = margin, point
@@ -349,7 +462,6 @@ def assess(problem: Problem, design) -> Verdict:
     # a margin inside what the computation can certify (`margins`) decides nothing: not counted feasible, and
     # the verdict says `marginal`
     v.feasible = not v.unstable_at and not v.failures and margin < -v.margin_uncertainty
-    problem.cache[key] = v
     return v
 
 
@@ -421,6 +533,7 @@ class Design:
     chart: dict | None = None
     resolution: dict = field(default_factory=dict)
     evaluations: int = 0
+    resumed: int = 0  # of the evaluations, those read back from the journal (a killed design run again)
     verdicts: list = field(default_factory=list)  # every design assessed (sorted by design)
     objective_runs: list = field(default_factory=list)  # objective t_dec: the run of each candidate
     verification: list = field(default_factory=list)  # the chosen design's runs at the box's corners
@@ -468,6 +581,7 @@ def scan_line(problem: Problem, axis: Axis, at, points: int, refine: int):
     # a sample just inside each capacity edge, so a window reaching the edge is drawn to it
     inside = [x - 1e-9 * (axis.high - axis.low) if below else x + 1e-9 * (axis.high - axis.low) for x, below in edges]
     xs = sorted(set(xs) | set(inside))
+    prefetch(problem, [design(x) for x in xs], f"design line over {axis.name}")
     samples = []
     for x in xs:
         try:
@@ -499,6 +613,7 @@ def _boundaries_of(problem: Problem, axis: Axis, at, line, edges) -> list[Bounda
 def solve(problem: Problem) -> Design:
     """The design over the varied parameters (see the module's docstring)."""
     d = len(problem.varied)
+    journalled = set(problem.journal.done) if problem.journal is not None else set()  # a killed run's verdicts
     if d == 1:
         out = _interval(problem)
     elif d == 2:
@@ -508,6 +623,7 @@ def solve(problem: Problem) -> Design:
     if out.best is not None and out.best.feasible:
         out.sensitivity = sensitivity(problem, out.best)
     out.evaluations = len([k for k in problem.cache if k[0] == "assess"])
+    out.resumed = sum(verdict_key(problem, key[1]) in journalled for key in problem.cache if key[0] == "assess")
     out.verdicts = [v for k, v in sorted(problem.cache.items(), key=lambda kv: str(kv[0])) if k[0] == "assess"]
     return out
 
@@ -569,22 +685,23 @@ def _chart(problem: Problem) -> Design:
     margin = np.full((CHART_POINTS, CHART_POINTS), np.nan)
     feasible = np.zeros((CHART_POINTS, CHART_POINTS), bool)
     exists = np.zeros((CHART_POINTS, CHART_POINTS), bool)
+    prefetch(problem, [[x, y] for x in g1 for y in g2], "design chart")
     for i, x in enumerate(g1):
         for j, y in enumerate(g2):
             v = assess(problem, [x, y])
             seen.append(v)
             margin[i, j], feasible[i, j], exists[i, j] = v.margin, v.feasible, v.exists
     bounds, rows, cols = [], [], []
-    for j, y in enumerate(g2):  # rows: along the first parameter
-        line, edges = scan_line(problem, a1, [a1.low, float(y)], CHART_POINTS, CHART_REFINE)
-        bounds += _boundaries_of(problem, a1, [a1.low, float(y)], line, edges)
+    # rows along the first parameter, columns along the second
+    specs = [(0, [a1.low, float(y)]) for y in g2] + [(1, [float(x), a2.low]) for x in g1]
+    lines = scan_lines(problem, specs, CHART_POINTS, CHART_REFINE, "design chart lines")
+    for (k, at), (line, edges) in zip(specs, lines):
+        bounds += _boundaries_of(problem, problem.varied[k], at, line, edges)
         seen += [s.state for s in line.samples]
-        rows.append({a2.name: float(y), "feasible": [list(w) for w in line.windows]})
-    for i, x in enumerate(g1):  # columns: along the second
-        line, edges = scan_line(problem, a2, [float(x), a2.low], CHART_POINTS, CHART_REFINE)
-        bounds += _boundaries_of(problem, a2, [float(x), a2.low], line, edges)
-        seen += [s.state for s in line.samples]
-        cols.append({a1.name: float(x), "feasible": [list(w) for w in line.windows]})
+        if k == 0:
+            rows.append({a2.name: at[1], "feasible": [list(w) for w in line.windows]})
+        else:
+            cols.append({a1.name: at[0], "feasible": [list(w) for w in line.windows]})
     res = [(a.high - a.low) / (CHART_POINTS - 1) / CHART_REFINE for a in (a1, a2)]
     chart = {"axes": [a1.name, a2.name], a1.name: g1.tolist(), a2.name: g2.tolist(),
              "margin": [[_num(m) for m in row] for row in margin], "feasible": feasible.tolist(),
@@ -622,15 +739,21 @@ def _optimiser(problem: Problem) -> Design:
     def at(u):
         return lo + span * np.clip(u, 0, 1)
 
-    def worst(u):
-        v = assess(problem, at(u))
-        return v.margin if math.isfinite(v.margin) else 1.0
-    cons = [{"type": "ineq", "fun": lambda u: min(capacity_slack(problem, at(u)), 1e6)},
-            {"type": "ineq", "fun": lambda u: -worst(u)}]
-    cons += [{"type": "ineq", "fun": lambda u, k=k: u[k]} for k in range(len(lo))]
-    cons += [{"type": "ineq", "fun": lambda u, k=k: 1 - u[k]} for k in range(len(lo))]
-    r = minimize(worst, np.full(len(lo), 0.5), method="COBYLA", constraints=cons,
-                 options={"rhobeg": 0.25, "tol": 1e-6, "maxiter": 200})
+    from ..progress import activity
+
+    desc = "design optimiser (COBYLA)"
+    with activity(desc, problem.progress) as note:  # one design after another: elapsed time and the count
+
+        def worst(u):
+            v = assess(problem, at(u))
+            note(f"{desc}: {sum(k[0] == 'assess' for k in problem.cache)} designs assessed")
+            return v.margin if math.isfinite(v.margin) else 1.0
+        cons = [{"type": "ineq", "fun": lambda u: min(capacity_slack(problem, at(u)), 1e6)},
+                {"type": "ineq", "fun": lambda u: -worst(u)}]
+        cons += [{"type": "ineq", "fun": lambda u, k=k: u[k]} for k in range(len(lo))]
+        cons += [{"type": "ineq", "fun": lambda u, k=k: 1 - u[k]} for k in range(len(lo))]
+        r = minimize(worst, np.full(len(lo), 0.5), method="COBYLA", constraints=cons,
+                     options={"rhobeg": 0.25, "tol": 1e-6, "maxiter": 200})
     v = assess(problem, at(r.x))
     out = Design(problem, "optimiser", v if v.feasible else None)
     out.active = active_limit(problem, out.best, [])  # a varied range's end where the optimum sits on it

@@ -21,8 +21,9 @@ from .design_transients import START_STATE, STARTS
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
 NOT_COVERED = ["the ball count with a generated model's name (--balls needs a scene file: the count is a scene's n)",
-               "Dask: the designs' certified box scans are assessed in this process (the objectives' and the "
-               "verification's runs go to the local cluster and the journal)",
+               "Dask for every evaluation: the chart's grid and its certified lines go to the local cluster, but the "
+               "optimiser's (COBYLA) evaluations and a single line's refinement are assessed one after another in the "
+               "command's process (all are journalled: a killed design resumes)",
                "boundaries of periodic orbits other than the balancing state (a coexisting limit cycle's fold, torus or "
                "period doubling) and basin boundaries; a balancing state that is itself a periodic orbit in its "
                "model's frame (a forced model: an anisotropic rotor in the fixed frame) is refused"]
@@ -68,7 +69,7 @@ def to_json(design: Design, objective: str = "margin") -> dict:
             "best": best.to_json(pr) if best is not None else None,
             "active_boundary": design.active.to_json() if design.active is not None else None,
             "sensitivity": design.sensitivity, "chart": design.chart, "resolution": design.resolution,
-            "evaluations": design.evaluations, "objective_runs": design.objective_runs,
+            "evaluations": design.evaluations, "evaluations_resumed": design.resumed, "objective_runs": design.objective_runs,
             "verification": design.verification, "verification_start": START_STATE,
             "verification_run_up": ({k: v for k, v in design.verification_run_up.items() if k != "trace"}
                                     if design.verification_run_up is not None else None),

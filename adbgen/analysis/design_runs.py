@@ -1,9 +1,11 @@
 """The runs behind a design's transient objectives (issue 39 items 3 and 5): evaluated on the local Dask
-cluster, with progress, and journalled so a killed design resumes where it stopped.
+cluster, with progress, and journalled so a killed design resumes where it stopped.  The designs' verdicts
+(design.assess) go to the same journal and cluster (design.prefetch, design.scan_lines).
 
-    Journal(folder)                   FOLDER/design-journal.jsonl: one line per finished evaluation, keyed by
-                                      what it computed (the run model's SOURCE_HASH, the parameters, the start,
-                                      the settings); a rerun reads it and skips those evaluations
+    Journal(folder)                   FOLDER/design-journal.jsonl: one line per finished evaluation (a run, or a
+                                      design's verdict), keyed by what it computed (the run model's SOURCE_HASH,
+                                      the parameters, the start, the settings; design.verdict_key); a rerun reads
+                                      it and skips those evaluations
     evaluate(tasks, journal, ...)     {key: result} for tasks [(key, fn, args)]: the journalled ones read back,
                                       the others run on a local Dask cluster (threads: the compiled engines
                                       release the GIL, as `sweep` does), each journalled as it finishes
@@ -79,10 +81,11 @@ class Journal:
 
 
 def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progress: bool = True,
-             desc: str = "design") -> tuple[dict, int]:
+             desc: str = "design", each=None) -> tuple[dict, int]:
     """({key: result}, how many ran now) for tasks [(key, fn, args)]: the journalled read back, the rest on a
     local Dask cluster (one process, a thread per core), each journalled as it finishes; `progress`: the
-    project's bar on stderr (adbgen.progress: from two seconds on)."""
+    project's bar on stderr (adbgen.progress: from two seconds on); `each(key, result)`, when given, is called
+    in this thread as each task finishes (a result the journal cannot hold is kept by the caller)."""
     out = {k: journal.done[k] for k, _, _ in tasks if k in journal.done}
     pending = [(k, fn, args) for k, fn, args in tasks if k not in journal.done]
     pending = list({k: (k, fn, args) for k, fn, args in pending}.values())  # a task given twice runs once
@@ -102,6 +105,8 @@ def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progr
             result = fut.result()
             journal.put(k, result)
             out[k] = result
+            if each is not None:
+                each(k, result)
             update(count)
     return out, len(pending)
 

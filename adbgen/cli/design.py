@@ -30,6 +30,7 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "best": "{" + ", ".join(BEST_KEYS) + "}", "active_boundary": "",
                "sensitivity": "[{parameter, dmargin, dmargin_finite_difference, agree, kink, direction_to_boundary, "
                               "room_linear}]", "chart": "", "resolution": "", "evaluations": "",
+               "evaluations_resumed": "(of the evaluations, those read back from --out's journal)",
                "objective_runs": "(--objective t_dec: [{design, point, start, status, t_end, threshold, t_dec, r_max, r_end, "
                                  "settled}]; r_max-run-up: [{design, point, run_model, mapped, status, t_end, "
                                  "threshold, r_max, t_dec, start}]; residual: [{design, point, run_model, mapped, "
@@ -89,8 +90,8 @@ def _add_design(p) -> None:
     p.add_argument("--no-verify", dest="verify", action="store_false",
                    help="skip the verification runs of the chosen design at the box's corners")
     p.add_argument("--out", help="folder: design.json, report.md (a one-page report), design.png, and "
-                                 "design-journal.jsonl (every finished run: a killed design run again with the same "
-                                 "--out skips them)")
+                                 "design-journal.jsonl (every design assessed and every finished run: a killed design run "
+                                 "again with the same arguments and --out reads them back and computes only the rest)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout; keys: " + JSON_KEYS)
     p.set_defaults(fn=run_design)
 
@@ -231,8 +232,10 @@ def _one_design(args, model):
     if args.workers is not None and args.workers < 1:
         raise AnalysisError(f"--workers: expected a whole number >= 1, got {args.workers}")
     journal = Journal(Path(args.out) if args.out is not None else None)
-    design = solve(problem)
     how = {"workers": args.workers, "progress": args.progress and wanted(json=args.json)}
+    # the designs' certified scans: batches on the local Dask cluster, every verdict journalled (issue 39 item 5)
+    problem.journal, problem.parallel, problem.workers, problem.progress = journal, True, how["workers"], how["progress"]
+    design = solve(problem)
     if args.objective == "t_dec":
         design_transients.by_t_dec(design, journal, **how)
     elif args.objective in ("r_max-run-up", "residual"):

@@ -194,3 +194,111 @@ def test_sensitivity_moves_the_tied_parameters_too(paper):
     untied.cache = tied.cache
     (bad,) = sensitivity(untied, v)
     assert not bad["agree"] and bad["dmargin"] == pytest.approx(s["dmargin"] / 2, rel=0.05)
+
+
+def _journalled(model, folder, omega=4.0, parallel=True):
+    from adbgen.analysis.design_runs import Journal
+
+    # the interval of test_the_stability_boundary_is_where_the_scan_crosses: zeta at beta = 0.01, Omega fixed
+    pr = Problem(model, model.params(), [Axis("Omega", omega, omega)], [Axis("zeta", 0.005, 0.05)])
+    pr.journal, pr.parallel, pr.workers = Journal(folder), parallel, 2
+    return pr
+
+
+def _answer(design) -> str:
+    import json
+
+    from adbgen.analysis.design_report import to_json
+
+    out = to_json(design)
+    out.pop("evaluations_resumed")
+    return json.dumps(out, sort_keys=True)
+
+
+def _killed_and_resumed(make, folder, k: int, monkeypatch):
+    """solve(make(folder)) killed (KeyboardInterrupt) after its k-th verdict is journalled, then run again into the
+    same folder: (the resumed design, the journal's lines)."""
+    from adbgen.analysis.design_runs import JOURNAL, Journal
+
+    put, count = Journal.put, {"puts": 0}
+
+    def dies_after_k(self, key, result):
+        if self.path is not None:  # a journal in a folder (not the lines' in-memory one)
+            if count["puts"] == k:
+                raise KeyboardInterrupt  # the kill
+            count["puts"] += 1
+        put(self, key, result)
+    monkeypatch.setattr(Journal, "put", dies_after_k)
+    with pytest.raises(KeyboardInterrupt):
+        solve(make(folder))
+    monkeypatch.setattr(Journal, "put", put)
+    assert len((folder / JOURNAL).read_text().splitlines()) == k
+    resumed = solve(make(folder))
+    return resumed, (folder / JOURNAL).read_text().splitlines()
+
+
+def test_a_killed_design_resumes_to_the_same_answer(thesis3, tmp_path, monkeypatch):
+    """Issue 39 item 5: a design killed after k verdicts (in the Dask batch of the line's first samples, and later
+    in the line's refinement, assessed in this process) and run again into the same journal gives the uninterrupted
+    answer, reading the k verdicts back and computing only the rest; the Dask batches give the answer of the
+    sequential scan.  Negative controls: a changed argument (another speed) reads nothing from that journal and
+    gives another answer; a planted wrong verdict in the journal is read back and changes the answer."""
+    import json
+
+    from adbgen.analysis.design_runs import JOURNAL
+
+    whole = solve(_journalled(thesis3, tmp_path / "whole"))
+    total = whole.evaluations
+    assert whole.resumed == 0 and total > 12
+    assert len((tmp_path / "whole" / JOURNAL).read_text().splitlines()) == total
+    assert _answer(solve(_journalled(thesis3, tmp_path / "seq", parallel=False))) == _answer(whole)
+    for k in (4, 12):  # 4: inside the first Dask batch (VARY_POINTS designs); 12: in the refinement
+        resumed, lines = _killed_and_resumed(lambda f: _journalled(thesis3, f), tmp_path / f"cut{k}", k, monkeypatch)
+        assert resumed.resumed == k and resumed.evaluations == total and _answer(resumed) == _answer(whole)
+        assert len(lines) == total and len({json.loads(x)["key"] for x in lines}) == total  # nothing computed twice
+    # negative control: another speed, the same journal: nothing read back, another answer
+    other = solve(_journalled(thesis3, tmp_path / "whole", omega=4.5))
+    assert other.resumed == 0 and _answer(other) != _answer(whole)
+    # negative control: the answer is read from the journal: a planted wrong margin there changes it
+    rows = [json.loads(x) for x in (tmp_path / "cut4" / JOURNAL).read_text().splitlines()]
+    for row in rows:
+        row["result"]["margin"] -= 1.0
+    (tmp_path / "bad").mkdir()
+    (tmp_path / "bad" / JOURNAL).write_text("".join(json.dumps(r) + "\n" for r in rows))
+    bad = solve(_journalled(thesis3, tmp_path / "bad"))
+    # (every sample now reads as more stable: the refinement goes elsewhere, so only some are read back)
+    assert bad.resumed > 0 and _answer(bad) != _answer(whole)
+
+
+def _chart_problem(model, folder, zeta=0.5, parallel=True):
+    from adbgen.analysis.design_runs import Journal
+
+    # thesis (5.1) at Omega = 4 and zeta = 0.5 (the ch. 4 question), a chart over (beta, mu): its Hopf boundary
+    # near beta = 0.235
+    pr = Problem(model, model.params({"zeta": zeta}), [Axis("Omega", 4.0, 4.0)],
+                 [Axis("beta", 0.1, 0.6), Axis("mu", 0.03, 0.1)])
+    pr.journal, pr.parallel, pr.workers = Journal(folder), parallel, 2
+    return pr
+
+
+def test_a_killed_chart_resumes_to_the_same_chart(thesis3, tmp_path, monkeypatch):
+    """Issue 39 item 5 for two varied parameters: the chart's grid and its certified rows and columns run on the
+    local Dask cluster (the lines together, each on a copy of the problem) and give the sequential chart; killed
+    after k verdicts (in the grid's batch, and while the lines' verdicts are journalled) and run again into the
+    same journal, the same chart, nothing computed twice.  Negative control: another zeta reads nothing back and
+    gives another chart."""
+    import json
+
+    from adbgen.analysis.design_runs import JOURNAL
+
+    whole = solve(_chart_problem(thesis3, tmp_path / "whole"))
+    total = whole.evaluations
+    assert whole.method == "chart" and {b.kind for b in whole.boundaries} == {"Hopf"} and total > 60
+    assert len((tmp_path / "whole" / JOURNAL).read_text().splitlines()) == total
+    assert _answer(solve(_chart_problem(thesis3, tmp_path / "seq", parallel=False))) == _answer(whole)
+    for k in (20, 60):  # 20: in the grid's batch (49 designs); 60: in the lines' (after the grid)
+        resumed, lines = _killed_and_resumed(lambda f: _chart_problem(thesis3, f), tmp_path / f"cut{k}", k, monkeypatch)
+        assert resumed.resumed == k and resumed.evaluations == total and _answer(resumed) == _answer(whole)
+        assert len(lines) == total and len({json.loads(x)["key"] for x in lines}) == total
+    other = solve(_chart_problem(thesis3, tmp_path / "whole", zeta=0.4))  # the negative control
+    assert other.resumed == 0 and _answer(other) != _answer(whole)

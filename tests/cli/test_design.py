@@ -127,11 +127,10 @@ def test_balls_choose_the_count(capsys, tmp_path):
     assert choice["why"].startswith(f"n = {data['chosen_balls']} (beta = ") and "\n" not in choice["why"]
     assert all(r["objective_value"] == r["margin"] for r in feasible)
 
-
-def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
-    """`adbgen design --objective t_dec --out DIR` killed (SIGKILL) once its journal holds a finished run, then
-    run again into DIR: the same JSON as a run never killed (the journal read back, not recomputed: the line count
-    grows by the runs left only).  Negative control: the killed folder's journal was incomplete when killed."""
+def _kill_and_rerun(argv: list, tmp_path, at_lines: int) -> tuple[dict, dict, int, int]:
+    """argv run into tmp_path/whole, and into tmp_path/killed SIGKILLed once its journal holds at_lines lines, then
+    run again there: (the whole JSON, the rerun's, the lines kept at the kill, the whole run's lines); the JSON
+    without `files`, `evaluations_resumed` moved to `resumed`."""
     import os
     import signal
     import subprocess
@@ -141,8 +140,7 @@ def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
 
     from adbgen.analysis.design_runs import JOURNAL
 
-    argv = [sys.executable, "-m", "adbgen.cli", "design", "thesis_rotating_n3", "--range", "omega=4:4", "--range",
-            "zeta=0.3:0.5", "--vary", "beta=0.3:0.6", "--objective", "t_dec", "--workers", "1", "--no-progress", "--json"]
+    argv = [sys.executable, "-m", "adbgen.cli", *argv]
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
 
     def json_of(folder):
@@ -150,6 +148,7 @@ def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
         assert done.returncode == 0, done.stderr
         data = json.loads(done.stdout)
         data.pop("files")
+        data["resumed"] = data.pop("evaluations_resumed")  # the designs' verdicts read back (issue 39 item 5)
         return data
     whole = json_of(tmp_path / "whole")
     total = len((tmp_path / "whole" / JOURNAL).read_text().splitlines())
@@ -157,12 +156,48 @@ def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
     proc = subprocess.Popen(argv + ["--out", str(tmp_path / "killed")], stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL, env=env)
     try:
-        while proc.poll() is None and not (journal.is_file() and journal.read_text().count("\n") >= 1):
+        while proc.poll() is None and not (journal.is_file() and journal.read_text().count("\n") >= at_lines):
             time.sleep(0.05)
         os.kill(proc.pid, signal.SIGKILL)
     finally:
         proc.wait()
-    kept = len(journal.read_text().splitlines())
-    assert 1 <= kept < total, (kept, total)  # killed with runs left to do
-    assert json_of(tmp_path / "killed") == whole
-    assert len(journal.read_text().splitlines()) == total  # only the runs left were run again
+    kept = journal.read_text().count("\n")  # the finished lines (a line cut by the kill is dropped and redone)
+    again = json_of(tmp_path / "killed")
+    assert len(journal.read_text().splitlines()) == total  # only what was left was computed again
+    return whole, again, kept, total
+
+
+def test_a_killed_design_resumes_to_the_uninterrupted_answer(tmp_path):
+    """`adbgen design --objective t_dec --out DIR` killed (SIGKILL) once its journal holds a finished evaluation,
+    then run again into DIR (its journal holds the designs' verdicts and the runs): the same JSON as a run never
+    killed (the journal read back, not recomputed: the line count grows by what was left only).  Negative
+    control: the killed folder's journal was incomplete when killed."""
+    whole, again, kept, total = _kill_and_rerun(
+        ["design", "thesis_rotating_n3", "--range", "omega=4:4", "--range", "zeta=0.3:0.5", "--vary", "beta=0.3:0.6",
+         "--objective", "t_dec", "--workers", "1", "--no-progress", "--json"], tmp_path, 1)
+    assert 1 <= kept < total, (kept, total)  # killed with evaluations left to do
+    assert whole.pop("resumed") == 0 and again.pop("resumed") >= 1 and again == whole
+
+
+def test_a_killed_chart_resumes_to_the_uninterrupted_chart(tmp_path):
+    """A two-parameter design (the chart: its grid, then its certified rows and columns on the local Dask cluster)
+    SIGKILLed once its journal holds more than the grid's 49 verdicts, then run again into the same folder: the
+    same chart and best design, the verdicts found before the kill read back.  Negative control: the journal was
+    incomplete when killed."""
+    whole, again, kept, total = _kill_and_rerun(
+        ["design", "thesis_rotating_n3", "--range", "omega=4:4", "--range", "zeta=0.3:0.5", "--vary", "beta=0.1:0.6",
+         "--vary", "mu=0.03:0.1", "--no-verify", "--workers", "2", "--no-progress", "--json"], tmp_path, 60)
+    assert whole["method"] == "chart" and 60 <= kept < total, (kept, total)
+    assert whole.pop("resumed") == 0 and again.pop("resumed") == kept and again == whole
+
+def test_the_optimiser_shows_its_progress(capsys, monkeypatch, tmp_path):
+    """More than two varied parameters: COBYLA assesses one design after another (no Dask batch), so the command
+    shows the elapsed time on stderr while it runs (adbgen.progress.activity); negative control: not with
+    --no-progress."""
+    monkeypatch.setenv("ADBGEN_PROGRESS", "1")  # drawn at once, though stderr is not a terminal
+    argv = ["design", "thesis_rotating_n3", "--set", "zeta=0.5", "--vary", "Omega=3:5", "--vary", "beta=0.2:1",
+            "--vary", "mu=0.03:0.1", "--no-verify"]
+    code, out, err = run(capsys, *argv, "--out", str(tmp_path / "a"))
+    assert code == 0 and "design optimiser (COBYLA)" in err and "optimiser" in out
+    code, out, err = run(capsys, *argv, "--no-progress", "--out", str(tmp_path / "b"))
+    assert code == 0 and "design optimiser (COBYLA)" not in err
