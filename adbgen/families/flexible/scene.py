@@ -53,8 +53,8 @@ from ...core.scene_fields import Key, number, per_ball
 from ...errors import SceneError
 
 Matrix = tuple[tuple[float, ...], ...]
-_TOP = ("n", "ball_mass", "ball_damping", "race_radius", "unbalance_mass", "eccentricity", "gravity", "g", "speed", "modal",
-        "node_2")
+_TOP = ("n", "ball_mass", "ball_damping", "race_radius", "unbalance_mass", "eccentricity", "gravity", "g", "speed",
+        "modal", "node_2")
 _NODE = ("n", "ball_mass", "ball_damping", "race_radius", "node_shape")
 _MODAL = ("mass", "stiffness", "damping", "gyroscopic", "node_shape", "gravity_load", "reduction")
 _SYMMETRY_TOL = 1e-9  # relative: what round-off in a projection Phi^T A Phi leaves of a symmetric A

@@ -81,7 +81,8 @@ def test_rigid_scene_refuses_what_has_no_modal_counterpart():
 def test_second_node_from_toml_and_generation_refused():
     from adbgen.families.flexible.models import for_scene
 
-    data = {"n": 1, "modal": {"mass": [[1.0, 0], [0, 1]], "stiffness": [[1, 0], [0, 1]], "node_shape": [[1, 0], [0, 1]]},
+    data = {"n": 1, "modal": {"mass": [[1.0, 0], [0, 1]], "stiffness": [[1, 0], [0, 1]],
+                              "node_shape": [[1, 0], [0, 1]]},
             "node_2": {"n": 2, "ball_mass": [0.01, 0.02], "race_radius": 0.1, "node_shape": [[0.5, 0], [0, 0.5]]}}
     scene = FlexibleScene.from_mapping(data)
     assert scene.balls == 3 and scene.ball_node() == (0, 1, 1)
@@ -93,3 +94,17 @@ def test_second_node_from_toml_and_generation_refused():
     with pytest.raises(SceneError) as err:
         FlexibleScene.from_mapping({**data, "node_2": {"n": 1, "node_shape": [[1, 0, 0], [0, 1, 0]]}})
     assert err.value.field == "node_2.node_shape"
+
+
+def test_gyroscopic_sign_of_the_rigid_modes_matters(monkeypatch):
+    """The two-plane overlap exercises G_q: its sign flipped is caught (J_p enters x'' of the tilts)."""
+    from dataclasses import replace
+
+    import adbgen.families.flexible.verify as verify
+
+    two = two_plane_scenes()[1]
+    scene = rigid_scene(two)
+    flipped = replace(scene, modal=replace(scene.modal, gyroscopic=tuple(tuple(-v for v in row)
+                                                                            for row in scene.modal.gyroscopic)))
+    monkeypatch.setattr(verify, "rigid_scene", lambda two, tilt_2=1.0: flipped)
+    assert two_plane_difference(two) > 1e3 * RHS_TOLERANCE
