@@ -12,6 +12,10 @@ Lagrange term is the forcing U omega^2 Phi^T (cos psi, sin psi)), V = q^T K_q q 
 modal gravity load), Rayleigh F = q'^T C_q q' / 2; the gyroscopic force Q = -omega G_q q' (G_q skew: no
 work).  Balls as in thesis (2.7)-(2.9).  With k = 2, Phi = I, M_q = M I, w = (0, M), m_u = M this is the
 single-plane fixed-frame model (2.10), (2.11), (2.13) with X, Y = q_1, q_2 (checked in `verify`).
+
+A second balancer node (`scene.BalancerNode`) adds balls at Phi_2 q + R_2 (cos(psi + phi_i), sin(psi + phi_i)):
+the balls enter through their race centres' translation only (no tilt of the race), which is what the
+two-plane model keeps of a ball (paper section 2.2; `verify.two_plane_limit`).
 """
 
 from __future__ import annotations
@@ -28,7 +32,7 @@ from .symbols import FlexibleSymbols, t
 
 def coordinates(scene: FlexibleScene) -> tuple[tuple[Coordinate, ...], tuple[Coordinate, ...], Coordinate]:
     qs = tuple(Coordinate.make(f"q_{j + 1}") for j in range(scene.k))
-    phis = tuple(Coordinate.make(f"phi_{i + 1}") for i in range(scene.n))
+    phis = tuple(Coordinate.make(f"phi_{i + 1}") for i in range(scene.balls))
     return qs, phis, Coordinate.make("psi")
 
 
@@ -38,7 +42,7 @@ def energy_terms(scene: FlexibleScene, s: FlexibleSymbols) -> tuple[tuple[Energy
     everything = qs + phis + (psi,)
     q = sp.Matrix([c.q for c in qs])
     qd = sp.Matrix([c.qd for c in qs])
-    node = s.Phi * q  # the balancer node's (x, y)
+    nodes = [shape * q for shape in s.shapes]  # each balancer node's (x, y)
     node_rate = s.Phi * qd
     spin_dir = sp.Matrix([-sp.sin(psi.q), sp.cos(psi.q)])
     rotor = EnergyTerm(
@@ -49,7 +53,8 @@ def energy_terms(scene: FlexibleScene, s: FlexibleSymbols) -> tuple[tuple[Energy
     )
     terms = [rotor]
     for i, phi in enumerate(phis):
-        pos = (node[0] + s.R * sp.cos(psi.q + phi.q), node[1] + s.R * sp.sin(psi.q + phi.q))
+        node, R = nodes[s.ball_node[i]], s.radii[s.ball_node[i]]
+        pos = (node[0] + R * sp.cos(psi.q + phi.q), node[1] + R * sp.sin(psi.q + phi.q))
         vx, vy = (time_derivative(e, everything, t) for e in pos)
         terms.append(EnergyTerm(f"ball_{i + 1}", T=s.m[i] * (vx**2 + vy**2) / 2, V=s.m[i] * s.g * pos[1],
                                 F=s.D[i] * phi.qd**2 / 2))

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from ...core.first_order import first_order
 from ...core.model_spec import Check, Continuation, ModelSpec
+from ...errors import SceneError
 from ..single_plane.models import mass_balanced_angles
 from . import description, verify
 from .model import derive
@@ -55,6 +56,9 @@ def ball_slots(scene: FlexibleScene):
 
 
 def for_scene(scene: FlexibleScene, name: str | None = None) -> ModelSpec:
+    if scene.node_2 is not None:
+        raise SceneError("node_2", "a second balancer node is derived and checked (verify.two_plane_limit) but not "
+                                   "offered for generation yet")
     check = Check((FAMILY, "single_plane_limit"), verify.single_plane_limit_check)
     return ModelSpec(
         name or f"scene_flexible_k{scene.k}_n{scene.n}",

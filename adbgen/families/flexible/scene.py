@@ -29,6 +29,17 @@ A scene in TOML::
     gyroscopic = [[0.0, 0.0], [0.0, 0.0]]
     node_shape = [[1.0, 0.0], [0.0, 1.0]]
     gravity_load = [0.0, 1.0]  # Phi^T M e_y (kg): V = g gravity_load . q
+
+A second balancer node (optional; balls in a second race, numbered after the first node's), with its own
+2 x k translational shapes; the unbalance stays at the first node.  Generation is not offered for it yet
+(`models.for_scene` refuses it in one line); the derivation and `verify.two_plane_limit` use it::
+
+    [node_2]
+    n = 2
+    ball_mass = 0.05
+    ball_damping = 1.25e-4
+    race_radius = 0.05
+    node_shape = [[1.0, 0.0], [0.0, 1.0]]
 """
 
 from __future__ import annotations
@@ -42,7 +53,9 @@ from ...core.scene_fields import Key, number, per_ball
 from ...errors import SceneError
 
 Matrix = tuple[tuple[float, ...], ...]
-_TOP = ("n", "ball_mass", "ball_damping", "race_radius", "unbalance_mass", "eccentricity", "gravity", "g", "speed", "modal")
+_TOP = ("n", "ball_mass", "ball_damping", "race_radius", "unbalance_mass", "eccentricity", "gravity", "g", "speed",
+        "modal", "node_2")
+_NODE = ("n", "ball_mass", "ball_damping", "race_radius", "node_shape")
 _MODAL = ("mass", "stiffness", "damping", "gyroscopic", "node_shape", "gravity_load", "reduction")
 _SYMMETRY_TOL = 1e-9  # relative: what round-off in a projection Phi^T A Phi leaves of a symmetric A
 
@@ -98,6 +111,41 @@ def jeffcott_modal(mass: float, stiffness: tuple[float, float], damping: tuple[f
 
 
 @dataclass(frozen=True)
+class BalancerNode:
+    """A second balancer node: its 2 x k translational mode shapes, its race radius and its balls."""
+
+    node_shape: Matrix
+    n: int = 2
+    ball_mass: float | tuple[float, ...] = 0.05
+    ball_damping: float | tuple[float, ...] = 1.25e-4
+    race_radius: float = 0.05
+
+    def masses(self) -> tuple[float, ...]:
+        return self.ball_mass if isinstance(self.ball_mass, tuple) else (self.ball_mass,) * self.n
+
+    def ball_dampings(self) -> tuple[float, ...]:
+        return self.ball_damping if isinstance(self.ball_damping, tuple) else (self.ball_damping,) * self.n
+
+    @classmethod
+    def from_mapping(cls, data: Any, k: int) -> "BalancerNode":
+        if not isinstance(data, Mapping):
+            raise SceneError("node_2", "a balancer node is a table with n, ball_mass, ball_damping, race_radius, "
+                                       "node_shape")
+        for key in sorted(map(str, data)):
+            if key not in _NODE:
+                raise SceneError(f"node_2.{key}", "unknown option")
+        if "node_shape" not in data:
+            raise SceneError("node_2.node_shape", "missing")
+        n = data.get("n", 2)
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise SceneError("node_2.n", f"must be a whole number of balls >= 1, got {n!r}")
+        return cls(_matrix("node_2.node_shape", data["node_shape"], 2, k), n,
+                   per_ball("node_2.ball_mass", data.get("ball_mass", 0.05), n, positive=True),
+                   per_ball("node_2.ball_damping", data.get("ball_damping", 1.25e-4), n, nonnegative=True),
+                   number("node_2.race_radius", data.get("race_radius", 0.05), positive=True))
+
+
+@dataclass(frozen=True)
 class FlexibleSpeed:
     """The spin: constant, psi = omega t (thesis (2.14)); the only law the family offers."""
 
@@ -107,7 +155,7 @@ class FlexibleSpeed:
 
 @dataclass(frozen=True)
 class FlexibleScene:
-    """A flexible rotor with n balls in a race at one balancer node, spun at a constant speed."""
+    """A flexible rotor with n balls in a race at one balancer node (optionally a second), spun at a constant speed."""
 
     n: int = 2
     ball_mass: float | tuple[float, ...] = 0.05
@@ -119,10 +167,20 @@ class FlexibleScene:
     g: float = 9.80665
     speed: FlexibleSpeed = field(default_factory=FlexibleSpeed)
     modal: Modal = field(default_factory=lambda: jeffcott_modal(1.0, (1.0e4, 1.0e4), (2.0, 2.0)))
+    node_2: BalancerNode | None = None  # a second balancer node (its balls numbered after the first's)
 
     @property
     def k(self) -> int:
         return self.modal.k
+
+    @property
+    def balls(self) -> int:
+        """All balls: the first node's n, then the second node's."""
+        return self.n + (self.node_2.n if self.node_2 else 0)
+
+    def ball_node(self) -> tuple[int, ...]:
+        """The node (0: the first, 1: node_2) of each ball."""
+        return (0,) * self.n + (1,) * (self.node_2.n if self.node_2 else 0)
 
     @property
     def omega(self) -> float:
@@ -130,7 +188,8 @@ class FlexibleScene:
 
     @property
     def equal_balls(self) -> bool:
-        return not isinstance(self.ball_mass, tuple) and not isinstance(self.ball_damping, tuple)
+        return (not isinstance(self.ball_mass, tuple) and not isinstance(self.ball_damping, tuple)
+                and self.node_2 is None)
 
     def masses(self) -> tuple[float, ...]:
         return self.ball_mass if isinstance(self.ball_mass, tuple) else (self.ball_mass,) * self.n
@@ -188,6 +247,7 @@ class FlexibleScene:
             g=number("g", data.get("g", 9.80665), positive=True),
             speed=FlexibleSpeed("constant", number("speed.omega", speed.get("omega", 400.0), positive=True)),
             modal=Modal(mass, stiffness, damping, gyro, shape, load, reduction),
+            node_2=BalancerNode.from_mapping(data["node_2"], k) if "node_2" in data else None,
         )
 
     @classmethod
@@ -214,6 +274,10 @@ def _preset(name: str) -> dict:
                       "damping": [list(r) for r in m.damping], "node_shape": [list(r) for r in m.node_shape]}}
 
 
+# the second node's defaults as the reference shows them (the field is None without one)
+KEY_DEFAULTS = {f"node_2.{k}": getattr(BalancerNode, k) for k in ("n", "ball_mass", "ball_damping", "race_radius")}
+_NODE_2 = {"node_2": {"node_shape": [[1.0, 0.0], [0.0, 1.0]]}}  # the smallest second node (tests of KEYS)
+
 KEYS = (
     Key("n", "", "other", "number of balls in the race at the balancer node", "a whole number >= 1"),
     Key("ball_mass", "kg", "positive", "m or [m_1, ..., m_n]"),
@@ -234,4 +298,11 @@ KEYS = (
     Key("modal.gravity_load", "kg", "other", "Phi^T M e_y, k values (default 0)", "k numbers"),
     Key("modal.reduction", "", "other", "how the matrices were reduced (text, carried to the model's title)",
         "text"),
+    Key("node_2.n", "", "other", "number of balls at an optional second balancer node (derivation and checks only)",
+        "a whole number >= 1"),
+    Key("node_2.ball_mass", "kg", "positive", "m or [m_1, ..., m_n] of the second node's balls", context=_NODE_2),
+    Key("node_2.ball_damping", "N m s/rad", "nonnegative", "D or [D_1, ..., D_n] of the second node's balls",
+        context=_NODE_2),
+    Key("node_2.race_radius", "m", "positive", "radius of the second node's race", context=_NODE_2),
+    Key("node_2.node_shape", "", "other", "the second node's x and y translation per unit of each mode", "2 x k"),
 )

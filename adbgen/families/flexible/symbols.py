@@ -34,6 +34,9 @@ class FlexibleSymbols:
     g: sp.Expr
     omega: sp.Symbol
     parameters: tuple[Parameter, ...]
+    shapes: tuple[sp.Matrix, ...] = ()  # each node's 2 x k shapes: (Phi,) or (Phi, Phi_2)
+    radii: tuple[sp.Expr, ...] = ()  # each node's race radius: (R,) or (R, R_2)
+    ball_node: tuple[int, ...] = ()  # the node of each ball
 
     @classmethod
     def for_scene(cls, scene: FlexibleScene) -> "FlexibleSymbols":
@@ -55,13 +58,16 @@ class FlexibleSymbols:
         K = matrix("K_q", modal.stiffness, "reduced stiffness matrix Phi^T K Phi", "N/m", 1)
         C = matrix("C_q", modal.damping, "reduced damping matrix Phi^T C Phi", "N s/m", 1)
         G = matrix("G_q", modal.gyroscopic, "reduced gyroscopic matrix Phi^T G Phi (times the speed)", "kg", -1)
-        Phi = sp.zeros(2, k)
-        for a, axis in enumerate("xy"):
-            for j in range(k):
-                if modal.node_shape[a][j] != 0.0:
-                    Phi[a, j] = add(sp.Symbol(f"Phi_{axis}_{j + 1}", real=True),
-                                    f"balancer node's {axis} translation in mode {j + 1}", "dimensionless",
-                                    modal.node_shape[a][j])
+        def shape(values, prefix, which):
+            out = sp.zeros(2, k)
+            for a, axis in enumerate("xy"):
+                for j in range(k):
+                    if values[a][j] != 0.0:
+                        out[a, j] = add(sp.Symbol(f"{prefix}_{axis}_{j + 1}", real=True),
+                                        f"{which}'s {axis} translation in mode {j + 1}", "dimensionless", values[a][j])
+            return out
+
+        Phi = shape(modal.node_shape, "Phi", "balancer node")
         w = sp.zeros(k, 1)
         if scene.gravity:
             for j in range(k):
@@ -73,13 +79,19 @@ class FlexibleSymbols:
                                             scene.eccentricity)
         R = add(positive("R"), "race radius", "m", scene.race_radius)
         masses, drags = scene.masses(), scene.ball_dampings()
+        shapes, radii = (Phi,), (R,)
+        if scene.node_2 is not None:  # its balls numbered after the first node's, each with its own m_i, D_i
+            shapes += (shape(scene.node_2.node_shape, "Phi2", "second balancer node"),)
+            radii += (add(positive("R_2"), "race radius at the second node", "m", scene.node_2.race_radius),)
+            masses, drags = masses + scene.node_2.masses(), drags + scene.node_2.ball_dampings()
         if scene.equal_balls:
             m = (add(positive("m"), "ball mass", "kg", masses[0]),) * scene.n
             D = (add(nonnegative("D"), "viscous drag on each ball", "N m s/rad", drags[0]),) * scene.n
         else:
-            m = tuple(add(positive(f"m_{i + 1}"), f"mass of ball {i + 1}", "kg", masses[i]) for i in range(scene.n))
+            m = tuple(add(positive(f"m_{i + 1}"), f"mass of ball {i + 1}", "kg", masses[i])
+                      for i in range(scene.balls))
             D = tuple(add(nonnegative(f"D_{i + 1}"), f"viscous drag on ball {i + 1}", "N m s/rad", drags[i])
-                      for i in range(scene.n))
+                      for i in range(scene.balls))
         g = add(positive("g"), "gravitational acceleration (-y)", "m/s^2", scene.g) if scene.gravity else sp.S.Zero
         omega = add(positive("omega"), "spin speed", "rad/s", scene.omega)
-        return cls(M, K, C, G, Phi, w, U, R, m, D, g, omega, params.sorted())
+        return cls(M, K, C, G, Phi, w, U, R, m, D, g, omega, params.sorted(), shapes, radii, scene.ball_node())

@@ -5,6 +5,20 @@ M I, K_q = diag(k_X, k_Y), C_q = diag(c_X, c_Y), G_q = 0, w = (0, M), m_u = M: a
 right-hand side x'' = M(x)^-1 f(x, x', t) must equal the single-plane fixed-frame model's, thesis (2.10),
 (2.11), (2.13), with (X, Y) = (q_1, q_2), to round-off at random states and times.  Its negative control
 is a wrong mode shape at the balancer node (the node's x picking up 5 % of mode 2), which must be caught.
+
+`two_plane_limit`: two nodes, four rigid-body modes q = (X, Y, phi_X, phi_Y) of the two-plane model's rotor
+(paper section 2.1): a shaft point at z moves by (X + z phi_Y, Y - z phi_X) to first order, so a node's shape
+is [[1, 0, 0, z], [0, 1, -z, 0]]; M_q = diag(M, M, J_t, J_t), K_q = sum_j S(z_j)^T diag(k_jX, k_jY) S(z_j) and
+C_q likewise over the bearings at z_1 = +l_1, z_2 = -l_2 (paper (1)), G_q[phi_X, phi_Y] = -G_q[phi_Y, phi_X] =
+J_p (the two-plane rotor's -J_p theta_0' phi_X phi_Y' in T).  The balls sit at the races' planes, ball k's
+absolute angle theta_k = Omega t + phi_k.  Then x'' must equal the two-plane fixed-frame model's (paper (2),
+(4), `two_plane.model.derive`) to round-off.  Exact only under stated restrictions: constant speed, no
+misalignment (chi = 0: its (J_t - J_p) chi^2 and chi-forcing have no modal counterpart), no friction, and the
+unbalance (at the first node) equal to the two-plane one only when that node is the centre-of-mass plane
+(z = 0) with beta = 0, or eps = 0.  Why equality can hold exactly: the two-plane model keeps T to second
+order and drops each ball's own tilt terms (m_k R_k^2, its item 2), so its balls enter through their race
+centres' translation, which is all a mode-shape model gives them.  Negative control: the second node's tilt
+sign flipped ([1, 0, 0, -z], [0, 1, z, 0]), which must be caught.
 """
 
 from __future__ import annotations
@@ -19,8 +33,10 @@ from ...core.checks import DERIVED, CheckResult, Registered, timed
 from ...core.lagrange import EquationsOfMotion
 from ..single_plane.model import derive as derive_single_plane
 from ..single_plane.scene import Scene, SpeedLaw
+from ..two_plane.model import derive as derive_two_plane
+from ..two_plane.scene import Bearing, Race, TwoPlaneScene, TwoPlaneSpeed
 from .model import derive
-from .scene import FlexibleScene, FlexibleSpeed, Modal, jeffcott_modal
+from .scene import BalancerNode, FlexibleScene, FlexibleSpeed, Modal, jeffcott_modal
 from .symbols import t
 
 RHS_TOLERANCE = 1e-11  # relative to the largest acceleration: round-off of a 2 + n linear solve
@@ -101,5 +117,90 @@ def single_plane_limit_check() -> CheckResult:
 
 def registered(ns=()) -> list[Registered]:
     return [Registered("single-plane limit (Jeffcott)", DERIVED, lambda wrong: single_plane_limit(wrong),
-                       "the balancer node's x with 5 % of mode 2 (a wrong mode shape)")]
+                       "the balancer node's x with 5 % of mode 2 (a wrong mode shape)"),
+            Registered("two-plane limit (four rigid-body modes)", DERIVED, lambda wrong: two_plane_limit(wrong),
+                       "the second node's tilt sign flipped (a wrong mode shape)")]
 
+
+
+def plane_shape(z: float, tilt: float = 1.0) -> tuple[tuple[float, ...], ...]:
+    """A rigid shaft's point at axial position z: (x, y) = (X + z phi_Y, Y - z phi_X) per unit of
+    q = (X, Y, phi_X, phi_Y) (paper section 2.1, first order); tilt = -1 flips the tilt (the negative control)."""
+    return ((1.0, 0.0, 0.0, tilt * z), (0.0, 1.0, -tilt * z, 0.0))
+
+
+def _bearing_sum(two: TwoPlaneScene, what: str) -> tuple[tuple[float, ...], ...]:
+    """sum_j S(z_j)^T diag(a_jX, a_jY) S(z_j) over the bearings at +l_1, -l_2 (paper (1)): K_q or C_q."""
+    out = np.zeros((4, 4))
+    for bearing, z in ((two.bearing_1, two.bearing_1.position), (two.bearing_2, -two.bearing_2.position)):
+        shape = np.array(plane_shape(z))
+        out += shape.T @ np.diag(bearing.xy(what)) @ shape
+    return tuple(tuple(float(v) for v in row) for row in out)
+
+
+def rigid_scene(two: TwoPlaneScene, tilt_2: float = 1.0) -> FlexibleScene:
+    """The flexible scene of a two-plane scene: four rigid-body modes, one node per race (module docstring)."""
+    if two.speed.law != "constant" or two.misalignment != 0.0 or two.friction:
+        raise ValueError("the rigid-mode scene needs a constant speed, chi = 0 and no friction")
+    if two.eccentricity != 0.0 and (two.races[0].z != 0.0 or two.imbalance_phase != 0.0):
+        raise ValueError("the unbalance sits at the first node: it needs eps = 0, or race 1 at z = 0 and beta = 0")
+    M, Jt, Jp = two.rotor_mass, two.transverse_inertia, two.polar_inertia
+    gyro = tuple(tuple(Jp if (i, j) == (2, 3) else -Jp if (i, j) == (3, 2) else 0.0 for j in range(4))
+                 for i in range(4))
+    first, second = two.races
+    modal = Modal(((M, 0, 0, 0), (0, M, 0, 0), (0, 0, Jt, 0), (0, 0, 0, Jt)), _bearing_sum(two, "stiffness"),
+                  _bearing_sum(two, "damping"), gyro, plane_shape(first.z), (0.0,) * 4,
+                  "four rigid-body modes of the two-plane rotor (X, Y, phi_X, phi_Y)")
+    return FlexibleScene(n=len(first.masses), ball_mass=first.masses, ball_damping=first.damping,
+                         race_radius=first.radius, unbalance_mass=M, eccentricity=two.eccentricity,
+                         speed=FlexibleSpeed("constant", float(two.speed.omega)), modal=modal,
+                         node_2=BalancerNode(plane_shape(second.z, tilt_2), len(second.masses), second.masses,
+                                             second.damping, second.radius))
+
+
+def two_plane_difference(two: TwoPlaneScene, tilt_2: float = 1.0, seed: int = 0) -> float:
+    """The largest difference of x'' (flexible against two-plane) over random states, relative to their size;
+    the balls' states map by theta_k = Omega t + phi_k, theta_k' = Omega + phi_k'."""
+    flexible = derive(rigid_scene(two, tilt_2))
+    reference = derive_two_plane(two)
+    names = [c.name for c in reference.coordinates]
+    n = two.n
+    balls = [f"phi_{i + 1}" for i in range(n)]
+    if names != ["X", "Y", "phi_X", "phi_Y"] + [f"theta_{i + 1}" for i in range(n)] or \
+            [c.name for c in flexible.coordinates] != [f"q_{j + 1}" for j in range(4)] + balls:
+        raise AssertionError(f"coordinates differ: {names} against {[c.name for c in flexible.coordinates]}")
+    a, b = accelerations(flexible), accelerations(reference)
+    omega = float(two.speed.omega)
+    rng = np.random.default_rng(seed)
+    worst, size = 0.0, 0.0
+    for _ in range(_STATES):
+        time = rng.uniform(0, 10.0 / omega)
+        q = np.concatenate([rng.normal(0, 1e-2, 4), rng.uniform(-np.pi, np.pi, n)])
+        qd = np.concatenate([rng.normal(0, 1e-2 * omega, 4), rng.normal(0, 0.1 * omega, n)])
+        shift = np.concatenate([np.zeros(4), np.full(n, omega)])
+        x, y = a(time, q, qd), b(time, q + shift * time, qd + shift)
+        worst = max(worst, float(np.max(np.abs(x - y))))
+        size = max(size, float(np.max(np.abs(y))))
+    return worst / size
+
+
+def two_plane_scenes() -> tuple[TwoPlaneScene, ...]:
+    """Paper (10) without the unbalance (races at z = +-2), and an anisotropic, asymmetric scene with race 1
+    at the centre-of-mass plane carrying the unbalance, three unequal balls in race 2."""
+    return (TwoPlaneScene(eccentricity=0.0),
+            TwoPlaneScene(rotor_mass=1.3, transverse_inertia=2.1, polar_inertia=0.7, eccentricity=0.02,
+                          bearing_1=Bearing(2.5, (0.5, 0.7), (0.01, 0.02)), bearing_2=Bearing(3.5, (0.6, 0.4), 0.015),
+                          races=(Race(0.0, 1.0, (0.003, 0.002), 3e-5), Race(-1.5, 0.8, (0.002, 0.0025, 0.003), 2e-5)),
+                          speed=TwoPlaneSpeed("constant", omega=2.4)))
+
+
+def two_plane_limit(wrong: bool = False) -> list[CheckResult]:
+    out = []
+    for i, two in enumerate(two_plane_scenes()):
+        def run(two=two):
+            diff = two_plane_difference(two, -1.0 if wrong else 1.0)
+            return diff <= RHS_TOLERANCE, (f"max |x''_flexible - x''_two-plane| / max |x''| = {diff:.1e} "
+                                           f"(tol {RHS_TOLERANCE:.0e})")
+        label = "node 2 tilt sign flipped" if wrong else f"n = {two.n}"
+        out.append(timed(f"four rigid modes = two-plane ({label}, scene {i + 1})", "paper (1), (2), (4); chi = 0", run))
+    return out

@@ -6,7 +6,8 @@ import sympy as sp
 from adbgen.errors import SceneError
 from adbgen.families.flexible.model import derive
 from adbgen.families.flexible.scene import FlexibleScene
-from adbgen.families.flexible.verify import RHS_TOLERANCE, rhs_difference, single_plane_limit, single_plane_scenes, wrong_shape
+from adbgen.families.flexible.verify import (RHS_TOLERANCE, rhs_difference, rigid_scene, single_plane_limit,
+                                            single_plane_scenes, two_plane_difference, two_plane_scenes, wrong_shape)
 
 
 @pytest.mark.parametrize("index", [0, 1])
@@ -54,3 +55,56 @@ def test_bad_scene_names_its_field(data, field):
     with pytest.raises(SceneError) as err:
         FlexibleScene.from_mapping(data)
     assert err.value.field == field
+
+
+@pytest.mark.parametrize("index", [0, 1])
+def test_four_rigid_modes_equal_two_plane(index):
+    """Issue 38 item 4: two nodes, four rigid-body modes = the two-plane fixed-frame model (chi = 0)."""
+    assert two_plane_difference(two_plane_scenes()[index]) <= RHS_TOLERANCE
+
+
+@pytest.mark.parametrize("index", [0, 1])
+def test_flipped_tilt_at_second_node_is_caught(index):
+    """Negative control: the second node's shape [1, 0, 0, -z], [0, 1, z, 0] instead of [1, 0, 0, z], [0, 1, -z, 0]."""
+    assert two_plane_difference(two_plane_scenes()[index], tilt_2=-1.0) > 1e3 * RHS_TOLERANCE
+
+
+def test_rigid_scene_refuses_what_has_no_modal_counterpart():
+    from dataclasses import replace
+
+    two = two_plane_scenes()[0]
+    for bad in (replace(two, misalignment=1e-3), replace(two, eccentricity=0.01)):  # chi; unbalance off node 1
+        with pytest.raises(ValueError):
+            rigid_scene(bad)
+
+
+def test_second_node_from_toml_and_generation_refused():
+    from adbgen.families.flexible.models import for_scene
+
+    data = {"n": 1, "modal": {"mass": [[1.0, 0], [0, 1]], "stiffness": [[1, 0], [0, 1]],
+                              "node_shape": [[1, 0], [0, 1]]},
+            "node_2": {"n": 2, "ball_mass": [0.01, 0.02], "race_radius": 0.1, "node_shape": [[0.5, 0], [0, 0.5]]}}
+    scene = FlexibleScene.from_mapping(data)
+    assert scene.balls == 3 and scene.ball_node() == (0, 1, 1)
+    names = {p.name for p in derive(scene).parameters}
+    assert {"R", "R_2", "Phi2_x_1", "m_1", "m_3", "D_3"} <= names
+    with pytest.raises(SceneError) as err:
+        for_scene(scene)
+    assert err.value.field == "node_2"
+    with pytest.raises(SceneError) as err:
+        FlexibleScene.from_mapping({**data, "node_2": {"n": 1, "node_shape": [[1, 0, 0], [0, 1, 0]]}})
+    assert err.value.field == "node_2.node_shape"
+
+
+def test_gyroscopic_sign_of_the_rigid_modes_matters(monkeypatch):
+    """The two-plane overlap exercises G_q: its sign flipped is caught (J_p enters x'' of the tilts)."""
+    from dataclasses import replace
+
+    import adbgen.families.flexible.verify as verify
+
+    two = two_plane_scenes()[1]
+    scene = rigid_scene(two)
+    flipped = replace(scene, modal=replace(scene.modal, gyroscopic=tuple(tuple(-v for v in row)
+                                                                            for row in scene.modal.gyroscopic)))
+    monkeypatch.setattr(verify, "rigid_scene", lambda two, tilt_2=1.0: flipped)
+    assert two_plane_difference(two) > 1e3 * RHS_TOLERANCE
