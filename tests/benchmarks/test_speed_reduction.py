@@ -1,0 +1,64 @@
+"""The speed-reduction study (benchmarks/speed_reduction.py, issue 37): the feasibility verdict on planted
+distributions, and on a small sweep of the scene's model a reduction of zero depth gives the distribution of no
+reduction (the plateau at full speed changes nothing) while a deep one changes it (so the comparison is not
+void)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from adbgen.analysis.residual import AT_REST, MOVING, NOT_RUN, distribution
+from benchmarks import speed_reduction as sr
+
+
+def _dist(values, codes=None):
+    values = np.asarray(values, float)
+    return distribution(values, np.full(values.size, AT_REST) if codes is None else np.asarray(codes))
+
+
+def test_a_case_is_feasible_only_when_every_start_is_at_rest_below_the_target():
+    d = _dist([1e-5, 2e-5, 3e-5])
+    assert sr.feasible(d, 5e-5) is True
+    # negative control: a planted target below the largest residual is infeasible
+    assert sr.feasible(d, 2.5e-5) is False
+    assert sr.feasible(d, 3e-5) is False  # "below": equal is not below
+    # a start still moving or failed is not counted as physics: below the target it leaves the verdict open
+    assert sr.feasible(_dist([1e-5, 2e-5, math.nan], [AT_REST, AT_REST, MOVING]), 5e-5) is None
+    assert sr.feasible(_dist([1e-5, math.nan], [AT_REST, NOT_RUN]), 5e-5) is None
+    # ... but a start at rest above the target already decides it
+    assert sr.feasible(_dist([1e-4, math.nan], [AT_REST, MOVING]), 5e-5) is False
+
+
+def test_the_cases_and_end_times():
+    cs = sr.cases((0.3,), (0.5, 1.0))
+    assert cs[0] == {"depth": 0.0, "plateau": 0.0} and len(cs) == 3
+    s = sr.SCHEDULE
+    assert sr.t_end_for(0.0, 0.0) == pytest.approx(s["t_ramp"] + s["t_hold"] + sr.SETTLE)
+    assert sr.t_end_for(0.5, 1.0) == pytest.approx(sr.t_end_for(0.0, 0.0) + 1.0 + 0.5 * s["omega"] *
+                                                   (1 / s["drop_rate"] + 1 / s["recovery_rate"]))
+    # r without balls: eps M w^2 / |k - (M + 2m) w^2 + i c w| at the study's rotor (M 1 kg, k 1000 N/m, m 10 g)
+    w = s["omega"]
+    assert sr.free_response() == pytest.approx(5e-4 * w**2 / abs(complex(1000 - 1.02 * w**2, 6 * w)), rel=1e-12)
+
+
+@pytest.fixture(scope="module")
+def model():
+    from adbgen.analysis.loading import load_model
+
+    return load_model(scene=sr.SCENE)
+
+
+def test_zero_depth_is_no_reduction_and_a_deep_reduction_is_not(model, tmp_path):
+    side, t_end = 3, sr.t_end_for(0.6, 0.5)
+    none = sr.run_case(model, {"depth": 0.0, "plateau": 0.0}, side, t_end, tmp_path / "none", workers=1)
+    zero = sr.run_case(model, {"depth": 0.0, "plateau": 0.5}, side, t_end, tmp_path / "zero", workers=1)
+    deep = sr.run_case(model, {"depth": 0.6, "plateau": 0.5}, side, t_end, tmp_path / "deep", workers=1)
+    assert none["distribution"]["failed"] == 0 and none["distribution"]["at_rest"] > 0
+    np.testing.assert_array_equal(none["at_rest"], zero["at_rest"])
+    np.testing.assert_allclose(zero["r"], none["r"], rtol=1e-6, atol=1e-12)
+    # negative control: the deep reduction moves the balls, so r at rest differs (the check above is not void)
+    rest = (none["at_rest"] == AT_REST) & (deep["at_rest"] == AT_REST)
+    assert rest.any() and np.max(np.abs(deep["r"][rest] - none["r"][rest]) / none["r"][rest]) > 1e-3
