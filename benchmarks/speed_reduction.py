@@ -90,6 +90,12 @@ def axes(side: int) -> list[str]:
     return [f"phi_1=0:2*pi*{side - 1}/{side}:{side}", f"phi_2=pi/{side}:pi/{side}+2*pi*{side - 1}/{side}:{side}"]
 
 
+def every_start_below(dist: dict, starts: int) -> float | None:
+    """The smallest target this case meets in every start (its largest r at rest), None unless all starts are at
+    rest."""
+    return dist["quantiles"]["max"] if dist["at_rest"] == starts else None
+
+
 def run_case(model, case: dict, side: int, t_end: float, out: Path, workers: int | None = None) -> dict:
     """One sweep over side x side starts; {"case", "t_end", "r" (per start, nan where not at rest), "at_rest"
     (codes), "distribution", "wall_s", "integrated"}."""
@@ -132,6 +138,8 @@ def study(side: int = DEFAULT_SIDE, depths=DEPTHS, plateaus=PLATEAUS, workers: i
         "rtol": RTOL, "atol": ATOL, "r_without_balls_m": free_response(),
         "target_m": target, "target": f"{TARGET_FRACTION:g} of r without balls",
         "cases": [{**run["case"], "distribution": run["distribution"], "feasible": feasible(run["distribution"], target),
+                   "below_target": int(((run["at_rest"] == 1) & (run["r"] < target)).sum()),
+                   "every_start_below_m": every_start_below(run["distribution"], side * side),
                    "wall_s": run["wall_s"], "integrated": run["integrated"]} for run in runs],
     }
     result["feasible_reductions"] = [{"depth": c["depth"], "plateau": c["plateau"]} for c in result["cases"][1:]
@@ -176,13 +184,13 @@ def draw(result: dict, runs: list[dict], path: Path) -> Path:
         for q, ls in (("50", "-"), ("90", "--"), ("99", ":")):
             bx.axvline(d["quantiles"][q] * 1e3, color=color, ls=ls, lw=1.2)
     bx.axvline(target_mm, color="r", ls="--", lw=1)
-    bx.set_xlabel("residual imbalance r at rest (mm); lines: 50 % (solid), 90 % (dashed), 99 % (dotted)")
+    bx.set_xlabel("residual imbalance r at rest (mm)\nlines: 50 % (solid), 90 % (dashed), 99 % (dotted)")
     bx.set_ylabel("starts")
     bx.set_title("histogram: without and with the best reduction (smallest 99 %)")
     bx.legend(fontsize=8)
     fig.suptitle(f"Jeffcott rotor, eps {ROTOR['eps'] * 1e3:g} mm, 2 x 10 g balls on R = 50 mm, mu_r {ROTOR['mu_r']:g}, "
-                 f"mu_s {ROTOR['mu_s']:g}, omega {SCHEDULE['omega']:g} rad/s; reductions at "
-                 f"{SCHEDULE['drop_rate']:g} rad/s^2", fontsize=9)
+                 f"mu_s {ROTOR['mu_s']:g}, D {ROTOR['D']:g} N m s/rad, omega {SCHEDULE['omega']:g} rad/s; reductions: fall "
+                 f"{SCHEDULE['drop_rate']:g} rad/s^2, recovery {SCHEDULE['recovery_rate']:g} rad/s^2", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -62,3 +62,9 @@ def test_zero_depth_is_no_reduction_and_a_deep_reduction_is_not(model, tmp_path)
     # negative control: the deep reduction moves the balls, so r at rest differs (the check above is not void)
     rest = (none["at_rest"] == AT_REST) & (deep["at_rest"] == AT_REST)
     assert rest.any() and np.max(np.abs(deep["r"][rest] - none["r"][rest]) / none["r"][rest]) > 1e-3
+
+
+def test_every_start_below_is_the_largest_residual_only_when_all_starts_are_at_rest():
+    assert sr.every_start_below(_dist([1e-5, 3e-5]), 2) == pytest.approx(3e-5)
+    # negative control: a start not at rest leaves it undecided, not the largest of the others
+    assert sr.every_start_below(_dist([1e-5, math.nan], [AT_REST, MOVING]), 2) is None
