@@ -59,6 +59,10 @@ def test_zero_depth_is_no_reduction_and_a_deep_reduction_is_not(model, tmp_path)
     assert none["distribution"]["failed"] == 0 and none["distribution"]["at_rest"] > 0
     np.testing.assert_array_equal(none["at_rest"], zero["at_rest"])
     np.testing.assert_allclose(zero["r"], none["r"], rtol=1e-6, atol=1e-12)
+    # the verdict on the sweep itself: above its largest residual feasible, a planted target below it not
+    top = none["distribution"]["quantiles"]["max"]
+    assert none["distribution"]["at_rest"] == side * side
+    assert sr.feasible(none["distribution"], 2 * top) is True and sr.feasible(none["distribution"], top / 2) is False
     # negative control: the deep reduction moves the balls, so r at rest differs (the check above is not void)
     rest = (none["at_rest"] == AT_REST) & (deep["at_rest"] == AT_REST)
     assert rest.any() and np.max(np.abs(deep["r"][rest] - none["r"][rest]) / none["r"][rest]) > 1e-3
