@@ -5,7 +5,9 @@ the residual imbalance below a target in every start of a sweep).
     python3 -m benchmarks.speed_reduction [--side K] [--out docs/figures]
         -> docs/figures/speed_reduction_residual.png and .json
 
-The rotor is speed_reduction_scene.toml (SI): a Jeffcott rotor of M = 1 kg on k = 1000 N/m (omega_n about
+The rotor is speed_reduction_scene.toml's model (SI) with the values of ROTOR and SCHEDULE set (the file's
+eccentricity, c and D are only the generated model's defaults; a change of the file's bytes regenerates the
+model, minutes for a stick/slip model): a Jeffcott rotor of M = 1 kg on k = 1000 N/m (omega_n about
 31 rad/s), c = 6 N s/m (zeta about 0.09), eccentricity 0.5 mm, two balls of 10 g on a race of R = 50 mm
 (balanced state at theta* = 120 deg, cos theta* = -eps M / (2 m R), thesis (3.6)), rolling resistance
 mu_r = 0.002 and stiction mu_s = 0.005, a viscous drag of the balls D = 1e-4 N m s/rad (the race's fluid: without
