@@ -149,6 +149,36 @@ def study(side: int = DEFAULT_SIDE, depths=DEPTHS, plateaus=PLATEAUS, workers: i
     return result, runs
 
 
+def check(workers: int | None = 1, side: int = 3) -> list[str]:
+    """The study's machinery on the scene's model, small: a reduction of zero depth (a plateau at full speed)
+    gives the distribution of no reduction, every start at rest, and the verdict on that sweep is right (above
+    its largest residual feasible, at half of it not); negative control: a deep reduction (0.6) moves r by
+    more than 1e-3, so the comparison is not void.  Returns the failures (empty when all hold)."""
+    from adbgen.analysis.loading import load_model
+    from adbgen.analysis.residual import AT_REST
+
+    model = load_model(scene=SCENE)
+    t_end = t_end_for(0.6, 0.5)
+    fails = []
+    with tempfile.TemporaryDirectory() as tmp:
+        none = run_case(model, {"depth": 0.0, "plateau": 0.0}, side, t_end, Path(tmp) / "none", workers)
+        zero = run_case(model, {"depth": 0.0, "plateau": 0.5}, side, t_end, Path(tmp) / "zero", workers)
+        deep = run_case(model, {"depth": 0.6, "plateau": 0.5}, side, t_end, Path(tmp) / "deep", workers)
+    d = none["distribution"]
+    if d["failed"] or d["at_rest"] != side * side:
+        fails.append(f"without reduction {d['at_rest']} of {side * side} starts at rest, {d['failed']} failed")
+    if not np.array_equal(none["at_rest"], zero["at_rest"]) or not np.allclose(zero["r"], none["r"], rtol=1e-6,
+                                                                                 atol=1e-12, equal_nan=True):
+        fails.append("a reduction of zero depth changes the residual distribution")
+    top = d["quantiles"]["max"]
+    if feasible(d, 2 * top) is not True or feasible(d, top / 2) is not False:
+        fails.append("the verdict on the sweep is wrong")
+    rest = (none["at_rest"] == AT_REST) & (deep["at_rest"] == AT_REST)
+    if not rest.any() or np.max(np.abs(deep["r"][rest] - none["r"][rest]) / none["r"][rest]) <= 1e-3:
+        fails.append("negative control: a reduction of depth 0.6 does not move r (the comparison is void)")
+    return fails
+
+
 def draw(result: dict, runs: list[dict], path: Path) -> Path:
     """Left: CDFs of r at rest (mm) per case, the target as a vertical line; right: histograms of the case
     without reduction and of the case with the smallest 99 % quantile, their 50/90/99 % lines."""
@@ -204,7 +234,15 @@ def main(argv=None) -> int:
     parser.add_argument("--side", type=int, default=DEFAULT_SIDE, help=f"starts per case: side^2 (default {DEFAULT_SIDE})")
     parser.add_argument("--out", default=str(ROOT / "docs" / "figures"), help="folder of the figure and its JSON")
     parser.add_argument("--workers", type=int, default=None, help="Dask workers (default: all cores)")
+    parser.add_argument("--check", action="store_true",
+                        help="only the check of the machinery on the scene's model (3 x 3 starts); exit 1 on a failure")
     args = parser.parse_args(argv)
+    if args.check:
+        fails = check(workers=args.workers or 1)
+        for line in fails:
+            print(f"speed_reduction: check failed: {line}", file=sys.stderr)
+        print("speed_reduction: check " + ("failed" if fails else "passed"))
+        return 1 if fails else 0
     if args.side < 2:
         print(f"speed_reduction: --side must be >= 2, got {args.side}", file=sys.stderr)
         return 2

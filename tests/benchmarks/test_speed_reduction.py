@@ -1,7 +1,7 @@
 """The speed-reduction study (benchmarks/speed_reduction.py, issue 37): the feasibility verdict on planted
-distributions, and on a small sweep of the scene's model a reduction of zero depth gives the distribution of no
-reduction (the plateau at full speed changes nothing) while a deep one changes it (so the comparison is not
-void)."""
+distributions, the cases and end times.  The check on the scene's model (a reduction of zero depth gives the
+distribution of no reduction, a deep one does not) runs with the study (`python3 -m benchmarks.speed_reduction
+--check`), not here: its model's first generation is the suite's longest setup (187 s on a cold cache)."""
 
 from __future__ import annotations
 
@@ -42,30 +42,6 @@ def test_the_cases_and_end_times():
     # r without balls: eps M w^2 / |k - (M + 2m) w^2 + i c w| at the study's rotor (M 1 kg, k 1000 N/m, m 10 g)
     w = s["omega"]
     assert sr.free_response() == pytest.approx(5e-4 * w**2 / abs(complex(1000 - 1.02 * w**2, 6 * w)), rel=1e-12)
-
-
-@pytest.fixture(scope="module")
-def model():
-    from adbgen.analysis.loading import load_model
-
-    return load_model(scene=sr.SCENE)
-
-
-def test_zero_depth_is_no_reduction_and_a_deep_reduction_is_not(model, tmp_path):
-    side, t_end = 3, sr.t_end_for(0.6, 0.5)
-    none = sr.run_case(model, {"depth": 0.0, "plateau": 0.0}, side, t_end, tmp_path / "none", workers=1)
-    zero = sr.run_case(model, {"depth": 0.0, "plateau": 0.5}, side, t_end, tmp_path / "zero", workers=1)
-    deep = sr.run_case(model, {"depth": 0.6, "plateau": 0.5}, side, t_end, tmp_path / "deep", workers=1)
-    assert none["distribution"]["failed"] == 0 and none["distribution"]["at_rest"] > 0
-    np.testing.assert_array_equal(none["at_rest"], zero["at_rest"])
-    np.testing.assert_allclose(zero["r"], none["r"], rtol=1e-6, atol=1e-12)
-    # the verdict on the sweep itself: above its largest residual feasible, a planted target below it not
-    top = none["distribution"]["quantiles"]["max"]
-    assert none["distribution"]["at_rest"] == side * side
-    assert sr.feasible(none["distribution"], 2 * top) is True and sr.feasible(none["distribution"], top / 2) is False
-    # negative control: the deep reduction moves the balls, so r at rest differs (the check above is not void)
-    rest = (none["at_rest"] == AT_REST) & (deep["at_rest"] == AT_REST)
-    assert rest.any() and np.max(np.abs(deep["r"][rest] - none["r"][rest]) / none["r"][rest]) > 1e-3
 
 
 def test_every_start_below_is_the_largest_residual_only_when_all_starts_are_at_rest():
