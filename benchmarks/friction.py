@@ -122,7 +122,7 @@ def page(result: dict) -> str:
         f"**Run record** (from [`benchmarks/friction.json`](../../benchmarks/friction.json)): {when(result)} "
         f"UTC, {m.get('cpu', 'machine not recorded')}, load average {m.get('load_average_at_start')} at the start and "
         f"{m.get('load_average_at_end')} at the end ("
-        + ("nothing else running at the start" if quiet else "shared with other sessions: not a quiet machine")
+        + ("nothing else running on the machine at the start" if quiet else "shared with other sessions: not a quiet machine")
         + "); command "
         f"`adbgen bench friction --starts {result['starts_asked']} --t-end {result['t_end']:g}"
         + (f" --repeats {repeats}" if repeats > 1 else "") + f"`.{reduced}", "",

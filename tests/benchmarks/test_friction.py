@@ -71,5 +71,5 @@ def test_the_page_calls_a_run_quiet_only_when_nothing_else_ran_and_says_the_medi
     quiet.update(repeats=3)
     quiet["with_stiction"]["runs_wall_s"], quiet["without_stiction"]["runs_wall_s"] = [2.0, 2.1, 1.9], [1.0, 1.1, 0.9]
     text = friction.page(quiet)
-    assert "nothing else running at the start" in text and "indicative only" not in text
+    assert "nothing else running on the machine at the start" in text and "indicative only" not in text
     assert "median of 3 alternated runs" in text and "--repeats 3" in text
