@@ -337,44 +337,25 @@ def _basins_n4(fig_dir: Path, size: int = 16, panels: str = "abcd") -> list[dict
     return out
 
 
-def _basin_n4_section(basins, root: Path) -> list[str]:
+def _basin_rows(basins, root: Path) -> list[dict]:
+    """The basin panels with their other attractors' cell and their figure's link, for the templates."""
     from .sweeps import balanced
+
+    return [{**b, "others": ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none",
+             "link": b["figure"].relative_to(root).as_posix()} for b in basins]
+
+
+def _basin_n4_section(basins, root: Path) -> list[str]:
+    """Fig. 5.19's section (templates/basins_n4.md.j2)."""
+    from .templates import render
 
     if not basins:
         return []
-    size = basins[0]["size"]
-    L = ["## Thesis, Fig. 5.19: basins of attraction of the balanced state, n = 4", "",
-         f"`adbgen sweep thesis_rotating_n4 --grid phi_1=0:2*pi*{size - 1}/{size}:{size} --grid "
-         f"phi_2=0:2*pi*{size - 1}/{size}:{size} --tie phi_3=phi_1+pi --tie phi_4=phi_2+pi --set zeta=Z "
-         "--measure attractor --t-end 3000` (Omega = 4, beta = delta = 0.01, mu = 0.05).", "",
-         f"| panel | zeta | balanced 1 | on the diagonal | other attractors (of {size * size}) |",
-         "|---|---|---|---|---|"]
-    for b in basins:
-        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none"
-        L.append(f"| 5.19({b['panel']}) | {b['zeta']:g} | {100 * b['balanced']:.1f} % | "
-                 f"{100 * b['diagonal']:.0f} % | {others} |")
-    a, b_, c, d = basins
-    L += ["",
-          "* Thesis (a), zeta = 0.01: \"the system reaches the balance from all the initial positions of the "
-          f"balls, including phi_1(0) = phi_2(0)\".  Ours: {100 * a['balanced']:.1f} % of the grid, "
-          f"{100 * a['diagonal']:.0f} % of the diagonal.",
-          "* Thesis (c), zeta = 0.2: \"the stability of the balanced state is reduced to the line phi_1(0) = "
-          "phi_2(0), and to four small regions around phi_1,2 = pi/2 and phi_1,2 = 3pi/2\".  Ours: "
-          f"{100 * c['diagonal']:.0f} % of the diagonal balances; of the {c['off_diagonal_balanced']} balancing "
-          f"points off it, {c['off_diagonal_near_centres']} lie within 0.6 rad of (pi/2 or 3pi/2, pi/2 or "
-          f"3pi/2), discs that hold {100 * c['near_share_of_grid']:.0f} % of the off-diagonal grid; "
-          f"{c['off_diagonal_on_shifted']} (some of them in those discs too) lie on the line phi_2(0) = "
-          "phi_1(0) + pi, where with the ties ball 3 starts with ball 2 and ball 4 with ball 1: the diagonal "
-          "again, the balls renamed.",
-          "* Thesis (b), zeta = 0.1: \"there are some irregularly distributed points from which the balance state is "
-          f"not attracting\".  Ours: {100 * b_['balanced']:.1f} % of the grid balances, "
-          f"{b_['size'] ** 2 - round(b_['balanced'] * b_['size'] ** 2)} points do not.",
-          "* Thesis (d), zeta = 0.25: like (c).  Ours: " f"{100 * d['balanced']:.1f} % of the grid balances "
-          f"({100 * d['diagonal']:.0f} % of the diagonal), against {100 * c['balanced']:.1f} % at zeta = 0.2.", ""]
-    for b in basins:
-        title = f"Fig. 5.19({b['panel']}), zeta = {b['zeta']:g}"
-        L += [f"**{title}**", "", f"![{title}]({b['figure'].relative_to(root).as_posix()})", ""]
-    return L
+    rows = _basin_rows(basins, root)
+    b = rows[1]
+    b["not_balancing"] = b["size"] ** 2 - round(b["balanced"] * b["size"] ** 2)
+    return render("basins_n4.md.j2", basins=rows, size=rows[0]["size"], a=rows[0], b=b, c=rows[2],
+                  d=rows[3]).splitlines()
 
 
 def _simulate(n: int, phi0, params: dict, rtol: float, atol: float | None = None, engine: str = ENGINE,
@@ -730,40 +711,13 @@ def _chapter4(statements, maps, root: Path, pitchfork=None) -> list[str]:
 
 
 def _basin_section(basins, root: Path) -> list[str]:
-    from .sweeps import balanced
+    """Fig. 5.18's section (templates/basins_n2.md.j2)."""
+    from .templates import render
 
     if not basins:
         return []
-    L = ["## Thesis, Fig. 5.18: basins of attraction of the balanced state, n = 2", "",
-         "`adbgen sweep thesis_rotating_n2 --grid phi_1=0:2*pi*39/40:40 --grid phi_2=0:2*pi*39/40:40 --set "
-         "zeta=Z --measure attractor --t-end 2000` (Omega = 4, beta = delta = 0.01, mu = 0.05).  The thesis "
-         "describes the figure in words; its statements and ours:", "",
-         "| panel | zeta | balanced 1 | other attractors (grid points of 1600) |", "|---|---|---|---|"]
-    for b in basins:
-        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none"
-        L.append(f"| 5.18({b['panel']}) | {b['zeta']:g} | {100 * b['balanced']:.1f} % | {others} |")
     shrink = all(basins[i]["balanced"] >= basins[i + 1]["balanced"] for i in range(2))
-    L += ["",
-          "* Thesis (a), zeta = 0.01: \"the basin of attraction of the balanced state is accessible from most "
-          "initial ball positions.  Exceptions being when the balls are launched from the same position, "
-          "phi_1(0) = phi_2(0), or from a small number of positions about this line, and others few positions "
-          "around phi_1,2(0) = 0.5, phi_2,1(0) = 5.\"  Ours: the diagonal ends at the coincident state 2- (the "
-          "balls start together and, with the exact exchange symmetry of the generated code, stay together), "
-          "and the two patches of limit cycles lie about (0.5-1, 5-5.5) and its mirror image; "
-          f"{100 * basins[0]['balanced']:.1f} % of the grid balances.",
-          "* Thesis (b)-(d): \"As the external damping ratio zeta is increased ... the basin of attraction "
-          "decreases\", (c) and (d) \"very similar\".  Ours: the balanced fraction "
-          + ("decreases" if shrink else "does not decrease monotonically")
-          + " from (a) to (c): " + ", ".join(f"{100 * b['balanced']:.1f} %" for b in basins) + ".",
-          "* Thesis (c)-(d): \"these shaded regions for zeta = 0.2 and zeta = 0.25 correspond with points around "
-          "the lines phi_2(0) = phi_1(0) + pi and phi_2(0) = phi_1(0) - pi\" (a tear-drop shaped basin).  Ours: "
-          + ", ".join(f"({b['panel']}) {100 * b['inline_share']:.0f} %" for b in basins[2:]
-                      if b["inline_share"] is not None)
-          + " of the balancing points lie within pi/3 of those lines (a third of the grid does).", ""]
-    for b in basins:
-        title = f"Fig. 5.18({b['panel']}), zeta = {b['zeta']:g}"
-        L += [f"**{title}**", "", f"![{title}]({b['figure'].relative_to(root).as_posix()})", ""]
-    return L
+    return render("basins_n2.md.j2", basins=_basin_rows(basins, root), shrink=shrink).splitlines()
 
 
 def _transient_section(transients) -> list[str]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import shutil
+from pathlib import Path
 
 import pytest
 from toolchain import require_tool
@@ -11,3 +12,21 @@ from toolchain import require_tool
 @pytest.fixture(autouse=True)
 def _needs_gcc():
     require_tool(shutil.which("gcc") is not None, "gcc")
+
+
+DOCUMENT = Path(__file__).resolve().parents[4] / "docs" / "reproduction.md"
+
+
+@pytest.fixture
+def published_section():
+    """`published_section(heading)`: the lines of the committed docs/reproduction.md from the line `heading` up to
+    the next section heading (the templates' tests compare what they render from fixed inputs with it)."""
+    lines = DOCUMENT.read_text().splitlines()
+
+    def section(heading: str) -> list[str]:
+        at = lines.index(heading)
+        end = next((k for k in range(at + 1, len(lines)) if lines[k].startswith(heading.split(" ")[0] + " ")),
+                   len(lines))
+        return lines[at:end]
+
+    return section
