@@ -630,84 +630,31 @@ def lyapunov_runs() -> dict:
     return out
 
 
+THESIS_PITCHFORK_HOPF = 0.9950372  # thesis (4.1)-(4.2): (mu_c, 1/sqrt(1 + n mu_c))
+
+
 def _chapter4(statements, maps, root: Path, pitchfork=None) -> list[str]:
-    L = ["## Thesis, chapter 4: stability of the balanced state", "",
-         "The thesis states these limits in words read off its two-parameter diagrams (so to one or two "
-         "digits).  Ours: the deflated spectrum of the balanced state continued by Newton from the model's "
-         "START (for n >= 3 the member of the family with the extra balls at pi), delta = 0.01, mu = 0.05; a "
-         "zeta limit by a scan of zeta from 1e-7 (30 points, logarithmic, to 2.5e-3) and 200 points to 0.5, each "
-         "change bisected; the beta bound to 1e-3.  Exact eigenvalue computations, so no tolerance study "
-         "applies.", "",
-         "| source | n | thesis | Omega | beta | published | ours: stable for | rel. diff. (upper limit) |",
-         "|---|---|---|---|---|---|---|---|"]
-    lows = []
+    """Ch. 4's limits of the balanced state, the statements along a line, (4.1)-(4.2) and the maps
+    (templates/chapter4_balanced.md.j2)."""
+    from .templates import render
+
+    lines = []
     for st, v in statements:
-        if st.kind == "zeta_limit":
-            lo, hi = v
-            ours = (f"{'0' if lo is None else f'{lo:.2g}'} < zeta < {'0.5 (and beyond)' if hi is None else f'{hi:.4g}'}")
-            rel = None if hi is None else (hi - st.published) / st.published
-            if lo is not None:
-                lows.append((st, lo))
-            L.append(f"| {st.source} | {st.n} | \"{st.text}\" | {st.Omega:g} | {st.beta:g} | zeta < {st.published:g} | "
-                     f"{ours} | {'— (up to 0.5)' if rel is None else f'{100 * rel:+.1f} %'} |")
-        elif st.kind == "beta_all":
-            beta, lo, lo_pub = v
-            L.append(f"| {st.source} | {st.n} | \"{st.text}\" | {st.Omega:g} | — | beta > {st.published:g} | "
-                     f"up to zeta = 0.5 from beta = {beta:.4g}, but only for zeta > {lo:.2g} there (zeta > "
-                     f"{lo_pub:.2g} at beta = {st.published:g}) | {100 * (beta - st.published) / st.published:+.1f} % |")
-    L += ["", "The upper limits are round values the text reads off a diagram (\"approximately\", one or two digits): "
-          "ours lie within 9 % of them and follow the trends the text describes (n = 4 tolerates about five "
-          "times the rotor damping of n = 3; the beta from which n = 3 is stable up to zeta = 0.5 is about "
-          "five times that of n = 4).  **Not true as stated: \"stable in the whole range 0 < zeta < 0.5\".**  "
-          "At every beta the balanced state is unstable for very small rotor damping, below a bound that grows "
-          "with beta: "
-          + "; ".join(f"n = {st.n}, Omega = {st.Omega:g}, beta = {st.beta:g}: zeta < {lo:.2g}" for st, lo in lows)
-          + "; at the beta bounds of the last two rows, zeta below the value given there.  The thesis' diagrams "
-          "start at a zeta too large to show it (so did the scan of this document before, from zeta = 0.0025).", ""]
-    L += ["**The statements along a line** (stable on every point of a grid of the plane the statement reads "
-          "off; the other parameters (5.1)):", "",
-          "| source | n | thesis | grid | unstable points | largest Omega among them |", "|---|---|---|---|---|---|"]
-    for st, v in statements:
-        if st.kind != "line":
-            continue
-        (pa, pb), ((a0, a1, na), (b0, b1, nb)) = v["planes"], v["ranges"]
-        bad = v["unstable"]
-        L.append(f"| {st.source} | {st.n} | \"{st.text}\" | {pa} in [{a0:g}, {a1:g}] ({na}) x {pb} in [{b0:g}, "
-                 f"{b1:g}] ({nb}) | {len(bad)} of {v['points']} | "
-                 + ("— (the statement holds on the grid)" if not bad else
-                    f"{max(u for u, _ in bad):.3g} (at {pb} = " + ", ".join(sorted({f'{w:.3g}' for _, w in bad})[:6])
-                    + ("" if len({w for _, w in bad}) <= 6 else ", ...") + ")") + " |")
+        if st.kind == "line":
+            at = {w for _, w in v["unstable"]}
+            lines.append({**v, "st": st, "largest": max((u for u, _ in v["unstable"]), default=None),
+                          "at": sorted({f"{w:.3g}" for w in at})[:6], "more": len(at) > 6})
     if pitchfork:
-        pf, lim, tip = pitchfork["damped"], pitchfork["limit"], pitchfork["tip"]
-        L += ["", "**(4.1)-(4.2): where H2- ends.**  The thesis: \"the curve of Hopf bifurcations H2- terminates at "
-              "the low-Omega end in a codimension-two pitchfork-Hopf point which is given precisely by (mu, Omega) = "
-              "(mu_c, 1/sqrt(1 + n mu_c)) = (mu_c, 0.9950372)\", the tip of the SN2+- wedge (K = 0), and its second "
-              "pitchfork-Hopf point at (mu_c, 1.338096).  The formula re-evaluated gives 0.9950372, a published value "
-              "compared with itself; from the model: at mu = mu_c the coincident state 2- (all balls at pi, x = y = 0) "
-              "is also the balanced state, and its complex pair crosses the imaginary axis (a Hopf point on the "
-              "pitchfork line: the pitchfork-Hopf points) at", "",
-              "| n | first point, zeta = beta = 0.01 | second point | zeta = beta = 1e-4 | thesis (4.1)-(4.2) | rel. "
-              "diff. of the first |", "|---|---|---|---|---|---|"]
+        pf = pitchfork["damped"]
+        rows = []
         for n in sorted(pf):
             first, second = pf[n]
-            L.append(f"| {n} | {first:.7f} | {second:.6f} | {', '.join(f'{w:.7f}' for w in lim[n])} | 0.9950372, "
-                     f"1.338096 | {100 * (first - 0.9950372) / 0.9950372:+.2f} % |")
-        L += ["", "The second point is the thesis' 1.338096 to its seven digits, for every n as it says.  The first is "
-              f"not the wedge tip: {pf[min(pf)][0]:.5f}, the same for n = 2, 3, 4 (mu_c = delta/n), and it stays there "
-              "as the damping goes to zero, so damping is not the difference.  At the wedge tip itself the state has "
-              "two zero eigenvalues (the pitchfork's, and the real one that changes sign where the SN2+- curves meet "
-              "the pitchfork line) and no imaginary pair: the eigenvalues nearest 0 are "
-              + ", ".join(f"{z.real:.2g}{z.imag:+.2g}i" for z in tip[:3]) + " (n = 2).  Just past the tip (Omega + 0.001) "
-              "the two real eigenvalues have merged into a complex pair, still stable: "
-              + ", ".join(f"{z.real:.4f} +- {z.imag:.4f}i" for z in pitchfork["past"] if z.imag > 1e-9) + "; that pair crosses into the "
-              "unstable half-plane at the first point of the table, where H2- meets the pitchfork line.  So (4.1)-(4.2) "
-              "is a double-zero point (the wedge tip), and the pitchfork-Hopf point that ends H2- lies "
-              f"{pf[min(pf)][0] - 0.9950372:.4f} higher in Omega (1.3 %), apart on the scale of Fig. 4.1(b) "
-              "only by a line's width.  The thesis' \"given precisely by\" is an identification, not a computation.", ""]
-    L += ["", "Maps (`adbgen sweep MODEL --grid ... --measure stability`):", ""]
-    for title, path in maps:
-        L += [f"**{title}**", "", f"![{title}]({path.relative_to(root).as_posix()})", ""]
-    return L
+            rows.append({"n": n, "first": first, "second": second, "limit": pitchfork["limit"][n],
+                         "rel": 100 * (first - THESIS_PITCHFORK_HOPF) / THESIS_PITCHFORK_HOPF})
+        first = pf[min(pf)][0]
+        pitchfork = {**pitchfork, "rows": rows, "first": first, "above": first - THESIS_PITCHFORK_HOPF}
+    return render("chapter4_balanced.md.j2", statements=statements, lines=lines, pitchfork=pitchfork,
+                  maps=[(title, path.relative_to(root).as_posix()) for title, path in maps]).splitlines()
 
 
 def _basin_section(basins, root: Path) -> list[str]:

@@ -46,3 +46,43 @@ def test_the_basin_sections_render_the_published_lines(published_section):
     assert reproduce._basin_n4_section(wrong, ROOT) != published_section(
         "## Thesis, Fig. 5.19: basins of attraction of the balanced state, n = 4")
     assert reproduce._basin_section([], ROOT) == reproduce._basin_n4_section([], ROOT) == []
+
+
+def _chapter4_inputs():
+    """The values behind the committed section, to the digits it prints."""
+    import numpy as np
+
+    zeta = iter([(3.6e-05, 0.018288), (0.00014, 0.09446), (1.1e-05, 0.020588), (3.3e-05, 0.1036), (0.0009, 0.4923),
+                 (0.235352, 0.00025, 0.00027), (0.04883, 0.00016, 0.00016)])
+    statements = [(st, next(zeta)) for st in reproduce.STATEMENTS]
+    for st in reproduce.LINES:
+        bad = [(float(o), float(b)) for o in (2.5, 2.6) for b in np.linspace(0.005, 0.5, 20)[10:18]] \
+            if st.n == 4 else []
+        statements.append((st, {"points": 1520, "unstable": bad, "planes": tuple(st.line),
+                                "ranges": tuple(st.line.values())}))
+    pitchfork = {"damped": {n: [1.0079598, 1.338096] for n in (2, 3, 4)},
+                 "limit": {n: [1.0075981, 1.3389774] for n in (2, 3, 4)},
+                 "tip": [-6.9e-16 + 0j, -3.4e-15 + 0j, -0.0085 + 0j, 0.02 + 0j],
+                 "past": [-0.0041 + 0.0165j, -0.0041 - 0.0165j]}
+    maps = [(reproduce.map_caption(n, plane, figure),
+             ROOT / "reproduction" / f"fig4_n{n}_{'omega_mu' if 'Omega' in plane else 'zeta_beta'}.png")
+            for n, plane, _, figure in reproduce.MAPS]
+    return statements, maps, pitchfork
+
+
+def test_the_balanced_states_chapter_4_section_renders_the_published_lines(published_section):
+    """Ch. 4's limits, lines, (4.1)-(4.2) and maps (templates/chapter4_balanced.md.j2).  Controls: an upper
+    limit moved changes its row; without the pitchfork-Hopf points their paragraph goes; a statement along a
+    line that holds is said to hold."""
+    statements, maps, pitchfork = _chapter4_inputs()
+    published = published_section("## Thesis, chapter 4: stability of the balanced state")
+    assert reproduce._chapter4(statements, maps, ROOT, pitchfork) == published
+    moved = [(statements[0][0], (3.6e-05, 0.0185)), *statements[1:]]
+    assert reproduce._chapter4(moved, maps, ROOT, pitchfork) != published
+    without = reproduce._chapter4(statements, maps, ROOT)
+    i = next(k for k, line in enumerate(published) if line.startswith("**(4.1)-(4.2)"))
+    j = next(k for k, line in enumerate(published) if line.startswith("Maps ("))
+    assert without == published[:i - 1] + published[j - 1:]
+    holds = [(st, dict(v, unstable=[])) if st.kind == "line" else (st, v) for st, v in statements]
+    assert sum("— (the statement holds on the grid)" in line
+               for line in reproduce._chapter4(holds, maps, ROOT, pitchfork)) == 4
