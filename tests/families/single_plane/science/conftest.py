@@ -20,13 +20,15 @@ DOCUMENT = Path(__file__).resolve().parents[4] / "docs" / "reproduction.md"
 @pytest.fixture
 def published_section():
     """`published_section(heading)`: the lines of the committed docs/reproduction.md from the line `heading` up to
-    the next section heading (the templates' tests compare what they render from fixed inputs with it)."""
+    the next heading of its level or above (the templates' tests compare what they render from fixed inputs with it)."""
     lines = DOCUMENT.read_text().splitlines()
 
     def section(heading: str) -> list[str]:
         at = lines.index(heading)
-        end = next((k for k in range(at + 1, len(lines)) if lines[k].startswith(heading.split(" ")[0] + " ")),
-                   len(lines))
+        level = len(heading.split(" ")[0])
+        end = next((k for k in range(at + 1, len(lines))
+                    if lines[k].startswith("#") and len(lines[k].split(" ")[0].strip("#")) == 0
+                    and len(lines[k].split(" ")[0]) <= level), len(lines))
         return lines[at:end]
 
     return section

@@ -116,7 +116,8 @@ def _inputs():
         ("torus", 1.867450, 8.63054), ("period-doubling", 1.679319, 11.76308), ("torus", 1.627565, 13.12118),
         ("fold", 1.536488, 17.64295), ("fold", 1.537931, 17.79840), ("fold", 1.537821, 17.97786),
         ("period-doubling", 1.568184, 18.50246))]
-    every = {2: [(1.88223935, 0.7431173, -0.052581), (1.09363427, 0.2516524, -0.10528), (1.02969415, 0.1243969, -2.5779)],
+    every = {2: [(1.88223935, 0.7431173, -0.052581), (1.09363427, 0.2516524, -0.10528),
+                 (1.02969415, 0.1243969, -2.5779)],
              3: [(1.87536745, 0.4721717, -0.034452), (1.71244687, 0.6821876, -0.68264),
                  (1.61276725, 0.6050406, 1.3409, "subcritical")],
              4: [(2.17660048, 1.1103468, -0.1538), (1.30263949, 0.4614496, 0.4082, "subcritical"),
@@ -152,7 +153,8 @@ def test_the_periodic_orbits_section_renders_the_published_lines(published_secti
     with no stable orbit says no stable interval."""
     published = published_section(HEADING)
     a, h1, ds, b = _inputs()
-    assert _document_lines(periodic_orbits.lines(a, h1, ds, b)) == published[:-1]  # the blank line before the next family
+    # the section ends without the blank line the document puts before the next family's
+    assert _document_lines(periodic_orbits.lines(a, h1, ds, b)) == published[:-1]
     no_auto = {k: v for k, v in a.items() if k not in ("auto", "auto_ours")}
     lines = _document_lines(periodic_orbits.lines(no_auto, h1, ds, b))
     assert not any(line.startswith("AUTO-07p (collocation") for line in lines) and len(lines) == len(published) - 3

@@ -234,8 +234,8 @@ def test_the_scan_lyapunov_and_damping_sections_render_the_published_lines(publi
     assert sweeps.damping_lines(res, paths, root) == published_section("## Thesis, Figs. 5.20-5.22: damping maps")
     res.scans[0]["labels"][0] = "limit cycle"  # 5.7(a1)'s is at index 0 of its own scan; 5.5(a) names none
     res.scans[2]["labels"][0] = "balanced 1"
-    assert "| 5.7(a1) | phi_1 = phi_2 = phi_3 = 0: a limit cycle | balanced 1 (phi_1(0) = 0.00000000000000) | **no** |" \
-        in sweeps.scans_lines(res, paths, root)
+    row = "| 5.7(a1) | phi_1 = phi_2 = phi_3 = 0: a limit cycle | balanced 1 (phi_1(0) = 0.00000000000000) | **no** |"
+    assert row in sweeps.scans_lines(res, paths, root)
     lyapunov["5.12(b), n = 2"].update(first_half=0.02, second_half=0.03)
     assert sweeps.lyapunov_lines(lyapunov)[6].endswith("| chaotic (positive exponent) |")
     res.zeta_beta[3]["labels"][:] = "balanced 1"
