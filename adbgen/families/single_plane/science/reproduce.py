@@ -668,157 +668,95 @@ def _basin_section(basins, root: Path) -> list[str]:
 
 
 def _transient_section(transients) -> list[str]:
-    L = ["## Thesis, chapter 5: transients", "",
-         "| figure | n | phi(0) | quantity | published | converged | rel. diff. | ode45 emulation | explanation |",
-         "|---|---|---|---|---|---|---|---|---|"]
-    notes = []
+    """The document's opening and ch. 5's transients with their tolerance study and the published values neither
+    run gives, explained where the runs explain them (templates/transients.md.j2)."""
+    from .templates import render
+
+    rows, notes = [], []
     for t in transients:
         row, conv, ode = t["row"], t["sims"][RTOLS[-1]], t["ode45"]
-        par = "".join(f", {k} = {v:g}" for k, v in row.params.items())
+        mark = f" {MARK}" if "check" in t and t["check"].sensitive else ""
         for q, digits in (("r_max", 4), ("t_dec", 2)):
             pub = getattr(row, q)
             ours, emu = getattr(conv, q), getattr(ode, q)
             spread = not_converged([getattr(t["sims"][r], q) for r in RTOLS])
-            rel = _rel(ours, pub)
-            if spread is not None:
-                why = "see below"
-                notes.append((t, q))
-                mark = f" {MARK}" if "check" in t and t["check"].sensitive else ""
-                L.append(f"| {row.figure}{mark} | {row.n} | {row.phi0_text}{par} | {q} | {pub:g} | not converged: "
-                         f"{_fmt(spread[0], 6)}-{_fmt(spread[1], 6)} | {100 * _rel(spread[0], pub):+.2f} to "
-                         f"{100 * _rel(spread[1], pub):+.2f} % | {emu:.{digits}f} | {why} |")
-                continue
-            if _printed(ours, pub):
-                why = "agrees to the printed digits"
-            elif _printed(emu, pub):
-                why = "ode45's default tolerance: the emulation gives the printed value"
+            why = ("below" if spread is not None else "printed" if _printed(ours, pub) else "ode45"
+                   if _printed(emu, pub) else "below")
+            rows.append({"figure": row.figure + mark, "n": row.n, "q": q, "published": pub, "why": why,
+                         "start": row.phi0_text + "".join(f", {k} = {v:g}" for k, v in row.params.items()),
+                         "converged": _fmt(ours, 6), "rel": _rel(ours, pub), "emulation": f"{emu:.{digits}f}",
+                         "spread": None if spread is None else (_fmt(spread[0], 6), _fmt(spread[1], 6)),
+                         "spread_rel": None if spread is None else [100 * _rel(x, pub) for x in spread]})
+            if why == "below":
+                notes.append(_note(t, q, spread))
+    study = [(t["row"].figure, q, [_fmt(getattr(t["sims"][r], q), 6) for r in RTOLS])
+             for t in transients for q in ("r_max", "t_dec")]
+    return render("transients.md.j2", engine=ENGINE, rows=rows, study=study, notes=notes, rtols=RTOLS,
+                  count=len(transients),
+                  printed_t_dec=sum(_printed(t["ode45"].t_dec, t["row"].t_dec) for t in transients),
+                  printed_r_max=sum(_printed(t["ode45"].r_max, t["row"].r_max) for t in transients)).splitlines()
+
+
+def _note(t: dict, q: str, spread) -> dict:
+    """A published value neither run gives: the numbers its explanation reads (the emulation's output points
+    about its t_dec, the threshold moved, tighter RelTol) and which explanation they support."""
+    row, conv, ode = t["row"], t["sims"][RTOLS[-1]], t["ode45"]
+    pub, emu = getattr(row, q), getattr(ode, q)
+    note = {"figure": row.figure, "q": q, "published": pub, "emulation": emu, "converged": _fmt(getattr(conv, q), 6),
+            "spread": None if spread is None else (_fmt(spread[0], 6), _fmt(spread[1], 6)), "points": None}
+    if q == "t_dec" and "output_points" in t:
+        at, nxt, _ = t["output_points"]
+        close = abs(emu - pub) < 0.01 * pub
+        note.update(points=t["output_points"], threshold=[_fmt(v, 6) for v in t["threshold"].values()],
+                    tight=[_fmt(v, 6) for v in t["ode45_tight"].values()],
+                    case="between" if nxt is not None and at <= pub <= nxt else "close" if close else "unexplained")
+        if note["case"] == "close":
+            note["emulation_off"] = 100 * abs(emu - pub) / pub
+            if spread is None:
+                note["converged_off"] = 100 * abs(getattr(conv, q) - pub) / pub
             else:
-                why = "see below"
-                notes.append((t, q))
-            mark = f" {MARK}" if "check" in t and t["check"].sensitive else ""
-            L.append(f"| {row.figure}{mark} | {row.n} | {row.phi0_text}{par} | {q} | {pub:g} | {_fmt(ours, 6)} | "
-                     f"{'—' if rel is None else f'{100 * rel:+.2f} %'} | {emu:.{digits}f} | {why} |")
-    L += ["", "Published values: thesis sections 5.1.2 (Fig. 5.4, 5.6, 5.8), 5.2.1 (Fig. 5.12-5.14 (c)) and 5.2.2 "
-          "(Fig. 5.15-5.17 (b), (c)), as printed (`adbgen/families/single_plane/science/published.py`).  "
-          "**ode45 emulation**: the engine `matlab-ode45` (see [How the reproduction is computed](reproduction-method.md)) at "
-          "ode45's defaults RelTol 1e-3, AbsTol 1e-6, `tspan = [0 3000]`, r_max and t_dec read off its Refine = 4 "
-          "output points (t_dec: the last output time with r >= 1e-3).  It gives "
-          + f"{sum(_printed(t['ode45'].t_dec, t['row'].t_dec) for t in transients)} of the "
-          f"{len(transients)} printed t_dec and "
-          + f"{sum(_printed(t['ode45'].r_max, t['row'].r_max) for t in transients)} of the {len(transients)} printed "
-          "r_max exactly to the printed digits, so the thesis' numbers are ode45's at its default tolerance; where "
-          "they differ from the converged values, the difference is that tolerance's error, which for t_dec "
-          "(the last time a slowly decaying oscillation of r reaches 1e-3) reaches whole periods of r.", "",
-          "**Tolerance study** (converged = rtol 1e-12; t_dec on each run's continuous solution):", "",
-          "| figure | quantity | rtol 1e-6 | 1e-8 | 1e-10 | 1e-12 |", "|---|---|---|---|---|---|"]
-    for t in transients:
-        for q in ("r_max", "t_dec"):
-            L.append(f"| {t['row'].figure} | {q} | " + " | ".join(_fmt(getattr(t['sims'][r], q), 6) for r in RTOLS) + " |")
-    L += ["", "### Published values neither the converged run nor the ode45 emulation gives", ""]
-    if not notes:
-        L.append("None.")
-    for t, q in notes:
-        row, conv, ode = t["row"], t["sims"][RTOLS[-1]], t["ode45"]
-        pub = getattr(row, q)
-        spread = not_converged([getattr(t["sims"][r], q) for r in RTOLS])
-        ours = (f"converged {_fmt(getattr(conv, q), 6)}" if spread is None else
-                f"not converged (rtol {RTOLS[1]:g} to {RTOLS[-1]:g} give {_fmt(spread[0], 6)} to {_fmt(spread[1], 6)}: "
-                "the last time r reaches 1e-3 is not resolved by these tolerances, so this t_dec is known only to "
-                "that range)")
-        text = (f"* Fig. {row.figure}, {q}: published {pub:g}, {ours}, ode45 emulation "
-                f"{getattr(ode, q):.2f} ({getattr(ode, q) - pub:+.2f}).")
-        if q == "t_dec" and "output_points" in t:
-            at, nxt, r_next = t["output_points"]
-            th, tight = t["threshold"], t["ode45_tight"]
-            text += (f"  The emulation's output points about its t_dec are {at:.2f} (the last with r >= 1e-3) and "
-                     + ("—" if nxt is None else f"{nxt:.2f} (r = {r_next:.6f})")
-                     + "; the threshold moved by 1 % moves the converged t_dec to "
-                     + ", ".join(f"{_fmt(v, 6)}" for v in th.values())
-                     + "; the emulation at RelTol 1e-4, 1e-5 gives " + ", ".join(_fmt(v, 6) for v in tight.values())
-                     + ".  ")
-            if nxt is not None and at <= pub <= nxt:
-                text += ("The printed value lies between two consecutive output points of the emulated run, so "
-                         "it is consistent with the same run and t_dec read between output points (interpolated) "
-                         "instead of at the last point above 1e-3.")
-            elif abs(getattr(ode, q) - pub) < 0.01 * pub:
-                text += (f"The emulation is {100 * abs(getattr(ode, q) - pub) / pub:.3f} % from the printed value, "
-                         + (f"the converged run {100 * abs(getattr(conv, q) - pub) / pub:.3f} %" if spread is None else
-                            f"our runs {100 * (spread[0] - pub) / pub:+.2f} to {100 * (spread[1] - pub) / pub:+.2f} %")
-                         + ": the published number "
-                         "is a default-tolerance ode45 value; the rest of the difference is within what details of "
-                         "the 2005 run the thesis does not state (MATLAB version, tspan, output points) move a "
-                         "loose-tolerance t_dec by (compare the emulation at RelTol 1e-4, 1e-5).")
-            else:
-                text += "Not explained."
-        L.append(text)
-    return L
+                note["spread_off"] = [100 * (x - pub) / pub for x in spread]
+    return note
 
 
 def _document(transients, results, figures, root: Path, statements=(), maps=(), basins=(), basins_n4=(),
               pitchfork=None) -> list[str]:
+    """The thesis' chapter-5 and chapter-4 sections (templates/transients.md.j2, end_states.md.j2 and the
+    basin and chapter 4 sections')."""
     from .sweeps import balanced
+    from .templates import render
 
-    L = ["Models: `generated/thesis_rotating_n{2,3,4}`; "
-         f"engine: compiled DOP853 (`{ENGINE}`), atol = rtol/100, t in [0, 3000]; parameters "
-         "(5.1) (Omega = 4, zeta = beta = delta = 0.01, mu = 0.05) unless a row says otherwise; all rates and "
-         "x, y start at 0.  r_max and t_dec (the last time r >= 1e-3) are located on the continuous solution "
-         "(the integrator's dense output), not on output samples.", "",
-         "**Converged** is the value at rtol 1e-12; the tolerance study gives it at rtol 1e-6, 1e-8, 1e-10, "
-         "1e-12 (it stops moving as rtol tightens).  **rel. diff.** = (converged - published) / published.", ""]
-    L += _transient_section(transients)
-    L += ["", "### Attractors and end states", "",
-          "| figure | n | phi(0) | quantity | published | converged | rel. diff. | rtol 1e-6 | 1e-8 | 1e-10 | 1e-12 |",
-          "|---|---|---|---|---|---|---|---|---|---|---|"]
-    flagged = []
+    rows, flagged = [], []
     for case, res in results:
         sims = res["sims"]
-        par = "".join(f", {k} = {v:g}" for k, v in case.params.items())
-        head = f"| {case.figure} | {case.n} | {case.phi0_text}{par} |"
+        head = f"| {case.figure} | {case.n} | {case.phi0_text}" + "".join(
+            f", {k} = {v:g}" for k, v in case.params.items()) + " |"
         if "attractor" in case.published:
             ok = res["label"] == case.published["attractor"] or (balanced(res["label"])
                                                                  and balanced(case.published["attractor"]))
-            mark = f" {MARK}" if "check" in res and res["check"].sensitive else ""
-            L.append(f"{head} attractor | {case.published['attractor']} | {res['label']}{mark} | "
-                     f"{'same' if ok else '**differs**'} | | | | |")
+            rows.append({"attractor": True, "head": head, "published": case.published["attractor"], "ok": ok,
+                         "label": res["label"], "mark": f" {MARK}" if "check" in res and res["check"].sensitive else ""})
             if not ok:
-                flagged.append((case, "attractor", res["label"], None, None, sims))
+                flagged.append((case.figure, "attractor", res["label"]))
         model = res["model"]
         for name, pub in case.published.get("state", {}).items():
             v = float(sims[RTOLS[-1]].y_end[model.index(name)])
-            if name.startswith("phi"):
-                v = _wrap(v)
-                pub_w = _wrap(pub)
-                rel = (v - pub_w) / abs(pub_w)
-            else:
-                rel = (v - pub) / abs(pub)
-            within = abs(v - (pub_w if name.startswith("phi") else pub)) <= _printed_half_unit(pub)
-            mark = " (within the printed digits)" if within else (" **>1 %**" if abs(rel) > 0.01 else "")
-            if "**" in mark:
-                flagged.append((case, name, v, rel, None, sims))
             vals = [float(sims[r].y_end[model.index(name)]) for r in RTOLS]
-            if name.startswith("phi"):
-                vals = [_wrap(x) for x in vals]
-            L.append(f"{head} final {name} | {pub:g} | {v:.6g} | {100 * rel:+.2f} %{mark} | "
-                     + " | ".join(f"{x:.6g}" for x in vals) + " |")
-    L += ["", "Published: the text of section 5.1.2 (Fig. 5.4(b); the coincident and in-line runs of Fig. 5.7), "
-          "section 5.2.1 (Figs. 5.12-5.14 (a), (d): \"attracted to the stable coincident state 2-\"; for n = 4 at "
-          "mu = mu_c = 0.0025 \"the balance is achieved, but ... the balls are in the same position\") and "
-          "5.2.2 (Figs. 5.15-5.17 (a), (d)).  The thesis prints the final "
-          "state of the (0, 0, pi) run as phi_1 = phi_2 = -3.16 and phi_3 = -0.0184 (two or three "
-          "digits), so differences of that size are the print's rounding; a final angle is compared "
-          "wrapped to (-pi, pi], so -3.16 is 3.1232.  Attractors are named by the classifier of "
-          "`adbgen simulate` (Newton from the end state for a steady state, a further window for a cycle).", ""]
-    if flagged:
-        L += ["Differences: " + "; ".join(f"Fig. {c.figure} {q}: {v}" for c, q, v, *_ in flagged) + ".", ""]
-    for case, res in results:
-        if "slow" in res:
-            L += [_slow_text(case, res["slow"]), ""]
-    L += ["", "## Figures", ""]
-    for title, path in figures:
-        L.append(f"**{title}**")
-        L.append("")
-        L.append(f"![{title}]({path.relative_to(root).as_posix()})")
-        L.append("")
+            if name.startswith("phi"):  # a final angle compared wrapped to (-pi, pi]
+                v, target, vals = _wrap(v), _wrap(pub), [_wrap(x) for x in vals]
+                rel = (v - target) / abs(target)
+            else:
+                target = pub
+                rel = (v - pub) / abs(pub)
+            within = abs(v - target) <= _printed_half_unit(pub)
+            rows.append({"attractor": False, "head": head, "name": name, "published": pub, "value": v, "rel": rel,
+                         "within": within, "large": abs(rel) > 0.01, "values": vals})
+            if not within and abs(rel) > 0.01:
+                flagged.append((case.figure, name, v))
+    slow = [_slow_text(case, res["slow"]) for case, res in results if "slow" in res]
+    L = _transient_section(transients)
+    L += render("end_states.md.j2", rows=rows, differences=flagged, slow=slow,
+                figures=[(title, path.relative_to(root).as_posix()) for title, path in figures]).splitlines()
     L += _basin_section(basins, root)
     L += _basin_n4_section(basins_n4, root)
     L += _chapter4(statements, maps, root, pitchfork)
@@ -826,26 +764,16 @@ def _document(transients, results, figures, root: Path, statements=(), maps=(), 
 
 
 def _slow_text(case, slow: dict) -> str:
-    """How an attractor row not named at t = T_END approaches its end, from `slow_approach`'s numbers."""
+    """How an attractor row not named at t = T_END approaches its end, from `slow_approach`'s numbers
+    (templates/slow_approach.md.j2)."""
+    from .templates import render
+
     pts = slow["checkpoints"]
     falls = all(q["r_max"] < p["r_max"] for p, q in zip(pts, pts[1:])) and pts[0]["r_max"] < slow["r_start"]
-    text = (f"Fig. {case.figure}, the approach: at t = {T_END:g} r = {slow['r_start']:.2e} and the classifier's "
-            f"direct tests (Newton from the end state, a band of r over a further window) name no attractor, so it "
-            f"is carried on and decided by r's rate of approach (`adbgen.analysis.approach`).  Integrated "
-            f"on (rtol {RTOLS[-1]:g}): " + ", ".join(f"r in [{q['r_min']:.2e}, {q['r_max']:.2e}] and the balls "
-                                                    f"{q['spread']:.4f} rad apart by t = {q['t']:g}" for q in pts)
-            + f"; r ~ t^-{slow['exponent']:.2f} between the last two.  The state it tends to, the rotor at the "
-            f"centre and every ball at the balls' mean angle {slow['limit_angle']:.4f}, is a steady state (residual "
-            f"{slow['limit_residual']:.1e}) whose linearisation has {slow['neutral']} neutral directions where the "
-            f"balanced family has {slow['free_angles']} free angles.")
-    if falls and slow["exponent"] > 0.5 and pts[-1]["spread"] < pts[0]["spread"] and slow["limit_residual"] < 1e-9 \
-            and slow["neutral"] > slow["free_angles"]:
-        text += (" So the run does balance, with the balls closing up, as the thesis says, but algebraically, not "
-                 "exponentially: the attractor is not hyperbolic (an extra neutral direction), so no finite run "
-                 "reaches a region the direct tests name; the label says so: balanced 1 (algebraic approach).")
-    else:
-        text += " The run has not been shown to balance: the difference stands."
-    return text
+    balances = (falls and slow["exponent"] > 0.5 and pts[-1]["spread"] < pts[0]["spread"]
+                and slow["limit_residual"] < 1e-9 and slow["neutral"] > slow["free_angles"])
+    return render("slow_approach.md.j2", figure=case.figure, t_end=T_END, rtol=RTOLS[-1], slow=slow,
+                  balances=balances).rstrip("\n")
 
 
 def _figures(fig_dir: Path) -> list[tuple[str, Path]]:
