@@ -734,8 +734,9 @@ def _document(transients, results, figures, root: Path, statements=(), maps=(), 
         if "attractor" in case.published:
             ok = res["label"] == case.published["attractor"] or (balanced(res["label"])
                                                                  and balanced(case.published["attractor"]))
+            mark = f" {MARK}" if "check" in res and res["check"].sensitive else ""
             rows.append({"attractor": True, "head": head, "published": case.published["attractor"], "ok": ok,
-                         "label": res["label"], "mark": f" {MARK}" if "check" in res and res["check"].sensitive else ""})
+                         "label": res["label"], "mark": mark})
             if not ok:
                 flagged.append((case.figure, "attractor", res["label"]))
         model = res["model"]

@@ -23,12 +23,13 @@ def published_section():
     the next heading of its level or above (the templates' tests compare what they render from fixed inputs with it)."""
     lines = DOCUMENT.read_text().splitlines()
 
-    def section(heading: str) -> list[str]:
+    def section(heading: str, before: int = 0) -> list[str]:
+        """`before`: that many lines above the heading too (a part's opening written before its first heading)."""
         at = lines.index(heading)
         level = len(heading.split(" ")[0])
         end = next((k for k in range(at + 1, len(lines))
                     if lines[k].startswith("#") and len(lines[k].split(" ")[0].strip("#")) == 0
                     and len(lines[k].split(" ")[0]) <= level), len(lines))
-        return lines[at:end]
+        return lines[at - before:end]
 
     return section

@@ -137,3 +137,109 @@ def test_the_balanced_states_chapter_4_section_renders_the_published_lines(publi
     holds = [(st, dict(v, unstable=[])) if st.kind == "line" else (st, v) for st, v in statements]
     assert sum("— (the statement holds on the grid)" in line
                for line in reproduce._chapter4(holds, maps, ROOT, pitchfork)) == 4
+
+
+def _cells(line: str) -> list[str]:
+    return [c.strip() for c in line.strip("|").split("|")]
+
+
+# the ode45 emulation's t_dec of the three published values neither run gives, to more digits than the table's two
+# (the notes state their differences to three), and the numbers their explanations read
+NOTES = {"5.6(a)": {"t_dec": 1090.437, "output_points": (1090.44, 1090.51, 0.000998),
+                    "threshold": (1098.25, 1090.61), "ode45_tight": (1090.68, 1090.71)},
+         "5.6(d)": {"t_dec": 1330.15, "output_points": (1330.15, 1330.23, 0.000997),
+                    "threshold": (1258.79, 1251.13), "ode45_tight": (1239.27, 1172.06)},
+         "5.14(c)": {"t_dec": 606.94, "output_points": (606.94, 606.95, 0.000993),
+                     "threshold": (638.371, 634.747), "ode45_tight": (624.741, 628.035)}}
+
+
+def _transients(section: list[str]) -> list[dict]:
+    """The transients as the committed run gave them: the ladder from the tolerance study's rows, the ode45
+    emulation from the table's column, the check's flag from its mark."""
+    from types import SimpleNamespace as NS
+
+    study = {}
+    for line in section[section.index("| figure | quantity | rtol 1e-6 | 1e-8 | 1e-10 | 1e-12 |") + 2:]:
+        if not line.startswith("|"):
+            break
+        figure, q, *values = _cells(line)
+        study.setdefault(figure, {})[q] = [float(v) for v in values]
+    emulation, marked = {}, set()
+    for line in section[section.index("## Thesis, chapter 5: transients") + 4:]:
+        if not line.startswith("|"):
+            break
+        cells = _cells(line)
+        figure = cells[0].removesuffix(" (!)")
+        emulation.setdefault(figure, {})[cells[3]] = float(cells[7])
+        if cells[0].endswith("(!)"):
+            marked.add(figure)
+    out = []
+    for row in reproduce.TRANSIENTS:
+        values = study[row.figure]
+        sims = {r: NS(r_max=values["r_max"][k], t_dec=values["t_dec"][k]) for k, r in enumerate(reproduce.RTOLS)}
+        t = {"row": row, "sims": sims, "ode45": NS(**emulation[row.figure]),
+             "check": NS(sensitive=row.figure in marked)}
+        if row.figure in NOTES:
+            note = NOTES[row.figure]
+            t["ode45"].t_dec = note["t_dec"]
+            t.update(output_points=note["output_points"], threshold=dict(zip((0.99e-3, 1.01e-3), note["threshold"])),
+                     ode45_tight=dict(zip((1e-4, 1e-5), note["ode45_tight"])))
+        out.append(t)
+    return out
+
+
+def test_the_transients_and_end_states_render_the_published_lines(published_section):
+    """templates/transients.md.j2 (the opening, ch. 5's transients, the tolerance study, the unexplained values),
+    end_states.md.j2 and slow_approach.md.j2 on the committed run's values give docs/reproduction.md's lines.
+    Controls: an emulation off the printed t_dec turns its row to "see below" and adds a note; a final state
+    more than 1 % off is listed among the differences; a run whose r stops falling does not balance."""
+    from types import SimpleNamespace as NS
+
+    import numpy as np
+
+    section = published_section("## Thesis, chapter 5: transients", before=4)
+    transients = _transients(section)
+    opening = reproduce._transient_section(transients)
+    assert opening == section[:section.index("### Attractors and end states") - 1]
+    names = ["x", "y", "phi_1", "phi_2", "phi_3", "phi_4"]
+    model = NS(index=names.index)
+    rows = {}
+    for line in section[section.index("### Attractors and end states") + 4:]:
+        if not line.startswith("|"):
+            break
+        cells = _cells(line)
+        rows.setdefault(cells[0], []).append(cells)
+    results = []
+    for case in reproduce.CASES:
+        got = rows[case.figure]
+        label = next(c[5] for c in got if c[3] == "attractor")
+        res = {"label": label.removesuffix(" (!)"), "check": NS(sensitive=label.endswith("(!)")), "model": model}
+        ladder = np.zeros((4, len(names)))
+        for c in got:
+            if c[3].startswith("final "):
+                ladder[:, names.index(c[3][6:])] = [float(v) for v in c[7:11]]
+        res["sims"] = {r: NS(y_end=ladder[k]) for k, r in enumerate(reproduce.RTOLS)}
+        if label.startswith("balanced 1 (algebraic"):
+            res["slow"] = {"r_start": 1.17e-07, "exponent": 1.02, "limit_angle": -3.1416, "limit_residual": 2.5e-10,
+                           "neutral": 3, "free_angles": 2,
+                           "checkpoints": [{"t": 30000.0, "r_min": 1.04e-08, "r_max": 1.14e-08, "spread": 0.0033},
+                                           {"t": 100000.0, "r_min": 3.12e-09, "r_max": 3.35e-09, "spread": 0.0018}]}
+        results.append((case, res))
+    figures = [(f"Fig. {k} (n = {n})", ROOT / "reproduction" / f"fig{k.replace('.', '_')}.png")
+               for k, n in (("5.4", 2), ("5.6", 3), ("5.8", 4))]
+    document = reproduce._document(transients, results, figures, ROOT)
+    end_states = document[len(opening):document.index("## Thesis, chapter 4: stability of the balanced state")]
+    expected = section[section.index("### Attractors and end states") - 1:section.index(
+        "### Tolerance check of every transient")] + published_section("## Figures")  # the check goes between
+    assert end_states == expected
+    transients[0]["ode45"].t_dec = 462.5
+    changed = reproduce._transient_section(transients)
+    assert changed[9].startswith("| 5.4(a) |") and changed[9].endswith("| 462.50 | see below |")
+    assert any(line.startswith("* Fig. 5.4(a), t_dec: published 462.42, converged 462.516") for line in changed)
+    case, res = next((c, r) for c, r in results if c.figure == "5.7 text, 2-")
+    res["sims"][1e-12].y_end[0] = 0.14
+    assert "Differences: Fig. 5.7 text, 2- x: 0.14." in reproduce._document(transients, results, figures, ROOT)
+    case, res = next((c, r) for c, r in results if "slow" in r)
+    stuck = dict(res["slow"], checkpoints=[dict(q, r_max=1e-3) for q in res["slow"]["checkpoints"]])
+    assert reproduce._slow_text(case, stuck).endswith("the difference stands.")
+
