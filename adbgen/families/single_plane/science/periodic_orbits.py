@@ -2,6 +2,7 @@
 H1 for n = 2, 3, 4 at (5.1)'s other parameters, and the desynchronised orbits of section 5.2.2.
 
     section(out_dir) -> markdown      (figures written into out_dir)
+    lines(a, h1, ds, b) -> markdown   the section from those results (templates/periodic_orbits.md.j2)
 
 On the generated models through the analysis layer's orbit machinery (`adbgen.analysis.orbits`); this
 module only knows which of the thesis' cases to run and what the thesis says about them.
