@@ -520,27 +520,10 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
     (prose/fig12.md.j2)."""
     (p1g, p1), (p2g, p2) = f["peaks"][:2]
     lim = f["limit"]
-    carried = [q for q in f["points"] if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"]]
-    if carried:
-        note = ("Carried on: " + "; ".join(f"Omega = {q['Omega']:.2f} ({_verdict(q['first'])} at t = "
-                                          f"{FIG12_TRANSIENT:g}, {_verdict(q['balanced'])} at t = {q['t']:g}"
-                                          + ("" if q["settled"] else ", **still changing at the cap**") + ")"
-                                          for q in carried)
-                + f".  Converged: balanced on {_spans(f['intervals'])}; the t = {FIG12_TRANSIENT:g} run alone gave "
-                f"{_spans(f['first_intervals'])}.")
-    else:
-        note = f"No point changes: balanced on {_spans(f['intervals'])}."
-    table = [
-        ["plain rotor, first peak (Omega_cyl,X)", "1", f"{p1:.5f} (grid {p1g:.3f})", _pct(_rel(p1, 1.0))],
-        ["plain rotor, second peak (Omega_cyl,Y)", "2.24", f"{p2:.5f} (grid {p2g:.3f})", _pct(_rel(p2, 2.24))],
-        ["plain rotor, A_bar -> eps/R as Omega -> infinity", "1e-4",
-         ", ".join(f"{v:.4g} (Omega = {k:g})" for k, v in sorted(lim.items())),
-         ", ".join(_pct(_rel(v, 1e-4)) for k, v in sorted(lim.items()))],
-        ["conical resonances 1.65, 3.79 not excited in the plain rotor (chi = 0)", "no peak",
-         "no peak" if len(f["peaks"]) == 2 else "peaks at " + ", ".join(f"{b:.3f}" for _, b in f["peaks"]),
-         "same" if len(f["peaks"]) == 2 else "**differs**"],
-        ["ABB balances between resonances and above the highest critical speed", "intervals (no number)",
-         f"{_spans(f['intervals'])} (t = {FIG12_TRANSIENT:g} alone: {_spans(f['first_intervals'])})", "—"]]
+    carried = [{"Omega": f"{q['Omega']:.2f}", "first": _verdict(q["first"]), "balanced": _verdict(q["balanced"]),
+                "t": f"{q['t']:g}", "settled": q["settled"]}
+               for q in f["points"] if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"]]
+    limits = sorted(lim.items())
     par = f["floquet"]["parity"]
     stable = lambda w, iv: any(a <= w <= b for a, b in iv)  # noqa: E731
     static_agree = sum(q["balanced"] == stable(q["Omega"], f["floquet"]["stable"]) for q in f["points"])
@@ -560,7 +543,11 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
     disagree = [q["Omega"] for q in f["dyn_points"] if q["balanced"] != stable(q["Omega"], f["dyn_floquet"]["stable"])]
     return render(
         "fig12", grid=FIG12_GRID, step=f"{(FIG12_GRID[1] - FIG12_GRID[0]) / (FIG12_GRID[2] - 1):g}", t1=f"{FIG12_TRANSIENT:g}", t2=f"{2 * FIG12_TRANSIENT:g}", cap=f"{FIG12_CAP:g}",
-        carried=note, table=table, floquet=_spans(f["floquet"]["stable"], 4),
+        carried=carried, intervals=_spans(f["intervals"]), first_intervals=_spans(f["first_intervals"]),
+        peak_1=[f"{p1:.5f} (grid {p1g:.3f})", _pct(_rel(p1, 1.0))],
+        peak_2=[f"{p2:.5f} (grid {p2g:.3f})", _pct(_rel(p2, 2.24))],
+        limits=[f"{v:.4g} (Omega = {k:g})" for k, v in limits], limit_diffs=[_pct(_rel(v, 1e-4)) for _, v in limits],
+        peaks=[f"{b:.3f}" for _, b in f["peaks"]], floquet=_spans(f["floquet"]["stable"], 4),
         parity_speeds=", ".join(f"{w:.2f}" for w in par) or "no speed", parity_count=len(par),
         parity_min=f"{min((m for m, _ in par.values()), default=float('nan')):.5f}",
         parity_max=f"{max((m for m, _ in par.values()), default=float('nan')):.5f}",

@@ -25,8 +25,8 @@ def _table(header):
 
 def _head():
     crit = [row[:4] + [row[4].strip("*")] for row in _table("| eps/R + chi")]
-    near = [{"paper": re.findall(r"\((.*)\)", r[1])[0].split(", "), "ours": re.findall(r"\((.*)\)", r[2])[0].split(", "),
-             "distance": r[3]} for r in _table("| inset")]
+    inner = lambda cell: re.findall(r"\((.*)\)", cell)[0].split(", ")  # noqa: E731
+    near = [{"paper": inner(r[1]), "ours": inner(r[2]), "distance": r[3]} for r in _table("| inset")]
     orbits = next(line for line in SECTION if "orbits by `continue --orbits`" in line)
     n, end = re.match(r"(\d+) orbits by `continue --orbits` \((.*)\);", orbits).groups()
     stable = next(line for line in SECTION if line.startswith(("Stable for Omega", "No stable cycles")))
@@ -52,7 +52,8 @@ def _chart(case):
         extra = {"top": f"{case.range1[1]:g}", "bottom": f"{case.range1[0]:g}", "control": po.EXTRA_CURVES[case.figure],
                  "changes_control": changes[0], "changes": changes[1],
                  "rows": [x.strip("|").strip().split(" | ") for x in block if re.match(r"\| \d", x)],
-                 "extra": re.findall(r"Extra Hopf points at (.*): the", found)[0].split(", ") if found[0] == "E" else []}
+                 "extra": (re.findall(r"Extra Hopf points at (.*): the", found)[0].split(", ") if found[0] == "E"
+                           else [])}
     limit = [x for x in block if x.startswith("As the imbalance vanishes")]
     limit = re.findall(r"left out\) at: (.*)\.$", limit[0])[0].split("; ") if limit else None
     return prose.render("chart", figure=case.figure, text=case.text, model=case.model, note=case.note,

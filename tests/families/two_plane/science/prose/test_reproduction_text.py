@@ -87,3 +87,44 @@ def test_figure_5a_without_later_points_ends_the_sentence(later):
         r["points"] = r["points"][:3]
     text = rp.figure_5a_lines(r)[-2]
     assert text.endswith("compare them with)." if later else "Hopf bifurcations.")
+
+
+def _fig12():
+    """Figure 12(a)'s published brute force: the points carried on, the peaks, the limit and the intervals (the
+    rest of Figure 12 given but not compared here)."""
+    pts = [{"Omega": w, "first": w < 1.2 or w > 2.6, "balanced": True, "t": 16000.0 if 1.5 < w < 2.6 else 8000.0,
+            "settled": True, "A_bar": 1e-9} for w in (1.1, 1.6, 1.65, 1.7, 2.5, 3.0)]
+    return {"peaks": [(1.0, 1.00009), (2.242, 2.23735)], "limit": {10.0: 0.0001053, 20.0: 0.0001013, 40.0: 0.000100349},
+            "points": pts, "intervals": [(1.1, 1.7), (2.5, 5.0)], "first_intervals": [(1.1, 1.55), (2.55, 5.0)],
+            "floquet": {"stable": [(1.1, 1.7)], "parity": {}}, "dyn_floquet": {"stable": [], "growth": {}},
+            "dyn_points": [], "omegas": [0.2, 5.0], "plain": [1e-4, 1.003e-4], "worst_ratio": (1.5, 30.0),
+            "figure": ROOT / "docs" / "reproduction" / "a.png", "figure_b": ROOT / "docs" / "reproduction" / "b.png",
+            "dyn_intervals": [], "dyn_first_intervals": []}
+
+
+def _fig12_published(lines):
+    """The rendered Figure 12(a) paragraph on the carried points and the table's rows that are lines of the page."""
+    para = next(x for x in lines if "Carried on:" in x or "No point changes" in x)
+    rows = [x for x in lines if x.startswith(("| plain rotor", "| conical", "| ABB balances"))]
+    return [para] + rows
+
+
+def test_figure_12a_carried_points_and_table_equal_the_committed_page():
+    got = _fig12_published(rp.fig12_lines(_fig12(), ROOT / "docs"))
+    assert len(got) == 6 and all(x in DOC for x in got)
+    first = DOC.index(got[1])
+    assert DOC[first:first + 5] == got[1:]
+
+
+def test_figure_12a_changed_word_is_caught(tmp_path, monkeypatch):
+    for p in prose.FOLDER.glob("*.md.j2"):
+        shutil.copy(p, tmp_path / p.name)
+    text = (tmp_path / "fig12.md.j2").read_text()
+    (tmp_path / "fig12.md.j2").write_text(text.replace("Converged: balanced on", "Converged: balanced at", 1))
+    monkeypatch.setattr(prose, "FOLDER", tmp_path)
+    prose._environment.cache_clear()
+    try:
+        got = _fig12_published(rp.fig12_lines(_fig12(), ROOT / "docs"))
+        assert got[0] not in DOC and all(x in DOC for x in got[1:])
+    finally:
+        prose._environment.cache_clear()
