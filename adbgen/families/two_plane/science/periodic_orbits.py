@@ -198,7 +198,7 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
         lim = (limit(case, progress=progress) if case.figure in ("10(a)", "10(c)", "11", "13(b)") else None)
         L += render("chart", figure=case.figure, text=case.text, model=case.model, note=case.note, ties=case.ties,
                     curves=[f"{v} {k} curve(s) of B's stability boundary" for k, v in kinds.items()],
-                    summary=_chart_summary(c, case), extra=extra, image=name,
+                    summary=chart_summary(c, case), extra=extra, image=name,
                     limit=lim and [f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
                                    for eps, pts in lim]) + [""]
     # wall times go to the progress lines (`adbgen bench reproduce` records them), never into the document,
@@ -294,33 +294,23 @@ def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[
     return out
 
 
-def _chart_summary(c, case: ChartCase) -> str:
-    """Where the grid found B stable at the smallest and the largest eccentricity row, and the curves' lowest
-    points (what the curves asymptote to as the imbalance vanishes)."""
-    found = c.stable >= 0
-    parts = [f"B found at {int(found.sum())} of {c.stable.size} grid points, stable at {int((c.stable == 1).sum())}"]
-    missing = int((c.stable == -1).sum())
-    if missing:
-        parts.append(f"{missing} grid point(s) not computed (a failure, drawn as x), "
-                     f"{int((c.stable == -2).sum())} where B does not exist")
+def chart_summary(c, case: ChartCase) -> dict:
+    """Where the grid found B stable at the smallest and the largest eccentricity row (a certified row: its
+    windows' located ends), what is certified, and the curves' lowest points (what the curves asymptote to as the
+    imbalance vanishes), as prose/chart.md.j2 says them."""
     rows = c.windows("rows")
+    out = []
     for i, what in ((0, "smallest"), (len(c.lam2) - 1, "largest")):
-        if i in rows:  # the certified row: its windows' ends located
-            runs = rows[i]
-            parts.append(f"at the {what} imbalance ({c.lam2[i] * case.scale2:.1e}) stable for Omega in "
-                         + (", ".join(f"[{a:.4f}, {b:.4f}]" for a, b in runs) if runs else "no window"))
-            continue
-        runs = _runs(c.lam1, c.stable[i] == 1)
-        parts.append(f"at the {what} imbalance ({c.lam2[i] * case.scale2:.1e}) stable for Omega in "
-                     + (", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in runs) if runs else "no grid point"))
+        runs, digits, empty = (rows[i], 4, "no window") if i in rows else (_runs(c.lam1, c.stable[i] == 1), 2,
+                                                                          "no grid point")
+        out.append({"what": what, "imbalance": f"{c.lam2[i] * case.scale2:.1e}",
+                    "windows": ", ".join(f"[{a:.{digits}f}, {b:.{digits}f}]" for a, b in runs) or empty})
     cert = c.to_json(False)["resolution"].get("certified")
-    if cert and cert["refined"]:
-        parts.append(f"certified: every stable window wider than {cert['Omega']:.4f} in Omega along a row and "
-                     f"{cert['epsilon']:.4f} in log10 eps/R along a column is found")
     lows = sorted(pt[0] for cv in c.curves for pt in [min(cv.points, key=lambda q: q[1])] if pt[1] <= 1.01 * c.lam2[0])
-    if lows:
-        parts.append("curves reaching the smallest imbalance at Omega = " + ", ".join(f"{v:.3f}" for v in lows))
-    return "; ".join(parts) + "."
+    return {"found": int((c.stable >= 0).sum()), "size": c.stable.size, "stable": int((c.stable == 1).sum()),
+            "missing": int((c.stable == -1).sum()), "absent": int((c.stable == -2).sum()), "rows": out,
+            "certified": (f"{cert['Omega']:.4f}", f"{cert['epsilon']:.4f}") if cert and cert["refined"] else None,
+            "lows": [f"{v:.3f}" for v in lows]}
 
 
 REPRODUCTION = markdown_section("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)",

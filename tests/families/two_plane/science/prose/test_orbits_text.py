@@ -37,6 +37,28 @@ def _head():
                         n1=n1, n2=n2) + [""]
 
 
+def _summary(text):
+    """The values of a chart's summary sentence on the page (what chart_summary computes)."""
+    assert text.endswith(".")
+    first, *parts = text[:-1].split("; ")
+    found, size, stable = re.fullmatch(r"B found at (\d+) of (\d+) grid points, stable at (\d+)", first).groups()
+    out = {"found": found, "size": size, "stable": stable, "missing": 0, "absent": 0, "rows": [], "certified": None,
+           "lows": []}
+    for part in parts:
+        if m := re.fullmatch(r"(\d+) grid point\(s\) not computed \(a failure, drawn as x\), (\d+) where B does not "
+                             r"exist", part):
+            out["missing"], out["absent"] = m.groups()
+        elif m := re.fullmatch(r"at the (\w+) imbalance \((.*?)\) stable for Omega in (.*)", part):
+            out["rows"].append(dict(zip(("what", "imbalance", "windows"), m.groups())))
+        elif m := re.fullmatch(r"certified: every stable window wider than (\S+) in Omega along a row and (\S+) in "
+                               r"log10 eps/R along a column is found", part):
+            out["certified"] = m.groups()
+        else:
+            lows = re.fullmatch(r"curves reaching the smallest imbalance at Omega = (.*)", part)
+            out["lows"] = lows.group(1).split(", ")
+    return out
+
+
 def _chart(case):
     block = SECTION[SECTION.index(f"#### Fig. {case.figure}"):]
     block = block[:block.index(next(x for x in block if x.startswith(f"![Fig. {case.figure}]"))) + 1]
@@ -57,7 +79,8 @@ def _chart(case):
     limit = [x for x in block if x.startswith("As the imbalance vanishes")]
     limit = re.findall(r"left out\) at: (.*)\.$", limit[0])[0].split("; ") if limit else None
     return prose.render("chart", figure=case.figure, text=case.text, model=case.model, note=case.note,
-                        ties=case.ties, curves=[] if curves == "no curve" else curves.split(", "), summary=summary,
+                        ties=case.ties, curves=[] if curves == "no curve" else curves.split(", "),
+                        summary=_summary(summary),
                         extra=extra, limit=limit, image=re.findall(r"@FIGURES@/(.*)\)", block[-1].replace(
                             "reproduction/", "@FIGURES@/"))[0]) + [""]
 
