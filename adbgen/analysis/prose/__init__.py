@@ -1,7 +1,7 @@
 """Long Markdown of the analysis layer's reports as jinja2 templates (package data, `*.md.j2` beside this file;
 issue 33 item 6): the modules compute and pass values, the words are here.  `environment(folder)` and
-`paragraphs(text)` are the one way the package's Markdown templates are read (the two-plane reproduction's
-prose/ uses them too).
+`paragraphs(text)` are the one way the package's Markdown templates of this form are read (the families'
+science reads its prose with them too).
 
     render(name, **values) -> list of markdown lines
 """
