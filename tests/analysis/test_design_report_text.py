@@ -7,7 +7,6 @@ changed, each gives another report."""
 from __future__ import annotations
 
 import math
-import shutil
 from pathlib import Path
 
 import pytest
@@ -16,6 +15,7 @@ from adbgen.analysis import design_report as dr
 from adbgen.analysis import prose
 from adbgen.analysis.design import Axis, Boundary, Design, Problem, Verdict
 from adbgen.analysis.loading import load_model
+from template_checks import changed_template
 
 DATA = Path(__file__).parent / "data"
 
@@ -72,15 +72,6 @@ def test_a_changed_word_or_number_is_caught(cases, tmp_path, monkeypatch):
         assert dr.report(design, *rest) != expected
     finally:
         design.sensitivity[0]["room_linear"] = 0.9
-    for p in prose.FOLDER.glob("*.md.j2"):
-        shutil.copy(p, tmp_path / p.name)
-    text = (tmp_path / "design_report.md.j2").read_text()
-    (tmp_path / "design_report.md.j2").write_text(text.replace("must exist", "must be", 1))
-    monkeypatch.setattr(prose, "FOLDER", tmp_path)
-    prose._environment.cache_clear()
-    try:
+    with changed_template(prose, "design_report.md.j2", "must exist", "must be", tmp_path, monkeypatch):
         assert dr.report(design, *rest) != expected
-    finally:
-        monkeypatch.undo()
-        prose._environment.cache_clear()
     assert dr.report(design, *rest) == expected

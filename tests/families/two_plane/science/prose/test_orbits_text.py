@@ -4,11 +4,11 @@ through the templates, which must give the page's lines exactly; the numbers are
 templates', so a changed word fails here (the negative control plants one)."""
 
 import re
-import shutil
 from pathlib import Path
 
 from adbgen.families.two_plane.science import periodic_orbits as po
 from adbgen.families.two_plane.science import prose
+from template_checks import changed_template
 
 ROOT = Path(__file__).resolve().parents[5]
 DOC = (ROOT / "docs" / "reproduction.md").read_text().split("\n")
@@ -100,14 +100,6 @@ def test_orbits_section_equals_the_committed_page():
 
 def test_a_changed_template_word_is_caught(tmp_path, monkeypatch):
     """Negative control: one word of chart.md.j2 changed, the page's numbers no longer give the page."""
-    for p in prose.FOLDER.glob("*.md.j2"):
-        shutil.copy(p, tmp_path / p.name)
-    text = (tmp_path / "chart.md.j2").read_text()
-    (tmp_path / "chart.md.j2").write_text(text.replace("broken symmetry", "broken symmetries", 1))
-    monkeypatch.setattr(prose, "FOLDER", tmp_path)
-    prose._environment.cache_clear()
-    try:
+    with changed_template(prose, "chart.md.j2", "broken symmetry", "broken symmetries", tmp_path, monkeypatch):
         lines = _rendered()
         assert lines != SECTION[:len(lines)]
-    finally:
-        prose._environment.cache_clear()

@@ -3,7 +3,6 @@ numbers give the committed docs/reproduction.md's lines exactly: section 3.2.3, 
 set-up and table.  The numbers below are those of the committed page (the run of 2026-11-29); the words come from
 the templates, so a changed word fails here (the negative control plants one)."""
 
-import shutil
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -11,6 +10,7 @@ import pytest
 
 from adbgen.families.two_plane.science import prose
 from adbgen.families.two_plane.science import reproduce as rp
+from template_checks import changed_template
 
 ROOT = Path(__file__).resolve().parents[5]
 DOC = (ROOT / "docs" / "reproduction.md").read_text().split("\n")
@@ -67,17 +67,9 @@ def test_sections_equal_the_committed_page():
 
 def test_a_changed_template_word_is_caught(tmp_path, monkeypatch):
     """Negative control: the same numbers through a template with one word changed do not give the page."""
-    for p in prose.FOLDER.glob("*.md.j2"):
-        shutil.copy(p, tmp_path / p.name)
-    text = (tmp_path / "runups.md.j2").read_text()
-    (tmp_path / "runups.md.j2").write_text(text.replace("undeflected", "deflected", 1))
-    monkeypatch.setattr(prose, "FOLDER", tmp_path)
-    prose._environment.cache_clear()
-    try:
+    with changed_template(prose, "runups.md.j2", "undeflected", "deflected", tmp_path, monkeypatch):
         lines = _rendered()
         assert lines != _published(lines)
-    finally:
-        prose._environment.cache_clear()
 
 
 @pytest.mark.parametrize("later", [True, False])
@@ -117,14 +109,7 @@ def test_figure_12a_carried_points_and_table_equal_the_committed_page():
 
 
 def test_figure_12a_changed_word_is_caught(tmp_path, monkeypatch):
-    for p in prose.FOLDER.glob("*.md.j2"):
-        shutil.copy(p, tmp_path / p.name)
-    text = (tmp_path / "fig12.md.j2").read_text()
-    (tmp_path / "fig12.md.j2").write_text(text.replace("Converged: balanced on", "Converged: balanced at", 1))
-    monkeypatch.setattr(prose, "FOLDER", tmp_path)
-    prose._environment.cache_clear()
-    try:
+    with changed_template(prose, "fig12.md.j2", "Converged: balanced on", "Converged: balanced at", tmp_path,
+                          monkeypatch):
         got = _fig12_published(rp.fig12_lines(_fig12(), ROOT / "docs"))
         assert got[0] not in DOC and all(x in DOC for x in got[1:])
-    finally:
-        prose._environment.cache_clear()
