@@ -1,6 +1,7 @@
 """The flexible-rotor models offered for generation, with start points and checks.
 
-One kind, ``flexible_fixed``: the fixed frame at constant speed with the balls' angles taken from the spin
+One kind, ``flexible_fixed``: the fixed frame (under a speed schedule, explicit time without a start or
+AUTO-07p files; otherwise) at constant speed with the balls' angles taken from the spin
 (the model's own coordinates: a ball sits at psi + phi_i), periodically forced at omega; its balanced
 state (the node at rest) is an exact periodic orbit, from where AUTO-07p continues the oscillator
 extension in omega.  The default set's model is the two-mode Jeffcott rotor of `verify` (one node, identity
@@ -59,12 +60,18 @@ def for_scene(scene: FlexibleScene, name: str | None = None) -> ModelSpec:
     if scene.node_2 is not None:
         raise SceneError("node_2", "a second balancer node is derived and checked (verify.two_plane_limit) but not "
                                    "offered for generation yet")
-    check = Check((FAMILY, "single_plane_limit"), verify.single_plane_limit_check)
+    checks = (Check((FAMILY, "single_plane_limit"), verify.single_plane_limit_check),)
+    if scene.speed.law == "constant":
+        title, orbit, continuation = "fixed frame", balanced_orbit(scene), Continuation("omega", direction=-1)
+    else:  # explicit time without a period: no periodic orbit for AUTO-07p
+        title, orbit, continuation = "fixed frame, speed schedule", None, None
+        checks += (Check((FAMILY, "prescribed_speed"), verify.prescribed_speed_check),)
+    law = "" if scene.speed.law == "constant" else "schedule_"
     return ModelSpec(
-        name or f"scene_flexible_k{scene.k}_n{scene.n}",
-        f"Flexible rotor, {scene.k} modes ({scene.modal.reduction}), {scene.n} balls at one node, fixed frame",
-        scene.n, lambda: first_order(derive(scene), core(scene)), orbit_start=balanced_orbit(scene), family=FAMILY,
-        checks=(check,), orbit_continuation=Continuation("omega", direction=-1), kind="flexible_fixed",
+        name or f"scene_flexible_{law}k{scene.k}_n{scene.n}",
+        f"Flexible rotor, {scene.k} modes ({scene.modal.reduction}), {scene.n} balls at one node, {title}",
+        scene.n, lambda: first_order(derive(scene), core(scene)), orbit_start=orbit, family=FAMILY,
+        checks=checks, orbit_continuation=continuation, kind="flexible_fixed",
         balls=ball_slots(scene),
         describe=lambda system: description.describe(system, scene, {"scene": {p.name: p.default
                                                                                 for p in system.parameters}}))

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ...core import Parameter, ParameterTable
+from ...core import Parameter, ParameterTable, speed_schedule
 from ...core.symbols import nonnegative, positive, t  # noqa: F401  (t: the family's time)
 from .scene import FlexibleScene
 
@@ -37,6 +37,7 @@ class FlexibleSymbols:
     shapes: tuple[sp.Matrix, ...] = ()  # each node's 2 x k shapes: (Phi,) or (Phi, Phi_2)
     radii: tuple[sp.Expr, ...] = ()  # each node's race radius: (R,) or (R, R_2)
     ball_node: tuple[int, ...] = ()  # the node of each ball
+    omega_start: sp.Expr = sp.S.Zero  # a schedule's start speed (its symbol when the scene gives one)
 
     @classmethod
     def for_scene(cls, scene: FlexibleScene) -> "FlexibleSymbols":
@@ -93,5 +94,14 @@ class FlexibleSymbols:
             D = tuple(add(nonnegative(f"D_{i + 1}"), f"viscous drag on ball {i + 1}", "N m s/rad", drags[i])
                       for i in range(scene.balls))
         g = add(positive("g"), "gravitational acceleration (-y)", "m/s^2", scene.g) if scene.gravity else sp.S.Zero
-        omega = add(positive("omega"), "spin speed", "rad/s", scene.omega)
-        return cls(M, K, C, G, Phi, w, U, R, m, D, g, omega, params.sorted(), shapes, radii, scene.ball_node())
+        start = sp.S.Zero
+        if scene.speed.law == "schedule":  # omega is the schedule's final speed (`core.speed_schedule`)
+            speed_schedule.add_parameters(params, scene.speed.schedule)
+            omega = speed_schedule.symbols()["omega"]
+            if scene.speed.omega_start is not None:
+                start = add(nonnegative("omega_start"), "spin speed the schedule's ramp starts from at t = 0", "rad/s",
+                            scene.speed.omega_start)
+        else:
+            omega = add(positive("omega"), "spin speed", "rad/s", scene.omega)
+        return cls(M, K, C, G, Phi, w, U, R, m, D, g, omega, params.sorted(), shapes, radii, scene.ball_node(),
+                   start)
