@@ -42,6 +42,11 @@ def describe(system: FirstOrderSystem, scene: FlexibleScene, parameter_sets: dic
     balls = [c for c in coords if roles[c] == "ball_angle"]
     own = None if scene.equal_balls else {b: (f"m_{i + 1}", f"D_{i + 1}") for i, b in enumerate(balls)}
     forms, states = (), ()
+    if scene.node_2 is None:
+        exchanges = ball_exchanges(balls, own)
+    else:  # balls exchange within their node only (the nodes differ in shape and race radius)
+        first, second = balls[:scene.n], balls[scene.n:]
+        exchanges = ball_exchanges(first, own, tag=" (node 1)") + ball_exchanges(second, own, tag=" (node 2)")
     constant = scene.speed.law == "constant"  # a schedule: explicit time, not periodic, no balanced state for all t
     if constant and scene.n == 2 and scene.equal_balls and not scene.gravity:
         p = {q.name: q.symbol for q in system.parameters}
@@ -52,5 +57,5 @@ def describe(system: FirstOrderSystem, scene: FlexibleScene, parameter_sets: dic
     return Description(
         time_unit="s", units=units, roles=roles, angles=tuple(balls), amplitude=(coords[0], coords[1]),
         measures={"node": node_displacement(system, scene)}, forcing_frequency="omega" if constant else "",
-        symmetries=ball_exchanges(balls, own), parameter_sets=dict(parameter_sets or {}),
+        symmetries=exchanges, parameter_sets=dict(parameter_sets or {}),
         scales={"eccentricity": "eps", "speed": "omega"}, closed_forms=forms, steady_states=states)

@@ -31,8 +31,8 @@ A scene in TOML::
     gravity_load = [0.0, 1.0]  # Phi^T M e_y (kg): V = g gravity_load . q
 
 A second balancer node (optional; balls in a second race, numbered after the first node's), with its own
-2 x k translational shapes; the unbalance stays at the first node.  Generation is not offered for it yet
-(`models.for_scene` refuses it in one line); the derivation and `verify.two_plane_limit` use it::
+2 x k translational shapes; the unbalance stays at the first node (generated with the loop form's per-ball
+race radius and node shape, `models.ball_slots`; checked by `verify.two_plane_limit`)::
 
     [node_2]
     n = 2
@@ -336,7 +336,7 @@ KEYS = (
     Key("modal.gravity_load", "kg", "other", "Phi^T M e_y, k values (default 0)", "k numbers"),
     Key("modal.reduction", "", "other", "how the matrices were reduced (text, carried to the model's title)",
         "text"),
-    Key("node_2.n", "", "other", "number of balls at an optional second balancer node (derivation and checks only)",
+    Key("node_2.n", "", "other", "number of balls at an optional second balancer node",
         "a whole number >= 1"),
     Key("node_2.ball_mass", "kg", "positive", "m or [m_1, ..., m_n] of the second node's balls", context=_NODE_2),
     Key("node_2.ball_damping", "N m s/rad", "nonnegative", "D or [D_1, ..., D_n] of the second node's balls",

@@ -59,11 +59,16 @@ class FlexibleSymbols:
         K = matrix("K_q", modal.stiffness, "reduced stiffness matrix Phi^T K Phi", "N/m", 1)
         C = matrix("C_q", modal.damping, "reduced damping matrix Phi^T C Phi", "N s/m", 1)
         G = matrix("G_q", modal.gyroscopic, "reduced gyroscopic matrix Phi^T G Phi (times the speed)", "kg", -1)
+        # with a second node, an entry zero at one node but not at the other gets a symbol at both: the loop
+        # form indexes each ball's node shape as one of its own parameters (`models.ball_slots`)
+        other = scene.node_2.node_shape if scene.node_2 is not None else modal.node_shape
+        union = [[modal.node_shape[a][j] != 0.0 or other[a][j] != 0.0 for j in range(k)] for a in range(2)]
+
         def shape(values, prefix, which):
             out = sp.zeros(2, k)
             for a, axis in enumerate("xy"):
                 for j in range(k):
-                    if values[a][j] != 0.0:
+                    if union[a][j]:
                         out[a, j] = add(sp.Symbol(f"{prefix}_{axis}_{j + 1}", real=True),
                                         f"{which}'s {axis} translation in mode {j + 1}", "dimensionless", values[a][j])
             return out

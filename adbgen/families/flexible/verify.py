@@ -115,6 +115,13 @@ def single_plane_limit_check() -> CheckResult:
                        "; ".join(r.detail for r in results), sum(r.seconds for r in results))
 
 
+def two_plane_limit_check() -> CheckResult:
+    """The check behind a generated two-node model (`models`): both scenes of `two_plane_limit` in one result."""
+    results = two_plane_limit()
+    return CheckResult("four rigid modes = two-plane", results[0].reference, all(r.passed for r in results),
+                       "; ".join(r.detail for r in results), sum(r.seconds for r in results))
+
+
 def law_applied(eom: EquationsOfMotion) -> EquationsOfMotion:
     """A prescribed run-up's equations with its driven_law (psi, psi', psi'' in t) substituted."""
     law = dict(eom.driven_law)
