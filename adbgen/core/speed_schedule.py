@@ -69,9 +69,9 @@ def add_parameters(table, values: Mapping[str, float] | tuple, speed: str = "ome
         table.add(symbol, meaning, unit, values[key])
 
 
-def law(t: sp.Symbol, speed: str = "omega") -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+def law(t: sp.Symbol, speed: str = "omega", start: sp.Expr = sp.S.Zero) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """(angle, speed, acceleration) of the schedule in t and its parameters: the speed piecewise linear
-    through the phases ramp (0 to omega over t_ramp), hold (t_hold), fall (to omega (1 - depth) at
+    through the phases ramp (`start`, default 0: from rest, to omega over t_ramp), hold (t_hold), fall (to omega (1 - depth) at
     drop_rate), plateau (t_plateau), recovery (back to omega at recovery_rate), then omega; the angle the
     exact integral of each phase from the angle reached at its start.  Nested two-branch Piecewise
     (value, t < end), (the later phases, True): the form every target prints, the Taylor series' included."""
@@ -80,7 +80,7 @@ def law(t: sp.Symbol, speed: str = "omega") -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     fall, plateau, rise = s["reduction_rate"], s["plateau_time"], s["recovery_rate"]
     low = w * (1 - depth)
     # (end of the phase, speed at its start, its rate of change); after the last, omega for ever
-    phases = [(t1, sp.S.Zero, w / t1), (t1 + hold, w, sp.S.Zero)]
+    phases = [(t1, start, (w - start) / t1), (t1 + hold, w, sp.S.Zero)]  # start 0: w / t1 exactly
     phases.append((phases[-1][0] + depth * w / fall, w, -fall))
     phases.append((phases[-1][0] + plateau, low, sp.S.Zero))
     phases.append((phases[-1][0] + depth * w / rise, low, rise))

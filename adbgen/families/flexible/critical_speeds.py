@@ -65,3 +65,11 @@ def crossings(modal: Modal, top: float, xtol: float = 1e-12) -> list[Crossing]:
                        xtol=xtol * top, rtol=4 * np.finfo(float).eps)
             out.append(Crossing(float(s), whirl(modal, s, i)))
     return sorted(out, key=lambda c: c.speed)
+
+
+def damping_ratio(modal: Modal, speed: float) -> float:
+    """zeta = -Re(lambda) / |lambda| of the mode whose damped natural frequency at `speed` is nearest to it
+    (at a critical speed: the mode that crosses there)."""
+    lam = _eigen(modal, speed)[0]
+    i = int(np.argmin(np.abs(lam.imag - speed)))
+    return float(-lam[i].real / abs(lam[i]))

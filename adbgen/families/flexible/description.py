@@ -1,7 +1,7 @@
 """What a flexible-rotor model says about itself (`core.description`): its modal coordinates are
 translations (the balancer node's mode shapes are dimensionless, so q is in metres), the balls' angles,
 the node's displacement as a measure, the balls' exchanges, and its forcing frequency omega (the model
-is the fixed frame at constant speed: periodically forced).
+is the fixed frame at constant speed: periodically forced; under a speed schedule none, and no steady state).
 
     B    the balanced state: the node at rest (q = 0) with the balls cancelling the unbalance,
          U + sum_i m_i R e^(i phi_i) = 0; for two equal balls phi = pi +- arccos(m_u eps / (2 m R)).  No modal
@@ -42,7 +42,13 @@ def describe(system: FirstOrderSystem, scene: FlexibleScene, parameter_sets: dic
     balls = [c for c in coords if roles[c] == "ball_angle"]
     own = None if scene.equal_balls else {b: (f"m_{i + 1}", f"D_{i + 1}") for i, b in enumerate(balls)}
     forms, states = (), ()
-    if scene.n == 2 and scene.equal_balls and not scene.gravity:
+    if scene.node_2 is None:
+        exchanges = ball_exchanges(balls, own)
+    else:  # balls exchange within their node only (the nodes differ in shape and race radius)
+        first, second = balls[:scene.n], balls[scene.n:]
+        exchanges = ball_exchanges(first, own, tag=" (node 1)") + ball_exchanges(second, own, tag=" (node 2)")
+    constant = scene.speed.law == "constant"  # a schedule: explicit time, not periodic, no balanced state for all t
+    if constant and scene.n == 2 and scene.equal_balls and not scene.gravity:
         p = {q.name: q.symbol for q in system.parameters}
         forms = (balanced_form(system),)
         states = (SteadyState("B", "balanced state: the balancer node at rest, phi = pi +- arccos(m_u eps/(2 m R)); "
@@ -50,6 +56,6 @@ def describe(system: FirstOrderSystem, scene: FlexibleScene, parameter_sets: dic
                               sp.Le(p["m_u"] * p["eps"], 2 * p["m"] * p["R"])),)
     return Description(
         time_unit="s", units=units, roles=roles, angles=tuple(balls), amplitude=(coords[0], coords[1]),
-        measures={"node": node_displacement(system, scene)}, forcing_frequency="omega",
-        symmetries=ball_exchanges(balls, own), parameter_sets=dict(parameter_sets or {}),
+        measures={"node": node_displacement(system, scene)}, forcing_frequency="omega" if constant else "",
+        symmetries=exchanges, parameter_sets=dict(parameter_sets or {}),
         scales={"eccentricity": "eps", "speed": "omega"}, closed_forms=forms, steady_states=states)

@@ -25,7 +25,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, time_derivative
+from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, speed_schedule, time_derivative
 from .scene import FlexibleScene
 from .symbols import FlexibleSymbols, t
 
@@ -58,18 +58,38 @@ def energy_terms(scene: FlexibleScene, s: FlexibleSymbols) -> tuple[tuple[Energy
         vx, vy = (time_derivative(e, everything, t) for e in pos)
         terms.append(EnergyTerm(f"ball_{i + 1}", T=s.m[i] * (vx**2 + vy**2) / 2, V=s.m[i] * s.g * pos[1],
                                 F=s.D[i] * phi.qd**2 / 2))
-    gyro = -s.omega * (s.G * qd)
+    gyro = -psi.qd * (s.G * qd)  # ROSS's G times the current spin speed: omega at constant speed
     forces = {c.name: gyro[j] for j, c in enumerate(qs) if gyro[j] != 0}
     return tuple(terms), forces
 
 
+def speed_law(scene: FlexibleScene, s: FlexibleSymbols, wrong: bool = False) -> dict[sp.Symbol, sp.Expr]:
+    """psi, psi', psi'' in t (thesis (2.14)): omega t at constant speed; the schedule's exact angle, speed and
+    acceleration (`core.speed_schedule.law`, its ramp from omega_start).  wrong: psi'' with its sign flipped
+    (the negative control of `verify.prescribed_speed`)."""
+    psi = Coordinate.make("psi")
+    if scene.speed.law == "constant":
+        law = {psi.q: s.omega * t, psi.qd: s.omega, psi.qdd: sp.S.Zero}
+    else:
+        angle, speed, acceleration = speed_schedule.law(t, start=s.omega_start)
+        law = {psi.q: angle, psi.qd: speed, psi.qdd: acceleration}
+    if wrong:
+        law[psi.qdd] = -law[psi.qdd]
+    return law
+
+
 @lru_cache(maxsize=32)
-def derive(scene: FlexibleScene) -> EquationsOfMotion:
-    """Fixed-frame equations M(q) x'' = f for x = (q_1..q_k, phi_1..phi_n), psi = omega t substituted."""
+def derive(scene: FlexibleScene, wrong: bool = False) -> EquationsOfMotion:
+    """Fixed-frame equations M(q) x'' = f for x = (q_1..q_k, phi_1..phi_n).  At constant speed psi = omega t
+    is substituted; under a schedule psi, psi', psi'' stay inputs with ``driven_law`` giving them in t, so the
+    angular-acceleration terms (the balls' -m R^2 psi'', the unbalance's U psi'' Phi^T (-sin psi, cos psi))
+    come from Lagrange's equations with psi a driven coordinate.  wrong: `speed_law`'s negative control."""
     s = FlexibleSymbols.for_scene(scene)
     qs, phis, psi = coordinates(scene)
     terms, forces = energy_terms(scene, s)
     eom = lagrange_equations(qs + phis, terms, t, forces=forces, driven=(psi,), parameters=s.parameters,
                              reference="flexible rotor, modal truncation; Lagrange thesis (2.1), balls (2.4), (2.7)-(2.9)")
-    law = {psi.q: s.omega * t, psi.qd: s.omega, psi.qdd: sp.S.Zero}
-    return replace(eom.map(lambda e: sp.expand(e.xreplace(law))), driven=())
+    law = speed_law(scene, s, wrong)
+    if scene.speed.law == "constant":
+        return replace(eom.map(lambda e: sp.expand(e.xreplace(law))), driven=())
+    return replace(eom, driven_law=law)

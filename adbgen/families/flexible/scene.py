@@ -31,8 +31,8 @@ A scene in TOML::
     gravity_load = [0.0, 1.0]  # Phi^T M e_y (kg): V = g gravity_load . q
 
 A second balancer node (optional; balls in a second race, numbered after the first node's), with its own
-2 x k translational shapes; the unbalance stays at the first node.  Generation is not offered for it yet
-(`models.for_scene` refuses it in one line); the derivation and `verify.two_plane_limit` use it::
+2 x k translational shapes; the unbalance stays at the first node (generated with the loop form's per-ball
+race radius and node shape, `models.ball_slots`; checked by `verify.two_plane_limit`)::
 
     [node_2]
     n = 2
@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
+from ...core import speed_schedule
 from ...core.scene_fields import Key, number, per_ball
 from ...errors import SceneError
 
@@ -57,6 +58,8 @@ _TOP = ("n", "ball_mass", "ball_damping", "race_radius", "unbalance_mass", "ecce
         "modal", "node_2")
 _NODE = ("n", "ball_mass", "ball_damping", "race_radius", "node_shape")
 _MODAL = ("mass", "stiffness", "damping", "gyroscopic", "node_shape", "gravity_load", "reduction")
+# the speed laws and their keys: the constant speed, and the schedule shared with the other families plus its start speed
+_SPEED_KEYS = {"constant": {"law", "omega"}, "schedule": {"law", *speed_schedule.KEYS, "omega_start"}}
 _SYMMETRY_TOL = 1e-9  # relative: what round-off in a projection Phi^T A Phi leaves of a symmetric A
 
 
@@ -147,10 +150,33 @@ class BalancerNode:
 
 @dataclass(frozen=True)
 class FlexibleSpeed:
-    """The spin: constant, psi = omega t (thesis (2.14)); the only law the family offers."""
+    """The spin, prescribed: ``constant``, psi = omega t (thesis (2.14)), or ``schedule``, the run-up ramp, hold
+    and temporary speed reduction every family offers (`core.speed_schedule`, the same keys and parameter
+    names), here with an optional start speed ``omega_start`` (default 0: from rest) the ramp leaves from, so
+    a run-up through a critical speed need not start at rest."""
 
     law: str = "constant"
     omega: float = 400.0
+    schedule: tuple[tuple[str, float], ...] = ()  # (key, value) in speed_schedule.KEYS order (law = "schedule")
+    omega_start: float | None = None  # the ramp's speed at t = 0 (law = "schedule"); None: from rest, no parameter
+
+    @classmethod
+    def from_mapping(cls, data: Any) -> "FlexibleSpeed":
+        if not isinstance(data, Mapping):
+            raise SceneError("speed", "a [speed] table: law = \"constant\" (omega) or \"schedule\"")
+        law = data.get("law", "constant")
+        allowed = _SPEED_KEYS.get(law)
+        if allowed is None:
+            raise SceneError("speed", f"the flexible family's speed laws are {', '.join(map(repr, _SPEED_KEYS))}; "
+                                          f"got {law!r}")
+        for key in sorted(map(str, data)):
+            if key not in allowed:
+                raise SceneError(f"speed.{key}", f"unknown option for law = {law!r}")
+        if law == "constant":
+            return cls("constant", number("speed.omega", data.get("omega", 400.0), positive=True))
+        schedule = speed_schedule.validate(data)
+        start = number("speed.omega_start", data["omega_start"], nonnegative=True) if "omega_start" in data else None
+        return cls("schedule", dict(schedule)["omega"], schedule, start)
 
 
 @dataclass(frozen=True)
@@ -210,9 +236,7 @@ class FlexibleScene:
         gravity = data.get("gravity", False)
         if not isinstance(gravity, bool):
             raise SceneError("gravity", f"must be true or false, got {gravity!r}")
-        speed = data.get("speed", {"law": "constant", "omega": 400.0})
-        if not isinstance(speed, Mapping) or speed.get("law", "constant") != "constant" or set(speed) - {"law", "omega"}:
-            raise SceneError("speed", "the flexible family runs at a constant speed: [speed] law = \"constant\", omega")
+        speed = FlexibleSpeed.from_mapping(data.get("speed", {"law": "constant", "omega": 400.0}))
         modal = data.get("modal")
         if not isinstance(modal, Mapping):
             raise SceneError("modal", "needs a [modal] table (mass, stiffness, damping, gyroscopic, node_shape)")
@@ -245,7 +269,7 @@ class FlexibleScene:
             eccentricity=number("eccentricity", data.get("eccentricity", 5.0e-4), nonnegative=True),
             gravity=gravity,
             g=number("g", data.get("g", 9.80665), positive=True),
-            speed=FlexibleSpeed("constant", number("speed.omega", speed.get("omega", 400.0), positive=True)),
+            speed=speed,
             modal=Modal(mass, stiffness, damping, gyro, shape, load, reduction),
             node_2=BalancerNode.from_mapping(data["node_2"], k) if "node_2" in data else None,
         )
@@ -276,6 +300,7 @@ def _preset(name: str) -> dict:
 
 # the second node's defaults as the reference shows them (the field is None without one)
 KEY_DEFAULTS = {f"node_2.{k}": getattr(BalancerNode, k) for k in ("n", "ball_mass", "ball_damping", "race_radius")}
+_SCHEDULE = {"speed": {"law": "schedule", "omega": 400.0, "ramp_time": 1.0}}  # the smallest schedule (tests of KEYS)
 _NODE_2 = {"node_2": {"node_shape": [[1.0, 0.0], [0.0, 1.0]]}}  # the smallest second node (tests of KEYS)
 
 KEYS = (
@@ -287,8 +312,21 @@ KEYS = (
     Key("eccentricity", "m", "nonnegative", "eps, its centre of mass off the shaft's axis (unbalance m_u eps)"),
     Key("gravity", "", "other", "gravity along -y through the modal gravity load", "true or false"),
     Key("g", "m/s^2", "positive", "gravitational acceleration"),
-    Key("speed.law", "", "other", "how the spin is governed", '"constant"'),
-    Key("speed.omega", "rad/s", "positive", "constant spin speed"),
+    Key("speed.law", "", "other", "how the spin is governed", '"constant" or "schedule"'),
+    Key("speed.omega", "rad/s", "positive", "constant spin speed, or the speed a schedule runs up to and returns to"),
+    Key("speed.ramp_time", "s", "positive", "a schedule's run-up from omega_start to omega, at a constant rate",
+        context={"speed": {"law": "schedule", "omega": 400.0}}),
+    Key("speed.omega_start", "rad/s", "nonnegative", "the speed a schedule's ramp starts from at t = 0 (default 0: "
+        "from rest)", context=_SCHEDULE),
+    Key("speed.hold_time", "s", "nonnegative", "a schedule's time at omega before the temporary reduction (default 0)",
+        context=_SCHEDULE),
+    Key("speed.reduction_depth", "", "other", "a schedule's temporary speed reduction, a fraction of omega (default 0)",
+        "a number in [0, 1)", _SCHEDULE),
+    Key("speed.reduction_rate", "rad/s^2", "positive", "how fast the speed falls to the reduced speed "
+        "(default omega / ramp_time)", context=_SCHEDULE),
+    Key("speed.plateau_time", "s", "nonnegative", "time held at the reduced speed (default 0)", context=_SCHEDULE),
+    Key("speed.recovery_rate", "rad/s^2", "positive", "how fast the speed returns to omega (default omega / ramp_time)",
+        context=_SCHEDULE),
     Key("modal.mass", "kg", "other", "M_q = Phi^T M Phi, k x k", "symmetric"),
     Key("modal.stiffness", "N/m", "other", "K_q = Phi^T K Phi, k x k", "symmetric"),
     Key("modal.damping", "N s/m", "other", "C_q = Phi^T C Phi, k x k (default 0)", "symmetric"),
@@ -298,7 +336,7 @@ KEYS = (
     Key("modal.gravity_load", "kg", "other", "Phi^T M e_y, k values (default 0)", "k numbers"),
     Key("modal.reduction", "", "other", "how the matrices were reduced (text, carried to the model's title)",
         "text"),
-    Key("node_2.n", "", "other", "number of balls at an optional second balancer node (derivation and checks only)",
+    Key("node_2.n", "", "other", "number of balls at an optional second balancer node",
         "a whole number >= 1"),
     Key("node_2.ball_mass", "kg", "positive", "m or [m_1, ..., m_n] of the second node's balls", context=_NODE_2),
     Key("node_2.ball_damping", "N m s/rad", "nonnegative", "D or [D_1, ..., D_n] of the second node's balls",

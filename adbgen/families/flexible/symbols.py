@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ...core import Parameter, ParameterTable
+from ...core import Parameter, ParameterTable, speed_schedule
 from ...core.symbols import nonnegative, positive, t  # noqa: F401  (t: the family's time)
 from .scene import FlexibleScene
 
@@ -37,6 +37,7 @@ class FlexibleSymbols:
     shapes: tuple[sp.Matrix, ...] = ()  # each node's 2 x k shapes: (Phi,) or (Phi, Phi_2)
     radii: tuple[sp.Expr, ...] = ()  # each node's race radius: (R,) or (R, R_2)
     ball_node: tuple[int, ...] = ()  # the node of each ball
+    omega_start: sp.Expr = sp.S.Zero  # a schedule's start speed (its symbol when the scene gives one)
 
     @classmethod
     def for_scene(cls, scene: FlexibleScene) -> "FlexibleSymbols":
@@ -58,11 +59,16 @@ class FlexibleSymbols:
         K = matrix("K_q", modal.stiffness, "reduced stiffness matrix Phi^T K Phi", "N/m", 1)
         C = matrix("C_q", modal.damping, "reduced damping matrix Phi^T C Phi", "N s/m", 1)
         G = matrix("G_q", modal.gyroscopic, "reduced gyroscopic matrix Phi^T G Phi (times the speed)", "kg", -1)
+        # with a second node, an entry zero at one node but not at the other gets a symbol at both: the loop
+        # form indexes each ball's node shape as one of its own parameters (`models.ball_slots`)
+        other = scene.node_2.node_shape if scene.node_2 is not None else modal.node_shape
+        union = [[modal.node_shape[a][j] != 0.0 or other[a][j] != 0.0 for j in range(k)] for a in range(2)]
+
         def shape(values, prefix, which):
             out = sp.zeros(2, k)
             for a, axis in enumerate("xy"):
                 for j in range(k):
-                    if values[a][j] != 0.0:
+                    if union[a][j]:
                         out[a, j] = add(sp.Symbol(f"{prefix}_{axis}_{j + 1}", real=True),
                                         f"{which}'s {axis} translation in mode {j + 1}", "dimensionless", values[a][j])
             return out
@@ -93,5 +99,14 @@ class FlexibleSymbols:
             D = tuple(add(nonnegative(f"D_{i + 1}"), f"viscous drag on ball {i + 1}", "N m s/rad", drags[i])
                       for i in range(scene.balls))
         g = add(positive("g"), "gravitational acceleration (-y)", "m/s^2", scene.g) if scene.gravity else sp.S.Zero
-        omega = add(positive("omega"), "spin speed", "rad/s", scene.omega)
-        return cls(M, K, C, G, Phi, w, U, R, m, D, g, omega, params.sorted(), shapes, radii, scene.ball_node())
+        start = sp.S.Zero
+        if scene.speed.law == "schedule":  # omega is the schedule's final speed (`core.speed_schedule`)
+            speed_schedule.add_parameters(params, scene.speed.schedule)
+            omega = speed_schedule.symbols()["omega"]
+            if scene.speed.omega_start is not None:
+                start = add(nonnegative("omega_start"), "spin speed the schedule's ramp starts from at t = 0", "rad/s",
+                            scene.speed.omega_start)
+        else:
+            omega = add(positive("omega"), "spin speed", "rad/s", scene.omega)
+        return cls(M, K, C, G, Phi, w, U, R, m, D, g, omega, params.sorted(), shapes, radii, scene.ball_node(),
+                   start)

@@ -115,9 +115,144 @@ def single_plane_limit_check() -> CheckResult:
                        "; ".join(r.detail for r in results), sum(r.seconds for r in results))
 
 
+def two_plane_limit_check() -> CheckResult:
+    """The check behind a generated two-node model (`models`): both scenes of `two_plane_limit` in one result."""
+    results = two_plane_limit()
+    return CheckResult("four rigid modes = two-plane", results[0].reference, all(r.passed for r in results),
+                       "; ".join(r.detail for r in results), sum(r.seconds for r in results))
+
+
+def law_applied(eom: EquationsOfMotion) -> EquationsOfMotion:
+    """A prescribed run-up's equations with its driven_law (psi, psi', psi'' in t) substituted."""
+    law = dict(eom.driven_law)
+    return replace(eom.map(lambda e: e.xreplace(law)), driven=(), driven_law={}) if law else eom
+
+
+def ramp_scene(omega_start: float = 60.0, omega: float = 160.0, ramp_time: float = 2.0) -> FlexibleScene:
+    """Three modes (coupled M_q, K_q, C_q, a gyroscopic pair, a node moving in all three), three unequal balls,
+    gravity: every term of the modal Lagrangian present; run up from omega_start to omega over ramp_time."""
+    modal = Modal(((2.0, 0.1, 0.0), (0.1, 1.5, 0.0), (0.0, 0.0, 1.2)),
+                  ((3e4, 2e3, 0.0), (2e3, 2.5e4, 0.0), (0.0, 0.0, 2e5)),
+                  ((3.0, 0.5, 0.0), (0.5, 2.0, 0.0), (0.0, 0.0, 5.0)),
+                  ((0.0, 0.02, 0.01), (-0.02, 0.0, 0.0), (-0.01, 0.0, 0.0)),
+                  ((1.0, 0.0, 0.6), (0.0, 1.0, -0.3)), (0.3, 1.4, 0.2), "a test rotor in three modes")
+    speed = FlexibleSpeed("schedule", omega, (("omega", omega), ("ramp_time", ramp_time), ("hold_time", 1.0),
+                                              ("reduction_depth", 0.0), ("reduction_rate", 1.0),
+                                              ("plateau_time", 0.0), ("recovery_rate", 1.0)), omega_start)
+    return FlexibleScene(n=3, ball_mass=(0.05, 0.04, 0.06), ball_damping=(1e-4, 2e-4, 1.5e-4), race_radius=0.05,
+                         unbalance_mass=2.0, eccentricity=3e-4, gravity=True, speed=speed, modal=modal)
+
+
+def newton_accelerations(scene: FlexibleScene, time: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """The run-up's accelerations (q'', phi'') by Newton's law on each ball and the modal projection of the
+    forces on the node, written directly (not by Lagrange's equations), on the ramp: psi = w0 t + a t^2 / 2,
+    a = (omega - w0) / t_ramp.  Ball i (theta_i = psi + phi_i, e_r, e_t its radial and tangential unit
+    vectors) accelerates at A_i = Phi q'' + R ((psi'' + phi_i'') e_t - (psi' + phi_i')^2 e_r); along the race
+    m_i R e_t . A_i = -D_i phi_i' - m_i g R cos theta_i (thesis (2.7)-(2.9)); the modes: M_q q'' + (C_q + psi'
+    G_q) q' + K_q q + g w + Phi^T [sum_i m_i (A_i + g e_y) + U (psi'' e_t(psi) - psi'^2 e_r(psi))] = 0."""
+    modal, k, n = scene.modal, scene.k, scene.balls
+    w0 = scene.speed.omega_start or 0.0
+    a = (scene.speed.omega - w0) / dict(scene.speed.schedule)["ramp_time"]
+    psi, dpsi, ddpsi = w0 * time + a * time**2 / 2, w0 + a * time, a
+    M, K, C, G = (np.array(x) for x in (modal.mass, modal.stiffness, modal.damping, modal.gyroscopic))
+    Phi, w = np.array(modal.node_shape), np.array(modal.gravity_load)
+    g = scene.g if scene.gravity else 0.0
+    m, D, R, U = np.array(scene.masses()), np.array(scene.ball_dampings()), scene.race_radius, \
+        scene.unbalance_mass * scene.eccentricity
+    phi, dphi = q[k:], qd[k:]
+    qm, dqm = q[:k], qd[:k]
+    er = lambda th: np.array([np.cos(th), np.sin(th)])  # noqa: E731
+    et = lambda th: np.array([-np.sin(th), np.cos(th)])  # noqa: E731
+    A = np.zeros((k + n, k + n))  # unknowns (q'', phi''): A x = b
+    b = np.zeros(k + n)
+    A[:k, :k] = M + sum(m) * Phi.T @ Phi
+    b[:k] = -(C + dpsi * G) @ dqm - K @ qm - g * w - U * Phi.T @ (ddpsi * et(psi) - dpsi**2 * er(psi))
+    for i in range(n):
+        th, rate = psi + phi[i], dpsi + dphi[i]
+        known = R * (ddpsi * et(th) - rate**2 * er(th)) + g * np.array([0.0, 1.0])  # A_i + g e_y without the unknowns
+        A[:k, k + i] = m[i] * R * Phi.T @ et(th)
+        b[:k] -= m[i] * Phi.T @ known
+        A[k + i, :k] = m[i] * R * et(th) @ Phi
+        A[k + i, k + i] = m[i] * R**2
+        b[k + i] = -D[i] * dphi[i] - m[i] * g * R * np.cos(th) - m[i] * R * et(th) @ (R * ddpsi * et(th) - R * rate**2 * er(th))
+    return np.linalg.solve(A, b)
+
+
+def _random_states(rng, k: int, n: int, omega: float):
+    q = np.concatenate([rng.normal(0, 1e-3, k), rng.uniform(-np.pi, np.pi, n)])
+    qd = np.concatenate([rng.normal(0, 1e-3 * omega, k), rng.normal(0, 0.1 * omega, n)])
+    return q, qd
+
+
+def ramp_difference(scene: FlexibleScene, wrong: bool = False, seed: int = 0) -> float:
+    """x'' of the generated run-up (Lagrange, psi driven, `model.derive`) against `newton_accelerations` at
+    random states and times on the ramp, relative to their size.  wrong: psi'' with its sign flipped."""
+    a = accelerations(law_applied(derive(scene, wrong)))
+    rng = np.random.default_rng(seed)
+    t_ramp = dict(scene.speed.schedule)["ramp_time"]
+    worst, size = 0.0, 0.0
+    for _ in range(_STATES):
+        time = rng.uniform(0, t_ramp)
+        q, qd = _random_states(rng, scene.k, scene.balls, scene.speed.omega)
+        x, y = a(time, q, qd), newton_accelerations(scene, time, q, qd)
+        worst = max(worst, float(np.max(np.abs(x - y))))
+        size = max(size, float(np.max(np.abs(y))))
+    return worst / size
+
+
+def zero_rate_difference(scene: FlexibleScene, start: float = 1.0, seed: int = 1) -> float:
+    """A schedule whose ramp starts at its final speed (omega_start = omega: no acceleration, psi = omega t at
+    every t) against the constant-speed model of the same rotor, at random states and times on the ramp and
+    after it, relative to their size.  start: omega_start / omega (1; 0.99 is the negative control, a ramp
+    with a rate left in)."""
+    flat = replace(scene, speed=replace(scene.speed, omega_start=start * scene.speed.omega))
+    constant = replace(scene, speed=FlexibleSpeed("constant", scene.speed.omega))
+    a, b = accelerations(law_applied(derive(flat))), accelerations(derive(constant))
+    rng = np.random.default_rng(seed)
+    t_ramp = dict(scene.speed.schedule)["ramp_time"]
+    worst, size = 0.0, 0.0
+    for _ in range(_STATES):
+        time = rng.uniform(0, 2 * t_ramp)
+        q, qd = _random_states(rng, scene.k, scene.balls, scene.speed.omega)
+        x, y = a(time, q, qd), b(time, q, qd)
+        worst = max(worst, float(np.max(np.abs(x - y))))
+        size = max(size, float(np.max(np.abs(y))))
+    return worst / size
+
+
+def zero_rate(wrong: bool = False) -> list[CheckResult]:
+    """With omega_start = omega the schedule's model equals the constant-speed model (`ramp_scene`).  wrong:
+    omega_start 1 % below omega."""
+    def run():
+        diff = zero_rate_difference(ramp_scene(), 0.99 if wrong else 1.0)
+        return diff <= RHS_TOLERANCE, f"max |x''_schedule - x''_constant| / max |x''| = {diff:.1e} (tol {RHS_TOLERANCE:.0e})"
+    return [timed("zero-rate ramp = constant speed" + (" (omega_start 1 % low)" if wrong else ""), "thesis (2.14)", run)]
+
+
+def run_up(wrong: bool = False) -> list[CheckResult]:
+    """On a ramp (60 -> 160 rad/s in 2 s, psi'' = 50 rad/s^2, `ramp_scene`) the schedule's model equals Newton's
+    law written directly.  wrong: psi'' with its sign flipped."""
+    def run():
+        diff = ramp_difference(ramp_scene(), wrong)
+        return diff <= RHS_TOLERANCE, f"max |x''_Lagrange - x''_Newton| / max |x''| = {diff:.1e} (tol {RHS_TOLERANCE:.0e})"
+    return [timed("run-up = Newton's law on the balls and the node" + (" (psi'' sign flipped)" if wrong else ""),
+                  "thesis (2.7)-(2.9), (2.14)", run)]
+
+
+def prescribed_speed_check() -> CheckResult:
+    """The check behind a generated run-up (`models`): both comparisons in one result."""
+    results = zero_rate() + run_up()
+    return CheckResult("prescribed speed schedule", results[1].reference, all(r.passed for r in results),
+                       "; ".join(r.detail for r in results), sum(r.seconds for r in results))
+
+
 def registered(ns=()) -> list[Registered]:
     return [Registered("single-plane limit (Jeffcott)", DERIVED, lambda wrong: single_plane_limit(wrong),
                        "the balancer node's x with 5 % of mode 2 (a wrong mode shape)"),
+            Registered("zero-rate ramp = constant speed", DERIVED, lambda wrong: zero_rate(wrong),
+                       "the ramp's start speed 1 % below omega (a rate left in)"),
+            Registered("run-up = Newton's law", DERIVED, lambda wrong: run_up(wrong),
+                       "the spin's angular acceleration psi'' with its sign flipped"),
             Registered("two-plane limit (four rigid-body modes)", DERIVED, lambda wrong: two_plane_limit(wrong),
                        "the second node's tilt sign flipped (a wrong mode shape)")]
 

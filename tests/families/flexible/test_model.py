@@ -78,7 +78,7 @@ def test_rigid_scene_refuses_what_has_no_modal_counterpart():
             rigid_scene(bad)
 
 
-def test_second_node_from_toml_and_generation_refused():
+def test_second_node_from_toml_and_offered_for_generation():
     from adbgen.families.flexible.models import for_scene
 
     data = {"n": 1, "modal": {"mass": [[1.0, 0], [0, 1]], "stiffness": [[1, 0], [0, 1]],
@@ -88,9 +88,9 @@ def test_second_node_from_toml_and_generation_refused():
     assert scene.balls == 3 and scene.ball_node() == (0, 1, 1)
     names = {p.name for p in derive(scene).parameters}
     assert {"R", "R_2", "Phi2_x_1", "m_1", "m_3", "D_3"} <= names
-    with pytest.raises(SceneError) as err:
-        for_scene(scene)
-    assert err.value.field == "node_2"
+    spec = for_scene(scene)  # generation is offered (tests/families/flexible/test_two_nodes.py generates one)
+    assert spec.name == "scene_flexible_k2_n3" and spec.n == 3
+    assert [c.key for c in spec.checks] == [("flexible", "single_plane_limit"), ("flexible", "two_plane_limit")]
     with pytest.raises(SceneError) as err:
         FlexibleScene.from_mapping({**data, "node_2": {"n": 1, "node_shape": [[1, 0, 0], [0, 1, 0]]}})
     assert err.value.field == "node_2.node_shape"
