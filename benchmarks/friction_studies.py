@@ -14,7 +14,11 @@ check `friction, zero limit` of `adbgen verify`).
 
 from __future__ import annotations
 
+import argparse
+import json
+import sys
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -106,8 +110,48 @@ def sweep(model, values: dict, side: int, t_end: float, measure: str, *, y0=(), 
     return out
 
 
+def save(fig, path: Path) -> Path:
+    """Write a study's figure (tight layout, 100 dpi) and close it."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
 def load():
     """The generated model of MODEL_SCENE (the scene cache)."""
     from adbgen.analysis.loading import load_model
 
     return load_model(scene=MODEL_SCENE)
+
+
+def main(name: str, description: str, argv, *, default_side: int, study, check, draw, figure: str, summary) -> int:
+    """A study's command line: `--check` runs its tiny version (exit 1 on a failure); otherwise the study over
+    side x side starts, its figure and JSON (with `wall_s`) in --out, and `summary(result)` printed."""
+    parser = argparse.ArgumentParser(prog=f"python3 -m benchmarks.{name}", description=description)
+    parser.add_argument("--side", type=int, default=default_side, help=f"starts per case: side^2 (default {default_side})")
+    parser.add_argument("--out", default=str(FIGURES), help="folder of the figure and its JSON")
+    parser.add_argument("--workers", type=int, default=1, help="Dask workers (default 1)")
+    parser.add_argument("--check", action="store_true", help="only the tiny version (3 x 3 starts); exit 1 on a failure")
+    args = parser.parse_args(argv)
+    if args.check:
+        fails = check(workers=args.workers)
+        for line in fails:
+            print(f"{name}: check failed: {line}", file=sys.stderr)
+        print(f"{name}: check " + ("failed" if fails else "passed"))
+        return 1 if fails else 0
+    if args.side < 2:
+        print(f"{name}: --side must be >= 2, got {args.side}", file=sys.stderr)
+        return 2
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    started = time.perf_counter()
+    result, runs = study(args.side, args.workers, progress=lambda line: print(line, flush=True))
+    result["wall_s"] = round(time.perf_counter() - started, 1)
+    path = draw(result, runs, out / figure)
+    data = out / (Path(figure).stem + ".json")
+    data.write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
+    print(f"{summary(result)}; wrote {path}, {data}")
+    return 0

@@ -30,7 +30,6 @@ it (speed_reduction.feasible).
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -211,39 +210,14 @@ def draw(result: dict, runs: list[dict], path: Path) -> Path:
                  f"N s/m, eps {base['eps'] * 1e3:g} mm, 2 x {base['m'] * 1e3:g} g on R {base['R'] * 1e3:g} mm, mu_r "
                  f"{base['mu_r']:g}, mu_s {base['mu_s']:g}, omega {base['omega']:g} rad/s; fall {base['drop_rate']:g}, "
                  f"recovery {base['recovery_rate']:g} rad/s^2", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return fs.save(fig, path)
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python3 -m benchmarks.machines2020", description=__doc__.splitlines()[0])
-    parser.add_argument("--side", type=int, default=DEFAULT_SIDE, help=f"starts per case: side^2 (default {DEFAULT_SIDE})")
-    parser.add_argument("--out", default=str(fs.FIGURES), help="folder of the figure and its JSON")
-    parser.add_argument("--workers", type=int, default=1, help="Dask workers (default 1)")
-    parser.add_argument("--check", action="store_true", help="only the tiny version (3 x 3 starts); exit 1 on a failure")
-    args = parser.parse_args(argv)
-    if args.check:
-        fails = check(workers=args.workers)
-        for line in fails:
-            print(f"machines2020: check failed: {line}", file=sys.stderr)
-        print("machines2020: check " + ("failed" if fails else "passed"))
-        return 1 if fails else 0
-    if args.side < 2:
-        print(f"machines2020: --side must be >= 2, got {args.side}", file=sys.stderr)
-        return 2
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    started = time.perf_counter()
-    result, runs = study(args.side, args.workers, progress=lambda line: print(line, flush=True))
-    result["wall_s"] = round(time.perf_counter() - started, 1)
-    figure = draw(result, runs, out / FIGURE)
-    data = out / (Path(FIGURE).stem + ".json")
-    data.write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
-    print(f"verdicts: {result['verdicts']}; feasible for r < {result['target_m']:.3g} m in every start: "
-          f"{result['feasible_reductions'] or 'none in this grid'}; wrote {figure}, {data}")
-    return 0
+    return fs.main("machines2020", __doc__.splitlines()[0], argv, default_side=DEFAULT_SIDE, study=study, check=check,
+                   draw=draw, figure=FIGURE,
+                   summary=lambda r: (f"verdicts: {r['verdicts']}; feasible for r < {r['target_m']:.3g} m in every start: "
+                              f"{r['feasible_reductions'] or 'none in this grid'}"))
 
 
 if __name__ == "__main__":

@@ -32,8 +32,6 @@ of their comparison (and counted).
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
 from pathlib import Path
@@ -187,38 +185,13 @@ def draw(result: dict, runs: list[dict], path: Path) -> Path:
     fig.suptitle(f"Wright and Peng reproduced: green balanced, red not, yellow undecided, black failed; omega "
                  f"{v['omega']:g} rad/s, omega_n {(v['k'] / v['M']) ** 0.5:g} rad/s, D {v['D']:g}, "
                  f"{result['starts']} starts, t_end {result['t_end']:g} s", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return fs.save(fig, path)
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python3 -m benchmarks.wright_peng", description=__doc__.splitlines()[0])
-    parser.add_argument("--side", type=int, default=DEFAULT_SIDE, help=f"starts per case: side^2 (default {DEFAULT_SIDE})")
-    parser.add_argument("--out", default=str(fs.FIGURES), help="folder of the figure and its JSON")
-    parser.add_argument("--workers", type=int, default=1, help="Dask workers (default 1)")
-    parser.add_argument("--check", action="store_true", help="only the tiny version (3 x 3 starts); exit 1 on a failure")
-    args = parser.parse_args(argv)
-    if args.check:
-        fails = check(workers=args.workers)
-        for line in fails:
-            print(f"wright_peng: check failed: {line}", file=sys.stderr)
-        print("wright_peng: check " + ("failed" if fails else "passed"))
-        return 1 if fails else 0
-    if args.side < 2:
-        print(f"wright_peng: --side must be >= 2, got {args.side}", file=sys.stderr)
-        return 2
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    started = time.perf_counter()
-    result, runs = study(args.side, args.workers, progress=lambda line: print(line, flush=True))
-    result["wall_s"] = round(time.perf_counter() - started, 1)
-    figure = draw(result, runs, out / FIGURE)
-    data = out / (Path(FIGURE).stem + ".json")
-    data.write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
-    print(f"verdicts: {result['verdicts']}; wrote {figure}, {data}")
-    return 0
+    return fs.main("wright_peng", __doc__.splitlines()[0], argv, default_side=DEFAULT_SIDE, study=study, check=check,
+                   draw=draw, figure=FIGURE,
+                   summary=lambda r: f"verdicts: {r['verdicts']}")
 
 
 if __name__ == "__main__":

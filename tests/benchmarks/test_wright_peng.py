@@ -81,3 +81,25 @@ def test_study_scenes_are_read_and_a_scene_of_another_structure_is_refused(tmp_p
     const.write_text("n = 2\nrolling_resistance = 0.0\nstatic_friction = 0.0\n[speed]\nlaw = \"constant\"\n")
     with pytest.raises(ValueError, match="speed law"):
         fs.scene_values(const)
+
+
+def test_the_studies_command_line(tmp_path, capsys):
+    """friction_studies.main: --check's exit code follows the failures; a bad --side is refused in one line; a run
+    writes the figure and the JSON with wall_s (planted study, check and draw: no model)."""
+    def study(side, workers, progress):
+        return {"starts": side * side}, []
+
+    def draw(result, runs, path):
+        path.write_text("figure")
+        return path
+
+    args = dict(default_side=2, study=study, draw=draw, figure="x.png", summary=lambda r: f"{r['starts']} starts")
+    assert fs.main("x", "d", ["--check"], check=lambda workers: [], **args) == 0
+    assert fs.main("x", "d", ["--check"], check=lambda workers: ["planted failure"], **args) == 1  # negative control
+    assert "x: check failed: planted failure" in capsys.readouterr().err
+    assert fs.main("x", "d", ["--side", "1"], check=None, **args) == 2
+    assert capsys.readouterr().err.strip() == "x: --side must be >= 2, got 1"
+    assert fs.main("x", "d", ["--side", "3", "--out", str(tmp_path)], check=None, **args) == 0
+    import json
+    data = json.loads((tmp_path / "x.json").read_text())
+    assert data["starts"] == 9 and "wall_s" in data and (tmp_path / "x.png").read_text() == "figure"
