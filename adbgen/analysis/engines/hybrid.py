@@ -20,7 +20,10 @@ from ..loading import AnalysisError
 from .c_interface import D, I
 from .rk import _sizes, build
 
-STATUS = {0: "success", 1: "max_steps", 2: "max_events", 3: "step_underflow", 4: "nonfinite"}
+# no_consistent_mode: a ball can neither stick (its margin < 0) nor slip (the decided slip decelerates at once,
+# mu_r > mu_s); the driver stops there (hybrid_driver.c, `consistent`) rather than looping to max_events
+STATUS = {0: "success", 1: "max_steps", 2: "max_events", 3: "step_underflow", 4: "nonfinite",
+          5: "no_consistent_mode"}
 MODES = {0: "stick", 1: "slip+", -1: "slip-"}
 
 
@@ -83,7 +86,8 @@ class HybridRun:
 
 
 def library(model, extra: tuple[str, ...] = ()):
-    """The driver compiled with the model; `extra`: more -D defines (a test plants HY_LOCATE_ITERATIONS=0)."""
+    """The driver compiled with the model; `extra`: more -D defines (a test plants HY_LOCATE_ITERATIONS=0 or
+    HY_MODE_CHECK=0)."""
     source = model.c_source()
     defines = [f'-DADB_MODEL_SOURCE="{source.name}"', f"-DADB_RHS={model.name}_rhs",
                f"-DADB_MEASURE={model.name}_measure", *_sizes(model), *extra]

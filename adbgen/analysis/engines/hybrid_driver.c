@@ -18,7 +18,10 @@
  * and every ball whose root lies within 64 ulp of it switches there (symmetric balls switch together).  A
  * ball that switches is decided at the event's state: held stuck (stuck = 1, phi' = 0) if the margin
  * computed in the stuck mode is >= 0, else slipping in the direction opposite to the force it would need
- * (slip_dir = -sign F; friction then acts with the kinetic coefficient).  The run restarts from the event
+ * (slip_dir = -sign F; friction then acts with the kinetic coefficient).  A slip so decided must not
+ * decelerate at once (`consistent`); where it does at two decisions of a ball in a row, no mode of that ball
+ * holds (mu_r > mu_s: the scene refuses it, a parameter set by hand does not) and the run stops with
+ * HY_NO_MODE at that time rather than looping through events that do not advance it.  The run restarts from the event
  * (DOP853 is one-step: no history is lost).  An excursion of g below 0 and back within one step is not seen
  * (a slip reversing twice in one step); the step size keeps that to features shorter than a step.
  *
@@ -53,7 +56,11 @@
 #define HY_LOCATE_ITERATIONS 200
 #endif
 
-enum { HY_OK = 0, HY_MAX_STEPS = 1, HY_MAX_EVENTS = 2, HY_UNDERFLOW = 3, HY_NONFINITE = 4 };
+#ifndef HY_MODE_CHECK /* the consistency check of a decided slip (a test plants 0: the loop it stops) */
+#define HY_MODE_CHECK 1
+#endif
+
+enum { HY_OK = 0, HY_MAX_STEPS = 1, HY_MAX_EVENTS = 2, HY_UNDERFLOW = 3, HY_NONFINITE = 4, HY_NO_MODE = 5 };
 
 typedef struct {
     int nb;
@@ -98,6 +105,19 @@ static int decide(const Balls *B, int b, double t, double *y, double *p)
     return (int)p[B->dir[b]];
 }
 
+/* Whether ball b's mode just decided by `decide` can hold: stuck always can (its margin was >= 0); a slip
+ * only if the ball's relative acceleration in it, the rhs' derivative of its rate, does not point against
+ * the slip (dir * phi_b'' >= 0).  A ball whose margin is < 0 and whose slip decelerates at once (kinetic
+ * friction above the force that broke the stiction: mu_r > mu_s) has no consistent mode: the slip would
+ * end at its own start, the ball be decided again, and so on without time advancing. */
+static int consistent(const Balls *B, int b, double t, const double *y, const double *p)
+{
+    if (!HY_MODE_CHECK || p[B->stuck[b]] > 0.5) return 1;
+    double f[ADB_NY];
+    ADB_RHS(t, y, p, f);
+    return p[B->dir[b]] * f[B->rate_state[b]] >= 0.0;
+}
+
 /* the first t in (a, b] of the step where ball's g < 0, given g(a) >= 0 > g(b): bisection to adjacent doubles */
 static double locate(const Balls *B, int ball, const Step *s, double a, double b, const double *p)
 {
@@ -128,12 +148,15 @@ int adb_hybrid_run(const double *y0, double t0, double t1, double *p, int nb, co
     double t = t0;
     long ne = 0, k_eval = 0, steps = 0;
     int status = HY_OK;
+    double inconsistent[64]; /* per ball: the time of its last decided slip that cannot hold (none: -inf) */
+    for (int b = 0; b < 64; ++b) inconsistent[b] = -INFINITY;
     for (int b = 0; b < nb; ++b) { /* the modes at the start */
         double rate = y[rate_state[b]];
         if (rate == 0.0) {
             int mode = decide(&B, b, t, y, p);
             if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
             ++ne;
+            if (b < 64 && !consistent(&B, b, t, y, p)) inconsistent[b] = t;
         } else {
             p[stuck[b]] = 0.0;
             p[dir[b]] = rate > 0.0 ? 1.0 : -1.0;
@@ -191,7 +214,14 @@ int adb_hybrid_run(const double *y0, double t0, double t1, double *p, int nb, co
                 int mode = decide(&B, b, t, y, p);
                 if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
                 ++ne;
+                /* twice within 64 ulp (a single one may be rounding at mu_r = mu_s, where the slip's
+                 * acceleration is 0 to rounding, and the slip then goes on): no mode holds; stop, not loop */
+                if (!consistent(&B, b, t, y, p)) {
+                    if (t - inconsistent[b] <= close) status = HY_NO_MODE;
+                    inconsistent[b] = t;
+                }
             }
+            if (status == HY_NO_MODE) break;
             if (ne >= max_events) { status = HY_MAX_EVENTS; RK_RHS(t, y, K[0]); break; }
             RK_RHS(t, y, K[0]);
             h = fmax(h, hs);
