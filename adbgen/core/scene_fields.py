@@ -37,6 +37,22 @@ def per_ball(name: str, value: Any, n: int, **kw) -> tuple[float, ...] | float:
     return number(name, value, **kw)
 
 
+def friction_coefficients(rolling: Any, static: Any, n: int):
+    """(mu_r, mu_s) of a scene's balls (issue 37), each None (absent), one value or n values, both families:
+    the stick phase needs the friction while a ball slips, and mu_s >= mu_r for every ball (with mu_r > mu_s a
+    ball whose stiction breaks would decelerate at once in its slip: it could neither stick nor slip)."""
+    rolling, static = (None if v is None else per_ball(key, v, n, nonnegative=True)
+                       for key, v in (("rolling_resistance", rolling), ("static_friction", static)))
+    if static is not None:
+        if rolling is None:
+            raise SceneError("static_friction", "needs rolling_resistance (the friction while a ball slips)")
+        pairs = zip(*(v if isinstance(v, tuple) else (v,) * n for v in (rolling, static)))
+        for i, (r, s) in enumerate(pairs):
+            if s < r:
+                raise SceneError("static_friction", f"must be >= rolling_resistance (ball {i + 1}: {s!r} < {r!r})")
+    return rolling, static
+
+
 def xy(name: str, value: Any, **kw) -> tuple[float, float] | float:
     """A scalar (isotropic) or a pair (X, Y)."""
     if isinstance(value, (list, tuple)):

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 
 from ...core.model_spec import Check, Continuation, ModelSpec
+from ...errors import SceneError
 from . import description, verify
 from .model import derive
 from .reductions import balls_relative_to_spin, first_order, rotating_frame
@@ -177,6 +178,10 @@ def for_scene(sc: TwoPlaneScene, name: str | None = None) -> ModelSpec:
     frame of `model.derive` whatever the speed law, without a start or steady state (its balanced states are
     stuck states, where Coulomb's law in slip says nothing)."""
     law = sc.speed.law
+    if sc.stiction:  # derived and checked (model.stick_rows, stick_forces), not emitted: said, never half-built
+        raise SceneError("static_friction", "the two-plane stick phase is derived and checked (adbgen verify: friction, "
+                         "stick rows / stick force) but its switching functions are not emitted yet; drop "
+                         "static_friction for the model in slip")
     if sc.friction:  # issue 37: friction is derived in the fixed frame only; no closed-form steady state
         kind, system = f"friction_{law}", (lambda: first_order(derive(sc)))
         calls = (("friction_zero_limit",), ("friction_normal_force",))
