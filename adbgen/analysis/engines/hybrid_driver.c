@@ -163,7 +163,7 @@ int adb_hybrid_run(const double *y0, double t0, double t1, double *p, int nb, co
     double slipped[64]; /* per ball: the time of its last decision into slip (none since, or stuck: -inf) */
     for (int b = 0; b < 64; ++b) slipped[b] = -INFINITY;
     for (int b = 0; b < nb; ++b) { /* the modes at the start */
-        double rate = y[rate_state[b]];
+        double rate = ADB_MEASURE(m_rate[b], t, y, p); /* relative to the race */
         if (rate == 0.0) {
             int mode = decide(&B, b, t, y, p);
             if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;

@@ -48,6 +48,8 @@ class TwoPlaneSymbols:
     mu_s: tuple[sp.Expr, ...] = ()  # stiction per ball; () without static_friction
     stuck: tuple[sp.Symbol, ...] = ()  # each ball's mode: 1 stuck on its race (theta_k' = theta_0' held), 0 slipping
     slip_dir: tuple[sp.Symbol, ...] = ()  # the direction (+1 or -1) of ball k's slip (its mode), set by the driver
+    accel: dict = None  # with stiction: {coordinate name: accel_<name>}, the core's accelerations as inputs of the
+    #                     switching functions (the 4 x 4 / 5 x 5 core has no closed-form solve), filled by the driver
 
     @classmethod
     def for_scene(cls, scene: TwoPlaneScene) -> "TwoPlaneSymbols":
@@ -125,9 +127,17 @@ class TwoPlaneSymbols:
             slip_dir = tuple(params.add(sp.Symbol(f"slip_dir_{i + 1}", real=True), f"direction (+1, -1) of ball "
                                         f"{i + 1}'s slip, its mode while slipping (set by the event driver)",
                                         "dimensionless", 0.0) for i in range(scene.n))
+        accel = {}
+        if scene.stiction:
+            core = ("X", "Y", "phi_X", "phi_Y") + (("theta_0",) if sp_.law == "torque" else ())
+            for name in core:
+                unit = "m/s^2" if name in ("X", "Y") else "rad/s^2"
+                accel[name] = add(sp.Symbol(f"accel_{name}", real=True), f"{name}'' as an input of the switching "
+                                  "functions only (filled from the rhs by the event driver; not a parameter to set)",
+                                  unit, 0.0)
         return cls(M, Jt, Jp, eps, beta, chi, l1, l2, k, c, m, tuple(race_R[r] for r in races),
                    tuple(race_z[r] for r in races), tuple(race_cb[r] for r in races), Omega, c_r, tau0, kappa,
-                   Om_max, t_ramp, t_half, Om_cyl, params.sorted(), mu_r, mu_s, stuck, slip_dir)
+                   Om_max, t_ramp, t_half, Om_cyl, params.sorted(), mu_r, mu_s, stuck, slip_dir, accel)
 
 
 __all__ = ["TwoPlaneSymbols", "RACE_TAGS", "t"]

@@ -50,15 +50,15 @@ def test_static_friction_below_rolling_resistance_is_refused_per_ball(mapping, w
         TwoPlaneScene.from_mapping({**mapping, "static_friction": mapping["rolling_resistance"]})
 
 
-def test_a_stiction_scene_is_refused_for_a_model_in_one_line():
-    """The stick phase is derived and checked, not emitted: for_scene says so rather than build a model whose
-    modes no engine can switch."""
+def test_a_stiction_scene_gets_the_stick_model():
+    """kind stick_<law>, its checks include the stick rows and force; without static_friction (the control) the
+    slip model, without modes."""
     from adbgen.families.two_plane.models import for_scene
 
-    with pytest.raises(SceneError, match="not emitted yet") as err:
-        for_scene(TwoPlaneScene.from_mapping({"rolling_resistance": 0.01, "static_friction": 0.02}))
-    assert "\n" not in str(err.value)
-    assert for_scene(TwoPlaneScene.from_mapping({"rolling_resistance": 0.01})).name  # slip only: a model
+    spec = for_scene(TwoPlaneScene.from_mapping({"rolling_resistance": 0.01, "static_friction": 0.02}))
+    assert "stick_constant" in spec.name and any("friction_stick_rows" in c.key for c in spec.checks)
+    plain = for_scene(TwoPlaneScene.from_mapping({"rolling_resistance": 0.01}))
+    assert "friction_constant" in plain.name and not any("friction_stick_rows" in c.key for c in plain.checks)
 
 
 @pytest.mark.parametrize("check", [verify.friction_zero_limit, verify.friction_normal_force,
