@@ -73,16 +73,21 @@ def switching(model) -> Switching:
                      tuple(i for i, _ in accel), tuple(model.rate_index(model.index(c)) for _, c in accel))
 
 
-def measure(model, name: str, t: float, y, p) -> float:
-    """A measure of a stick/slip model at (t, y, p) with its acceleration inputs (accel_<coordinate>, if any)
-    filled from the model's rhs, as the driver does: the normal and stick forces of a model without a
-    closed-form core solve are right only so."""
+def with_accelerations(model, t: float, y, p, sw: Switching | None = None) -> np.ndarray:
+    """p with the model's acceleration inputs (accel_<coordinate>, if any) filled from its rhs at (t, y, p), as
+    the driver fills them: the normal and stick forces of a model without a closed-form core solve are right
+    only so.  `sw`: the model's `switching`, when the caller has it."""
     p = np.array(p, dtype=float)
-    sw = switching(model)
+    sw = switching(model) if sw is None else sw
     if sw.accel_param:
         f = model.module.rhs(float(t), np.asarray(y, dtype=float), p)
         p[list(sw.accel_param)] = np.asarray(f)[list(sw.accel_state)]
-    return model.measure(name, t, y, p)
+    return p
+
+
+def measure(model, name: str, t: float, y, p) -> float:
+    """A measure of a stick/slip model at (t, y, p) with its acceleration inputs filled (`with_accelerations`)."""
+    return model.measure(name, t, y, with_accelerations(model, t, y, p))
 
 
 @dataclass(frozen=True)

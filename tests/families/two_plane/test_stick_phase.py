@@ -133,3 +133,13 @@ def test_the_stick_force_needs_the_filled_accelerations(model):
     assert got == pytest.approx(want, rel=1e-9), (got, want)
     unfilled = model.measure("stick_margin_1", 0.0, y, p)
     assert abs(unfilled - want) > 1e-3 * abs(want), (unfilled, want)
+
+
+def test_energy_balance_with_stick_and_slip_and_its_wrong_normal_force():
+    """`adbgen verify`'s stick/slip energy balance (two planes) on this module's scene (the same bytes, one cached
+    model): holds to its tolerance; the normal force from the race's speed breaks it."""
+    from adbgen.families.two_plane.science import stick_slip_energy
+
+    assert stick_slip_energy.SCENE == SCENE
+    assert stick_slip_energy.check().passed
+    assert not stick_slip_energy.check(wrong=True).passed
