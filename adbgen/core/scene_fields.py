@@ -53,6 +53,29 @@ def friction_coefficients(rolling: Any, static: Any, n: int):
     return rolling, static
 
 
+class BallFriction:
+    """What a scene with `rolling_resistance`, `static_friction` (each None, one value or n) and `n` says about
+    ball-race friction (issue 37), in both families."""
+
+    @property
+    def friction(self) -> bool:
+        """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
+        return self.rolling_resistance is not None
+
+    @property
+    def stiction(self) -> bool:
+        """The stick phase is modelled (static_friction given): the model carries each ball's mode."""
+        return self.static_friction is not None
+
+    def static_frictions(self) -> tuple[float, ...]:
+        s = self.static_friction
+        return s if isinstance(s, tuple) else (0.0 if s is None else s,) * self.n
+
+    def rolling_resistances(self) -> tuple[float, ...]:
+        r = self.rolling_resistance
+        return r if isinstance(r, tuple) else (0.0 if r is None else r,) * self.n
+
+
 def xy(name: str, value: Any, **kw) -> tuple[float, float] | float:
     """A scalar (isotropic) or a pair (X, Y)."""
     if isinstance(value, (list, tuple)):

@@ -156,3 +156,37 @@ def run(model, p, y0, t0: float, t1: float, t_eval=None, rtol: float = 1e-10, at
     events = tuple((float(ev_t[k]), int(ev_b[k]) + 1, MODES[int(ev_m[k])]) for k in range(n_ev.value))
     return HybridRun(t_eval[reached], Y[reached], events, STATUS.get(code, f"status {code}"), float(t_end.value),
                      y_end, p, int(n_steps.value))
+
+
+def modes_along(model, p, events, times) -> list[np.ndarray]:
+    """The parameters with each ball's mode (stuck_k, slip_dir_k) as the run's events set them, at each of the
+    increasing `times` (slip_dir_k = 0 while stuck, as the driver sets it): the measures of a piece are those
+    of its modes."""
+    out, k, current = [], 0, np.array(p, float)
+    for t in times:
+        while k < len(events) and events[k][0] <= t:
+            _, ball, mode = events[k]
+            current = current.copy()
+            current[model.param_names.index(f"stuck_{ball}")] = 1.0 if mode == "stick" else 0.0
+            current[model.param_names.index(f"slip_dir_{ball}")] = {"stick": 0.0, "slip+": 1.0, "slip-": -1.0}[mode]
+            k += 1
+        out.append(current)
+    return out
+
+
+def gauss_nodes(ends, nodes: int, piece: float) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    """Gauss-Legendre quadrature over the smooth pieces between consecutive `ends` (a run's start, its events,
+    its end), each cut into parts of at most `piece`: (times, weights, marks), times starting with ends[0] and
+    holding every later end (weight 0) at the indices `marks`, so that cumsum(weights * f(times))[marks] is
+    the integral of f from ends[0] to each end."""
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    times, weights, marks = [float(ends[0])], [0.0], []
+    for a, b in zip(ends[:-1], ends[1:]):
+        edges = np.linspace(a, b, max(1, int(np.ceil((b - a) / piece))) + 1)
+        for lo, hi in zip(edges[:-1], edges[1:]):
+            times += list((hi + lo) / 2 + (hi - lo) / 2 * x)
+            weights += list((hi - lo) / 2 * w)
+        times.append(b)
+        weights.append(0.0)
+        marks.append(len(times) - 1)
+    return np.array(times), np.array(weights), marks

@@ -38,7 +38,7 @@ from typing import Any, Mapping
 
 from ...errors import SceneError
 from ...core import speed_schedule
-from ...core.scene_fields import (Key, friction_coefficients, number as _number, speed_law_name,
+from ...core.scene_fields import (BallFriction, Key, friction_coefficients, number as _number, speed_law_name,
                                  xy as _xy)
 
 _SPEED_FIELDS = {
@@ -227,7 +227,7 @@ KEYS = (
 
 
 @dataclass(frozen=True)
-class TwoPlaneScene:
+class TwoPlaneScene(BallFriction):
     """A two-plane automatic ball balancer on a rigid rotor (paper Figure 1)."""
 
     rotor_mass: float = 1.0  # M
@@ -337,24 +337,6 @@ class TwoPlaneScene:
     @property
     def n(self) -> int:
         return len(self.ball_race)
-
-    @property
-    def friction(self) -> bool:
-        """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
-        return self.rolling_resistance is not None
-
-    def rolling_resistances(self) -> tuple[float, ...]:
-        r = self.rolling_resistance
-        return r if isinstance(r, tuple) else (r,) * self.n
-
-    @property
-    def stiction(self) -> bool:
-        """The stick phase is modelled (static_friction given): the model carries each ball's mode."""
-        return self.static_friction is not None
-
-    def static_frictions(self) -> tuple[float, ...]:
-        s = self.static_friction
-        return s if isinstance(s, tuple) else (0.0 if s is None else s,) * self.n
 
     def masses(self) -> tuple[float, ...]:
         return tuple(m for race in self.races for m in race.masses)

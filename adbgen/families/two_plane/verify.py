@@ -515,28 +515,36 @@ def friction_zero_limit(wrong: bool = False) -> CheckResult:
     return _timed("friction, zero limit", "paper (2)-(4) at mu_r = 0 (issue 37)", run)
 
 
+def _ball_acceleration(lag, k_: int) -> tuple[sp.Matrix, sp.Matrix]:
+    """Ball k_'s acceleration in the space frame (its exact position of section 2.1 differentiated twice) and
+    the race plane's tilt (Cxyz -> space-parallel), for the checks of the race's forces by Newton's law."""
+    from .model import ball_position, rotations
+
+    R1, R2, _ = rotations(Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q, Coordinate.make("theta_0").q)
+    tilt_T = (R2 * R1).T
+    everything = lag.coordinates + lag.driven
+    position = ball_position(lag.symbols, k_, lag.symbols.R[k_], tilt_T)
+    return position.applyfunc(lambda x: time_derivative(time_derivative(x, everything, t), everything, t)), tilt_T
+
+
 def friction_normal_force(wrong: bool = False) -> CheckResult:
     """N_k (`model.normal_forces`, Lagrange's equation of a radial coordinate) against Newton's law along the
     race radius, N_k = -m_k a_k . e_r, a_k the ball's position (exact rotations of section 2.1) differentiated
     twice and e_r the race plane's radial unit vector, both kept to first order in the vibration, identical
     under the torque drive (theta_0 a coordinate).  wrong: the Coriolis part of the derived force,
     2 m_k R_k theta_0' (theta_k' - theta_0'), dropped."""
-    from .model import ball_position, first_order, lagrangian, normal_forces, rotations
+    from .model import first_order, lagrangian, normal_forces
 
     def run():
         lag = lagrangian(friction_scene("torque"))
         s = lag.symbols
         th0 = Coordinate.make("theta_0")
-        R1, R2, _ = rotations(Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q, th0.q)
-        tilt_T = (R2 * R1).T
-        everything = lag.coordinates + lag.driven
         bad = []
         for k_, N in enumerate(normal_forces(lag)):
             ball = Coordinate.make(f"theta_{k_ + 1}")
             if wrong:
                 N = N - 2 * s.m[k_] * s.R[k_] * th0.qd * (ball.qd - th0.qd)
-            position = ball_position(s, k_, s.R[k_], tilt_T)
-            a = position.applyfunc(lambda x: time_derivative(time_derivative(x, everything, t), everything, t))
+            a, tilt_T = _ball_acceleration(lag, k_)
             e_r = tilt_T * sp.Matrix([sp.cos(ball.q), sp.sin(ball.q), 0])
             if not is_identity(N, first_order(-s.m[k_] * a.dot(e_r))):
                 bad.append(k_ + 1)
@@ -609,23 +617,19 @@ def friction_stick_force(wrong: bool = False) -> CheckResult:
     friction and the race damping the ball's tangential forces), a_k the exact position of section 2.1
     differentiated twice and e_t the race plane's tangent, both to first order in the vibration, identical
     under the torque drive.  wrong: the race damping's part dropped from the derived force."""
-    from .model import ball_position, first_order, lagrangian, rotations, stick_forces
+    from .model import first_order, lagrangian, stick_forces
 
     def run():
         lag = lagrangian(stiction_scene("torque"))
         s = lag.symbols
         th0 = Coordinate.make("theta_0")
-        R1, R2, _ = rotations(Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q, th0.q)
-        tilt_T = (R2 * R1).T
-        everything = lag.coordinates + lag.driven
         bad = []
         for k_, F in enumerate(stick_forces(lag)):
             ball = Coordinate.make(f"theta_{k_ + 1}")
             drag = s.cb[k_] * (ball.qd - th0.qd) / s.R[k_]
             if wrong:
                 F = F - drag
-            position = ball_position(s, k_, s.R[k_], tilt_T)
-            a = position.applyfunc(lambda x: time_derivative(time_derivative(x, everything, t), everything, t))
+            a, tilt_T = _ball_acceleration(lag, k_)
             e_t = tilt_T * sp.Matrix([-sp.sin(ball.q), sp.cos(ball.q), 0])
             newton = (first_order(s.m[k_] * a.dot(e_t)) + drag).xreplace({ball.qdd: th0.qdd})
             if not is_identity(F, newton):

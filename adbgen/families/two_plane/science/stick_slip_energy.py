@@ -85,20 +85,6 @@ def _start(model):
     return y0
 
 
-def _modes(model, p, events, times):
-    """The parameters with each ball's mode as the events set them, at each time."""
-    out, k, current = [], 0, np.array(p, float)
-    for t in times:
-        while k < len(events) and events[k][0] <= t:
-            _, ball, mode = events[k]
-            current = current.copy()
-            current[model.param_names.index(f"stuck_{ball}")] = 1.0 if mode == "stick" else 0.0
-            current[model.param_names.index(f"slip_dir_{ball}")] = {"stick": 0.0, "slip+": 1.0, "slip-": -1.0}[mode]
-            k += 1
-        out.append(current)
-    return out
-
-
 def balance(model, normal: str = "model") -> tuple[float, float, tuple]:
     """max over the pieces' ends of |E(0) - E(t) - W(t)| / E(0), the share of E(0) friction took, the events.
     normal = "race": the planted error, N = m R theta_0'^2."""
@@ -108,17 +94,7 @@ def balance(model, normal: str = "model") -> tuple[float, float, tuple]:
     if first.status != "success":
         raise RuntimeError(f"the stick/slip run failed: {first.status} at t = {first.t_end}")
     ends = sorted({0.0, T_END, *(t for t, _, _ in first.events if 0.0 < t < T_END)})
-    x, w = np.polynomial.legendre.leggauss(NODES)
-    times, weights, marks = [], [], []
-    for a, b in zip(ends[:-1], ends[1:]):
-        edges = np.linspace(a, b, max(1, math.ceil((b - a) / PIECE)) + 1)
-        for lo, hi in zip(edges[:-1], edges[1:]):
-            times += list((hi + lo) / 2 + (hi - lo) / 2 * x)
-            weights += list((hi - lo) / 2 * w)
-        times.append(b)
-        weights.append(0.0)
-        marks.append(len(times))
-    times, weights = np.array([0.0] + times), np.array([0.0] + weights)
+    times, weights, marks = hybrid.gauss_nodes(ends, NODES, PIECE)
     second = hybrid.run(model, p, _start(model), 0.0, T_END, t_eval=times, rtol=RTOL, atol=ATOL)
     if len(second.t) != len(times) or second.events != first.events:
         raise RuntimeError("the second run differs from the first")
@@ -133,7 +109,7 @@ def balance(model, normal: str = "model") -> tuple[float, float, tuple]:
     for k in range(1, 5):
         if normal == "model":
             N = np.array([model.measure(f"normal_force_{k}", t, y, hybrid.with_accelerations(model, t, y, q, sw))
-                          for t, y, q in zip(times, Y.T, _modes(model, p, first.events, times))])
+                          for t, y, q in zip(times, Y.T, hybrid.modes_along(model, p, first.events, times))])
         else:
             N = MASS * R * spin**2
         friction = friction + R * values["mu_r"] * N * np.abs(Y[model.index(f"theta_{k}_dot")] - spin)
