@@ -1,6 +1,6 @@
-"""A ball with no consistent stick/slip mode (hybrid_driver.c, `consistent`; issue 37): with mu_r > mu_s a ball
+"""A ball with no consistent stick/slip mode (hybrid_driver.c, HY_NO_MODE; issue 37): with mu_r > mu_s a ball
 whose stiction breaks (margin < 0) decelerates at once in the slip it is given, so it can neither stick nor
-slip.  The scene refuses mu_r > mu_s per ball (single_plane.scene, tests/families/single_plane/test_scene.py);
+slip; the driver sees its slip end within 64 ulp of the time it was decided, and the ball decided into slip again.  The scene refuses mu_r > mu_s per ball (single_plane.scene, tests/families/single_plane/test_scene.py);
 a parameter set by hand (`--set mu_r=...`) reaches the driver, which then stops with the status
 `no_consistent_mode`, said in `simulate --json`, instead of looping through events that do not advance time to
 max_events (what it did before; the negative control plants that driver, HY_MODE_CHECK = 0).
@@ -44,7 +44,7 @@ def test_rolling_resistance_above_stiction_stops_with_its_own_status(model):
 
 def test_at_mu_r_equal_to_mu_s_the_slip_holds(model):
     """The boundary the scene allows (mu_s >= mu_r): the slip's acceleration is 0 to rounding there, which the
-    driver must not take for a missing mode (it asks for two inconsistent decisions within 64 ulp)."""
+    driver must not take for a missing mode."""
     for mu_r in (MU_S, 0.5 * MU_S):
         run = hybrid.run(model, model.params({"mu_r": mu_r}), _start(model), 0.0, T_END)
         assert run.status == "success" and run.modes(2) == ("slip+", "slip+"), (mu_r, run.status, run.events)
