@@ -24,6 +24,7 @@ FAILURES = {
     "step_underflow": "step size underflow",
     "nonfinite": "non-finite state or derivative",
     "solver_failure": "solver failure",
+    "no_consistent_mode": "no consistent stick/slip mode: a ball can neither stick nor slip (mu_r > mu_s?)",
 }
 
 

@@ -21,6 +21,15 @@ def slip_direction(rate: sp.Expr) -> sp.Expr:
     return sp.Piecewise((1, rate > 0), (-1, rate < 0), (0, True))
 
 
+def stick_row(slip_row: sp.Expr, stuck: sp.Symbol, mass: sp.Expr, radius: sp.Expr,
+              relative_acceleration: sp.Expr) -> sp.Expr:
+    """A ball's row of the hybrid system (issue 37 item 2): its slip row while stuck = 0, the constraint
+    m R^2 (ball's acceleration relative to the race) = 0 while stuck = 1.  The race's friction, which the slip
+    row holds, is then the constraint's multiplier (the required tangential force, which the families emit as
+    stick_force); `stuck` is a parameter set by the event driver."""
+    return (1 - stuck) * slip_row + stuck * mass * radius**2 * relative_acceleration
+
+
 def race_reaction(mass: sp.Expr, position, rho: Coordinate, radius: sp.Expr, coordinates, t: sp.Symbol,
                   potential: sp.Expr = sp.S.Zero) -> sp.Expr:
     """N, the race's push on a ball towards the race's centre: the ball's `position` is written with a radial

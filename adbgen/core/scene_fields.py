@@ -37,6 +37,45 @@ def per_ball(name: str, value: Any, n: int, **kw) -> tuple[float, ...] | float:
     return number(name, value, **kw)
 
 
+def friction_coefficients(rolling: Any, static: Any, n: int):
+    """(mu_r, mu_s) of a scene's balls (issue 37), each None (absent), one value or n values, both families:
+    the stick phase needs the friction while a ball slips, and mu_s >= mu_r for every ball (with mu_r > mu_s a
+    ball whose stiction breaks would decelerate at once in its slip: it could neither stick nor slip)."""
+    rolling, static = (None if v is None else per_ball(key, v, n, nonnegative=True)
+                       for key, v in (("rolling_resistance", rolling), ("static_friction", static)))
+    if static is not None:
+        if rolling is None:
+            raise SceneError("static_friction", "needs rolling_resistance (the friction while a ball slips)")
+        pairs = zip(*(v if isinstance(v, tuple) else (v,) * n for v in (rolling, static)))
+        for i, (r, s) in enumerate(pairs):
+            if s < r:
+                raise SceneError("static_friction", f"must be >= rolling_resistance (ball {i + 1}: {s!r} < {r!r})")
+    return rolling, static
+
+
+class BallFriction:
+    """What a scene with `rolling_resistance`, `static_friction` (each None, one value or n) and `n` says about
+    ball-race friction (issue 37), in both families."""
+
+    @property
+    def friction(self) -> bool:
+        """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
+        return self.rolling_resistance is not None
+
+    @property
+    def stiction(self) -> bool:
+        """The stick phase is modelled (static_friction given): the model carries each ball's mode."""
+        return self.static_friction is not None
+
+    def static_frictions(self) -> tuple[float, ...]:
+        s = self.static_friction
+        return s if isinstance(s, tuple) else (0.0 if s is None else s,) * self.n
+
+    def rolling_resistances(self) -> tuple[float, ...]:
+        r = self.rolling_resistance
+        return r if isinstance(r, tuple) else (0.0 if r is None else r,) * self.n
+
+
 def xy(name: str, value: Any, **kw) -> tuple[float, float] | float:
     """A scalar (isotropic) or a pair (X, Y)."""
     if isinstance(value, (list, tuple)):

@@ -18,7 +18,11 @@
  * and every ball whose root lies within 64 ulp of it switches there (symmetric balls switch together).  A
  * ball that switches is decided at the event's state: held stuck (stuck = 1, phi' = 0) if the margin
  * computed in the stuck mode is >= 0, else slipping in the direction opposite to the force it would need
- * (slip_dir = -sign F; friction then acts with the kinetic coefficient).  The run restarts from the event
+ * (slip_dir = -sign F; friction then acts with the kinetic coefficient).  A slip so decided must not end
+ * at once: where a ball's slip ends within 64 ulp of the time it was decided and the ball is decided into
+ * slip again, no mode of that ball holds (mu_r > mu_s, the slip decelerating from its start: the scene
+ * refuses it, a parameter set by hand does not) and the run stops with HY_NO_MODE at that time rather than
+ * looping through events that do not advance it.  The run restarts from the event
  * (DOP853 is one-step: no history is lost).  An excursion of g below 0 and back within one step is not seen
  * (a slip reversing twice in one step); the step size keeps that to features shorter than a step.
  *
@@ -53,12 +57,29 @@
 #define HY_LOCATE_ITERATIONS 200
 #endif
 
-enum { HY_OK = 0, HY_MAX_STEPS = 1, HY_MAX_EVENTS = 2, HY_UNDERFLOW = 3, HY_NONFINITE = 4 };
+#ifndef HY_MODE_CHECK /* the consistency check of a decided slip (a test plants 0: the loop it stops) */
+#define HY_MODE_CHECK 1
+#endif
+
+enum { HY_OK = 0, HY_MAX_STEPS = 1, HY_MAX_EVENTS = 2, HY_UNDERFLOW = 3, HY_NONFINITE = 4, HY_NO_MODE = 5 };
 
 typedef struct {
     int nb;
     const int *stuck, *dir, *rate_state, *m_rate, *m_margin, *m_force;
+    int na; /* acceleration inputs of the measures: p[acc_param[j]] = the rhs' f[acc_state[j]] */
+    const int *acc_param, *acc_state;
 } Balls;
+
+/* A model whose switching functions hold accelerations it has no closed form for (a rotor core solved
+ * numerically in its rhs) declares them as parameters accel_<coordinate>, which only its measures read: they
+ * are filled here from the model's own rhs at the same (t, y, p, modes) before such a measure is evaluated. */
+static void accelerations(const Balls *B, double t, const double *y, double *p)
+{
+    if (!B->na) return;
+    double f[ADB_NY];
+    ADB_RHS(t, y, p, f);
+    for (int j = 0; j < B->na; ++j) p[B->acc_param[j]] = f[B->acc_state[j]];
+}
 
 typedef struct {
     double t0, h, y[ADB_NY], F[7][ADB_NY];
@@ -76,9 +97,12 @@ static void step_at(const Step *s, double t, double *out)
 }
 
 /* ball b's switching function in its present mode: >= 0 while the mode holds */
-static double switching(const Balls *B, int b, double t, const double *y, const double *p)
+static double switching(const Balls *B, int b, double t, const double *y, double *p)
 {
-    if (p[B->stuck[b]] > 0.5) return ADB_MEASURE(B->m_margin[b], t, y, p);
+    if (p[B->stuck[b]] > 0.5) {
+        accelerations(B, t, y, p);
+        return ADB_MEASURE(B->m_margin[b], t, y, p);
+    }
     return p[B->dir[b]] * ADB_MEASURE(B->m_rate[b], t, y, p);
 }
 
@@ -86,8 +110,16 @@ static double switching(const Balls *B, int b, double t, const double *y, const 
  * from the force it would need; returns the mode as +1 / -1 (slip direction) or 0 (stuck) */
 static int decide(const Balls *B, int b, double t, double *y, double *p)
 {
-    y[B->rate_state[b]] = 0.0;
+    /* at rest on the race: the ball's rate state moved by its slip rate until that is exactly 0 (one pass
+     * where the slip rate is the state itself; two where it is relative to the race's rate, the second
+     * removing the first's rounding) */
+    for (int it = 0; it < 4; ++it) {
+        double g = ADB_MEASURE(B->m_rate[b], t, y, p);
+        if (g == 0.0) break;
+        y[B->rate_state[b]] -= g;
+    }
     p[B->stuck[b]] = 1.0;
+    accelerations(B, t, y, p);
     if (ADB_MEASURE(B->m_margin[b], t, y, p) >= 0.0) {
         p[B->dir[b]] = 0.0;
         return 0;
@@ -99,7 +131,7 @@ static int decide(const Balls *B, int b, double t, double *y, double *p)
 }
 
 /* the first t in (a, b] of the step where ball's g < 0, given g(a) >= 0 > g(b): bisection to adjacent doubles */
-static double locate(const Balls *B, int ball, const Step *s, double a, double b, const double *p)
+static double locate(const Balls *B, int ball, const Step *s, double a, double b, double *p)
 {
     double y[ADB_NY];
     for (int it = 0; it < HY_LOCATE_ITERATIONS; ++it) {
@@ -119,21 +151,24 @@ int adb_hybrid_run(const double *y0, double t0, double t1, double *p, int nb, co
                    const int *rate_state, const int *m_rate, const int *m_margin, const int *m_force, double rtol,
                    double atol, long max_steps, const double *t_eval, long n_eval, double *y_eval, double *ev_t,
                    int *ev_ball, int *ev_mode, long max_events, long *n_events, double *t_reached, double *y_end,
-                   long *n_steps)
+                   long *n_steps, int na, const int *acc_param, const int *acc_state)
 {
-    Balls B = {nb, stuck, dir, rate_state, m_rate, m_margin, m_force};
+    Balls B = {nb, stuck, dir, rate_state, m_rate, m_margin, m_force, na, acc_param, acc_state};
     const double *ctx = p;
     double y[ADB_NY], ynew[ADB_NY], K[DOP_EXTENDED][ADB_NY], e5, e3;
     memcpy(y, y0, sizeof y);
     double t = t0;
     long ne = 0, k_eval = 0, steps = 0;
     int status = HY_OK;
+    double slipped[64]; /* per ball: the time of its last decision into slip (none since, or stuck: -inf) */
+    for (int b = 0; b < 64; ++b) slipped[b] = -INFINITY;
     for (int b = 0; b < nb; ++b) { /* the modes at the start */
-        double rate = y[rate_state[b]];
+        double rate = ADB_MEASURE(m_rate[b], t, y, p); /* relative to the race */
         if (rate == 0.0) {
             int mode = decide(&B, b, t, y, p);
             if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
             ++ne;
+            if (b < 64 && mode != 0) slipped[b] = t;
         } else {
             p[stuck[b]] = 0.0;
             p[dir[b]] = rate > 0.0 ? 1.0 : -1.0;
@@ -191,7 +226,12 @@ int adb_hybrid_run(const double *y0, double t0, double t1, double *p, int nb, co
                 int mode = decide(&B, b, t, y, p);
                 if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
                 ++ne;
+                /* a slip decided that ended within 64 ulp of its start and is decided again: the ball can
+                 * neither stick nor slip; stop, not loop through events that do not advance time */
+                if (mode != 0 && HY_MODE_CHECK && t - slipped[b] <= close) status = HY_NO_MODE;
+                slipped[b] = mode != 0 ? t : -INFINITY;
             }
+            if (status == HY_NO_MODE) break;
             if (ne >= max_events) { status = HY_MAX_EVENTS; RK_RHS(t, y, K[0]); break; }
             RK_RHS(t, y, K[0]);
             h = fmax(h, hs);

@@ -18,9 +18,10 @@ import numpy as np
 from ..results import SUCCESS
 from . import hybrid
 
-# hybrid.STATUS names -> the project's statuses (results.FAILURES); max_events has no other engine's twin
+# hybrid.STATUS names -> the project's statuses (results.FAILURES); max_events has no other engine's twin;
+# no_consistent_mode is said as itself (a ball that can neither stick nor slip, not a solver's failure)
 _STATUS = {"success": SUCCESS, "max_steps": "max_steps", "step_underflow": "step_underflow",
-           "nonfinite": "nonfinite", "max_events": "solver_failure"}
+           "nonfinite": "nonfinite", "max_events": "solver_failure", "no_consistent_mode": "no_consistent_mode"}
 
 
 def has_stick_phase(model) -> bool:

@@ -18,7 +18,7 @@ from functools import lru_cache
 import sympy as sp
 
 from ...core import Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, speed_schedule, time_derivative
-from ...core.friction import race_reaction, slip_direction
+from ...core.friction import race_reaction, slip_direction, stick_row
 from ...errors import SceneError
 from .scene import Scene, profile_expression
 from .symbols import DimensionalSymbols, t
@@ -127,7 +127,7 @@ def stick_rows(lag: SinglePlaneLagrangian, residuals: list[sp.Expr], coordinates
     out = list(residuals)
     for i in range(lag.scene.n):
         k = names.index(f"phi_{i + 1}")
-        out[k] = (1 - s.stuck[i]) * residuals[k] + s.stuck[i] * s.m[i] * s.R**2 * coordinates[k].qdd
+        out[k] = stick_row(residuals[k], s.stuck[i], s.m[i], s.R, coordinates[k].qdd)
     return out
 
 

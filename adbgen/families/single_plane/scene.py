@@ -30,7 +30,8 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ...core import speed_schedule
-from ...core.scene_fields import Key, number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
+from ...core.scene_fields import (BallFriction, Key, friction_coefficients, number as _number, per_ball as _per_ball,
+                                 speed_law_name, xy as _xy)
 from ...errors import SceneError
 
 # a schedule's keys in the order of its phases: run-up ramp, hold, temporary speed reduction (fall, plateau,
@@ -206,7 +207,7 @@ KEYS = (
 
 
 @dataclass(frozen=True)
-class Scene:
+class Scene(BallFriction):
     """A single-plane automatic dynamic balancer (thesis ch. 2, Figure 2.1)."""
 
     n: int = 2
@@ -249,15 +250,7 @@ class Scene:
         speed = raw["speed"]
         if not isinstance(speed, SpeedLaw):
             speed = SpeedLaw.from_mapping(speed)
-        rolling, static = (None if raw[key] is None else _per_ball(key, raw[key], n, nonnegative=True)
-                           for key in ("rolling_resistance", "static_friction"))
-        if static is not None:
-            if rolling is None:
-                raise SceneError("static_friction", "needs rolling_resistance (the friction while a ball slips)")
-            pairs = zip(*(v if isinstance(v, tuple) else (v,) * n for v in (rolling, static)))
-            for i, (r, s) in enumerate(pairs):
-                if s < r:
-                    raise SceneError("static_friction", f"must be >= rolling_resistance (ball {i + 1}: {s!r} < {r!r})")
+        rolling, static = friction_coefficients(raw["rolling_resistance"], raw["static_friction"], n)
         return cls(
             n=n,
             rotor_mass=_number("rotor_mass", raw["rotor_mass"], positive=True),
@@ -296,24 +289,6 @@ class Scene:
     @property
     def equal_balls(self) -> bool:
         return not any(isinstance(v, tuple) for v in (self.ball_mass, self.ball_damping, self.rolling_resistance))
-
-    @property
-    def friction(self) -> bool:
-        """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
-        return self.rolling_resistance is not None
-
-    @property
-    def stiction(self) -> bool:
-        """The stick phase is modelled (static_friction given): the model carries each ball's mode."""
-        return self.static_friction is not None
-
-    def static_frictions(self) -> tuple[float, ...]:
-        s = self.static_friction
-        return s if isinstance(s, tuple) else (0.0 if s is None else s,) * self.n
-
-    def rolling_resistances(self) -> tuple[float, ...]:
-        r = self.rolling_resistance
-        return r if isinstance(r, tuple) else (0.0 if r is None else r,) * self.n
 
     @property
     def isotropic(self) -> bool:

@@ -116,9 +116,10 @@ def c3_form(system: FirstOrderSystem) -> ClosedForm:
 
 
 def describe(system: FirstOrderSystem, scene: TwoPlaneScene, parameter_sets: Mapping | None = None,
-             steady: tuple[str, ...] = (), forcing: str | None = None) -> Description:
+             steady: tuple[str, ...] = (), forcing: str | None = None, measures: Mapping | None = None) -> Description:
     """A two-plane model's description; `steady`: which closed forms it gets ("B", "C3"); `forcing`: the
-    forcing frequency's parameter as declared (None: found in the equations, for a scene's model)."""
+    forcing frequency's parameter as declared (None: found in the equations, for a scene's model); `measures`:
+    more measures (a stiction model's switching functions, `friction.measures`)."""
     coords = [c.name for c in system.coordinates]
     rotor = ("x", "y") if "x" in coords else ("X", "Y")
     roles = {c: ("translation" if c in rotor else "tilt" if c in _TILTS else "spin_angle" if c == "theta_0"
@@ -142,7 +143,7 @@ def describe(system: FirstOrderSystem, scene: TwoPlaneScene, parameter_sets: Map
                                         "None elsewhere, where C3 may still exist", "C3"))
     return Description(
         time_unit="s" if scene.si else "1", units=units, roles=roles, angles=tuple(c for c in coords if roles[c].endswith("angle")),
-        amplitude=rotor, measures={"A": vibration(system), **spin_measures(system.solve.eom)},
+        amplitude=rotor, measures={"A": vibration(system), **spin_measures(system.solve.eom), **(measures or {})},
         forcing_frequency=forcing_parameter(system.solve.eom) if forcing is None else forcing, symmetries=symmetries(system, scene),
         parameter_sets=dict(parameter_sets or {}),
         scales={"eccentricity": "epsilon", **({"speed": speed} if speed else {})},

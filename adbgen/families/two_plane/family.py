@@ -22,6 +22,14 @@ class TwoPlane(PackageFamily):
 
         return {"fixed": derive, "rotating": rotating_frame, "first-order": lambda scene: for_scene(scene).system()}
 
+    def checks(self, ns=None) -> list:
+        """The derivation's checks (``verify.registered``) and those that run a generated model (the analysis
+        layer, which the derivation's verify.py may not import; loaded by name as single_plane's are)."""
+        from importlib import import_module
+
+        return super().checks(ns) + [getattr(import_module(module), attribute)
+                                     for module, attribute in (ref.split(":") for ref in SCIENCE_CHECKS)]
+
     def kinds(self) -> dict:
         return {}  # the paper's set-ups have two balls per race; its models are not indexed by n
 
@@ -29,5 +37,8 @@ class TwoPlane(PackageFamily):
         return {"two-plane": "adbgen.families.two_plane.science.reproduce:REPRODUCTION",
                 "two-plane-orbits": "adbgen.families.two_plane.science.periodic_orbits:REPRODUCTION"}
 
+
+# checks that run a generated model, "module:attribute" of a core.checks.Registered
+SCIENCE_CHECKS = ("adbgen.families.two_plane.science.stick_slip_energy:REGISTERED",)
 
 FAMILY = TwoPlane()

@@ -42,7 +42,7 @@ import sympy as sp
 
 from ...core import (Coordinate, EnergyTerm, EquationsOfMotion, lagrange_equations, reduce_pythagorean,
                          speed_schedule, time_derivative)
-from ...core.friction import race_reaction, slip_direction
+from ...core.friction import race_reaction, slip_direction, stick_row
 from .scene import TwoPlaneScene
 from .symbols import TwoPlaneSymbols, t
 
@@ -211,10 +211,51 @@ def friction_forces(lag: TwoPlaneLagrangian) -> dict[str, sp.Expr]:
     out = {}
     for k in range(lag.scene.n):
         rate = Coordinate.make(f"theta_{k + 1}").qd - th0.qd
-        out[f"theta_{k + 1}"] = -s.R[k] * s.mu_r[k] * slip_direction(rate) * normal[k]
+        # with stiction along the ball's mode slip_dir_k, set by the event driver (each mode's field smooth, as
+        # single_plane.model.friction_forces says), else sign(theta_k' - theta_0')
+        direction = s.slip_dir[k] if s.slip_dir else slip_direction(rate)
+        out[f"theta_{k + 1}"] = -s.R[k] * s.mu_r[k] * direction * normal[k]
     if lag.scene.speed.law == "torque":
         out["theta_0"] = lag.forces["theta_0"] - sum(out.values(), sp.S.Zero)
     return out
+
+
+def stick_rows(lag: TwoPlaneLagrangian, eom: EquationsOfMotion) -> list[sp.Expr]:
+    """The hybrid system's rows (issue 37 item 2) from the slip model's `eom`: ball k's row is its slip row
+    while stuck_k = 0 and the constraint m_k R_k^2 (theta_k'' - theta_0'') = 0 while stuck_k = 1
+    (`core.friction.stick_row`).  Under a torque drive the spin's row holds the reaction of every ball's
+    friction (`friction_forces`); for a stuck ball that reaction is the constraint's multiplier, the
+    frictionless ball row, so the spin's row gets + stuck_k (ball k's slip row): its kinetic reaction cancels
+    and the frictionless row is added (row_0 + row_k = frictionless row_0 + frictionless row_k, the ball
+    carried by the rotor).  With every ball stuck no friction coefficient is left in the model."""
+    s = lag.symbols
+    names = [c.name for c in eom.coordinates]
+    th0 = Coordinate.make("theta_0")
+    slip = eom.residuals()
+    out = list(slip)
+    for k in range(lag.scene.n):
+        i = names.index(f"theta_{k + 1}")
+        out[i] = stick_row(slip[i], s.stuck[k], s.m[k], s.R[k], eom.coordinates[i].qdd - th0.qdd)
+        if "theta_0" in names:
+            out[names.index("theta_0")] += s.stuck[k] * slip[i]
+    return out
+
+
+def stick_forces(lag: TwoPlaneLagrangian) -> tuple[sp.Expr, ...]:
+    """F_k, the tangential force the race must exert on ball k (positive along increasing theta_k) for the
+    accelerations in it to hold: the frictionless ball row (paper (4), to first order in the vibration as
+    derived here) over R_k, since with friction that row reads ... = Q_k = R_k F_k.  Evaluated at the
+    constrained accelerations (theta_k'' = theta_0'') it is a stuck ball's required force, which holds while
+    |F_k| <= mu_s_k N_k (the stiction cone)."""
+    frictionless = _first_order_rows(lagrange_equations(lag.coordinates, lag.terms, t, forces=dict(lag.forces),
+                                                        driven=lag.driven, parameters=lag.symbols.parameters), lag)
+    th0 = Coordinate.make("theta_0")
+    out = []
+    for k in range(lag.scene.n):
+        ball = Coordinate.make(f"theta_{k + 1}")
+        row = frictionless.residual(frictionless.index(ball.name)) / lag.symbols.R[k]
+        out.append(sp.expand(row.xreplace({ball.qdd: th0.qdd})))
+    return tuple(out)
 
 
 def speed_law(scene: TwoPlaneScene, s: TwoPlaneSymbols) -> dict[sp.Symbol, sp.Expr]:
@@ -277,9 +318,14 @@ def derive(scene: TwoPlaneScene) -> EquationsOfMotion:
     if scene.friction:
         forces |= friction_forces(lag)
         reference += " with ball-race friction in slip (issue 37)"
+    if scene.stiction:
+        reference += " and stick"
     eom = lagrange_equations(lag.coordinates, lag.terms, t, forces=forces, driven=lag.driven,
                              parameters=lag.symbols.parameters, reference=reference)
     eom = _first_order_rows(eom, lag)
+    if scene.stiction:
+        eom = EquationsOfMotion.from_residuals(stick_rows(lag, eom), eom.coordinates, t, driven=eom.driven,
+                                               parameters=eom.parameters, reference=eom.reference)
     law = speed_law(scene, lag.symbols)
     if scene.speed.law == "constant":
         eom = replace(eom.map(lambda x: sp.expand(x.xreplace(law))), driven=())

@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 
 from ...core.model_spec import Check, Continuation, ModelSpec
-from . import description, verify
+from . import description, friction, verify
 from .model import derive
 from .reductions import balls_relative_to_spin, first_order, rotating_frame
 from .scene import TwoPlaneScene
@@ -58,6 +58,8 @@ def race_slots(sc: TwoPlaneScene):
                     "c_b": names.get(f"c_b{tag}", names.get("c_b"))}
             ball["z"] = names[f"z_{tag}"] if f"z_{tag}" in names else \
                 (names["z"] if race == 0 else -names["z"]) if "z" in names else None
+            for stem in ("stuck", "slip_dir", "mu_r", "mu_s"):  # a stiction model's modes and coefficients (issue 37)
+                ball[stem] = names.get(f"{stem}_{k + 1}")
             out.append({key: value for key, value in ball.items() if value is not None})
         return out
     return slots
@@ -177,9 +179,14 @@ def for_scene(sc: TwoPlaneScene, name: str | None = None) -> ModelSpec:
     frame of `model.derive` whatever the speed law, without a start or steady state (its balanced states are
     stuck states, where Coulomb's law in slip says nothing)."""
     law = sc.speed.law
+    extra = {}
     if sc.friction:  # issue 37: friction is derived in the fixed frame only; no closed-form steady state
         kind, system = f"friction_{law}", (lambda: first_order(derive(sc)))
         calls = (("friction_zero_limit",), ("friction_normal_force",))
+        if sc.stiction:  # the hybrid system: modes as parameters, switching functions as measures
+            kind = f"stick_{law}"
+            calls += (("friction_stick_rows",), ("friction_stick_force",))
+            extra = {"measures": lambda system: friction.measures(sc, system)}
     elif law == "constant" and sc.isotropic:
         kind, system, calls = "rotating", (lambda: first_order(rotating_frame(sc))), (("fixed_frame",), ("rotating",))
     elif law == "constant":
@@ -194,4 +201,5 @@ def for_scene(sc: TwoPlaneScene, name: str | None = None) -> ModelSpec:
     return ModelSpec(name or f"scene_two_plane_{kind}_n{sc.n}", f"Two-plane balancer with {sc.n} balls ({kind})",
                      sc.n, system, start, family=FAMILY, checks=checks(*calls), balls=race_slots(sc),
                      continuation=Continuation("Omega", direction=-1) if kind == "rotating" else None, kind="scene",
-                     describe=lambda system: description.describe(system, sc, steady=steady))
+                     describe=lambda system: description.describe(
+                         system, sc, steady=steady, **{k: f(system) for k, f in extra.items()}))

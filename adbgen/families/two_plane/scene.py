@@ -38,7 +38,8 @@ from typing import Any, Mapping
 
 from ...errors import SceneError
 from ...core import speed_schedule
-from ...core.scene_fields import Key, number as _number, per_ball as _per_ball, speed_law_name, xy as _xy
+from ...core.scene_fields import (BallFriction, Key, friction_coefficients, number as _number, speed_law_name,
+                                 xy as _xy)
 
 _SPEED_FIELDS = {
     "constant": {"law", "omega"},
@@ -198,6 +199,11 @@ KEYS = (
         "mu_r, ball-race friction while a ball slips: a tangential force mu_r N against the ball's motion relative "
         "to its race, N the race's normal force on the ball (derived); one value or a list (one per ball, race by "
         "race); absent: no friction (the paper's model)"),
+    Key("static_friction", "", "nonnegative",
+        "mu_s >= mu_r, stiction coefficient of a ball at rest on its race: one value or a list (one per ball, race "
+        "by race); given, the stick phase is derived: a ball at rest on its race stays there while the tangential "
+        "force it needs is within mu_s N (docs/friction.md)",
+        context={"rolling_resistance": 0.0}),
     Key("speed.law", "", "other", "how the spin is governed", '"constant", "ramp", "hill", "schedule" or "torque"'),
     Key("speed.omega", "rad/s", "positive", "constant spin speed (law = \"constant\")"),
     Key("speed.omega_max", "rad/s", "positive", "final spin speed of a run-up (law = \"ramp\" or \"hill\")",
@@ -221,7 +227,7 @@ KEYS = (
 
 
 @dataclass(frozen=True)
-class TwoPlaneScene:
+class TwoPlaneScene(BallFriction):
     """A two-plane automatic ball balancer on a rigid rotor (paper Figure 1)."""
 
     rotor_mass: float = 1.0  # M
@@ -237,6 +243,7 @@ class TwoPlaneScene:
     speed: TwoPlaneSpeed = field(default_factory=TwoPlaneSpeed)
     units: str = "dimensionless"  # or "SI": the units of the scene reference (KEYS)
     rolling_resistance: float | tuple[float, ...] | None = None  # mu_r or mu_r_k; None: no friction (issue 37)
+    static_friction: float | tuple[float, ...] | None = None  # mu_s or mu_s_k: the stick phase
 
     @property
     def si(self) -> bool:
@@ -252,7 +259,7 @@ class TwoPlaneScene:
             raise SceneError("<root>", "a scene is a table of options")
         known = {"preset", "rotor_mass", "transverse_inertia", "polar_inertia", "eccentricity", "imbalance_phase",
                  "misalignment", "bearing_1", "bearing_2", "races", "speed", "units",
-                 "rolling_resistance"}
+                 "rolling_resistance", "static_friction"}
         for key in sorted(map(str, data)):
             if key not in known:
                 raise SceneError(key, "unknown option")
@@ -282,9 +289,9 @@ class TwoPlaneScene:
             speed=speed if isinstance(speed, TwoPlaneSpeed) else TwoPlaneSpeed.from_mapping(speed),
             units=units,
         )
-        rolling = raw.get("rolling_resistance")
+        rolling, static = friction_coefficients(raw.get("rolling_resistance"), raw.get("static_friction"), scene.n)
         if rolling is not None:
-            scene = replace(scene, rolling_resistance=_per_ball("rolling_resistance", rolling, scene.n, nonnegative=True))
+            scene = replace(scene, rolling_resistance=rolling, static_friction=static)
         scene.validate()
         return scene
 
@@ -330,15 +337,6 @@ class TwoPlaneScene:
     @property
     def n(self) -> int:
         return len(self.ball_race)
-
-    @property
-    def friction(self) -> bool:
-        """Friction between ball and race is modelled (rolling_resistance given, zero or not)."""
-        return self.rolling_resistance is not None
-
-    def rolling_resistances(self) -> tuple[float, ...]:
-        r = self.rolling_resistance
-        return r if isinstance(r, tuple) else (r,) * self.n
 
     def masses(self) -> tuple[float, ...]:
         return tuple(m for race in self.races for m in race.masses)

@@ -45,6 +45,11 @@ class TwoPlaneSymbols:
     Omega_cyl: sp.Symbol
     parameters: tuple[Parameter, ...]
     mu_r: tuple[sp.Expr, ...] = ()  # rolling resistance per ball (one symbol n times for one value); () without friction
+    mu_s: tuple[sp.Expr, ...] = ()  # stiction per ball; () without static_friction
+    stuck: tuple[sp.Symbol, ...] = ()  # each ball's mode: 1 stuck on its race (theta_k' = theta_0' held), 0 slipping
+    slip_dir: tuple[sp.Symbol, ...] = ()  # the direction (+1 or -1) of ball k's slip (its mode), set by the driver
+    accel: dict = None  # with stiction: {coordinate name: accel_<name>}, the core's accelerations as inputs of the
+    #                     switching functions (the 4 x 4 / 5 x 5 core has no closed-form solve), filled by the driver
 
     @classmethod
     def for_scene(cls, scene: TwoPlaneScene) -> "TwoPlaneSymbols":
@@ -100,18 +105,39 @@ class TwoPlaneSymbols:
             add(c_r, "torsional damping c_r (3)", "N m s/rad", sp_.torsion_damping)
             add(tau0, "stall torque of the drive", "N m", sp_.tau0)
             add(kappa, "slope of the drive's torque-speed line", "N m s/rad", sp_.motor_slope)
+        def coefficient(name, what, given, values):  # one symbol for every ball, or one each (issue 37)
+            if isinstance(given, tuple):
+                return tuple(params.add(nonnegative(f"{name}_{i + 1}"), f"{what}, ball {i + 1}", "dimensionless",
+                                        values[i]) for i in range(scene.n))
+            return (params.add(nonnegative(name), what, "dimensionless", values[0]),) * scene.n
+
         mu_r: tuple[sp.Expr, ...] = ()
-        if scene.friction:  # one symbol for every ball, or one each (issue 37)
-            what, values = "rolling resistance of the balls on their race while slipping (tangential / normal force)", \
-                scene.rolling_resistances()
-            if isinstance(scene.rolling_resistance, tuple):
-                mu_r = tuple(params.add(nonnegative(f"mu_r_{i + 1}"), f"{what}, ball {i + 1}", "dimensionless", values[i])
-                             for i in range(scene.n))
-            else:
-                mu_r = (params.add(nonnegative("mu_r"), what, "dimensionless", values[0]),) * scene.n
+        mu_s: tuple[sp.Expr, ...] = ()
+        stuck: tuple[sp.Symbol, ...] = ()
+        slip_dir: tuple[sp.Symbol, ...] = ()
+        if scene.friction:
+            mu_r = coefficient("mu_r", "rolling resistance of the balls on their race while slipping (tangential / "
+                               "normal force)", scene.rolling_resistance, scene.rolling_resistances())
+        if scene.stiction:  # the hybrid system's mode is a parameter of the model, set by the event driver
+            mu_s = coefficient("mu_s", "stiction of a ball at rest on its race (largest tangential force / normal "
+                               "force)", scene.static_friction, scene.static_frictions())
+            stuck = tuple(params.add(sp.Symbol(f"stuck_{i + 1}", real=True), f"mode of ball {i + 1}: 1 stuck on its "
+                                     "race, 0 slipping (set by the event driver)", "dimensionless", 0.0)
+                          for i in range(scene.n))
+            slip_dir = tuple(params.add(sp.Symbol(f"slip_dir_{i + 1}", real=True), f"direction (+1, -1) of ball "
+                                        f"{i + 1}'s slip, its mode while slipping (set by the event driver)",
+                                        "dimensionless", 0.0) for i in range(scene.n))
+        accel = {}
+        if scene.stiction:
+            core = ("X", "Y", "phi_X", "phi_Y") + (("theta_0",) if sp_.law == "torque" else ())
+            for name in core:
+                unit = "m/s^2" if name in ("X", "Y") else "rad/s^2"
+                accel[name] = add(sp.Symbol(f"accel_{name}", real=True), f"{name}'' as an input of the switching "
+                                  "functions only (filled from the rhs by the event driver; not a parameter to set)",
+                                  unit, 0.0)
         return cls(M, Jt, Jp, eps, beta, chi, l1, l2, k, c, m, tuple(race_R[r] for r in races),
                    tuple(race_z[r] for r in races), tuple(race_cb[r] for r in races), Omega, c_r, tau0, kappa,
-                   Om_max, t_ramp, t_half, Om_cyl, params.sorted(), mu_r)
+                   Om_max, t_ramp, t_half, Om_cyl, params.sorted(), mu_r, mu_s, stuck, slip_dir, accel)
 
 
 __all__ = ["TwoPlaneSymbols", "RACE_TAGS", "t"]

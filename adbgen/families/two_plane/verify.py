@@ -515,28 +515,36 @@ def friction_zero_limit(wrong: bool = False) -> CheckResult:
     return _timed("friction, zero limit", "paper (2)-(4) at mu_r = 0 (issue 37)", run)
 
 
+def _ball_acceleration(lag, k_: int) -> tuple[sp.Matrix, sp.Matrix]:
+    """Ball k_'s acceleration in the space frame (its exact position of section 2.1 differentiated twice) and
+    the race plane's tilt (Cxyz -> space-parallel), for the checks of the race's forces by Newton's law."""
+    from .model import ball_position, rotations
+
+    R1, R2, _ = rotations(Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q, Coordinate.make("theta_0").q)
+    tilt_T = (R2 * R1).T
+    everything = lag.coordinates + lag.driven
+    position = ball_position(lag.symbols, k_, lag.symbols.R[k_], tilt_T)
+    return position.applyfunc(lambda x: time_derivative(time_derivative(x, everything, t), everything, t)), tilt_T
+
+
 def friction_normal_force(wrong: bool = False) -> CheckResult:
     """N_k (`model.normal_forces`, Lagrange's equation of a radial coordinate) against Newton's law along the
     race radius, N_k = -m_k a_k . e_r, a_k the ball's position (exact rotations of section 2.1) differentiated
     twice and e_r the race plane's radial unit vector, both kept to first order in the vibration, identical
     under the torque drive (theta_0 a coordinate).  wrong: the Coriolis part of the derived force,
     2 m_k R_k theta_0' (theta_k' - theta_0'), dropped."""
-    from .model import ball_position, first_order, lagrangian, normal_forces, rotations
+    from .model import first_order, lagrangian, normal_forces
 
     def run():
         lag = lagrangian(friction_scene("torque"))
         s = lag.symbols
         th0 = Coordinate.make("theta_0")
-        R1, R2, _ = rotations(Coordinate.make("phi_X").q, Coordinate.make("phi_Y").q, th0.q)
-        tilt_T = (R2 * R1).T
-        everything = lag.coordinates + lag.driven
         bad = []
         for k_, N in enumerate(normal_forces(lag)):
             ball = Coordinate.make(f"theta_{k_ + 1}")
             if wrong:
                 N = N - 2 * s.m[k_] * s.R[k_] * th0.qd * (ball.qd - th0.qd)
-            position = ball_position(s, k_, s.R[k_], tilt_T)
-            a = position.applyfunc(lambda x: time_derivative(time_derivative(x, everything, t), everything, t))
+            a, tilt_T = _ball_acceleration(lag, k_)
             e_r = tilt_T * sp.Matrix([sp.cos(ball.q), sp.sin(ball.q), 0])
             if not is_identity(N, first_order(-s.m[k_] * a.dot(e_r))):
                 bad.append(k_ + 1)
@@ -544,6 +552,92 @@ def friction_normal_force(wrong: bool = False) -> CheckResult:
             return False, f"the normal force of balls {bad} differs from Newton's law along the radius"
         return True, f"N_k = -m_k a_k . e_r to first order in the vibration, identically, for all {lag.scene.n} balls"
     return _timed("friction, normal force", "paper section 2.1 kinematics, Newton along the race radius (issue 37)", run)
+
+
+def stiction_scene(law: str = "torque") -> TwoPlaneScene:
+    """`friction_scene` with stiction (issue 37 item 2), mu_s_k = 2 mu_r_k: the hybrid model's modes."""
+    scene = friction_scene(law)
+    return replace(scene, static_friction=tuple(2 * r for r in scene.rolling_resistances()))
+
+
+def friction_stick_rows(wrong: bool = False) -> CheckResult:
+    """The hybrid system's rows (`model.stick_rows`), torque drive and constant speed: every ball slipping
+    (stuck_k = 0) with mu_r = 0 gives the paper's rows exactly, and with slip_dir_k = sign(theta_k' - theta_0')
+    the slip model's rows at any mu_r; every ball stuck (stuck_k = 1) gives ball rows m_k R_k^2 (theta_k'' -
+    theta_0'') and, under the torque drive, the spin's row of the paper's model plus every ball's row (the
+    balls carried by the rotor), with no friction coefficient left.  wrong: the spin's row keeps the kinetic
+    reaction of a stuck ball (its stuck_k times the ball's slip row not added)."""
+    from ...core.friction import slip_direction
+    from .model import speed_law
+
+    def run():
+        for law in ("torque", "constant"):
+            scene = stiction_scene(law)
+            s = TwoPlaneSymbols.for_scene(scene)
+            mine, slip, today = derive(scene), derive(friction_scene(law)), derive(general_scene(law))
+            names = [c_.name for c_ in mine.coordinates]
+            rows = mine.residuals()
+            slipping, held = {x: 0 for x in s.stuck}, {x: 1 for x in s.stuck}
+            if wrong and "theta_0" in names:
+                i0 = names.index("theta_0")
+                rows[i0] -= sum((x * rows[names.index(f"theta_{k_ + 1}")].xreplace(slipping)
+                                 for k_, x in enumerate(s.stuck)), sp.S.Zero)
+            zero = {x: 0 for x in s.mu_r} | slipping
+            th0 = Coordinate.make("theta_0")
+            spin = speed_law(scene, s) if law == "constant" else {}  # theta_0' = Omega there
+            mode = {s.slip_dir[k_]: slip_direction((Coordinate.make(f"theta_{k_ + 1}").qd - th0.qd).xreplace(spin))
+                    for k_ in range(scene.n)}
+            bad = [n_ for i, n_ in enumerate(names) if not is_identity(rows[i].xreplace(zero), today.residual(i))]
+            bad += [n_ + " (slip)" for i, n_ in enumerate(names)
+                    if not is_identity(rows[i].xreplace(slipping).xreplace(mode), slip.residual(i))]
+            for i, n_ in enumerate(names):
+                stuck_row = rows[i].xreplace(held)
+                if n_ == "theta_0":
+                    want = today.residual(i) + sum((today.residual(names.index(f"theta_{k_ + 1}"))
+                                                    for k_ in range(scene.n)), sp.S.Zero)
+                elif n_.startswith("theta_"):
+                    k_ = int(n_.split("_")[1]) - 1
+                    ball = Coordinate.make(n_)
+                    want = s.m[k_] * s.R[k_] ** 2 * (ball.qdd - (th0.qdd if "theta_0" in names else 0))
+                else:
+                    want = today.residual(i)
+                if not is_identity(stuck_row, want) or set(s.mu_r) & stuck_row.free_symbols:
+                    bad.append(n_ + " (stuck)")
+            if bad:
+                return False, f"{law}: rows {bad} differ"
+        return True, ("torque drive and constant speed, 3 + 1 balls: slipping at mu_r = 0 the paper's rows, with "
+                      "slip_dir = sign the slip model's; all stuck: the constraint rows, the spin's row of the "
+                      "rotor carrying the balls, no mu_r")
+    return _timed("friction, stick rows", "paper (2)-(4) with stick constraints (issue 37)", run)
+
+
+def friction_stick_force(wrong: bool = False) -> CheckResult:
+    """F_k (`model.stick_forces`: the frictionless ball row over R_k, at theta_k'' = theta_0'') against
+    Newton's law along the race's tangent, m_k a_k . e_t = F_k - c_b (theta_k' - theta_0') / R_k (the race's
+    friction and the race damping the ball's tangential forces), a_k the exact position of section 2.1
+    differentiated twice and e_t the race plane's tangent, both to first order in the vibration, identical
+    under the torque drive.  wrong: the race damping's part dropped from the derived force."""
+    from .model import first_order, lagrangian, stick_forces
+
+    def run():
+        lag = lagrangian(stiction_scene("torque"))
+        s = lag.symbols
+        th0 = Coordinate.make("theta_0")
+        bad = []
+        for k_, F in enumerate(stick_forces(lag)):
+            ball = Coordinate.make(f"theta_{k_ + 1}")
+            drag = s.cb[k_] * (ball.qd - th0.qd) / s.R[k_]
+            if wrong:
+                F = F - drag
+            a, tilt_T = _ball_acceleration(lag, k_)
+            e_t = tilt_T * sp.Matrix([-sp.sin(ball.q), sp.cos(ball.q), 0])
+            newton = (first_order(s.m[k_] * a.dot(e_t)) + drag).xreplace({ball.qdd: th0.qdd})
+            if not is_identity(F, newton):
+                bad.append(k_ + 1)
+        if bad:
+            return False, f"the stick force of balls {bad} differs from Newton's law along the tangent"
+        return True, f"F_k = m_k a_k . e_t + c_b (theta_k' - theta_0') / R_k to first order, for all {lag.scene.n} balls"
+    return _timed("friction, stick force", "paper section 2.1 kinematics, Newton along the race tangent (issue 37)", run)
 
 
 def registered(ns=()) -> list[Registered]:
@@ -575,6 +669,8 @@ def registered(ns=()) -> list[Registered]:
         Registered("Figure 9", DERIVED, lambda wrong: figure_9(wrong=wrong), "normal-form slopes and masses 2 % too large"),
         Registered("friction, zero limit", DERIVED, one(friction_zero_limit), "the frictionless first row with a flipped term"),
         Registered("friction, normal force", DERIVED, one(friction_normal_force), "the Coriolis term 2 m R theta_0' (theta_k' - theta_0') dropped"),
+        Registered("friction, stick rows", DERIVED, one(friction_stick_rows), "the spin's row keeping a stuck ball's kinetic friction"),
+        Registered("friction, stick force", DERIVED, one(friction_stick_force), "the race damping's part of the stick force dropped"),
     ]
 
 

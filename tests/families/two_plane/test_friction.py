@@ -1,4 +1,5 @@
-"""Ball-race friction in the two-plane family (issue 37 item 1): scene key, zero-friction limit, normal force."""
+"""Ball-race friction in the two-plane family (issue 37 items 1 and 2): scene keys, zero-friction limit, normal
+force, the stick phase's rows and required force."""
 
 import pytest
 
@@ -22,7 +23,46 @@ def test_rolling_resistance_key():
         TwoPlaneScene.from_mapping({"rolling_resistance": [0.01, 0.02]})
 
 
-@pytest.mark.parametrize("check", [verify.friction_zero_limit, verify.friction_normal_force])
+def test_static_friction_key():
+    scene = TwoPlaneScene.from_mapping({"rolling_resistance": 0.01, "static_friction": [0.02, 0.03, 0.04, 0.05]})
+    assert scene.stiction and scene.static_frictions() == (0.02, 0.03, 0.04, 0.05)
+    s = TwoPlaneSymbols.for_scene(scene)
+    assert len(set(s.mu_s)) == 4 and len(set(s.mu_r)) == 1
+    names = {p.name for p in s.parameters}
+    assert {"stuck_1", "stuck_4", "slip_dir_1", "slip_dir_4"} <= names
+    plain = TwoPlaneSymbols.for_scene(TwoPlaneScene.from_mapping({"rolling_resistance": 0.01}))
+    assert plain.mu_s == plain.stuck == plain.slip_dir == ()  # negative control: no stiction, no modes
+
+
+@pytest.mark.parametrize("mapping, why", [
+    ({"static_friction": 0.02}, "needs rolling_resistance"),
+    ({"rolling_resistance": 0.02, "static_friction": 0.01}, "ball 1"),
+    ({"rolling_resistance": [0.01, 0.01, 0.03, 0.01], "static_friction": 0.02}, "ball 3"),
+    ({"rolling_resistance": 0.01, "static_friction": -0.1}, "static_friction"),
+])
+def test_static_friction_below_rolling_resistance_is_refused_per_ball(mapping, why):
+    """mu_r > mu_s leaves a ball with no consistent mode (it can neither stick nor slip): refused in one line,
+    naming the ball; mu_s = mu_r is allowed (the control beside each refusal)."""
+    with pytest.raises(SceneError, match=why) as err:
+        TwoPlaneScene.from_mapping(mapping)
+    assert "\n" not in str(err.value)
+    if "rolling_resistance" in mapping:
+        TwoPlaneScene.from_mapping({**mapping, "static_friction": mapping["rolling_resistance"]})
+
+
+def test_a_stiction_scene_gets_the_stick_model():
+    """kind stick_<law>, its checks include the stick rows and force; without static_friction (the control) the
+    slip model, without modes."""
+    from adbgen.families.two_plane.models import for_scene
+
+    spec = for_scene(TwoPlaneScene.from_mapping({"rolling_resistance": 0.01, "static_friction": 0.02}))
+    assert "stick_constant" in spec.name and any("friction_stick_rows" in c.key for c in spec.checks)
+    plain = for_scene(TwoPlaneScene.from_mapping({"rolling_resistance": 0.01}))
+    assert "friction_constant" in plain.name and not any("friction_stick_rows" in c.key for c in plain.checks)
+
+
+@pytest.mark.parametrize("check", [verify.friction_zero_limit, verify.friction_normal_force,
+                                   verify.friction_stick_rows, verify.friction_stick_force])
 def test_friction_checks_and_their_wrong_variants(check):
     assert check().passed
     assert not check(wrong=True).passed

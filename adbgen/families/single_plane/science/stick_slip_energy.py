@@ -90,22 +90,6 @@ def _lambdified(expr, args, values: dict):
                        "numpy")
 
 
-def modes_along(model, p, events, times) -> list[np.ndarray]:
-    """The parameters with each ball's mode (stuck_k, slip_dir_k) as the events set them, at each time: the
-    measures' accelerations (X'', Y'' from the model's solve) depend on the mode."""
-    out, k, current = [], 0, np.array(p, float)
-    for t in times:
-        while k < len(events) and events[k][0] <= t:
-            _, ball, mode = events[k]
-            current = current.copy()
-            current[model.param_names.index(f"stuck_{ball}")] = 1.0 if mode == "stick" else 0.0
-            if mode != "stick":
-                current[model.param_names.index(f"slip_dir_{ball}")] = 1.0 if mode == "slip+" else -1.0
-            k += 1
-        out.append(current)
-    return out
-
-
 def _run(model, t_eval=None):
     y0 = np.zeros(model.n_states)
     for name, value in START.items():
@@ -123,18 +107,7 @@ def balance(model, friction_factor: float = 1.0, normal: str = "model") -> tuple
     if first.status != "success":
         raise RuntimeError(f"the stick/slip run failed: {first.status} at t = {first.t_end}")
     ends = sorted({0.0, T_END, *(t for t, _, _ in first.events if 0.0 < t < T_END)})
-    x, w = np.polynomial.legendre.leggauss(NODES)
-    times, weights, marks = [], [], []
-    for a, b in zip(ends[:-1], ends[1:]):
-        pieces = max(1, math.ceil((b - a) / PIECE))
-        edges = np.linspace(a, b, pieces + 1)
-        for lo, hi in zip(edges[:-1], edges[1:]):
-            times += list((hi + lo) / 2 + (hi - lo) / 2 * x)
-            weights += list((hi - lo) / 2 * w)
-        times.append(b)
-        weights.append(0.0)
-        marks.append(len(times))  # its index once 0.0 is put first
-    times, weights = np.array([0.0] + times), np.array([0.0] + weights)
+    times, weights, marks = hybrid.gauss_nodes(ends, NODES, PIECE)
     second, _ = _run(model, times)
     if len(second.t) != len(times) or second.events != first.events:
         raise RuntimeError("the second run differs from the first")
@@ -142,7 +115,7 @@ def balance(model, friction_factor: float = 1.0, normal: str = "model") -> tuple
     values = dict(zip(model.param_names, p))
     f_energy, f_damping = (_lambdified(e, args, values) for e in (energy, dissipation))
     states = [Y[model.index(n)] for n in names]
-    modes = modes_along(model, p, first.events, times)
+    modes = hybrid.modes_along(model, p, first.events, times)
     radius, mu_r, m, tau0 = values["R"], values["mu_r"], values["m"], values["tau0"]
     friction = 0.0
     for k in (1, 2):
