@@ -539,6 +539,7 @@ class Design:
     verification: list = field(default_factory=list)  # the chosen design's runs at the box's corners
     verification_run_up: dict | None = None  # the chosen design's run-up (design_transients.verify_run_up)
     verification_run_up_note: str | None = None  # why there is none (one line)
+    residual: dict | None = None  # objective residual: its summary (design_transients.residual_summary)
 
 
 def _margin_sample(problem: Problem, design, x: float) -> Sample:

@@ -74,7 +74,20 @@ def to_json(design: Design, objective: str = "margin") -> dict:
             "verification_run_up": ({k: v for k, v in design.verification_run_up.items() if k != "trace"}
                                     if design.verification_run_up is not None else None),
             "verification_run_up_note": design.verification_run_up_note, "not_covered": NOT_COVERED,
-            "boundary_types": BOUNDARY_TYPES}
+            "boundary_types": BOUNDARY_TYPES, "residual": design.residual}
+
+
+def residual_lines(res: dict | None) -> list[str]:
+    """The residual objective's summary in the report (`design.residual`; none with another objective)."""
+    if res is None:
+        return []
+    kept = ", ".join(f"{k} = {_fmt(v)}" for k, v in res["kept"].items())
+    return [f"Residual imbalance r at rest in {res['unit']}: the {res['quantile']:g} quantile over {res['starts']} starts "
+            f"(seed {res['seed']}) per design" + (f", target {_fmt(res['target'])}" if res["target"] is not None else "")
+            + f"; runs at rest {res['at_rest']}, undecided {res['undecided']}, failed {res['failed']} (an undecided or "
+            "failed run leaves its design without a quantile, never counted as balanced)"
+            + (f"; the run model keeps its own {kept}" if kept else "") + "."
+            + (f" **{res['note']}.**" if res["note"] else f" Chosen: {_fmt(res['chosen_quantile'])}."), ""]
 
 
 def _fmt(x) -> str:
@@ -158,6 +171,7 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
                   f"{len(runs)} feasible designs run, {len(done)} computed"
                   + (f"; the smallest {value} {_fmt(min(r[value] for r in done))}." if done
                      else ". **None computed: no best design.**"), ""]
+    lines += residual_lines(design.residual)
     if design.verification:
         lines += [f"## Verification: the chosen design at the box's corners ({START_STATE})", "",
                   "| point | start | status | t_dec | r_max | r at the end | settled |", "|---|---|---|---|---|---|---|"]
