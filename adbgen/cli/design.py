@@ -5,7 +5,8 @@ adbgen/analysis/design_report.py, the page docs/design.md).
     adbgen design SCENE --range omega=LOW:HIGH [--range NAME=LOW:HIGH ...] --imbalance LOW:HIGH
                  --vary NAME=LOW:HIGH [--vary ...] [--set NAME=VALUE ...]
                  [--objective margin|t_dec|r_max-run-up|residual] [--runs MODEL|SCENE] [--run-set NAME=VALUE ...]
-                 [--run-time T] [--workers N] [--out DIR] [--json]
+                 [--run-time T] [--residual-starts N] [--residual-quantile Q] [--residual-target R]
+                 [--workers N] [--out DIR] [--json]
 
 SCENE: a generated model's name, a model folder, or a scene file (TOML).
 """
@@ -34,7 +35,8 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "objective_runs": "(--objective t_dec: [{design, point, start, status, t_end, threshold, t_dec, r_max, r_end, "
                                  "settled}]; r_max-run-up: [{design, point, run_model, mapped, status, t_end, "
                                  "threshold, r_max, t_dec, start}]; residual: [{design, point, run_model, mapped, "
-                                 "residual_quantile, quantile, starts, residuals, failed}])", "verification": "(the same run keys, at the box's corners)",
+                                 "residual_quantile, quantile, starts, residuals, failed, at_rest, undecided, "
+                                 "meets_target}])", "verification": "(the same run keys, at the box's corners)",
                "verification_start": "",
                "verification_run_up": "(the chosen design's run-up on --runs (default the design's model) where its speed law "
                                       "is a schedule: {design, point, run_model, mapped, start, status, t_end, schedule_end, "
@@ -44,7 +46,10 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "balls": "(--balls: [{n, feasible, best, margin, t_dec, objective_value, margin_uncertainty, capacity, "
                         "limit}])", "chosen_balls": "(--balls)",
                "balls_choice": "(--balls: {objective, value, method, ranking, chosen, runner_up, decided, why})",
-               "files": "(with --out)"}
+               "files": "(with --out)",
+               "residual": "(--objective residual: {run_model, kept, unit, starts, seed, quantile, target, "
+                           "chosen_quantile, designs_run, designs_decided, at_rest, undecided, failed, note}; null "
+                           "otherwise)"}
 JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
 
 
@@ -73,9 +78,10 @@ def _add_design(p) -> None:
                    help="what chooses the best design: margin (the largest worst decay rate over the box), t_dec "
                         "(the shortest t_dec at the operating point), r_max-run-up (the smallest r_max through the "
                         "run model's run-up: --runs, a scene whose [speed] law is a schedule) or residual (the "
-                        "smallest 0.9 quantile over 16 starts of the residual imbalance, stick-slip runs on --runs, a "
-                        "scene with static_friction; refused where there is no stick phase); the last three among at "
-                        "most 25 feasible designs assessed")
+                        "smallest quantile (--residual-quantile, 0.9) over starts (--residual-starts, 16) of the residual "
+                        "imbalance at rest, stick-slip runs on --runs, a scene with static_friction; without --runs a "
+                        "SCENE file with static_friction is designed on its frictionless twin and run as it is; refused "
+                        "where there is no stick phase); the last three among at most 25 feasible designs assessed")
     p.add_argument("--runs", metavar="MODEL|SCENE",
                    help="the model the r_max-run-up or residual runs use (default: the design's own): parameters it "
                         "shares by name take the design's values, its speed parameter the operating speed")
