@@ -21,9 +21,10 @@ from .design_transients import START_STATE, STARTS
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
 NOT_COVERED = ["the ball count with a generated model's name (--balls needs a scene file: the count is a scene's n)",
-               "Dask for every evaluation: the chart's grid and its certified lines go to the local cluster, but the "
-               "optimiser's (COBYLA) evaluations and a single line's refinement are assessed one after another in the "
-               "command's process (all are journalled: a killed design resumes)",
+               "Dask for every evaluation: the chart's grid and its certified lines, and the optimiser's first designs "
+               "and each of its designs' box lines, go to the local cluster, but a single line's refinement and the "
+               "optimiser's path (COBYLA: one design after another) run in the command's process (all are journalled: "
+               "a killed design resumes)",
                "boundaries of periodic orbits other than the balancing state (a coexisting limit cycle's fold, torus or "
                "period doubling) and basin boundaries; a balancing state that is itself a periodic orbit in its "
                "model's frame (a forced model: an anisotropic rotor in the fixed frame) is refused"]

@@ -81,6 +81,34 @@ class Journal:
             os.fsync(f.fileno())
 
 
+_SESSION: list = []  # the open session's client (session()): evaluate() submits to it instead of starting a cluster
+
+
+class session:
+    """`with session(workers):` one local Dask cluster kept open for every evaluate() inside it (the optimiser's
+    evaluations come one after another: starting a cluster for each would cost more than its lines)."""
+
+    def __init__(self, workers: int | None = None):
+        self.workers = workers
+
+    def __enter__(self):
+        from distributed import Client, LocalCluster
+
+        from .sweep import default_workers
+
+        self.cluster = LocalCluster(n_workers=1, threads_per_worker=self.workers or default_workers(), processes=False,
+                                    dashboard_address=":0")
+        self.client = Client(self.cluster)
+        _SESSION.append(self.client)
+        return self
+
+    def __exit__(self, *exc):
+        _SESSION.remove(self.client)
+        self.client.close()
+        self.cluster.close()
+        return False
+
+
 def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progress: bool = True,
              desc: str = "design", each=None) -> tuple[dict, int]:
     """({key: result}, how many ran now) for tasks [(key, fn, args)]: the journalled read back, the rest on a
@@ -92,14 +120,15 @@ def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progr
     pending = list({k: (k, fn, args) for k, fn, args in pending}.values())  # a task given twice runs once
     if not pending:
         return out, 0
-    from distributed import Client, LocalCluster, as_completed
+    from contextlib import nullcontext
+
+    from distributed import as_completed
 
     from ..progress import bar
-    from .sweep import default_workers
 
-    n = workers or default_workers()
-    with LocalCluster(n_workers=1, threads_per_worker=n, processes=False, dashboard_address=":0") as cluster, \
-            Client(cluster) as client, bar(len(pending), desc, progress, unit="run") as update:
+    with (nullcontext(None) if _SESSION else session(workers)) as opened, \
+            bar(len(pending), desc, progress, unit="run") as update:
+        client = _SESSION[-1] if opened is None else opened.client
         futures = {client.submit(fn, *args, pure=False): k for k, fn, args in pending}
         for count, fut in enumerate(as_completed(futures), 1):
             k = futures[fut]
