@@ -160,7 +160,7 @@ def run_params(problem, runs: Model, design, point: dict, fixed: dict | None = N
             q[k] = p[m.param_names.index(name)]
             taken.append(name)
     speed, own = m.scales.get("speed"), runs.scales.get("speed")
-    if speed is not None and own is not None and own not in taken:
+    if speed is not None and own is not None and own not in taken and own not in fixed:
         q[runs.param_names.index(own)] = p[m.param_names.index(speed)]
         taken.append(own)
     varied = {a.name for a in problem.varied} | set(problem.ties)
