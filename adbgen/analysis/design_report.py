@@ -18,6 +18,7 @@ from pathlib import Path
 
 from .design import Design
 from .design_transients import START_STATE, STARTS
+from .prose import render
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
 NOT_COVERED = ["the ball count with a generated model's name (--balls needs a scene file: the count is a scene's n)",
@@ -78,142 +79,28 @@ def to_json(design: Design, objective: str = "margin") -> dict:
             "boundary_types": BOUNDARY_TYPES, "residual": design.residual}
 
 
-def residual_lines(res: dict | None) -> list[str]:
-    """The residual objective's summary in the report (`design.residual`; none with another objective)."""
-    if res is None:
-        return []
-    kept = ", ".join(f"{k} = {_fmt(v)}" for k, v in res["kept"].items())
-    return [f"Residual imbalance r at rest in {res['unit']}: the {res['quantile']:g} quantile over {res['starts']} starts "
-            f"(seed {res['seed']}) per design" + (f", target {_fmt(res['target'])}" if res["target"] is not None else "")
-            + f"; runs at rest {res['at_rest']}, undecided {res['undecided']}, failed {res['failed']} (an undecided or "
-            "failed run leaves its design without a quantile, never counted as balanced)"
-            + (f"; the run model keeps its own {kept}" if kept else "") + "."
-            + (f" **{res['note']}.**" if res["note"] else f" Chosen: {_fmt(res['chosen_quantile'])}."), ""]
-
-
 def _fmt(x) -> str:
     return "—" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.6g}"
 
 
 def report(design: Design, command: str, objective: str = "margin", balls: list | None = None,
            choice: dict | None = None) -> str:
+    """report.md (prose/design_report.md.j2): the problem, the ball counts, the best design, the boundaries, the
+    sensitivity, the objective's runs, the verification runs and run-up, what is certified and what is not."""
     pr = design.problem
-    out = to_json(design, objective)
-    lines = [f"# Balancer design: {pr.model.name}", "", f"Command: `{command}`", "",
-             f"The balancing state {pr.label} must exist (the balls' capacity covers the imbalance "
-             f"{pr.eccentricity} up to {_fmt(pr.imbalance.high)}) and be stable over the whole box:", ""]
-    lines += [f"- {a.name} from {_fmt(a.low)} to {_fmt(a.high)}" for a in pr.box]
-    if pr.floor is not None:
-        lines += ["", f"The imbalance interval from 0 is scanned from {_fmt(pr.floor)}: at zero imbalance the balancing "
-                      "state is a continuum (a zero eigenvalue whatever the design) and the balancing mode's rate "
-                      "vanishes with the imbalance."]
-    lines += ["", "Varied: " + ", ".join(f"{a.name} in [{_fmt(a.low)}, {_fmt(a.high)}]" for a in pr.varied) + ".", ""]
-    if balls:
-        lines += ["## Ball counts (--balls; the rest of this page is the chosen count's design)", "",
-                  "| n | feasible | best | worst margin | t_dec |", "|---|---|---|---|---|"]
-        lines += [f"| {r['n']} | {r['feasible']} | " + (", ".join(f"{k} = {_fmt(v)}" for k, v in r["best"].items())
-                                                       if r["best"] else "—")
-                  + f" | {_fmt(r['margin'])} | {_fmt(r['t_dec'])} |" for r in balls]
-        lines.append("")
-        if choice is not None:
-            lines += [f"The count: {choice['why']}.", "", f"How: {choice['method']}.", ""]
-    best = design.best
-    if best is None or not best.feasible:
-        lines += ["**No best design**: " + ("no design of the varied box is feasible." if not design.feasible_intervals
-                                           and not any(v.feasible for v in design.verdicts)
-                                           else f"none of the feasible designs settles (objective {objective})."), ""]
-    else:
-        b = out["best"]
-        what = {"margin": "the worst decay rate over the box",
-                "t_dec": f"the shortest t_dec at the operating point from {STARTS[0]}",
-                "r_max-run-up": "the smallest r_max through the run model's run-up",
-                "residual": "the smallest quantile of the residual imbalance over the starts (stick-slip)"}[objective]
-        lines += [f"## The best design (objective: {what})", "",
-                  "| " + " | ".join(a.name for a in pr.varied) + " | worst margin | uncertainty | where | capacity |",
-                  "|" + "---|" * (len(pr.varied) + 4),
-                  "| " + " | ".join(_fmt(v) for v in best.design) + f" | {_fmt(b['margin'])} | "
-                  f"{_fmt(b['margin_uncertainty'])}{' (marginal)' if b['marginal'] else ''} | "
-                  + ", ".join(f"{k} = {_fmt(v)}" for k, v in b["worst_point"].items()) + f" | {_fmt(b['capacity'])} |", ""]
-    if design.feasible_intervals:
-        lines += ["Feasible: " + ", ".join(f"[{_fmt(a)}, {_fmt(b)}]" for a, b in design.feasible_intervals) + ".", ""]
-    if design.boundaries:
-        lines += ["## Boundaries", "", "| at | kind | worst box point |", "|---|---|---|"]
-        for bd in design.boundaries[:40]:
-            lines.append("| " + ", ".join(f"{k} = {_fmt(v)}" for k, v in bd.values.items()) + f" | {bd.kind} | "
-                         + (", ".join(f"{k} = {_fmt(v)}" for k, v in bd.worst_point.items()) or "—") + " |")
-        if len(design.boundaries) > 40:
-            lines.append(f"| ... {len(design.boundaries) - 40} more in design.json | | |")
-        lines.append("")
-    if design.active is not None:
-        lines += [f"What limits it: the {design.active.kind} boundary at "
-                  + ", ".join(f"{k} = {_fmt(v)}" for k, v in design.active.values.items()) + ".", ""]
-    if design.sensitivity:
-        lines += ["## Sensitivity of the worst margin", "",
-                  "| parameter | d margin (jac_p) | finite differences (up, down) | agree | kink | room (linear) |",
-                  "|---|---|---|---|---|---|"]
-        for s in design.sensitivity:
-            lines.append(f"| {s['parameter']} | {_fmt(s['dmargin'])} | "
-                         f"{', '.join(_fmt(x) for x in s['dmargin_finite_difference'])} | {s['agree']} | {s['kink']} | "
-                         f"{_fmt(s['room_linear'])} |")
-        lines.append("")
-    if objective == "t_dec":
-        settled = [r for r in design.objective_runs if r["settled"]]
-        best_t = min((r["t_dec"] for r in settled), default=None)
-        lines += [f"Objective t_dec at the operating point (" + ", ".join(f"{k} = {_fmt(v)}" for k, v in
-                  (design.objective_runs[0]["point"].items() if design.objective_runs else [])) + f"; rotor and balls at "
-                  f"rest, {STARTS[0]}): {len(design.objective_runs)} feasible designs run, {len(settled)} settled"
-                  + (f"; the shortest t_dec {_fmt(best_t)}." if settled else ". **None settled: no best design by t_dec.**"), ""]
-    if objective in ("r_max-run-up", "residual"):
-        runs = design.objective_runs
-        value = "r_max" if objective == "r_max-run-up" else "residual_quantile"
-        done = [r for r in runs if r[value] is not None]
-        lines += [f"Objective {objective} on the run model {runs[0]['run_model'] if runs else '—'} at "
-                  + ", ".join(f"{k} = {_fmt(v)}" for k, v in (runs[0]["point"].items() if runs else [])) + ": "
-                  f"{len(runs)} feasible designs run, {len(done)} computed"
-                  + (f"; the smallest {value} {_fmt(min(r[value] for r in done))}." if done
-                     else ". **None computed: no best design.**"), ""]
-    lines += residual_lines(design.residual)
-    if design.verification:
-        lines += [f"## Verification: the chosen design at the box's corners ({START_STATE})", "",
-                  "| point | start | status | t_dec | r_max | r at the end | settled |", "|---|---|---|---|---|---|---|"]
-        for r in design.verification:
-            lines.append("| " + ", ".join(f"{k} = {_fmt(v)}" for k, v in r["point"].items()) + f" | {r['start']} | {r['status']} | "
-                         f"{_fmt(r['t_dec'])} | {_fmt(r['r_max'])} | {_fmt(r['r_end'])} | {r['settled']} |")
-        unsettled = [r for r in design.verification if not r["settled"]]
-        if unsettled:
-            lines += ["", f"**{len(unsettled)} of {len(design.verification)} runs did not settle** within t_end from this "
-                          "start: the balancing state is stable there (the margin) but this start is not in its basin, "
-                          "or has not reached it yet."]
-        lines.append("")
-    lines += run_up_lines(design)
-    if design.resolution:
-        lines += ["## What is certified", "", design.resolution.get("statement", ""), ""]
-    lines += ["Boundaries the chart certifies: " + "; ".join(BOUNDARY_TYPES["certified"]) + ". Not computed: "
-              + "; ".join(BOUNDARY_TYPES["not_certified"]) + ".", ""]
-    lines += ["Scope: " + BOUNDARY_TYPES["scope"], ""]
-    lines += ["Not covered yet: " + "; ".join(NOT_COVERED) + ".", "", "![design](design.png)", ""]
-    if design.verification_run_up is not None and design.verification_run_up["trace"]["t"]:
-        lines += [f"![run-up]({RUN_UP_FIGURE})", ""]
-    return "\n".join(lines)
-
-
-def run_up_lines(design: Design) -> list[str]:
-    """The report's run-up of the chosen design: its numbers, or the one line saying why there is none."""
     run = design.verification_run_up
-    if run is None:
-        return [f"Run-up of the chosen design: {design.verification_run_up_note}.", ""] if design.verification_run_up_note \
-            else []
-    lines = [f"## Verification: the chosen design's run-up on {run['run_model']}", "",
-             "At " + ", ".join(f"{k} = {_fmt(v)}" for k, v in run["point"].items()) + f" ({run['start']}; mapped by "
-             f"name: {', '.join(run['mapped'])}); the schedule reaches its final speed for good at t = "
-             f"{_fmt(run['schedule_end'])}, the run ends at {_fmt(run['t_end'])}.", "",
-             "| status | r_max | t_dec | r at the end | threshold | settled |", "|---|---|---|---|---|---|",
-             f"| {run['status']} | {_fmt(run['r_max'])} | {_fmt(run['t_dec'])} | {_fmt(run['r_end'])} | "
-             f"{_fmt(run['threshold'])} | {run['settled']} |", ""]
-    if not run["settled"]:
-        lines += [f"**The run-up did not settle** ({run['status']}): r at the end is not below the threshold, or the "
-                  "run failed; nothing here is counted as balanced.", ""]
-    return lines
+    return "\n".join(render(
+        "design_report", fmt=_fmt, model=pr.model.name, command=command, label=pr.label,
+        eccentricity=pr.eccentricity, imbalance_high=pr.imbalance.high, box=pr.box, floor=pr.floor,
+        varied=pr.varied, balls=balls, choice=choice, objective=objective, start=STARTS[0], start_state=START_STATE,
+        best=to_json(design, objective)["best"] if design.best is not None and design.best.feasible else None,
+        best_design=design.best.design if design.best is not None else (),
+        none_feasible=not design.feasible_intervals and not any(v.feasible for v in design.verdicts),
+        intervals=design.feasible_intervals, boundaries=design.boundaries, active=design.active,
+        sensitivity=design.sensitivity, runs=design.objective_runs, verification=design.verification, run=run,
+        run_note=design.verification_run_up_note, resolution=design.resolution, types=BOUNDARY_TYPES,
+        not_covered=NOT_COVERED, residual=design.residual,
+        run_figure=RUN_UP_FIGURE if run is not None and run["trace"]["t"] else None))
 
 
 def run_up_figure(design: Design, path: Path) -> None:

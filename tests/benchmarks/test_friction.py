@@ -61,3 +61,15 @@ def test_the_page_says_a_reduced_run_and_counts_the_runs_not_at_rest_apart():
     assert "1 with a ball still slipping" in text and "max 0.0004" in text
     full = friction.page(_result(10_000))
     assert "Reduced run" not in full and "; met)" in full  # negative control: the full run is not called reduced
+
+
+def test_the_page_calls_a_run_quiet_only_when_nothing_else_ran_and_says_the_median():
+    loaded = friction.page(_result(10_000))  # load average 1 at the start: something else was running
+    assert "not a quiet machine" in loaded and "indicative only" in loaded
+    quiet = _result(10_000)
+    quiet["machine"]["load_average_at_start"] = [0.1, 0.5, 0.9]
+    quiet.update(repeats=3)
+    quiet["with_stiction"]["runs_wall_s"], quiet["without_stiction"]["runs_wall_s"] = [2.0, 2.1, 1.9], [1.0, 1.1, 0.9]
+    text = friction.page(quiet)
+    assert "nothing else running on the machine at the start" in text and "indicative only" not in text
+    assert "median of 3 alternated runs" in text and "--repeats 3" in text

@@ -26,11 +26,15 @@ def test_bench_ensemble_tiny_map():
                        progress=None)
     runs = r["runs"]
     ladder = {f"ensemble {e} rtol {r:g}" for e in ("rk-dop853-batch", "taylor-batch-inf") for r in (1e-9, 1e-10)}
-    theirs = {f"ensemble heyoka tol {r:g}" for r in (1e-9, 1e-10)}
+    from benchmarks.ensemble import heyoka_runs
+
+    theirs = {f"ensemble {name}" for name, _, _ in heyoka_runs()} - {"ensemble heyoka"}
+    assert len(theirs) == 5  # heyoka at two widths (4 and 8), three tolerances each, one of them "heyoka"
     ours = {f"ensemble {e}" for e in ("cyrk-dop853", "rk-dop853", "rk-dop853-batch", "taylor", "taylor-batch",
                                       "taylor-batch-inf", "auto", "heyoka")}
     assert set(runs) == ours | ladder | theirs
-    assert [lv["heyoka_run"] for lv in r["at_equal_labels"]] == ["heyoka", "heyoka tol 1e-09", "heyoka tol 1e-10"]
+    assert [lv["heyoka_run"] for lv in r["at_equal_labels"]][:3] == ["heyoka", "heyoka tol 1e-09", "heyoka tol 1e-10"]
+    assert {runs[f"ensemble {name}"]["batch"] for name, _, _ in heyoka_runs()} == {4, 8}
     # every run is off at 0 points here, so each level is reached by both sides (which run is fastest: timing)
     assert all(lv["heyoka_fastest"].startswith("heyoka") and lv["ours_fastest"] for lv in r["at_equal_labels"])
     for key in ladder:  # the tighter runs: their tolerance recorded, other steps than at the sweep's (fewer, for
@@ -43,11 +47,23 @@ def test_bench_ensemble_tiny_map():
         assert sum(row["labels"].values()) == 16
     scalar, batch = runs["ensemble rk-dop853"]["rhs_evaluations"], runs["ensemble rk-dop853-batch"]["rhs_evaluations"]
     assert abs(batch / scalar - 1) < 0.02  # the same steps but for libmvec's last bits
-    assert [t["target"] for t in r["targets"]] == ["ahead of heyoka's ensemble"]
+    assert [t["target"] for t in r["targets"]] == ["ahead of heyoka's ensemble", "1.5x heyoka's ensemble"]
     # labels judged against the converged maps, on the map and on the map shifted by half a cell
     assert r["reference"]["shifted_grid"][0].startswith("phi_1=0.785398") and r["reference"]["unresolved"]["map"] == 0
     for e in ("rk-dop853-batch", "taylor-batch-inf", "heyoka", *(k.removeprefix("ensemble ") for k in ladder | theirs)):
         assert runs[f"ensemble {e}"]["label_errors"] == {"map": 0, "shifted_map": 0, "total": 0}
+
+
+def test_heyoka_runs_at_both_widths_and_the_median_of_repeats():
+    from benchmarks.ensemble import heyoka_runs, median_run
+
+    names = [n for n, _, _ in heyoka_runs(recommended=8)]
+    assert names[:3] == ["heyoka", "heyoka tol 1e-09", "heyoka tol 1e-10"] and "heyoka batch 4" in names
+    assert {w for _, _, w in heyoka_runs(recommended=4)} == {4, 8}
+    rows = [{"cpu_s": c, "wall_s": c} for c in (5.0, 1.0, 9.0, 3.0, 4.0)]
+    kept = median_run(rows)
+    assert kept["cpu_s"] == 4.0 and kept["repeats_cpu_s"] == [5.0, 1.0, 9.0, 3.0, 4.0]
+    assert median_run(rows[:1])["cpu_s"] == 5.0  # one run: itself (negative control: not the fastest of five)
 
 
 def test_at_equal_labels_is_the_fastest_run_reaching_heyokas_label_error():

@@ -82,6 +82,22 @@ def test_each_benchmark_page_states_the_run_its_results_record():
                                   {**simulate, "date": "2027-01-02T03:04:05+00:00"}) == ["2027-01-02 03:04 UTC"]
 
 
+def index_rows_behind(index: str, dates: dict[str, str]) -> list[str]:
+    """The benchmarks whose row in the index does not name the run their results file records."""
+    rows = {m.group(1): m.group(2) for m in re.finditer(r"^\| \[(\w+)\]\(\w+\.md\) \|.*\| ([^|]*) \|$", index, re.M)}
+    return sorted(name for name, stamp in dates.items() if name in rows and utc_minutes(stamp)[:-4] not in rows[name])
+
+
+def test_the_benchmark_index_names_each_results_files_run():
+    """The index's "run of" column goes stale when a benchmark is re-run (it did: friction and precision)."""
+    index = (DOCS / "benchmarks" / "index.md").read_text()
+    dates = {p.stem: d for p in (ROOT / "benchmarks").glob("*.json")
+             if isinstance(d := json.loads(p.read_text()).get("date"), str)}
+    assert dates and index_rows_behind(index, dates) == []
+    # negative control: a re-run the index does not know of
+    assert index_rows_behind(index, {**dates, "precision": "2027-01-02T03:04:05+00:00"}) == ["precision"]
+
+
 def test_every_benchmark_chart_is_on_a_page():
     sources = "\n".join(p.read_text() for p in DOCS.rglob("*.md"))
     charts = sorted(p.name for p in (ROOT / "benchmarks").glob("*.png"))

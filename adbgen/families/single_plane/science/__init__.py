@@ -13,7 +13,7 @@ derivation modules (one folder up) never import them.
     periodic_orbits  the thesis' periodic orbits (`REPRODUCTION` "thesis-orbits")
     balanced         the balanced state's stability (one member and the n = 3 family)
     lyapunov         the largest Lyapunov exponent (Figs. 5.12-5.14 (b))
-    templates        the newer sections' Markdown as jinja2 templates (package data)
+    templates        every section's Markdown as jinja2 templates (package data); the modules compute
     commands         `adbgen demo` (thesis Fig. 5.4 recomputed and plotted)
     stick_slip_energy  the energy balance over a run with stick and slip (a check of `adbgen verify`)
 """

@@ -2,6 +2,7 @@
 H1 for n = 2, 3, 4 at (5.1)'s other parameters, and the desynchronised orbits of section 5.2.2.
 
     section(out_dir) -> markdown      (figures written into out_dir)
+    lines(a, h1, ds, b) -> markdown   the section from those results (templates/periodic_orbits.md.j2)
 
 On the generated models through the analysis layer's orbit machinery (`adbgen.analysis.orbits`); this
 module only knows which of the thesis' cases to run and what the thesis says about them.
@@ -280,97 +281,37 @@ def section(out: Path, progress=print) -> str:
     h1 = h1_cycles(out, progress)
     ds = desynchronised(out, progress)
     b = fig510b(progress)
-    o = a["orbit"]
-    L = ["## Periodic orbits of the single-plane balancer (thesis ch. 4-6)", "",
-         "Computed by `adbgen orbit` / `adbgen continue --orbits` (Newton shooting on the compiled variational "
-         "equations, `adbgen.analysis.orbits`); see [Periodic orbits](@DOCS@/orbits.md).", "",
-         "### Fig. 5.4(b): the limit cycle", "",
-         "Thesis: \"The balance is achieved in all the panels of Fig.5.4 except in (b1)-(b2), in which the system "
-         "reaches a stable limit cycle ... r keeps vibrating around a high value.\"", "",
-         f"`adbgen orbit thesis_rotating_n2 --y0 phi_1=pi/4 --y0 phi_2=-pi/4` (t_transient 2000): "
-         f"period **{o.period:.10f}**, r in [{o.r_min:.6f}, {o.r_max:.6f}], windings 0 (the balls oscillate, no "
-         f"lap), trivial multiplier |mu - 1| = {o.trivial_multiplier_error:.1e}, the other multipliers' moduli "
-         + ", ".join(f"{abs(z):.6f}" for z in o.nontrivial) + " (all inside the unit circle: **stable**).", "",
-         f"The same orbit from a long `simulate` (`{ENGINE}`, rtol 1e-12, t to 6000; {a['returns']} returns to "
-         f"the orbit's section after t = 4000): period {a['T_sim']:.10f}, relative difference "
-         f"{abs(a['T_sim'] - o.period) / o.period:.1e}."]
-    if "auto" in a:
-        au, ours = a["auto"], a["auto_ours"]
-        mu = np.sort(np.abs([complex(x, y) for x, y in au["multipliers"]]))[::-1]
-        L += ["", f"AUTO-07p (collocation, NTST 60, NCOL 4) started from the orbit as data, one step along the "
-              f"branch to Omega = {au['Omega']:.10f}: period {au['period']:.10f} against shooting's "
-              f"{ours.period:.10f} there ({abs(au['period'] - ours.period) / ours.period:.1e}); AUTO's multipliers' "
-              "moduli " + ", ".join(f"{v:.6f}" for v in mu) + "."]
-    L += ["", "![Fig. 5.4(b)](@FIGURES@/orbits_fig5_4b.png)", "",
-          "### The cycles born at H1, n = 2, 3, 4 (mu = 0.05, zeta = beta = delta = 0.01)", "",
-          "Thesis ch. 6: \"we have not undertaken continuation of limit cycles from the Hopf bifurcation curves ... "
-          "a future work could be to obtain limit cycles with AUTO for the ADB with three and four balls.\"", "",
-          "| n | H1 (Omega) | frequency | l1 | criticality | cycles | what happens |", "|---|---|---|---|---|---|---|"]
-    for row in h1:
-        hp, br = row["hopf"], row["branch"]
-        if len(br.orbits) > 1:
-            j = br.to_json()
-            stable = [lam for lam, s in zip(j["parameter"], j["stable"]) if s]
-            what = (f"stable for Omega in [{min(stable):.6f}, {max(stable):.6f}]; " if stable else "") + \
-                "; ".join(f"{s['kind']} at {s['Omega']:.6f} (T = {s['period']:.5f})" for s in br.specials)
-            cyc = f"{len(br.orbits)} orbits, Omega {j['parameter'][0]:.4f} to {j['parameter'][-1]:.4f}"
-        else:
-            d = row["drift"]
-            what = (f"no small cycle: the oscillation drifts along the continuum of balanced states "
-                    f"(|L^T B(q, q-bar)| = {hp.info['drift']:.3g}); from the balanced state at Omega = {d['Omega']:.4f}, "
-                    f"perturbed, a run of t = 20000 ends with r = {d['r_end']:.2e} and the free angle moved by "
-                    f"{d['angle_change']:.3f} rad (rtol " + ", ".join(f"{k:g}: r {v[0]:.6e}, {v[1]:.6f} rad"
-                                                               for k, v in d["runs"].items()) + ")")
-            if d.get("split"):
-                sp = d["split"]
-                what += (f"; but that start has free balls at one angle, an unstable invariant set: with them "
-                         f"{sp['size']:g} rad apart the balls lap, r = {sp['r_end']:.3f} and a free angle moved by "
-                         f"{sp['angle_change']:.0f} rad (rtol {sp['rtol']:g})")
-            cyc = "none"
-        L.append(f"| {row['n']} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | {hp.criticality} | {cyc} | {what} |")
-    L += ["", "Every Hopf point of the balanced state between Omega = 4 and 0.5 (the state followed down from Omega = 4; "
-          "for n >= 3 the member with phi_3.. = pi at the start), not H1 alone:", "",
-          "| n | Omega | frequency | l1 | criticality |", "|---|---|---|---|---|"]
-    for row in h1:
-        for hp in row["every_hopf"]:
-            L.append(f"| {row['n']} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | {hp.criticality} |")
-    L += ["", "For n = 2 these are the three Hopf points `adbgen verify` checks against AUTO-07p's HB labels (1.0296942, "
-          "1.0936343, 1.8822394).  For n >= 3 l1 is that of the followed member; the normal form's drift term "
-          "(below) moves the state along the family, so a subcritical sign there does not by itself mean an "
-          "unstable cycle is born.", ""]
-    L += ["For n >= 3 the balanced states form a continuum (the thesis' (3.6) leaves n - 2 angles free); H1 is a "
-          "Hopf point of one member, the oscillation's second-order mean (the term L^T B(q, q-bar) of the normal form) "
-          "pushes the state along the continuum, so no cycle closes near the Hopf point: the continuation finds no "
-          "branch there (`adbgen continue --orbits` says so).  AUTO-07p's emitted files for n >= 3 pin the free angles "
-          "by a regularising term that vanishes on the pinned equilibrium but not along a cycle, so cycles AUTO would "
-          "compute from their HB labels belong to the regularised system, not to the model.", "",
-          "![H1 cycles](@FIGURES@/orbits_h1.png)", "",
-          "### Desynchronised orbits (section 5.2.2, zeta = 0.25)", "",
-          "Thesis: Fig. 5.16(a), 5.17(a): with zeta = 0.25 the n = 3 and n = 4 runs \"reach a limit cycle with r values "
-          "around 0.1 and 0.15\".  Found from the thesis' starts (`adbgen orbit ... --set zeta=0.25`) and continued in "
-          "Omega downwards:", "", "| n | period | windings | r range | stable | continued in Omega to | period there |",
-          "|---|---|---|---|---|---|---|"]
-    for row in ds:
-        o2, j = row["orbit"], row["branch"].to_json()
-        L.append(f"| {row['n']} | {o2.period:.8f} | {', '.join(f'{k} {v:+d}' for k, v in o2.windings.items())} | "
-                 f"[{o2.r_min:.4f}, {o2.r_max:.4f}] | {o2.stable} | {j['parameter'][-1]:.4f} | {j['period'][-1]:.4f} |")
-    ob = b["orbit"]
-    L += ["", "Every ball loses one revolution per period relative to the rotor (the balls lag it: a desynchronised "
-          "orbit); on these orbits the balls move together.", "",
-          "### Fig. 5.10(b): the desynchronised n = 3 orbit of the launches", "",
-          "Thesis section 5.1.3: released at rest in the fixed frame (phi_i'(0) = -Omega) from (pi/3, pi, -pi/3), "
-          "(5.1), the run ends on a limit cycle and \"the three balls keep lapping\" (Fig. 5.10(b1)-(b2); the "
-          "thesis prints no number for it).  `adbgen orbit thesis_rotating_n3 --y0 phi_1=pi/3 --y0 phi_2=pi --y0 "
-          "phi_3=-pi/3 --y0 phi_1_dot=-4 --y0 phi_2_dot=-4 --y0 phi_3_dot=-4` (t_transient 3000): period "
-          f"**{ob.period:.8f}**, windings {', '.join(f'{k} {v:+d}' for k, v in ob.windings.items())}, r in "
-          f"[{ob.r_min:.4f}, {ob.r_max:.4f}], stable {ob.stable}; on it the three balls coincide (largest angle "
-          f"between them {b['spread']:.1e} rad) and lap the rotor together.  The outcome of this start hangs on the "
-          "tolerance (the Fig. 5.10 section of docs/reproduction.md), the orbit does not: it is found by shooting "
-          "and its multipliers say it is stable.", ""]
+    text = lines(a, h1, ds, b)
     # wall times go to the progress lines (`adbgen bench reproduce` records them), never into the document,
     # which must come out byte-identical from run to run
     progress(f"thesis orbits section: {time.perf_counter() - t0:.0f} s (the Fig. 5.4(b) orbit {a['wall']:.1f} s)")
-    return "\n".join(L)
+    return text
+
+
+def lines(a: dict, h1: list[dict], ds: list[dict], b: dict) -> str:
+    """The section's Markdown (templates/periodic_orbits.md.j2) from the results of fig54b, h1_cycles,
+    desynchronised and fig510b."""
+    from .templates import render
+
+    o = a["orbit"]
+    values = {"o": o, "a": a, "engine": ENGINE, "simulated_difference": abs(a["T_sim"] - o.period) / o.period,
+              "has_auto": "auto" in a, "auto": a.get("auto"), "ob": b["orbit"], "spread": b["spread"]}
+    if "auto" in a:
+        au, ours = a["auto"], a["auto_ours"]
+        values.update(auto_ours=ours, auto_difference=abs(au["period"] - ours.period) / ours.period,
+                      auto_moduli=np.sort(np.abs([complex(x, y) for x, y in au["multipliers"]]))[::-1])
+    rows = []
+    for row in h1:
+        br = row["branch"]
+        out = {"n": row["n"], "hopf": row["hopf"], "every_hopf": row["every_hopf"], "branch": None,
+               "drift": row.get("drift")}
+        if len(br.orbits) > 1:
+            j = br.to_json()
+            out.update(branch=j, orbits=len(br.orbits), specials=br.specials,
+                       stable=[lam for lam, s in zip(j["parameter"], j["stable"]) if s])
+        rows.append(out)
+    desync = [{"n": row["n"], "orbit": row["orbit"], "branch": row["branch"].to_json()} for row in ds]
+    return render("periodic_orbits.md.j2", h1=rows, desynchronised=desync, **values)
 
 
 from .coverage import ORBIT_ROWS  # noqa: E402

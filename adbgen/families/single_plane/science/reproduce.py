@@ -337,44 +337,25 @@ def _basins_n4(fig_dir: Path, size: int = 16, panels: str = "abcd") -> list[dict
     return out
 
 
-def _basin_n4_section(basins, root: Path) -> list[str]:
+def _basin_rows(basins, root: Path) -> list[dict]:
+    """The basin panels with their other attractors' cell and their figure's link, for the templates."""
     from .sweeps import balanced
+
+    return [{**b, "others": ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none",
+             "link": b["figure"].relative_to(root).as_posix()} for b in basins]
+
+
+def _basin_n4_section(basins, root: Path) -> list[str]:
+    """Fig. 5.19's section (templates/basins_n4.md.j2)."""
+    from .templates import render
 
     if not basins:
         return []
-    size = basins[0]["size"]
-    L = ["## Thesis, Fig. 5.19: basins of attraction of the balanced state, n = 4", "",
-         f"`adbgen sweep thesis_rotating_n4 --grid phi_1=0:2*pi*{size - 1}/{size}:{size} --grid "
-         f"phi_2=0:2*pi*{size - 1}/{size}:{size} --tie phi_3=phi_1+pi --tie phi_4=phi_2+pi --set zeta=Z "
-         "--measure attractor --t-end 3000` (Omega = 4, beta = delta = 0.01, mu = 0.05).", "",
-         f"| panel | zeta | balanced 1 | on the diagonal | other attractors (of {size * size}) |",
-         "|---|---|---|---|---|"]
-    for b in basins:
-        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none"
-        L.append(f"| 5.19({b['panel']}) | {b['zeta']:g} | {100 * b['balanced']:.1f} % | "
-                 f"{100 * b['diagonal']:.0f} % | {others} |")
-    a, b_, c, d = basins
-    L += ["",
-          "* Thesis (a), zeta = 0.01: \"the system reaches the balance from all the initial positions of the "
-          f"balls, including phi_1(0) = phi_2(0)\".  Ours: {100 * a['balanced']:.1f} % of the grid, "
-          f"{100 * a['diagonal']:.0f} % of the diagonal.",
-          "* Thesis (c), zeta = 0.2: \"the stability of the balanced state is reduced to the line phi_1(0) = "
-          "phi_2(0), and to four small regions around phi_1,2 = pi/2 and phi_1,2 = 3pi/2\".  Ours: "
-          f"{100 * c['diagonal']:.0f} % of the diagonal balances; of the {c['off_diagonal_balanced']} balancing "
-          f"points off it, {c['off_diagonal_near_centres']} lie within 0.6 rad of (pi/2 or 3pi/2, pi/2 or "
-          f"3pi/2), discs that hold {100 * c['near_share_of_grid']:.0f} % of the off-diagonal grid; "
-          f"{c['off_diagonal_on_shifted']} (some of them in those discs too) lie on the line phi_2(0) = "
-          "phi_1(0) + pi, where with the ties ball 3 starts with ball 2 and ball 4 with ball 1: the diagonal "
-          "again, the balls renamed.",
-          "* Thesis (b), zeta = 0.1: \"there are some irregularly distributed points from which the balance state is "
-          f"not attracting\".  Ours: {100 * b_['balanced']:.1f} % of the grid balances, "
-          f"{b_['size'] ** 2 - round(b_['balanced'] * b_['size'] ** 2)} points do not.",
-          "* Thesis (d), zeta = 0.25: like (c).  Ours: " f"{100 * d['balanced']:.1f} % of the grid balances "
-          f"({100 * d['diagonal']:.0f} % of the diagonal), against {100 * c['balanced']:.1f} % at zeta = 0.2.", ""]
-    for b in basins:
-        title = f"Fig. 5.19({b['panel']}), zeta = {b['zeta']:g}"
-        L += [f"**{title}**", "", f"![{title}]({b['figure'].relative_to(root).as_posix()})", ""]
-    return L
+    rows = _basin_rows(basins, root)
+    b = rows[1]
+    b["not_balancing"] = b["size"] ** 2 - round(b["balanced"] * b["size"] ** 2)
+    return render("basins_n4.md.j2", basins=rows, size=rows[0]["size"], a=rows[0], b=b, c=rows[2],
+                  d=rows[3]).splitlines()
 
 
 def _simulate(n: int, phi0, params: dict, rtol: float, atol: float | None = None, engine: str = ENGINE,
@@ -649,275 +630,134 @@ def lyapunov_runs() -> dict:
     return out
 
 
+THESIS_PITCHFORK_HOPF = 0.9950372  # thesis (4.1)-(4.2): (mu_c, 1/sqrt(1 + n mu_c))
+
+
 def _chapter4(statements, maps, root: Path, pitchfork=None) -> list[str]:
-    L = ["## Thesis, chapter 4: stability of the balanced state", "",
-         "The thesis states these limits in words read off its two-parameter diagrams (so to one or two "
-         "digits).  Ours: the deflated spectrum of the balanced state continued by Newton from the model's "
-         "START (for n >= 3 the member of the family with the extra balls at pi), delta = 0.01, mu = 0.05; a "
-         "zeta limit by a scan of zeta from 1e-7 (30 points, logarithmic, to 2.5e-3) and 200 points to 0.5, each "
-         "change bisected; the beta bound to 1e-3.  Exact eigenvalue computations, so no tolerance study "
-         "applies.", "",
-         "| source | n | thesis | Omega | beta | published | ours: stable for | rel. diff. (upper limit) |",
-         "|---|---|---|---|---|---|---|---|"]
-    lows = []
+    """Ch. 4's limits of the balanced state, the statements along a line, (4.1)-(4.2) and the maps
+    (templates/chapter4_balanced.md.j2)."""
+    from .templates import render
+
+    lines = []
     for st, v in statements:
-        if st.kind == "zeta_limit":
-            lo, hi = v
-            ours = (f"{'0' if lo is None else f'{lo:.2g}'} < zeta < {'0.5 (and beyond)' if hi is None else f'{hi:.4g}'}")
-            rel = None if hi is None else (hi - st.published) / st.published
-            if lo is not None:
-                lows.append((st, lo))
-            L.append(f"| {st.source} | {st.n} | \"{st.text}\" | {st.Omega:g} | {st.beta:g} | zeta < {st.published:g} | "
-                     f"{ours} | {'— (up to 0.5)' if rel is None else f'{100 * rel:+.1f} %'} |")
-        elif st.kind == "beta_all":
-            beta, lo, lo_pub = v
-            L.append(f"| {st.source} | {st.n} | \"{st.text}\" | {st.Omega:g} | — | beta > {st.published:g} | "
-                     f"up to zeta = 0.5 from beta = {beta:.4g}, but only for zeta > {lo:.2g} there (zeta > "
-                     f"{lo_pub:.2g} at beta = {st.published:g}) | {100 * (beta - st.published) / st.published:+.1f} % |")
-    L += ["", "The upper limits are round values the text reads off a diagram (\"approximately\", one or two digits): "
-          "ours lie within 9 % of them and follow the trends the text describes (n = 4 tolerates about five "
-          "times the rotor damping of n = 3; the beta from which n = 3 is stable up to zeta = 0.5 is about "
-          "five times that of n = 4).  **Not true as stated: \"stable in the whole range 0 < zeta < 0.5\".**  "
-          "At every beta the balanced state is unstable for very small rotor damping, below a bound that grows "
-          "with beta: "
-          + "; ".join(f"n = {st.n}, Omega = {st.Omega:g}, beta = {st.beta:g}: zeta < {lo:.2g}" for st, lo in lows)
-          + "; at the beta bounds of the last two rows, zeta below the value given there.  The thesis' diagrams "
-          "start at a zeta too large to show it (so did the scan of this document before, from zeta = 0.0025).", ""]
-    L += ["**The statements along a line** (stable on every point of a grid of the plane the statement reads "
-          "off; the other parameters (5.1)):", "",
-          "| source | n | thesis | grid | unstable points | largest Omega among them |", "|---|---|---|---|---|---|"]
-    for st, v in statements:
-        if st.kind != "line":
-            continue
-        (pa, pb), ((a0, a1, na), (b0, b1, nb)) = v["planes"], v["ranges"]
-        bad = v["unstable"]
-        L.append(f"| {st.source} | {st.n} | \"{st.text}\" | {pa} in [{a0:g}, {a1:g}] ({na}) x {pb} in [{b0:g}, "
-                 f"{b1:g}] ({nb}) | {len(bad)} of {v['points']} | "
-                 + ("— (the statement holds on the grid)" if not bad else
-                    f"{max(u for u, _ in bad):.3g} (at {pb} = " + ", ".join(sorted({f'{w:.3g}' for _, w in bad})[:6])
-                    + ("" if len({w for _, w in bad}) <= 6 else ", ...") + ")") + " |")
+        if st.kind == "line":
+            at = {w for _, w in v["unstable"]}
+            lines.append({**v, "st": st, "largest": max((u for u, _ in v["unstable"]), default=None),
+                          "at": sorted({f"{w:.3g}" for w in at})[:6], "more": len(at) > 6})
     if pitchfork:
-        pf, lim, tip = pitchfork["damped"], pitchfork["limit"], pitchfork["tip"]
-        L += ["", "**(4.1)-(4.2): where H2- ends.**  The thesis: \"the curve of Hopf bifurcations H2- terminates at "
-              "the low-Omega end in a codimension-two pitchfork-Hopf point which is given precisely by (mu, Omega) = "
-              "(mu_c, 1/sqrt(1 + n mu_c)) = (mu_c, 0.9950372)\", the tip of the SN2+- wedge (K = 0), and its second "
-              "pitchfork-Hopf point at (mu_c, 1.338096).  The formula re-evaluated gives 0.9950372, a published value "
-              "compared with itself; from the model: at mu = mu_c the coincident state 2- (all balls at pi, x = y = 0) "
-              "is also the balanced state, and its complex pair crosses the imaginary axis (a Hopf point on the "
-              "pitchfork line: the pitchfork-Hopf points) at", "",
-              "| n | first point, zeta = beta = 0.01 | second point | zeta = beta = 1e-4 | thesis (4.1)-(4.2) | rel. "
-              "diff. of the first |", "|---|---|---|---|---|---|"]
+        pf = pitchfork["damped"]
+        rows = []
         for n in sorted(pf):
             first, second = pf[n]
-            L.append(f"| {n} | {first:.7f} | {second:.6f} | {', '.join(f'{w:.7f}' for w in lim[n])} | 0.9950372, "
-                     f"1.338096 | {100 * (first - 0.9950372) / 0.9950372:+.2f} % |")
-        L += ["", "The second point is the thesis' 1.338096 to its seven digits, for every n as it says.  The first is "
-              f"not the wedge tip: {pf[min(pf)][0]:.5f}, the same for n = 2, 3, 4 (mu_c = delta/n), and it stays there "
-              "as the damping goes to zero, so damping is not the difference.  At the wedge tip itself the state has "
-              "two zero eigenvalues (the pitchfork's, and the real one that changes sign where the SN2+- curves meet "
-              "the pitchfork line) and no imaginary pair: the eigenvalues nearest 0 are "
-              + ", ".join(f"{z.real:.2g}{z.imag:+.2g}i" for z in tip[:3]) + " (n = 2).  Just past the tip (Omega + 0.001) "
-              "the two real eigenvalues have merged into a complex pair, still stable: "
-              + ", ".join(f"{z.real:.4f} +- {z.imag:.4f}i" for z in pitchfork["past"] if z.imag > 1e-9) + "; that pair crosses into the "
-              "unstable half-plane at the first point of the table, where H2- meets the pitchfork line.  So (4.1)-(4.2) "
-              "is a double-zero point (the wedge tip), and the pitchfork-Hopf point that ends H2- lies "
-              f"{pf[min(pf)][0] - 0.9950372:.4f} higher in Omega (1.3 %), apart on the scale of Fig. 4.1(b) "
-              "only by a line's width.  The thesis' \"given precisely by\" is an identification, not a computation.", ""]
-    L += ["", "Maps (`adbgen sweep MODEL --grid ... --measure stability`):", ""]
-    for title, path in maps:
-        L += [f"**{title}**", "", f"![{title}]({path.relative_to(root).as_posix()})", ""]
-    return L
+            rows.append({"n": n, "first": first, "second": second, "limit": pitchfork["limit"][n],
+                         "rel": 100 * (first - THESIS_PITCHFORK_HOPF) / THESIS_PITCHFORK_HOPF})
+        first = pf[min(pf)][0]
+        pitchfork = {**pitchfork, "rows": rows, "first": first, "above": first - THESIS_PITCHFORK_HOPF}
+    return render("chapter4_balanced.md.j2", statements=statements, lines=lines, pitchfork=pitchfork,
+                  maps=[(title, path.relative_to(root).as_posix()) for title, path in maps]).splitlines()
 
 
 def _basin_section(basins, root: Path) -> list[str]:
-    from .sweeps import balanced
+    """Fig. 5.18's section (templates/basins_n2.md.j2)."""
+    from .templates import render
 
     if not basins:
         return []
-    L = ["## Thesis, Fig. 5.18: basins of attraction of the balanced state, n = 2", "",
-         "`adbgen sweep thesis_rotating_n2 --grid phi_1=0:2*pi*39/40:40 --grid phi_2=0:2*pi*39/40:40 --set "
-         "zeta=Z --measure attractor --t-end 2000` (Omega = 4, beta = delta = 0.01, mu = 0.05).  The thesis "
-         "describes the figure in words; its statements and ours:", "",
-         "| panel | zeta | balanced 1 | other attractors (grid points of 1600) |", "|---|---|---|---|"]
-    for b in basins:
-        others = ", ".join(f"{k} {v}" for k, v in b["counts"].items() if not balanced(k)) or "none"
-        L.append(f"| 5.18({b['panel']}) | {b['zeta']:g} | {100 * b['balanced']:.1f} % | {others} |")
     shrink = all(basins[i]["balanced"] >= basins[i + 1]["balanced"] for i in range(2))
-    L += ["",
-          "* Thesis (a), zeta = 0.01: \"the basin of attraction of the balanced state is accessible from most "
-          "initial ball positions.  Exceptions being when the balls are launched from the same position, "
-          "phi_1(0) = phi_2(0), or from a small number of positions about this line, and others few positions "
-          "around phi_1,2(0) = 0.5, phi_2,1(0) = 5.\"  Ours: the diagonal ends at the coincident state 2- (the "
-          "balls start together and, with the exact exchange symmetry of the generated code, stay together), "
-          "and the two patches of limit cycles lie about (0.5-1, 5-5.5) and its mirror image; "
-          f"{100 * basins[0]['balanced']:.1f} % of the grid balances.",
-          "* Thesis (b)-(d): \"As the external damping ratio zeta is increased ... the basin of attraction "
-          "decreases\", (c) and (d) \"very similar\".  Ours: the balanced fraction "
-          + ("decreases" if shrink else "does not decrease monotonically")
-          + " from (a) to (c): " + ", ".join(f"{100 * b['balanced']:.1f} %" for b in basins) + ".",
-          "* Thesis (c)-(d): \"these shaded regions for zeta = 0.2 and zeta = 0.25 correspond with points around "
-          "the lines phi_2(0) = phi_1(0) + pi and phi_2(0) = phi_1(0) - pi\" (a tear-drop shaped basin).  Ours: "
-          + ", ".join(f"({b['panel']}) {100 * b['inline_share']:.0f} %" for b in basins[2:]
-                      if b["inline_share"] is not None)
-          + " of the balancing points lie within pi/3 of those lines (a third of the grid does).", ""]
-    for b in basins:
-        title = f"Fig. 5.18({b['panel']}), zeta = {b['zeta']:g}"
-        L += [f"**{title}**", "", f"![{title}]({b['figure'].relative_to(root).as_posix()})", ""]
-    return L
+    return render("basins_n2.md.j2", basins=_basin_rows(basins, root), shrink=shrink).splitlines()
 
 
 def _transient_section(transients) -> list[str]:
-    L = ["## Thesis, chapter 5: transients", "",
-         "| figure | n | phi(0) | quantity | published | converged | rel. diff. | ode45 emulation | explanation |",
-         "|---|---|---|---|---|---|---|---|---|"]
-    notes = []
+    """The document's opening and ch. 5's transients with their tolerance study and the published values neither
+    run gives, explained where the runs explain them (templates/transients.md.j2)."""
+    from .templates import render
+
+    rows, notes = [], []
     for t in transients:
         row, conv, ode = t["row"], t["sims"][RTOLS[-1]], t["ode45"]
-        par = "".join(f", {k} = {v:g}" for k, v in row.params.items())
+        mark = f" {MARK}" if "check" in t and t["check"].sensitive else ""
         for q, digits in (("r_max", 4), ("t_dec", 2)):
             pub = getattr(row, q)
             ours, emu = getattr(conv, q), getattr(ode, q)
             spread = not_converged([getattr(t["sims"][r], q) for r in RTOLS])
-            rel = _rel(ours, pub)
-            if spread is not None:
-                why = "see below"
-                notes.append((t, q))
-                mark = f" {MARK}" if "check" in t and t["check"].sensitive else ""
-                L.append(f"| {row.figure}{mark} | {row.n} | {row.phi0_text}{par} | {q} | {pub:g} | not converged: "
-                         f"{_fmt(spread[0], 6)}-{_fmt(spread[1], 6)} | {100 * _rel(spread[0], pub):+.2f} to "
-                         f"{100 * _rel(spread[1], pub):+.2f} % | {emu:.{digits}f} | {why} |")
-                continue
-            if _printed(ours, pub):
-                why = "agrees to the printed digits"
-            elif _printed(emu, pub):
-                why = "ode45's default tolerance: the emulation gives the printed value"
+            why = ("below" if spread is not None else "printed" if _printed(ours, pub) else "ode45"
+                   if _printed(emu, pub) else "below")
+            rows.append({"figure": row.figure + mark, "n": row.n, "q": q, "published": pub, "why": why,
+                         "start": row.phi0_text + "".join(f", {k} = {v:g}" for k, v in row.params.items()),
+                         "converged": _fmt(ours, 6), "rel": _rel(ours, pub), "emulation": f"{emu:.{digits}f}",
+                         "spread": None if spread is None else (_fmt(spread[0], 6), _fmt(spread[1], 6)),
+                         "spread_rel": None if spread is None else [100 * _rel(x, pub) for x in spread]})
+            if why == "below":
+                notes.append(_note(t, q, spread))
+    study = [(t["row"].figure, q, [_fmt(getattr(t["sims"][r], q), 6) for r in RTOLS])
+             for t in transients for q in ("r_max", "t_dec")]
+    return render("transients.md.j2", engine=ENGINE, rows=rows, study=study, notes=notes, rtols=RTOLS,
+                  count=len(transients),
+                  printed_t_dec=sum(_printed(t["ode45"].t_dec, t["row"].t_dec) for t in transients),
+                  printed_r_max=sum(_printed(t["ode45"].r_max, t["row"].r_max) for t in transients)).splitlines()
+
+
+def _note(t: dict, q: str, spread) -> dict:
+    """A published value neither run gives: the numbers its explanation reads (the emulation's output points
+    about its t_dec, the threshold moved, tighter RelTol) and which explanation they support."""
+    row, conv, ode = t["row"], t["sims"][RTOLS[-1]], t["ode45"]
+    pub, emu = getattr(row, q), getattr(ode, q)
+    note = {"figure": row.figure, "q": q, "published": pub, "emulation": emu, "converged": _fmt(getattr(conv, q), 6),
+            "spread": None if spread is None else (_fmt(spread[0], 6), _fmt(spread[1], 6)), "points": None}
+    if q == "t_dec" and "output_points" in t:
+        at, nxt, _ = t["output_points"]
+        close = abs(emu - pub) < 0.01 * pub
+        note.update(points=t["output_points"], threshold=[_fmt(v, 6) for v in t["threshold"].values()],
+                    tight=[_fmt(v, 6) for v in t["ode45_tight"].values()],
+                    case="between" if nxt is not None and at <= pub <= nxt else "close" if close else "unexplained")
+        if note["case"] == "close":
+            note["emulation_off"] = 100 * abs(emu - pub) / pub
+            if spread is None:
+                note["converged_off"] = 100 * abs(getattr(conv, q) - pub) / pub
             else:
-                why = "see below"
-                notes.append((t, q))
-            mark = f" {MARK}" if "check" in t and t["check"].sensitive else ""
-            L.append(f"| {row.figure}{mark} | {row.n} | {row.phi0_text}{par} | {q} | {pub:g} | {_fmt(ours, 6)} | "
-                     f"{'—' if rel is None else f'{100 * rel:+.2f} %'} | {emu:.{digits}f} | {why} |")
-    L += ["", "Published values: thesis sections 5.1.2 (Fig. 5.4, 5.6, 5.8), 5.2.1 (Fig. 5.12-5.14 (c)) and 5.2.2 "
-          "(Fig. 5.15-5.17 (b), (c)), as printed (`adbgen/families/single_plane/science/published.py`).  "
-          "**ode45 emulation**: the engine `matlab-ode45` (see [How the reproduction is computed](reproduction-method.md)) at "
-          "ode45's defaults RelTol 1e-3, AbsTol 1e-6, `tspan = [0 3000]`, r_max and t_dec read off its Refine = 4 "
-          "output points (t_dec: the last output time with r >= 1e-3).  It gives "
-          + f"{sum(_printed(t['ode45'].t_dec, t['row'].t_dec) for t in transients)} of the "
-          f"{len(transients)} printed t_dec and "
-          + f"{sum(_printed(t['ode45'].r_max, t['row'].r_max) for t in transients)} of the {len(transients)} printed "
-          "r_max exactly to the printed digits, so the thesis' numbers are ode45's at its default tolerance; where "
-          "they differ from the converged values, the difference is that tolerance's error, which for t_dec "
-          "(the last time a slowly decaying oscillation of r reaches 1e-3) reaches whole periods of r.", "",
-          "**Tolerance study** (converged = rtol 1e-12; t_dec on each run's continuous solution):", "",
-          "| figure | quantity | rtol 1e-6 | 1e-8 | 1e-10 | 1e-12 |", "|---|---|---|---|---|---|"]
-    for t in transients:
-        for q in ("r_max", "t_dec"):
-            L.append(f"| {t['row'].figure} | {q} | " + " | ".join(_fmt(getattr(t['sims'][r], q), 6) for r in RTOLS) + " |")
-    L += ["", "### Published values neither the converged run nor the ode45 emulation gives", ""]
-    if not notes:
-        L.append("None.")
-    for t, q in notes:
-        row, conv, ode = t["row"], t["sims"][RTOLS[-1]], t["ode45"]
-        pub = getattr(row, q)
-        spread = not_converged([getattr(t["sims"][r], q) for r in RTOLS])
-        ours = (f"converged {_fmt(getattr(conv, q), 6)}" if spread is None else
-                f"not converged (rtol {RTOLS[1]:g} to {RTOLS[-1]:g} give {_fmt(spread[0], 6)} to {_fmt(spread[1], 6)}: "
-                "the last time r reaches 1e-3 is not resolved by these tolerances, so this t_dec is known only to "
-                "that range)")
-        text = (f"* Fig. {row.figure}, {q}: published {pub:g}, {ours}, ode45 emulation "
-                f"{getattr(ode, q):.2f} ({getattr(ode, q) - pub:+.2f}).")
-        if q == "t_dec" and "output_points" in t:
-            at, nxt, r_next = t["output_points"]
-            th, tight = t["threshold"], t["ode45_tight"]
-            text += (f"  The emulation's output points about its t_dec are {at:.2f} (the last with r >= 1e-3) and "
-                     + ("—" if nxt is None else f"{nxt:.2f} (r = {r_next:.6f})")
-                     + "; the threshold moved by 1 % moves the converged t_dec to "
-                     + ", ".join(f"{_fmt(v, 6)}" for v in th.values())
-                     + "; the emulation at RelTol 1e-4, 1e-5 gives " + ", ".join(_fmt(v, 6) for v in tight.values())
-                     + ".  ")
-            if nxt is not None and at <= pub <= nxt:
-                text += ("The printed value lies between two consecutive output points of the emulated run, so "
-                         "it is consistent with the same run and t_dec read between output points (interpolated) "
-                         "instead of at the last point above 1e-3.")
-            elif abs(getattr(ode, q) - pub) < 0.01 * pub:
-                text += (f"The emulation is {100 * abs(getattr(ode, q) - pub) / pub:.3f} % from the printed value, "
-                         + (f"the converged run {100 * abs(getattr(conv, q) - pub) / pub:.3f} %" if spread is None else
-                            f"our runs {100 * (spread[0] - pub) / pub:+.2f} to {100 * (spread[1] - pub) / pub:+.2f} %")
-                         + ": the published number "
-                         "is a default-tolerance ode45 value; the rest of the difference is within what details of "
-                         "the 2005 run the thesis does not state (MATLAB version, tspan, output points) move a "
-                         "loose-tolerance t_dec by (compare the emulation at RelTol 1e-4, 1e-5).")
-            else:
-                text += "Not explained."
-        L.append(text)
-    return L
+                note["spread_off"] = [100 * (x - pub) / pub for x in spread]
+    return note
 
 
 def _document(transients, results, figures, root: Path, statements=(), maps=(), basins=(), basins_n4=(),
               pitchfork=None) -> list[str]:
+    """The thesis' chapter-5 and chapter-4 sections (templates/transients.md.j2, end_states.md.j2 and the
+    basin and chapter 4 sections')."""
     from .sweeps import balanced
+    from .templates import render
 
-    L = ["Models: `generated/thesis_rotating_n{2,3,4}`; "
-         f"engine: compiled DOP853 (`{ENGINE}`), atol = rtol/100, t in [0, 3000]; parameters "
-         "(5.1) (Omega = 4, zeta = beta = delta = 0.01, mu = 0.05) unless a row says otherwise; all rates and "
-         "x, y start at 0.  r_max and t_dec (the last time r >= 1e-3) are located on the continuous solution "
-         "(the integrator's dense output), not on output samples.", "",
-         "**Converged** is the value at rtol 1e-12; the tolerance study gives it at rtol 1e-6, 1e-8, 1e-10, "
-         "1e-12 (it stops moving as rtol tightens).  **rel. diff.** = (converged - published) / published.", ""]
-    L += _transient_section(transients)
-    L += ["", "### Attractors and end states", "",
-          "| figure | n | phi(0) | quantity | published | converged | rel. diff. | rtol 1e-6 | 1e-8 | 1e-10 | 1e-12 |",
-          "|---|---|---|---|---|---|---|---|---|---|---|"]
-    flagged = []
+    rows, flagged = [], []
     for case, res in results:
         sims = res["sims"]
-        par = "".join(f", {k} = {v:g}" for k, v in case.params.items())
-        head = f"| {case.figure} | {case.n} | {case.phi0_text}{par} |"
+        head = f"| {case.figure} | {case.n} | {case.phi0_text}" + "".join(
+            f", {k} = {v:g}" for k, v in case.params.items()) + " |"
         if "attractor" in case.published:
             ok = res["label"] == case.published["attractor"] or (balanced(res["label"])
                                                                  and balanced(case.published["attractor"]))
             mark = f" {MARK}" if "check" in res and res["check"].sensitive else ""
-            L.append(f"{head} attractor | {case.published['attractor']} | {res['label']}{mark} | "
-                     f"{'same' if ok else '**differs**'} | | | | |")
+            rows.append({"attractor": True, "head": head, "published": case.published["attractor"], "ok": ok,
+                         "label": res["label"], "mark": mark})
             if not ok:
-                flagged.append((case, "attractor", res["label"], None, None, sims))
+                flagged.append((case.figure, "attractor", res["label"]))
         model = res["model"]
         for name, pub in case.published.get("state", {}).items():
             v = float(sims[RTOLS[-1]].y_end[model.index(name)])
-            if name.startswith("phi"):
-                v = _wrap(v)
-                pub_w = _wrap(pub)
-                rel = (v - pub_w) / abs(pub_w)
-            else:
-                rel = (v - pub) / abs(pub)
-            within = abs(v - (pub_w if name.startswith("phi") else pub)) <= _printed_half_unit(pub)
-            mark = " (within the printed digits)" if within else (" **>1 %**" if abs(rel) > 0.01 else "")
-            if "**" in mark:
-                flagged.append((case, name, v, rel, None, sims))
             vals = [float(sims[r].y_end[model.index(name)]) for r in RTOLS]
-            if name.startswith("phi"):
-                vals = [_wrap(x) for x in vals]
-            L.append(f"{head} final {name} | {pub:g} | {v:.6g} | {100 * rel:+.2f} %{mark} | "
-                     + " | ".join(f"{x:.6g}" for x in vals) + " |")
-    L += ["", "Published: the text of section 5.1.2 (Fig. 5.4(b); the coincident and in-line runs of Fig. 5.7), "
-          "section 5.2.1 (Figs. 5.12-5.14 (a), (d): \"attracted to the stable coincident state 2-\"; for n = 4 at "
-          "mu = mu_c = 0.0025 \"the balance is achieved, but ... the balls are in the same position\") and "
-          "5.2.2 (Figs. 5.15-5.17 (a), (d)).  The thesis prints the final "
-          "state of the (0, 0, pi) run as phi_1 = phi_2 = -3.16 and phi_3 = -0.0184 (two or three "
-          "digits), so differences of that size are the print's rounding; a final angle is compared "
-          "wrapped to (-pi, pi], so -3.16 is 3.1232.  Attractors are named by the classifier of "
-          "`adbgen simulate` (Newton from the end state for a steady state, a further window for a cycle).", ""]
-    if flagged:
-        L += ["Differences: " + "; ".join(f"Fig. {c.figure} {q}: {v}" for c, q, v, *_ in flagged) + ".", ""]
-    for case, res in results:
-        if "slow" in res:
-            L += [_slow_text(case, res["slow"]), ""]
-    L += ["", "## Figures", ""]
-    for title, path in figures:
-        L.append(f"**{title}**")
-        L.append("")
-        L.append(f"![{title}]({path.relative_to(root).as_posix()})")
-        L.append("")
+            if name.startswith("phi"):  # a final angle compared wrapped to (-pi, pi]
+                v, target, vals = _wrap(v), _wrap(pub), [_wrap(x) for x in vals]
+                rel = (v - target) / abs(target)
+            else:
+                target = pub
+                rel = (v - pub) / abs(pub)
+            within = abs(v - target) <= _printed_half_unit(pub)
+            rows.append({"attractor": False, "head": head, "name": name, "published": pub, "value": v, "rel": rel,
+                         "within": within, "large": abs(rel) > 0.01, "values": vals})
+            if not within and abs(rel) > 0.01:
+                flagged.append((case.figure, name, v))
+    slow = [_slow_text(case, res["slow"]) for case, res in results if "slow" in res]
+    L = _transient_section(transients)
+    L += render("end_states.md.j2", rows=rows, differences=flagged, slow=slow,
+                figures=[(title, path.relative_to(root).as_posix()) for title, path in figures]).splitlines()
     L += _basin_section(basins, root)
     L += _basin_n4_section(basins_n4, root)
     L += _chapter4(statements, maps, root, pitchfork)
@@ -925,26 +765,16 @@ def _document(transients, results, figures, root: Path, statements=(), maps=(), 
 
 
 def _slow_text(case, slow: dict) -> str:
-    """How an attractor row not named at t = T_END approaches its end, from `slow_approach`'s numbers."""
+    """How an attractor row not named at t = T_END approaches its end, from `slow_approach`'s numbers
+    (templates/slow_approach.md.j2)."""
+    from .templates import render
+
     pts = slow["checkpoints"]
     falls = all(q["r_max"] < p["r_max"] for p, q in zip(pts, pts[1:])) and pts[0]["r_max"] < slow["r_start"]
-    text = (f"Fig. {case.figure}, the approach: at t = {T_END:g} r = {slow['r_start']:.2e} and the classifier's "
-            f"direct tests (Newton from the end state, a band of r over a further window) name no attractor, so it "
-            f"is carried on and decided by r's rate of approach (`adbgen.analysis.approach`).  Integrated "
-            f"on (rtol {RTOLS[-1]:g}): " + ", ".join(f"r in [{q['r_min']:.2e}, {q['r_max']:.2e}] and the balls "
-                                                    f"{q['spread']:.4f} rad apart by t = {q['t']:g}" for q in pts)
-            + f"; r ~ t^-{slow['exponent']:.2f} between the last two.  The state it tends to, the rotor at the "
-            f"centre and every ball at the balls' mean angle {slow['limit_angle']:.4f}, is a steady state (residual "
-            f"{slow['limit_residual']:.1e}) whose linearisation has {slow['neutral']} neutral directions where the "
-            f"balanced family has {slow['free_angles']} free angles.")
-    if falls and slow["exponent"] > 0.5 and pts[-1]["spread"] < pts[0]["spread"] and slow["limit_residual"] < 1e-9 \
-            and slow["neutral"] > slow["free_angles"]:
-        text += (" So the run does balance, with the balls closing up, as the thesis says, but algebraically, not "
-                 "exponentially: the attractor is not hyperbolic (an extra neutral direction), so no finite run "
-                 "reaches a region the direct tests name; the label says so: balanced 1 (algebraic approach).")
-    else:
-        text += " The run has not been shown to balance: the difference stands."
-    return text
+    balances = (falls and slow["exponent"] > 0.5 and pts[-1]["spread"] < pts[0]["spread"]
+                and slow["limit_residual"] < 1e-9 and slow["neutral"] > slow["free_angles"])
+    return render("slow_approach.md.j2", figure=case.figure, t_end=T_END, rtol=RTOLS[-1], slow=slow,
+                  balances=balances).rstrip("\n")
 
 
 def _figures(fig_dir: Path) -> list[tuple[str, Path]]:

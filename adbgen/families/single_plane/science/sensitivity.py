@@ -145,44 +145,13 @@ def figure(studies, fig_dir: Path, engine: str) -> Path:
     return path
 
 
-def _fmt(v) -> str:
-    return "r not below the threshold by t_end" if v is None else f"{v:.6g}"
-
-
 def lines(res: dict, root: Path) -> list[str]:
-    ladder = res["ladder"]
-    L = ["## Thesis, Fig. 5.10 (and Fig. 5.9(a1)'s named start): outcomes that hang on the tolerance", "",
-         "`adbgen simulate thesis_rotating_n2 --y0 phi_1=pi/2 --y0 phi_2=-pi/2 --y0 phi_1_dot=-4 --y0 phi_2_dot=-4 "
-         f"--t-end {ladder.t_end:g} --engine {ladder.engine} --rtol {CHECKED:g} --atol {CHECKED * 1e-2:g} "
-         "--check-tolerance` (and n = 3, 4 "
-         "with the thesis' starts).  The check: the run again at rtol/"
-         f"{TIGHTEN:g} (the ladder's next step) and on a second engine (`taylor`) at the same rtol, the label, "
-         f"r_max and t_dec compared ({100 * REL_TOL:g} % relative); a disagreement makes the outcome "
-         f"tolerance-sensitive, marked {MARK}.  Balls lapping: balls whose angle moves by more than a turn over the "
-         f"last {LAP_WINDOW:g} time units.", "",
-         "| figure | n | phi(0) | thesis | " + " | ".join(f"rtol {r:g}" for r in ladder.rtols)
-         + f" | ode45 (defaults) | check at rtol {CHECKED:g} |", "|---" * (len(ladder.rtols) + 6) + "|"]
+    """Fig. 5.10's section (templates/tolerance.md.j2) and the named starts' table."""
+    from .templates import render
 
-    def cell(label, n_laps):
-        return f"{label}, {n_laps} lapping"
-
-    for st in res["runs"]:
-        run, lad, check = st["run"], st["ladder"], st["check"]
-        ode = check.shown[0][0]
-        verdict = (f"**tolerance-sensitive {MARK}**: " + "; ".join(check.reasons)) if check.sensitive else "robust"
-        L.append(f"| {run.figure} | {run.n} | {run.phi0_text}, phi'(0) = {run.rate:g} | {run.thesis} | "
-                 + " | ".join(cell(lad[r]["label"], lad[r]["laps"]) for r in ladder.rtols)
-                 + f" | {cell(ode.label, st['ode45_laps'])} | {verdict} |")
-    L += ["", "Every outcome beside its sensitivity (the check's three runs, then the thesis' solver):", ""]
-    for st in res["runs"]:
-        check = st["check"]
-        L.append(f"* Fig. {st['run'].figure}: {check.text()}; ode45 at its defaults: {check.shown[0][0].text()}.")
-    L += ["", "Where the check flags an outcome, no tolerance gives *the* answer: the start lies where the "
-          "outcome is decided below the integration error (Fig. 5.11's local scans show the outcomes interleaved "
-          "finer than the grid step), so the thesis' picture is one of the outcomes its ode45 run happened to "
-          "reach, and the document shows ours beside it instead of choosing.", "",
-          f"![Fig. 5.10 with the tolerance check]({res['figure'].relative_to(root).as_posix()})", ""]
-    return L + named_lines(res.get("named", []))
+    return render("tolerance.md.j2", ladder=res["ladder"], runs=res["runs"], checked=CHECKED, tighten=TIGHTEN,
+                  rel_tol=REL_TOL, mark=MARK, lap_window=LAP_WINDOW,
+                  figure=res["figure"].relative_to(root).as_posix()).splitlines() + named_lines(res.get("named", []))
 
 
 # ------------------------------------------------------------------------ every transient, checked
@@ -200,18 +169,12 @@ def check_transient(n: int, phi0, params: dict, sims: dict, engine: str):
 
 
 def transient_lines(items) -> list[str]:
-    """The check of every transient of the chapter-5 tables: (figure, phi(0) text, ToleranceCheck)."""
-    flagged = [(f, t, c) for f, t, c in items if c.sensitive]
-    runs = items[0][2].runs if items else []
-    what = (f"at rtol {runs[0].rtol:g} against rtol {runs[1].rtol:g} (tighter by {TIGHTEN:g}) and against the "
-            f"second engine `{runs[2].picked}` at {runs[0].rtol:g}") if runs else ""
-    L = ["### Tolerance check of every transient", "",
-         f"Each run above {what}: label, r_max, t_dec ({100 * REL_TOL:g} %).  "
-         f"{len(items) - len(flagged)} of {len(items)} robust"
-         + (", the tolerance-sensitive ones:" if flagged else "."), ""]
-    for f, text, c in flagged:
-        L.append(f"* {MARK} Fig. {f}, phi(0) = {text}: {c.text()}; " + "; ".join(c.reasons) + ".")
-    return L + [""]
+    """The check of every transient of the chapter-5 tables: (figure, phi(0) text, ToleranceCheck)
+    (templates/transient_check.md.j2)."""
+    from .templates import render
+
+    return render("transient_check.md.j2", items=items, flagged=[(f, t, c) for f, t, c in items if c.sensitive],
+                  runs=items[0][2].runs if items else [], tighten=TIGHTEN, rel_tol=REL_TOL, mark=MARK).splitlines()
 
 
 # ------------------------------------------------------------- the named starts of Figs. 5.7, 5.9
@@ -261,15 +224,9 @@ def named_starts(workers: int | None = None) -> list[dict]:
 
 
 def named_lines(rows: list[dict]) -> list[str]:
+    """The named starts' table (templates/named_checked.md.j2)."""
+    from .templates import render
+
     if not rows:
         return []
-    c = rows[0]["check"]
-    L = ["**The named starts, checked** (each on its panel's attractor sweep with `--check-tolerance`: rtol "
-         f"{c['rtol'] * TIGHTEN:g} against {c['rtol']:g} and against `{c['second_engine']}`):", "",
-         "| panel | phi_1(0) | thesis | as run | tighter | second engine | check |", "|---|---|---|---|---|---|---|"]
-    for r in rows:
-        lab = r["labels"]
-        verdict = f"**tolerance-sensitive {MARK}**" if r["sensitive"] else "robust"
-        L.append(f"| {r['figure']} | {r['phi_1']:.14f} | {r['words']} | {lab['as run']} | {lab['tighter']} | "
-                 f"{lab['second engine']} | {verdict} |")
-    return L + [""]
+    return render("named_checked.md.j2", rows=rows, check=rows[0]["check"], tighten=TIGHTEN, mark=MARK).splitlines()

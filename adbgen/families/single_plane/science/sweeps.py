@@ -525,80 +525,66 @@ def _stats(values) -> str:
 
 
 def lines(res: Everything, paths: dict, root: Path, lyapunov: dict | None = None) -> list[str]:
-    L = ["## Thesis, Figs. 5.5, 5.7, 5.9: r_max against the starting position", "",
-         f"Each panel: `{res.scans[0]['command']}` (with the panel's `--tie`/`--y0`) and the same with "
-         "`--measure attractor`; phi_1(0) on 100 points of [0, pi] (pi k/99: the grid of the starts the thesis "
-         "names, 0.72986495992490 = 23 pi/99 and 2.63386050755508 = 83 pi/99), parameters (5.1), rtol 1e-8.  By "
-         "the identical balls' symmetry [0, pi] covers every configuration of these families.", "",
-         "| panel | starts | balanced of 100 | not balanced | undecided | r_max of the balanced runs: min / median / "
-         "max |", "|---|---|---|---|---|---|"]
+    """The scans, launches, Omega = 1.6, n = 3 basin, damping map and Omega/delta sweep sections."""
+    L = scans_lines(res, paths, root) + launches_lines(res, paths, root) + [""]
+    if lyapunov:
+        L += lyapunov_lines(lyapunov)
+    L += basins_n3_lines(res) + [""]
+    return L + damping_lines(res, paths, root) + omega_delta_lines(res, paths, root)
+
+
+def scans_lines(res: Everything, paths: dict, root: Path) -> list[str]:
+    """Figs. 5.5, 5.7, 5.9's section (templates/scans.md.j2)."""
+    from .templates import render
+
+    rows = []
     for s in res.scans:
         lab = s["labels"]
         good, open_ = is_balanced(lab), is_open(lab)
         bad = {k: lab.count(k) for k in sorted(set(lab)) if not balanced(k) and not is_open([k])[0]}
-        ok = [r for r, g in zip(s["r_max"], good) if g]
-        L.append(f"| {s['panel'].figure} | {s['panel'].text} | {int(good.sum())} | "
-                 + (", ".join(f"{k} {v}" for k, v in bad.items()) or "none") + f" | {int(open_.sum())} | "
-                 f"{_stats(ok)} |")
+        rows.append({"figure": s["panel"].figure, "text": s["panel"].text, "balanced": int(good.sum()),
+                     "others": ", ".join(f"{k} {v}" for k, v in bad.items()) or "none", "undecided": int(open_.sum()),
+                     "stats": _stats([r for r, g in zip(s["r_max"], good) if g])})
     by = {s["panel"].figure: s for s in res.scans}
-    L += ["", "The starts the thesis names (section 5.1.2):", "", "| panel | thesis | ours | same |", "|---|---|---|---|"]
+    named_rows = []
     for fig, phi, words, expect in NAMED:
         s = by[fig]
         k = int(np.argmin(np.abs(s["phi_1"] - phi)))
-        got = s["labels"][k]
-        L.append(f"| {fig} | {words} | {got} (phi_1(0) = {s['phi_1'][k]:.14f}) | {'yes' if got == expect else '**no**'} |")
+        named_rows.append({"figure": fig, "words": words, "label": s["labels"][k], "phi_1": s["phi_1"][k],
+                           "same": s["labels"][k] == expect})
     eq = [("5.5(b)", "n = 2, in line"), ("5.7(c), 2pi/3", "n = 3, equidistant"), ("5.9(c)", "n = 4, equidistant")]
-    L += ["", "Thesis: \"the r_max values for equidistant initial positions of the balls are almost the same in the "
-          "three cases (0.045)\"; ours (median over the panel): "
-          + ", ".join(f"{t} {np.median(by[f]['r_max']):.4f}" for f, t in eq)
-          + ".  Thesis Fig. 5.5: in (a) r_max rises to about 0.5 away from the balanced position and some starts "
-          "end on limit cycles, in (b) r_max hardly varies and no limit cycle is reached; Fig. 5.7(c) is printed "
-          "with phi_2 = phi_1 + pi/3, phi_3 = phi_1 - pi/3, which is not equidistant (both rows are computed).", ""]
-    for key in ("5.5", "5.7", "5.9"):
-        L += [f"![Fig. {key}]({_rel_link(paths[key], root)})", ""]
+    return render("scans.md.j2", command=res.scans[0]["command"], scans=rows, named=named_rows,
+                  equidistant=[(t, np.median(by[f]["r_max"])) for f, t in eq],
+                  figures=[(key, _rel_link(paths[key], root)) for key in ("5.5", "5.7", "5.9")]).splitlines()
 
-    L += launches_lines(res, paths, root) + [""]
 
-    if lyapunov:
-        L += ["## Thesis, Figs. 5.12-5.14 (b): the motion at Omega = 1.6", "",
-              "The thesis: \"the rotor with the ADB ... appears now to exhibit chaotic motion ... r reaches "
-              "approximately similar high values around 0.4\" (Omega = 1.6, mu = 0.05, starts (5.3)-(5.5)).  "
-              "Decided by the largest Lyapunov exponent from the variational equations (generated Jacobian, "
-              "DOP853 rtol 1e-10, renormalised every time unit, averaged over t in [1000, 5000]; the two halves "
-              "of the window beside it); control: the limit cycle of Fig. 5.4(b).", "",
-              "| run | largest Lyapunov exponent | first half | second half | max r over the window | verdict |",
-              "|---|---|---|---|---|---|"]
-        for name, v in lyapunov.items():
-            lam = v["exponent"]
-            verdict = "chaotic (positive exponent)" if min(v["first_half"], v["second_half"]) > 0.01 else (
-                "not chaotic (exponent ~ 0: a cycle or torus)" if abs(lam) < 0.005 else "undecided")
-            L.append(f"| {name} | {lam:.3f} | {v['first_half']:.3f} | {v['second_half']:.3f} | {v['r_window']:.3f} | "
-                     f"{verdict} |")
-        L.append("")
+def lyapunov_lines(lyapunov: dict) -> list[str]:
+    """Figs. 5.12-5.14 (b)'s section (templates/lyapunov.md.j2): each run's exponent and its verdict."""
+    from .templates import render
 
-    L += basins_n3_lines(res) + [""]
+    runs = []
+    for name, v in lyapunov.items():
+        verdict = "chaotic (positive exponent)" if min(v["first_half"], v["second_half"]) > 0.01 else (
+            "not chaotic (exponent ~ 0: a cycle or torus)" if abs(v["exponent"]) < 0.005 else "undecided")
+        runs.append((name, {**v, "verdict": verdict}))
+    return render("lyapunov.md.j2", runs=runs).splitlines()
 
-    L += ["## Thesis, Figs. 5.20-5.22: damping maps", "",
-          f"`{res.zeta_beta[2]['command']}` and the same with `--measure r_max`, `--measure t_dec`, for n = 2, 3, 4 "
-          "with the starts (5.3)-(5.5); zeta, beta on 13 values each of [0.01, 0.25].", "",
-          "| n | balanced of 169 | not balanced where | r_max at (zeta, beta) = (0.01, 0.01) / (0.25, 0.01) / (0.01, 0.25) "
-          "/ (0.25, 0.25) | t_dec at the same corners |", "|---|---|---|---|---|"]
+
+def damping_lines(res: Everything, paths: dict, root: Path) -> list[str]:
+    """Figs. 5.20-5.22's section (templates/damping_maps.md.j2)."""
+    from .templates import render
+
+    rows = []
+    corners = [(0, 0), (-1, 0), (0, -1), (-1, -1)]
     for n, v in res.zeta_beta.items():
         ok = is_balanced(v["labels"]) | is_open(v["labels"])  # "not balanced where": decided runs only
-        where = "—" if ok.all() else (f"zeta >= {v['zeta'][np.nonzero(~ok)[0]].min():.2f} (at beta <= "
-                                      f"{v['beta'][np.nonzero(~ok)[1]].max():.2f})")
-        corners = [(0, 0), (-1, 0), (0, -1), (-1, -1)]
-        undecided = int(is_open(v["labels"]).sum())
-        L.append(f"| {n} | {int(is_balanced(v['labels']).sum())}" + (f" ({undecided} undecided)" if undecided else "")
-                 + f" | {where} | " + " / ".join(f"{v['r_max'][i, j]:.4f}" for i, j in corners)
-                 + " | " + " / ".join(f"{v['t_dec'][i, j]:.1f}" for i, j in corners) + " |")
-    L += ["", "Thesis: (5.20) n = 2 balances on the whole square, n = 3 loses the balance in a large region (for low "
-          "beta only up to a zeta that grows with beta), n = 4 fails only for a few zeta at very small beta; (5.21) "
-          "r_max grows as zeta and beta decrease, far more sensitive to zeta; (5.22) for n = 2 t_dec decreases "
-          "as zeta and beta increase.", "", f"![Figs. 5.20-5.22]({_rel_link(paths['5.20'], root)})", ""]
-
-    L += omega_delta_lines(res, paths, root)
-    return L
+        rows.append({"n": n, "balanced": int(is_balanced(v["labels"]).sum()),
+                     "undecided": int(is_open(v["labels"]).sum()),
+                     "zeta": None if ok.all() else v["zeta"][np.nonzero(~ok)[0]].min(),
+                     "beta": None if ok.all() else v["beta"][np.nonzero(~ok)[1]].max(),
+                     "r_max": [v["r_max"][i, j] for i, j in corners], "t_dec": [v["t_dec"][i, j] for i, j in corners]})
+    return render("damping_maps.md.j2", command=res.zeta_beta[2]["command"], rows=rows,
+                  figure=_rel_link(paths["5.20"], root)).splitlines()
 
 
 def omega_delta_lines(res: Everything, paths: dict, root: Path) -> list[str]:

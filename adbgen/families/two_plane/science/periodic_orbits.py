@@ -18,6 +18,7 @@ import numpy as np
 from ....analysis.reproduction import markdown_section
 
 from . import coverage
+from .prose import render
 from ..charts import CHARTS, ChartCase, ties  # noqa: F401  (the paper's charts as data; bench times them too)
 
 
@@ -171,41 +172,17 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
     t0 = time.perf_counter()
     crit = criticality(progress)
     f14 = fig14cd(crit[0], out, max_points, progress)
-    L = ["## Periodic orbits and stability charts of the two-plane balancer (paper sections 4, 5)", "",
-         "### Criticality of the Hopf point of Fig. 14(a)", "",
-         "Paper: \"We find that the Hopf bifurcation is supercritical ... For smaller values of the imbalance, say "
-         "eps/R + chi = 1e-4, we have found that the Hopf bifurcation is subcritical.\"  The Hopf point where B "
-         "loses stability as Omega falls (two_plane_rotating, eps/R = chi, m/M = eps/R + chi, c_b/m = 0.01, beta = 1, "
-         "by `--tie`), its first Lyapunov coefficient from the exact jets:", "",
-         "| eps/R + chi | Omega at the Hopf point | frequency | l1 | criticality |", "|---|---|---|---|---|"]
-    for r in crit:
-        hp = r["hopf"]
-        L.append(f"| {r['total']:g} | {hp.lam:.8f} | {hp.omega:.7f} | {hp.l1:.5g} | **{hp.criticality}** |")
-    br = f14["branch"]
-    L += ["", "### Fig. 14(c, d): the limit cycles born there", "",
-          "Paper: \"there is a small region, as indicated by the bold curve, in which the limit cycle is stable ... "
-          "the solution 'cuts-back' on itself so that the period of the orbit does not increase monotonically\"; "
-          "insets at (Omega, T) = (3.386, 7.081) stable, (3.127, 9.856) unstable, (2.475, 32.453) unstable.", "",
-          f"{len(br.orbits)} orbits by `continue --orbits` ({br.end}); the branch points nearest "
-          "the insets:", "", "| inset | paper (Omega, T, stability) | ours (Omega, T, stability) | distance |",
-          "|---|---|---|---|"]
-    for j, nr in enumerate(f14["near"]):
-        Om, Tp, s = nr["paper"]
-        o1, t1, s1 = nr["ours"]
-        L.append(f"| ({'i' * (j + 1)}) | ({Om}, {Tp}, {'stable' if s else 'unstable'}) | ({o1:.4f}, {t1:.4f}, "
-                 f"{'stable' if s1 else 'unstable'}) | {nr['distance']:.1e} |")
-    stab = f14["lam"][f14["stable"]]
-    L += ["", (f"Stable for Omega in [{stab.min():.6f}, {stab.max():.6f}] (from the Hopf point to the first fold of "
-               "cycles)." if len(stab) else "No stable cycles."), "", "Special points (located by test functions):", "",
-          "| kind | Omega | period |", "|---|---|---|"]
-    for s in br.specials:
-        L.append(f"| {s['kind']} | {s['Omega']:.7f} | {s['period']:.5f} |")
-    L += ["", "![Fig. 14(c, d)](@FIGURES@/orbits_fig14cd.png)", "", "### Stability charts", "",
-          "Each chart: `adbgen continue MODEL --par Omega --par2 epsilon --tie ... --log2 --plot FILE` (grid "
-          f"{n1} x {n2}, every row and column refined to an eighth of the grid's spacing where stability changes "
-          "or the leading real part (|multiplier| - 1) heads for zero or turns near it, curves continued from every "
-          "change of stability, each seen on both sides; the curves, the windows and the certified `resolution` "
-          "as data in the figure's .json).  Grey: B stable (a window narrower than the grid outlined).", ""]
+    st = lambda s: "stable" if s else "unstable"  # noqa: E731
+    br, stab = f14["branch"], f14["lam"][f14["stable"]]
+    L = render(
+        "orbits", criticality=[(f"{r['total']:g}", f"{r['hopf'].lam:.8f}", f"{r['hopf'].omega:.7f}",
+                                f"{r['hopf'].l1:.5g}", r["hopf"].criticality) for r in crit],
+        n_orbits=len(br.orbits), end=br.end,
+        near=[{"paper": (str(nr["paper"][0]), str(nr["paper"][1]), st(nr["paper"][2])),
+               "ours": (f"{nr['ours'][0]:.4f}", f"{nr['ours'][1]:.4f}", st(nr["ours"][2])),
+               "distance": f"{nr['distance']:.1e}"} for nr in f14["near"]],
+        stable=(f"{stab.min():.6f}", f"{stab.max():.6f}") if len(stab) else None,
+        specials=[(s["kind"], f"{s['Omega']:.7f}", f"{s['period']:.5f}") for s in br.specials], n1=n1, n2=n2) + [""]
     done: dict = {}
     by_figure = {c.figure: c for c in CHARTS}
     for case in CHARTS:
@@ -216,18 +193,14 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
         kinds = {}
         for cv in c.curves:
             kinds[cv.kind] = kinds.get(cv.kind, 0) + 1
-        L += [f"#### Fig. {case.figure}", "", f"Paper: {case.text}", "",
-              f"Ours ({case.model}{'; ' + case.note if case.note else ''}; ties: `{' '.join(case.ties)}`): "
-              + (", ".join(f"{v} {k} curve(s) of B's stability boundary" for k, v in kinds.items()) or "no curve")
-              + "; " + _chart_summary(c, case), ""]
-        if case.figure in EXTRA_CURVES:
-            L += extra_curve_lines(case, by_figure[EXTRA_CURVES[case.figure]], progress) + [""]
-        if case.figure in ("10(a)", "10(c)", "11", "13(b)"):
-            lim = limit(case, progress=progress)
-            L += ["As the imbalance vanishes (the same ties, B followed from Omega = 5 down to 0.5), its stability "
-                  "changes (stable on one side, unstable on the other; bifurcations of an unstable B left out) at: " + "; ".join(f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
-                                            for eps, pts in lim) + ".", ""]
-        L += [f"![Fig. {case.figure}](@FIGURES@/{name})", ""]
+        extra = (extra_curves(case, by_figure[EXTRA_CURVES[case.figure]], progress) if case.figure in EXTRA_CURVES
+                 else None)
+        lim = (limit(case, progress=progress) if case.figure in ("10(a)", "10(c)", "11", "13(b)") else None)
+        L += render("chart", figure=case.figure, text=case.text, model=case.model, note=case.note, ties=case.ties,
+                    curves=[f"{v} {k} curve(s) of B's stability boundary" for k, v in kinds.items()],
+                    summary=chart_summary(c, case), extra=extra, image=name,
+                    limit=lim and [f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
+                                   for eps, pts in lim]) + [""]
     # wall times go to the progress lines (`adbgen bench reproduce` records them), never into the document,
     # which must come out byte-identical from run to run
     progress(f"two-plane orbits section: {time.perf_counter() - t0:.0f} s")
@@ -264,23 +237,17 @@ def hopf_rows(case: ChartCase, epsilons=HOPF_ROWS, progress=print) -> dict:
     return out
 
 
-def extra_curve_lines(case: ChartCase, control: ChartCase, progress=print) -> list[str]:
-    """The paper's "extra curves" of `case` against the symmetric `control`: Hopf points of B along rows."""
+def extra_curves(case: ChartCase, control: ChartCase, progress=print) -> dict:
+    """The paper's "extra curves" of `case` against the symmetric `control`: Hopf points of B along rows, as
+    prose/chart.md.j2 shows them."""
     ours = hopf_rows(case, progress=progress)  # the rows at the same m/M (the axis: eps/R times scale2)
     theirs = dict(zip(ours, hopf_rows(control, [e * case.scale2 / control.scale2 for e in ours], progress).values()))
     cell = lambda pts: f"{len(pts)}: " + ", ".join(f"{w:.4f}" + ("*" if ch else "") for w, ch in pts)  # noqa: E731
-    rows = [f"| {e * case.scale2:g} | {cell(theirs[e])} | {cell(ours[e])} |" for e in ours]
-    extra = [e for e in ours if len(ours[e]) > len(theirs[e])]
     changes = lambda d: sum(ch for pts in d.values() for _, ch in pts)  # noqa: E731
-    return [f"The chart draws B's stability boundary only: a Hopf point where B is already unstable on both sides "
-            f"lies on no boundary.  Every Hopf point of B along rows (B followed from Omega = {case.range1[1]:g} "
-            f"down to {case.range1[0]:g}, stable or not; * where B's stability changes, {changes(theirs)} of "
-            f"Fig. {control.figure}'s and {changes(ours)} of Fig. {case.figure}'s):", "",
-            f"| m/M | Fig. {control.figure}: Hopf points | Fig. {case.figure}: Hopf points |", "|---|---|---|",
-            *rows, "",
-            (f"Extra Hopf points at {', '.join(f'{e * case.scale2:g}' for e in extra)}: the paper's extra curves, from "
-             "the broken symmetry." if extra else "**No extra Hopf point on these rows**: the paper's extra curves "
-             "are not found here.")]
+    return {"top": f"{case.range1[1]:g}", "bottom": f"{case.range1[0]:g}", "control": control.figure,
+            "changes_control": changes(theirs), "changes": changes(ours),
+            "rows": [(f"{e * case.scale2:g}", cell(theirs[e]), cell(ours[e])) for e in ours],
+            "extra": [f"{e * case.scale2:g}" for e in ours if len(ours[e]) > len(theirs[e])]}
 
 
 def _runs(x: np.ndarray, mask: np.ndarray) -> list[tuple[float, float]]:
@@ -327,33 +294,23 @@ def limit(case: ChartCase, epsilons=(1e-6, 1e-7, 1e-8), progress=print) -> list[
     return out
 
 
-def _chart_summary(c, case: ChartCase) -> str:
-    """Where the grid found B stable at the smallest and the largest eccentricity row, and the curves' lowest
-    points (what the curves asymptote to as the imbalance vanishes)."""
-    found = c.stable >= 0
-    parts = [f"B found at {int(found.sum())} of {c.stable.size} grid points, stable at {int((c.stable == 1).sum())}"]
-    missing = int((c.stable == -1).sum())
-    if missing:
-        parts.append(f"{missing} grid point(s) not computed (a failure, drawn as x), "
-                     f"{int((c.stable == -2).sum())} where B does not exist")
+def chart_summary(c, case: ChartCase) -> dict:
+    """Where the grid found B stable at the smallest and the largest eccentricity row (a certified row: its
+    windows' located ends), what is certified, and the curves' lowest points (what the curves asymptote to as the
+    imbalance vanishes), as prose/chart.md.j2 says them."""
     rows = c.windows("rows")
+    out = []
     for i, what in ((0, "smallest"), (len(c.lam2) - 1, "largest")):
-        if i in rows:  # the certified row: its windows' ends located
-            runs = rows[i]
-            parts.append(f"at the {what} imbalance ({c.lam2[i] * case.scale2:.1e}) stable for Omega in "
-                         + (", ".join(f"[{a:.4f}, {b:.4f}]" for a, b in runs) if runs else "no window"))
-            continue
-        runs = _runs(c.lam1, c.stable[i] == 1)
-        parts.append(f"at the {what} imbalance ({c.lam2[i] * case.scale2:.1e}) stable for Omega in "
-                     + (", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in runs) if runs else "no grid point"))
+        runs, digits, empty = (rows[i], 4, "no window") if i in rows else (_runs(c.lam1, c.stable[i] == 1), 2,
+                                                                          "no grid point")
+        out.append({"what": what, "imbalance": f"{c.lam2[i] * case.scale2:.1e}",
+                    "windows": ", ".join(f"[{a:.{digits}f}, {b:.{digits}f}]" for a, b in runs) or empty})
     cert = c.to_json(False)["resolution"].get("certified")
-    if cert and cert["refined"]:
-        parts.append(f"certified: every stable window wider than {cert['Omega']:.4f} in Omega along a row and "
-                     f"{cert['epsilon']:.4f} in log10 eps/R along a column is found")
     lows = sorted(pt[0] for cv in c.curves for pt in [min(cv.points, key=lambda q: q[1])] if pt[1] <= 1.01 * c.lam2[0])
-    if lows:
-        parts.append("curves reaching the smallest imbalance at Omega = " + ", ".join(f"{v:.3f}" for v in lows))
-    return "; ".join(parts) + "."
+    return {"found": int((c.stable >= 0).sum()), "size": c.stable.size, "stable": int((c.stable == 1).sum()),
+            "missing": int((c.stable == -1).sum()), "absent": int((c.stable == -2).sum()), "rows": out,
+            "certified": (f"{cert['Omega']:.4f}", f"{cert['epsilon']:.4f}") if cert and cert["refined"] else None,
+            "lows": [f"{v:.3f}" for v in lows]}
 
 
 REPRODUCTION = markdown_section("two-plane-orbits", "Two-plane paper: periodic orbits and stability charts (issue 21)",

@@ -483,9 +483,6 @@ def compute(fig_dir: Path, progress=None) -> dict:
     return out
 
 
-SYNC = "t_sync: from then on every ball |theta_k' - Omega| <= 1e-3 Omega"
-
-
 def _t(v) -> str:
     return "—" if v is None else f"{v:.0f}"
 
@@ -494,27 +491,16 @@ def _stall_list(v) -> str:
     return "; ".join(f"{m:.4f} ({a:.2f}-{b:.2f})" for m, a, b in v) or "none"
 
 
-def _figure_5a_lines(r: dict) -> list[str]:
-    pts = r["points"]
-    first3 = [p for p in pts if p["m"] < 2.5 * r["m_c"]]
-    L = ["### Section 3.2, Figure 5(a): the balanced state's further Hopf points", "",
-         "The paper (Omega = 3, eps/R = 0.01, set-up (10)): \"the balanced state B is stable at the pitchfork and "
-         "then undergoes a series of stability changes at three further Hopf bifurcations\" (no values printed).  "
-         "Ours: B's spectrum from the generated Jacobian at the exact B, m from m_c (1 + 1e-5) to "
-         f"{r['m_max']:.3g} on 400 logarithmic steps, each change refined by brentq:", "",
-         "| | m | m / m_c | frequency of the crossing pair | B after it (growing m) |", "|---|---|---|---|---|",
-         f"| pitchfork | {r['m_c']:.6g} | 1 | — | {'stable' if r['stable_at_pitchfork'] else 'unstable'} |"]
-    for k, p in enumerate(pts):
-        L.append(f"| Hopf {k + 1} | {p['m']:.6g} | {p['m'] / r['m_c']:.4f} | {p['frequency']:.5f} | "
-                 f"{'stable' if p['stable_after'] else 'unstable'} |")
-    L += ["", f"B is {'stable' if r['stable_at_pitchfork'] else '**unstable**'} just above the pitchfork and "
-          f"changes stability at {len(first3)} Hopf points below m = {2.5 * r['m_c']:.4g} "
-          + ("(m/m_c = " + ", ".join(f"{p['m'] / r['m_c']:.3f}" for p in first3) + "), " if first3 else "")
-          + "each crossing pair complex: the paper's three further Hopf bifurcations"
-          + (f"; {len(pts) - len(first3)} more changes follow at much larger masses (m/m_c = "
-             + ", ".join(f"{p['m'] / r['m_c']:.1f}" for p in pts[len(first3):]) + "; the paper gives no axis range "
-             "to compare them with)." if len(pts) > len(first3) else "."), ""]
-    return L
+def figure_5a_lines(r: dict) -> list[str]:
+    """Figure 5(a)'s Hopf points of B (prose/figure_5a.md.j2): the first three, below 2.5 m_c, are the paper's."""
+    pts, mc = r["points"], r["m_c"]
+    first = [p for p in pts if p["m"] < 2.5 * mc]
+    return render(
+        "figure_5a", m_max=f"{r['m_max']:.3g}", m_c=f"{mc:.6g}", stable_at_pitchfork=r["stable_at_pitchfork"],
+        points=[{"m": f"{p['m']:.6g}", "ratio": f"{p['m'] / mc:.4f}", "frequency": f"{p['frequency']:.5f}",
+                 "stable_after": p["stable_after"]} for p in pts],
+        m_first=f"{2.5 * mc:.4g}", first=[f"{p['m'] / mc:.3f}" for p in first],
+        later=[f"{p['m'] / mc:.1f}" for p in pts[len(first):]]) + [""]
 
 
 def _pct(x):
@@ -534,27 +520,10 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
     (prose/fig12.md.j2)."""
     (p1g, p1), (p2g, p2) = f["peaks"][:2]
     lim = f["limit"]
-    carried = [q for q in f["points"] if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"]]
-    if carried:
-        note = ("Carried on: " + "; ".join(f"Omega = {q['Omega']:.2f} ({_verdict(q['first'])} at t = "
-                                          f"{FIG12_TRANSIENT:g}, {_verdict(q['balanced'])} at t = {q['t']:g}"
-                                          + ("" if q["settled"] else ", **still changing at the cap**") + ")"
-                                          for q in carried)
-                + f".  Converged: balanced on {_spans(f['intervals'])}; the t = {FIG12_TRANSIENT:g} run alone gave "
-                f"{_spans(f['first_intervals'])}.")
-    else:
-        note = f"No point changes: balanced on {_spans(f['intervals'])}."
-    table = [
-        ["plain rotor, first peak (Omega_cyl,X)", "1", f"{p1:.5f} (grid {p1g:.3f})", _pct(_rel(p1, 1.0))],
-        ["plain rotor, second peak (Omega_cyl,Y)", "2.24", f"{p2:.5f} (grid {p2g:.3f})", _pct(_rel(p2, 2.24))],
-        ["plain rotor, A_bar -> eps/R as Omega -> infinity", "1e-4",
-         ", ".join(f"{v:.4g} (Omega = {k:g})" for k, v in sorted(lim.items())),
-         ", ".join(_pct(_rel(v, 1e-4)) for k, v in sorted(lim.items()))],
-        ["conical resonances 1.65, 3.79 not excited in the plain rotor (chi = 0)", "no peak",
-         "no peak" if len(f["peaks"]) == 2 else "peaks at " + ", ".join(f"{b:.3f}" for _, b in f["peaks"]),
-         "same" if len(f["peaks"]) == 2 else "**differs**"],
-        ["ABB balances between resonances and above the highest critical speed", "intervals (no number)",
-         f"{_spans(f['intervals'])} (t = {FIG12_TRANSIENT:g} alone: {_spans(f['first_intervals'])})", "—"]]
+    carried = [{"Omega": f"{q['Omega']:.2f}", "first": _verdict(q["first"]), "balanced": _verdict(q["balanced"]),
+                "t": f"{q['t']:g}", "settled": q["settled"]}
+               for q in f["points"] if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"]]
+    limits = sorted(lim.items())
     par = f["floquet"]["parity"]
     stable = lambda w, iv: any(a <= w <= b for a, b in iv)  # noqa: E731
     static_agree = sum(q["balanced"] == stable(q["Omega"], f["floquet"]["stable"]) for q in f["points"])
@@ -574,7 +543,11 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
     disagree = [q["Omega"] for q in f["dyn_points"] if q["balanced"] != stable(q["Omega"], f["dyn_floquet"]["stable"])]
     return render(
         "fig12", grid=FIG12_GRID, step=f"{(FIG12_GRID[1] - FIG12_GRID[0]) / (FIG12_GRID[2] - 1):g}", t1=f"{FIG12_TRANSIENT:g}", t2=f"{2 * FIG12_TRANSIENT:g}", cap=f"{FIG12_CAP:g}",
-        carried=note, table=table, floquet=_spans(f["floquet"]["stable"], 4),
+        carried=carried, intervals=_spans(f["intervals"]), first_intervals=_spans(f["first_intervals"]),
+        peak_1=[f"{p1:.5f} (grid {p1g:.3f})", _pct(_rel(p1, 1.0))],
+        peak_2=[f"{p2:.5f} (grid {p2g:.3f})", _pct(_rel(p2, 2.24))],
+        limits=[f"{v:.4g} (Omega = {k:g})" for k, v in limits], limit_diffs=[_pct(_rel(v, 1e-4)) for _, v in limits],
+        peaks=[f"{b:.3f}" for _, b in f["peaks"]], floquet=_spans(f["floquet"]["stable"], 4),
         parity_speeds=", ".join(f"{w:.2f}" for w in par) or "no speed", parity_count=len(par),
         parity_min=f"{min((m for m, _ in par.values()), default=float('nan')):.5f}",
         parity_max=f"{max((m for m, _ in par.values()), default=float('nan')):.5f}",
@@ -590,121 +563,51 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
         static_agree=static_agree, static_total=len(f["points"]), slow=slow) + [""]
 
 
-def section(res: dict, root: Path) -> list[str]:
-    ex = res["exchange"]["ex"]
+def exchange_lines(r: dict, root: Path) -> list[str]:
+    """The page's heading and section 3.2.3 (prose/exchange.md.j2): kappa's zero and pole against (11) and the
+    frozen-ball critical speeds (32), the full damped model's slow eigenvalues, the approach to m_c."""
+    ex = r["ex"]
     cyl, con = ex.frozen
     eps, s1, s2 = ex.small_eps
-    L = ["## Two-plane paper (Rodrigues et al. 2011)", "",
-         "Models: `generated/two_plane_rotating` (rotating frame (7)-(8), set-up (10)), `two_plane_fixed` "
-         "(anisotropic supports (43), fixed frame), `two_plane_ramp` and `two_plane_hill` (run-ups of section 6).",
-         "", "### Section 3.2.3: B and C3 exchange stability at the critical speeds", "",
-         "The paper's method on the generated equations (no SymPy): the branches B and C3 solved by Newton "
-         "with the ball mass free at alpha_hat = 1, 2, 3 x 1e-3 (fewer near Omega_con), the quadratic "
-         "coefficients a_1 + a_2 (B) and a_1 (C3) of m - m_c, kappa = (a_1 - a_2)/(a_1 + a_2); by (37)-(38) B "
-         "is stable and C3 unstable where kappa > 0 and the other way round where kappa < 0, for m just above m_c "
-         "(at m = m_c itself B = C1 = C3 is non-hyperbolic: the eigenvalues -2 mu and -2 mu kappa of (38) vanish).  Undamped "
-         f"(c = 0) as (28)-(32); eps/R = 0.01, so m_c = {ex.m_c:g}.  Omega_1 is the zero of kappa (brentq), "
-         "Omega_2 its pole (the zero of 1/kappa, interpolated).  Beside them the critical speeds of the "
-         "generated equations with the balls frozen at B (zeros of the rotor's static stiffness "
-         "-M dq''/dq, (32) with m = m_c).  Exact steady-state computations: no tolerance study applies.", "",
-         "| quantity | published | ours | rel. diff. | frozen-ball critical speed (32) | ours - (32) |",
-         "|---|---|---|---|---|---|",
-         f"| Omega_1: B loses stability to C3 (a_1 = a_2) | 1 (Omega_cyl, (11)) | {ex.omega_1:.9f} | "
-         f"{_pct(_rel(ex.omega_1, 1.0))} | {cyl:.9f} | {ex.omega_1 - cyl:.1e} |",
-         f"| Omega_2: B regains stability (kappa pole) | 1.81 (Omega_con, (11)) | {ex.omega_2:.9f} | "
-         f"{_pct(_rel(ex.omega_2, 1.81))} | {con:.9f} | {ex.omega_2 - con:.1e} |", "",
-         "The paper's 1 and 1.81 are (11), the plain rotor's critical speeds; at the pitchfork the balls "
-         "(4 m_c) are part of the rotor, so the exchange happens at (32)'s speeds with m = m_c, which ours "
-         f"equal to {max(abs(ex.omega_1 - cyl), abs(ex.omega_2 - con)):.0e}.  The differences to 1 and 1.81 are that "
-         f"ball mass (and 1.81 rounds 1.809068): with eps/R = {eps:g} (m_c = {eps / 4:g}) the same computation "
-         f"gives Omega_1 = {s1:.6f} ({100 * _rel(s1, 1.0):+.4f} %) and Omega_2 = {s2:.6f} "
-         f"({100 * _rel(s2, 1.81):+.3f} %).", ""]
-    even, odd = res["exchange"]["even"], res["exchange"]["odd"]
-    w = np.array(list(even))
     at = lambda d, x: d[min(d, key=lambda v: abs(v - x))]  # noqa: E731
-    L += ["**The full damped model** (c = 0.01, c_b/m = 0.01; lower panel at m = m_c (1 + 1e-3)): the Jacobian "
-          "at B commutes with the race swap gamma_r (13)-(14), so its spectrum splits into the gamma_r-even part "
-          "(B's symmetric ball mode, the eigenvalue -2 mu of (38)) and the odd part (the mode (1, -1) towards C3, "
-          "-2 mu kappa).  Below Omega_1 both slow modes of B are unstable (real, positive); between Omega_1 and "
-          "Omega_2 only the mode towards C3 is; above Omega_2 neither.  So B regains its stability against C3 at "
-          "Omega_2, as the paper says (\"as Omega passes through Omega_con ... the stability of the balanced "
-          "state B is regained\"), and the relative stability of B and C3 changes at Omega_1: the ratio of the "
-          "two slow eigenvalues (odd/even) is kappa (at Omega = 0.6: "
-          f"{at(odd, 0.6) / at(even, 0.6):.4f}, kappa {at(ex.curve, 0.6):.4f}).  Below Omega_1 the full model "
-          "has B unstable in both directions where the normal form (38) with a_1 > a_2 has it stable; the paper "
-          "says so itself (\"when Omega < Omega_1, the trivial solution C1 of the pitchfork is unstable whereas "
-          "the stable branch is the corresponding C1 state with coincident balls on the heavy side\"), the "
-          "centre-manifold time runs backwards there.  At m > m_c a slow mode does not cross zero (B's static "
-          "stiffness matrix stays regular): it merges with a rotor mode near the critical speed into a complex "
-          "pair, which then crosses into the stable half-plane; so the sign change of the slowest eigenvalue "
-          "of each class is at the critical speed only as m -> m_c.  Study (grid step 0.0019 in Omega, "
-          "the last sign change in [0.9, 1.2] and [1.6, 2.0]):", "",
-          "| (m - m_c)/m_c | even (symmetric) mode | odd mode (towards C3) |", "|---|---|---|"]
-    for rel, (e, o) in ex.study.items():
-        L.append(f"| {rel:g} | {'—' if e is None else f'{e:.4f}'} | {'—' if o is None else f'{o:.4f}'} |")
-    L += [f"| (32), the limit m -> m_c | {cyl:.4f} | {con:.4f} |", "",
-          "B's other instabilities of the full model (Hopf points of the whirl modes, see [Stability](stability.md)) "
-          "are beyond the normal form, as the paper says.", "",
-          f"![B/C3 exchange]({res['exchange']['figure'].relative_to(root).as_posix()})", ""]
+    dash = lambda v: "—" if v is None else f"{v:.4f}"  # noqa: E731
+    return render(
+        "exchange", m_c=f"{ex.m_c:g}",
+        omega_1=[f"{ex.omega_1:.9f}", _pct(_rel(ex.omega_1, 1.0)), f"{cyl:.9f}", f"{ex.omega_1 - cyl:.1e}"],
+        omega_2=[f"{ex.omega_2:.9f}", _pct(_rel(ex.omega_2, 1.81)), f"{con:.9f}", f"{ex.omega_2 - con:.1e}"],
+        frozen_diff=f"{max(abs(ex.omega_1 - cyl), abs(ex.omega_2 - con)):.0e}", small_eps=f"{eps:g}",
+        small_m_c=f"{eps / 4:g}", small_1=f"{s1:.6f} ({100 * _rel(s1, 1.0):+.4f} %)",
+        small_2=f"{s2:.6f} ({100 * _rel(s2, 1.81):+.3f} %)",
+        ratio_06=f"{at(r['odd'], 0.6) / at(r['even'], 0.6):.4f}", kappa_06=f"{at(ex.curve, 0.6):.4f}",
+        study=[(f"{rel:g}", dash(e), dash(o)) for rel, (e, o) in ex.study.items()],
+        limit=(f"{cyl:.4f}", f"{con:.4f}"), figure=r["figure"].relative_to(root).as_posix()) + [""]
 
-    L += _figure_5a_lines(res["fig5a"])
+
+def runup_table_lines(study: dict, spin_check: float) -> list[str]:
+    """Section 6's set-up and its table (prose/runups.md.j2): each metric converged (rtol RUN_RTOLS[-1]), its
+    difference to a published number where the paper prints one, and at every rtol of the study."""
+    M = study[RUN_RTOLS[-1]]
+    t = lambda v: "never" if v is None else f"{v:.0f}"  # noqa: E731
+    f4, f1, g3 = (lambda v: f"{v:.4f}"), (lambda v: f"{v:.1f}"), (lambda v: f"{v:.3g}")  # noqa: E731
+    formats = {"stalls_15a": _stall_list, "sync_15a": t, "end_min_15a": lambda v: f"{v / 3.6:.4f}",
+               "stalls_15b": _stall_list, "sync_15b": t, "end_A_15b": g3, "t_plain_peak": f1, "sync_16a": t,
+               "end_A_16a": g3, "burst_16a": f1, "sync_16b": t, "ratio_16b": f4, "ratio_16a": f4}
+    published = {"burst_16a": 800.0}  # the one number the paper prints ("around t = 800")
+    cells = {key: " | ".join([fmt(M[key]), _pct(_rel(M[key], published[key])) if key in published else "—"]
+                             + [fmt(study[r][key]) for r in RUN_RTOLS]) for key, fmt in formats.items()}
+    return render("runups", engine=tr.ENGINE, rtols=[f"{r:g}" for r in RUN_RTOLS], spin_check=f"{spin_check:.1e}",
+                  t_con=f"{M['t_con']:.1f}", cells=cells) + [""]
+
+
+def section(res: dict, root: Path) -> list[str]:
+    L = exchange_lines(res["exchange"], root)
+    L += figure_5a_lines(res["fig5a"])
     L += fig12_lines(res["fig12"], root)
     ru = res["runups"]
     ramp, hill = ru["two_plane_ramp"], ru["two_plane_hill"]
     study = ru["study"]
     M = study[RUN_RTOLS[-1]]
-    t = lambda v: "never" if v is None else f"{v:.0f}"  # noqa: E731
-    cols = lambda key, f: " | ".join(f(study[r][key]) for r in RUN_RTOLS)  # noqa: E731
-    L += ["### Section 6: run-ups (Figures 15, 16)", "",
-          f"Engine `{tr.ENGINE}` (compiled DOP853, named: not the default), atol 1e-14; **converged** = rtol "
-          f"{RUN_RTOLS[-1]:g}, the study "
-          "beside it at rtol " + ", ".join(f"{r:g}" for r in RUN_RTOLS) + ".  Set-up (10), dynamic imbalance "
-          "eps/R = chi = 5e-5, beta = 1, m/M = 1e-4; the rotor at rest and undeflected, the balls at rest on "
-          "opposite sides of each race (theta = 0, pi).  The ramp reaches Omega = 3.6 at t = 6000 (Figure 15), the "
-          "Hill profile (45) has (Omega_max, t_1/2, n) = (3.6, 200, 3) (Figure 16, run to t = 3000).  t_sync: the "
-          "time from which every ball stays within |theta_k' - Omega| <= 1e-3 Omega to the end of the run; a stall: "
-          "a stretch of at least 100 time units over which the balls' mean speed lags the rotor by more than 5 % of its "
-          "speed beyond the lag the drive imposes on balls that follow it (Omega' m R^2 / c_b, the start-up lag), "
-          "given by the median ball speed over it and the rotor speeds at its start and end.  The ball phases "
-          "alpha_k = theta_k - theta_0(t) of Figure 16(g), (h) use the integrated ball angles theta_k and the spin "
-          "angle theta_0(t) the model emits in closed form (the integral of (45); "
-          f"{res['runups']['spin_check']:.1e} from adaptive quadrature at t = 3000), no rule on the output "
-          "times.", "",
-          "| figure | c_b/m | paper | quantity | converged | rel. diff. | " + " | ".join(f"rtol {r:g}" for r in RUN_RTOLS)
-          + " |", "|---|---|---|---|---|---|" + "---|" * len(RUN_RTOLS),
-    ]
-    f4, f1, g3 = (lambda v: f"{v:.4f}"), (lambda v: f"{v:.1f}"), (lambda v: f"{v:.3g}")  # noqa: E731
-    q = '"'
-    rows = [  # figure, c_b/m, the paper's words, quantity, metric, format, published number (or None)
-        ("15(a) ramp", "0.01", f"the balls {q}stall and synchronize at a speed just below the rotor "
-         f"eigenfrequencies{q} (Omega_cyl = 1 (11))", "stall speeds (median ball speed of each stall; Omega at its "
-         "start-end)", "stalls_15a", _stall_list, None),
-        ("15(a) ramp", "0.01", f"{q}the balls lag the rotor{q}, {q}the conditions during the run-up can prevent the "
-         f"ABB from achieving balance{q}", SYNC, "sync_15a", t, None),
-        ("15(a) ramp", "0.01", "", "slowest ball at the end / Omega = 3.6", "end_min_15a",
-         lambda v: f"{v / 3.6:.4f}", None),
-        ("15(b) ramp", "0.1", f"stall {q}as the rotor passes through the critical speeds{q} (Omega_cyl = 1, "
-         f"Omega_con = 1.81 (11))", "stall speeds (median ball speed of each stall; Omega at its start-end)",
-         "stalls_15b", _stall_list, None),
-        ("15(b) ramp", "0.1", f"{q}the balls resynchronize with the rotor and eventually this leads to balanced "
-         f"operation{q}", SYNC, "sync_15b", t, None),
-        ("15(b) ramp", "0.1", "", "A at t = 6000", "end_A_15b", g3, None),
-        ("16 Hill", "", f"{q}the rotor passes through its critical speeds by t = 250{q}",
-         f"plain rotor's largest A (Omega(t) = 1.81 at t = {M['t_con']:.1f})", "t_plain_peak", f1, None),
-        ("16(e),(g) Hill", "0.01", f"the balls lag, {q}eventually catch up ... the ABB eventually achieves balanced "
-         f"operation{q}", SYNC, "sync_16a", t, None),
-        ("16(c) Hill", "0.01", "", "A at t = 3000", "end_A_16a", g3, None),
-        ("16(c) Hill", "0.01", f"{q}the resulting vibrations at around t = 800{q}", "t of the largest A after t = 300",
-         "burst_16a", f1, 800.0),
-        ("16(f),(h) Hill", "0.1", f"{q}the balls take less time to reach the speed of the rotor{q}",
-         SYNC, "sync_16b", t, None),
-        ("16(d) Hill", "0.1", f"{q}the vibration levels at the critical speeds are higher than that of the plain "
-         f"rotor{q}", "largest A for t <= 300, ABB / plain rotor", "ratio_16b", f4, None),
-        ("16(a) Hill", "0.01", "", "largest A for t <= 300, ABB / plain rotor", "ratio_16a", f4, None)]
-    for fig, ratio, words, what, key, fmt, pub in rows:
-        rel = "—" if pub is None else _pct(_rel(M[key], pub))
-        L.append(f"| {fig} | {ratio} | {words} | {what} | {fmt(M[key])} | {rel} | {cols(key, fmt)} |")
-    L.append("")
+    L += runup_table_lines(study, res["runups"]["spin_check"])
     after = ru["after"]
     a1, a0 = after[0.1], after[0.01]
     ph = ru["phases"]

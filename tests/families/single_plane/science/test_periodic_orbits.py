@@ -2,6 +2,7 @@
 on their own sheet of a folded branch."""
 
 import math
+from types import SimpleNamespace as NS
 
 import numpy as np
 import pytest
@@ -84,3 +85,80 @@ def test_split_run_only_when_free_balls_coincide():
     together = m.state({"phi_3": math.pi, "phi_4": math.pi})
     sp = periodic_orbits._split_run(m, p, together, free, 1.0)
     assert sp is not None and sp["size"] == periodic_orbits.SPLIT
+
+
+HEADING = "## Periodic orbits of the single-plane balancer (thesis ch. 4-6)"
+
+
+class _Branch:
+    def __init__(self, orbits, specials, parameter, stable, period=()):
+        self.orbits, self.specials = [None] * orbits, specials
+        self._json = {"parameter": parameter, "stable": stable, "period": list(period)}
+
+    def to_json(self):
+        return self._json
+
+
+def _hopf(lam, omega, l1, criticality="supercritical", drift=None):
+    return NS(lam=lam, omega=omega, l1=l1, criticality=criticality, info={"drift": drift})
+
+
+def _inputs():
+    """The committed section's values, to the digits it prints."""
+    o = NS(period=6.2105202807, r_min=0.017886, r_max=0.161001, trivial_multiplier_error=8.3e-11,
+           nontrivial=[0.970007, 0.970007j, 0.963207, 0.963207, 0.945204, 0.945204, 0.888342])
+    a = {"orbit": o, "returns": 321, "T_sim": 6.2105202807 * (1 + 1.0e-12),
+         "auto": {"Omega": 3.9999963182, "period": 6.2105278661 * (1 + 2.5e-12),
+                  "multipliers": [(x, 0.0) for x in (0.888342, 0.945204, 0.945204, 0.963207, 0.963207, 0.970007,
+                                                     0.970007, 1.0)]},
+         "auto_ours": NS(period=6.2105278661)}
+    specials = [{"kind": k, "Omega": w, "period": t} for k, w, t in (
+        ("torus", 1.867450, 8.63054), ("period-doubling", 1.679319, 11.76308), ("torus", 1.627565, 13.12118),
+        ("fold", 1.536488, 17.64295), ("fold", 1.537931, 17.79840), ("fold", 1.537821, 17.97786),
+        ("period-doubling", 1.568184, 18.50246))]
+    every = {2: [(1.88223935, 0.7431173, -0.052581), (1.09363427, 0.2516524, -0.10528),
+                 (1.02969415, 0.1243969, -2.5779)],
+             3: [(1.87536745, 0.4721717, -0.034452), (1.71244687, 0.6821876, -0.68264),
+                 (1.61276725, 0.6050406, 1.3409, "subcritical")],
+             4: [(2.17660048, 1.1103468, -0.1538), (1.30263949, 0.4614496, 0.4082, "subcritical"),
+                 (1.23945331, 0.3007487, -53.798)]}
+    runs = {3: {1e-10: (1.236209e-03, 0.222491), 1e-12: (1.236209e-03, 0.222491)},
+            4: {1e-10: (4.007421e-02, 0.391759), 1e-12: (4.007421e-02, 0.391759)}}
+    h1 = [{"n": 2, "hopf": _hopf(*every[2][0]), "every_hopf": [_hopf(*h) for h in every[2]],
+           "branch": _Branch(300, specials, [1.882226, 1.867488, 1.5871], [True, True, False])}]
+    for n, drift, omega, r_end, change in ((3, 0.00479, 1.8654, 1.236209e-03, 0.222491),
+                                           (4, 0.00911, 2.1666, 4.007421e-02, 0.391759)):
+        h1.append({"n": n, "hopf": _hopf(*every[n][0], drift=drift), "every_hopf": [_hopf(*h) for h in every[n]],
+                   "branch": _Branch(1, [], [], []),
+                   "drift": {"Omega": omega, "r_end": r_end, "angle_change": change, "runs": runs[n]}})
+    h1[2]["drift"]["split"] = {"size": 1e-9, "r_end": 0.441, "angle_change": 26986, "rtol": 1e-12}
+    ds = [{"n": n, "orbit": NS(period=period, windings={f"phi_{i + 1}": -1 for i in range(n)}, r_min=lo, r_max=hi,
+                                stable=True),
+           "branch": _Branch(2, [], [0.0, to], [], [0.0, there])}
+          for n, period, lo, hi, to, there in ((3, 1.89357422, 0.1112, 0.1306, 0.9877, 13.2162),
+                                               (4, 1.87595473, 0.1342, 0.1529, 0.9735, 12.9491))]
+    b = {"orbit": NS(period=1.98589725, windings={"phi_1": -1, "phi_2": -1, "phi_3": -1}, r_min=0.5237, r_max=0.5418,
+                     stable=True), "spread": 1.2e-14}
+    return a, h1, ds, b
+
+
+def _document_lines(text: str) -> list[str]:
+    """The section as the document has it: its links' placeholders resolved as `adbgen reproduce` does for
+    docs/reproduction.md."""
+    return text.replace("@DOCS@", ".").replace("@FIGURES@", "reproduction").splitlines()
+
+
+def test_the_periodic_orbits_section_renders_the_published_lines(published_section):
+    """Controls: without AUTO-07p's run its paragraph goes; without the split start its clause goes; a branch
+    with no stable orbit says no stable interval."""
+    published = published_section(HEADING)
+    a, h1, ds, b = _inputs()
+    # the section ends without the blank line the document puts before the next family's
+    assert _document_lines(periodic_orbits.lines(a, h1, ds, b)) == published[:-1]
+    no_auto = {k: v for k, v in a.items() if k not in ("auto", "auto_ours")}
+    lines = _document_lines(periodic_orbits.lines(no_auto, h1, ds, b))
+    assert not any(line.startswith("AUTO-07p (collocation") for line in lines) and len(lines) == len(published) - 3
+    del h1[2]["drift"]["split"]
+    assert "unstable invariant set" not in periodic_orbits.lines(a, h1, ds, b)
+    h1[0]["branch"]._json["stable"] = [False] * 3
+    assert "stable for Omega in" not in periodic_orbits.lines(a, h1, ds, b)

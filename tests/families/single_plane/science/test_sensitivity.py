@@ -8,7 +8,7 @@ import math
 
 from adbgen.analysis.loading import load_model
 from adbgen.analysis.simulate import simulate
-from adbgen.families.single_plane.science import sensitivity
+from adbgen.families.single_plane.science import sensitivity, sweeps
 
 PI = math.pi
 ENGINE = "cyrk-dop853"
@@ -98,3 +98,62 @@ def test_the_document_places_the_check_before_the_figures_and_fig_5_10_before_th
     assert heads.index("### Tolerance check of every transient") + 1 == heads.index("## Figures")
     assert heads.index("## FIG 5.10 CHECK") + 1 == heads.index("## Thesis, Figs. 5.10-5.11: launches")
     assert any(ln.startswith("* (!) Fig. 5.4(a)") for ln in doc)
+
+
+def _outcomes(rtol, second, *runs):
+    """The check's three outcomes (as run, tighter by 100, the second engine at rtol): (label, r_max, t_dec) each."""
+    from adbgen.analysis.tolerance import Outcome
+
+    how = (("as run", ENGINE, rtol), ("tighter", ENGINE, rtol / 100), ("second engine", second, rtol))
+    return [Outcome(role, engine, engine, r, r * 1e-2, "success", label, r_max, t_dec)
+            for (role, engine, r), (label, r_max, t_dec) in zip(how, runs)]
+
+
+def _judged(rtol, second, runs, ode45=None):
+    from adbgen.analysis.tolerance import Outcome, judge
+
+    shown = [] if ode45 is None else [
+        Outcome("thesis' solver", "matlab-ode45", "matlab-ode45", 1e-3, 1e-6, "success", ode45, 0.1, None)]
+    return judge(_outcomes(rtol, second, *runs), shown)
+
+
+def test_the_tolerance_sections_render_the_published_lines(published_section):
+    """templates/tolerance.md.j2, named_checked.md.j2 and transient_check.md.j2 on the committed run's outcomes
+    (the real `judge` of analysis.tolerance) give docs/reproduction.md's lines exactly.  Controls: with no flagged
+    transient the list ends with "."; a named start's flag changes its row."""
+    from pathlib import Path
+
+    lim, bal = "limit cycle", "balanced 1"
+    checks = [_judged(1e-8, "taylor", [(bal, 0.1, 1074.59), (lim, 0.1, None), (bal, 0.1, 1074.59)], lim),
+              _judged(1e-8, "taylor", [(lim, 0.1, None)] * 3, lim),
+              _judged(1e-8, "taylor", [(lim, 0.690084, None), (lim, 0.733013, None), (lim, 0.745399, None)], lim),
+              _judged(1e-8, "taylor", [(bal, 0.1, 841.038), (bal, 0.1, 912.813), (bal, 0.1, 1100.44)], lim)]
+    labels = [((bal, 0), (bal, 0), (lim, 1), (bal, 0), 1), ((lim, 3),) * 4 + (3,),
+              ((lim, 3),) + ((lim, 4),) * 3 + (3,), ((lim, 1),) + ((bal, 0),) * 3 + (1,)]
+    rtols = (1e-6, 1e-8, 1e-10, 1e-12)
+    runs = [{"run": run, "check": c, "ode45_laps": steps[-1],
+             "ladder": {r: {"label": lab, "laps": laps} for r, (lab, laps) in zip(rtols, steps[:-1])}}
+            for run, c, steps in zip(sensitivity.RUNS, checks, labels)]
+    check = {"rtol": 1e-10, "second_engine": "taylor-batch"}
+    ends = [(lim,) * 3, ("in-line 3(3-2)-", lim, "in-line 3(3-2)-"), *[("in-line 3(3-2)-",) * 3] * 2, (lim,) * 3,
+            (bal,) * 3, (bal,) * 3, *[("in-line 3(4-3)-",) * 3] * 4]
+    named = [{"figure": f, "phi_1": phi, "words": words, "check": check, "sensitive": len(set(got)) > 1,
+              "labels": dict(zip(("as run", "tighter", "second engine"), got))}
+             for (f, phi, words, _), got in zip(sweeps.NAMED, ends)]
+    root = Path("docs")
+    res = {"ladder": sensitivity.Ladder(ENGINE, rtols, 3000.0, ("matlab-ode45", 1e-3, 1e-6)), "runs": runs,
+           "figure": root / "reproduction" / "fig5_10_tolerance.png", "named": named}
+    published = published_section(
+        "## Thesis, Fig. 5.10 (and Fig. 5.9(a1)'s named start): outcomes that hang on the tolerance")
+    assert sensitivity.lines(res, root) == published
+    robust = [(f"r{k}", "(0, 0)", _judged(1e-10, "taylor", [(bal, 0.1, 1.0)] * 3)) for k in range(32)]
+    flagged = [("5.14(c)", "(pi/2, -pi/2, pi, 0)",
+                _judged(1e-10, "taylor", [(bal, 0.1, 642.009), (bal, 0.1, 634.757), (bal, 0.1, 642.009)])),
+               ("5.16(a)", "(pi/3, -pi/3, pi)",
+                _judged(1e-10, "taylor", [(lim, 0.190574, None), (lim, 0.104225, None), (lim, 0.185988, None)])),
+               ("5.17(a)", "(pi/2, -pi/2, pi, 0)",
+                _judged(1e-10, "taylor", [(lim, 0.16794, None), (lim, 0.239923, None), (lim, 0.224477, None)]))]
+    assert sensitivity.transient_lines(robust + flagged) == published_section("### Tolerance check of every transient")
+    assert sensitivity.transient_lines(robust)[2].endswith("32 of 32 robust.")
+    named[0]["sensitive"] = True
+    assert sensitivity.lines(res, root) != published

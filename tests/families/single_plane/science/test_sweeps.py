@@ -144,3 +144,99 @@ def test_fig_5_23_n2_starts_fail_at_1_6327_and_balance_at_2_0408():
     points = sweeps.grid_points_check(2)
     assert [x["balanced"] for x in points.values()] == [0, 10, 10]
     assert sweeps.consistent_with_grid(points)
+
+
+# the committed docs/reproduction.md's scan rows: panel -> (balanced, {other label: count}, min / median / max)
+SCANS = {"5.5(a)": (89, {"limit cycle": 11}, (0.00522, 0.3057, 0.5219)),
+         "5.5(b)": (100, {}, (0.04754, 0.04776, 0.04838)),
+         "5.7(a1)": (99, {"limit cycle": 1}, (0.002386, 0.2606, 0.722)),
+         "5.7(a2)": (98, {"in-line 3(3-2)-": 2}, (0.006033, 0.2597, 0.6318)),
+         "5.7(b1)": (99, {"in-line 3(3-2)-": 1}, (0.2579, 0.2724, 0.284)),
+         "5.7(b2)": (98, {"in-line 3(3-2)-": 2}, (0.1672, 0.1809, 0.1852)),
+         "5.7(c)": (100, {}, (0.4, 0.442, 0.4818)),
+         "5.7(c), 2pi/3": (100, {}, (0.04279, 0.04318, 0.04456)),
+         "5.9(a1)": (96, {"limit cycle": 4}, (0.04557, 0.4479, 0.93)),
+         "5.9(a2)": (96, {"in-line 3(4-3)-": 1, "limit cycle": 3}, (0.001249, 0.3717, 0.828)),
+         "5.9(a3)": (99, {"in-line 3(4-3)-": 1}, (0.004812, 0.3011, 0.48)),
+         "5.9(b1)": (99, {"in-line 3(4-3)-": 1}, (0.4593, 0.4871, 0.5125)),
+         "5.9(b2)": (98, {"in-line 3(4-3)-": 2}, (0.3837, 0.4014, 0.4086)),
+         "5.9(b3)": (100, {}, (0.04102, 0.04435, 0.04557)),
+         "5.9(c)": (100, {}, (0.04442, 0.04444, 0.04445)),
+         "5.9(d)": (100, {}, (0.04176, 0.04497, 0.04764))}
+# where the named starts (grid points 0, 23, 83, 99 of pi k/99) ended in the committed run
+NAMED_ENDS = {("5.7(a1)", 0): "limit cycle", ("5.7(a2)", 99): "in-line 3(3-2)-", ("5.7(a2)", 0): "in-line 3(3-2)-",
+              ("5.7(b2)", 0): "in-line 3(3-2)-", ("5.9(a1)", 0): "limit cycle", ("5.9(a2)", 99): "in-line 3(4-3)-",
+              ("5.9(a3)", 0): "in-line 3(4-3)-", ("5.9(b1)", 0): "in-line 3(4-3)-", ("5.9(b2)", 0): "in-line 3(4-3)-"}
+
+
+def _scan(panel):
+    """A scan with the committed row's counts, the named starts' ends and its balanced runs' min / median / max."""
+    count, others, (lo, mid, hi) = SCANS[panel.figure]
+    labels = ["balanced 1"] * 100
+    for (figure, k), label in NAMED_ENDS.items():
+        if figure == panel.figure:
+            labels[k] = label
+    free = (k for k in range(40, 80))
+    for label, n in others.items():
+        for _ in range(n - sum(1 for (f, _), x in NAMED_ENDS.items() if f == panel.figure and x == label)):
+            labels[next(free)] = label
+    half = (count - 1) // 2
+    values = iter([lo] * half + [mid] * (count - 2 * half) + [hi] * half)
+    r_max = [next(values) if label == "balanced 1" else 1.0 for label in labels]
+    return {"panel": panel, "labels": labels, "r_max": r_max, "phi_1": np.linspace(0.0, np.pi, 100),
+            "command": "adbgen sweep thesis_rotating_n2 --grid phi_1=0:pi:100 --tie phi_2=-phi_1 --measure r_max "
+                       "--t-end 3000"}
+
+
+def _damping():
+    """The committed damping maps' rows: n -> (corners of r_max, of t_dec, the not-balanced cells (zeta, beta
+    indices), undecided cells)."""
+    nan = float("nan")
+    rows = {2: ((0.0484, 0.0329, 0.0447, 0.0315), (462.5, 88.3, 409.7, 15.8), [], []),
+            3: ((0.0436, 0.1916, 0.0421, 0.0325), (776.0, nan, 425.3, 32.5),
+                [(i, j) for i in range(1, 13) for j in range(5)][:37], [(12, 12), (12, 11), (11, 12), (11, 11)]),
+            4: ((0.0444, 0.1663, 0.0429, 0.0323), (499.2, nan, 441.2, 41.4), [(i, 0) for i in range(7, 13)], [])}
+    out = {}
+    for n, (r, t, bad, open_) in rows.items():
+        labels = np.full((13, 13), "balanced 1", dtype=object)
+        for ij in bad:
+            labels[ij] = "limit cycle"
+        for ij in open_:
+            labels[ij] = "undecided"
+        r_max, t_dec = np.zeros((13, 13)), np.zeros((13, 13))
+        for (i, j), x, y in zip([(0, 0), (-1, 0), (0, -1), (-1, -1)], r, t):
+            r_max[i, j], t_dec[i, j] = x, y
+        out[n] = {"labels": labels, "r_max": r_max, "t_dec": t_dec, "zeta": np.linspace(0.01, 0.25, 13),
+                  "beta": np.linspace(0.01, 0.25, 13),
+                  "command": f"adbgen sweep thesis_rotating_n{n} --grid zeta=0.01:0.25:13 --grid beta=0.01:0.25:13 "
+                             "--y0 phi_1=pi/2 --y0 phi_2=-pi/2 --measure attractor --t-end 3000"}
+    return out
+
+
+LYAPUNOV = {"5.12(b), n = 2": (0.001, 0.001, 0.0002, 0.237), "5.13(b), n = 3": (0.058, 0.061, 0.056, 0.431),
+            "5.14(b), n = 4": (0.048, 0.053, 0.043, 0.493),
+            "5.4(b), n = 2 (control: a limit cycle)": (0.0002, 0.001, 0.0001, 0.161)}
+
+
+def test_the_scan_lyapunov_and_damping_sections_render_the_published_lines(published_section):
+    """templates/scans.md.j2, lyapunov.md.j2, damping_maps.md.j2 from the committed run's values give its lines
+    exactly.  Controls: a named start that ends elsewhere is said "**no**"; halves of an exponent above 0.01 make
+    the run chaotic; a damping map balanced everywhere says "—"."""
+    root = Path("docs")
+    paths = {k: root / "reproduction" / name for k, name in
+             (("5.5", "fig5_5.png"), ("5.7", "fig5_7.png"), ("5.9", "fig5_9.png"), ("5.20", "fig5_20_22.png"))}
+    res = sweeps.Everything(scans=[_scan(p) for p in sweeps.PANELS], zeta_beta=_damping())
+    assert sweeps.scans_lines(res, paths, root) == published_section(
+        "## Thesis, Figs. 5.5, 5.7, 5.9: r_max against the starting position")
+    lyapunov = {k: dict(zip(("exponent", "first_half", "second_half", "r_window"), v)) for k, v in LYAPUNOV.items()}
+    assert sweeps.lyapunov_lines(lyapunov) == published_section(
+        "## Thesis, Figs. 5.12-5.14 (b): the motion at Omega = 1.6")
+    assert sweeps.damping_lines(res, paths, root) == published_section("## Thesis, Figs. 5.20-5.22: damping maps")
+    res.scans[0]["labels"][0] = "limit cycle"  # 5.7(a1)'s is at index 0 of its own scan; 5.5(a) names none
+    res.scans[2]["labels"][0] = "balanced 1"
+    row = "| 5.7(a1) | phi_1 = phi_2 = phi_3 = 0: a limit cycle | balanced 1 (phi_1(0) = 0.00000000000000) | **no** |"
+    assert row in sweeps.scans_lines(res, paths, root)
+    lyapunov["5.12(b), n = 2"].update(first_half=0.02, second_half=0.03)
+    assert sweeps.lyapunov_lines(lyapunov)[6].endswith("| chaotic (positive exponent) |")
+    res.zeta_beta[3]["labels"][:] = "balanced 1"
+    assert sweeps.damping_lines(res, paths, root)[7].startswith("| 3 | 169 | — |")

@@ -1,6 +1,9 @@
 """The Markdown of the thesis' reproduction sections, as jinja2 templates (issue 33 item 6: long prose out of
 Python string literals).  `render(name, **values)`: the template filled; numbers are formatted in the
-templates, computed by the science modules."""
+templates, computed by the science modules.
+
+A line of a template that ends in `{##}` (an empty jinja2 comment, whose newline trim_blocks removes) goes on
+in the next line: the document's long paragraphs and table cells are one line each, the templates wrapped."""
 
 from __future__ import annotations
 

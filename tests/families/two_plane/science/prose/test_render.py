@@ -21,6 +21,7 @@ def test_paragraphs_joined_tables_kept(tmp_path, monkeypatch):
 
 def test_the_shipped_templates_name_only_given_values():
     names = sorted(p.name for p in prose.FOLDER.glob("*.md.j2"))
-    assert names == ["fig12.md.j2", "runup_notes.md.j2"]
+    assert names == ["chart.md.j2", "exchange.md.j2", "fig12.md.j2", "figure_5a.md.j2", "orbits.md.j2",
+                     "runup_notes.md.j2", "runups.md.j2"]
     with pytest.raises(jinja2.UndefinedError):
         prose.render("runup_notes", burst="1")
