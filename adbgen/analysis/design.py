@@ -116,12 +116,13 @@ class Problem:
     parallel: bool = False
     workers: int | None = None
     progress: bool = False
+    box_lines_parallel: bool = False  # with `parallel`: a design's box lines on the cluster (the optimiser's evaluations)
 
     def __getstate__(self):
         # a copy sent to a Dask task: without the cache (the task's verdict comes back as its result) and the
         # journal (only this process writes it)
         state = dict(self.__dict__)
-        state.update(cache={}, journal=None, parallel=False, progress=False)
+        state.update(cache={}, journal=None, parallel=False, progress=False, box_lines_parallel=False)
         return state
 
     def __post_init__(self):
@@ -429,30 +430,18 @@ def _assess(problem: Problem, design: tuple) -> Verdict:
                 v.unstable_at.append(dict(fixed))
         except SolveFailed as exc:
             v.failures.append((dict(fixed), str(exc)))
-    for k, axis in enumerate(active):
-        others = active[:k] + active[k + 1:]
-        for through in _through(others):
-            point = {**fixed, **through}
-
-            def solve(x, near=None, point=point, axis=axis):
-                return _sample(problem, problem.params(design, {**point, axis.name: x}), x)
-            xs = np.linspace(axis.low, axis.high, LINE_POINTS)
-            samples = []
-            for x in xs:
-                try:
-                    samples.append(solve(float(x)))
-                except SolveFailed as exc:
-                    samples.append(None)
-                    v.failures.append(({**point, axis.name: float(x)}, str(exc)))
-            line = certify(samples, solve, (axis.high - axis.low) / (LINE_POINTS - 1) / LINE_REFINE, xs=list(xs))
-            v.samples += len(line.samples)
-            v.failures += [({**point, axis.name: float(x)}, why) for x, why in line.failures]
-            for s in line.samples:
-                if not s.stable:
-                    v.unstable_at.append({**point, axis.name: s.x})
-                consider(s.margin, {**point, axis.name: s.x}, s.state)
-            for c in line.changes:
-                v.unstable_at.append({**point, axis.name: c.x})
+    specs = [(axis, {**fixed, **through}) for k, axis in enumerate(active)
+             for through in _through(active[:k] + active[k + 1:])]
+    for (axis, point), (line, failed) in zip(specs, _box_lines(problem, design, specs)):
+        v.failures += failed
+        v.samples += len(line.samples)
+        v.failures += [({**point, axis.name: float(x)}, why) for x, why in line.failures]
+        for s in line.samples:
+            if not s.stable:
+                v.unstable_at.append({**point, axis.name: s.x})
+            consider(s.margin, {**point, axis.name: s.x}, s.state)
+        for c in line.changes:
+            v.unstable_at.append({**point, axis.name: c.x})
     if best is None:
         return v
     margin, point, state = _polish(problem, design, active, fixed, best)
@@ -463,6 +452,34 @@ def _assess(problem: Problem, design: tuple) -> Verdict:
     # the verdict says `marginal`
     v.feasible = not v.unstable_at and not v.failures and margin < -v.margin_uncertainty
     return v
+
+
+def _box_line(problem: Problem, design: tuple, axis: Axis, point: dict):
+    """One certified line of the box along `axis` through `point` (windows.certify): (the line, the failures of
+    its initial samples [(point, why)])."""
+    def solve(x, near=None):
+        return _sample(problem, problem.params(design, {**point, axis.name: x}), x)
+    xs = np.linspace(axis.low, axis.high, LINE_POINTS)
+    samples, failed = [], []
+    for x in xs:
+        try:
+            samples.append(solve(float(x)))
+        except SolveFailed as exc:
+            samples.append(None)
+            failed.append(({**point, axis.name: float(x)}, str(exc)))
+    return certify(samples, solve, (axis.high - axis.low) / (LINE_POINTS - 1) / LINE_REFINE, xs=list(xs)), failed
+
+
+def _box_lines(problem: Problem, design: tuple, specs: list) -> list:
+    """_box_line for each (axis, point) of `specs`, in their order: with `problem.box_lines_parallel` (the
+    optimiser's evaluations, one design at a time) together on the local Dask cluster (design_runs.evaluate, not
+    journalled: the verdict they make is), else one after another.  The same lines either way (each is
+    deterministic), so the verdict is the same."""
+    if not (problem.parallel and problem.box_lines_parallel and len(specs) > 1):
+        return [_box_line(problem, design, axis, point) for axis, point in specs]
+    tasks = [(key_of("box-line", k), _box_line, (problem, design, axis, point)) for k, (axis, point) in enumerate(specs)]
+    done, _ = evaluate(tasks, Journal(None), workers=problem.workers, progress=False)
+    return [done[k] for k, _, _ in tasks]
 
 
 def _through(others: list[Axis]) -> list[dict]:
@@ -539,6 +556,7 @@ class Design:
     verification: list = field(default_factory=list)  # the chosen design's runs at the box's corners
     verification_run_up: dict | None = None  # the chosen design's run-up (design_transients.verify_run_up)
     verification_run_up_note: str | None = None  # why there is none (one line)
+    residual: dict | None = None  # objective residual: its summary (design_transients.residual_summary)
 
 
 def _margin_sample(problem: Problem, design, x: float) -> Sample:
@@ -739,10 +757,25 @@ def _optimiser(problem: Problem) -> Design:
     def at(u):
         return lo + span * np.clip(u, 0, 1)
 
+    from contextlib import nullcontext
+
     from ..progress import activity
+    from .design_runs import session
 
     desc = "design optimiser (COBYLA)"
-    with activity(desc, problem.progress) as note:  # one design after another: elapsed time and the count
+    # on the local Dask cluster (issue 39 item 5), one cluster for the whole optimisation: COBYLA's first n + 1
+    # designs (the centre and a step of rhobeg along each coordinate, scipy's initial simplex) assessed together
+    # (prefetch: journalled, with progress), then each later design's box lines together (_box_lines); the
+    # verdicts, and so the optimiser's path, are those of the sequential run
+    rhobeg = 0.25
+    start = np.full(len(lo), 0.5)
+    with (session(problem.workers) if problem.parallel else nullcontext()), \
+            activity(desc, problem.progress) as note:  # one design after another: elapsed time and the count
+        first = [at(start)] + [at(start + rhobeg * e) for e in np.eye(len(lo))]
+        prefetch(problem, first, f"{desc}: first designs")
+        for d in first:  # assessed either way, so the designs assessed (and `evaluations`) do not depend on Dask
+            assess(problem, d)
+        problem.box_lines_parallel = True
 
         def worst(u):
             v = assess(problem, at(u))
@@ -752,9 +785,12 @@ def _optimiser(problem: Problem) -> Design:
                 {"type": "ineq", "fun": lambda u: -worst(u)}]
         cons += [{"type": "ineq", "fun": lambda u, k=k: u[k]} for k in range(len(lo))]
         cons += [{"type": "ineq", "fun": lambda u, k=k: 1 - u[k]} for k in range(len(lo))]
-        r = minimize(worst, np.full(len(lo), 0.5), method="COBYLA", constraints=cons,
-                     options={"rhobeg": 0.25, "tol": 1e-6, "maxiter": 200})
-    v = assess(problem, at(r.x))
+        try:
+            r = minimize(worst, start, method="COBYLA", constraints=cons,
+                         options={"rhobeg": rhobeg, "tol": 1e-6, "maxiter": 200})
+            v = assess(problem, at(r.x))
+        finally:
+            problem.box_lines_parallel = False
     out = Design(problem, "optimiser", v if v.feasible else None)
     out.active = active_limit(problem, out.best, [])  # a varied range's end where the optimum sits on it
     out.resolution = {"statement": f"COBYLA (scipy) from the centre of the design box, {r.nfev} evaluations, "

@@ -22,9 +22,10 @@ from .prose import render
 
 # what the command does not do yet (issue 39), said in its output rather than left out silently
 NOT_COVERED = ["the ball count with a generated model's name (--balls needs a scene file: the count is a scene's n)",
-               "Dask for every evaluation: the chart's grid and its certified lines go to the local cluster, but the "
-               "optimiser's (COBYLA) evaluations and a single line's refinement are assessed one after another in the "
-               "command's process (all are journalled: a killed design resumes)",
+               "Dask for every evaluation: the chart's grid and its certified lines, and the optimiser's first designs "
+               "and each of its designs' box lines, go to the local cluster, but a single line's refinement and the "
+               "optimiser's path (COBYLA: one design after another) run in the command's process (all are journalled: "
+               "a killed design resumes)",
                "boundaries of periodic orbits other than the balancing state (a coexisting limit cycle's fold, torus or "
                "period doubling) and basin boundaries; a balancing state that is itself a periodic orbit in its "
                "model's frame (a forced model: an anisotropic rotor in the fixed frame) is refused"]
@@ -75,7 +76,7 @@ def to_json(design: Design, objective: str = "margin") -> dict:
             "verification_run_up": ({k: v for k, v in design.verification_run_up.items() if k != "trace"}
                                     if design.verification_run_up is not None else None),
             "verification_run_up_note": design.verification_run_up_note, "not_covered": NOT_COVERED,
-            "boundary_types": BOUNDARY_TYPES}
+            "boundary_types": BOUNDARY_TYPES, "residual": design.residual}
 
 
 def _fmt(x) -> str:
@@ -98,7 +99,8 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
         intervals=design.feasible_intervals, boundaries=design.boundaries, active=design.active,
         sensitivity=design.sensitivity, runs=design.objective_runs, verification=design.verification, run=run,
         run_note=design.verification_run_up_note, resolution=design.resolution, types=BOUNDARY_TYPES,
-        not_covered=NOT_COVERED, run_figure=RUN_UP_FIGURE if run is not None and run["trace"]["t"] else None))
+        not_covered=NOT_COVERED, residual=design.residual,
+        run_figure=RUN_UP_FIGURE if run is not None and run["trace"]["t"] else None))
 
 
 def run_up_figure(design: Design, path: Path) -> None:

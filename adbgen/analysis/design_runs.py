@@ -41,6 +41,7 @@ JOURNAL = "design-journal.jsonl"
 RESIDUAL_STARTS = 16  # starts of the residual objective: rotor at rest, ball angles uniform at random (seeded)
 RESIDUAL_QUANTILE = 0.9
 RESIDUAL_SEED = 20260
+RESIDUAL_FORMAT = 2  # the residual run's record (residual_run): 2 adds at_rest; raise it when the record changes
 # a schedule's parameters (core.speed_schedule.NAMES, the names every family gives them) read from the run model
 SCHEDULE = ("t_ramp", "t_hold", "depth", "drop_rate", "t_plateau", "recovery_rate")
 
@@ -80,6 +81,34 @@ class Journal:
             os.fsync(f.fileno())
 
 
+_SESSION: list = []  # the open session's client (session()): evaluate() submits to it instead of starting a cluster
+
+
+class session:
+    """`with session(workers):` one local Dask cluster kept open for every evaluate() inside it (the optimiser's
+    evaluations come one after another: starting a cluster for each would cost more than its lines)."""
+
+    def __init__(self, workers: int | None = None):
+        self.workers = workers
+
+    def __enter__(self):
+        from distributed import Client, LocalCluster
+
+        from .sweep import default_workers
+
+        self.cluster = LocalCluster(n_workers=1, threads_per_worker=self.workers or default_workers(), processes=False,
+                                    dashboard_address=":0")
+        self.client = Client(self.cluster)
+        _SESSION.append(self.client)
+        return self
+
+    def __exit__(self, *exc):
+        _SESSION.remove(self.client)
+        self.client.close()
+        self.cluster.close()
+        return False
+
+
 def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progress: bool = True,
              desc: str = "design", each=None) -> tuple[dict, int]:
     """({key: result}, how many ran now) for tasks [(key, fn, args)]: the journalled read back, the rest on a
@@ -91,14 +120,15 @@ def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progr
     pending = list({k: (k, fn, args) for k, fn, args in pending}.values())  # a task given twice runs once
     if not pending:
         return out, 0
-    from distributed import Client, LocalCluster, as_completed
+    from contextlib import nullcontext
+
+    from distributed import as_completed
 
     from ..progress import bar
-    from .sweep import default_workers
 
-    n = workers or default_workers()
-    with LocalCluster(n_workers=1, threads_per_worker=n, processes=False, dashboard_address=":0") as cluster, \
-            Client(cluster) as client, bar(len(pending), desc, progress, unit="run") as update:
+    with (nullcontext(None) if _SESSION else session(workers)) as opened, \
+            bar(len(pending), desc, progress, unit="run") as update:
+        client = _SESSION[-1] if opened is None else opened.client
         futures = {client.submit(fn, *args, pure=False): k for k, fn, args in pending}
         for count, fut in enumerate(as_completed(futures), 1):
             k = futures[fut]
@@ -115,20 +145,22 @@ def evaluate(tasks: list, journal: Journal, *, workers: int | None = None, progr
 
 def run_params(problem, runs: Model, design, point: dict, fixed: dict | None = None) -> tuple[np.ndarray, list[str]]:
     """(the run model's parameters, the names it takes from the design problem): each parameter the run model
-    shares by name with the design's model takes the design's value at `point`; the run model's speed
-    (SCALES["speed"]) the design's speed there; every other (speed law, friction) keeps the run model's value
-    or takes `fixed`'s ({name: value}, --run-set).
+    shares by name with the design's model takes the design's value at `point`, unless `fixed` gives it; the run
+    model's speed (SCALES["speed"]) the design's speed there; every other (speed law, friction) keeps the run
+    model's value or takes `fixed`'s ({name: value}: --run-set, and a frictionless twin's friction, which the run
+    model keeps).
     AnalysisError when no varied parameter reaches the run model (its runs would not depend on the design)."""
     m = problem.model
     p = problem.params(design, point)
-    q = np.array(runs.params(fixed or {}), float)
+    fixed = fixed or {}
+    q = np.array(runs.params(fixed), float)
     taken = []
     for k, name in enumerate(runs.param_names):
-        if name in m.param_names:
+        if name in m.param_names and name not in fixed:  # a fixed value is the run model's own (its friction)
             q[k] = p[m.param_names.index(name)]
             taken.append(name)
     speed, own = m.scales.get("speed"), runs.scales.get("speed")
-    if speed is not None and own is not None and own not in taken:
+    if speed is not None and own is not None and own not in taken and own not in fixed:
         q[runs.param_names.index(own)] = p[m.param_names.index(speed)]
         taken.append(own)
     varied = {a.name for a in problem.varied} | set(problem.ties)
@@ -220,20 +252,31 @@ def residual_starts(runs: Model, count: int = RESIDUAL_STARTS, seed: int = RESID
 
 def residual_run(runs: Model, p: np.ndarray, y0: np.ndarray, t_end: float) -> dict:
     """One stick-slip run (hybrid-dop853) from y0 to t_end: the residual imbalance r(t_end) (the rotor's
-    displacement where the balls came to rest), and each ball's final mode."""
+    displacement where the balls came to rest), each ball's final mode, and `at_rest`: every ball stuck at
+    t_end (the residual is then where the balls stopped; analysis.residual's AT_REST)."""
     from .engines import hybrid
 
     run = hybrid.run(runs, p, y0, 0.0, t_end, t_eval=np.array([t_end]))
     i, j = runs.amplitude_indices[:2]
     ok = run.status == "success"
+    stuck = hybrid.switching(runs).stuck
     return {"status": run.status, "t_end": float(t_end), "residual": float(math.hypot(run.y_end[i], run.y_end[j]))
-            if ok else None, "modes": list(run.modes(len(hybrid.switching(runs).stuck))), "events": len(run.events)}
+            if ok else None, "modes": list(run.modes(len(stuck))), "events": len(run.events),
+            "at_rest": bool(ok and all(run.params_end[k] == 1 for k in stuck))}
+
+
+def residual_counts(results: list[dict]) -> dict:
+    """{"at_rest", "undecided" (a ball still slipping at t_end), "failed"} over the starts' runs."""
+    failed = sum(r["status"] != "success" for r in results)
+    rest = sum(r["status"] == "success" and r.get("at_rest", True) for r in results)
+    return {"at_rest": rest, "undecided": len(results) - failed - rest, "failed": failed}
 
 
 def residual_quantile(results: list[dict], q: float = RESIDUAL_QUANTILE) -> float | None:
-    """The q quantile of the residual over the starts; None when a run failed (not counted as a residual)."""
+    """The q quantile of the residual over the starts; None when a run failed or ended with a ball still slipping
+    (undecided): such a run's r is not a residual at rest, and counting it as one would call it balanced."""
     values = [r["residual"] for r in results]
-    if not values or any(v is None for v in values):
+    if not values or any(v is None for v in values) or any(r.get("at_rest") is False for r in results):
         return None
     return float(np.quantile(values, q))
 

@@ -33,8 +33,9 @@ import math
 import numpy as np
 
 from .design import Design, Problem, Verdict, active_limit, sensitivity
-from .design_runs import (RESIDUAL_QUANTILE, Journal, check_runs, evaluate, key_of, residual_quantile, residual_run,
-                          residual_starts, rest_start, run_params, run_up, run_up_trace)
+from .design_runs import (RESIDUAL_FORMAT, RESIDUAL_QUANTILE, RESIDUAL_SEED, RESIDUAL_STARTS, Journal, check_runs,
+                          evaluate, key_of, residual_counts, residual_quantile, residual_run, residual_starts, rest_start,
+                          run_params, run_up, run_up_trace)
 from .loading import AnalysisError
 from .simulate import simulate
 from .units import default_t_end, default_threshold
@@ -106,18 +107,21 @@ def candidates(design: Design) -> list[Verdict]:
 
 def by_runs(design: Design, objective: str, runs, journal: Journal | None = None, *, run_time: float | None = None,
             workers: int | None = None, progress: bool = False, verdicts: list[Verdict] | None = None,
-            run_set: dict | None = None) -> Design:
+            run_set: dict | None = None, starts: int = RESIDUAL_STARTS, quantile: float = RESIDUAL_QUANTILE,
+            target: float | None = None) -> Design:
     """The best design by `objective` among `verdicts` (default: `candidates`), each run on the run model
     `runs` at the operating point with the parameters design_runs.run_params maps (`run_set`: the run model's own
     fixed values): r_max-run-up the smallest
     r_max through the run-up from the spread start (design_runs.run_up, `run_time` after the schedule);
-    residual the smallest quantile of the residual imbalance over design_runs.residual_starts (stick-slip,
-    `run_time` long, default units.default_t_end).  A design whose run failed is never chosen."""
+    residual the smallest `quantile` quantile of the residual imbalance over `starts` of design_runs.residual_starts
+    (stick-slip, `run_time` long, default units.default_t_end), at most `target` where one is given (none below it:
+    no best design, infeasible), its summary in `design.residual`.  A design whose run failed, or ended with a ball
+    still slipping (undecided), is never chosen: its quantile is not computed."""
     problem = design.problem
     check_runs(objective, runs)
     point = operating_point(problem)
     cands = candidates(design) if verdicts is None else verdicts
-    starts = residual_starts(runs) if objective == "residual" else [rest_start(runs)]
+    starts = residual_starts(runs, starts) if objective == "residual" else [rest_start(runs)]
     rows, tasks = [], []
     for v in cands:
         q, taken = run_params(problem, runs, v.design, point, run_set)
@@ -126,7 +130,9 @@ def by_runs(design: Design, objective: str, runs, journal: Journal | None = None
             t_after = default_t_end(runs, q)[0]
         keys = []
         for y0 in starts:
-            k = key_of(objective, runs.source_hash, q.tolist(), y0.tolist(), t_after)
+            # the residual's record says at_rest since RESIDUAL_FORMAT 2: older journal lines are not read
+            k = key_of(objective, runs.source_hash, q.tolist(), y0.tolist(), t_after,
+                       *((RESIDUAL_FORMAT,) if objective == "residual" else ()))
             fn, args = (run_up, (runs, q, y0, t_after)) if objective == "r_max-run-up" else (residual_run, (runs, q, y0, t_after))
             tasks.append((k, fn, args))
             keys.append(k)
@@ -139,15 +145,47 @@ def by_runs(design: Design, objective: str, runs, journal: Journal | None = None
             value = results[0]["r_max"]
             run = {**results[0], "start": START_STATE.split(";")[0] + ", balls spread"}
         else:
-            value = residual_quantile(results)
-            run = {"residual_quantile": value, "quantile": RESIDUAL_QUANTILE, "starts": len(results),
-                   "residuals": [r["residual"] for r in results], "failed": sum(r["status"] != "success" for r in results)}
+            value = residual_quantile(results, quantile)
+            counts = residual_counts(results)
+            run = {"residual_quantile": value, "quantile": quantile, "starts": len(results),
+                   "residuals": [r["residual"] for r in results], "failed": counts["failed"],
+                   "at_rest": counts["at_rest"], "undecided": counts["undecided"],
+                   "meets_target": None if target is None or value is None else bool(value <= target)}
+            if target is not None and (value is None or value > target):
+                value = None  # not chosen: its quantile is above the target, or not decided
         out.append({"design": dict(zip([a.name for a in problem.varied], v.design)), "point": point,
                     "run_model": runs.name, "mapped": taken, **run})
         if value is not None and value < best_value:
             best, best_value = v, value
     design.objective_runs = out
+    if objective == "residual":
+        design.residual = residual_summary(out, runs, run_set or {}, quantile, target, best_value if best else None)
     return _choose(design, best)
+
+
+def residual_summary(rows: list[dict], runs, own: dict, quantile: float, target: float | None,
+                     chosen: float | None) -> dict:
+    """The residual objective's summary (the --json key `residual`): the run model and what it keeps of its own,
+    the starts and quantile, the target, the chosen design's quantile, the designs run and how many of their
+    runs were at rest, undecided or failed, and why there is no choice (one line) where there is none."""
+    from .units import units
+
+    total = {k: sum(r[k] for r in rows) for k in ("at_rest", "undecided", "failed")}
+    decided = [r["residual_quantile"] for r in rows if r["residual_quantile"] is not None]
+    note = None
+    if chosen is None:
+        if not rows:
+            note = "no feasible design to run"
+        elif not decided:
+            note = (f"no design has every run at rest: {total['undecided']} run(s) undecided (a ball still slipping at "
+                    f"t_end; a longer --run-time may decide them), {total['failed']} failed")
+        else:
+            note = (f"no design reaches the target {target:.6g}: the smallest {quantile:g} quantile is "
+                    f"{min(decided):.6g}")
+    return {"run_model": runs.name, "kept": dict(sorted(own.items())), "unit": units(runs).length,
+            "starts": rows[0]["starts"] if rows else None, "seed": RESIDUAL_SEED, "quantile": quantile,
+            "target": target, "chosen_quantile": chosen, "designs_run": len(rows),
+            "designs_decided": len(decided), **total, "note": note}
 
 
 def _feasible_inside(problem: Problem, verdicts: list[Verdict]) -> list[Verdict]:

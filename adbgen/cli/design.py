@@ -5,7 +5,8 @@ adbgen/analysis/design_report.py, the page docs/design.md).
     adbgen design SCENE --range omega=LOW:HIGH [--range NAME=LOW:HIGH ...] --imbalance LOW:HIGH
                  --vary NAME=LOW:HIGH [--vary ...] [--set NAME=VALUE ...]
                  [--objective margin|t_dec|r_max-run-up|residual] [--runs MODEL|SCENE] [--run-set NAME=VALUE ...]
-                 [--run-time T] [--workers N] [--out DIR] [--json]
+                 [--run-time T] [--residual-starts N] [--residual-quantile Q] [--residual-target R]
+                 [--workers N] [--out DIR] [--json]
 
 SCENE: a generated model's name, a model folder, or a scene file (TOML).
 """
@@ -34,7 +35,8 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "objective_runs": "(--objective t_dec: [{design, point, start, status, t_end, threshold, t_dec, r_max, r_end, "
                                  "settled}]; r_max-run-up: [{design, point, run_model, mapped, status, t_end, "
                                  "threshold, r_max, t_dec, start}]; residual: [{design, point, run_model, mapped, "
-                                 "residual_quantile, quantile, starts, residuals, failed}])", "verification": "(the same run keys, at the box's corners)",
+                                 "residual_quantile, quantile, starts, residuals, failed, at_rest, undecided, "
+                                 "meets_target}])", "verification": "(the same run keys, at the box's corners)",
                "verification_start": "",
                "verification_run_up": "(the chosen design's run-up on --runs (default the design's model) where its speed law "
                                       "is a schedule: {design, point, run_model, mapped, start, status, t_end, schedule_end, "
@@ -44,7 +46,10 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "balls": "(--balls: [{n, feasible, best, margin, t_dec, objective_value, margin_uncertainty, capacity, "
                         "limit}])", "chosen_balls": "(--balls)",
                "balls_choice": "(--balls: {objective, value, method, ranking, chosen, runner_up, decided, why})",
-               "files": "(with --out)"}
+               "files": "(with --out)",
+               "residual": "(--objective residual: {run_model, kept, unit, starts, seed, quantile, target, "
+                           "chosen_quantile, designs_run, designs_decided, at_rest, undecided, failed, note}; null "
+                           "otherwise)"}
 JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
 
 
@@ -73,9 +78,10 @@ def _add_design(p) -> None:
                    help="what chooses the best design: margin (the largest worst decay rate over the box), t_dec "
                         "(the shortest t_dec at the operating point), r_max-run-up (the smallest r_max through the "
                         "run model's run-up: --runs, a scene whose [speed] law is a schedule) or residual (the "
-                        "smallest 0.9 quantile over 16 starts of the residual imbalance, stick-slip runs on --runs, a "
-                        "scene with static_friction; refused where there is no stick phase); the last three among at "
-                        "most 25 feasible designs assessed")
+                        "smallest quantile (--residual-quantile, 0.9) over starts (--residual-starts, 16) of the residual "
+                        "imbalance at rest, stick-slip runs on --runs, a scene with static_friction; without --runs a "
+                        "SCENE file with static_friction is designed on its frictionless twin and run as it is; refused "
+                        "where there is no stick phase); the last three among at most 25 feasible designs assessed")
     p.add_argument("--runs", metavar="MODEL|SCENE",
                    help="the model the r_max-run-up or residual runs use (default: the design's own): parameters it "
                         "shares by name take the design's values, its speed parameter the operating speed")
@@ -84,6 +90,14 @@ def _add_design(p) -> None:
     p.add_argument("--run-time", type=float, metavar="T",
                    help="r_max-run-up: the run's time after the schedule; residual: the run's length (default: "
                         "the default run at the final speed, 4000 / speed, or 1000 time units)")
+    p.add_argument("--residual-starts", type=int, metavar="N",
+                   help="residual: the starts per design (the rotor at rest, the ball angles uniform at random, seeded; "
+                        "default 16)")
+    p.add_argument("--residual-quantile", type=float, metavar="Q",
+                   help="residual: the quantile over the starts that chooses the design (0 < Q <= 1, default 0.9)")
+    p.add_argument("--residual-target", metavar="R",
+                   help="residual: the largest residual imbalance accepted (the quantile's value, in the scene's units "
+                        "of length, e.g. 1e-5 or 0.01mm); no design reaching it: infeasible")
     p.add_argument("--workers", type=int, metavar="N",
                    help="threads of the local Dask cluster the runs go to (default: the cores available)")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr (none either with --json or without a terminal)")
@@ -181,6 +195,45 @@ def _scene_with_balls(scene: str, n: int, folder: Path) -> str:
     return str(path)
 
 
+FRICTION_KEYS = ("rolling_resistance", "static_friction")  # a scene's friction (docs/friction.md, docs/scenes.md)
+
+
+def _frictionless_scene(scene: str, folder: Path) -> str | None:
+    """The scene file's frictionless twin for `--objective residual` (None where the scene has no stick phase):
+    the same scene with `rolling_resistance = 0.0` and no `static_friction`, so its model keeps the stiction
+    model's frame and parameters (the rotating frame in the scene's own units, friction in slip at mu_r = 0, the
+    frictionless model by the check `friction, zero limit`) and has the closed-form balancing state the design
+    needs.  The twin's text depends on the scene's only: the scene cache generates it once."""
+    import re
+    import tomllib
+
+    from ..analysis.loading import AnalysisError
+
+    path = Path(scene)
+    if path.suffix != ".toml" and not path.is_file():
+        return None
+    text = path.read_text()
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise AnalysisError(f"scene file {scene}: {exc}") from None
+    if "static_friction" not in data:
+        return None
+    new = re.sub(r"(?m)^static_friction\s*=.*\n?", "", text)
+    new = re.sub(r"(?m)^rolling_resistance\s*=.*$", "rolling_resistance = 0.0", new)
+    try:
+        twin = tomllib.loads(new)
+    except tomllib.TOMLDecodeError:
+        twin = {}
+    if "static_friction" in twin or twin.get("rolling_resistance") != 0.0 or \
+            {k: v for k, v in twin.items() if k not in FRICTION_KEYS} != {k: v for k, v in data.items() if k not in FRICTION_KEYS}:
+        raise AnalysisError(f"--objective residual: scene file {scene}: its friction keys ({', '.join(FRICTION_KEYS)}) "
+                            "must each be one line `key = value` to make its frictionless twin")
+    out = folder / f"{path.stem}-frictionless.toml"
+    out.write_text(new)
+    return str(out)
+
+
 def _by_balls(args, counts: list[int]):
     """(the chosen count's design, one row per count, the chosen count, balls_choice): a design per ball count,
     the best by the objective (analysis/design_balls.py)."""
@@ -191,13 +244,30 @@ def _by_balls(args, counts: list[int]):
     rows, designs = [], {}
     with tempfile.TemporaryDirectory(prefix="adbgen-design-") as tmp:
         for n in counts:
-            designs[n] = _one_design(args, _load_scene(_scene_with_balls(args.scene, n, Path(tmp))))
+            designs[n] = _one_design(args, *_models(args, _scene_with_balls(args.scene, n, Path(tmp)), Path(tmp)))
             rows.append(design_balls.row(n, designs[n], args.objective))
     chosen, choice = design_balls.choose(rows, args.objective)
     return designs[chosen if chosen is not None else counts[-1]], rows, chosen, choice
 
 
-def _one_design(args, model):
+def _models(args, scene: str, folder: Path):
+    """(the design's model, the run model or None, the run model's own parameters {name: value}): with
+    `--objective residual`, no --runs and a scene file with a stick phase, the design is made on the scene's
+    frictionless twin (`_frictionless_scene`) and the residual runs on the scene's own stiction model; the two
+    share the scene's parameters by name and units (so the design's values map to the runs one to one), and
+    the parameters the twin changed (its friction: the values that differ between the two models' defaults)
+    keep the run model's own values."""
+    if args.objective == "residual" and args.runs is None:
+        twin = _frictionless_scene(scene, folder)
+        if twin is not None:
+            model, runs = _load_scene(twin), _load_scene(scene)
+            mine = dict(zip(model.param_names, map(float, model.params())))
+            own = {n: float(v) for n, v in zip(runs.param_names, runs.params()) if n in mine and mine[n] != float(v)}
+            return model, runs, own
+    return _load_scene(scene), None, {}
+
+
+def _one_design(args, model, runs=None, own=None):
     from ..analysis import design_transients
     from ..analysis.design import Axis, Problem, solve
     from ..analysis.design_runs import Journal, check_runs, run_params
@@ -224,8 +294,11 @@ def _one_design(args, model):
             raise AnalysisError(f"--tie: expected NAME=VARIED, got {item!r}")
         ties[name.strip()] = source.strip()
     problem = Problem(model, base, box, varied, ties=ties)
-    runs = _load_scene(args.runs) if args.runs is not None else model
-    run_set = assignments(args.run_set, "--run-set", units(runs).params)
+    if runs is None:
+        runs = _load_scene(args.runs) if args.runs is not None else model
+    # the run model's own values (a frictionless twin's friction), then --run-set's: neither taken from the design
+    run_set = {**(own or {}), **assignments(args.run_set, "--run-set", units(runs).params)}
+    residual = _residual_options(args, runs)
     if args.objective in ("r_max-run-up", "residual"):
         check_runs(args.objective, runs)  # before the design's scans: refused at once
         run_params(problem, runs, [a.low for a in varied], {}, run_set)
@@ -239,12 +312,42 @@ def _one_design(args, model):
     if args.objective == "t_dec":
         design_transients.by_t_dec(design, journal, **how)
     elif args.objective in ("r_max-run-up", "residual"):
-        design_transients.by_runs(design, args.objective, runs, journal, run_time=args.run_time, run_set=run_set, **how)
+        design_transients.by_runs(design, args.objective, runs, journal, run_time=args.run_time, run_set=run_set,
+                                  **residual, **how)
     if args.verify and design.best is not None and design.best.feasible:
         design.verification = design_transients.verify(problem, design.best.design, journal, **how)
         design.verification_run_up, design.verification_run_up_note = design_transients.verify_run_up(
             problem, design.best.design, runs, journal, run_time=args.run_time, run_set=run_set, **how)
     return design
+
+
+def _residual_options(args, runs) -> dict:
+    """by_runs' residual settings from --residual-starts/-quantile/-target (refused in one line where out of range
+    or given with another objective)."""
+    from ..analysis.loading import AnalysisError
+    from ..analysis.units import quantity, units
+
+    given = [o for o, v in (("--residual-starts", args.residual_starts), ("--residual-quantile", args.residual_quantile),
+                            ("--residual-target", args.residual_target)) if v is not None]
+    if args.objective != "residual":
+        if given:
+            raise AnalysisError(f"{given[0]}: only with --objective residual")
+        return {}
+    out = {}
+    if args.residual_starts is not None:
+        if args.residual_starts < 1:
+            raise AnalysisError(f"--residual-starts: expected a whole number >= 1, got {args.residual_starts}")
+        out["starts"] = args.residual_starts
+    if args.residual_quantile is not None:
+        if not 0 < args.residual_quantile <= 1:
+            raise AnalysisError(f"--residual-quantile: expected 0 < Q <= 1, got {args.residual_quantile:g}")
+        out["quantile"] = args.residual_quantile
+    if args.residual_target is not None:
+        unit = units(runs).length  # r's unit: the scene's length (m in SI), 1 in a dimensionless model
+        out["target"] = quantity(args.residual_target, unit, "--residual-target")
+        if not out["target"] >= 0:
+            raise AnalysisError(f"--residual-target: expected a value >= 0, got {args.residual_target}")
+    return out
 
 
 def run_design(args) -> int:
@@ -260,7 +363,11 @@ def run_design(args) -> int:
             raise AnalysisError("--balls needs a scene file (TOML): a generated model's ball count is fixed")
         design, rows, chosen, choice = _by_balls(args, counts)
     else:
-        design, rows, chosen, choice = _one_design(args, _load_scene(args.scene)), None, None, None
+        import tempfile
+
+        with tempfile.TemporaryDirectory(prefix="adbgen-design-") as tmp:
+            design = _one_design(args, *_models(args, args.scene, Path(tmp)))
+        rows, chosen, choice = None, None, None
     out = design_report.to_json(design, args.objective)
     if rows is not None:
         out.update({"balls": rows, "chosen_balls": chosen, "balls_choice": choice})

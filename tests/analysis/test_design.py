@@ -302,3 +302,40 @@ def test_a_killed_chart_resumes_to_the_same_chart(thesis3, tmp_path, monkeypatch
         assert len(lines) == total and len({json.loads(x)["key"] for x in lines}) == total
     other = solve(_chart_problem(thesis3, tmp_path / "whole", zeta=0.4))  # the negative control
     assert other.resumed == 0 and _answer(other) != _answer(whole)
+
+
+def test_the_optimiser_on_dask_gives_the_sequential_answer(thesis3, tmp_path, monkeypatch):
+    """The optimiser (three varied parameters) with its evaluations on the local Dask cluster (its first designs
+    together, then each design's box lines together) and journalled: the JSON equal to the sequential run's, every
+    design assessed in the journal; a rerun reads every verdict back.  Negative control: the best design's verdict
+    planted wrong in the journal gives another answer, so the equality is not vacuous.  The box lines are sampled more coarsely than the
+    command's (LINE_POINTS 7) to keep the test short: both runs alike."""
+    import json
+
+    from adbgen.analysis import design, design_report
+    from adbgen.analysis.design_runs import JOURNAL, Journal
+
+    monkeypatch.setattr(design, "LINE_POINTS", 7)
+
+    def run(parallel, journal=None, zeta=0.5):
+        pr = Problem(thesis3, thesis3.params(), [Axis("zeta", 0.3, zeta), Axis("delta", 0.005, 0.01)],
+                     [Axis("Omega", 3.0, 5.0), Axis("beta", 0.2, 1.0), Axis("mu", 0.03, 0.1)])
+        pr.parallel, pr.workers, pr.journal = parallel, 2, journal
+        d = solve(pr)
+        out = design_report.to_json(d)
+        return d, json.dumps({k: v for k, v in out.items() if k != "evaluations_resumed"}, sort_keys=True)
+    seq, seq_json = run(False)
+    par, par_json = run(True, Journal(tmp_path))
+    assert par_json == seq_json and par.method == "optimiser" and par.best is not None and par.best.feasible
+    assert len((tmp_path / JOURNAL).read_text().splitlines()) == par.evaluations and par.resumed == 0
+    again, again_json = run(True, Journal(tmp_path))
+    assert again_json == seq_json and again.resumed == again.evaluations
+    # negative control: a verdict planted in the journal (the best design's margin doubled) changes the answer
+    lines = (tmp_path / JOURNAL).read_text().splitlines()
+    rows = [json.loads(line) for line in lines]
+    for row in rows:
+        if tuple(row["result"]["design"]) == tuple(par.best.design):
+            row["result"]["margin"] *= 2
+    (tmp_path / "planted").mkdir()
+    (tmp_path / "planted" / JOURNAL).write_text("".join(json.dumps(row) + "\n" for row in rows))
+    assert run(True, Journal(tmp_path / "planted"))[1] != seq_json

@@ -90,6 +90,9 @@ def test_json_keys_as_documented(capsys, tmp_path):
     (["--vary", "beta=0.1:0.2", "--balls", "2..3"], "--balls needs a scene file"),
     (["--vary", "beta=0.1:0.2", "--balls", "3..2"], "expected 1 <= N1 <= N2"),
     (["--vary", "beta=0.1:0.2", "--balls", "two"], "whole numbers"),
+    (["--vary", "beta=0.1:0.2", "--residual-starts", "4"], "only with --objective residual"),
+    (["--vary", "beta=0.1:0.2", "--objective", "residual", "--residual-quantile", "1.5"], "expected 0 < Q <= 1"),
+    (["--vary", "beta=0.1:0.2", "--objective", "residual", "--residual-starts", "0"], "expected a whole number >= 1"),
 ])
 def test_bad_input_one_line(capsys, argv, match):
     code, out, err = run(capsys, "design", "thesis_rotating_n3", *argv)
@@ -201,3 +204,33 @@ def test_the_optimiser_shows_its_progress(capsys, monkeypatch, tmp_path):
     assert code == 0 and "design optimiser (COBYLA)" in err and "optimiser" in out
     code, out, err = run(capsys, *argv, "--no-progress", "--out", str(tmp_path / "b"))
     assert code == 0 and "design optimiser (COBYLA)" not in err
+
+
+STICK_SCENE = "n = 2\nrolling_resistance = 0.01\nstatic_friction = 0.02\n[speed]\nomega = 400.0\n"
+
+
+def test_residual_objective_on_a_stiction_scene(capsys, tmp_path):
+    """`--objective residual` with a stiction scene and no --runs: the design on its frictionless twin (the
+    balancing state in closed form), the residual runs on the scene's own stiction model with its friction
+    (mu_r = 0.01 kept, not the twin's 0); a planted target below the achievable residual is infeasible."""
+    scene = tmp_path / "stick.toml"
+    scene.write_text(STICK_SCENE)
+    argv = ["design", str(scene), "--range", "omega=400:400", "--imbalance", "5e-4:5e-4", "--vary", "D=1e-3:5e-3",
+            "--objective", "residual", "--residual-starts", "3", "--run-time", "20", "--no-verify", "--json",
+            "--out", str(tmp_path / "d")]
+    code, out, err = run(capsys, *argv)
+    assert code == 0, err
+    data = json.loads(out)
+    res = data["residual"]
+    assert data["model"] != res["run_model"] and data["feasible"] and res["kept"] == {"mu_r": 0.01}
+    assert res["unit"] == "m" and res["starts"] == 3 and res["quantile"] == 0.9 and res["note"] is None
+    rows = data["objective_runs"]
+    assert all(len(r["residuals"]) == 3 and r["at_rest"] == 3 and "mu_r" not in r["mapped"] for r in rows)
+    best = min(rows, key=lambda r: r["residual_quantile"])
+    assert data["best"]["D"] == best["design"]["D"] and res["chosen_quantile"] == best["residual_quantile"] > 0
+    assert "Residual imbalance r at rest in m" in (tmp_path / "d" / "report.md").read_text()
+    # a target below every design's quantile: infeasible, said so (the runs read back from the journal)
+    code, out, err = run(capsys, *argv, "--residual-target", f"{0.5 * best['residual_quantile']!r}")
+    low = json.loads(out)
+    assert code == 0 and not low["feasible"] and low["best"] is None and "no design reaches the target" in low["residual"]["note"]
+    assert [r["residuals"] for r in low["objective_runs"]] == [r["residuals"] for r in rows]

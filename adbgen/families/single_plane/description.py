@@ -184,6 +184,28 @@ def _substituted(form: ClosedForm, sub: dict, guards=()) -> ClosedForm:
     return ClosedForm(form.name, form.arguments, cands)
 
 
+def frictionless_balanced(system: FirstOrderSystem, d: Description) -> Description:
+    """A friction scene's dimensional rotating-frame model with equal balls (one mu_r): the balanced state 1 (3.6)
+    in its own parameters (mu = m/M, delta = eps/R, the rotor at rest), given where mu_r == 0.  There the balls'
+    friction in slip, R mu_r N_i along the mode, vanishes and a stuck ball's row, phi_i'' = 0, holds at rest, so
+    the state is an equilibrium of the frictionless model that friction scene is at mu_r = 0 (the check
+    `friction, zero limit`): `adbgen design --objective residual` designs on it (docs/design.md)."""
+    names = {p.name: p.symbol for p in system.parameters}
+    n = len(_balls(system))
+    if n < 2 or not {"m", "M", "eps", "R", "mu_r"} <= set(names) or system.solve.eom.driven:
+        return d  # unequal balls (m_i, mu_r_i) or a driven spin: no closed form here
+    from dataclasses import replace
+
+    sub = {mu: names["m"] / names["M"], delta: names["eps"] / names["R"]}
+    frictionless = (sp.Eq(names["mu_r"], 0, evaluate=False),)
+    form = _substituted(balanced_form(n), sub, frictionless)
+    exists = sp.And(sp.Ge(sub[mu], sub[delta] / n), *frictionless)
+    note = ("balanced state (3.6) with mu = m/M, delta = eps/R, the rotor at rest: an equilibrium of the model's "
+            "frictionless limit (given where mu_r == 0)")
+    return replace(d, closed_forms=(form,), steady_states=(SteadyState("1", note, "balanced", (), exists),),
+                   steady_state_names=THESIS_NAMES)
+
+
 FIXED_SET = "thesis (5.1) in SI units (omega_n = 100 rad/s), k_Y = 1.2 k_X, c_Y = 1.2 c_X, gravity"
 
 

@@ -247,8 +247,13 @@ def for_scene(scene: Scene, name: str | None = None) -> ModelSpec:
         # the normal forces and slip rates as measures; no closed-form steady state and no periodic orbit
         # for AUTO-07p: they are stuck states, where Coulomb's law in slip has no derivative (item 2)
         forced, orbit, plain = False, None, describe
-        describe = lambda system: replace(plain(system), closed_forms=(), steady_states=(),  # noqa: E731
-                                          measures={**plain(system).measures, **friction.measures(scene, system)})
+
+        def describe(system):
+            d = plain(system)
+            d = replace(d, closed_forms=(), steady_states=(), measures={**d.measures, **friction.measures(scene, system)})
+            # the rotating frame with equal balls: the balanced state of its frictionless limit (mu_r = 0), where
+            # `adbgen design --objective residual` finds the design's margins
+            return description.frictionless_balanced(system, d) if dimensional else d
         kinds += ("friction_zero_limit", "normal_force")
     return ModelSpec(name, f"Single-plane balancer with {scene.n} balls: {selected.reason}", scene.n,
                      lambda: selected.system, start, family=FAMILY, checks=checks(*kinds, n=scene.n),
