@@ -63,14 +63,14 @@ def test_summary_counts_decided_cells_only():
     scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
     cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True, "reference_ratio": 1e-3},
              {"rtol": 1e-12, "ratio": 500.0, "decided": False, "reference_ratio": 60.0}]
-    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}})
     assert s["worst"] == 3.0 and s["met"] and s["over_target"] == []
     assert s["missed_beyond_reference"] == []  # 500 is within 10x the references' disagreement of 60
     cells[1]["reference_ratio"] = 20.0  # undecided still, but the engine misses 25x farther than they differ
-    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}})
     assert s["met"] and s["missed_beyond_reference"][0]["ratio"] == 500.0
     cells[1]["decided"] = True  # negative control: the same cell, decided, misses the target
-    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}})
     assert s["worst"] == 500.0 and not s["met"] and s["over_target"][0]["rtol"] == 1e-12
 
 
@@ -78,7 +78,7 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
     scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
     cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True, "status": "success"},
              {"rtol": 1e-12, "ratio": 500.0, "decided": False, "status": "success"}]
-    result = {"scenes": {"36_two_plane_torque": {"scene": scene, "cells": cells}}, "rtols": [1e-6, 1e-12],
+    result = {"scenes": {"36_two_plane_torque": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}}, "rtols": [1e-6, 1e-12],
               "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
                             "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
               "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
@@ -91,7 +91,7 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
 
 def test_the_page_shows_a_recorded_diagnosis_and_only_then():
     scene = {"family": "single_plane", "units": "thesis", "drive": "forced"}
-    result = {"scenes": {"00_x": {"scene": scene, "cells": []}}, "rtols": [1e-4],
+    result = {"scenes": {"00_x": {"scene": scene, "cells": [], "reference_rule": tolerance.RULE}}, "rtols": [1e-4],
               "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
                             "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
               "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
@@ -125,14 +125,14 @@ def test_a_scene_measured_under_another_table_is_stale_remeasured_and_not_counte
     scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
     bad = [{"rtol": 1e-4, "ratio": 500.0, "decided": True, "status": "success", "reference_ratio": 1e-3}]
     good = [{"rtol": 1e-4, "ratio": 2.0, "decided": True, "status": "success", "reference_ratio": 1e-3}]
-    old = {"36_two_plane_torque": {"scene": scene, "cells": bad, "table": "0" * 12},
-           "37_two_plane_torque": {"scene": scene, "cells": good, "table": now}}
+    old = {"36_two_plane_torque": {"scene": scene, "cells": bad, "table": "0" * 12, "reference_rule": tolerance.RULE},
+           "37_two_plane_torque": {"scene": scene, "cells": good, "table": now, "reference_rule": tolerance.RULE}}
     s = tolerance.summary(old, now)
     assert s["met"] and s["measured"] == 1 and s["stale"] == ["36_two_plane_torque"]
     assert not tolerance.summary({k: {**v, "table": now} for k, v in old.items()}, now)["met"]  # negative control
     measured = []
     monkeypatch.setattr(tolerance, "measure_scene", lambda sc, engine, rtols, progress=print: measured.append(
-        sc["name"]) or {"scene": scene, "cells": good, "table": now, "measured_at": "2026-11-29T04:30:00+00:00",
+        sc["name"]) or {"scene": scene, "cells": good, "table": now, "reference_rule": tolerance.RULE, "measured_at": "2026-11-29T04:30:00+00:00",
                         "load_average": [9.0, 9.0, 9.0]})
     out = tmp_path / "tolerance.json"
     result = {"benchmark": "tolerance", "engine": "auto", "rtols": [1e-4], "machine": {}, "scenes": old,
@@ -149,3 +149,31 @@ def test_a_scene_measured_under_another_table_is_stale_remeasured_and_not_counte
     res["scenes"]["37_two_plane_torque"]["table"] = "f" * 12  # a stale scene is marked on the page
     res["summary"] = tolerance.summary(res["scenes"], now)
     assert "| 37_two_plane_torque (earlier table, not counted) |" in tolerance.page(res)
+
+
+def test_a_scene_graded_by_the_earlier_rule_is_stale_and_the_page_says_how_cells_are_graded():
+    """Cells are graded by the extended reference's own convergence (`RULE`); a scene graded by the earlier
+    double-precision rule (no reference_rule) is stale: not counted, marked on the page, remeasured.
+    Negative control: the same scene under the current rule counts."""
+    scene = {"family": "single_plane", "units": "SI", "drive": "forced"}
+    cells = [{"rtol": 1e-4, "ratio": 50.0, "decided": True, "status": "success", "reference_ratio": 0.01,
+              "vern8_ratio": 3.0, "taylor20_ratio": 4.0, "double_reference_ratio": 7.0}]
+    old = {"11_single_plane_fixed_n3": {"scene": scene, "cells": cells}}
+    s = tolerance.summary(old)
+    assert s["measured"] == 0 and s["stale"] == ["11_single_plane_fixed_n3"] and s["over_target"] == []
+    new = {"11_single_plane_fixed_n3": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE,
+                                        "extended_reference": {"fp_type": "real128", "tol": 1.9e-33, "order": 39,
+                                                               "steps": 800, "cpu_s": 4.0, "breakpoints": []},
+                                        "t_dec_ref": None, "vern8_t_dec": None}}
+    s = tolerance.summary(new)
+    assert s["over_target"][0]["ratio"] == 50.0 and not s["met"]
+    result = {"scenes": old, "rtols": [1e-4], "machine": {}, "date": "d", "engine": "auto", "seed": 35,
+              "atol_ratio": 1e-2, "target": 10.0,
+              "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
+                            "check": {"engine": "taylor", "order": 20, "step_factor": 1.0},
+                            **tolerance.reference_header()}}
+    assert "| 11_single_plane_fixed_n3 (earlier reference, not counted) |" in tolerance.page(result)
+    result["scenes"] = new
+    text = tolerance.page(result)
+    assert f"Reference (rule `{tolerance.RULE}`)" in text and "within 0.1 tolerance unit" in text
+    assert "| 11_single_plane_fixed_n3 | real128, tol 1.9e-33 | 39, 800, 4 | none | 0.01 / 0.01 | 3 / 3 |" in text
