@@ -167,6 +167,10 @@ def test_a_scene_graded_by_the_earlier_rule_is_stale_and_the_page_says_how_cells
                                         "t_dec_ref": None, "vern8_t_dec": None}}
     s = tolerance.summary(new)
     assert s["over_target"][0]["ratio"] == 50.0 and not s["met"]
+    assert not s["over_target"][0]["double_floor"]  # Vern8 and Taylor 20 resolve it: the engine's own miss
+    cells[0]["vern8_ratio"], cells[0]["taylor20_ratio"] = 40.0, 12.0  # both doubles miss too: the floor
+    assert tolerance.summary(new)["over_target"][0]["double_floor"]
+    cells[0]["taylor20_ratio"] = 4.0
     result = {"scenes": old, "rtols": [1e-4], "machine": {}, "date": "d", "engine": "auto", "seed": 35,
               "atol_ratio": 1e-2, "target": 10.0,
               "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
@@ -176,4 +180,58 @@ def test_a_scene_graded_by_the_earlier_rule_is_stale_and_the_page_says_how_cells
     result["scenes"] = new
     text = tolerance.page(result)
     assert f"Reference (rule `{tolerance.RULE}`)" in text and "within 0.1 tolerance unit" in text
-    assert "| 11_single_plane_fixed_n3 | real128, tol 1.9e-33 | 39, 800, 4 | none | 0.01 / 0.01 | 3 / 3 |" in text
+    assert "| 11_single_plane_fixed_n3 | real128, tol 1.9e-33 | 39, 800, 4 | none | 0.01 / 0.01 | 40 / 40 |" in text
+    assert "11_single_plane_fixed_n3 at 0.0001 (50)." in text  # Taylor 20 resolves it: no floor mark
+
+
+def test_measure_scene_grades_by_the_extended_reference_and_falls_back_to_the_double_rule(monkeypatch):
+    """A cell counts where the extended reference agrees with itself (at a 1000x looser tol) within a tenth of
+    a unit; the double references become checks (their distances recorded).  Where the extended reference
+    cannot be had, the earlier rule grades: Vern8 against Taylor 20 within one unit.  Negative control: the
+    extended reference's check a third of a unit off grades nothing."""
+    class Model:
+        name, amplitude_indices = "m", (0, 1)
+
+        def params(self, _):
+            return [1.0]
+
+        def state(self, _):
+            return [0.0, 0.0]
+
+    y = np.array([1.0, 2.0])
+
+    def fake(y_end, t_dec=None):
+        return {"status": "success", "y_end": np.asarray(y_end, float), "n_steps": 10, "t_dec": t_dec, "picked": None}
+
+    monkeypatch.setattr(tolerance, "scene_model", lambda scene: Model())
+    monkeypatch.setattr(tolerance, "table_id", lambda engine: None)
+    monkeypatch.setattr(tolerance, "references", lambda *a: (fake(y + 1e-9), fake(y - 1e-9)))
+    monkeypatch.setattr(tolerance, "_run", lambda model, eng, p, y0, t_end, rtol, atol: fake(y + 3 * rtol))
+    check = [1e-12]
+    monkeypatch.setattr(tolerance, "extended_references",
+                        lambda *a: (fake(y), fake(y + check[0]), {"fp_type": "real128", "breakpoints": []}))
+    scene = {"name": "x", "t_end": 1.0}
+    res = tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None)
+    assert res["reference_rule"] == tolerance.RULE and res["reference_fallback"] is None
+    a, b = res["cells"]
+    assert a["decided"] and b["decided"] and a["ratio"] == pytest.approx(3e-4 / (1e-6 + 1e-4))
+    assert a["vern8_ratio"] == pytest.approx(1e-9 / (1e-6 + 1e-4)) and b["double_reference_ratio"] > 1
+    check[0] = 1e-9 * 0.33 * 2  # a third of a unit at rtol 1e-9: the reference cannot grade that cell
+    b = tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None)["cells"][1]
+    assert not b["decided"]
+
+    def unavailable(*a):
+        raise tolerance_peers().PeerUnavailable("no heyoka")
+
+    monkeypatch.setattr(tolerance, "extended_references", unavailable)
+    res = tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None)
+    assert res["reference_fallback"].startswith("PeerUnavailable") and res["extended_reference"] is None
+    a, b = res["cells"]
+    assert a["decided"] and not b["decided"]  # the doubles differ by 2e-9: within a unit at 1e-4, not at 1e-9
+    assert "vern8_ratio" not in a
+
+
+def tolerance_peers():
+    from benchmarks import peers
+
+    return peers
