@@ -395,8 +395,8 @@ def page(result: dict) -> str:
         f"references (Vern8 and the Taylor series at order 20, at rtol {REF_RTOL:g}) miss the extended reference by "
         "more than the target too: the transient amplifies round-off, so no double-precision run could meet "
         "the target there (counted all the same)." if floor else ""), "",
-              f"Decided cells: {s['decided_cells']} of {s['cells']}; scenes without one (their references disagree "
-              f"by more than a tolerance unit at every rtol, so they grade nothing): {len(s['no_decided_cell'])}"
+              f"Decided cells: {s['decided_cells']} of {s['cells']}; scenes without one (their reference and its check "
+              f"differ by more than the grading limit at every rtol, so they grade nothing): {len(s['no_decided_cell'])}"
               + (": " + ", ".join(s["no_decided_cell"]) if s["no_decided_cell"] else "") + ".", "",
               f"Undecided cells above the target and more than {BEYOND:g}x the references' disagreement (the "
               f"references cannot grade them, but the engine's miss is far beyond their own; not counted above): "
