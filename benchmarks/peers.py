@@ -438,10 +438,10 @@ def time_breakpoints(module, p, t_end: float, grid: int = 2001, seed: int = 0) -
 
     rng = np.random.default_rng(seed)
     a, b = rng.uniform(-1.0, 1.0, n), rng.uniform(-1.0, 1.0, n)
+    if margins(a, 0.0).size == 0:  # no condition at all: no law of time switches
+        return []
     times = np.linspace(0.0, float(t_end), grid)
     table = np.array([margins(a, t) for t in times])
-    if table.size == 0:
-        return []
     other = np.array([margins(b, t) for t in times[:: max(1, grid // 50)]])
     laws = [k for k in range(table.shape[1]) if np.array_equal(other[:, k], table[:: max(1, grid // 50), k])]
     out = set()
