@@ -397,16 +397,21 @@ def check_extended(peer, module, p, fp_type, samples: int = 20, seed: int = 0, t
     """Largest relative difference (norm-wise) between the peer's rhs evaluated in `fp_type` and the
     generated module's (double) rhs, at random states and times in [0, t_span] (time-dependent laws): the
     translation in extended precision is the generated program (round-off only: ~1e-16), not a lookalike."""
+    return _worst_difference(lambda y, t: peer.rhs(y, p, t, fp_type=fp_type), module, p, samples, seed, t_span)
+
+
+def _worst_difference(rhs, module, p, samples: int, seed: int, t_span=None) -> float:
+    """max over random states (and times in [0, t_span]; t = 0 without one) of |rhs(y, t) - module.rhs| over
+    max |module.rhs|."""
     rng = np.random.default_rng(seed)
     n = len(module.STATE_NAMES)
     worst = 0.0
     for _ in range(samples):
         y = rng.uniform(-1.0, 1.0, n)
         y[: n // 2] *= 0.1
-        t = float(rng.uniform(0.0, t_span))
+        t = 0.0 if t_span is None else float(rng.uniform(0.0, t_span))
         ref = np.asarray(module.rhs(t, y, p), float)
-        got = peer.rhs(y, p, t, fp_type=fp_type)
-        worst = max(worst, float(np.max(np.abs(got - ref)) / max(np.max(np.abs(ref)), 1e-300)))
+        worst = max(worst, float(np.max(np.abs(rhs(y, t) - ref)) / max(np.max(np.abs(ref)), 1e-300)))
     return worst
 
 
@@ -455,16 +460,7 @@ def time_breakpoints(module, p, t_end: float, grid: int = 2001, seed: int = 0) -
 
 def check_equations(peer, module, p, samples: int = 50, seed: int = 0) -> float:
     """Largest relative difference (norm-wise) between a peer's rhs and the generated module's."""
-    rng = np.random.default_rng(seed)
-    n = len(module.STATE_NAMES)
-    worst = 0.0
-    for _ in range(samples):
-        y = rng.uniform(-1.0, 1.0, n)
-        y[: n // 2] *= 0.1
-        ref = np.asarray(module.rhs(0.0, y, p), float)
-        got = peer.rhs(y, p)
-        worst = max(worst, float(np.max(np.abs(got - ref)) / max(np.max(np.abs(ref)), 1e-300)))
-    return worst
+    return _worst_difference(lambda y, t: peer.rhs(y, p), module, p, samples, seed)
 
 
 __all__ = ["Heyoka", "HeyokaHandwritten", "JiTCODE", "PEERS", "PeerUnavailable", "check_equations", "check_extended", "extended_type", "generated_program", "time_breakpoints", "peer_versions"]
