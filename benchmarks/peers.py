@@ -183,31 +183,60 @@ class Heyoka:
             self._integrators[tol] = ta
         return self._integrators[tol]
 
-    def rhs(self, y, p, t=0.0):
-        """The rhs as heyoka evaluates it (a compiled function of the same expressions), the model's rows."""
-        cf = getattr(self, "_cfunc", None)
-        if cf is None:
-            cf = self._cfunc = self.hy.cfunc(self.outputs, vars=self.vars)
-        out = cf(np.asarray(self.full_state(y, t), float), pars=np.asarray(p, float), time=float(t))
-        return np.asarray(out, float)[: self.n_model]
+    def rhs(self, y, p, t=0.0, fp_type=None):
+        """The rhs as heyoka evaluates it (a compiled function of the same expressions), the model's rows;
+        with `fp_type` (np.longdouble, heyoka.real128) evaluated in that type from y, p, t as given (doubles
+        widened exactly) and rounded to double at the end (`check_extended`)."""
+        fp = float if fp_type is None else fp_type
+        cache = self.__dict__.setdefault("_cfuncs", {})
+        if fp not in cache:
+            cache[fp] = (self.hy.cfunc(self.outputs, vars=self.vars) if fp_type is None else
+                         self.hy.cfunc(self.outputs, vars=self.vars, fp_type=fp_type))
+        out = cache[fp](np.array(self.full_state(y, t), dtype=fp), pars=np.array(p, dtype=fp), time=fp(t))
+        return np.array(out, dtype=float)[: self.n_model]
 
-    def run_extended(self, y0, p, t_end: float, tol: float = 1e-19) -> dict:
-        """One run in extended precision (heyoka's fp_type=np.longdouble: x86's 80-bit format, 64-bit
-        mantissa, eps 1.1e-19): the final state, rounded to double, for a reference whose round-off is far
-        below any double-precision run's (compact mode: the build is a second, not minutes)."""
-        hy, ld = self.hy, np.longdouble
-        if np.finfo(ld).eps >= np.finfo(float).eps:
+    def run_extended(self, y0, p, t_end: float, tol: float = 1e-19, fp_type=None, threshold=None,
+                     amplitude=None, breakpoints=()) -> dict:
+        """One run in extended precision (default heyoka's fp_type=np.longdouble: x86's 80-bit format, 64-bit
+        mantissa, eps 1.1e-19; or `fp_type`, e.g. heyoka.real128, `extended_type`): the final state, rounded
+        to double, for a reference whose round-off is far below any double-precision run's (compact mode: the
+        build is a second, not minutes).  With `threshold` and `amplitude` (the model's amplitude_indices:
+        r = sqrt(y[ix]^2 + y[iy]^2)) also t_dec = sup{t : r(t) >= threshold}, as the engines define it
+        (adb_engine.h): the last crossing of r^2 = threshold^2, located by heyoka's event detection in the
+        same type (a non-terminal event on r^2 - threshold^2); None when r(t_end) >= threshold, 0 when r never
+        reaches it.  `breakpoints` (`time_breakpoints`): times the run stops at, so that no step crosses
+        a switch of a piecewise law of time."""
+        hy = self.hy
+        ld = np.longdouble if fp_type is None else fp_type
+        if fp_type is None and np.finfo(ld).eps >= np.finfo(float).eps:
             raise PeerUnavailable("long double is no wider than double on this platform")
         self._p = list(map(float, p))  # the hand-written run-up's spin angle reads them
+        crossings = []
+        events = {}
+        if threshold is not None:
+            ix, iy = int(amplitude[0]), int(amplitude[1])
+            r2 = self.vars[ix] * self.vars[ix] + self.vars[iy] * self.vars[iy]
+            events["nt_events"] = [hy.nt_event(r2 - float(threshold) ** 2,
+                                               lambda ta, t, d_sgn: crossings.append(float(t)), fp_type=ld)]
         start = time.perf_counter()
         ta = hy.taylor_adaptive(self.system, np.array(self.full_state(y0), dtype=ld), tol=ld(tol),
-                                pars=np.array(p, dtype=ld), fp_type=ld, compact_mode=True)
+                                pars=np.array(p, dtype=ld), fp_type=ld, compact_mode=True, **events)
         built = time.perf_counter()
-        res = ta.propagate_until(ld(t_end))
-        ok = res[0] == hy.taylor_outcome.time_limit and np.all(np.isfinite(np.asarray(ta.state, float)))
-        return {"y_end": np.array(ta.state[: self.n_model], dtype=float), "order": int(ta.order),
-                "n_steps": int(res[3]), "build_s": built - start, "run_s": time.perf_counter() - built,
-                "status": "success" if ok else f"failed: {res[0]}"}
+        steps, ok = 0, True
+        for stop in [b for b in sorted(breakpoints) if 0.0 < b < t_end] + [t_end]:
+            res = ta.propagate_until(ld(stop))
+            steps += int(res[3])
+            ok = ok and res[0] == hy.taylor_outcome.time_limit
+        y_end = np.array(ta.state[: self.n_model], dtype=float)
+        ok = ok and bool(np.all(np.isfinite(y_end)))
+        out = {"y_end": y_end, "order": int(ta.order),
+               "n_steps": steps, "build_s": built - start, "run_s": time.perf_counter() - built,
+               "status": "success" if ok else f"failed: {res[0]}"}
+        if threshold is not None:
+            ix, iy = int(amplitude[0]), int(amplitude[1])
+            above = y_end[ix] ** 2 + y_end[iy] ** 2 >= float(threshold) ** 2
+            out["t_dec"] = None if above else (max(crossings) if crossings else 0.0)
+        return out
 
     def run(self, y0, p, t_end: float, tol: float) -> dict:
         ta = self.integrator(tol, y0, p)
@@ -347,18 +376,91 @@ class JiTCODE:
 PEERS = {"jitcode": JiTCODE, "heyoka": Heyoka, "heyoka-hand": HeyokaHandwritten}
 
 
-def check_equations(peer, module, p, samples: int = 50, seed: int = 0) -> float:
-    """Largest relative difference (norm-wise) between a peer's rhs and the generated module's."""
+def extended_type():
+    """The widest floating-point type this heyoka build integrates in at a practical cost: (type, name, eps).
+    heyoka.real128 (IEEE quadruple: 113-bit mantissa, eps 1.9e-34, software arithmetic) where the build has it,
+    else np.longdouble where it is wider than double (x86: 64-bit mantissa, eps 1.1e-19).  heyoka.real (MPFR,
+    any precision) is not used: at 113 bits it is quadruple's precision at a higher cost, and wider still
+    costs more again than the held-out scenes need (their round-off floor in quadruple is far below any rtol)."""
+    try:
+        import heyoka as hy
+    except ImportError as exc:
+        raise PeerUnavailable(f"heyoka is not installed ({exc}); pip install 'adbgen[peers]'") from None
+    if getattr(hy, "_with_real128", lambda: False)():
+        return hy.real128, "real128", 2.0 ** -112  # 1.93e-34
+    if np.finfo(np.longdouble).eps < np.finfo(float).eps:
+        return np.longdouble, "long double", float(np.finfo(np.longdouble).eps)
+    raise PeerUnavailable("this heyoka build has no real128 and long double is no wider than double")
+
+
+def check_extended(peer, module, p, fp_type, samples: int = 20, seed: int = 0, t_span: float = 1.0) -> float:
+    """Largest relative difference (norm-wise) between the peer's rhs evaluated in `fp_type` and the
+    generated module's (double) rhs, at random states and times in [0, t_span] (time-dependent laws): the
+    translation in extended precision is the generated program (round-off only: ~1e-16), not a lookalike."""
+    return _worst_difference(lambda y, t: peer.rhs(y, p, t, fp_type=fp_type), module, p, samples, seed, t_span)
+
+
+def _worst_difference(rhs, module, p, samples: int, seed: int, t_span=None) -> float:
+    """max over random states (and times in [0, t_span]; t = 0 without one) of |rhs(y, t) - module.rhs| over
+    max |module.rhs|."""
     rng = np.random.default_rng(seed)
     n = len(module.STATE_NAMES)
     worst = 0.0
     for _ in range(samples):
         y = rng.uniform(-1.0, 1.0, n)
         y[: n // 2] *= 0.1
-        ref = np.asarray(module.rhs(0.0, y, p), float)
-        got = peer.rhs(y, p)
-        worst = max(worst, float(np.max(np.abs(got - ref)) / max(np.max(np.abs(ref)), 1e-300)))
+        t = 0.0 if t_span is None else float(rng.uniform(0.0, t_span))
+        ref = np.asarray(module.rhs(t, y, p), float)
+        worst = max(worst, float(np.max(np.abs(rhs(y, t) - ref)) / max(np.max(np.abs(ref)), 1e-300)))
     return worst
 
 
-__all__ = ["Heyoka", "HeyokaHandwritten", "JiTCODE", "PEERS", "PeerUnavailable", "check_equations", "generated_program", "peer_versions"]
+def time_breakpoints(module, p, t_end: float, grid: int = 2001, seed: int = 0) -> list[float]:
+    """The times in (0, t_end) where a piecewise law of time switches branch: the roots of l - r for each
+    condition ["<", l, r] of the generated program (program.json) that depends on t and the parameters
+    only (the same margin at two random states), found on an even grid of `grid` times and refined by
+    bisection to double precision.  A Taylor integrator (heyoka) expands ``select`` on the branch the step
+    starts on, so a step across a switch integrates part of it on the wrong branch, unnoticed by its error
+    control: the reference stops at each of these times (`Heyoka.run_extended`; the run-up's ramp at
+    t = t_ramp, measured: without the stop, t_dec on 33_two_plane_ramp came out 3.7e-3 late in real128, with it
+    the check reference's (Taylor order 20) t_dec to 4e-12 in long double)."""
+    import math
+
+    from scipy.optimize import brentq
+
+    from adbgen.codegen.program_tree import evaluate
+
+    statements, outputs = generated_program(module)
+    n = len(module.STATE_NAMES)
+    functions = {name: getattr(math, name) for name in ("sin", "cos", "tan", "exp", "log", "sqrt", "atan")}
+
+    def margins(y, t):
+        found = []
+        evaluate(statements, outputs, y, list(map(float, p)), float(t),
+                 {**functions, "select": lambda c, a, b: a if c else b,
+                  "less": lambda l, r: found.append(l - r) or l < r})
+        return np.array(found, float)
+
+    rng = np.random.default_rng(seed)
+    a, b = rng.uniform(-1.0, 1.0, n), rng.uniform(-1.0, 1.0, n)
+    if margins(a, 0.0).size == 0:  # no condition at all: no law of time switches
+        return []
+    times = np.linspace(0.0, float(t_end), grid)
+    table = np.array([margins(a, t) for t in times])
+    other = np.array([margins(b, t) for t in times[:: max(1, grid // 50)]])
+    laws = [k for k in range(table.shape[1]) if np.array_equal(other[:, k], table[:: max(1, grid // 50), k])]
+    out = set()
+    for k in laws:
+        for i in np.nonzero(np.signbit(table[:-1, k]) != np.signbit(table[1:, k]))[0]:
+            root = brentq(lambda t: margins(a, t)[k], times[i], times[i + 1], xtol=1e-15 * max(1.0, t_end))
+            if 0.0 < root < t_end:
+                out.add(float(root))
+    return sorted(out)
+
+
+def check_equations(peer, module, p, samples: int = 50, seed: int = 0) -> float:
+    """Largest relative difference (norm-wise) between a peer's rhs and the generated module's."""
+    return _worst_difference(lambda y, t: peer.rhs(y, p), module, p, samples, seed)
+
+
+__all__ = ["Heyoka", "HeyokaHandwritten", "JiTCODE", "PEERS", "PeerUnavailable", "check_equations", "check_extended", "extended_type", "generated_program", "time_breakpoints", "peer_versions"]

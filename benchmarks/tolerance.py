@@ -11,11 +11,22 @@ t_end and its final state is compared with a reference:
 at most `TARGET` on every scene and tolerance), and the time the whirl last falls below the threshold,
 t_dec, as |t_dec - t_dec,ref| / (rtol t_end) (its tolerance: rtol of the run's time scale).
 
-The reference is CyRK's Vern8 at rtol `REF_RTOL`, atol `REF_RTOL` x `ATOL_RATIO` / 100 (`REFERENCE`),
-checked by a second, independent one: the emitted Taylor series at order 20, step factor 1, at the same
-tolerance (`CHECK`).  Their disagreement, in the same units at each rtol (`reference_ratio`), bounds what
-the comparison can resolve: a cell whose reference ratio exceeds `REFERENCE_LIMIT` is reported as
-undecided (not counted for or against the target).
+The reference is extended precision (`extended_references`, rule `RULE`): heyoka's adaptive Taylor
+integrator on the scene model's own generated program (program.json, `peers.generated_program`: the
+statements the C targets are emitted from), in the widest type the heyoka build offers (`peers.extended_type`:
+real128, else long double) at tol `EXT_TOL` x the type's eps, stopping at every switch of a piecewise law of
+time (`peers.time_breakpoints`), with t_dec located by heyoka's event detection in the same type.  Before it
+runs, the translation evaluated in that type must reproduce the generated (double) rhs to round-off at
+sampled states and times (`peers.check_extended`, at most `TRANSLATION_LIMIT`).  Its own convergence grades
+the cells: the same run at tol `EXT_CHECK_TOL` x eps, and a cell counts where the two differ by at most
+`SELF_LIMIT` (a fraction of one tolerance unit) at the cell's rtol (`reference_ratio`); other cells are
+undecided (not counted for or against the target).  The two double-precision references of the earlier rule,
+CyRK's Vern8 at rtol `REF_RTOL`, atol `REF_RTOL` x `ATOL_RATIO` / 100 (`REFERENCE`), and the emitted Taylor
+series at order 20, step factor 1, at the same tolerance (`CHECK`), are kept as checks: their disagreement
+(`double_reference_ratio`) and each one's distance from the extended reference (`vern8_ratio`,
+`taylor20_ratio`) are recorded per cell.  Where the extended reference cannot be had (heyoka missing, a
+program it cannot translate, a failed run: `reference_fallback`) the earlier rule grades the scene: Vern8 the
+reference, the Taylor series its check, a cell counted where they agree within `REFERENCE_LIMIT` unit.
 
 Results go to benchmarks/tolerance.json after every scene; a rerun skips the scenes already there
 (`--fresh` starts over), so the benchmark can run in pieces (`--scenes`).
@@ -43,7 +54,11 @@ TARGET = 10.0
 REF_RTOL = 1e-14
 REFERENCE = "cyrk-vern8"
 CHECK = ("taylor", 20, 1.0)  # the second reference: the Taylor engine, order 20, step factor 1
-REFERENCE_LIMIT = 1.0  # the references must agree to within one tolerance unit for a cell to count
+REFERENCE_LIMIT = 1.0  # the earlier rule: the double references must agree within one tolerance unit
+RULE = "extended-self-convergence"  # how the scenes' cells are graded; a scene graded by another rule is stale
+EXT_TOL, EXT_CHECK_TOL = 10.0, 1e4  # the extended reference at 10 eps, its own check at 1e4 eps (x 1000 looser)
+SELF_LIMIT = 0.1  # the extended reference's two tolerances must agree within a tenth of a unit at the rtol
+TRANSLATION_LIMIT = 1e-12  # the translated rhs in extended precision against the generated rhs (round-off)
 THRESHOLD = 1e-3
 MAX_STEPS = 10**7
 
@@ -97,6 +112,45 @@ def references(model, p, y0, t_end) -> tuple[dict, dict]:
     return ref, chk
 
 
+def extended_references(model, p, y0, t_end) -> tuple[dict, dict, dict]:
+    """(reference, its check, what they are): heyoka in the widest type available (`peers.extended_type`)
+    on the model's generated program at tol `EXT_TOL` x eps and at `EXT_CHECK_TOL` x eps, each stopping at
+    the program's time breakpoints and locating t_dec.  Raises PeerUnavailable (no heyoka, no wider type),
+    ValueError (no program, or its translation off the generated rhs by more than `TRANSLATION_LIMIT`) or
+    RuntimeError (a failed run): the caller falls back to the double references."""
+    from . import peers
+
+    fp, type_name, eps = peers.extended_type()
+    peer = peers.Heyoka(model.module)
+    off = peers.check_extended(peer, model.module, p, fp, t_span=t_end)
+    if not off <= TRANSLATION_LIMIT:
+        raise ValueError(f"the program translated in {type_name} is {off:.2g} off the generated rhs")
+    stops = peers.time_breakpoints(model.module, p, t_end)
+    runs = []
+    for factor in (EXT_TOL, EXT_CHECK_TOL):
+        started = time.process_time()
+        out = peer.run_extended(y0, p, t_end, factor * eps, fp_type=fp, threshold=THRESHOLD,
+                                amplitude=model.amplitude_indices, breakpoints=stops)
+        if out["status"] != "success":
+            raise RuntimeError(f"heyoka in {type_name} at tol {factor * eps:.2g}: {out['status']}")
+        out["cpu_s"] = time.process_time() - started
+        runs.append(out)
+    ref, chk = runs
+    info = {"engine": "heyoka taylor_adaptive on program.json", "fp_type": type_name, "eps": eps,
+            "tol": EXT_TOL * eps, "check_tol": EXT_CHECK_TOL * eps, "order": ref["order"], "steps": ref["n_steps"],
+            "check_order": chk["order"], "cpu_s": ref["cpu_s"], "check_cpu_s": chk["cpu_s"],
+            "translation_off": off, "breakpoints": stops, "t_dec": ref["t_dec"], "check_t_dec": chk["t_dec"]}
+    return ref, chk, info
+
+
+def reference_header() -> dict:
+    """How the cells are graded (`RULE`), for the results file's "reference" (added to the earlier rule's
+    keys, which describe the double references, now the checks and the fallback)."""
+    return {"rule": RULE, "extended": {"engine": "heyoka taylor_adaptive on the generated program (program.json)",
+                                       "tol_eps": EXT_TOL, "check_tol_eps": EXT_CHECK_TOL,
+                                       "self_limit": SELF_LIMIT, "translation_limit": TRANSLATION_LIMIT}}
+
+
 def table_id(engine: str) -> str | None:
     """What the measured engine's choices come from: for `auto`, the first 12 hex digits of the sha256 of
     its table (adbgen/analysis/engines/auto_table.json), which `adbgen bench auto` rewrites; None for an
@@ -110,8 +164,10 @@ def table_id(engine: str) -> str | None:
 
 def current(scenes: dict, table: str | None) -> dict:
     """The scenes measured under `table` (all of them for an engine without a table; a scene recorded
-    before tables were recorded has none and is stale)."""
-    return scenes if table is None else {k: v for k, v in scenes.items() if v.get("table") == table}
+    before tables were recorded has none and is stale) and graded by the reference rule `RULE` (a scene
+    graded by the earlier double-precision rule has none and is stale too: remeasured, never counted)."""
+    return {k: v for k, v in scenes.items()
+            if (table is None or v.get("table") == table) and v.get("reference_rule") == RULE}
 
 
 def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
@@ -120,9 +176,18 @@ def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
     model = scene_model(scene)
     p, y0 = model.params(scene.get("set", {})), model.state(scene.get("y0", {}))
     t_end = float(scene["t_end"])
-    ref, chk = references(model, p, y0, t_end)
-    if ref["status"] != "success" or chk["status"] != "success":
-        return {"scene": scene, "undecided": f"reference failed ({ref['status']}, {chk['status']})"}
+    vern8, taylor20 = references(model, p, y0, t_end)
+    doubles_ok = vern8["status"] == "success" and taylor20["status"] == "success"
+    try:
+        ref, chk, extended = extended_references(model, p, y0, t_end)
+        limit, fallback = SELF_LIMIT, None
+    except Exception as exc:  # heyoka or the type missing, a program it cannot take, a failed run: the old rule
+        if not doubles_ok:
+            return {"scene": scene, "reference_rule": RULE,
+                    "undecided": f"references failed ({type(exc).__name__}: {exc}; {vern8['status']}, "
+                                 f"{taylor20['status']})"}
+        ref, chk, extended = vern8, taylor20, None
+        limit, fallback = REFERENCE_LIMIT, f"{type(exc).__name__}: {exc}"
     eng = get_engine(engine)
     cells = []
     for rtol in rtols:
@@ -131,7 +196,12 @@ def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
         ref_ratio = ratio(chk["y_end"], ref["y_end"], rtol, atol)
         cell = {"rtol": rtol, "atol": atol, "status": run["status"], "n_steps": run["n_steps"],
                 "picked": run["picked"], "reference_ratio": ref_ratio,
-                "decided": bool(ref_ratio <= REFERENCE_LIMIT and run["status"] == "success")}
+                "decided": bool(ref_ratio <= limit and run["status"] == "success")}
+        if doubles_ok:
+            cell["double_reference_ratio"] = ratio(taylor20["y_end"], vern8["y_end"], rtol, atol)
+            if extended:
+                cell["vern8_ratio"] = ratio(vern8["y_end"], ref["y_end"], rtol, atol)
+                cell["taylor20_ratio"] = ratio(taylor20["y_end"], ref["y_end"], rtol, atol)
         if run["status"] == "success":
             cell["ratio"] = ratio(run["y_end"], ref["y_end"], rtol, atol)
             cell["t_dec"] = run["t_dec"]
@@ -142,7 +212,8 @@ def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
     decided = [c["ratio"] for c in cells if c["decided"]]
     return {"scene": scene, "model": model.name, "table": table_id(engine), "measured_at": utc_now(),
             "load_average": load_average(), "t_dec_ref": ref["t_dec"],
-            "check_t_dec": chk["t_dec"],
+            "check_t_dec": chk["t_dec"], "reference_rule": RULE, "extended_reference": extended,
+            "reference_fallback": fallback, "vern8_t_dec": vern8["t_dec"], "taylor20_t_dec": taylor20["t_dec"],
             "reference_steps": ref["n_steps"], "cells": cells, "worst_ratio": max(decided) if decided else None,
             "undecided_cells": sum(not c["decided"] for c in cells)}
 
@@ -204,7 +275,8 @@ def summary(scenes: dict, table: str | None = None) -> dict:
             if c["decided"]:
                 groups[key] = max(groups.get(key, 0.0), c["ratio"])
                 if c["ratio"] > TARGET:
-                    over.append({"scene": name, "rtol": c["rtol"], "ratio": c["ratio"]})
+                    over.append({"scene": name, "rtol": c["rtol"], "ratio": c["ratio"],
+                                 "double_floor": double_floor(c)})
             elif "ratio" in c and "reference_ratio" in c and c["ratio"] > max(TARGET, BEYOND * c["reference_ratio"]):
                 beyond.append({"scene": name, "rtol": c["rtol"], "ratio": c["ratio"],
                                "reference_ratio": c["reference_ratio"]})
@@ -215,6 +287,15 @@ def summary(scenes: dict, table: str | None = None) -> dict:
             "decided_cells": sum(c["decided"] for r in counted.values() for c in r.get("cells", [])),
             "cells": sum(len(r.get("cells", [])) for r in counted.values()),
             "no_decided_cell": sorted(k for k, r in counted.items() if not any(c["decided"] for c in r.get("cells", [])))}
+
+
+def double_floor(cell: dict) -> bool:
+    """Whether a cell lies below what double precision resolves on its scene: both double references, run at
+    rtol `REF_RTOL` (Vern8 and the Taylor series at order 20), miss the extended reference there by more than
+    the target too (a transient that amplifies round-off: no double-precision run could meet the target).
+    The cell still counts (it is decided); the page marks it."""
+    v, t = cell.get("vern8_ratio"), cell.get("taylor20_ratio")
+    return v is not None and t is not None and min(v, t) > TARGET
 
 
 BEYOND = 10.0  # an undecided cell this many times farther from the reference than the references are apart
@@ -237,6 +318,9 @@ def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fre
                                 "check": {"engine": CHECK[0], "order": CHECK[1], "step_factor": CHECK[2]},
                                 "limit": REFERENCE_LIMIT},
                   "date": utc_now(), "machine": machine(), "scenes": {}}
+    if result["reference"].get("rule") != RULE:  # the first run under this rule: its record starts now
+        result["date"], result["machine"] = utc_now(), machine()
+    result["reference"].update(reference_header())
     scenes = load()
     if names:
         known = {s["name"] for s in scenes}
@@ -283,7 +367,8 @@ def page(result: dict) -> str:
         f" under the auto engine's current table (auto_table.json, sha256 {table}...)" if table else "") + (
         f" between {dates[0]} and {dates[-1]} UTC (one-minute load average at each scene's end "
         f"{min(loads):.3g}-{max(loads):.3g} on 2 cores)" if dates else "") + (
-        f"; {len(stale)} more were measured under an earlier table and are not counted (marked below)"
+        f"; {len(stale)} more were measured under an earlier table or reference rule and are not counted "
+        f"(marked below)"
         if stale else "") + "."
     m = result["machine"]
     lines = [
@@ -298,18 +383,20 @@ def page(result: dict) -> str:
         f"at rtol {', '.join(f'{r:g}' for r in result['rtols'])} with atol = rtol x {result['atol_ratio']:g}: "
         "the ratio max_i |y_i - y_ref,i| / (atol + rtol |y_ref,i|) at t_end (target: at most "
         f"{result['target']:g}), and t_dec's error over rtol x t_end.", "",
-        f"Reference: {ref['engine']} at rtol {ref['rtol']:g}, atol {ref['atol']:g}, checked by the Taylor engine "
-        f"(order {ref['check']['order']}, step factor {ref['check']['step_factor']:g}) at the same tolerance. A "
-        f"cell counts only where the two references agree within {ref['limit']:g} tolerance unit at that rtol; "
-        "other cells are shown in parentheses (undecided: the reference cannot resolve them).", "",
+        reference_text(ref), "",
         "## Worst counted ratio per scene family", "", "| family / units / drive | worst ratio |", "| --- | --- |"]
     lines += [f"| {k} | {v:.3g} |" for k, v in sorted(s["worst_by_family"].items())]
     beyond = s.get("missed_beyond_reference", [])
+    floor = [o for o in s["over_target"] if o.get("double_floor")]
     lines += ["", f"Cells above the target: {len(s['over_target'])}" + (
-        ": " + ", ".join(f"{o['scene']} at {o['rtol']:g} ({o['ratio']:.3g})" for o in s["over_target"])
-        if s["over_target"] else "") + ".", "",
-              f"Decided cells: {s['decided_cells']} of {s['cells']}; scenes without one (their references disagree "
-              f"by more than a tolerance unit at every rtol, so they grade nothing): {len(s['no_decided_cell'])}"
+        ": " + ", ".join(f"{o['scene']} at {o['rtol']:g} ({o['ratio']:.3g}{'*' if o.get('double_floor') else ''})"
+                         for o in s["over_target"]) if s["over_target"] else "") + "." + (
+        f" Marked * ({len(floor)}): cells below double precision's floor on their scene, where both double "
+        f"references (Vern8 and the Taylor series at order 20, at rtol {REF_RTOL:g}) miss the extended reference by "
+        "more than the target too: the transient amplifies round-off, so no double-precision run could meet "
+        "the target there (counted all the same)." if floor else ""), "",
+              f"Decided cells: {s['decided_cells']} of {s['cells']}; scenes without one (their reference and its check "
+              f"differ by more than the grading limit at every rtol, so they grade nothing): {len(s['no_decided_cell'])}"
               + (": " + ", ".join(s["no_decided_cell"]) if s["no_decided_cell"] else "") + ".", "",
               f"Undecided cells above the target and more than {BEYOND:g}x the references' disagreement (the "
               f"references cannot grade them, but the engine's miss is far beyond their own; not counted above): "
@@ -320,11 +407,65 @@ def page(result: dict) -> str:
               "| --- | " + " | ".join("---" for _ in result["rtols"]) + " |"]
     for name, res in sorted(result["scenes"].items()):
         cells = res.get("cells")
-        label = f"{name} (earlier table, not counted)" if name in stale else name
+        label = name if name not in stale else f"{name} (earlier {'reference' if res.get('reference_rule') != RULE and (not table or res.get('table') == table) else 'table'}, not counted)"
         lines.append(f"| {label} | " + (" | ".join(_cell(c) for c in cells) if cells else res.get("undecided", "")) + " |")
+    lines += reference_lines(counted)
     if result.get("diagnosis"):
         lines += diagnosis_lines(result["diagnosis"])
     return "\n".join(lines) + "\n"
+
+
+def reference_text(ref: dict) -> str:
+    """The page's paragraph on how the cells are graded (the rule the results file records)."""
+    double = (f"{ref['engine']} at rtol {ref['rtol']:g}, atol {ref['atol']:g}, and the Taylor engine (order "
+              f"{ref['check']['order']}, step factor {ref['check']['step_factor']:g}) at the same tolerance")
+    ext = ref.get("extended")
+    if ref.get("rule") != RULE or not ext:
+        return (f"Reference: {double.replace(', and the Taylor', ', checked by the Taylor')}. A cell counts only "
+                f"where the two references agree within {ref['limit']:g} tolerance unit at that rtol; other cells "
+                "are shown in parentheses (undecided: the reference cannot resolve them).")
+    return (
+        f"Reference (rule `{RULE}`): {ext['engine']}, the statements the C targets are emitted from, in the "
+        "widest type the heyoka build offers (real128, IEEE quadruple, eps 1.9e-34; long double where it has "
+        f"none), at tol {ext['tol_eps']:g} eps, stopping at each switch of a piecewise law of time (run-up "
+        "ramp, Hill profile; a Taylor step across one would integrate part of it on the wrong branch) and "
+        "locating t_dec by heyoka's event detection in that type. Before it runs, the translation evaluated in "
+        f"that type must reproduce the generated double rhs within {ext['translation_limit']:g} (relative) at "
+        f"sampled states and times. A cell counts only where the same run at tol {ext['check_tol_eps']:g} eps "
+        f"(its own convergence) agrees with it within {ext['self_limit']:g} tolerance unit at the cell's rtol; "
+        "other cells are shown in parentheses (undecided: the reference cannot resolve them, e.g. a chaotic "
+        f"transient). The earlier rule's double references, {double}, are kept as checks: their distance from "
+        "the extended reference and from each other per scene below. A scene whose program heyoka cannot take "
+        "would fall back to the earlier rule (the two double references within "
+        f"{ref['limit']:g} unit); the table below names any that did.")
+
+
+def reference_lines(scenes: dict) -> list[str]:
+    """Per scene: the reference's type, order, steps and CPU time, its self-agreement, the double
+    references' distance from it at rtol 1e-12 and 1e-4, and the t_dec of each."""
+    lines = ["", "## The references per scene", "",
+             "Distances in tolerance units (atol = rtol / 100) at rtol 1e-4 / 1e-12: the extended reference's "
+             "check at a looser tol (self), CyRK Vern8 at rtol 1e-14 and the Taylor engine at order 20 (the "
+             "earlier rule's two references) from the extended reference.", "",
+             "| scene | reference | order, steps, CPU s | breakpoints | self | Vern8 | Taylor 20 | t_dec: extended / Vern8 |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+
+    def pair(cells, key):
+        got = [c.get(key) for c in (cells[0], cells[-1])] if cells else [None, None]
+        return " / ".join("" if v is None else f"{v:.2g}" for v in got)
+
+    for name, res in sorted(scenes.items()):
+        ext, cells = res.get("extended_reference"), res.get("cells") or []
+        if ext:
+            what = f"{ext['fp_type']}, tol {ext['tol']:.2g}"
+            cost = f"{ext['order']}, {ext['steps']}, {ext['cpu_s']:.3g}"
+            stops = ", ".join(f"{b:.6g}" for b in ext["breakpoints"]) or "none"
+        else:
+            what, cost, stops = f"double (fallback: {res.get('reference_fallback')})", "", ""
+        tdec = " / ".join("none" if v is None else f"{v:.13g}" for v in (res.get("t_dec_ref"), res.get("vern8_t_dec")))
+        lines.append(f"| {name} | {what} | {cost} | {stops} | {pair(cells, 'reference_ratio')} | "
+                     f"{pair(cells, 'vern8_ratio')} | {pair(cells, 'taylor20_ratio')} | {tdec} |")
+    return lines
 
 
 DIAGNOSIS = (

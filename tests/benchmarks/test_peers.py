@@ -82,3 +82,57 @@ def test_peers_follow_a_piecewise_law_of_time():
         for t in (20.0, 60.0, 400.0):
             ref = np.asarray(model.module.rhs(t, y, p))
             assert np.max(np.abs(peer.rhs(y, p, t) - ref)) <= 1e-12 * np.max(np.abs(ref)), (name, t)
+
+
+def test_the_translation_in_extended_precision_is_the_generated_rhs():
+    """The reference of `bench tolerance` integrates the program in the widest type heyoka offers
+    (`extended_type`): evaluated in that type (and in long double) at random states and times, the run-up's
+    rhs (a law of time) equals the generated double rhs to round-off.  Negative control: a translation with
+    one output 0.1 % off (a planted wrong program) is caught."""
+    require_module("heyoka", "the 'peers' extra: pip install -e '.[peers]'")
+    model = load_model("two_plane_ramp")
+    p = model.params({"t_ramp": 300.0})
+    peer = bench_peers.Heyoka(model.module)
+    fp, name, eps = bench_peers.extended_type()
+    assert eps < np.finfo(float).eps / 1000 and name in ("real128", "long double")
+    for kind in (fp, np.longdouble):
+        assert bench_peers.check_extended(peer, model.module, p, kind, samples=8, t_span=600.0) < 1e-12
+    peer.outputs = list(peer.outputs[:-1]) + [peer.outputs[-1] * 1.001]
+    peer._cfuncs = {}
+    assert bench_peers.check_extended(peer, model.module, p, fp, samples=8, t_span=600.0) > 1e-6
+
+
+def test_time_breakpoints_are_the_switches_of_a_law_of_time():
+    """The run-up's ramp switches at t = t_ramp (found from program.json alone), the Hill profile at its
+    series' switch; a model forced at a constant speed has none (negative control), nor a ramp whose switch
+    lies beyond t_end."""
+    ramp = load_model("two_plane_ramp")
+    got = bench_peers.time_breakpoints(ramp.module, ramp.params({"t_ramp": 378.6}), 1000.0, grid=201)
+    assert got == [pytest.approx(378.6, abs=1e-9)]
+    assert bench_peers.time_breakpoints(ramp.module, ramp.params({"t_ramp": 378.6}), 300.0, grid=201) == []
+    hill = load_model("two_plane_hill")
+    assert len(bench_peers.time_breakpoints(hill.module, hill.params({"t_half": 105.4}), 1000.0, grid=201)) == 1
+    rot = load_model(MODEL)
+    assert bench_peers.time_breakpoints(rot.module, rot.params(), 100.0, grid=51) == []
+
+
+def test_an_extended_run_locates_t_dec_and_stops_at_a_switch():
+    """run_extended in long double: t_dec (sup{t : r >= threshold}) as CyRK Vern8 at rtol 1e-13 finds it,
+    and on the ramp the run stopping at t_ramp agrees with Vern8 while one stepping across it is off
+    (negative control: the wrong branch over part of a step)."""
+    require_module("heyoka", "the 'peers' extra: pip install -e '.[peers]'")
+    from adbgen.analysis.simulate import simulate
+
+    model = load_model("two_plane_ramp")
+    p = model.params({"t_ramp": 37.86})
+    y0 = model.state({"theta_1": 1.0, "theta_2": 2.5, "theta_3": 4.0, "theta_4": 5.5})
+    peer = bench_peers.Heyoka(model.module)
+    stops = bench_peers.time_breakpoints(model.module, p, 60.0, grid=201)
+    ref = simulate(model, p, y0, t_end=60.0, rtol=1e-13, atol=1e-15, engine="cyrk-vern8", keep_trajectory=False,
+                   threshold=0.02)
+    run = dict(threshold=0.02, amplitude=model.amplitude_indices)
+    good = peer.run_extended(y0, p, 60.0, 1e-18, **run, breakpoints=stops)
+    bad = peer.run_extended(y0, p, 60.0, 1e-18, **run)
+    assert good["status"] == "success" and 0.0 < good["t_dec"] < 60.0
+    assert abs(good["t_dec"] - ref.t_dec) < 1e-8 and np.max(np.abs(good["y_end"] - ref.y_end)) < 1e-9
+    assert np.max(np.abs(bad["y_end"] - ref.y_end)) > 100 * np.max(np.abs(good["y_end"] - ref.y_end))

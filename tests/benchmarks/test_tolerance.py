@@ -63,14 +63,14 @@ def test_summary_counts_decided_cells_only():
     scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
     cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True, "reference_ratio": 1e-3},
              {"rtol": 1e-12, "ratio": 500.0, "decided": False, "reference_ratio": 60.0}]
-    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}})
     assert s["worst"] == 3.0 and s["met"] and s["over_target"] == []
     assert s["missed_beyond_reference"] == []  # 500 is within 10x the references' disagreement of 60
     cells[1]["reference_ratio"] = 20.0  # undecided still, but the engine misses 25x farther than they differ
-    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}})
     assert s["met"] and s["missed_beyond_reference"][0]["ratio"] == 500.0
     cells[1]["decided"] = True  # negative control: the same cell, decided, misses the target
-    s = tolerance.summary({"x": {"scene": scene, "cells": cells}})
+    s = tolerance.summary({"x": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}})
     assert s["worst"] == 500.0 and not s["met"] and s["over_target"][0]["rtol"] == 1e-12
 
 
@@ -78,7 +78,7 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
     scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
     cells = [{"rtol": 1e-6, "ratio": 3.0, "decided": True, "status": "success"},
              {"rtol": 1e-12, "ratio": 500.0, "decided": False, "status": "success"}]
-    result = {"scenes": {"36_two_plane_torque": {"scene": scene, "cells": cells}}, "rtols": [1e-6, 1e-12],
+    result = {"scenes": {"36_two_plane_torque": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}}, "rtols": [1e-6, 1e-12],
               "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
                             "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
               "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
@@ -91,7 +91,7 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
 
 def test_the_page_shows_a_recorded_diagnosis_and_only_then():
     scene = {"family": "single_plane", "units": "thesis", "drive": "forced"}
-    result = {"scenes": {"00_x": {"scene": scene, "cells": []}}, "rtols": [1e-4],
+    result = {"scenes": {"00_x": {"scene": scene, "cells": [], "reference_rule": tolerance.RULE}}, "rtols": [1e-4],
               "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
                             "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
               "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
@@ -125,14 +125,14 @@ def test_a_scene_measured_under_another_table_is_stale_remeasured_and_not_counte
     scene = {"family": "two_plane", "units": "thesis", "drive": "torque"}
     bad = [{"rtol": 1e-4, "ratio": 500.0, "decided": True, "status": "success", "reference_ratio": 1e-3}]
     good = [{"rtol": 1e-4, "ratio": 2.0, "decided": True, "status": "success", "reference_ratio": 1e-3}]
-    old = {"36_two_plane_torque": {"scene": scene, "cells": bad, "table": "0" * 12},
-           "37_two_plane_torque": {"scene": scene, "cells": good, "table": now}}
+    old = {"36_two_plane_torque": {"scene": scene, "cells": bad, "table": "0" * 12, "reference_rule": tolerance.RULE},
+           "37_two_plane_torque": {"scene": scene, "cells": good, "table": now, "reference_rule": tolerance.RULE}}
     s = tolerance.summary(old, now)
     assert s["met"] and s["measured"] == 1 and s["stale"] == ["36_two_plane_torque"]
     assert not tolerance.summary({k: {**v, "table": now} for k, v in old.items()}, now)["met"]  # negative control
     measured = []
     monkeypatch.setattr(tolerance, "measure_scene", lambda sc, engine, rtols, progress=print: measured.append(
-        sc["name"]) or {"scene": scene, "cells": good, "table": now, "measured_at": "2026-11-29T04:30:00+00:00",
+        sc["name"]) or {"scene": scene, "cells": good, "table": now, "reference_rule": tolerance.RULE, "measured_at": "2026-11-29T04:30:00+00:00",
                         "load_average": [9.0, 9.0, 9.0]})
     out = tmp_path / "tolerance.json"
     result = {"benchmark": "tolerance", "engine": "auto", "rtols": [1e-4], "machine": {}, "scenes": old,
@@ -149,3 +149,89 @@ def test_a_scene_measured_under_another_table_is_stale_remeasured_and_not_counte
     res["scenes"]["37_two_plane_torque"]["table"] = "f" * 12  # a stale scene is marked on the page
     res["summary"] = tolerance.summary(res["scenes"], now)
     assert "| 37_two_plane_torque (earlier table, not counted) |" in tolerance.page(res)
+
+
+def test_a_scene_graded_by_the_earlier_rule_is_stale_and_the_page_says_how_cells_are_graded():
+    """Cells are graded by the extended reference's own convergence (`RULE`); a scene graded by the earlier
+    double-precision rule (no reference_rule) is stale: not counted, marked on the page, remeasured.
+    Negative control: the same scene under the current rule counts."""
+    scene = {"family": "single_plane", "units": "SI", "drive": "forced"}
+    cells = [{"rtol": 1e-4, "ratio": 50.0, "decided": True, "status": "success", "reference_ratio": 0.01,
+              "vern8_ratio": 3.0, "taylor20_ratio": 4.0, "double_reference_ratio": 7.0}]
+    old = {"11_single_plane_fixed_n3": {"scene": scene, "cells": cells}}
+    s = tolerance.summary(old)
+    assert s["measured"] == 0 and s["stale"] == ["11_single_plane_fixed_n3"] and s["over_target"] == []
+    new = {"11_single_plane_fixed_n3": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE,
+                                        "extended_reference": {"fp_type": "real128", "tol": 1.9e-33, "order": 39,
+                                                               "steps": 800, "cpu_s": 4.0, "breakpoints": []},
+                                        "t_dec_ref": None, "vern8_t_dec": None}}
+    s = tolerance.summary(new)
+    assert s["over_target"][0]["ratio"] == 50.0 and not s["met"]
+    assert not s["over_target"][0]["double_floor"]  # Vern8 and Taylor 20 resolve it: the engine's own miss
+    cells[0]["vern8_ratio"], cells[0]["taylor20_ratio"] = 40.0, 12.0  # both doubles miss too: the floor
+    assert tolerance.summary(new)["over_target"][0]["double_floor"]
+    cells[0]["taylor20_ratio"] = 4.0
+    result = {"scenes": old, "rtols": [1e-4], "machine": {}, "date": "d", "engine": "auto", "seed": 35,
+              "atol_ratio": 1e-2, "target": 10.0,
+              "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
+                            "check": {"engine": "taylor", "order": 20, "step_factor": 1.0},
+                            **tolerance.reference_header()}}
+    assert "| 11_single_plane_fixed_n3 (earlier reference, not counted) |" in tolerance.page(result)
+    result["scenes"] = new
+    text = tolerance.page(result)
+    assert f"Reference (rule `{tolerance.RULE}`)" in text and "within 0.1 tolerance unit" in text
+    assert "| 11_single_plane_fixed_n3 | real128, tol 1.9e-33 | 39, 800, 4 | none | 0.01 / 0.01 | 40 / 40 |" in text
+    assert "11_single_plane_fixed_n3 at 0.0001 (50)." in text  # Taylor 20 resolves it: no floor mark
+
+
+def test_measure_scene_grades_by_the_extended_reference_and_falls_back_to_the_double_rule(monkeypatch):
+    """A cell counts where the extended reference agrees with itself (at a 1000x looser tol) within a tenth of
+    a unit; the double references become checks (their distances recorded).  Where the extended reference
+    cannot be had, the earlier rule grades: Vern8 against Taylor 20 within one unit.  Negative control: the
+    extended reference's check a third of a unit off grades nothing."""
+    class Model:
+        name, amplitude_indices = "m", (0, 1)
+
+        def params(self, _):
+            return [1.0]
+
+        def state(self, _):
+            return [0.0, 0.0]
+
+    y = np.array([1.0, 2.0])
+
+    def fake(y_end, t_dec=None):
+        return {"status": "success", "y_end": np.asarray(y_end, float), "n_steps": 10, "t_dec": t_dec, "picked": None}
+
+    monkeypatch.setattr(tolerance, "scene_model", lambda scene: Model())
+    monkeypatch.setattr(tolerance, "table_id", lambda engine: None)
+    monkeypatch.setattr(tolerance, "references", lambda *a: (fake(y + 1e-9), fake(y - 1e-9)))
+    monkeypatch.setattr(tolerance, "_run", lambda model, eng, p, y0, t_end, rtol, atol: fake(y + 3 * rtol))
+    check = [1e-12]
+    monkeypatch.setattr(tolerance, "extended_references",
+                        lambda *a: (fake(y), fake(y + check[0]), {"fp_type": "real128", "breakpoints": []}))
+    scene = {"name": "x", "t_end": 1.0}
+    res = tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None)
+    assert res["reference_rule"] == tolerance.RULE and res["reference_fallback"] is None
+    a, b = res["cells"]
+    assert a["decided"] and b["decided"] and a["ratio"] == pytest.approx(3e-4 / (1e-6 + 1e-4))
+    assert a["vern8_ratio"] == pytest.approx(1e-9 / (1e-6 + 1e-4)) and b["double_reference_ratio"] > 1
+    check[0] = 1e-9 * 0.33 * 2  # a third of a unit at rtol 1e-9: the reference cannot grade that cell
+    b = tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None)["cells"][1]
+    assert not b["decided"]
+
+    def unavailable(*a):
+        raise tolerance_peers().PeerUnavailable("no heyoka")
+
+    monkeypatch.setattr(tolerance, "extended_references", unavailable)
+    res = tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None)
+    assert res["reference_fallback"].startswith("PeerUnavailable") and res["extended_reference"] is None
+    a, b = res["cells"]
+    assert a["decided"] and not b["decided"]  # the doubles differ by 2e-9: within a unit at 1e-4, not at 1e-9
+    assert "vern8_ratio" not in a
+
+
+def tolerance_peers():
+    from benchmarks import peers
+
+    return peers
