@@ -93,17 +93,29 @@ def cases(base: dict) -> list[dict]:
     return out
 
 
+def _enlarges(dip: dict, ref: dict) -> bool | None:
+    """The dip balances more starts than the ramp without it: True when it does even if every start undecided or
+    failed in the ramp were balanced, False when it does not even if every such start of the dip were, else None
+    (the undecided and failed starts could change the answer; they are never counted as balanced)."""
+    open_ = (lambda c: c.get("undecided", 0) + c.get("failed", 0))
+    if dip["balanced"] > ref["balanced"] + open_(ref):
+        return True
+    if dip["balanced"] + open_(dip) <= ref["balanced"]:
+        return False
+    return None
+
+
 def verdicts(result: dict) -> dict:
-    """The three statements checked on the cases' labels (each True, False or None when nothing was compared)."""
+    """The three statements checked on the cases' labels (each True, False or None when nothing was compared or,
+    for the dip, when its undecided or failed starts or the ramp's could change the answer)."""
     by = {c["name"]: c for c in result["cases"]}
     fast, slow = by[f"ramp {min(RAMPS):g} s"]["vs_constant"], by[f"ramp {max(RAMPS):g} s"]["vs_constant"]
-    ref = by[f"ramp {REFERENCE:g} s"]["counts"]["balanced"]
     dips = [c for c in result["cases"] if "dip" in c["name"]]
     best = max(dips, key=lambda c: c["counts"]["balanced"])
     return {
         "acceleration_may_be_ignored": None if fast["fraction"] is None else fast["fraction"] <= IGNORABLE,
         "acceleration_matters": None if slow["fraction"] is None else slow["fraction"] >= MATTERS,
-        "dip_enlarges_basin": best["counts"]["balanced"] > ref,
+        "dip_enlarges_basin": _enlarges(best["counts"], by[f"ramp {REFERENCE:g} s"]["counts"]),
         "best_dip": best["name"],
     }
 

@@ -103,3 +103,19 @@ def test_the_studies_command_line(tmp_path, capsys):
     import json
     data = json.loads((tmp_path / "x.json").read_text())
     assert data["starts"] == 9 and "wall_s" in data and (tmp_path / "x.png").read_text() == "figure"
+
+
+def test_a_dip_is_not_said_to_enlarge_the_basin_on_undecided_starts():
+    """Undecided or failed starts that could change the dip's verdict leave it open (None), never decide it."""
+    def result(ref, dip):
+        r = _result(0.0, 0.6, 0, (0,))
+        r["cases"][3]["counts"] = ref
+        r["cases"][4]["counts"] = dip
+        return r
+
+    # the ramp's 5 undecided starts could be balanced: 12 against 10 is not decided (the old check said True)
+    assert wp.verdicts(result({"balanced": 10, "undecided": 5}, {"balanced": 12}))["dip_enlarges_basin"] is None
+    assert wp.verdicts(result({"balanced": 10, "failed": 1}, {"balanced": 12}))["dip_enlarges_basin"] is True
+    # the dip's failed starts could lift it above the ramp: not decided False either
+    assert wp.verdicts(result({"balanced": 10}, {"balanced": 9, "failed": 3}))["dip_enlarges_basin"] is None
+    assert wp.verdicts(result({"balanced": 10}, {"balanced": 9, "failed": 1}))["dip_enlarges_basin"] is False
