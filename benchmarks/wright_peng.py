@@ -93,6 +93,18 @@ def cases(base: dict) -> list[dict]:
     return out
 
 
+def _at_most(d: dict, limit: float, strict: bool = False) -> bool | None:
+    """Whether the share of starts that end differently (`differ`'s counts) is <= limit (< limit: strict), with
+    the starts left out (undecided or failed in either case) taken both ways: True when it holds even if every one
+    of them differed, False when it fails even if none did, else None (they could change the answer)."""
+    total = d["compared"] + d["left_out"]
+    if not d["compared"]:
+        return None
+    low, high = d["differ"] / total, (d["differ"] + d["left_out"]) / total
+    below = (lambda x: x < limit) if strict else (lambda x: x <= limit)
+    return True if below(high) else False if not below(low) else None
+
+
 def _enlarges(dip: dict, ref: dict) -> bool | None:
     """The dip balances more starts than the ramp without it: True when it does even if every start undecided or
     failed in the ramp were balanced, False when it does not even if every such start of the dip were, else None
@@ -113,8 +125,9 @@ def verdicts(result: dict) -> dict:
     dips = [c for c in result["cases"] if "dip" in c["name"]]
     best = max(dips, key=lambda c: c["counts"]["balanced"])
     return {
-        "acceleration_may_be_ignored": None if fast["fraction"] is None else fast["fraction"] <= IGNORABLE,
-        "acceleration_matters": None if slow["fraction"] is None else slow["fraction"] >= MATTERS,
+        "acceleration_may_be_ignored": _at_most(fast, IGNORABLE),
+        "acceleration_matters": None if _at_most(slow, MATTERS, strict=True) is None
+        else not _at_most(slow, MATTERS, strict=True),
         "dip_enlarges_basin": _enlarges(best["counts"], by[f"ramp {REFERENCE:g} s"]["counts"]),
         "best_dip": best["name"],
     }
