@@ -23,7 +23,8 @@ slipping (undecided) or failed are counted apart, never as balanced (adbgen.anal
 Checks, computed from the distributions (`verdicts`): (1) scatter: without a reduction the 90 % quantile of r at
 rest is at least SCATTER times its median, and the 90 % grows with mu_s (0.0025 < 0.005 < 0.01); (2) the best
 reduction of the grid (smallest 90 %) has its median and 90 % below those without a reduction; influences
-(damping, unbalance, plateau) are reported as measured.  The practical answer: the reductions of the grid that
+(damping, unbalance, plateau) are reported as measured.  A case with a start still moving or failed has no
+quantile in the verdicts (`q_all`): a verdict that reads it is None.  The practical answer: the reductions of the grid that
 are feasible for TARGET (a tenth of the rotor's response without balancing at omega): every start at rest below
 it (speed_reduction.feasible).
 """

@@ -27,7 +27,8 @@ below THRESHOLD over the last CONFIRM s, NOT_BALANCED when r(t_end) >= THRESHOLD
 balls still turn on the race at t_end, |phi_i'| > omega / 10: the non-synchronous state), UNDECIDED when r fell
 below THRESHOLD only within the last CONFIRM s, FAILED when the run failed.  Undecided and failed starts are
 counted and said, never counted as balanced, and a start undecided or failed in either of two cases is left out
-of their comparison (and counted).
+of their comparison (and counted); a verdict that those starts could change, taken either way, is None
+(`_at_most`, `_enlarges`).
 """
 
 from __future__ import annotations
