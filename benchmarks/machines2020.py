@@ -23,7 +23,8 @@ slipping (undecided) or failed are counted apart, never as balanced (adbgen.anal
 Checks, computed from the distributions (`verdicts`): (1) scatter: without a reduction the 90 % quantile of r at
 rest is at least SCATTER times its median, and the 90 % grows with mu_s (0.0025 < 0.005 < 0.01); (2) the best
 reduction of the grid (smallest 90 %) has its median and 90 % below those without a reduction; influences
-(damping, unbalance, plateau) are reported as measured.  The practical answer: the reductions of the grid that
+(damping, unbalance, plateau) are reported as measured.  A case with a start still moving or failed has no
+quantile in the verdicts (`q_all`): a verdict that reads it is None.  The practical answer: the reductions of the grid that
 are feasible for TARGET (a tenth of the rotor's response without balancing at omega): every start at rest below
 it (speed_reduction.feasible).
 """
@@ -80,20 +81,28 @@ def q(case: dict, which: str):
     return case["distribution"]["quantiles"][which]
 
 
+def q_all(case: dict, which: str):
+    """q, or None unless every start of the case came to rest: a quantile over the starts at rest only is not the
+    case's (its moving or failed starts are not counted as physics)."""
+    d = case["distribution"]
+    return None if d["not_at_rest"] or d["failed"] else q(case, which)
+
+
 def verdicts(result: dict) -> dict:
-    """The paper's statements checked on the distributions (True, False, or None where a quantile is missing)."""
+    """The paper's statements checked on the distributions (True, False, or None where a quantile is missing or
+    some start of a case compared did not come to rest or failed: `q_all`)."""
     cases = result["cases"]
     none = cases[0]
-    grid = [c for c in cases if c["group"] == "grid" and c["values"]["depth"] > 0 and q(c, "90") is not None]
-    best = min(grid, key=lambda c: q(c, "90")) if grid else None
+    grid = [c for c in cases if c["group"] == "grid" and c["values"]["depth"] > 0 and q_all(c, "90") is not None]
+    best = min(grid, key=lambda c: q_all(c, "90")) if grid else None
     mu = result["values"]["mu_s"]
     # the 90 % without a reduction at each mu_s, the scene's in its place
-    by_mu = sorted([(c["value"], q(c, "90")) for c in cases if c["group"] == "stiction" and not c["reduced"]]
-                   + [(mu, q(none, "90"))])
-    scatter = None if q(none, "50") is None else q(none, "90") >= SCATTER * q(none, "50")
+    by_mu = sorted([(c["value"], q_all(c, "90")) for c in cases if c["group"] == "stiction" and not c["reduced"]]
+                   + [(mu, q_all(none, "90"))])
+    scatter = None if q_all(none, "50") is None else q_all(none, "90") >= SCATTER * q_all(none, "50")
     grows = None if any(v is None for _, v in by_mu) else all(a[1] < b[1] for a, b in zip(by_mu, by_mu[1:]))
-    helps = None if best is None or q(none, "50") is None else (q(best, "50") < q(none, "50")
-                                                                and q(best, "90") < q(none, "90"))
+    helps = None if best is None or q_all(none, "50") is None else (q_all(best, "50") < q_all(none, "50")
+                                                                and q_all(best, "90") < q_all(none, "90"))
     return {"stiction_scatters": scatter, "scatter_grows_with_stiction": grows, "reduction_helps": helps,
             "best_reduction": None if best is None else best["name"],
             "q90_by_mu_s": [[m, v] for m, v in by_mu]}

@@ -27,7 +27,8 @@ below THRESHOLD over the last CONFIRM s, NOT_BALANCED when r(t_end) >= THRESHOLD
 balls still turn on the race at t_end, |phi_i'| > omega / 10: the non-synchronous state), UNDECIDED when r fell
 below THRESHOLD only within the last CONFIRM s, FAILED when the run failed.  Undecided and failed starts are
 counted and said, never counted as balanced, and a start undecided or failed in either of two cases is left out
-of their comparison (and counted).
+of their comparison (and counted); a verdict that those starts could change, taken either way, is None
+(`_at_most`, `_enlarges`).
 """
 
 from __future__ import annotations
@@ -93,17 +94,42 @@ def cases(base: dict) -> list[dict]:
     return out
 
 
+def _at_most(d: dict, limit: float, strict: bool = False) -> bool | None:
+    """Whether the share of starts that end differently (`differ`'s counts) is <= limit (< limit: strict), with
+    the starts left out (undecided or failed in either case) taken both ways: True when it holds even if every one
+    of them differed, False when it fails even if none did, else None (they could change the answer)."""
+    total = d["compared"] + d["left_out"]
+    if not d["compared"]:
+        return None
+    low, high = d["differ"] / total, (d["differ"] + d["left_out"]) / total
+    below = (lambda x: x < limit) if strict else (lambda x: x <= limit)
+    return True if below(high) else False if not below(low) else None
+
+
+def _enlarges(dip: dict, ref: dict) -> bool | None:
+    """The dip balances more starts than the ramp without it: True when it does even if every start undecided or
+    failed in the ramp were balanced, False when it does not even if every such start of the dip were, else None
+    (the undecided and failed starts could change the answer; they are never counted as balanced)."""
+    open_ = (lambda c: c.get("undecided", 0) + c.get("failed", 0))
+    if dip["balanced"] > ref["balanced"] + open_(ref):
+        return True
+    if dip["balanced"] + open_(dip) <= ref["balanced"]:
+        return False
+    return None
+
+
 def verdicts(result: dict) -> dict:
-    """The three statements checked on the cases' labels (each True, False or None when nothing was compared)."""
+    """The three statements checked on the cases' labels (each True, False or None when nothing was compared or,
+    for the dip, when its undecided or failed starts or the ramp's could change the answer)."""
     by = {c["name"]: c for c in result["cases"]}
     fast, slow = by[f"ramp {min(RAMPS):g} s"]["vs_constant"], by[f"ramp {max(RAMPS):g} s"]["vs_constant"]
-    ref = by[f"ramp {REFERENCE:g} s"]["counts"]["balanced"]
     dips = [c for c in result["cases"] if "dip" in c["name"]]
     best = max(dips, key=lambda c: c["counts"]["balanced"])
     return {
-        "acceleration_may_be_ignored": None if fast["fraction"] is None else fast["fraction"] <= IGNORABLE,
-        "acceleration_matters": None if slow["fraction"] is None else slow["fraction"] >= MATTERS,
-        "dip_enlarges_basin": best["counts"]["balanced"] > ref,
+        "acceleration_may_be_ignored": _at_most(fast, IGNORABLE),
+        "acceleration_matters": None if _at_most(slow, MATTERS, strict=True) is None
+        else not _at_most(slow, MATTERS, strict=True),
+        "dip_enlarges_basin": _enlarges(best["counts"], by[f"ramp {REFERENCE:g} s"]["counts"]),
         "best_dip": best["name"],
     }
 

@@ -157,10 +157,9 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(argv[0])
     out.mkdir(parents=True, exist_ok=True)
     from ..analysis.loading import load_model
-    from ..families.flexible.critical_speeds import crossings
+    from ..families.flexible.critical_speeds import crossings, damping_ratio
     from ..families.flexible.scene import FlexibleScene
     from .rotor import import_ross
-    from ..families.flexible.critical_speeds import damping_ratio
     from .through_critical import damped_bearings
 
     # the stability boundary of the balanced state at constant speed, as `through_critical` drew it (section 5)

@@ -51,7 +51,7 @@ def test_at_mu_r_equal_to_mu_s_the_slip_holds(model):
 
 
 def test_without_the_check_the_driver_loops_to_max_events(model, monkeypatch):
-    """Negative control: the driver without `consistent` spends every event at the release time."""
+    """Negative control: the driver without HY_MODE_CHECK spends every event at the release time."""
     checked = hybrid.library
     monkeypatch.setattr(hybrid, "library", lambda m: checked(m, ("-DHY_MODE_CHECK=0",)))
     run = hybrid.run(model, model.params({"mu_r": 1.6 * MU_S}), _start(model), 0.0, T_END, max_events=200)

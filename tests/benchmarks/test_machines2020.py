@@ -67,3 +67,20 @@ def test_cases():
     assert base["mu_r"] / base["mu_s"] == pytest.approx(0.4)
     assert fs.free_response(base) == pytest.approx(
         base["eps"] * base["omega"] ** 2 / abs(complex(base["k"] - 1.02 * base["omega"] ** 2, base["c"] * base["omega"])))
+
+
+def test_a_case_with_some_starts_moving_or_failed_leaves_its_verdicts_open():
+    """The quantiles of a case with a start still moving (or failed) are over part of its starts only: the verdicts
+    that read them are None, not decided on that part."""
+    wide = np.r_[np.full(80, 1.0), np.full(20, 5.0)]
+    result = _result(wide, wide * 0.5, wide * 2, wide * 0.5, wide * 2)
+    assert m20.verdicts(result)["stiction_scatters"] is True  # all at rest: decided
+    at_rest = np.full(wide.size + 1, AT_REST)
+    at_rest[-1] = MOVING
+    result["cases"][0]["distribution"] = distribution(np.r_[wide, np.nan], at_rest)
+    v = m20.verdicts(result)
+    assert v["stiction_scatters"] is None and v["reduction_helps"] is None and v["scatter_grows_with_stiction"] is None
+    # a reduction with a start moving is not picked as the best one
+    result = _result(wide, wide * 0.5, wide * 2, wide * 0.5, wide * 2)
+    result["cases"][1]["distribution"] = distribution(np.r_[wide * 0.5, np.nan], at_rest)
+    assert m20.verdicts(result)["best_reduction"] == "worst"

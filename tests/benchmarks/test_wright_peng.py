@@ -36,10 +36,17 @@ def test_differ_counts_only_starts_decided_in_both():
     assert wp.differ(np.array([U]), np.array([B]))["fraction"] is None
 
 
+def _versus(fraction, left_out=0, compared=100):
+    """`differ`'s counts with `fraction` of `compared` starts differing (None: nothing compared)."""
+    if fraction is None:
+        return {"compared": 0, "differ": 0, "fraction": None, "left_out": left_out}
+    return {"compared": compared, "differ": round(fraction * compared), "fraction": fraction, "left_out": left_out}
+
+
 def _result(fast, slow, ref, dips):
     cases = [{"name": "constant", "counts": {"balanced": 9}, "vs_constant": wp.differ(np.ones(9), np.ones(9))}]
     for t, frac in ((min(wp.RAMPS), fast), (max(wp.RAMPS), slow)):
-        cases.append({"name": f"ramp {t:g} s", "counts": {"balanced": 0}, "vs_constant": {"fraction": frac}})
+        cases.append({"name": f"ramp {t:g} s", "counts": {"balanced": 0}, "vs_constant": _versus(frac)})
     cases.append({"name": f"ramp {wp.REFERENCE:g} s", "counts": {"balanced": ref}, "vs_constant": {"fraction": 0.3}})
     cases += [{"name": f"dip {i}", "counts": {"balanced": k}, "vs_constant": {"fraction": 0.3}}
               for i, k in enumerate(dips)]
@@ -103,3 +110,36 @@ def test_the_studies_command_line(tmp_path, capsys):
     import json
     data = json.loads((tmp_path / "x.json").read_text())
     assert data["starts"] == 9 and "wall_s" in data and (tmp_path / "x.png").read_text() == "figure"
+
+
+def test_a_dip_is_not_said_to_enlarge_the_basin_on_undecided_starts():
+    """Undecided or failed starts that could change the dip's verdict leave it open (None), never decide it."""
+    def result(ref, dip):
+        r = _result(0.0, 0.6, 0, (0,))
+        r["cases"][3]["counts"] = ref
+        r["cases"][4]["counts"] = dip
+        return r
+
+    # the ramp's 5 undecided starts could be balanced: 12 against 10 is not decided (the old check said True)
+    assert wp.verdicts(result({"balanced": 10, "undecided": 5}, {"balanced": 12}))["dip_enlarges_basin"] is None
+    assert wp.verdicts(result({"balanced": 10, "failed": 1}, {"balanced": 12}))["dip_enlarges_basin"] is True
+    # the dip's failed starts could lift it above the ramp: not decided False either
+    assert wp.verdicts(result({"balanced": 10}, {"balanced": 9, "failed": 3}))["dip_enlarges_basin"] is None
+    assert wp.verdicts(result({"balanced": 10}, {"balanced": 9, "failed": 1}))["dip_enlarges_basin"] is False
+
+
+def test_the_acceleration_verdicts_take_the_left_out_starts_both_ways():
+    """Starts undecided or failed in either case could differ or not: a verdict they could change is None."""
+    r = _result(0.0, 0.6, 10, (12,))
+    by = {c["name"]: c for c in r["cases"]}
+    fast, slow = by[f"ramp {min(wp.RAMPS):g} s"], by[f"ramp {max(wp.RAMPS):g} s"]
+    fast["vs_constant"] = _versus(0.0, left_out=3)  # 0 of 100 differ, 3 left out: at most 3 / 103 <= 5 %
+    slow["vs_constant"] = _versus(0.3, left_out=3)  # 30 of 103 even if none of the 3 differ: >= 25 %
+    v = wp.verdicts(r)
+    assert v["acceleration_may_be_ignored"] is True and v["acceleration_matters"] is True
+    # negative controls: enough starts left out to cross either criterion leave the verdict open (the old check,
+    # on the compared starts only, said True for both)
+    fast["vs_constant"] = _versus(0.0, left_out=40)
+    slow["vs_constant"] = _versus(0.3, left_out=60, compared=40)
+    v = wp.verdicts(r)
+    assert v["acceleration_may_be_ignored"] is None and v["acceleration_matters"] is None

@@ -23,7 +23,7 @@ from .c_interface import D, I
 from .rk import _sizes, build
 
 # no_consistent_mode: a ball can neither stick (its margin < 0) nor slip (the decided slip decelerates at once,
-# mu_r > mu_s); the driver stops there (hybrid_driver.c, `consistent`) rather than looping to max_events
+# mu_r > mu_s); the driver stops there (hybrid_driver.c, HY_NO_MODE under HY_MODE_CHECK) rather than looping to max_events
 STATUS = {0: "success", 1: "max_steps", 2: "max_events", 3: "step_underflow", 4: "nonfinite",
           5: "no_consistent_mode"}
 MODES = {0: "stick", 1: "slip+", -1: "slip-"}

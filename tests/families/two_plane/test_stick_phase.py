@@ -130,3 +130,54 @@ def test_energy_balance_with_stick_and_slip_and_its_wrong_normal_force():
 
     assert stick_slip_energy.check().passed
     assert not stick_slip_energy.check(wrong=True).passed
+
+
+def test_the_stick_force_with_a_vibrating_core_is_the_derived_one(model):
+    """At a stuck state of a rotor that vibrates (eps, chi != 0, every core coordinate and rate non-zero), each
+    ball's stick force read through the driver's filling of accel_X, accel_Y, accel_phi_X, accel_phi_Y,
+    accel_theta_0 (hybrid.measure) is `model.stick_forces` evaluated with the rhs' accelerations put in by
+    coordinate name: the braked case above leaves X'', Y'', phi'' at 0, so it does not see their filling.
+    Negative control: X'' and Y'' filled the other way round (`with_accelerations` given a swapped Switching)."""
+    import tomllib
+
+    from adbgen.families.two_plane.model import lagrangian, stick_forces
+    from adbgen.families.two_plane.scene import TwoPlaneScene
+
+    lag = lagrangian(TwoPlaneScene.from_mapping(tomllib.loads(SCENE)))
+    forces = stick_forces(lag)
+    rng = np.random.default_rng(3)
+    y = rng.normal(0.0, 1e-3, model.n_states)
+    for k in range(5):
+        y[model.index(f"theta_{k}")] = rng.uniform(0.0, 2 * math.pi)
+        y[model.rate_index(model.index(f"theta_{k}"))] = 50.0
+    p = model.params({"epsilon": 1e-3, "chi": 0.01, **{f"stuck_{k}": 1.0 for k in range(1, 5)}})
+    filled = hybrid.with_accelerations(model, 0.0, y, p)
+    f = np.asarray(model.module.rhs(0.0, y, filled))
+    core = [model.rate_index(model.index(c)) for c in ("X", "Y", "phi_X", "phi_Y")]
+    assert min(abs(f[i]) for i in core) > 1e-6, f[core]  # the core accelerates: its inputs matter
+    values = dict(zip(model.param_names, filled))
+
+    def derived(acc):
+        subs = {}
+        for c in lag.coordinates:
+            i = model.rate_index(model.index(c.name))
+            subs |= {c.q: y[model.index(c.name)], c.qd: y[i], c.qdd: acc[i]}
+        out = []
+        for F in forces:
+            e = F.xreplace(subs)
+            out.append(float(e.xreplace({s: values[str(s)] for s in e.free_symbols})))
+        return np.array(out)
+
+    got = np.array([hybrid.measure(model, f"stick_force_{k}", 0.0, y, p) for k in range(1, 5)])
+    want = derived(f)
+    assert got == pytest.approx(want, rel=1e-9, abs=1e-12), (got, want)
+    # the planted filling: the accel parameter of X given Y'' and that of Y given X''
+    from dataclasses import replace
+
+    sw = hybrid.switching(model)
+    order = list(sw.accel_state)
+    x, yy = order.index(core[0]), order.index(core[1])
+    order[x], order[yy] = order[yy], order[x]
+    wrong = hybrid.with_accelerations(model, 0.0, y, p, replace(sw, accel_state=tuple(order)))
+    bad = np.array([model.measure(f"stick_force_{k}", 0.0, y, wrong) for k in range(1, 5)])
+    assert np.max(np.abs(bad - want)) > 1e-6 * np.max(np.abs(want)), (bad, want)
