@@ -2,7 +2,7 @@
 
     adbgen sweep MODEL|--scene FILE --grid NAME=FROM:TO:COUNT [--grid ...] [--set NAME=VALUE]... [--y0 NAME=VALUE]...
                  --measure {attractor,r_max,t_dec,stability} [--t-end T] [--rtol R] --out DIR
-                 [--scheduler ADDRESS | --workers N] [--check-tolerance] [--json]
+                 [--scheduler ADDRESS | --workers N] [--check-tolerance] [--residual-measure NAME] [--json]
 
 --json prints {"points", "computed", "reused", "wall_s", "store"} (and a few more keys).  With
 --check-tolerance every point is computed again at rtol/100, atol/100 and on a second engine, and the
