@@ -320,6 +320,15 @@ def compute_points(spec: SweepSpec, flat: np.ndarray, threads: int = 1) -> dict:
     if swap is not None:
         mirrored = flat != canonical
         res["y_end"][mirrored] = res["y_end"][mirrored][:, list(swap.perm)]
+        if spec.measure == "residual" and spec.residual_measure != "r" and mirrored.any():
+            # a measure of the model need not be invariant under the ball exchange (r is): read it again at the
+            # partner's own end state, the swapped one
+            from .residual import residual_at_end
+
+            P, _ = grid.points(model, flat[mirrored])
+            rows = res["value"][mirrored]
+            res["value"][mirrored] = residual_at_end(model, spec.residual_measure, rows, res["t_last"][mirrored],
+                                                     res["y_end"][mirrored], P, ~np.isfinite(rows))
         if "certain" in res:
             again = mirrored & ~res["certain"].astype(bool)
             if again.any():

@@ -90,6 +90,28 @@ def test_without_friction_no_run_is_at_rest_and_nothing_is_drawn(model, tmp_path
     assert summary["residual"]["quantiles"]["max"] is None
 
 
+def test_mirrored_starts_read_the_measure_at_their_own_end_state(model, tmp_path):
+    # theta_1, theta_2 over the same values: the sweep integrates one start of each ball-swapped pair and swaps
+    # its end state for the other.  slip_rate_1 is not invariant under the swap (it is ball 1's), so a copied
+    # value would be ball 2's rate: with the shortcut the store must equal the sweep without it (balls still
+    # slipping at t_end = 50, values stored though not at rest)
+    set_ = {**ROTOR, "epsilon": 5e-4, "chi": 1e-4, "mu_r": 2e-3, "mu_s": 4e-3}
+    grid = ["theta_1=0:2:3", "theta_2=0:2:3"]
+    y0 = ["theta_3=0.5", "theta_4=2.5"]
+    spec = dict(model=str(model.folder), grid=grid, measure="residual", y0=[*SPIN, *y0],
+                set=[f"{k}={v}" for k, v in set_.items()], t_end=50.0, residual_measure="slip_rate_1")
+    on = run_sweep(SweepSpec(**spec), tmp_path / "on", workers=1, progress=False, figures=False)
+    off = run_sweep(SweepSpec(**spec, symmetry=False), tmp_path / "off", workers=1, progress=False, figures=False)
+    import xarray as xr
+
+    a = xr.open_zarr(on["store"], consolidated=False)["residual"].values
+    b = xr.open_zarr(off["store"], consolidated=False)["residual"].values
+    assert on["integrated"] < off["integrated"] == 9  # the shortcut was taken
+    scale = np.abs(b).max()
+    np.testing.assert_allclose(a, b, rtol=1e-4, atol=1e-6 * scale)  # equivariant up to rounding (events)
+    assert np.abs(b - b.T).max() > 1e-3 * scale  # the planted copy (the partner's value) would be wrong
+
+
 def test_an_unknown_residual_measure_is_refused(model, tmp_path):
     with pytest.raises(AnalysisError, match="not a measure of"):
         _sweep(model, tmp_path, ["theta_1=0:1:2"], {**ROTOR, **STUCK}, measure="B")
