@@ -2,7 +2,10 @@
 
 A run of a model with stick/slip modes is at rest at t_end when every ball has ended stuck on the race; its
 residual imbalance is then r = sqrt(X^2 + Y^2) at t_end (what the balls, stopped short of the balanced
-position, leave).  Runs whose balls still move at t_end (not at rest: undecided) and failed runs are
+position, leave), or another of the model's own measures at t_end where its family defines the imbalance
+otherwise (`residual_at_end`: the sweep's `residual_measure`, a name from the model's MEASURES, so this module
+names no family; e.g. a two-plane rotor's A, the mean amplitude at the two planes one unit from the midspan,
+which sees the moment imbalance that r of the centre alone misses).  Runs whose balls still move at t_end (not at rest: undecided) and failed runs are
 counted apart and never enter the distribution.  The histogram has fixed edges from 0 to the largest
 residual at rest (BINS bins), so it is deterministic for a given set of values.
 """
@@ -23,6 +26,19 @@ def at_rest_codes(stuck: np.ndarray, failed: np.ndarray) -> np.ndarray:
     stuck = np.atleast_2d(np.asarray(stuck, dtype=bool))
     codes = np.where(stuck.all(axis=1), AT_REST, MOVING).astype(np.int8)
     return np.where(np.asarray(failed, dtype=bool), NOT_RUN, codes).astype(np.int8)
+
+
+def residual_at_end(model, name: str, r_end: np.ndarray, t_last: np.ndarray, y_end: np.ndarray, P: np.ndarray,
+                    failed: np.ndarray) -> np.ndarray:
+    """Per run, the measure `name` of the model at its end state (t_last, y_end, the run's parameters P); "r"
+    is the engine's r_end.  NaN for failed runs (their end state is no result)."""
+    if name == "r":
+        return np.asarray(r_end, float)
+    failed = np.asarray(failed, dtype=bool)
+    out = np.full(len(P), np.nan)
+    for k in np.flatnonzero(~failed):
+        out[k] = model.measure(name, float(t_last[k]), np.asarray(y_end[k], float), np.asarray(P[k], float))
+    return out
 
 
 def distribution(residual: np.ndarray, at_rest: np.ndarray, bins: int = BINS) -> dict:

@@ -2,7 +2,7 @@
 
     adbgen sweep MODEL|--scene FILE --grid NAME=FROM:TO:COUNT [--grid ...] [--set NAME=VALUE]... [--y0 NAME=VALUE]...
                  --measure {attractor,r_max,t_dec,stability} [--t-end T] [--rtol R] --out DIR
-                 [--scheduler ADDRESS | --workers N] [--check-tolerance] [--json]
+                 [--scheduler ADDRESS | --workers N] [--check-tolerance] [--residual-measure NAME] [--json]
 
 --json prints {"points", "computed", "reused", "wall_s", "store"} (and a few more keys).  With
 --check-tolerance every point is computed again at rtol/100, atol/100 and on a second engine, and the
@@ -69,6 +69,9 @@ def _add_sweep(p) -> None:
                    help="attractor, r_max, t_dec: every point again at rtol/100, atol/100 and on a second engine "
                         "of another method; points whose label (value: beyond 1 %%) differs are flagged "
                         "(tolerance_sensitive: stored, counted, marked on the figures)")
+    p.add_argument("--residual-measure", default="r", metavar="NAME",
+                   help="--measure residual: which of the model's measures at t_end is the residual imbalance "
+                        "(default r, the rotor's amplitude; a two-plane rotor's A also sees its tilt)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout, no progress bar")
     p.set_defaults(fn=run_sweep_command)
 
@@ -105,7 +108,8 @@ def run_sweep_command(args: argparse.Namespace) -> int:
                      y0=list(args.y0), tie=list(args.tie), t_end=t_end, rtol=args.rtol, atol=args.atol,
                      threshold=threshold, engine=args.engine, early_stop=args.early_stop,
                      symmetry=args.symmetry, check_dt=args.check_dt, stop_region=args.stop_region,
-                     chunk=args.chunk, check_tolerance=args.check_tolerance)
+                     chunk=args.chunk, check_tolerance=args.check_tolerance,
+                     residual_measure=args.residual_measure)
     summary = run_sweep(spec, args.out, scheduler=args.scheduler, workers=args.workers, progress=not args.json,
                         figures=args.figures)
     if args.json:

@@ -24,3 +24,14 @@ def test_sweep_needs_exactly_one_of_model_and_scene(capsys, tmp_path, argv, mess
                          "--out", str(tmp_path / "out"))
     lines = err.strip().splitlines()
     assert code != 0 and out == "" and len(lines) == 1 and message in lines[0], err
+
+
+def test_residual_measure_only_with_measure_residual(capsys, tmp_path):
+    # --residual-measure names the residual of --measure residual; with another measure it is refused in one line
+    code, out, err = run(capsys, "sweep", "thesis_rotating_n2", "--grid", "phi_1=0:1:2", "--measure", "r_max",
+                         "--residual-measure", "r", "--t-end", "1", "--out", str(tmp_path / "ok"), "--json")
+    assert code == 0, err  # the default name is accepted everywhere
+    code, out, err = run(capsys, "sweep", "thesis_rotating_n2", "--grid", "phi_1=0:1:2", "--measure", "r_max",
+                         "--residual-measure", "A", "--out", str(tmp_path / "out"))
+    lines = err.strip().splitlines()
+    assert code != 0 and out == "" and len(lines) == 1 and "--measure residual only" in lines[0], err
