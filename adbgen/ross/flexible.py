@@ -166,7 +166,8 @@ def scene_mapping(rotor, node: int, k: int, balls: int, ball_mass: float, race_r
 def shape_mismatch(rotor, shapes: dict, evectors) -> float:
     """How far a scene's 2 x k shapes {node: shape} are from ROSS's own mode shapes at those nodes: the largest
     difference over the k modes, each of ROSS's eigenvectors (`ModalResults.evectors` of the undamped,
-    non-spinning rotor, the modes in the reduction's order: frequencies distinct) made real by its largest
+    non-spinning rotor, the modes in the reduction's order: frequencies distinct, all lateral; the caller
+    checks ROSS's `wn` against `Reduced.frequencies`) made real by its largest
     entry's phase and scaled the bridge's way (largest lateral translation 1), with one sign per mode over all
     the nodes given (the scene's).  Round-off when each shape is its node's; a wrong node or mode order gives
     order one.  A mirror-symmetric rotor cannot tell two mirror nodes apart (a mode's sign is free)."""
@@ -177,6 +178,9 @@ def shape_mismatch(rotor, shapes: dict, evectors) -> float:
     rows = [i for node in shapes for i in where[int(node)]]
     translations = [i for n, (a, b) in where.items() for i in (a, b)]
     ours = np.vstack([np.asarray(shape, dtype=float) for shape in shapes.values()])
+    if np.shape(evectors)[1] < ours.shape[1]:
+        raise RotorError(f"ROSS's modal results hold {np.shape(evectors)[1]} modes, the shapes {ours.shape[1]}: "
+                         "run_modal with more num_modes")
     worst = 0.0
     for j in range(ours.shape[1]):
         u = np.asarray(evectors, dtype=complex)[index, j]
