@@ -2,8 +2,8 @@
 
 A ROSS rotor (the .toml or .json `Rotor.save` writes) -> a two-plane scene file, written only when the
 rigid model is enough for the rotor over the scene's speeds (`adbgen.ross.rigidity`; docs/ross.md).
-With --flexible, where rigid is not enough a flexible-rotor scene (one plane: `adbgen.ross.flexible`,
-docs/flexible.md) is written instead.
+With --flexible, where rigid is not enough a flexible-rotor scene (one or two planes, the second its
+[node_2]: `adbgen.ross.flexible`, docs/flexible.md) is written instead.
 Exit 0 written; 1 the rigid model is not enough (one line with the numbers, nothing written); 2 bad input.
 """
 
@@ -51,30 +51,36 @@ def cmd_from_ross(args) -> int:
 
 
 def _write_flexible(args, unbalances, res, v, line) -> int:
-    """Rigid is not enough: the flexible scene at the (one) plane, in the converged number of modes for the
-    forward critical speeds up to the range the verdict scanned."""
+    """Rigid is not enough: the flexible scene at the plane (two: the second its [node_2]), in the converged
+    number of modes for the forward critical speeds up to the range the verdict scanned."""
     from ..ross.flexible import flexible_scene, write
     from ..ross.rotor import RotorError, load_rotor
 
-    if len(args.plane) != 1:
-        raise RotorError("the flexible scene has one balancer plane: give one --plane with --flexible")
+    if len(args.plane) > 2:
+        raise RotorError("the flexible scene has one or two balancer planes: give --plane once or twice with --flexible")
+    two = len(args.plane) == 2
     if len(unbalances) > 1:
-        raise RotorError("the flexible scene carries one unbalance, at the balancer node")
+        raise RotorError("the flexible scene carries one unbalance, at the "
+                         + ("first balancer node (the first --plane)" if two else "balancer node"))
     mapping, conv = flexible_scene(load_rotor(args.rotor), args.plane[0], args.balls, args.ball_mass,
                                    args.race_radius, res.bridged.speed, v.scanned_to,
                                    unbalance=unbalances[0] if unbalances else None, ball_damping=args.ball_damping,
-                                   modes=args.modes, tolerance=args.modal_tolerance)
+                                   modes=args.modes, tolerance=args.modal_tolerance,
+                                   node_2=args.plane[1] if two else None)
     k = len(mapping["modal"]["mass"])
     modes = conv.line() if conv is not None else f"k = {k} modes (--modes)"
     if args.json:
-        print(json.dumps({"flexible": {"out": str(args.out), "modes": k, "scene": mapping,
+        print(json.dumps({"flexible": {"out": str(args.out), "modes": k, "scene": mapping, "nodes": list(args.plane),
                                        "convergence": {str(j): s for j, s in conv.speeds.items()} if conv else None}},
                          indent=2, sort_keys=True))
-    header = (f"flexible-rotor scene from the ROSS rotor {args.rotor} (adbgen scene from-ross --flexible), balancer "
-              f"at node {args.plane[0]}\n{line}\n{modes}")
+    at = (f"balancers at nodes {args.plane[0]} and {args.plane[1]} ([node_2]), the unbalance at node {args.plane[0]}"
+          if two else f"balancer at node {args.plane[0]}")
+    header = (f"flexible-rotor scene from the ROSS rotor {args.rotor} (adbgen scene from-ross --flexible), "
+              f"{at}\n{line}\n{modes}")
     write(mapping, Path(args.out), header)
     if not args.json:
-        print(f"wrote {args.out} (flexible, {k} modes): {line}; {modes}")
+        nodes = f", balancer nodes {args.plane[0]} and {args.plane[1]}" if two else ""
+        print(f"wrote {args.out} (flexible, {k} modes{nodes}): {line}; {modes}")
     return 0
 
 
@@ -103,7 +109,8 @@ def register(sub, parser_class) -> None:
     f.add_argument("--agreement", type=finite, default=AGREEMENT,
                    help=f"rigid and ROSS critical speeds within this relative difference (default {AGREEMENT:g})")
     f.add_argument("--flexible", action="store_true",
-                   help="where rigid is not enough, write the flexible-rotor scene instead (one plane; docs/flexible.md)")
+                   help="where rigid is not enough, write the flexible-rotor scene instead (one or two planes; "
+                        "docs/flexible.md)")
     f.add_argument("--modes", metavar="K", type=positive_int, default=None,
                    help="with --flexible: K modes instead of the fewest whose forward critical speeds up to the "
                         "checked range are within --modal-tolerance of every larger K's")

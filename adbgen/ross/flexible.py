@@ -109,35 +109,86 @@ def reduce(rotor, node: int, k: int, speed: float) -> Reduced:
                    [float(v) for v in V.T @ M @ ey], tuple(float(x) for x in w[:k]), V)
 
 
+def node_shape(red: Reduced, rotor, node: int) -> list:
+    """`node`'s rows of the reduced basis: its x and y translation per unit of each kept mode (2 x k)."""
+    if int(node) not in [int(n) for n in rotor.nodes]:
+        raise RotorError(f"node {node} is not a node of the rotor")
+    ix, iy = lateral_dofs(rotor)[1][int(node)]
+    return [[float(v) for v in red.basis[ix]], [float(v) for v in red.basis[iy]]]
+
+
 def scene_mapping(rotor, node: int, k: int, balls: int, ball_mass: float, race_radius: float, speed: float,
-                  unbalance: Unbalance | None = None, ball_damping: float | None = None) -> dict:
+                  unbalance: Unbalance | None = None, ball_damping: float | None = None,
+                  node_2: int | None = None) -> dict:
     """The flexible scene's mapping: `balls` balls at `node`, the rotor in k modes at `speed`.
 
     The unbalance is the user's at the balancer node (kg m; its phase only turns the frame): m_u is the
-    disk mass at the node (the node's translational mass without a disk), eps = magnitude / m_u."""
+    disk mass at the node (the node's translational mass without a disk), eps = magnitude / m_u.
+    `node_2`: a second balancer node (the scene's [node_2]), its shapes the same reduction's basis rows at
+    that node, its race the same balls, ball mass, drag and race radius as the first's; the family carries
+    the unbalance at the first node only, so an unbalance at `node_2` is refused (list that plane first)."""
     from .scene import BALL_DRAG_RATE
 
     for what, v in (("--balls", balls), ("--ball-mass", ball_mass), ("--race-radius", race_radius), ("--speed", speed)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise RotorError(f"{what} must be a positive number, got {v!r}")
+    if node_2 is not None and int(node_2) == int(node):
+        raise RotorError(f"the two balancer nodes must be different nodes, got {node} twice")
     if unbalance is not None and int(unbalance.node) != int(node):
+        hint = f" (give --plane {unbalance.node} first)" if node_2 is not None and int(unbalance.node) == int(node_2) else ""
         raise RotorError(f"the flexible scene carries the unbalance at the balancer node {node}, "
-                         f"not at node {unbalance.node}")
+                         f"not at node {unbalance.node}{hint}")
     red = reduce(rotor, node, k, speed)
+    second = node_shape(red, rotor, node_2) if node_2 is not None else None
     disks = [float(d.m) for d in rotor.disk_elements if int(d.n) == int(node)]
     index, where = lateral_dofs(rotor)
     x = index[where[int(node)][0]]
     m_u = sum(disks) if disks else float(np.asarray(rotor.M(speed), dtype=float)[x, x])
     eps = (unbalance.magnitude / m_u) if unbalance is not None else 0.0
     drag = ball_mass * race_radius**2 * BALL_DRAG_RATE if ball_damping is None else ball_damping
-    return {"n": int(balls), "ball_mass": float(ball_mass), "ball_damping": float(drag),
-            "race_radius": float(race_radius), "unbalance_mass": float(m_u), "eccentricity": float(eps),
-            "speed": {"law": "constant", "omega": float(speed)},
-            "modal": {"mass": red.mass, "stiffness": red.stiffness, "damping": red.damping,
-                      "gyroscopic": red.gyroscopic, "node_shape": red.node_shape, "gravity_load": red.gravity_load,
-                      "reduction": f"modal truncation of the undamped non-spinning rotor: {k} lateral modes of "
-                                   f"ROSS's {len(index)} lateral dofs, balancer at node {node} "
-                                   f"(z = {node_position(rotor, node):.6g} m), bearings at {speed:.6g} rad/s"}}
+    where_ = f"balancer at node {node} (z = {node_position(rotor, node):.6g} m)"
+    if second is not None:
+        where_ = (f"balancers at nodes {node} (z = {node_position(rotor, node):.6g} m) and {node_2} "
+                  f"(z = {node_position(rotor, node_2):.6g} m)")
+    mapping = {"n": int(balls), "ball_mass": float(ball_mass), "ball_damping": float(drag),
+               "race_radius": float(race_radius), "unbalance_mass": float(m_u), "eccentricity": float(eps),
+               "speed": {"law": "constant", "omega": float(speed)},
+               "modal": {"mass": red.mass, "stiffness": red.stiffness, "damping": red.damping,
+                         "gyroscopic": red.gyroscopic, "node_shape": red.node_shape, "gravity_load": red.gravity_load,
+                         "reduction": f"modal truncation of the undamped non-spinning rotor: {k} lateral modes of "
+                                      f"ROSS's {len(index)} lateral dofs, {where_}, bearings at {speed:.6g} rad/s"}}
+    if second is not None:
+        mapping["node_2"] = {"n": int(balls), "ball_mass": float(ball_mass), "ball_damping": float(drag),
+                             "race_radius": float(race_radius), "node_shape": second}
+    return mapping
+
+
+def shape_mismatch(rotor, shapes: dict, evectors) -> float:
+    """How far a scene's 2 x k shapes {node: shape} are from ROSS's own mode shapes at those nodes: the largest
+    difference over the k modes, each of ROSS's eigenvectors (`ModalResults.evectors` of the undamped,
+    non-spinning rotor, the modes in the reduction's order: frequencies distinct, all lateral; the caller
+    checks ROSS's `wn` against `Reduced.frequencies`) made real by its largest
+    entry's phase and scaled the bridge's way (largest lateral translation 1), with one sign per mode over all
+    the nodes given (the scene's).  Round-off when each shape is its node's; a wrong node or mode order gives
+    order one.  A mirror-symmetric rotor cannot tell two mirror nodes apart (a mode's sign is free)."""
+    index, where = lateral_dofs(rotor)
+    for node in shapes:
+        if int(node) not in where:
+            raise RotorError(f"node {node} is not a node of the rotor")
+    rows = [i for node in shapes for i in where[int(node)]]
+    translations = [i for n, (a, b) in where.items() for i in (a, b)]
+    ours = np.vstack([np.asarray(shape, dtype=float) for shape in shapes.values()])
+    if np.shape(evectors)[1] < ours.shape[1]:
+        raise RotorError(f"ROSS's modal results hold {np.shape(evectors)[1]} modes, the shapes {ours.shape[1]}: "
+                         "run_modal with more num_modes")
+    worst = 0.0
+    for j in range(ours.shape[1]):
+        u = np.asarray(evectors, dtype=complex)[index, j]
+        u = (u / u[np.argmax(np.abs(u))]).real
+        u = u / np.max(np.abs(u[translations]))
+        theirs = u[rows] if np.dot(u[rows], ours[:, j]) >= 0 else -u[rows]
+        worst = max(worst, float(np.max(np.abs(theirs - ours[:, j]))))
+    return worst
 
 
 @dataclass(frozen=True)
@@ -199,9 +250,10 @@ def convergence(rotor, node: int, speed: float, top: float, count: int | None = 
 
 def flexible_scene(rotor, node: int, balls: int, ball_mass: float, race_radius: float, speed: float, top: float, *,
                    unbalance: Unbalance | None = None, ball_damping: float | None = None, modes: int | None = None,
-                   tolerance: float = TOLERANCE) -> tuple[dict, Convergence | None]:
+                   tolerance: float = TOLERANCE, node_2: int | None = None) -> tuple[dict, Convergence | None]:
     """The flexible scene's mapping in the converged number of modes for the forward critical speeds below
-    `top` (or `modes` given), and the convergence that chose it (None when `modes` was given)."""
+    `top` (or `modes` given), and the convergence that chose it (None when `modes` was given).  `node_2`: a
+    second balancer node (`scene_mapping`); the critical speeds, hence k, do not depend on the nodes."""
     conv = None
     if modes is None:
         conv = convergence(rotor, node, speed, top, None, tolerance)
@@ -209,7 +261,8 @@ def flexible_scene(rotor, node: int, balls: int, ball_mass: float, race_radius: 
             raise RotorError(f"modal truncation does not converge to {tolerance:g} below the full lateral model "
                              f"(k = {max(conv.speeds)}): give --modes")
         modes = conv.k
-    return scene_mapping(rotor, node, modes, balls, ball_mass, race_radius, speed, unbalance, ball_damping), conv
+    return scene_mapping(rotor, node, modes, balls, ball_mass, race_radius, speed, unbalance, ball_damping,
+                         node_2), conv
 
 
 def write(mapping: dict, out, header: str) -> str:

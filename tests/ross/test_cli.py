@@ -64,3 +64,29 @@ def test_flexible_example_writes_the_flexible_scene(saved, tmp_path, capsys):
     assert scene.k == 6 and scene.n == 2 and scene.omega == 545.0
     assert scene.unbalance_mass * scene.eccentricity == pytest.approx(1e-4, rel=1e-12)
     assert not (tmp_path / "flexible.toml").read_text().count("rigid is enough")  # negative: said not enough
+
+
+def test_flexible_example_with_two_planes_writes_node_2(saved, tmp_path, capsys, example):
+    """--flexible with two planes (the example's disks, nodes 2 and 4): the flexible scene with [node_2], its
+    shapes the bridge's at node 4 in the same k modes, the same race; the unbalance at the first plane.
+    Negative control: the unbalance at the second plane is refused in one line (the family carries it at the
+    first node), nothing written."""
+    from adbgen.families.flexible.scene import FlexibleScene
+    from adbgen.ross.flexible import scene_mapping
+
+    out = tmp_path / "flexible.toml"
+    args = ["--plane", "2", "--plane", "4", "--balls", "2", "--ball-mass", "0.05", "--race-radius", "0.1",
+            "--speed", "545", "--flexible", "--modes", "6", "--out", str(out)]
+    assert main(["scene", "from-ross", str(saved / "example.toml"), *args, "--unbalance", "2", "1e-4", "0"]) == 0
+    assert "flexible, 6 modes, balancer nodes 2 and 4" in capsys.readouterr().out
+    scene = FlexibleScene.load(out)
+    assert scene.k == 6 and scene.n == 2 and scene.node_2.n == 2 and scene.node_2.race_radius == 0.1
+    assert scene.unbalance_mass * scene.eccentricity == pytest.approx(1e-4, rel=1e-12)
+    expected = scene_mapping(example, 2, 6, 2, 0.05, 0.1, 545.0, node_2=4)["node_2"]["node_shape"]
+    assert [list(r) for r in scene.node_2.node_shape] == expected
+    assert [list(r) for r in scene.node_2.node_shape] != [list(r) for r in scene.modal.node_shape]
+    bad = tmp_path / "bad.toml"
+    argv = ["scene", "from-ross", str(saved / "example.toml"), *args[:-1], str(bad), "--unbalance", "4", "1e-4", "0"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "give --plane 4 first" in err and err.count("\n") == 1 and not bad.exists()

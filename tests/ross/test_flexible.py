@@ -10,7 +10,7 @@ import pytest
 
 from adbgen.families.flexible.critical_speeds import crossings
 from adbgen.families.flexible.scene import FlexibleScene
-from adbgen.ross.flexible import convergence, lateral_dofs, scene_mapping
+from adbgen.ross.flexible import convergence, lateral_dofs, node_shape, reduce, scene_mapping, shape_mismatch
 from adbgen.ross.rigidity import campbell_crossings
 from adbgen.ross.rotor import RotorError
 
@@ -86,3 +86,47 @@ def test_bad_requests_are_refused(example):
         from adbgen.ross.rotor import Unbalance
 
         scene_mapping(example, NODE, 4, 2, 0.05, 0.05, SPEED, Unbalance(4, 1e-4, 0.0))
+
+
+SECOND = 4  # the example's second disk (disks at nodes 2 and 4, bearings at 0 and 6)
+
+
+@pytest.fixture(scope="module")
+def ross_modes_at_rest(example):
+    """ROSS's own modal analysis of the rotor at rest (no spin, and the example has no damping): its undamped
+    modes, the reduction's basis (the example's bearings do not depend on speed)."""
+    return example.run_modal(speed=0, num_modes=12)
+
+
+def test_second_node_shapes_are_rosss_mode_shapes_there(example, ross_modes_at_rest):
+    """Two balancer nodes: [node_2]'s shape entries are the same reduction's basis rows at node 4, and equal
+    ROSS's mode shapes there (scaled the bridge's way) to round-off, jointly with node 2's; its race is the
+    first's.  Negative control: node 3's shapes written as node 4's are caught by the same check."""
+    k = 6
+    mapping = scene_mapping(example, NODE, k, 2, 0.05, 0.05, SPEED, node_2=SECOND)
+    scene = FlexibleScene.from_mapping(mapping)
+    assert scene.node_2 is not None and scene.balls == 4 and scene.node_2.race_radius == 0.05
+    red = reduce(example, NODE, k, SPEED)
+    assert mapping["node_2"]["node_shape"] == node_shape(red, example, SECOND)
+    assert np.asarray(ross_modes_at_rest.wn[:k]) == pytest.approx(red.frequencies, rel=1e-8)  # same modes, same order
+    shapes = {NODE: mapping["modal"]["node_shape"], SECOND: mapping["node_2"]["node_shape"]}
+    assert shape_mismatch(example, shapes, ross_modes_at_rest.evectors) < 1e-8
+    assert shape_mismatch(example, {SECOND: shapes[SECOND]}, ross_modes_at_rest.evectors) < 1e-8
+    wrong = {NODE: shapes[NODE], SECOND: node_shape(red, example, 3)}
+    assert shape_mismatch(example, wrong, ross_modes_at_rest.evectors) > 1e-2
+
+
+def test_one_node_scene_has_no_second_node(example):
+    mapping = scene_mapping(example, NODE, 4, 2, 0.05, 0.05, SPEED)
+    assert "node_2" not in mapping and ", balancer at node 2 (z = " in mapping["modal"]["reduction"]
+
+
+def test_bad_two_node_requests_are_refused(example):
+    from adbgen.ross.rotor import Unbalance
+
+    with pytest.raises(RotorError, match="node 99 is not a node"):
+        scene_mapping(example, NODE, 4, 2, 0.05, 0.05, SPEED, node_2=99)
+    with pytest.raises(RotorError, match="different nodes"):
+        scene_mapping(example, NODE, 4, 2, 0.05, 0.05, SPEED, node_2=NODE)
+    with pytest.raises(RotorError, match="give --plane 4 first"):
+        scene_mapping(example, NODE, 4, 2, 0.05, 0.05, SPEED, Unbalance(SECOND, 1e-4, 0.0), node_2=SECOND)
