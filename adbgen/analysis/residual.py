@@ -4,9 +4,9 @@ A run of a model with stick/slip modes is at rest at t_end when every ball has e
 residual imbalance is then r = sqrt(X^2 + Y^2) at t_end (what the balls, stopped short of the balanced
 position, leave), or another of the model's own measures at t_end where its family defines the imbalance
 otherwise (`residual_at_end`: the sweep's `residual_measure`, a name from the model's MEASURES, so this module
-names no family; e.g. a two-plane rotor's A, the mean amplitude at the two planes one unit from the midspan,
-which sees the moment imbalance that r of the centre alone misses).  Runs whose balls still move at t_end (not at rest: undecided) and failed runs are
-counted apart and never enter the distribution.  The histogram has fixed edges from 0 to the largest
+names no family; e.g. a rigid rotor's mean amplitude A at two points one unit from the midspan, which sees the
+moment imbalance that r of the centre alone misses).  Runs whose balls still move at t_end (not at rest:
+undecided) and failed runs are counted apart and never enter the distribution.  The histogram has fixed edges from 0 to the largest
 residual at rest (BINS bins), so it is deterministic for a given set of values.
 """
 
