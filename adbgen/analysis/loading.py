@@ -24,6 +24,7 @@ import operator
 import os
 import subprocess
 import sys
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
@@ -463,6 +464,15 @@ def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike |
         raise AnalysisError(f"no generated model {text!r}; generated/ holds: {', '.join(known) or 'none'} "
                             f"(`adbgen regenerate --out DIR` makes others; pass DIR)") from None
     return _consistent(Model(module, Path(module.__file__).parent))
+
+
+def load_scene_text(text: str, on_line=None) -> Model:
+    """The model made for a scene given as TOML text (`load_model(scene=...)`: the cache is keyed by the text's
+    bytes, so the temporary file's name does not matter)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "scene.toml"
+        path.write_text(text)
+        return load_model(scene=path, on_line=on_line)
 
 
 def import_generated(name: str) -> ModuleType:

@@ -21,15 +21,13 @@ generated once per machine: every value in it is a parameter, and the run sets i
 from __future__ import annotations
 
 import math
-import tempfile
 from functools import lru_cache
-from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
 from ....analysis.engines import hybrid
-from ....analysis.loading import load_model
+from ....analysis.loading import load_scene_text
 from ....core.checks import DERIVED, CheckResult, Registered, timed
 from ..model import lagrangian
 from ..scene import Scene
@@ -61,10 +59,7 @@ TOLERANCE = 1e-8  # of E(0); measured 8.0e-15 (the wrong normal force: 1.2e-3)
 
 def stick_slip_model():
     """SCENE's model, from the scene cache (`load_model(scene=...)`: keyed by the scene's bytes)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "braked.toml"
-        path.write_text(SCENE)
-        return load_model(scene=path)
+    return load_scene_text(SCENE)
 
 
 @lru_cache(maxsize=1)

@@ -22,16 +22,14 @@ measure that truncation, not the run.  Wrong variant: the normal force from the 
 from __future__ import annotations
 
 import math
-import tempfile
 import tomllib
 from functools import lru_cache
-from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
 from ....analysis.engines import hybrid
-from ....analysis.loading import load_model
+from ....analysis.loading import load_scene_text
 from ....core.checks import DERIVED, CheckResult, Registered, timed
 from ..model import lagrangian
 from ..scene import TwoPlaneScene
@@ -58,10 +56,7 @@ TOLERANCE = 1e-8  # of E(0)
 
 def stick_model():
     """SCENE's model, from the scene cache (keyed by the scene's bytes; tests/families/two_plane's share it)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "braked.toml"
-        path.write_text(SCENE)
-        return load_model(scene=path)
+    return load_scene_text(SCENE)
 
 
 @lru_cache(maxsize=1)
