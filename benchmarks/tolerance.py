@@ -341,7 +341,7 @@ def cell_estimate(model, p, y0, t_end: float, engine: str, rtol: float, atol: fl
 
     sim = run(engine, rtol, atol)
     tight = run(engine, *tightened_tolerances(rtol, atol))
-    est = global_error(model, sim, tight, run) if sim.ok and tight.ok else None
+    est = global_error(model, sim, tight, run) if sim.ok and tight.ok else None  # as check_simulation(estimate=True)
     return {"error_estimate": est, "flagged": est is None or est["exceeded"] is not False,
             "rerun_steps": sim.n_steps, "rerun_picked": sim.picked}
 

@@ -193,11 +193,14 @@ def judge(runs: list[Outcome], shown=(), rel: float = REL_TOL, factor: float = T
 
 def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float, engine=None,
                      max_steps: int = 10_000_000, label: bool = True, tight=None, second: str | None = None,
-                     shown=()) -> ToleranceCheck:
+                     shown=(), estimate: bool = False) -> ToleranceCheck:
     """`sim` (run from y0 with engine `engine` at sim.rtol, sim.atol) against the tighter run and the second
     engine.  `tight`: the tighter run if already computed (its tolerance is then whatever it ran at);
     `second`: the second engine's name (default `second_engine`); `shown`: (role, engine, rtol, atol) of runs
-    reported beside them (not deciding the flag), or (role, engine, Simulation) of such runs already made."""
+    reported beside them (not deciding the flag), or (role, engine, Simulation) of such runs already made.
+    `estimate`: also the global error estimate at t_end (`global_error`), flagging above its bound: what
+    `adbgen simulate --check-tolerance` asks (the default engine's promise); off for the checks of outcomes
+    alone (the reproduction's transients, whose labels, not final states, are the published result)."""
     from .simulate import simulate
 
     p = np.asarray(model.params(p) if isinstance(p, dict) or p is None else p, float)
@@ -217,7 +220,7 @@ def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float
     extra = [outcome(model, p, run(item[1], *item[2:]) if len(item) == 4 else item[2], item[0], item[1], label)
              for item in shown]
     check = judge(runs, extra, factor=sim.rtol / tight.rtol)
-    if sim.ok and tight.ok:
+    if estimate and sim.ok and tight.ok:
         check.error_estimate = global_error(model, sim, tight, run)
         if check.error_estimate["exceeded"] is not False:  # exceeded, or not made (its run failed)
             check.reasons.append(error_estimate.reason(check.error_estimate))

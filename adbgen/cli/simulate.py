@@ -101,7 +101,7 @@ def run_simulate(args) -> int:
 
         with activity(f"{model.name}: checking the outcome tighter and on a second engine", show_progress):
             check = check_simulation(model, p, y, sim, t_end=t_end, threshold=threshold, engine=args.engine,
-                                     max_steps=args.max_steps)
+                                     max_steps=args.max_steps, estimate=True)
     defaults = {"t_end": t_end_why if not args.t_end else None, "threshold": threshold_why or None}
     if args.out is not None and sim.ok:
         write_trajectory(model, sim, Path(args.out), values=values, scene=args.scene,

@@ -163,7 +163,8 @@ def _auto_check(scene, rtol=1e-8):
         return simulate(model, p, y, t_end=t_end, rtol=r, atol=r * 1e-2, engine="auto", keep_trajectory=False)
 
     sim, tight = run(rtol), run(rtol / TIGHTEN)
-    check = check_simulation(model, p, y, sim, t_end=t_end, threshold=1e-3, engine="auto", label=False, tight=tight)
+    check = check_simulation(model, p, y, sim, t_end=t_end, threshold=1e-3, engine="auto", label=False, tight=tight,
+                             estimate=True)
     return sim, tight, check
 
 
@@ -178,6 +179,13 @@ def test_the_error_estimate_flags_the_engines_own_miss_that_the_tighter_run_cann
     assert 15.0 < est["ratio"] < 60.0 and est["exceeded"] is True  # the true ratio: 29.5
     assert check.sensitive and any(r.startswith("error estimate: ") for r in check.reasons)
     assert check.to_json()["error_estimate"]["ratio"] == est["ratio"]
+    # negative control: the outcome check alone (labels aside: r_max, t_dec, the second engine) does not see it
+    name, values, start, t_end = SCENE_17
+    model = load_model(name)
+    p, y = model.params(values), model.state(start)
+    alone = check_simulation(model, p, y, sim, t_end=t_end, threshold=1e-3, engine="auto", label=False, tight=tight)
+    assert alone.error_estimate is None and "error_estimate" in alone.to_json()
+    assert not any(r.startswith("error estimate") for r in alone.reasons)
 
 
 def test_the_error_estimate_flags_a_chaotic_scene_and_passes_a_converged_one():
