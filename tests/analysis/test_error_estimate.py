@@ -23,11 +23,12 @@ def test_the_estimate_is_in_tolerance_units_and_wraps_angles():
     assert ee.estimate_ratio(y_t + [0, 1e-10, 0], y_t, 1e-8, 1e-10) == pytest.approx(1.0)
     assert ee.estimate_ratio(y_t + [0, 0, 1e-6], y_t, 1e-8, 1e-10) == pytest.approx(1e-6 / (1e-10 + 1e-6))
     # one turn apart on an angle (state 0): the same configuration when the model says state 0 is an angle
-    turned = y_t + [2 * math.pi + 3e-8, 0, 0]
-    assert ee.estimate_ratio(turned, y_t, 1e-8, 1e-10, angles=(0,)) == pytest.approx(3e-8 / (1e-10 + 1e-8), rel=1e-5)
+    turned = y_t + [2 * math.pi + 1e-8, 0, 0]
+    assert ee.estimate_ratio(turned, y_t, 1e-8, 1e-10, angles=(0,)) == pytest.approx(1e-8 / (1e-10 + 1e-8), rel=1e-5)
     assert ee.estimate_ratio(turned, y_t, 1e-8, 1e-10) > 1e8  # negative control: not an angle, not wrapped
     rec = ee.estimate(turned, y_t, 1e-8, 1e-10, (0,), against="tighter run")
-    assert rec["exceeded"] is False and rec["bound"] == ee.BOUND == 10.0
+    assert rec["exceeded"] is False and rec["bound"] == ee.BOUND == 10.0 and rec["flag_above"] == 2.0
+    assert ee.estimate(y_t + [0, 3e-10, 0], y_t, 1e-8, 1e-10, against="x")["exceeded"] is True  # 3 units: above 2
     rec = ee.estimate(y_t + [0, 2e-9, 0], y_t, 1e-8, 1e-10, against="tighter run")
     assert rec["exceeded"] is True and ee.reason(rec).startswith("error estimate: 20 tolerance units at t_end")
 
