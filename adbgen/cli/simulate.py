@@ -14,9 +14,9 @@ what its generated module declares, `units.default_t_end`, `default_threshold`).
 method, and compares the label, r_max and t_dec (`analysis.tolerance`); a disagreement is reported
 (`tolerance_sensitive: true` and every outcome in --json, a mark in the table and on the plot), never
 resolved.  It also estimates the error at t_end (`analysis.error_estimate`): the run as asked against a
-run that truly is tighter, in tolerance units (--json: tolerance_check.error_estimate); above 10 the run
-is flagged.  The default engine's promise: its error at t_end is at most 10 tolerance units, or
---check-tolerance says it may not be.
+run that truly is tighter, in tolerance units (--json: tolerance_check.error_estimate); above 2 (the
+bound 10 over a safety factor of 5) the run is flagged.  The default engine's promise: its error at t_end
+is at most 10 tolerance units, or --check-tolerance says it may not be.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def _add_simulate(p) -> None:
     p.add_argument("--check-tolerance", action="store_true",
                    help="run again at rtol/100, atol/100 and on a second engine of another method; compare the "
                         "label, r_max and t_dec (1 %%) and flag a disagreement (tolerance_sensitive); estimate "
-                        "the error at t_end against a truly tighter run, in tolerance units, and flag it above 10 "
+                        "the error at t_end against a truly tighter run, in tolerance units, and flag it above 2 "
                         "(the default engine's promise: at most 10, or this check says it may not be)")
     p.set_defaults(fn=run_simulate)
 
