@@ -676,19 +676,13 @@ def run(args, out: str) -> int:
             raise UsageError(f"{out}: no tolerance results to add a diagnosis to; run `adbgen bench tolerance` first")
         res.setdefault("diagnosis", {})[f"{name}@{rtol:g}"] = diagnose(name, rtol, lambda l: print(l, flush=True))
         write(jsonable(res), path)
-        if args.page:
-            PAGE.write_text(page(res))
-            print(f"wrote {PAGE}")
-        return 0
+        return _written(args, res)
     if getattr(args, "estimates", False):
         res = add_estimates(out, args.scenes, progress=lambda line: print(line, flush=True))
         e = res["summary"]["estimate"]
         print(f"{e['cells']} graded cells with the estimate: {e['flagged']} flagged, "
               f"{len(e['silent_misses'])} silent misses, {len(e['false_alarms'])} false alarms; wrote {out}")
-        if args.page:
-            PAGE.write_text(page(res))
-            print(f"wrote {PAGE}")
-        return 0
+        return _written(args, res)
     res = bench_tolerance(out, args.engine or "auto", args.scenes, fresh=args.fresh,
                           progress=lambda line: print(line, flush=True))
     s = res["summary"]
@@ -697,6 +691,11 @@ def run(args, out: str) -> int:
     stale = f" ({len(s['stale'])} more under an earlier table, not counted)" if s["stale"] else ""
     print(f"{s['measured']} scenes{stale}; worst ratio {s['worst']}; {len(s['over_target'])} cells above {TARGET:g}; "
           f"wrote {out}")
+    return _written(args, res)
+
+
+def _written(args, res: dict) -> int:
+    """With --page, the page from the results; the command's exit status."""
     if args.page:
         PAGE.write_text(page(res))
         print(f"wrote {PAGE}")
