@@ -15,7 +15,10 @@ method beside every other engine) at the asked tolerance.  Two outcomes agree wh
   the threshold, agrees only with 0).
 
 Any disagreement of the tighter run or of the second engine with the run as asked makes the case
-`tolerance_sensitive`, and both outcomes are kept (`ToleranceCheck.runs`).  Runs `shown` beside them (the
+`tolerance_sensitive`, and both outcomes are kept (`ToleranceCheck.runs`).  So does a global error
+estimate above its bound (issue 35, `error_estimate`): the run as asked against a run that truly is
+tighter, max_i |y_i - y_tight,i| / (atol + rtol |y_tight,i|) at t_end above `error_estimate.BOUND` = 10
+tolerance units (`ToleranceCheck.error_estimate`, --json's "error_estimate").  Runs `shown` beside them (the
 thesis' solver, `matlab-ode45`, at its defaults) are reported with their own agreement but do not decide
 the flag: they are an explanation of a published number, not a convergence test.
 """
@@ -27,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import error_estimate
 from .loading import Model
 
 TIGHTEN = 100.0  # the tighter run: rtol / 100 and atol / 100
@@ -162,6 +166,7 @@ class ToleranceCheck:
     shown: list[tuple[Outcome, list[str]]] = field(default_factory=list)
     factor: float = TIGHTEN
     rel_tol: float = REL_TOL
+    error_estimate: dict | None = None  # the global error estimate at t_end (`error_estimate.estimate`)
 
     @property
     def sensitive(self) -> bool:
@@ -170,7 +175,8 @@ class ToleranceCheck:
     def to_json(self) -> dict:
         return {"tolerance_sensitive": self.sensitive, "factor": self.factor, "rel_tol": self.rel_tol,
                 "outcomes": [o.to_json() for o in self.runs], "disagreements": list(self.reasons),
-                "shown": [{**o.to_json(), "disagreements": r} for o, r in self.shown]}
+                "shown": [{**o.to_json(), "disagreements": r} for o, r in self.shown],
+                "error_estimate": self.error_estimate}
 
     def text(self) -> str:
         """'tolerance-sensitive (!): balanced 1 (rtol 1e-08, taylor) | limit cycle (rtol 1e-10, taylor)'
@@ -187,11 +193,14 @@ def judge(runs: list[Outcome], shown=(), rel: float = REL_TOL, factor: float = T
 
 def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float, engine=None,
                      max_steps: int = 10_000_000, label: bool = True, tight=None, second: str | None = None,
-                     shown=()) -> ToleranceCheck:
+                     shown=(), estimate: bool = False) -> ToleranceCheck:
     """`sim` (run from y0 with engine `engine` at sim.rtol, sim.atol) against the tighter run and the second
     engine.  `tight`: the tighter run if already computed (its tolerance is then whatever it ran at);
     `second`: the second engine's name (default `second_engine`); `shown`: (role, engine, rtol, atol) of runs
-    reported beside them (not deciding the flag), or (role, engine, Simulation) of such runs already made."""
+    reported beside them (not deciding the flag), or (role, engine, Simulation) of such runs already made.
+    `estimate`: also the global error estimate at t_end (`global_error`), flagging above its bound: what
+    `adbgen simulate --check-tolerance` asks (the default engine's promise); off for the checks of outcomes
+    alone (the reproduction's transients, whose labels, not final states, are the published result)."""
     from .simulate import simulate
 
     p = np.asarray(model.params(p) if isinstance(p, dict) or p is None else p, float)
@@ -210,7 +219,33 @@ def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float
             outcome(model, p, run(other, sim.rtol, sim.atol), "second engine", other, label)]
     extra = [outcome(model, p, run(item[1], *item[2:]) if len(item) == 4 else item[2], item[0], item[1], label)
              for item in shown]
-    return judge(runs, extra, factor=sim.rtol / tight.rtol)
+    check = judge(runs, extra, factor=sim.rtol / tight.rtol)
+    if estimate and sim.ok and tight.ok:
+        check.error_estimate = global_error(model, sim, tight, run)
+        if check.error_estimate["exceeded"] is not False:  # exceeded, or not made (its run failed)
+            check.reasons.append(error_estimate.reason(check.error_estimate))
+    return check
+
+
+def global_error(model: Model, sim, tight, run) -> dict:
+    """The error estimate at t_end of `sim` (`error_estimate`): against the tighter run where it aims its
+    steps finer, else against the estimate's own row, run by `run(engine, rtol, atol)` at the tighter
+    tolerance; angles compared as the model describes them (`Model.angle_indices`).  Not made (ratio None,
+    so flagged) where no row within double precision's reach is finer or the estimate's own run fails."""
+    asked = sim.picked or {}
+    row = error_estimate.reference_row(asked, tight.picked or {}, sim.rtol / tight.rtol)
+    against, y_ref = "tighter run", tight.y_end
+    if row is not None:
+        against = f"Taylor order {row[0]}, step factor {row[1]:g}"
+        if not error_estimate.finer(asked, row):
+            return error_estimate.not_made(against, row, "no row finer than the run as asked within double "
+                                                         "precision's reach")
+        ref = run(error_estimate.reference_engine(row), tight.rtol, tight.atol)
+        if not ref.ok:
+            return error_estimate.not_made(against, row, f"its run, {against}, ended {ref.status}")
+        y_ref = ref.y_end
+    return error_estimate.estimate(sim.y_end, y_ref, sim.rtol, sim.atol, model.angle_indices, against=against,
+                                   row=row)
 
 
 # ------------------------------------------------------------------------------------------ ensembles
@@ -239,5 +274,5 @@ def mark_points(ax, x, y=None, *, label: str = "tolerance-sensitive") -> None:
 
 
 __all__ = ["MARK", "MIN_RTOL", "Outcome", "REL_TOL", "TIGHTEN", "ToleranceCheck", "check_simulation", "differ",
-           "disagreements", "judge", "label_of", "mark_points", "outcome", "resolved", "second_engine",
-           "tighter"]
+           "disagreements", "global_error", "judge", "label_of", "mark_points", "outcome", "resolved", "second_engine",
+           "tightened_tolerances"]

@@ -13,7 +13,10 @@ what its generated module declares, `units.default_t_end`, `default_threshold`).
 --check-tolerance runs the case again tighter (rtol/100, atol/100) and on a second engine of another
 method, and compares the label, r_max and t_dec (`analysis.tolerance`); a disagreement is reported
 (`tolerance_sensitive: true` and every outcome in --json, a mark in the table and on the plot), never
-resolved.
+resolved.  It also estimates the error at t_end (`analysis.error_estimate`): the run as asked against a
+run that truly is tighter, in tolerance units (--json: tolerance_check.error_estimate); above 2 (the
+bound 10 over a safety factor of 5) the run is flagged.  The default engine's promise: its error at t_end
+is at most 10 tolerance units, or --check-tolerance says it may not be.
 """
 
 from __future__ import annotations
@@ -59,7 +62,9 @@ def _add_simulate(p) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.add_argument("--check-tolerance", action="store_true",
                    help="run again at rtol/100, atol/100 and on a second engine of another method; compare the "
-                        "label, r_max and t_dec (1 %%) and flag a disagreement (tolerance_sensitive)")
+                        "label, r_max and t_dec (1 %%) and flag a disagreement (tolerance_sensitive); estimate "
+                        "the error at t_end against a truly tighter run, in tolerance units, and flag it above 2 "
+                        "(the default engine's promise: at most 10, or this check says it may not be)")
     p.set_defaults(fn=run_simulate)
 
 
@@ -96,7 +101,7 @@ def run_simulate(args) -> int:
 
         with activity(f"{model.name}: checking the outcome tighter and on a second engine", show_progress):
             check = check_simulation(model, p, y, sim, t_end=t_end, threshold=threshold, engine=args.engine,
-                                     max_steps=args.max_steps)
+                                     max_steps=args.max_steps, estimate=True)
     defaults = {"t_end": t_end_why if not args.t_end else None, "threshold": threshold_why or None}
     if args.out is not None and sim.ok:
         write_trajectory(model, sim, Path(args.out), values=values, scene=args.scene,
@@ -137,6 +142,10 @@ def _print_simulation(model, sim, out, defaults, check=None) -> None:
 
         rows.insert(5, ("attractor", (check.runs[0].label or "—") + (f" {MARK}" if check.sensitive else "")))
         rows.append(("tolerance check", check.text()))
+        est = check.error_estimate
+        if est is not None and est.get("ratio") is not None:
+            rows.append(("error estimate", f"{est['ratio']:.3g} tolerance units at t_end against the {est['against']} "
+                                           f"(bound {est['bound']:g})"))
         rows += [("  disagrees", r) for r in check.reasons]
     width = max(len(k) for k, _ in rows)
     for k, v in rows:

@@ -141,3 +141,57 @@ def test_sweep_flags_exactly_the_planted_points(tmp_path, monkeypatch, saved_fig
     assert "tolerance_sensitive" not in plain
     ds2 = xr.open_zarr(tmp_path / "plain" / "sweep.zarr", consolidated=False)
     assert "tolerance_sensitive" not in ds2 and (ds2["attractor"].values == ds["attractor"].values).all()
+
+
+# two held-out scenes of `adbgen bench tolerance` (benchmarks/tolerance_scenes/, seed 35), measured against the
+# extended-precision reference in benchmarks/tolerance.json: at rtol 1e-8 the auto engine misses by 29.5 units
+# on 17 (the engine's own: order 20 at factor 1 meets it) and by 537 on 09 (a chaotic transient, below double
+# precision's floor)
+SCENE_17 = ("thesis_rotating_n4", {"Omega": 5.335, "beta": 0.02075, "delta": 0.01554, "mu": 0.02901, "zeta": 0.04309},
+            {"phi_1": 1.924, "phi_1_dot": -0.07801, "phi_2": 4.79, "phi_2_dot": -0.4404, "phi_3": 2.789,
+             "phi_3_dot": -0.07838, "phi_4": 5.5, "phi_4_dot": 0.07564}, 600.0)
+SCENE_09 = ("thesis_rotating_n3", {"Omega": 3.271, "beta": 0.02752, "delta": 0.02115, "mu": 0.06179, "zeta": 0.03618},
+            {"phi_1": 1.802, "phi_2": 2.464, "phi_3": 1.748}, 300.0)
+
+
+def _auto_check(scene, rtol=1e-8):
+    name, values, start, t_end = scene
+    model = load_model(name)
+    p, y = model.params(values), model.state(start)
+
+    def run(r):
+        return simulate(model, p, y, t_end=t_end, rtol=r, atol=r * 1e-2, engine="auto", keep_trajectory=False)
+
+    sim, tight = run(rtol), run(rtol / TIGHTEN)
+    check = check_simulation(model, p, y, sim, t_end=t_end, threshold=1e-3, engine="auto", label=False, tight=tight,
+                             estimate=True)
+    return sim, tight, check
+
+
+def test_the_error_estimate_flags_the_engines_own_miss_that_the_tighter_run_cannot_see():
+    sim, tight, check = _auto_check(SCENE_17)
+    # the planted miss of a naive estimate: the auto row (order 20, factor 1.5) takes the same steps at rtol
+    # 1e-10, so the tighter run ends exactly where the run as asked does (an estimate of 0 against a true 29.5)
+    assert sim.picked["order"] == tight.picked["order"] and sim.picked["step_factor"] == tight.picked["step_factor"]
+    assert np.array_equal(sim.y_end, tight.y_end)
+    est = check.error_estimate
+    assert est["against"].startswith("Taylor order") and est["step_factor"] == 1.0
+    assert 15.0 < est["ratio"] < 60.0 and est["exceeded"] is True  # the true ratio: 29.5
+    assert check.sensitive and any(r.startswith("error estimate: ") for r in check.reasons)
+    assert check.to_json()["error_estimate"]["ratio"] == est["ratio"]
+    # negative control: the outcome check alone (labels aside: r_max, t_dec, the second engine) does not see it
+    name, values, start, t_end = SCENE_17
+    model = load_model(name)
+    p, y = model.params(values), model.state(start)
+    alone = check_simulation(model, p, y, sim, t_end=t_end, threshold=1e-3, engine="auto", label=False, tight=tight)
+    assert alone.error_estimate is None and "error_estimate" in alone.to_json()
+    assert not any(r.startswith("error estimate") for r in alone.reasons)
+
+
+def test_the_error_estimate_flags_a_chaotic_scene_and_passes_a_converged_one():
+    _, _, check = _auto_check(SCENE_09)
+    assert check.error_estimate["ratio"] > 10 and check.sensitive  # the true ratio: 537
+    assert any(r.startswith("error estimate: ") for r in check.reasons)
+    # negative control: scene 17 at rtol 1e-6, where the engine meets the target (0.295 measured)
+    _, _, loose = _auto_check(SCENE_17, rtol=1e-6)
+    assert loose.error_estimate["ratio"] <= 2 and not any(r.startswith("error estimate") for r in loose.reasons)

@@ -235,3 +235,82 @@ def tolerance_peers():
     from benchmarks import peers
 
     return peers
+
+
+def test_the_summary_counts_silent_misses_and_false_alarms_of_the_estimate():
+    """The restated promise: a cell above the target must be flagged by --check-tolerance's estimate; one that
+    is not is a silent miss, a flagged cell within 2 units a false alarm.  Planted: four cells, one of each
+    kind and a flagged miss; negative controls: flagging the silent one leaves none, and cells without an
+    estimate (not measured so) are not counted."""
+    scene = {"family": "single_plane", "units": "thesis", "drive": "forced"}
+
+    def cell(rtol, ratio, estimate, flagged):
+        return {"rtol": rtol, "ratio": ratio, "decided": True, "status": "success", "reference_ratio": 0.0,
+                "error_estimate": {"ratio": estimate, "bound": 10.0}, "flagged": flagged}
+
+    cells = [cell(1e-4, 30.0, 25.0, True),  # a miss, flagged: the promise kept
+             cell(1e-5, 40.0, 3.0, False),  # a miss the estimate does not see: SILENT
+             cell(1e-6, 1.5, 12.0, True),  # flagged though within 2 units: a false alarm
+             cell(1e-7, 5.0, 4.0, False),  # within the target, not flagged
+             {"rtol": 1e-8, "ratio": 90.0, "decided": True, "status": "success", "reference_ratio": 0.0}]
+    scenes = {"09_x": {"scene": scene, "cells": cells, "reference_rule": tolerance.RULE}}
+    e = tolerance.summary(scenes)["estimate"]
+    assert e["cells"] == 4 and e["flagged"] == 2 and not e["met"]
+    assert [(o["rtol"], o["ratio"], o["estimate"]) for o in e["silent_misses"]] == [(1e-5, 40.0, 3.0)]
+    assert [o["rtol"] for o in e["false_alarms"]] == [1e-6]
+    result = {"scenes": scenes, "rtols": [1e-4, 1e-5, 1e-6, 1e-7, 1e-8], "machine": {}, "date": "d", "engine": "auto",
+              "seed": 35, "atol_ratio": 1e-2, "target": 10.0,
+              "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
+                            "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}}}
+    text = tolerance.page(result)
+    assert "silent misses (true ratio above 10, not flagged; target: none): 1: 09_x at 1e-05 (40 / 3)" in text
+    assert "| 09_x | 30 / 25 ! | 40 / 3 | 1.5 / 12 ! | 5 / 4 |  |" in text
+    cells[1]["flagged"] = True  # negative control: flagged, the miss is no longer silent
+    e = tolerance.summary(scenes)["estimate"]
+    assert e["silent_misses"] == [] and e["met"]
+    for c in cells:  # no cell measured with the estimate: nothing counted, no section on the page
+        c.pop("flagged", None)
+    assert tolerance.summary(scenes)["estimate"]["cells"] == 0
+    assert "## The promise restated" not in tolerance.page(result)
+
+
+def test_add_estimates_fills_current_cells_only_and_not_a_rerun_that_differs(tmp_path, monkeypatch):
+    """`--estimates` adds the estimate to the graded cells of the scenes measured under the current table,
+    without rerunning the references; a rerun that takes other steps than the run graded is not counted
+    (negative control), and a stale scene is left alone."""
+    from adbgen.cli_types import UsageError
+
+    class Model:
+        def params(self, _):
+            return [1.0]
+
+        def state(self, _):
+            return [0.0]
+
+    now = tolerance.table_id("auto")
+    scene = {"name": "x", "family": "single_plane", "units": "thesis", "drive": "forced", "t_end": 1.0}
+    cells = [{"rtol": 1e-4, "atol": 1e-6, "ratio": 30.0, "decided": True, "status": "success", "n_steps": 10,
+              "reference_ratio": 0.0},
+             {"rtol": 1e-5, "atol": 1e-7, "ratio": 3.0, "decided": True, "status": "success", "n_steps": 99,
+              "reference_ratio": 0.0}]
+    stale = [dict(cells[0])]
+    result = {"engine": "auto", "scenes": {
+        "x": {"scene": scene, "cells": cells, "table": now, "reference_rule": tolerance.RULE},
+        "y": {"scene": scene, "cells": stale, "table": "0" * 12, "reference_rule": tolerance.RULE}}}
+    out = tmp_path / "tolerance.json"
+    out.write_text(json.dumps(result))
+    monkeypatch.setattr(tolerance, "scene_model", lambda s: Model())
+    monkeypatch.setattr(tolerance, "cell_estimate", lambda model, p, y0, t_end, engine, rtol, atol: {
+        "error_estimate": {"ratio": 25.0, "exceeded": True}, "flagged": True, "rerun_steps": 10, "rerun_picked": None})
+    res = tolerance.add_estimates(str(out), progress=lambda line: None)
+    a, b = res["scenes"]["x"]["cells"]
+    assert a["flagged"] and a["error_estimate"]["ratio"] == 25.0
+    assert "flagged" not in b and b["rerun_differs"] == 10  # 10 steps against the 99 graded: not counted
+    assert "flagged" not in res["scenes"]["y"]["cells"][0]
+    assert res["summary"]["estimate"]["cells"] == 1 and res["summary"]["estimate"]["met"]
+    assert json.loads(out.read_text())["scenes"]["x"]["cells"][0]["flagged"] is True
+    with pytest.raises(UsageError, match="not a scene measured"):
+        tolerance.add_estimates(str(out), names=["y"], progress=lambda line: None)
+    empty = tmp_path / "none.json"
+    with pytest.raises(UsageError, match="no tolerance results"):
+        tolerance.add_estimates(str(empty), progress=lambda line: None)

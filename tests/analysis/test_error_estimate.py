@@ -1,0 +1,63 @@
+"""analysis.error_estimate (issue 35 item 1): the global error estimate at t_end of --check-tolerance.
+
+The estimate is the run as asked against a run that truly is tighter, in tolerance units.  The planted
+miss: a Taylor row of fixed order and step factor (the auto engine's rows) takes the same steps at rtol / 100,
+so "the tighter run" would estimate 0 whatever the error; `reference_row` must then give a finer row, and
+must not where the tighter run already aims finer (the controls).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from adbgen.analysis import error_estimate as ee
+from adbgen.analysis.engines.taylor import nominal_error
+
+
+def test_the_estimate_is_in_tolerance_units_and_wraps_angles():
+    y_t = np.array([1.0, 0.0, -100.0])
+    assert ee.estimate_ratio(y_t, y_t, 1e-8, 1e-10) == 0.0
+    assert ee.estimate_ratio(y_t + [0, 1e-10, 0], y_t, 1e-8, 1e-10) == pytest.approx(1.0)
+    assert ee.estimate_ratio(y_t + [0, 0, 1e-6], y_t, 1e-8, 1e-10) == pytest.approx(1e-6 / (1e-10 + 1e-6))
+    # one turn apart on an angle (state 0): the same configuration when the model says state 0 is an angle
+    turned = y_t + [2 * math.pi + 1e-8, 0, 0]
+    assert ee.estimate_ratio(turned, y_t, 1e-8, 1e-10, angles=(0,)) == pytest.approx(1e-8 / (1e-10 + 1e-8), rel=1e-5)
+    assert ee.estimate_ratio(turned, y_t, 1e-8, 1e-10) > 1e8  # negative control: not an angle, not wrapped
+    rec = ee.estimate(turned, y_t, 1e-8, 1e-10, (0,), against="tighter run")
+    assert rec["exceeded"] is False and rec["bound"] == ee.BOUND == 10.0 and rec["flag_above"] == 2.0
+    assert ee.estimate(y_t + [0, 3e-10, 0], y_t, 1e-8, 1e-10, against="x")["exceeded"] is True  # 3 units: above 2
+    rec = ee.estimate(y_t + [0, 2e-9, 0], y_t, 1e-8, 1e-10, against="tighter run")
+    assert rec["exceeded"] is True and ee.reason(rec).startswith("error estimate: 20 tolerance units at t_end")
+
+
+def test_a_fixed_row_gets_its_own_finer_reference_and_a_finer_tighter_run_does_not():
+    row = {"engine": "taylor", "order": 20, "step_factor": 1.5}  # the auto engine's row from rtol 1e-6 down
+    # planted miss: the tighter run is the same row (same steps, same end state): the estimate would be 0
+    got = ee.reference_row(row, dict(row), 100.0)
+    assert got is not None and got[1] == 1.0 and got[0] >= 20
+    assert nominal_error(*got) <= nominal_error(20, 1.5) / 100  # truly finer, by the factor asked
+    # controls: a tighter run that aims finer (factor 1 at order 20: 3300x), and an engine of another method
+    assert ee.reference_row(row, {"order": 20, "step_factor": 1.0}, 100.0) is None
+    assert ee.reference_row({"engine": "rk-dop853"}, {"engine": "rk-dop853"}, 100.0) is None
+    assert ee.reference_row(None, None, 100.0) is None
+    # heyoka's rule (the plain taylor engine): rtol 1e-8 -> order 10, its tighter run order 13: finer, kept
+    assert ee.reference_row({"order": 10, "step_factor": 1.0}, {"order": 13, "step_factor": 1.0}, 100.0) is None
+    # an order-18 row at factor 1.5 whose tighter run is order 18 too: a finer order is asked
+    o, f = ee.reference_row({"order": 18, "step_factor": 1.5}, {"order": 18, "step_factor": 1.5}, 100.0)
+    assert o > 18 and f == 1.0 and nominal_error(o, f) <= nominal_error(18, 1.5) / 100
+    assert ee.reference_engine((20, 1.0)).settings(1e-8, 1e-10) == (20, 1.0)
+
+
+def test_an_estimate_that_cannot_be_finer_is_not_made_and_says_so():
+    """At double precision's reach (the auto engine's order-20, factor-1 row at rtol 1e-14, its tighter run
+    clamped to the same rtol) no finer row exists: the estimate is not made, and the reason says so rather
+    than reporting the 0 of a run against itself (the negative control: a finer row is finer)."""
+    row = {"order": 20, "step_factor": 1.0}
+    ref = ee.reference_row(row, dict(row), 1.0)
+    assert ref == (20, 1.0) and not ee.finer(row, ref)
+    assert ee.finer({"order": 20, "step_factor": 1.5}, ref) and ee.finer(None, ref)
+    rec = ee.not_made("Taylor order 20, step factor 1", ref, "no finer row")
+    assert rec["ratio"] is None and rec["exceeded"] is None and "not made (no finer row)" in ee.reason(rec)
