@@ -25,7 +25,7 @@ from pathlib import Path
 import adbgen
 
 ROOT = Path(adbgen.__file__).resolve().parent.parent
-# the benchmarks: inside the package today; issue 33 item 6 moves them to a top-level folder
+# the benchmarks: the top-level folder of the checkout since issue 33 item 6 ("bench": a checkout of before)
 BENCH_FOLDERS = ("bench", "benchmarks")
 
 # a generated source file's name in a path expression: a model's f"{name}.c", f"{name}_taylor.c", ".h", ...,

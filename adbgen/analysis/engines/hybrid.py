@@ -8,7 +8,8 @@ stick_force_k (the switching functions, emitted from the symbolic model).  This 
 names, so it names no family.  A model whose switching functions hold accelerations with no closed form (a rotor
 core its rhs solves numerically) declares them as parameters accel_<coordinate>, read by its measures only: the
 driver fills them from the model's rhs before such a measure is evaluated (`measure` does the same here).  The driver sets the modes at the start (every ball at rest on the race is
-decided there) and at every event; the parameters' values given for stuck_k and slip_dir_k are ignored.
+decided there) and at every event, the balls that switch at once decided together from one state (`decide_set`);
+the parameters' values given for stuck_k and slip_dir_k are ignored (tests/analysis/test_hybrid_modes.py).
 """
 
 from __future__ import annotations
@@ -117,7 +118,16 @@ def library(model, extra: tuple[str, ...] = ()):
                f"-DADB_MEASURE={model.name}_measure", *_sizes(model), *extra]
     lib = ctypes.CDLL(str(build(model, "hybrid_driver.c", source, defines, [])))
     lib.adb_hybrid_run.restype = ctypes.c_int
+    lib.adb_hybrid_run.argtypes = RUN_ARGTYPES
     return lib
+
+
+# adb_hybrid_run's 28 parameters as hybrid_driver.c declares them, so that a wrong argument is refused by ctypes
+# (issue 33 item 1: no untyped call into a driver); the driver is outside adb_engine.h (its events change the
+# model's parameters, a run it owns), so it is typed here rather than in c_interface.SIGNATURES
+_L, _F, _LP = ctypes.c_long, ctypes.c_double, ctypes.POINTER(ctypes.c_long)
+RUN_ARGTYPES = [D, _F, _F, D, ctypes.c_int, I, I, I, I, I, I, _F, _F, _L, D, _L, D, D, I, I, _L, _LP,
+                ctypes.POINTER(ctypes.c_double), D, _LP, ctypes.c_int, I, I]
 
 
 def run(model, p, y0, t0: float, t1: float, t_eval=None, rtol: float = 1e-10, atol: float = 1e-12,

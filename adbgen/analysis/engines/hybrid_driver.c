@@ -18,7 +18,11 @@
  * and every ball whose root lies within 64 ulp of it switches there (symmetric balls switch together).  A
  * ball that switches is decided at the event's state: held stuck (stuck = 1, phi' = 0) if the margin
  * computed in the stuck mode is >= 0, else slipping in the direction opposite to the force it would need
- * (slip_dir = -sign F; friction then acts with the kinetic coefficient).  A slip so decided must not end
+ * (slip_dir = -sign F; friction then acts with the kinetic coefficient).  The balls that switch together
+ * (and, at the start, every ball at rest on the race) are decided together from one state (`decide_set`),
+ * not one after another: the rotor's acceleration is in every ball's required force, so one ball's release
+ * changes another's margin, and deciding ball 1 against ball 2's mode before ball 2 was decided made the
+ * outcome depend on the order and on the mode the caller gave a ball at rest (a test shows it).  A slip so decided must not end
  * at once: where a ball's slip ends within 64 ulp of the time it was decided and the ball is decided into
  * slip again, no mode of that ball holds (mu_r > mu_s, the slip decelerating from its start: the scene
  * refuses it, a parameter set by hand does not) and the run stops with HY_NO_MODE at that time rather than
@@ -106,28 +110,45 @@ static double switching(const Balls *B, int b, double t, const double *y, double
     return p[B->dir[b]] * ADB_MEASURE(B->m_rate[b], t, y, p);
 }
 
-/* the mode of ball b at rest on the race (phi_b' = 0 in y): stuck if the margin allows, else slipping away
- * from the force it would need; returns the mode as +1 / -1 (slip direction) or 0 (stuck) */
-static int decide(const Balls *B, int b, double t, double *y, double *p)
+/* ball b held at rest on the race (phi_b' = 0 in y) and stuck: the ball's rate state moved by its slip rate until
+ * that is exactly 0 (one pass where the slip rate is the state itself; two where it is relative to the race's
+ * rate, the second removing the first's rounding) */
+static void hold(const Balls *B, int b, double t, double *y, double *p)
 {
-    /* at rest on the race: the ball's rate state moved by its slip rate until that is exactly 0 (one pass
-     * where the slip rate is the state itself; two where it is relative to the race's rate, the second
-     * removing the first's rounding) */
     for (int it = 0; it < 4; ++it) {
         double g = ADB_MEASURE(B->m_rate[b], t, y, p);
         if (g == 0.0) break;
         y[B->rate_state[b]] -= g;
     }
     p[B->stuck[b]] = 1.0;
-    accelerations(B, t, y, p);
-    if (ADB_MEASURE(B->m_margin[b], t, y, p) >= 0.0) {
-        p[B->dir[b]] = 0.0;
-        return 0;
+    p[B->dir[b]] = 0.0;
+}
+
+/* The modes of the n balls set[k], each at rest on the race, decided together: all held stuck, then every one
+ * whose margin is negative released, slipping away from the force it would need (slip_dir = -sign F), the
+ * margins and forces of all of them computed from the same state and modes; repeated with those released until
+ * no held ball's margin is negative (at most n rounds: a ball once released stays so).  The result depends
+ * neither on the balls' order nor on the modes p held for them before (stick wherever it can hold, given the
+ * others).  mode[k]: +1 / -1 (slip direction) or 0 (stuck). */
+static void decide_set(const Balls *B, const int *set, int n, double t, double *y, double *p, int *mode)
+{
+    for (int k = 0; k < n; ++k) hold(B, set[k], t, y, p), mode[k] = 0;
+    for (int round = 0; round < n; ++round) {
+        double F[n];
+        int release[n], any = 0;
+        accelerations(B, t, y, p);
+        for (int k = 0; k < n; ++k) {
+            release[k] = mode[k] == 0 && ADB_MEASURE(B->m_margin[set[k]], t, y, p) < 0.0;
+            if (release[k]) F[k] = ADB_MEASURE(B->m_force[set[k]], t, y, p), any = 1;
+        }
+        if (!any) break;
+        for (int k = 0; k < n; ++k) {
+            if (!release[k]) continue;
+            mode[k] = F[k] > 0.0 ? -1 : 1;
+            p[B->stuck[set[k]]] = 0.0;
+            p[B->dir[set[k]]] = (double)mode[k];
+        }
     }
-    double F = ADB_MEASURE(B->m_force[b], t, y, p);
-    p[B->stuck[b]] = 0.0;
-    p[B->dir[b]] = F > 0.0 ? -1.0 : 1.0;
-    return (int)p[B->dir[b]];
 }
 
 /* the first t in (a, b] of the step where ball's g < 0, given g(a) >= 0 > g(b): bisection to adjacent doubles */
@@ -162,17 +183,22 @@ int adb_hybrid_run(const double *y0, double t0, double t1, double *p, int nb, co
     int status = HY_OK;
     double slipped[64]; /* per ball: the time of its last decision into slip (none since, or stuck: -inf) */
     for (int b = 0; b < 64; ++b) slipped[b] = -INFINITY;
-    for (int b = 0; b < nb; ++b) { /* the modes at the start */
+    int at_rest[nb > 0 ? nb : 1], start_mode[nb > 0 ? nb : 1], n_rest = 0;
+    for (int b = 0; b < nb; ++b) { /* the modes at the start: the balls at rest decided together */
         double rate = ADB_MEASURE(m_rate[b], t, y, p); /* relative to the race */
         if (rate == 0.0) {
-            int mode = decide(&B, b, t, y, p);
-            if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
-            ++ne;
-            if (b < 64 && mode != 0) slipped[b] = t;
+            at_rest[n_rest++] = b;
         } else {
             p[stuck[b]] = 0.0;
             p[dir[b]] = rate > 0.0 ? 1.0 : -1.0;
         }
+    }
+    decide_set(&B, at_rest, n_rest, t, y, p, start_mode);
+    for (int k = 0; k < n_rest; ++k) {
+        int b = at_rest[k], mode = start_mode[k];
+        if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
+        ++ne;
+        if (b < 64 && mode != 0) slipped[b] = t;
     }
     while (k_eval < n_eval && t_eval[k_eval] <= t) memcpy(y_eval + ADB_NY * k_eval++, y, sizeof y);
     double h = fmin(1e-4 * (t1 - t0), t1 - t0);
@@ -221,9 +247,12 @@ int adb_hybrid_run(const double *y0, double t0, double t1, double *p, int nb, co
         memcpy(y, yend, sizeof y);
         if (isfinite(first)) {
             double close = 64.0 * fabs(nextafter(first, INFINITY) - first);
-            for (int b = 0; b < nroots; ++b) {
-                if (roots[b] > first + close) continue;
-                int mode = decide(&B, b, t, y, p);
+            int set[64], modes[64], n_set = 0;
+            for (int b = 0; b < nroots; ++b)
+                if (roots[b] <= first + close) set[n_set++] = b;
+            decide_set(&B, set, n_set, t, y, p, modes);
+            for (int k = 0; k < n_set; ++k) {
+                int b = set[k], mode = modes[k];
                 if (ne < max_events) ev_t[ne] = t, ev_ball[ne] = b, ev_mode[ne] = mode;
                 ++ne;
                 /* a slip decided that ended within 64 ulp of its start and is decided again: the ball can

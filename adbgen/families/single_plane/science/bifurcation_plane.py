@@ -318,6 +318,6 @@ def lines(res: dict, paths: list[Path], root: Path) -> list[str]:
     from .templates import render
 
     rel = [p.relative_to(root).as_posix() for p in paths]
-    return render("bifurcation_plane.md.j2", planes=[dict(pl, summary=summary(pl)) for pl in res["planes"]],
+    return render("bifurcation_plane", planes=[dict(pl, summary=summary(pl)) for pl in res["planes"]],
                   checks=statements(res), agreement=coincident_agreement(res), figures=rel, rows=ROWS,
-                  omega=OMEGA, tol=TOL).splitlines()
+                  omega=OMEGA, tol=TOL)

@@ -75,7 +75,7 @@ def lines(res: dict) -> list[str]:
     from .templates import render
 
     values = {k: v for k, v in res.items() if k != "coincident"}
-    out = render("chapter3.md.j2", **values).splitlines()
+    out = render("chapter3", **values)
     return out + ([""] + coincident_lines(res["coincident"]) if "coincident" in res else [])
 
 
@@ -110,4 +110,4 @@ def coincident_lines(windows: dict) -> list[str]:
 
     checks = [(text, mu, Om, [(n, any(a <= Om <= b for a, b in windows[(n, mu)])) for n in ns])
               for text, ns, mu, Om in COINCIDENT_STATEMENTS]
-    return render("coincident.md.j2", windows=windows, checks=checks, lo=0.05, hi=6.0).splitlines()
+    return render("coincident", windows=windows, checks=checks, lo=0.05, hi=6.0)

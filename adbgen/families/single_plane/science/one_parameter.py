@@ -86,4 +86,4 @@ def compute(panels=PANELS) -> list[dict]:
 def lines(panels: list[dict]) -> list[str]:
     from .templates import render
 
-    return render("one_parameter.md.j2", panels=panels, ranges=RANGES).splitlines()
+    return render("one_parameter", panels=panels, ranges=RANGES)

@@ -311,7 +311,7 @@ def lines(a: dict, h1: list[dict], ds: list[dict], b: dict) -> str:
                        stable=[lam for lam, s in zip(j["parameter"], j["stable"]) if s])
         rows.append(out)
     desync = [{"n": row["n"], "orbit": row["orbit"], "branch": row["branch"].to_json()} for row in ds]
-    return render("periodic_orbits.md.j2", h1=rows, desynchronised=desync, **values)
+    return "\n".join(render("periodic_orbits", h1=rows, desynchronised=desync, **values)) + "\n"
 
 
 from .coverage import ORBIT_ROWS  # noqa: E402

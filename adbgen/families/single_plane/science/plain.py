@@ -39,7 +39,20 @@ def rows(results, lyapunov: dict | None) -> list[dict]:
             plain = plain_rotor_r(1.6)
             out.append({"figure": name.split(",")[0], "n": int(name.split("= ")[1]), "what": "largest r, t in "
                         "[1000, 5000]", "label": "", "r": v["r_window"], "plain": plain, "ratio": v["r_window"] / plain})
+    for row in out:
+        row.update(judged(row))
     return sorted(out, key=lambda x: (x["figure"][-2], x["n"]))
+
+
+def judged(row: dict) -> dict:
+    """The thesis' statement a row is compared with and whether the numbers bear it out: (a), (b) "larger with"
+    the balancer (ratio > 1); (d) at n = 2, 3 "smaller with" (ratio < 1); (d) at n = 4 the balls balance, no
+    statement to judge (holds None)."""
+    if "(a)" in row["figure"] or "(b)" in row["figure"]:
+        return {"statement": "larger with", "holds": row["ratio"] > 1}
+    if row["n"] < 4:
+        return {"statement": "smaller with", "holds": row["ratio"] < 1}
+    return {"statement": "balances", "holds": None}
 
 
 def lines(results, lyapunov) -> list[str]:
@@ -48,4 +61,4 @@ def lines(results, lyapunov) -> list[str]:
     table = rows(results, lyapunov)
     at_a = [r["r"] for r in sorted((r for r in table if "(a)" in r["figure"]), key=lambda r: r["n"])]
     grows = len(at_a) > 1 and all(a < b for a, b in zip(at_a, at_a[1:]))
-    return render("plain.md.j2", rows=table, grows=grows, at_a=at_a).splitlines()
+    return render("plain", rows=table, grows=grows, at_a=at_a)

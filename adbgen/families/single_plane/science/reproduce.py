@@ -354,8 +354,8 @@ def _basin_n4_section(basins, root: Path) -> list[str]:
     rows = _basin_rows(basins, root)
     b = rows[1]
     b["not_balancing"] = b["size"] ** 2 - round(b["balanced"] * b["size"] ** 2)
-    return render("basins_n4.md.j2", basins=rows, size=rows[0]["size"], a=rows[0], b=b, c=rows[2],
-                  d=rows[3]).splitlines()
+    return render("basins_n4", basins=rows, size=rows[0]["size"], a=rows[0], b=b, c=rows[2],
+                  d=rows[3])
 
 
 def _simulate(n: int, phi0, params: dict, rtol: float, atol: float | None = None, engine: str = ENGINE,
@@ -653,8 +653,8 @@ def _chapter4(statements, maps, root: Path, pitchfork=None) -> list[str]:
                          "rel": 100 * (first - THESIS_PITCHFORK_HOPF) / THESIS_PITCHFORK_HOPF})
         first = pf[min(pf)][0]
         pitchfork = {**pitchfork, "rows": rows, "first": first, "above": first - THESIS_PITCHFORK_HOPF}
-    return render("chapter4_balanced.md.j2", statements=statements, lines=lines, pitchfork=pitchfork,
-                  maps=[(title, path.relative_to(root).as_posix()) for title, path in maps]).splitlines()
+    return render("chapter4_balanced", statements=statements, lines=lines, pitchfork=pitchfork,
+                  maps=[(title, path.relative_to(root).as_posix()) for title, path in maps])
 
 
 def _basin_section(basins, root: Path) -> list[str]:
@@ -664,7 +664,7 @@ def _basin_section(basins, root: Path) -> list[str]:
     if not basins:
         return []
     shrink = all(basins[i]["balanced"] >= basins[i + 1]["balanced"] for i in range(2))
-    return render("basins_n2.md.j2", basins=_basin_rows(basins, root), shrink=shrink).splitlines()
+    return render("basins_n2", basins=_basin_rows(basins, root), shrink=shrink)
 
 
 def _transient_section(transients) -> list[str]:
@@ -691,10 +691,10 @@ def _transient_section(transients) -> list[str]:
                 notes.append(_note(t, q, spread))
     study = [(t["row"].figure, q, [_fmt(getattr(t["sims"][r], q), 6) for r in RTOLS])
              for t in transients for q in ("r_max", "t_dec")]
-    return render("transients.md.j2", engine=ENGINE, rows=rows, study=study, notes=notes, rtols=RTOLS,
+    return render("transients", engine=ENGINE, rows=rows, study=study, notes=notes, rtols=RTOLS,
                   count=len(transients),
                   printed_t_dec=sum(_printed(t["ode45"].t_dec, t["row"].t_dec) for t in transients),
-                  printed_r_max=sum(_printed(t["ode45"].r_max, t["row"].r_max) for t in transients)).splitlines()
+                  printed_r_max=sum(_printed(t["ode45"].r_max, t["row"].r_max) for t in transients))
 
 
 def _note(t: dict, q: str, spread) -> dict:
@@ -756,8 +756,8 @@ def _document(transients, results, figures, root: Path, statements=(), maps=(), 
                 flagged.append((case.figure, name, v))
     slow = [_slow_text(case, res["slow"]) for case, res in results if "slow" in res]
     L = _transient_section(transients)
-    L += render("end_states.md.j2", rows=rows, differences=flagged, slow=slow,
-                figures=[(title, path.relative_to(root).as_posix()) for title, path in figures]).splitlines()
+    L += render("end_states", rows=rows, differences=flagged, slow=slow,
+                figures=[(title, path.relative_to(root).as_posix()) for title, path in figures])
     L += _basin_section(basins, root)
     L += _basin_n4_section(basins_n4, root)
     L += _chapter4(statements, maps, root, pitchfork)
@@ -773,8 +773,8 @@ def _slow_text(case, slow: dict) -> str:
     falls = all(q["r_max"] < p["r_max"] for p, q in zip(pts, pts[1:])) and pts[0]["r_max"] < slow["r_start"]
     balances = (falls and slow["exponent"] > 0.5 and pts[-1]["spread"] < pts[0]["spread"]
                 and slow["limit_residual"] < 1e-9 and slow["neutral"] > slow["free_angles"])
-    return render("slow_approach.md.j2", figure=case.figure, t_end=T_END, rtol=RTOLS[-1], slow=slow,
-                  balances=balances).rstrip("\n")
+    return "\n".join(render("slow_approach", figure=case.figure, t_end=T_END, rtol=RTOLS[-1], slow=slow,
+                   balances=balances)).rstrip("\n")
 
 
 def _figures(fig_dir: Path) -> list[tuple[str, Path]]:

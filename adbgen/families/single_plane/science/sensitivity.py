@@ -149,9 +149,9 @@ def lines(res: dict, root: Path) -> list[str]:
     """Fig. 5.10's section (templates/tolerance.md.j2) and the named starts' table."""
     from .templates import render
 
-    return render("tolerance.md.j2", ladder=res["ladder"], runs=res["runs"], checked=CHECKED, tighten=TIGHTEN,
+    return render("tolerance", ladder=res["ladder"], runs=res["runs"], checked=CHECKED, tighten=TIGHTEN,
                   rel_tol=REL_TOL, mark=MARK, lap_window=LAP_WINDOW,
-                  figure=res["figure"].relative_to(root).as_posix()).splitlines() + named_lines(res.get("named", []))
+                  figure=res["figure"].relative_to(root).as_posix()) + named_lines(res.get("named", []))
 
 
 # ------------------------------------------------------------------------ every transient, checked
@@ -173,8 +173,8 @@ def transient_lines(items) -> list[str]:
     (templates/transient_check.md.j2)."""
     from .templates import render
 
-    return render("transient_check.md.j2", items=items, flagged=[(f, t, c) for f, t, c in items if c.sensitive],
-                  runs=items[0][2].runs if items else [], tighten=TIGHTEN, rel_tol=REL_TOL, mark=MARK).splitlines()
+    return render("transient_check", items=items, flagged=[(f, t, c) for f, t, c in items if c.sensitive],
+                  runs=items[0][2].runs if items else [], tighten=TIGHTEN, rel_tol=REL_TOL, mark=MARK)
 
 
 # ------------------------------------------------------------- the named starts of Figs. 5.7, 5.9
@@ -229,4 +229,4 @@ def named_lines(rows: list[dict]) -> list[str]:
 
     if not rows:
         return []
-    return render("named_checked.md.j2", rows=rows, check=rows[0]["check"], tighten=TIGHTEN, mark=MARK).splitlines()
+    return render("named_checked", rows=rows, check=rows[0]["check"], tighten=TIGHTEN, mark=MARK)

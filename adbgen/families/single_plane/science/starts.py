@@ -126,6 +126,6 @@ def summary(rows: dict) -> dict:
 def lines(res: dict, root: Path | None = None) -> list[str]:
     from .templates import render
 
-    return render("starts.md.j2", random=res["random"], tie=res["tie"], inline=res["inline"], rtol=RTOL,
+    return render("starts", random=res["random"], tie=res["tie"], inline=res["inline"], rtol=RTOL,
                   t_end=T_END, engine=ENGINE, starts=ROTOR_STARTS,
-                  summary={n: summary(rows) for n, rows in res["random"].items()}).splitlines()
+                  summary={n: summary(rows) for n, rows in res["random"].items()})

@@ -553,9 +553,9 @@ def scans_lines(res: Everything, paths: dict, root: Path) -> list[str]:
         named_rows.append({"figure": fig, "words": words, "label": s["labels"][k], "phi_1": s["phi_1"][k],
                            "same": s["labels"][k] == expect})
     eq = [("5.5(b)", "n = 2, in line"), ("5.7(c), 2pi/3", "n = 3, equidistant"), ("5.9(c)", "n = 4, equidistant")]
-    return render("scans.md.j2", command=res.scans[0]["command"], scans=rows, named=named_rows,
+    return render("scans", command=res.scans[0]["command"], scans=rows, named=named_rows,
                   equidistant=[(t, np.median(by[f]["r_max"])) for f, t in eq],
-                  figures=[(key, _rel_link(paths[key], root)) for key in ("5.5", "5.7", "5.9")]).splitlines()
+                  figures=[(key, _rel_link(paths[key], root)) for key in ("5.5", "5.7", "5.9")])
 
 
 def lyapunov_lines(lyapunov: dict) -> list[str]:
@@ -567,7 +567,7 @@ def lyapunov_lines(lyapunov: dict) -> list[str]:
         verdict = "chaotic (positive exponent)" if min(v["first_half"], v["second_half"]) > 0.01 else (
             "not chaotic (exponent ~ 0: a cycle or torus)" if abs(v["exponent"]) < 0.005 else "undecided")
         runs.append((name, {**v, "verdict": verdict}))
-    return render("lyapunov.md.j2", runs=runs).splitlines()
+    return render("lyapunov", runs=runs)
 
 
 def damping_lines(res: Everything, paths: dict, root: Path) -> list[str]:
@@ -583,8 +583,8 @@ def damping_lines(res: Everything, paths: dict, root: Path) -> list[str]:
                      "zeta": None if ok.all() else v["zeta"][np.nonzero(~ok)[0]].min(),
                      "beta": None if ok.all() else v["beta"][np.nonzero(~ok)[1]].max(),
                      "r_max": [v["r_max"][i, j] for i, j in corners], "t_dec": [v["t_dec"][i, j] for i, j in corners]})
-    return render("damping_maps.md.j2", command=res.zeta_beta[2]["command"], rows=rows,
-                  figure=_rel_link(paths["5.20"], root)).splitlines()
+    return render("damping_maps", command=res.zeta_beta[2]["command"], rows=rows,
+                  figure=_rel_link(paths["5.20"], root))
 
 
 def omega_delta_lines(res: Everything, paths: dict, root: Path) -> list[str]:
@@ -611,9 +611,9 @@ def omega_delta_lines(res: Everything, paths: dict, root: Path) -> list[str]:
             spreads.append((fig, n, float(np.nanmedian(v["r_max"][-1])), float(np.nanmedian(spread))))
     common = [(n, row) for n in res.delta[0.03] for row in common_deltas(res.delta[0.03][n], res.delta[0.12][n])]
     worst = {q: max((abs(r["rel"][q]) for _, r in common), default=0.0) for q in ("r_max", "t_dec")}
-    return render("sweeps_omega_delta.md.j2", command=res.omega[2]["command"], published=THESIS_ONSET, below=below,
+    return render("sweeps_omega_delta", command=res.omega[2]["command"], published=THESIS_ONSET, below=below,
                   at=at, onsets=onset_rows, spreads=spreads, common=common, worst=worst,
-                  figures=[(k, _rel_link(paths[k], root)) for k in ("5.23", "5.24", "5.25")]).splitlines()
+                  figures=[(k, _rel_link(paths[k], root)) for k in ("5.23", "5.24", "5.25")])
 
 
 def basins_n3_lines(res: Everything) -> list[str]:
@@ -622,9 +622,9 @@ def basins_n3_lines(res: Everything) -> list[str]:
 
     rows = [{**b, "others": ", ".join(f"{k} {v}" for k, v in b["counts"].items()
                                       if not balanced(k) and not is_open([k])[0]) or "none"} for b in res.basins_n3]
-    return render("basins_n3.md.j2", basins=rows, published=N3_PUBLISHED, t_end=N3_T_END,
+    return render("basins_n3", basins=rows, published=N3_PUBLISHED, t_end=N3_T_END,
                   limit=getattr(res, "family_limit", None),
-                  any_balanced_unstable=any(b["balanced"] and b["family"][0] > 0 for b in rows)).splitlines()
+                  any_balanced_unstable=any(b["balanced"] and b["family"][0] > 0 for b in rows))
 
 
 def _count_cell(labels) -> str:
@@ -640,8 +640,9 @@ def launches_lines(res: Everything, paths: dict, root: Path) -> list[str]:
         counts = [count_balanced(v["labels"][r]) for r in LAUNCH_RTOLS]
         rows.append({"n": n, "published": LAUNCH_PUBLISHED[n], "counts": [_count_cell(v["labels"][r]) for r in LAUNCH_RTOLS],
                      "low": min(counts), "high": max(counts),
+                     "published_in_range": min(counts) <= LAUNCH_PUBLISHED[n] <= max(counts),
                      "ode45": "—" if v.get("ode45") is None else _count_cell(v["ode45"]), "changes": len(v["changes"]),
                      "local": "; ".join(f"{x['phi_1']:.4f}: {x['balanced']}, {x['switches']}" for x in v["local"]) or "—"})
     rtols = [f"1e{round(math.log10(r))}" for r in LAUNCH_RTOLS]  # as the tolerances are written: 1e-6, not 1e-06
-    return render("launches.md.j2", command=next(iter(res.launches.values()))["command"], rtols=rtols, rows=rows,
-                  figure=_rel_link(paths["5.11"], root)).splitlines()
+    return render("launches", command=next(iter(res.launches.values()))["command"], rtols=rtols, rows=rows,
+                  figure=_rel_link(paths["5.11"], root))

@@ -36,3 +36,13 @@ def test_the_statements_are_judged_from_the_numbers():
     assert "| 5.12(d) | 2 | final r 0.50000 | coincident 2- | 0.01067 | 46.9 | **does not hold** (smaller with) |" in text
     assert "| 5.12(b) | 2 | largest r, t in [1000, 5000] 0.40000 |" in text
     assert "does **not** grow with the number of balls" in text
+
+
+def test_each_row_is_judged_in_python_not_in_the_template():
+    """plain.judged decides the verdict the template prints (issue 33: no finding decided in a template).
+    Controls: the same ratio judged against the other statement flips, and n = 4 at (d) has none."""
+    assert plain.judged({"figure": "5.12(a)", "n": 2, "ratio": 6.0}) == {"statement": "larger with", "holds": True}
+    assert plain.judged({"figure": "5.12(b)", "n": 3, "ratio": 0.5}) == {"statement": "larger with", "holds": False}
+    assert plain.judged({"figure": "5.12(d)", "n": 2, "ratio": 6.0}) == {"statement": "smaller with", "holds": False}
+    assert plain.judged({"figure": "5.13(d)", "n": 3, "ratio": 0.5}) == {"statement": "smaller with", "holds": True}
+    assert plain.judged({"figure": "5.14(d)", "n": 4, "ratio": 0.5}) == {"statement": "balances", "holds": None}

@@ -89,3 +89,12 @@ def test_figure_12_titles_fit_the_figure():
     assert _title_fits(rtp.FIG12A_TITLE) and _title_fits(rtp.FIG12B_TITLE)
     # negative control: 12(b)'s title on one line, as it was, runs past the figure's edge
     assert not _title_fits(rtp.FIG12B_TITLE.replace("\n", " "))
+
+
+def test_better_agreement_compares_the_shares_of_agreeing_points():
+    """The verdict the template prints (decided here, not in prose/fig12.md.j2): Figure 12(b)'s share of grid
+    points agreeing with its B's Floquet stability against Figure 12(a)'s.  Controls: equal shares and a larger
+    count over a larger grid (a smaller share) are not a better agreement."""
+    assert rtp.better_agreement(90, 100, 170, 200)
+    assert not rtp.better_agreement(85, 100, 170, 200)  # equal shares
+    assert not rtp.better_agreement(150, 200, 80, 100)  # more points agree, a smaller share

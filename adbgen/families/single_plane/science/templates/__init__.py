@@ -1,25 +1,29 @@
-"""The Markdown of the thesis' reproduction sections, as jinja2 templates (issue 33 item 6: long prose out of
-Python string literals).  `render(name, **values)`: the template filled; numbers are formatted in the
-templates, computed by the science modules.
+"""The Markdown of the thesis' reproduction sections, as jinja2 templates (package data, `*.md.j2` beside this
+file; issue 33 item 6: long prose out of Python string literals): the science modules compute the numbers and
+the verdicts, the templates format and word them.  Read as every Markdown template of the package is
+(`analysis.prose`: its convention, `{##}` ends a line that goes on in the next).
 
-A line of a template that ends in `{##}` (an empty jinja2 comment, whose newline trim_blocks removes) goes on
-in the next line: the document's long paragraphs and table cells are one line each, the templates wrapped."""
+    render(name, **values) -> list of markdown lines
+"""
 
 from __future__ import annotations
 
 from functools import lru_cache
+from pathlib import Path
+
+from .....analysis.prose import environment, read
+
+FOLDER = Path(__file__).parent
 
 
-@lru_cache(maxsize=None)
+@lru_cache(maxsize=1)
 def _environment():
-    import jinja2
-
-    env = jinja2.Environment(loader=jinja2.PackageLoader("adbgen.families.single_plane.science", "templates"),
-                             undefined=jinja2.StrictUndefined, keep_trailing_newline=True, trim_blocks=True,
-                             lstrip_blocks=True)
-    env.globals["zip"] = zip
-    return env
+    return environment(FOLDER)
 
 
-def render(name: str, **values) -> str:
-    return _environment().get_template(name).render(**values)
+def render(name: str, **values) -> list[str]:
+    """The template `name` (without .md.j2) rendered with `values`, as lines (analysis.prose)."""
+    return read(_environment(), name, values)
+
+
+__all__ = ["render"]
