@@ -52,7 +52,7 @@ def test_the_scopes_floquet_statement_on_paper_b():
     is a periodic orbit of period T = 2 pi / Omega (the same state returns after T) whose Floquet multipliers (the
     period map's Jacobian by central differences) are exp(lambda T), lambda B's eigenvalues: so its torus and
     fold are B's Hopf and real crossings.  Negative controls: exp(lambda T) at another period does not match, nor
-    does an anisotropic rotor's period map (k_1Y = 2 k_1X: the case the design treats as a forced orbit, design_orbit)."""
+    does an anisotropic rotor's period map (k_1Y = 2 k_1X: designed as a forced orbit, design_orbit)."""
     import numpy as np
 
     from adbgen.analysis.simulate import simulate
