@@ -12,6 +12,14 @@ Everything is read from the generated module's self-description: the balancing s
 STEADY_STATES whose closed form has the rotor at rest (the thesis' balanced state 1 of (3.6), the paper's B
 of (9)); the imbalance is SCALES["eccentricity"]; the speed SCALES["speed"].
 
+**Forced models** (a rotor in the fixed frame, FORCING_FREQUENCY w): the balancing state is the orbit of period
+T = 2 pi / w through the same closed form (the rotor at rest, the balls turning with it), checked over one period
+before use; its margin is the leading non-trivial Floquet exponent's real part log max|mu| / T with its uncertainty
+(design_orbit: the monodromy matrix of the variational equations, the multipliers 1 of the balancing family
+removed), so every scan, interval, chart and optimiser below reads it as it reads an equilibrium's leading real
+part, and a boundary is named by its multiplier (torus, fold, period doubling).  Where the closed form is absent
+(its guards: e.g. no gravity) the state does not exist, exactly as beyond the capacity.
+
 **Existence (the capacity limit).**  The balancing state exists at p when its closed form does
 (`steady_state(label, p)`: thesis (3.14) mu >= delta/n, paper m >= M eps/(4R)).  The capacity is the largest
 eccentricity at which it exists (bisection on the closed form's existence, assumed monotone in the
@@ -127,9 +135,9 @@ class Problem:
 
     def __post_init__(self):
         m = self.model
-        if not m.autonomous:
-            raise AnalysisError(f"{m.name} depends on time explicitly (a forced model): design needs a model with "
-                                "steady states (a rotating-frame model); forced models' orbits are not designed here")
+        if not m.autonomous and not m.forcing_frequency:
+            raise AnalysisError(f"{m.name} depends on time explicitly but is not periodically forced (no forcing "
+                                "frequency): it has no balancing state or orbit to design for")
         names = [a.name for a in self.box + self.varied]
         for name in names:
             if name not in m.param_names:
@@ -150,7 +158,7 @@ class Problem:
         for a in self.varied:
             if a.fixed:
                 raise AnalysisError(f"--vary {a.name}: LOW and HIGH are equal: nothing to vary (use --set)")
-        self.label = self.label or balancing_label(m)
+        self.label = self.label or balancing_label(m, self.base)
         ecc = m.scales.get("eccentricity")
         if ecc is None:
             raise AnalysisError(f"{m.name} names no eccentricity parameter (SCALES): no imbalance to design for")
@@ -182,11 +190,11 @@ class Problem:
         return p
 
 
-def balancing_label(model: Model) -> str:
+def balancing_label(model: Model, p_first: np.ndarray | None = None) -> str:
     """The label of the module's STEADY_STATES whose closed form has the rotor at rest (the balancing state)
-    at START_PARAMETERS or DEFAULTS; AnalysisError when there is none."""
+    at `p_first` (the problem's parameters), START_PARAMETERS or DEFAULTS; AnalysisError when there is none."""
     for label in model.steady_states:
-        for p in (getattr(model.module, "START_PARAMETERS", None), model.module.DEFAULTS):
+        for p in (p_first, getattr(model.module, "START_PARAMETERS", None), model.module.DEFAULTS):
             if p is None:
                 continue
             y = model.steady_state(label, p)
@@ -194,8 +202,10 @@ def balancing_label(model: Model) -> str:
                 if rotor_size(model, y) == 0.0:
                     return label
                 break
-    raise AnalysisError(f"{model.name} has no closed-form balancing state (a labelled steady state with the rotor "
-                        f"at rest; labels: {', '.join(model.steady_states) or 'none'}): nothing to design for")
+    where = "".join(f"; {label}: {model.steady_state_note(label)}" for label in model.steady_states)
+    raise AnalysisError(f"{model.name} has no closed-form balancing state at these parameters (a labelled steady "
+                        f"state with the rotor at rest; labels: {', '.join(model.steady_states) or 'none'}{where}): "
+                        "nothing to design for")
 
 
 # ------------------------------------------------------------------------------------------ capacity
@@ -263,6 +273,9 @@ class Verdict:
     unstable_at: list = field(default_factory=list)  # box points (dicts) found unstable
     failures: list = field(default_factory=list)  # (point, why)
     samples: int = 0
+    # a forced model's balancing orbit at the worst point: its period T (nan: an equilibrium); `leading` is then
+    # the leading Floquet exponent log(mu) / T and `margin` its real part (design_orbit)
+    period: float = math.nan
 
     @property
     def marginal(self) -> bool:
@@ -274,18 +287,25 @@ class Verdict:
                 "feasible": self.feasible, "margin": self.margin, "margin_uncertainty": self.margin_uncertainty,
                 "worst": self.worst, "leading": [self.leading.real, self.leading.imag],
                 "unstable_at": self.unstable_at, "failures": [[pt, why] for pt, why in self.failures],
-                "samples": self.samples}
+                "samples": self.samples, "period": self.period}
 
     @classmethod
     def from_record(cls, r: dict) -> Verdict:
         return cls(tuple(r["design"]), bool(r["exists"]), float(r["capacity"]), feasible=bool(r["feasible"]),
                    margin=float(r["margin"]), margin_uncertainty=float(r["margin_uncertainty"]), worst=dict(r["worst"]),
                    leading=complex(*r["leading"]), unstable_at=[dict(pt) for pt in r["unstable_at"]],
-                   failures=[(dict(pt), why) for pt, why in r["failures"]], samples=int(r["samples"]))
+                   failures=[(dict(pt), why) for pt, why in r["failures"]], samples=int(r["samples"]),
+                   period=float(r.get("period", math.nan)))
 
     @property
     def crossing(self) -> str:
-        """How the leading eigenvalue leaves: "Hopf" (a complex pair) or "real eigenvalue" (fold, pitchfork)."""
+        """How the leading eigenvalue leaves: "Hopf" (a complex pair) or "real eigenvalue" (fold, pitchfork); a
+        forced model's balancing orbit: how its leading multiplier leaves the unit circle, "torus", "fold" or
+        "period doubling" (design_orbit.crossing)."""
+        if math.isfinite(self.period):
+            from .design_orbit import crossing
+
+            return crossing(self.leading, self.period)
         return "Hopf" if abs(self.leading.imag) > 1e-9 * max(1.0, abs(self.leading)) else "real eigenvalue"
 
     def to_json(self, problem: Problem) -> dict:
@@ -297,7 +317,16 @@ class Verdict:
                 "marginal": self.marginal if math.isfinite(self.margin) else None,
                 "worst_point": self.worst, "leading_eigenvalue": [_num(self.leading.real), _num(self.leading.imag)],
                 "unstable_at": self.unstable_at[:5], "failures": [[pt, why] for pt, why in self.failures[:5]],
-                "box_samples": self.samples}
+                "box_samples": self.samples,
+                "orbit_period": _num(self.period),
+                "leading_multiplier": ([_num(mu.real), _num(mu.imag)] if (mu := self._multiplier()) is not None
+                                       else None)}
+
+    def _multiplier(self) -> complex | None:
+        """A forced model's leading Floquet multiplier exp(leading T) (None: an equilibrium's verdict)."""
+        if not (math.isfinite(self.period) and np.isfinite(self.leading)):
+            return None
+        return complex(np.exp(self.leading * self.period))
 
 
 def _num(x):
@@ -306,13 +335,19 @@ def _num(x):
 
 def _state_at(problem: Problem, p: np.ndarray):
     """The balancing state refined from its closed form at p (steady.refine: Newton, transverse spectrum,
-    margin); SolveFailed when it does not exist or Newton leaves it."""
+    margin); SolveFailed when it does not exist or Newton leaves it.  A forced model's: the balancing orbit
+    through the closed form, checked over one forcing period, its Floquet multipliers' margin in decay-rate
+    units (design_orbit.balancing_orbit)."""
     from .steady import SteadyStateError, refine
 
     m = problem.model
     y0 = m.steady_state(problem.label, p)
     if y0 is None:
         raise SolveFailed(f"no balancing state {problem.label} here (beyond the balls' capacity)")
+    if not m.autonomous:
+        from .design_orbit import balancing_orbit
+
+        return balancing_orbit(m, p, y0)
     try:
         s = refine(m, p, y0, label=problem.label)
     except SteadyStateError as exc:
@@ -448,6 +483,7 @@ def _assess(problem: Problem, design: tuple) -> Verdict:
     v.margin, v.worst = margin, point
     v.margin_uncertainty = float(state.margin.uncertainty)
     v.leading = complex(state.transverse[0]) if len(state.transverse) else complex(math.nan)
+    v.period = float(getattr(state, "period", math.nan))
     # a margin inside what the computation can certify (`margins`) decides nothing: not counted feasible, and
     # the verdict says `marginal`
     v.feasible = not v.unstable_at and not v.failures and margin < -v.margin_uncertainty
@@ -804,10 +840,26 @@ def sensitivity(problem: Problem, best: Verdict) -> list[dict]:
     """d(worst margin)/d(varied parameter) at the best design: from jac_p (the eigenvalue's first-order
     perturbation at the worst box point) and by one-sided finite differences of the worst margin (up, down);
     `agree` when jac_p's slope matches one of them to AGREE, `kink` when they differ (two box points equally
-    worst: a max-min optimum); and how far the parameter may move at jac_p's slope before the margin reaches 0."""
+    worst: a max-min optimum); and how far the parameter may move at jac_p's slope before the margin reaches 0.
+    A forced model's balancing orbit: the finite differences only (jac_p's perturbation is an equilibrium's
+    eigenvalue's; a multiplier's would need the second variational equations): `dmargin` their mean, `agree`
+    None (not checked), `method` says which."""
+    m = problem.model
+    if not m.autonomous:
+        out = []
+        for k, axis in enumerate(problem.varied):
+            one_sided = _one_sided(problem, best, k, axis)
+            finite = [x for x in one_sided if math.isfinite(x)]
+            slope = float(np.mean(finite)) if finite else math.nan
+            kink = bool(len(finite) == 2 and abs(finite[0] - finite[1]) > AGREE * max(map(abs, finite)) + 1e-9)
+            room = -best.margin / abs(slope) if math.isfinite(slope) and slope != 0 else math.inf
+            out.append({"parameter": axis.name, "dmargin": _num(slope), "dmargin_finite_difference":
+                        [_num(x) for x in one_sided], "agree": None, "kink": kink,
+                        "direction_to_boundary": "increase" if slope > 0 else "decrease", "room_linear": _num(room),
+                        "method": "one-sided finite differences of the worst margin (a forced model's orbit)"})
+        return out
     from .steady import complement, family_tangent, jacobian
 
-    m = problem.model
     p = problem.params(best.design, best.worst)
     s = _state_at(problem, p)
     J = jacobian(m, s.y, p)
@@ -831,13 +883,7 @@ def sensitivity(problem: Problem, best: Verdict) -> list[dict]:
         h = FD_STEP * (abs(p[col]) or 1.0)
         dJ = (jacobian(m, s.y + h * dy, p + h * e) - jacobian(m, s.y - h * dy, p - h * e)) / (2 * h)
         via_jac_p = float((l.conj() @ (S.T @ dJ @ S) @ r / (l.conj() @ r)).real)
-        hd = FD_STEP * (abs(best.design[k]) or axis.high - axis.low)
-        one_sided = []
-        for sign in (1, -1):
-            moved = list(best.design)
-            moved[k] += sign * hd
-            vm = assess(problem, moved)
-            one_sided.append(sign * (vm.margin - best.margin) / hd if math.isfinite(vm.margin) else math.nan)
+        one_sided = _one_sided(problem, best, k, axis)
         # at a max-min optimum two box points are equally worst and the worst margin has a kink: its one-sided
         # slopes differ, and jac_p's slope (at one of them) matches one side only
         kink = bool(all(map(math.isfinite, one_sided)) and abs(one_sided[0] - one_sided[1])
@@ -848,4 +894,16 @@ def sensitivity(problem: Problem, best: Verdict) -> list[dict]:
         out.append({"parameter": axis.name, "dmargin": via_jac_p, "dmargin_finite_difference": [_num(x) for x in one_sided],
                     "agree": agree, "kink": kink, "direction_to_boundary": ("increase" if via_jac_p > 0 else "decrease"),
                     "room_linear": _num(room)})
+    return out
+
+
+def _one_sided(problem: Problem, best: Verdict, k: int, axis: Axis) -> list[float]:
+    """The worst margin's one-sided finite differences (up, down) in the k-th varied parameter at `best`."""
+    hd = FD_STEP * (abs(best.design[k]) or axis.high - axis.low)
+    out = []
+    for sign in (1, -1):
+        moved = list(best.design)
+        moved[k] += sign * hd
+        vm = assess(problem, moved)
+        out.append(sign * (vm.margin - best.margin) / hd if math.isfinite(vm.margin) else math.nan)
     return out

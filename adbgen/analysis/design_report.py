@@ -27,20 +27,33 @@ NOT_COVERED = ["the ball count with a generated model's name (--balls needs a sc
                "optimiser's path (COBYLA: one design after another) run in the command's process (all are journalled: "
                "a killed design resumes)",
                "boundaries of periodic orbits other than the balancing state (a coexisting limit cycle's fold, torus or "
-               "period doubling) and basin boundaries; a balancing state that is itself a periodic orbit in its "
-               "model's frame (a forced model: an anisotropic rotor in the fixed frame) is refused"]
+               "period doubling) and basin boundaries",
+               "a forced model (a rotor in the fixed frame, anisotropic supports): its balancing orbit is designed "
+               "(existence, Floquet margin, intervals, chart, optimiser, verification runs) only where the module's "
+               "closed form gives it (e.g. without gravity: with gravity the rotor is not at rest and no closed form "
+               "is given); the sensitivities are finite differences only (no jac_p perturbation of a multiplier), "
+               "and the run-up objective and verification need a run model (--runs) as for any model"]
 # which boundaries the feasibility chart (and the intervals) locate and certify, said in every output: the
 # balancing steady state's losses only; a boundary of a periodic orbit (torus, period doubling: analysis/orbits/)
 # is not computed, so a region the chart calls feasible may hold such an orbit's bifurcation
 BOUNDARY_TYPES = {"certified": ["capacity limit (the balancing state's closed form ceases to exist)",
                                 "Hopf (a complex pair of the balancing state crosses)",
                                 "real eigenvalue (fold or pitchfork of the balancing state)",
+                                "torus (a complex pair of the forced model's balancing orbit's Floquet multipliers "
+                                "leaves the unit circle)",
+                                "fold (a multiplier of the balancing orbit through +1)",
+                                "period doubling (a multiplier of the balancing orbit through -1)",
                                 "range end"],
                   "not_certified": ["torus (Neimark-Sacker) or period doubling of a periodic orbit",
                                     "fold of periodic orbits", "a basin boundary (a coexisting attractor)"],
                   # the orbits' boundaries above are those of other orbits: the balancing state's own, seen from the
                   # fixed frame, are its Hopf and real crossings here (Floquet-Lyapunov, below)
-                  "scope": "the balancing state as an equilibrium of an autonomous model (forced models are refused). "
+                  "scope": "the balancing state as an equilibrium of an autonomous model, or, for a periodically forced "
+                           "model (a rotor in the fixed frame, anisotropic supports), as the periodic orbit of period "
+                           "T = 2 pi / Omega through the same closed form (the rotor at rest, the balls turning with "
+                           "it), checked over one period, its margin the leading non-trivial Floquet multiplier's "
+                           "log|mu| / T (the balancing family's multipliers 1 removed) and its boundaries named torus, "
+                           "fold or period doubling. "
                            "Where the model's frame turns with the rotor at the constant speed Omega, the same state "
                            "seen from the fixed frame is a periodic orbit of period T = 2 pi / Omega whose Floquet "
                            "multipliers are exp(lambda T), lambda its eigenvalues here (Floquet-Lyapunov: the frame's "
@@ -55,6 +68,7 @@ BOUNDARY_NOTE = ("Boundaries certified: " + "; ".join(b.split(" (")[0] for b in 
 
 RUN_UP_FIGURE = "run-up.png"
 MARKERS = {"capacity limit": ("s", "tab:purple"), "Hopf": ("o", "tab:red"), "real eigenvalue": ("^", "tab:orange"),
+           "torus": ("D", "tab:red"), "fold": ("v", "tab:orange"), "period doubling": ("P", "tab:brown"),
            "not located": ("x", "k")}
 
 

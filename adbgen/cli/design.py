@@ -24,13 +24,14 @@ register = command.register
 
 BEST_KEYS = ("the varied values", "balancing_state_exists", "capacity", "capacity_slack", "feasible", "margin",
              "decay_rate", "margin_uncertainty", "marginal", "worst_point", "leading_eigenvalue", "unstable_at",
-             "failures", "box_samples")
+             "failures", "box_samples", "orbit_period", "leading_multiplier")
 JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "imbalance_parameter": "",
                "imbalance_floor": "", "varied": "", "method": "(interval | chart | optimiser)", "feasible": "",
                "feasible_intervals": "", "boundaries": "[{at, kind, worst_point, bracket}]",
                "best": "{" + ", ".join(BEST_KEYS) + "}", "active_boundary": "",
                "sensitivity": "[{parameter, dmargin, dmargin_finite_difference, agree, kink, direction_to_boundary, "
-                              "room_linear}]", "chart": "", "resolution": "", "evaluations": "",
+                              "room_linear, method (a forced model's: finite differences only)}]", "chart": "",
+               "resolution": "", "evaluations": "",
                "evaluations_resumed": "(of the evaluations, those read back from --out's journal)",
                "objective_runs": "(--objective t_dec: [{design, point, start, status, t_end, threshold, t_dec, r_max, r_end, "
                                  "settled}]; r_max-run-up: [{design, point, run_model, mapped, status, t_end, "

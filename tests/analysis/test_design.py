@@ -108,9 +108,11 @@ def test_bad_problems_refused(thesis3):
         Problem(thesis3, base, [Axis("beta", 0, 1)], [Axis("beta", 0, 1)])
     with pytest.raises(AnalysisError, match="nothing to vary"):
         Problem(thesis3, base, [], [Axis("beta", 0.1, 0.1)])
-    with pytest.raises(AnalysisError, match="forced model"):
-        Problem(load_model("single_plane_fixed_n3"), load_model("single_plane_fixed_n3").params(), [],
-                [Axis("m", 0.01, 0.1)])
+    # a time-dependent model that is not periodically forced (a run-up) has no balancing state or orbit; a
+    # periodically forced one is designed on its balancing orbit (tests/analysis/test_design_orbit.py)
+    ramp = load_model("two_plane_ramp")
+    with pytest.raises(AnalysisError, match="not periodically forced"):
+        Problem(ramp, ramp.params(), [], [Axis("c_bb", 1e-5, 1e-3)])
 
 
 # a planted feasible strip in the design plane, narrower than the chart's grid spacing (1/6) and wider than its

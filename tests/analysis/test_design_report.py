@@ -27,7 +27,7 @@ def test_every_output_says_which_boundaries_are_certified(design, tmp_path):
     data = json.loads((tmp_path / "design.json").read_text())
     assert data["boundary_types"] == dr.BOUNDARY_TYPES and set(dr.BOUNDARY_TYPES) == {"certified", "not_certified",
                                                                                         "scope"}
-    assert "Floquet" in dr.BOUNDARY_TYPES["scope"] and "forced models are refused" in dr.BOUNDARY_TYPES["scope"]
+    assert "Floquet" in dr.BOUNDARY_TYPES["scope"] and "periodically forced" in dr.BOUNDARY_TYPES["scope"]
     report = (tmp_path / "report.md").read_text().splitlines()
     assert "Scope: " + dr.BOUNDARY_TYPES["scope"] in report
     assert any(line.startswith("Boundaries the chart certifies: capacity limit") for line in report)
@@ -52,7 +52,7 @@ def test_the_scopes_floquet_statement_on_paper_b():
     is a periodic orbit of period T = 2 pi / Omega (the same state returns after T) whose Floquet multipliers (the
     period map's Jacobian by central differences) are exp(lambda T), lambda B's eigenvalues: so its torus and
     fold are B's Hopf and real crossings.  Negative controls: exp(lambda T) at another period does not match, nor
-    does an anisotropic rotor's period map (k_1Y = 2 k_1X: the case the design refuses as forced)."""
+    does an anisotropic rotor's period map (k_1Y = 2 k_1X: designed as a forced orbit, design_orbit)."""
     import numpy as np
 
     from adbgen.analysis.simulate import simulate

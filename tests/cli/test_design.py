@@ -5,6 +5,7 @@ the JSON keys the help names; the output folder; each bad input one line with ex
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -234,3 +235,22 @@ def test_residual_objective_on_a_stiction_scene(capsys, tmp_path):
     low = json.loads(out)
     assert code == 0 and not low["feasible"] and low["best"] is None and "no design reaches the target" in low["residual"]["note"]
     assert [r["residuals"] for r in low["objective_runs"]] == [r["residuals"] for r in rows]
+
+
+def test_a_forced_model_is_designed_on_its_balancing_orbit(capsys):
+    # two_plane_fixed: the anisotropic rotor in the fixed frame (analysis/design_orbit.py); docs/design.md's example
+    def forced(omega):
+        code, out, err = run(capsys, "design", "two_plane_fixed", "--range", f"omega={omega}:{omega}", "--set",
+                             "epsilon=0.002", "--vary", "c_bb=1e-4:3e-4", "--tie", "c_bt=c_bb", "--no-verify", "--json")
+        assert code == 0, err
+        return json.loads(out)
+    data = forced(8)
+    best = data["best"]
+    assert data["feasible"] and best["margin"] < -best["margin_uncertainty"]
+    assert best["orbit_period"] == pytest.approx(2 * 3.141592653589793 / 8)
+    mu = complex(*best["leading_multiplier"])
+    assert abs(mu) < 1 and best["margin"] == pytest.approx(math.log(abs(mu)) / best["orbit_period"], rel=1e-9)
+    assert [s["method"] for s in data["sensitivity"]] == ["one-sided finite differences of the worst margin (a forced "
+                                                          "model's orbit)"]
+    # negative control: at Omega = 4 the anisotropic rotor's balancing orbit is unstable for every c_bb here
+    assert not forced(4)["feasible"]
