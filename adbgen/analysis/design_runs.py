@@ -17,8 +17,10 @@ cluster, with progress, and journalled so a killed design resumes where it stopp
                                       lasts the schedule plus the default run at the final speed
     run_up_trace(runs, p, y0)         the same run with r(t) kept (TRACE_SAMPLES points) for the verification's
                                       figure, r at the end and whether it settled
-    residual(runs, p, starts)         the residual imbalance r(t_end) from each start by the stick-slip engine
-                                      hybrid-dop853 (engines/hybrid.py) and its RESIDUAL_QUANTILE quantile
+    residual(runs, p, starts)         the residual imbalance from each start by the stick-slip engine
+                                      hybrid-dop853 (engines/hybrid.py): the run model's measure at t_end that
+                                      it names its residual (RESIDUAL_MEASURE: r in one plane, A in two) or
+                                      --residual-measure's, and its RESIDUAL_QUANTILE quantile
 
 A killed run loses at most the evaluations in flight: each line is written and flushed (os.fsync) when its
 evaluation finishes, and a half-written last line (a kill mid-write) is ignored and recomputed.
@@ -250,18 +252,26 @@ def residual_starts(runs: Model, count: int = RESIDUAL_STARTS, seed: int = RESID
     return np.array([rest_start(runs, rng.uniform(0, 2 * np.pi, balls)) for _ in range(count)])
 
 
-def residual_run(runs: Model, p: np.ndarray, y0: np.ndarray, t_end: float) -> dict:
-    """One stick-slip run (hybrid-dop853) from y0 to t_end: the residual imbalance r(t_end) (the rotor's
-    displacement where the balls came to rest), each ball's final mode, and `at_rest`: every ball stuck at
-    t_end (the residual is then where the balls stopped; analysis.residual's AT_REST)."""
+def residual_run(runs: Model, p: np.ndarray, y0: np.ndarray, t_end: float, measure: str = "r") -> dict:
+    """One stick-slip run (hybrid-dop853) from y0 to t_end: the residual imbalance, the run model's measure
+    `measure` at t_end (analysis.residual.residual_at_end, as the sweep reads it: "r" the rotor's displacement
+    where the balls came to rest, or another of its MEASURES, e.g. the one it names, Model.residual_measure),
+    each ball's final mode, and `at_rest`: every ball stuck at t_end (the residual is then where the balls
+    stopped; analysis.residual's AT_REST)."""
     from .engines import hybrid
+    from .residual import residual_at_end
 
     run = hybrid.run(runs, p, y0, 0.0, t_end, t_eval=np.array([t_end]))
     i, j = runs.amplitude_indices[:2]
     ok = run.status == "success"
     stuck = hybrid.switching(runs).stuck
-    return {"status": run.status, "t_end": float(t_end), "residual": float(math.hypot(run.y_end[i], run.y_end[j]))
-            if ok else None, "modes": list(run.modes(len(stuck))), "events": len(run.events),
+    value = None
+    if ok:
+        r = math.hypot(run.y_end[i], run.y_end[j])
+        value = float(residual_at_end(runs, measure, np.array([r]), np.array([t_end]), np.array([run.y_end]),
+                                      np.array([p]), np.array([False]))[0])
+    return {"status": run.status, "t_end": float(t_end), "residual": value, "measure": measure,
+            "modes": list(run.modes(len(stuck))), "events": len(run.events),
             "at_rest": bool(ok and all(run.params_end[k] == 1 for k in stuck))}
 
 
@@ -281,11 +291,25 @@ def residual_quantile(results: list[dict], q: float = RESIDUAL_QUANTILE) -> floa
     return float(np.quantile(values, q))
 
 
-def check_runs(objective: str, runs: Model) -> None:
-    """A one-line AnalysisError where the run model lacks what `objective` needs (before any computing)."""
+def residual_measure(runs: Model, given: str | None = None) -> str:
+    """The measure the residual objective reads at the runs' ends: `given` (--residual-measure: an explicit name
+    wins), else the one the run model names as its residual imbalance (Model.residual_measure); a one-line
+    AnalysisError where the name is not one of its measures."""
+    name = runs.residual_measure if given is None else given
+    if name not in runs.measures:
+        raise AnalysisError(f"--residual-measure: {name!r} is not a measure of {runs.name}; its measures: "
+                            f"{', '.join(runs.measures)}")
+    return name
+
+
+def check_runs(objective: str, runs: Model, measure: str | None = None) -> None:
+    """A one-line AnalysisError where the run model lacks what `objective` needs (before any computing); for
+    residual also an unknown `measure` (residual_measure)."""
     if objective == "residual" and not has_stick_phase(runs):
         raise AnalysisError(f"--objective residual: {runs.name} has no stick phase (a scene with static_friction "
                             "makes one): no residual imbalance to compute")
+    if objective == "residual":
+        residual_measure(runs, measure)
     if objective == "r_max-run-up" and "t_ramp" not in runs.param_names:
         raise AnalysisError(f"--objective r_max-run-up: {runs.name} has no run-up (no t_ramp parameter): give --runs "
                             "a scene whose [speed] law is a schedule, or a run-up model")

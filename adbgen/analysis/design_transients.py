@@ -34,8 +34,8 @@ import numpy as np
 
 from .design import Design, Problem, Verdict, active_limit, sensitivity
 from .design_runs import (RESIDUAL_FORMAT, RESIDUAL_QUANTILE, RESIDUAL_SEED, RESIDUAL_STARTS, Journal, check_runs,
-                          evaluate, key_of, residual_counts, residual_quantile, residual_run, residual_starts, rest_start,
-                          run_params, run_up, run_up_trace)
+                          evaluate, key_of, residual_counts, residual_measure, residual_quantile, residual_run,
+                          residual_starts, rest_start, run_params, run_up, run_up_trace)
 from .loading import AnalysisError
 from .simulate import simulate
 from .units import default_t_end, default_threshold
@@ -108,17 +108,19 @@ def candidates(design: Design) -> list[Verdict]:
 def by_runs(design: Design, objective: str, runs, journal: Journal | None = None, *, run_time: float | None = None,
             workers: int | None = None, progress: bool = False, verdicts: list[Verdict] | None = None,
             run_set: dict | None = None, starts: int = RESIDUAL_STARTS, quantile: float = RESIDUAL_QUANTILE,
-            target: float | None = None) -> Design:
+            target: float | None = None, measure: str | None = None) -> Design:
     """The best design by `objective` among `verdicts` (default: `candidates`), each run on the run model
     `runs` at the operating point with the parameters design_runs.run_params maps (`run_set`: the run model's own
     fixed values): r_max-run-up the smallest
     r_max through the run-up from the spread start (design_runs.run_up, `run_time` after the schedule);
     residual the smallest `quantile` quantile of the residual imbalance over `starts` of design_runs.residual_starts
     (stick-slip, `run_time` long, default units.default_t_end), at most `target` where one is given (none below it:
-    no best design, infeasible), its summary in `design.residual`.  A design whose run failed, or ended with a ball
-    still slipping (undecided), is never chosen: its quantile is not computed."""
+    no best design, infeasible), its summary in `design.residual`; the residual is the run model's measure
+    `measure` at t_end (None: the one the run model names, design_runs.residual_measure).  A design whose run
+    failed, or ended with a ball still slipping (undecided), is never chosen: its quantile is not computed."""
     problem = design.problem
-    check_runs(objective, runs)
+    check_runs(objective, runs, measure)
+    measure = residual_measure(runs, measure) if objective == "residual" else None
     point = operating_point(problem)
     cands = candidates(design) if verdicts is None else verdicts
     starts = residual_starts(runs, starts) if objective == "residual" else [rest_start(runs)]
@@ -130,10 +132,13 @@ def by_runs(design: Design, objective: str, runs, journal: Journal | None = None
             t_after = default_t_end(runs, q)[0]
         keys = []
         for y0 in starts:
-            # the residual's record says at_rest since RESIDUAL_FORMAT 2: older journal lines are not read
+            # the residual's record says at_rest since RESIDUAL_FORMAT 2: older journal lines are not read; a
+            # measure other than r is in the key (lines of r, written before the measure was named, are read back)
             k = key_of(objective, runs.source_hash, q.tolist(), y0.tolist(), t_after,
-                       *((RESIDUAL_FORMAT,) if objective == "residual" else ()))
-            fn, args = (run_up, (runs, q, y0, t_after)) if objective == "r_max-run-up" else (residual_run, (runs, q, y0, t_after))
+                       *((RESIDUAL_FORMAT,) if objective == "residual" else ()),
+                       *((measure,) if measure not in (None, "r") else ()))
+            fn, args = ((run_up, (runs, q, y0, t_after)) if objective == "r_max-run-up"
+                        else (residual_run, (runs, q, y0, t_after, measure)))
             tasks.append((k, fn, args))
             keys.append(k)
         rows.append((v, keys, taken))
@@ -159,12 +164,13 @@ def by_runs(design: Design, objective: str, runs, journal: Journal | None = None
             best, best_value = v, value
     design.objective_runs = out
     if objective == "residual":
-        design.residual = residual_summary(out, runs, run_set or {}, quantile, target, best_value if best else None)
+        design.residual = residual_summary(out, runs, run_set or {}, quantile, target, best_value if best else None,
+                                           measure)
     return _choose(design, best)
 
 
 def residual_summary(rows: list[dict], runs, own: dict, quantile: float, target: float | None,
-                     chosen: float | None) -> dict:
+                     chosen: float | None, measure: str = "r") -> dict:
     """The residual objective's summary (the --json key `residual`): the run model and what it keeps of its own,
     the starts and quantile, the target, the chosen design's quantile, the designs run and how many of their
     runs were at rest, undecided or failed, and why there is no choice (one line) where there is none."""
@@ -185,7 +191,7 @@ def residual_summary(rows: list[dict], runs, own: dict, quantile: float, target:
     return {"run_model": runs.name, "kept": dict(sorted(own.items())), "unit": units(runs).length,
             "starts": rows[0]["starts"] if rows else None, "seed": RESIDUAL_SEED, "quantile": quantile,
             "target": target, "chosen_quantile": chosen, "designs_run": len(rows),
-            "designs_decided": len(decided), **total, "note": note}
+            "designs_decided": len(decided), **total, "note": note, "measure": measure}
 
 
 def _feasible_inside(problem: Problem, verdicts: list[Verdict]) -> list[Verdict]:

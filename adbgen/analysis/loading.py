@@ -223,6 +223,18 @@ class Model:
         """The compiled measures: "r" for every model, the family's own ("A", "spin_rate", ...)."""
         return tuple(self._described("MEASURES"))
 
+    @property
+    def residual_measure(self) -> str:
+        """The measure that is the model's residual imbalance (its RESIDUAL_MEASURE, declared by its family: zero
+        exactly where the imbalance is balanced), read at rest by `sweep --measure residual` and `design
+        --objective residual` when not told another.  AnalysisError (one line) where the module names none or a
+        name that is not one of its measures."""
+        name = self._described("RESIDUAL_MEASURE")
+        if name not in self.measures:
+            raise AnalysisError(f"{self.name} names {name!r} as its residual imbalance (RESIDUAL_MEASURE), which is "
+                                f"not one of its measures ({', '.join(self.measures)}): give --residual-measure NAME")
+        return name
+
     def measure(self, name: str, t, y, p) -> float | np.ndarray:
         """Measure `name` at (t, y, p); with y of shape (states, samples) and t one time per sample (or
         one for all), an array over the samples."""

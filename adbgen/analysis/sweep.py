@@ -84,15 +84,20 @@ class SweepSpec:
     chunk: int | None = None  # points per block (about); None: enough blocks to keep every worker busy
     check_tolerance: bool = False  # every point again at rtol/100 and on a second engine (`tolerance`)
     refine: bool = True  # stability maps: certify the stable windows between grid points (stability_map)
-    # --measure residual: which of the model's measures (its MEASURES) at t_end is the residual; "r" (the
-    # AMPLITUDE states' hypot) unless the model's family says the imbalance otherwise (residual.py)
-    residual_measure: str = "r"
+    # --measure residual: which of the model's measures (its MEASURES) at t_end is the residual; None: the one
+    # the model names (its RESIDUAL_MEASURE, `residual_name`; "r", the AMPLITUDE states' hypot, for other measures)
+    residual_measure: str | None = None
 
     def to_dict(self) -> dict:
-        out = asdict(self)
-        if out["residual_measure"] == "r":
-            out.pop("residual_measure")  # as stores written before the option: they resume
-        return out
+        return asdict(self)
+
+
+def residual_name(spec: SweepSpec, model: Model) -> str:
+    """The measure `--measure residual` reads at t_end: the one given (an explicit --residual-measure wins), else
+    the model's own residual imbalance (Model.residual_measure, declared by its family); "r" for other measures."""
+    if spec.residual_measure is not None:
+        return spec.residual_measure
+    return model.residual_measure if spec.measure == "residual" else "r"
 
 
 # --------------------------------------------------------------------------------------------- setup
@@ -134,10 +139,10 @@ def prepare(spec: SweepSpec) -> tuple[Model, Grid]:
     if spec.measure == "residual" and not has_stick_phase(model):
         raise AnalysisError(f"{model.name} has no stick/slip modes: --measure residual is the imbalance left when "
                             f"the balls stick (a scene with static_friction)")
-    if spec.measure == "residual" and spec.residual_measure not in model.measures:
+    if spec.measure == "residual" and residual_name(spec, model) not in model.measures:
         raise AnalysisError(f"{spec.residual_measure!r} is not a measure of {model.name}; --residual-measure is one "
                             f"of: {', '.join(model.measures)}")
-    if spec.measure != "residual" and spec.residual_measure != "r":
+    if spec.measure != "residual" and spec.residual_measure not in (None, "r"):
         raise AnalysisError("--residual-measure is for --measure residual only")
     if spec.measure == "residual" and spec.check_tolerance:
         raise AnalysisError("--check-tolerance has no second engine for stick/slip modes: not with --measure residual")
@@ -320,14 +325,14 @@ def compute_points(spec: SweepSpec, flat: np.ndarray, threads: int = 1) -> dict:
     if swap is not None:
         mirrored = flat != canonical
         res["y_end"][mirrored] = res["y_end"][mirrored][:, list(swap.perm)]
-        if spec.measure == "residual" and spec.residual_measure != "r" and mirrored.any():
+        if spec.measure == "residual" and residual_name(spec, model) != "r" and mirrored.any():
             # a measure of the model need not be invariant under the ball exchange (r is): read it again at the
             # partner's own end state, the swapped one
             from .residual import residual_at_end
 
             P, _ = grid.points(model, flat[mirrored])
             rows = res["value"][mirrored]
-            res["value"][mirrored] = residual_at_end(model, spec.residual_measure, rows, res["t_last"][mirrored],
+            res["value"][mirrored] = residual_at_end(model, residual_name(spec, model), rows, res["t_last"][mirrored],
                                                      res["y_end"][mirrored], P, ~np.isfinite(rows))
         if "certain" in res:
             again = mirrored & ~res["certain"].astype(bool)
@@ -404,7 +409,7 @@ def _compute_once(spec: SweepSpec, model: Model, grid: Grid, flat: np.ndarray, t
     if spec.measure == "residual":  # r at t_end, and whether the balls are at rest there (residual.py)
         from .residual import at_rest_codes, residual_at_end
 
-        value = residual_at_end(model, spec.residual_measure, ens.r_end, ens.t_last, ens.y_end, P, failed)
+        value = residual_at_end(model, residual_name(spec, model), ens.r_end, ens.t_last, ens.y_end, P, failed)
         extra["at_rest"] = at_rest_codes(ens.stuck, failed)
     else:
         value = ens.r_max if spec.measure == "r_max" else ens.t_dec
@@ -518,6 +523,9 @@ def _segmented(spec, model, clf, p, Y0, y_end, t_last, rows, threads):
 
 def settings(spec: SweepSpec, model: Model) -> dict:
     s = spec.to_dict()
+    s["residual_measure"] = residual_name(spec, model)
+    if s["residual_measure"] == "r":
+        s.pop("residual_measure")  # as stores written before the option: they resume
     if not s.get("check_tolerance"):
         s.pop("check_tolerance", None)  # as stores written before the option: they resume
     s["model"] = model.name
@@ -574,12 +582,12 @@ def create_store(path: Path, spec: SweepSpec, model: Model, grid: Grid, chunks) 
             "t_dec": "last time r >= threshold (NaN: not settled by t_end, or not computed)",
             "stability": "number of unstable eigenvalues of the steady state (deflated; -1: none found)",
             "residual": "residual imbalance: r = sqrt(x^2 + y^2) at t_end (at rest where at_rest = 1)"}
-    if spec.measure == "residual" and spec.residual_measure != "r":
-        desc["residual"] = (f"residual imbalance: the model's measure {spec.residual_measure!r} at t_end (at rest "
+    if spec.measure == "residual" and residual_name(spec, model) != "r":
+        desc["residual"] = (f"residual imbalance: the model's measure {residual_name(spec, model)!r} at t_end (at rest "
                             f"where at_rest = 1)")
     ds[spec.measure].attrs["description"] = desc[spec.measure]
     if spec.measure == "residual":
-        ds["residual"].attrs["measure"] = spec.residual_measure
+        ds["residual"].attrs["measure"] = residual_name(spec, model)
     if spec.measure in ("attractor", "stability"):
         names = labels(model)
         var = "attractor" if spec.measure == "attractor" else "steady_state"
@@ -724,6 +732,7 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
     start = time.perf_counter()
     model, grid = prepare(spec)
     spec.model = str(model.folder) if os.sep in spec.model else model.name
+    spec.residual_measure = residual_name(spec, model)  # the workers and the store get the name, not "the model's"
     out = Path(out)
     path = out / STORE
     swap = find_swap(model, grid) if spec.symmetry and spec.measure != "stability" else None

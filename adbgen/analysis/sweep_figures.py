@@ -247,7 +247,9 @@ def _residual_histogram(ds, store: Path) -> list[Path]:
         for q, style in (("50", "-"), ("90", "--"), ("99", ":")):
             ax.axvline(d["quantiles"][q], color="k", ls=style, lw=1, label=f"{q} %: {d['quantiles'][q]:.3g}")
         ax.legend(fontsize=8)
-    ax.set_xlabel("residual imbalance $r$ at rest")
+    measure = ds["residual"].attrs.get("measure", "r")  # the model's residual measure (r, or e.g. A), as stored
+    ax.set_xlabel(f"residual imbalance ${measure}$ at rest" if measure.isalpha() and len(measure) == 1
+                  else f"residual imbalance {measure} at rest")
     ax.set_ylabel("starts")
     title = (f"{ds.attrs['model']}: residual imbalance at rest, {d['at_rest']} starts "
              f"({d['not_at_rest']} not at rest by $t_{{end}}$, {d['failed']} failed: not drawn)")

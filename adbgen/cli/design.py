@@ -6,6 +6,7 @@ adbgen/analysis/design_report.py, the page docs/design.md).
                  --vary NAME=LOW:HIGH [--vary ...] [--set NAME=VALUE ...]
                  [--objective margin|t_dec|r_max-run-up|residual] [--runs MODEL|SCENE] [--run-set NAME=VALUE ...]
                  [--run-time T] [--residual-starts N] [--residual-quantile Q] [--residual-target R]
+                 [--residual-measure NAME]
                  [--workers N] [--out DIR] [--json]
 
 SCENE: a generated model's name, a model folder, or a scene file (TOML).
@@ -49,7 +50,7 @@ JSON_FIELDS = {"model": "", "balancing_state": "", "objective": "", "box": "", "
                "balls_choice": "(--balls: {objective, value, method, ranking, chosen, runner_up, decided, why})",
                "files": "(with --out)",
                "residual": "(--objective residual: {run_model, kept, unit, starts, seed, quantile, target, "
-                           "chosen_quantile, designs_run, designs_decided, at_rest, undecided, failed, note}; null "
+                           "chosen_quantile, designs_run, designs_decided, at_rest, undecided, failed, note, measure}; null "
                            "otherwise)"}
 JSON_KEYS = ", ".join(k + (f" {v}" if v else "") for k, v in JSON_FIELDS.items())
 
@@ -99,6 +100,10 @@ def _add_design(p) -> None:
     p.add_argument("--residual-target", metavar="R",
                    help="residual: the largest residual imbalance accepted (the quantile's value, in the scene's units "
                         "of length, e.g. 1e-5 or 0.01mm); no design reaching it: infeasible")
+    p.add_argument("--residual-measure", metavar="NAME",
+                   help="residual: which of the run model's measures at the run's end is the residual imbalance "
+                        "(default: the one the model names, its RESIDUAL_MEASURE: r in one plane, A, which also sees "
+                        "the tilt, in two)")
     p.add_argument("--workers", type=int, metavar="N",
                    help="threads of the local Dask cluster the runs go to (default: the cores available)")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr (none either with --json or without a terminal)")
@@ -301,7 +306,7 @@ def _one_design(args, model, runs=None, own=None):
     run_set = {**(own or {}), **assignments(args.run_set, "--run-set", units(runs).params)}
     residual = _residual_options(args, runs)
     if args.objective in ("r_max-run-up", "residual"):
-        check_runs(args.objective, runs)  # before the design's scans: refused at once
+        check_runs(args.objective, runs, residual.get("measure"))  # before the design's scans: refused at once
         run_params(problem, runs, [a.low for a in varied], {}, run_set)
     if args.workers is not None and args.workers < 1:
         raise AnalysisError(f"--workers: expected a whole number >= 1, got {args.workers}")
@@ -329,12 +334,15 @@ def _residual_options(args, runs) -> dict:
     from ..analysis.units import quantity, units
 
     given = [o for o, v in (("--residual-starts", args.residual_starts), ("--residual-quantile", args.residual_quantile),
-                            ("--residual-target", args.residual_target)) if v is not None]
+                            ("--residual-target", args.residual_target), ("--residual-measure", args.residual_measure))
+             if v is not None]
     if args.objective != "residual":
         if given:
             raise AnalysisError(f"{given[0]}: only with --objective residual")
         return {}
     out = {}
+    if args.residual_measure is not None:
+        out["measure"] = args.residual_measure
     if args.residual_starts is not None:
         if args.residual_starts < 1:
             raise AnalysisError(f"--residual-starts: expected a whole number >= 1, got {args.residual_starts}")

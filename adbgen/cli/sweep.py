@@ -69,9 +69,10 @@ def _add_sweep(p) -> None:
                    help="attractor, r_max, t_dec: every point again at rtol/100, atol/100 and on a second engine "
                         "of another method; points whose label (value: beyond 1 %%) differs are flagged "
                         "(tolerance_sensitive: stored, counted, marked on the figures)")
-    p.add_argument("--residual-measure", default="r", metavar="NAME",
+    p.add_argument("--residual-measure", default=None, metavar="NAME",
                    help="--measure residual: which of the model's measures at t_end is the residual imbalance "
-                        "(default r, the rotor's amplitude; a two-plane rotor's A also sees its tilt)")
+                        "(default: the one the model names, its RESIDUAL_MEASURE: r, the rotor's amplitude, in one "
+                        "plane; A, which also sees the tilt, in two)")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout, no progress bar")
     p.set_defaults(fn=run_sweep_command)
 

@@ -3,7 +3,8 @@ the targets print: data by state and parameter index, and kernels (`loops.Kernel
 the generated modules carry (issue 19, item 1):
 
 - the measures: "r" (the hypot of the two amplitude states, for every model) and the family's own
-  (e.g. "A", "spin_rate"), one kernel each and one for all of them;
+  (e.g. "A", "spin_rate"), one kernel each and one for all of them, and the name of the one that is the
+  model's residual imbalance (RESIDUAL_MEASURE);
 - the closed-form steady states: one kernel per candidate of each closed form, reading its integer
   arguments from an array ``a`` (so one function serves every label of a family of states, e.g. the
   thesis' 3(k)+- for every k, and the per-ball values are a loop over the balls: emitted code does not
@@ -72,6 +73,8 @@ class SelfDescription:
     # the constraints' gradients with respect to the states (out[k, j]); None where none is declared
     equilibria: tuple[str, tuple[str, ...], int] | None
     equilibria_gradient: Kernel | None
+    # the measure (one of measure_names) that is the model's residual imbalance (`Description.residual`)
+    residual: str
     # the declaration and the measures' expressions, for the checks (not rendered)
     declared: Description = field(compare=False, repr=False)
     measure_exprs: tuple[sp.Expr, ...] = field(compare=False, repr=False, default=())
@@ -92,6 +95,8 @@ class SelfDescription:
         kernels = [self.measures, *self.measure_kernels] + [k for f in self.closed_forms for k in f.candidates]
         for f in self.closed_forms:
             parts.append(repr((f.name, [a.name for a in f.arguments], len(f.candidates))))
+        if self.residual != "r":  # (the default r: the fingerprints of the models it is stay as they were)
+            parts.append(repr(("residual", self.residual)))
         if self.equilibria is not None:  # (absent: the fingerprints of models without one stay as they were)
             parts.append(repr(self.equilibria))
             kernels.append(self.equilibria_gradient)
@@ -250,6 +255,8 @@ def lower_description(spec: ModelSpec, system: FirstOrderSystem, form: str = "lo
         names.append(name)
         exprs.append(expr)
     every, alone = _measures(names, exprs)
+    if d.residual not in names:
+        _refuse(model, f"residual imbalance {d.residual!r} is not one of its measures ({', '.join(names)})")
     # symmetries
     rates = {c.name: c.qd.name for c in system.coordinates}
     syms = []
@@ -302,7 +309,7 @@ def lower_description(spec: ModelSpec, system: FirstOrderSystem, form: str = "lo
         parameter_sets=tuple(sets), scales=tuple((k, d.scales[k]) for k in ("eccentricity", "speed") if k in d.scales),
         closed_forms=tuple(forms), steady_states=tuple(labels),
         steady_state_names=tuple((k, d.steady_state_names[k]) for k in STATE_CONFIGURATIONS if k in d.steady_state_names),
-        equilibria=equilibria, equilibria_gradient=gradient, declared=d, measure_exprs=tuple(exprs))
+        equilibria=equilibria, equilibria_gradient=gradient, residual=d.residual, declared=d, measure_exprs=tuple(exprs))
 
 
 def _equilibria(model: str, d: Description, system: FirstOrderSystem) -> tuple[tuple, Kernel]:

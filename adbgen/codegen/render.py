@@ -143,7 +143,7 @@ def describe_data(ir: ModelIR) -> dict:
     if d is None:
         return {"present": False, "family": "", "kind": "", "time_unit": "", "state_units": [""] * ir.n_states,
                 "roles": [""] * ir.n_states, "angles": [], "angle_indices": [], "amplitude": [],
-                "amplitude_indices": [], "measures": [], "forcing_frequency": "", "forcing_index": -1,
+                "amplitude_indices": [], "measures": [], "residual": "", "forcing_frequency": "", "forcing_index": -1,
                 "symmetries": [], "parameter_sets": [], "scales": [], "labels": [], "forms": [], "max_args": 0,
                 "steady_state_names": [], "equilibria": None}
     defaults = [q.default for q in ir.parameters]
@@ -157,7 +157,7 @@ def describe_data(ir: ModelIR) -> dict:
         "present": True, "family": d.family, "kind": d.kind, "time_unit": d.time_unit, "state_units": list(d.state_units),
         "roles": list(d.roles), "angles": list(d.angles), "angle_indices": [names.index(a) for a in d.angles],
         "amplitude": list(d.amplitude), "amplitude_indices": [names.index(a) for a in d.amplitude],
-        "measures": list(d.measure_names), "forcing_frequency": d.forcing_frequency,
+        "measures": list(d.measure_names), "residual": d.residual, "forcing_frequency": d.forcing_frequency,
         "forcing_index": params.index(d.forcing_frequency) if d.forcing_frequency else -1,
         "symmetries": list(d.symmetries), "parameter_sets": sets,
         "scales": [{"key": k, "name": v, "index": params.index(v)} for k, v in d.scales],

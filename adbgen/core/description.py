@@ -129,7 +129,12 @@ class Description:
     configuration (`STATE_CONFIGURATIONS`; "opposed" a template in {n} balls, {m} of them together, {k}
     opposite), as the reference names them (thesis: balanced 1, coincident 2, in-line 3(n-m)); a branch
     sign + or - is appended from the closed-form label the state is (`steady_states`).  ``equilibria``:
-    the model's manifold of equilibria (`Equilibria`), None where it declares none.
+    the model's manifold of equilibria (`Equilibria`), None where it declares none.  ``residual``: the measure
+    ("r" or a name of ``measures``) that is the model's residual imbalance, zero exactly where the imbalance is
+    balanced (what `adbgen sweep --measure residual` and `adbgen design --objective residual` read at rest when
+    not told another): "r" where the rotor's imbalance is its centre's amplitude (one plane, thesis (2.25)), a
+    measure that also sees the moment where the rotor can tilt (two planes: paper (9) asks forces and moments in
+    equilibrium, and a couple leaves r = 0).
     """
 
     time_unit: str
@@ -146,6 +151,7 @@ class Description:
     steady_states: tuple[SteadyState, ...] = ()
     steady_state_names: Mapping[str, str] = field(default_factory=dict)
     equilibria: Equilibria | None = None
+    residual: str = "r"
 
 
 def rate_unit(unit: str, time_unit: str) -> str:

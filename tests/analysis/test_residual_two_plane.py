@@ -30,10 +30,10 @@ def model():
     return stick_model()
 
 
-def _sweep(model, tmp_path, grid, set_, y0=(), tie=(), t_end=1000.0, measure="A"):
+def _sweep(model, tmp_path, grid, set_, y0=(), tie=(), t_end=1000.0, measure="A", out=None):
     spec = SweepSpec(model=str(model.folder), grid=list(grid), measure="residual", y0=[*SPIN, *y0], tie=list(tie),
                      set=[f"{k}={v}" for k, v in set_.items()], t_end=t_end, residual_measure=measure)
-    summary = run_sweep(spec, tmp_path / f"sw_{measure}", workers=1, progress=False, figures=False)
+    summary = run_sweep(spec, tmp_path / (out or f"sw_{measure}"), workers=1, progress=False, figures=False)
     import xarray as xr
 
     ds = xr.open_zarr(summary["store"], consolidated=False)
@@ -110,6 +110,35 @@ def test_mirrored_starts_read_the_measure_at_their_own_end_state(model, tmp_path
     scale = np.abs(b).max()
     np.testing.assert_allclose(a, b, rtol=1e-4, atol=1e-6 * scale)  # equivariant up to rounding (events)
     assert np.abs(b - b.T).max() > 1e-3 * scale  # the planted copy (the partner's value) would be wrong
+
+
+def test_without_residual_measure_the_sweep_reads_the_models_own(model, tmp_path):
+    # the model names A its residual imbalance (RESIDUAL_MEASURE, declared by its family): no --residual-measure
+    # gives the store of an explicit A, bit for bit; an explicit r still wins (the couple of the test above: A sees
+    # it, r does not, so the default cannot be r)
+    set_ = {**ROTOR, **STUCK, "epsilon": 0.0, "chi": 0.0}
+    tie = ["theta_2=theta_1+0", "theta_3=theta_1+pi", "theta_4=theta_1+pi"]
+    assert model.residual_measure == "A"
+    own, ds_own = _sweep(model, tmp_path / "own", ["theta_1=0:1:2"], set_, tie=tie, measure=None)
+    a, ds_a = _sweep(model, tmp_path / "a", ["theta_1=0:1:2"], set_, tie=tie, measure="A")
+    r, ds_r = _sweep(model, tmp_path / "r", ["theta_1=0:1:2"], set_, tie=tie, measure="r")
+    assert ds_own["residual"].attrs["measure"] == "A" and ds_r["residual"].attrs["measure"] == "r"
+    np.testing.assert_array_equal(ds_own["residual"].values, ds_a["residual"].values)
+    assert own["residual"]["quantiles"]["max"] > 1e-4 > 1e-6 > r["residual"]["quantiles"]["max"]
+
+
+def test_a_store_resumes_with_the_measure_it_was_written_with(model, tmp_path):
+    # a store written by the default (the model's A) resumes with the same settings, explicit or not; asked for r
+    # it is refused in one line (it holds A)
+    set_ = {**ROTOR, **STUCK, "epsilon": 0.0, "chi": 0.0}
+    _sweep(model, tmp_path, ["theta_1=0:1:2"], set_, y0=["theta_2=1", "theta_3=2", "theta_4=3"], measure=None)
+    again, _ = _sweep(model, tmp_path, ["theta_1=0:1:2"], set_, y0=["theta_2=1", "theta_3=2", "theta_4=3"],
+                      measure=None, out="sw_None")
+    assert again["reused"] == 2 and again["computed"] == 0
+    with pytest.raises(AnalysisError, match="other settings \\(residual_measure") as info:
+        _sweep(model, tmp_path, ["theta_1=0:1:2"], set_, y0=["theta_2=1", "theta_3=2", "theta_4=3"], measure="r",
+               out="sw_None")
+    assert "\n" not in str(info.value)
 
 
 def test_an_unknown_residual_measure_is_refused(model, tmp_path):

@@ -92,6 +92,7 @@ def test_json_keys_as_documented(capsys, tmp_path):
     (["--vary", "beta=0.1:0.2", "--balls", "3..2"], "expected 1 <= N1 <= N2"),
     (["--vary", "beta=0.1:0.2", "--balls", "two"], "whole numbers"),
     (["--vary", "beta=0.1:0.2", "--residual-starts", "4"], "only with --objective residual"),
+    (["--vary", "beta=0.1:0.2", "--residual-measure", "A"], "only with --objective residual"),
     (["--vary", "beta=0.1:0.2", "--objective", "residual", "--residual-quantile", "1.5"], "expected 0 < Q <= 1"),
     (["--vary", "beta=0.1:0.2", "--objective", "residual", "--residual-starts", "0"], "expected a whole number >= 1"),
 ])

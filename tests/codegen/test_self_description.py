@@ -36,7 +36,7 @@ from toolchain import STRICT_CFLAGS, require_tool, which
 MODELS = sorted(p.name for p in DEFAULT_OUT.iterdir() if (p / "__init__.py").is_file())
 CONTRACT = ("FAMILY", "KIND", "TIME_UNIT", "STATE_UNITS", "STATE_ROLES", "PARAM_DOMAINS", "ANGLES", "AMPLITUDE",
             "MEASURES", "FORCING_FREQUENCY", "SYMMETRIES", "PARAMETER_SETS", "SCALES", "STEADY_STATES",
-            "STEADY_STATE_NOTES")
+            "STEADY_STATE_NOTES", "RESIDUAL_MEASURE")
 
 
 def module(name):
@@ -56,6 +56,8 @@ def test_every_generated_module_carries_the_contract(name):
     assert m.FORCING_FREQUENCY in ("",) + m.PARAM_NAMES and (m.FORCING_FREQUENCY == "") == (m.AUTONOMOUS or "ramp" in name
                                                                                           or "hill" in name)
     assert set(m.SCALES) <= {"eccentricity", "speed"} and set(m.SCALES.values()) <= set(m.PARAM_NAMES)
+    # the residual imbalance: one of its measures; a two-plane rotor's A (r misses a couple), r elsewhere
+    assert m.RESIDUAL_MEASURE in m.MEASURES and m.RESIDUAL_MEASURE == ("A" if m.FAMILY == "two-plane" else "r")
     for values in m.PARAMETER_SETS.values():
         assert set(values) <= set(m.PARAM_NAMES)
     for s in m.SYMMETRIES:
@@ -328,6 +330,14 @@ def test_a_wrongly_rendered_measure_is_refused(monkeypatch):
     monkeypatch.setattr(describe_module, "_measures", flipped)
     with pytest.raises(CheckFailed, match="measure A"):
         _check(spec)
+
+
+def test_a_residual_measure_the_model_does_not_have_is_refused():
+    # the residual imbalance must name one of the model's measures (r, or its family's own): a planted "A" on the
+    # single-plane model (which has r only) is refused before anything is written, in one line
+    with pytest.raises(DescriptionError, match="residual imbalance 'A' is not one of its measures") as info:
+        _check(_redeclared(sp_models.thesis_rotating(2), residual="A"))
+    assert "\n" not in str(info.value)
 
 
 def test_a_wrong_symmetry_is_refused():

@@ -147,7 +147,10 @@ def describe(system: FirstOrderSystem, scene: TwoPlaneScene, parameter_sets: Map
         forcing_frequency=forcing_parameter(system.solve.eom) if forcing is None else forcing, symmetries=symmetries(system, scene),
         parameter_sets=dict(parameter_sets or {}),
         scales={"eccentricity": "epsilon", **({"speed": speed} if speed else {})},
-        closed_forms=tuple(forms), steady_states=tuple(states))
+        closed_forms=tuple(forms), steady_states=tuple(states),
+        # the residual imbalance is A, not r: (9) asks forces and moments in equilibrium, and a couple leaves the
+        # centre at rest (r = 0) with the rotor tilted (docs/friction.md, Residual imbalance over starts (two planes))
+        residual="A")
 
 
 def _ball_values(m: float, ratio: float, n: int = 4) -> dict:

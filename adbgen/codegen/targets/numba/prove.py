@@ -61,7 +61,7 @@ def _metadata(proof, m, ir) -> None:
         expect.update({
             "FAMILY": d.family, "KIND": d.kind, "TIME_UNIT": d.time_unit, "STATE_UNITS": d.state_units,
             "STATE_ROLES": d.roles, "ANGLES": d.angles, "AMPLITUDE": d.amplitude, "MEASURES": d.measure_names,
-            "N_MEASURES": len(d.measure_names), "FORCING_FREQUENCY": d.forcing_frequency,
+            "N_MEASURES": len(d.measure_names), "RESIDUAL_MEASURE": d.residual, "FORCING_FREQUENCY": d.forcing_frequency,
             "SYMMETRIES": tuple(dict(s) for s in d.symmetries),
             "PARAMETER_SETS": {name: dict(values) for name, values in d.parameter_sets},
             "SCALES": dict(d.scales), "STEADY_STATES": d.labels,
