@@ -13,7 +13,7 @@ margin_estimate (issue 34 item 5: `adbgen.analysis.margins`), followed_state, fo
 (item 4: what the run followed, and how far the start was from it).
 
 `continue` gains (`add_continue_options`): --orbits, --from-hopf VALUE, --tie NAME=EXPR, --max-points N,
---auto-orbits, --plot FILE, --log2, --grid N1:N2 (see `adbgen.analysis.orbits.continue_command`).
+--auto-orbits, --plot FILE, --log2, --grid N1:N2 (see `adbgen.cli.continue_orbits`).
 """
 
 from __future__ import annotations

@@ -305,7 +305,8 @@ def _add_continue(p) -> None:
 
 def run_continue(args) -> int:
     from ..analysis import auto07p, steady
-    from ..analysis.orbits import continue_command
+    from ..analysis.orbits import branches, run_points
+    from . import continue_orbits as glue
     from ..analysis.identify import check, default_label
     from ..analysis.starts import default_start, follower, pinned
     from ..analysis.units import params, quantity, units
@@ -325,19 +326,19 @@ def run_continue(args) -> int:
     def emit(out):
         _emit_json(out) if args.json else _print_continue(out, args.par, args.par2)
     if not model.autonomous:
-        if continue_command.wants_orbits(args) or args.par2 is not None:  # our own shooting (issue 21)
-            return continue_command.run_forced(args, model, emit)
+        if glue.wants_orbits(args) or args.par2 is not None:  # our own shooting (issue 21)
+            return glue.run_forced(args, model, emit)
         return _continue_forced(model, params(model, values), args, to, show_progress)
     if getattr(model.module, "START", None) is None and not args.y0:
         raise AnalysisError(f"{model.name} has no START state to continue from (give --y0)")
     params(model, values)  # each --set value within its domain
-    p = model.params({**continue_command._start_parameters(model), **values})
+    p = model.params({**glue.start_parameters(model), **values})
     k = model.param_names.index(args.par)
     if to is None and args.par2 is not None:  # the whole range the model's AUTO constants continue over
         to = auto07p.default_stop(model, args.par, float(p[k]))
     if to is None:
         to = 0.5 * p[k] if p[k] > 0 else p[k] - 1.0
-    pmap = continue_command.pmap_for(model, p, [args.par, args.par2], args)
+    pmap = glue.pmap_for(model, p, [args.par, args.par2], args)
     p = pmap([p[j] for j in pmap.index])
     if args.tie and args.par2 is None and np.any(pmap.direction(p[k], 0) != np.eye(model.n_params)[k]):
         raise AnalysisError("--tie: a parameter tied to --par needs --par2 (AUTO-07p's one-parameter run cannot keep "
@@ -357,7 +358,7 @@ def run_continue(args) -> int:
     if args.y0 and getattr(model.module, "START", None) is None:
         y, _ = steady.newton(model, p, model.state(assignments(args.y0, "--y0", u.states)))
     elif args.state in (None, "start"):
-        y = default_start(model, p, pmap, carried=bool(continue_command.wants_chart(args) or args.tie))
+        y = default_start(model, p, pmap, carried=bool(glue.wants_chart(args) or args.tie))
         required = default_label(model)
     else:
         required = args.state
@@ -372,8 +373,8 @@ def run_continue(args) -> int:
                                 f"{', '.join(model.state_names[i] for i in free)} at START's values (the regularised "
                                 f"balanced continuum), which this state does not share; use stability --scan")
     followed = check(model, y, p, required)
-    if continue_command.wants_chart(args):
-        return continue_command.chart_command(args, model, p, y, lambda out: emit({**out, **followed.to_json()}))
+    if glue.wants_chart(args):
+        return glue.chart_command(args, model, p, y, lambda out: emit({**out, **followed.to_json()}))
     ds_max = abs(to - p[k]) / AUTO_STEPS_PER_RANGE
     with activity(f"{model.name}: AUTO-07p in {args.par}", show_progress):
         if args.par2 is None:
@@ -398,14 +399,14 @@ def run_continue(args) -> int:
     out.update({"to": float(to), "complete": complete, "end": last.type if last is not None else "none",
                 "end_at": float(end_at), "units": {args.par: u.params[args.par]}, **followed.to_json()})
     follow = lambda q, guess: pinned(model, y, q, guess)  # noqa: E731
-    continue_command.add_lyapunov(model, out["points"], args.par, p, follow, args)
-    continue_command.add_margins(model, out["points"], args.par, p)
-    if continue_command.wants_orbits(args):
+    run_points.add_lyapunov(model, out["points"], args.par, p, follow)
+    run_points.add_margins(model, out["points"], args.par, p)
+    if glue.wants_orbits(args):
         with activity(f"{model.name}: periodic orbits in {args.par} (shooting)", show_progress):
-            result, branches = continue_command.continue_orbits(model, args, p, out["points"], args.par, to, follow)
+            result, found = glue.continue_orbits(model, args, p, out["points"], args.par, to, follow)
         out.update(result)
         if args.plot and args.par2 is None:
-            continue_command.plot_branches(Path(args.plot), model, args.par, branches)
+            branches.plot_branches(Path(args.plot), model, args.par, found)
     emit(out)
     if not complete:
         print(f"adbgen: ended early: {auto_end(args.par, end_at, to, u.params[args.par], out['end'])}", file=sys.stderr)

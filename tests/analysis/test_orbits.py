@@ -56,6 +56,31 @@ def test_variational_equations_match_differences_of_the_flow(n2):
     assert np.max(np.abs(Phi_short[0] - Phi[0])) > 1e-2
 
 
+def test_the_driver_entries_refuse_a_wrong_argument(n2):
+    """adb_var_arcs and adb_var_sample are typed at load (flow.SIGNATURES): a float where the driver takes a
+    pointer, or one argument too few, is refused by ctypes before reaching C; the same call correctly typed runs."""
+    import ctypes
+
+    from adbgen.analysis.orbits import flow as flow_module
+
+    flow = Flow(n2)
+    lib = flow.lib
+    assert len(lib.adb_var_arcs.argtypes) == 17 and len(lib.adb_var_sample.argtypes) == 10
+    y = np.ascontiguousarray(n2.state({"x": 0.01, "phi_1": 1.0}))
+    p = np.ascontiguousarray(n2.params({"Omega": 1.8}))
+    out = np.zeros((1, n2.n_states))
+    times = np.array([1.0])
+    ptr = flow_module._ptr
+    args = [ptr(y), 0.0, ptr(p), 1, ptr(times), 1e-10, 1e-12, flow.method, 100_000, ptr(out)]
+    assert lib.adb_var_sample(*args) == 0 and np.all(np.isfinite(out)) and np.any(out != 0)  # the typed call
+    with pytest.raises(ctypes.ArgumentError):
+        lib.adb_var_sample(1.0, *args[1:])  # a float for the start state's pointer
+    with pytest.raises(TypeError):
+        lib.adb_var_sample(*args[:-1])  # the output pointer missing
+    with pytest.raises(ctypes.ArgumentError):
+        lib.adb_var_arcs(1, *([1.0] * 16))
+
+
 def test_shooting_jacobian_is_exact_with_arcs_and_forcing(tmp_path):
     """The multiple-shooting Jacobian (arcs, period, parameter; a forced model's arcs moving with its
     forcing frequency) against central differences of the residual."""

@@ -16,7 +16,7 @@
     branches        branches of cycles (from a Hopf point, from an orbit) and their JSON
     charts          stability charts: grid, seeds, curves, plot
     auto_cycles     AUTO-07p's collocation on the same orbits (the independent method)
-    commands, continue_command     `adbgen orbit`, and what `adbgen continue` gains
+    run_points      what the points of AUTO-07p's one-parameter run gain (first Lyapunov coefficient, margins)
 
 No SymPy, and no family or model named: everything a model offers is read from its generated module.
 """

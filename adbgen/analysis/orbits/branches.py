@@ -5,6 +5,7 @@
                                                  continued towards larger (+1) or smaller (-1) parameter
     CycleBranch.to_json()                        {"parameter": [...], "period": [...], "stable": [...],
                                                   "amplitude": [...], ...} and its special points
+    plot_branches(path, model, NAME, branches)   amplitude and period against the parameter (stable thick)
 
 Each branch is followed by the generic continuer on the limit-cycle curve (`cycle.CycleCurve`); its
 special points (folds of cycles, period-doubling, torus) are located by their test functions and listed
@@ -16,7 +17,9 @@ measures (e.g. a vibration measure "A") their maxima go along as "<name>_bar".
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -184,3 +187,36 @@ def from_orbit(model: Model, pmap: ParameterMap, orbit: PeriodicOrbit, direction
     curve.shooting.set_reference(orbit.arcs[0], orbit.p)
     s = _settings(settings, lam0, to)
     return _run(model, curve, x0, name, origin, s, direction=direction, amplitude=amplitude)
+
+
+def plot_branches(path: Path, model, name: str, branches_) -> None:
+    """Amplitude and period against the parameter: stable solid, unstable thin, special points marked."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True)
+    marks = {"torus": ("*", "C3"), "period-doubling": ("D", "C2"), "fold": ("s", "C1")}
+    for i, br in enumerate(branches_):
+        j = br.to_json()
+        lam, amp, per, st = (np.array(j[k]) for k in ("parameter", "amplitude", "period", "stable"))
+        if len(lam) == 0:
+            continue
+        for ax, v in ((a1, amp), (a2, per)):
+            ax.plot(lam, v, "-", color=f"C{i % 10}", lw=0.7)
+            ax.plot(lam, np.where(st, v, np.nan), "-", color=f"C{i % 10}", lw=2.2)
+        for sp in br.specials:
+            mk, c = marks.get(sp["kind"], ("o", "k"))
+            k = int(np.argmin(np.abs(lam - sp[name])))
+            a1.plot(sp[name], amp[k], mk, color=c, ms=8)
+            a2.plot(sp[name], sp["period"], mk, color=c, ms=8)
+    a1.set_ylabel("amplitude r_max")
+    a2.set_ylabel("period T")
+    a2.set_xlabel(name)
+    a1.set_title(f"{model.name}: periodic orbits (thick stable; * torus, D period-doubling, s fold)", fontsize=9)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name("." + path.name + ".tmp")
+    fig.savefig(tmp, dpi=120, format=path.suffix.lstrip(".") or "png")
+    plt.close(fig)
+    os.replace(tmp, path)

@@ -40,13 +40,25 @@ def _ptr(a):
     return a.ctypes.data_as(_D)
 
 
+# the driver's three entry points as variational_driver.c declares them (name: restype, argtypes), set at load so
+# that a wrong argument is refused by ctypes instead of being read by C as an address or a number (issue 33
+# item 1: no untyped call into a driver, as hybrid.RUN_ARGTYPES); like the hybrid driver, this one is outside
+# adb_engine.h (it owns its arcs and their variational equations), so it is typed here
+_F, _C = ctypes.c_double, ctypes.c_int
+SIGNATURES = {
+    "adb_var_init": (ctypes.c_int, [ctypes.POINTER(ctypes.c_void_p)]),
+    "adb_var_arcs": (None, [_C, _D, _D, _D, _D, _D, _C, _F, _F, _C, ctypes.c_long, _C, _D, _D, _D, _I, _L]),
+    "adb_var_sample": (ctypes.c_int, [_D, _F, _D, _C, _D, _F, _F, _C, ctypes.c_long, _D]),
+}
+
+
 @lru_cache(maxsize=None)
 def _library(path: str):
     lib = ctypes.CDLL(path)
-    lib.adb_var_init.restype = ctypes.c_int
+    for name, (restype, argtypes) in SIGNATURES.items():
+        getattr(lib, name).restype = restype
+        getattr(lib, name).argtypes = argtypes
     lib.adb_var_init((ctypes.c_void_p * 9)(*_cyrk_pointers()))
-    lib.adb_var_arcs.restype = None
-    lib.adb_var_sample.restype = ctypes.c_int
     return lib
 
 

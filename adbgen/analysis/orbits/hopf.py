@@ -4,6 +4,7 @@ Hopf curve in two parameters.
     hp = HopfPoint.at(model, pmap, y, lam)          eigenvectors, frequency, first Lyapunov coefficient
     x0, t0 = cycle_start(curve, hp)                  the first cycle of the branch and its direction
     HopfCurve(model, pmap2, follower)                the curve of Hopf points in two parameters (`boundary`)
+    refine_hopf(model, pmap, y, lam, omega, follower) the Hopf point near an equilibrium AUTO-07p reported
 
 The cycle branch leaves the Hopf point in the direction of the eigenvector: x(t) = y + a Re(q e^(i w t)),
 T = 2 pi / w, the parameter unchanged to first order; the continuer's first step is taken along that
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..loading import Model
+from ..loading import AnalysisError, Model
 from .boundary import BoundaryCurve
 from .first_lyapunov import criticality, first_lyapunov, hopf_vectors
 from .parameters import ParameterMap
@@ -90,3 +91,31 @@ class HopfCurve(BoundaryCurve):
 
     def special(self, name, x, data):
         return {"kind": name, "frequency": float(data.critical.imag)}
+
+
+def refine_hopf(model, pmap, y, lam, omega, follower):
+    """The Hopf point near (y, lam): lam by Brent's method on the real part of the pair nearest i omega,
+    the equilibrium re-solved at each trial (`follower(p, guess)`)."""
+    from scipy.optimize import brentq
+
+    state = {"y": np.array(y, float)}
+
+    def g(v):
+        state["y"] = follower(pmap(v), state["y"])
+        A = np.asarray(model.module.jac(0.0, state["y"], pmap(v)))
+        return float(hopf_vectors(A, omega)[0].real)
+    d = 1e-6 * max(1.0, abs(lam))
+    a, b = lam - d, lam + d
+    try:
+        ga, gb = g(a), g(b)
+        for _ in range(8):
+            if ga * gb < 0:
+                break
+            d *= 4
+            a, b = lam - d, lam + d
+            ga, gb = g(a), g(b)
+        lam = brentq(g, a, b, xtol=1e-13, rtol=4e-16) if ga * gb < 0 else lam
+        g(lam)
+    except (AnalysisError, ValueError):
+        pass
+    return HopfPoint.at(model, pmap, state["y"], lam, omega)

@@ -105,9 +105,17 @@ COINCIDENT_STATEMENTS = (
      "n = 3\"", (2, 3), 0.0025, 4.0))
 
 
+def split_at_pitchfork_hopf(windows: dict) -> bool:
+    """Whether 2- of n = 4 at mu = mu_c = 0.0025 is stable on exactly two Omega windows: there the coincident state
+    is also the balanced one, and the gap between the windows runs from one pitchfork-Hopf point of (4.1)-(4.2) to
+    the other (thesis: 1.0079598 where H2- ends, 1.338096); the text names those ends only when this holds."""
+    return len(windows.get((4, COINCIDENT_MUS[1]), ())) == 2
+
+
 def coincident_lines(windows: dict) -> list[str]:
     from .templates import render
 
     checks = [(text, mu, Om, [(n, any(a <= Om <= b for a, b in windows[(n, mu)])) for n in ns])
               for text, ns, mu, Om in COINCIDENT_STATEMENTS]
-    return render("coincident", windows=windows, checks=checks, lo=0.05, hi=6.0)
+    return render("coincident", windows=windows, checks=checks, lo=0.05, hi=6.0,
+                  split_at_pitchfork_hopf=split_at_pitchfork_hopf(windows))

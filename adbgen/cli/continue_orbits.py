@@ -1,4 +1,5 @@
-"""What `adbgen continue` gains for periodic orbits (the command and its options: adbgen/cli/stability.py, cli/orbit.py).
+"""The periodic-orbit glue of `adbgen continue` (the command: cli/stability.py; its options: cli/orbit.py); the
+computing is in `adbgen.analysis.orbits` (branches, hopf, charts, run_points).
 
     adbgen continue MODEL --par NAME [--orbits | --from-hopf VALUE] [--tie NAME=EXPR]... [--y0 NAME=VALUE]...
                     [--max-points N] [--auto-orbits] [--plot FILE] ...
@@ -22,14 +23,13 @@
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 
-from ..loading import AnalysisError, parse_value
-from ..units import assignments, quantity, units
-from .equilibrium import carried_start  # noqa: F401  (the command's start along ties)
+from ..analysis.loading import AnalysisError, parse_value
+from ..analysis.orbits import hopf
+from ..analysis.units import assignments, quantity, units
 
 
 def parse_range2(text: str | None):
@@ -56,81 +56,13 @@ def wants_chart(args) -> bool:
 
 
 def pmap_for(model, p, names, args):
-    from .parameters import ParameterMap
+    from ..analysis.orbits.parameters import ParameterMap
 
     return ParameterMap(model, p, [n for n in names if n is not None], ties=args.tie)
 
 
-def add_lyapunov(model, points: list[dict], name: str, p: np.ndarray, follower, args) -> None:
-    """first_lyapunov, criticality at each HB point of AUTO's run (its state refined at its parameter)."""
-    from .first_lyapunov import criticality, first_lyapunov
-
-    k = model.param_names.index(name)
-    for row in points:
-        if row.get("type") != "HB" or "state" not in row:
-            continue
-        q = p.copy()
-        q[k] = row[name]
-        try:
-            y = follower(q, np.array([row["state"][s] for s in model.state_names]))
-            l1, _ = first_lyapunov(model, q, y, row.get("frequency"))
-        except AnalysisError:
-            continue
-        row["first_lyapunov"] = l1
-        row["criticality"] = criticality(l1)
-
-
-def add_margins(model, points: list[dict], name: str, p: np.ndarray) -> None:
-    """margin, margin_uncertainty, marginal (`steady.margin_at`, issue 34 item 5) at each point of AUTO's run
-    that carries its state: AUTO's own "stability" is a sign; this says how far from zero, and whether the
-    computation can certify it."""
-    from .. import steady
-
-    k = model.param_names.index(name)
-    for row in points:
-        if "state" not in row:
-            continue
-        q = np.array(p, float)
-        q[k] = row[name]
-        try:
-            row.update(steady.margin_at(model, q, np.array([row["state"][s] for s in model.state_names])).to_json())
-        except (AnalysisError, np.linalg.LinAlgError):
-            continue
-
-
-def refine_hopf(model, pmap, y, lam, omega, follower):
-    """The Hopf point near (y, lam): lam by Brent's method on the real part of the pair nearest i omega,
-    the equilibrium re-solved at each trial (`follower(p, guess)`)."""
-    from scipy.optimize import brentq
-
-    from .hopf import HopfPoint
-    from .first_lyapunov import hopf_vectors
-
-    state = {"y": np.array(y, float)}
-
-    def g(v):
-        state["y"] = follower(pmap(v), state["y"])
-        A = np.asarray(model.module.jac(0.0, state["y"], pmap(v)))
-        return float(hopf_vectors(A, omega)[0].real)
-    d = 1e-6 * max(1.0, abs(lam))
-    a, b = lam - d, lam + d
-    try:
-        ga, gb = g(a), g(b)
-        for _ in range(8):
-            if ga * gb < 0:
-                break
-            d *= 4
-            a, b = lam - d, lam + d
-            ga, gb = g(a), g(b)
-        lam = brentq(g, a, b, xtol=1e-13, rtol=4e-16) if ga * gb < 0 else lam
-        g(lam)
-    except (AnalysisError, ValueError):
-        pass
-    return HopfPoint.at(model, pmap, state["y"], lam, omega)
-
-
 def orbit_settings(args, lam0: float, to: float | None):
-    from .continuer import Settings
+    from ..analysis.orbits.continuer import Settings
 
     if args.max_points < 2:
         raise AnalysisError(f"--max-points must be >= 2, got {args.max_points}")
@@ -140,7 +72,7 @@ def orbit_settings(args, lam0: float, to: float | None):
 
 def continue_orbits(model, args, p, points: list[dict], name: str, to: float | None, follower) -> dict:
     """`orbits` and `orbit_points` from the Hopf points of the one-parameter run (autonomous model)."""
-    from . import branches
+    from ..analysis.orbits import branches
 
     pmap = pmap_for(model, p, [name], args)
     start = float(p[pmap.index[0]])
@@ -153,13 +85,13 @@ def continue_orbits(model, args, p, points: list[dict], name: str, to: float | N
     out_branches, out_points = [], []
     for row in hb:
         y = np.array([row["state"][s] for s in model.state_names])
-        hp = refine_hopf(model, pmap, y, row[name], row.get("frequency"), follower)
+        hp = hopf.refine_hopf(model, pmap, y, row[name], row.get("frequency"), follower)
         br = branches.from_hopf(model, pmap, hp, orbit_settings(args, start, to), to=to)
         out_points += br.points_json(len(out_branches))
         out_branches.append(br)
     result = {"orbits": [b.to_json() for b in out_branches], "orbit_points": out_points}
     if args.auto_orbits:
-        from .auto_cycles import auto_branches
+        from ..analysis.orbits.auto_cycles import auto_branches
 
         result["auto_orbits"] = auto_branches(model, name, p, [row[name] for row in hb], to, args)
     return result, out_branches
@@ -169,7 +101,7 @@ def forced_start(model, args, p):
     """The start of a forced model's response at p, refined by Newton shooting: --y0, else START, else the
     first of the module's labelled steady states (STEADY_STATES: a constant solution of the forced model, such
     as B with the rotor at rest) that exists at p."""
-    from .orbit import refine
+    from ..analysis.orbits.orbit import refine
 
     y0 = None
     if args.y0:
@@ -191,13 +123,13 @@ def forced_start(model, args, p):
 def run_forced(args, model, emit) -> int:
     """`adbgen continue` on a periodically forced model: its forced response continued in --par (and, with
     --par2, its torus and period-doubling curves)."""
-    from . import branches
+    from ..analysis.orbits import branches
 
     if not (wants_orbits(args) or args.par2 is not None):
         raise AnalysisError(f"{model.name} is periodically forced: it has periodic orbits, not steady states; continue "
                             f"its forced response with --orbits (or --par2 for its torus and period-doubling curves)")
     values = assignments(args.set, "--set", units(model).params)
-    p = model.params({**_start_parameters(model), **values})
+    p = model.params({**start_parameters(model), **values})
     for name in (args.par, args.par2):
         if name is not None and name not in model.param_names:
             raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
@@ -209,7 +141,7 @@ def run_forced(args, model, emit) -> int:
     if to == p[k]:
         raise AnalysisError(f"--to must differ from the start value {args.par} = {p[k]:g}")
     start = forced_start(model, args, p)
-    from ..identify import identify
+    from ..analysis.identify import identify
 
     # what the branch starts on: a labelled steady state (a constant solution, e.g. balanced with the rotor at
     # rest) or an unlabelled periodic response (issue 34 item 4)
@@ -220,54 +152,21 @@ def run_forced(args, model, emit) -> int:
     out = {"model": model.name, "parameter": args.par, "ties": list(args.tie), "points": [],
            "orbits": [br.to_json()], "orbit_points": br.points_json(0), **followed}
     if args.plot:
-        plot_branches(Path(args.plot), model, args.par, [br])
+        branches.plot_branches(Path(args.plot), model, args.par, [br])
     emit(out)
     return 0
 
 
-def _start_parameters(model) -> dict:
+def start_parameters(model) -> dict:
     sp = getattr(model.module, "START_PARAMETERS", None)
     return {} if sp is None else dict(zip(model.param_names, map(float, sp)))
-
-
-def plot_branches(path: Path, model, name: str, branches_) -> None:
-    """Amplitude and period against the parameter: stable solid, unstable thin, special points marked."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True)
-    marks = {"torus": ("*", "C3"), "period-doubling": ("D", "C2"), "fold": ("s", "C1")}
-    for i, br in enumerate(branches_):
-        j = br.to_json()
-        lam, amp, per, st = (np.array(j[k]) for k in ("parameter", "amplitude", "period", "stable"))
-        if len(lam) == 0:
-            continue
-        for ax, v in ((a1, amp), (a2, per)):
-            ax.plot(lam, v, "-", color=f"C{i % 10}", lw=0.7)
-            ax.plot(lam, np.where(st, v, np.nan), "-", color=f"C{i % 10}", lw=2.2)
-        for sp in br.specials:
-            mk, c = marks.get(sp["kind"], ("o", "k"))
-            k = int(np.argmin(np.abs(lam - sp[name])))
-            a1.plot(sp[name], amp[k], mk, color=c, ms=8)
-            a2.plot(sp[name], sp["period"], mk, color=c, ms=8)
-    a1.set_ylabel("amplitude r_max")
-    a2.set_ylabel("period T")
-    a2.set_xlabel(name)
-    a1.set_title(f"{model.name}: periodic orbits (thick stable; * torus, D period-doubling, s fold)", fontsize=9)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name("." + path.name + ".tmp")
-    fig.savefig(tmp, dpi=120, format=path.suffix.lstrip(".") or "png")
-    plt.close(fig)
-    os.replace(tmp, path)
 
 
 def chart_command(args, model, p, start, emit) -> int:
     """`adbgen continue MODEL --par NAME --par2 NAME2 [--tie ...] [--range2 LO:HI] [--log2] [--plot FILE]` on our
     own continuation (forced models; autonomous ones with --tie, --plot or --log2)."""
-    from .charts import compute, plot
-    from .parameters import ParameterMap
+    from ..analysis.orbits.charts import compute, plot
+    from ..analysis.orbits.parameters import ParameterMap
 
     pmap = ParameterMap(model, p, [args.par, args.par2], ties=args.tie)
     k1, k2 = pmap.index
