@@ -81,9 +81,11 @@ def scene_model(scene: dict):
 
 
 def ratio(y, y_ref, rtol: float, atol: float) -> float:
-    """max_i |y_i - y_ref,i| / (atol + rtol |y_ref,i|): the error in units of the tolerance."""
-    y, y_ref = np.asarray(y, float), np.asarray(y_ref, float)
-    return float(np.max(np.abs(y - y_ref) / (atol + rtol * np.abs(y_ref))))
+    """max_i |y_i - y_ref,i| / (atol + rtol |y_ref,i|): the error in units of the tolerance (the estimate's own
+    measure, `error_estimate.estimate_ratio`, here with no angle wrapped: the reference is the same trajectory)."""
+    from adbgen.analysis.error_estimate import estimate_ratio
+
+    return estimate_ratio(y, y_ref, rtol, atol)
 
 
 def t_dec_ratio(t_dec, t_ref, rtol: float, t_end: float):
