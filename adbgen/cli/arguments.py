@@ -1,6 +1,7 @@
-"""What the commands over generated models share: the model arguments, loading, positive numbers, JSON
-output, and `Commands`, the per-module list of subcommands (`@command(name, help)` on the argument
-builder; the module's `register = command.register` adds them to `adbgen`'s parser).
+"""What the commands over generated models share: the model arguments, loading, positive numbers, a pair of
+quantities A:B (`quantity_pair`: --range2, --scan, design's LOW:HIGH), JSON output, and `Commands`, the
+per-module list of subcommands (`@command(name, help)` on the argument builder; the module's
+`register = command.register` adds them to `adbgen`'s parser).
 """
 
 from __future__ import annotations
@@ -65,6 +66,18 @@ def _quantity_text(option: str):
             raise argparse.ArgumentTypeError(str(exc).removeprefix(f"{option}: ")) from None
     check.__name__ = "quantity"
     return check
+
+
+def quantity_pair(text: str, unit: str, option: str, form: str, labels: tuple[str, str]) -> tuple[float, float]:
+    """``A:B`` (--range2 LO:HI, --scan NAME=FROM:TO, design's LOW:HIGH) -> the two values in `unit`, each a
+    number in it, an expression in pi or a value with a unit (`units.quantity`, its errors named by `labels`);
+    no colon: "OPTION: expected FORM".  The order each option asks of A and B is its caller's."""
+    from ..analysis.units import quantity
+
+    a, sep, b = str(text).partition(":")
+    if not sep:
+        raise AnalysisError(f"{option}: expected {form}, got {text!r}")
+    return quantity(a, unit, labels[0]), quantity(b, unit, labels[1])
 
 
 def _finite_positive(text: str) -> float:

@@ -29,20 +29,27 @@ import numpy as np
 
 from ..analysis.loading import AnalysisError, parse_value
 from ..analysis.orbits import hopf
-from ..analysis.units import assignments, quantity, units
+from ..analysis.units import assignments, units
+from .arguments import quantity_pair
 
 
-def parse_range2(text: str | None):
-    """--range2 LO:HI -> (lo, hi) with lo < hi (None: not given)."""
-    if text is None:
-        return None
-    lo, sep, hi = text.partition(":")
-    if not sep:
-        raise AnalysisError(f"--range2: expected LO:HI, got {text!r}")
-    out = (parse_value(lo, "--range2 LO"), parse_value(hi, "--range2 HI"))
+def parse_range2(text: str, unit: str) -> tuple[float, float]:
+    """--range2 LO:HI -> (lo, hi) with lo < hi, each bound a number in --par2's `unit`, an expression in pi or a
+    value with a unit (`units.quantity`)."""
+    out = quantity_pair(text, unit, "--range2", "LO:HI", ("--range2 LO", "--range2 HI"))
     if not out[0] < out[1]:
         raise AnalysisError(f"--range2: LO must be below HI, got {text!r}")
     return out
+
+
+def range2_option(args, model) -> tuple[float, float] | None:
+    """`continue`'s --range2, read once by either path (steady states, forced response) in --par2's unit (None:
+    not given); refused without --par2."""
+    if args.range2 is None:
+        return None
+    if args.par2 is None:
+        raise AnalysisError("--range2 needs --par2")
+    return parse_range2(args.range2, units(model).params[args.par2])
 
 
 def wants_orbits(args) -> bool:
@@ -93,7 +100,8 @@ def continue_orbits(model, args, p, points: list[dict], name: str, to: float | N
     if args.auto_orbits:
         from ..analysis.orbits.auto_cycles import auto_branches
 
-        result["auto_orbits"] = auto_branches(model, name, p, [row[name] for row in hb], to, args)
+        result["auto_orbits"] = auto_branches(model, name, p, [row[name] for row in hb], to,
+                                              nmx=args.max_points)
     return result, out_branches
 
 
@@ -120,24 +128,23 @@ def forced_start(model, args, p):
     return refine(model, p, y0, None)
 
 
-def run_forced(args, model, emit) -> int:
+def run_forced(args, model, values: dict, to: float | None, emit) -> int:
     """`adbgen continue` on a periodically forced model: its forced response continued in --par (and, with
-    --par2, its torus and period-doubling curves)."""
+    --par2, its torus and period-doubling curves); `values` (--set) and `to` (--to, None: not given) as
+    `run_continue` read them."""
     from ..analysis.orbits import branches
 
     if not (wants_orbits(args) or args.par2 is not None):
         raise AnalysisError(f"{model.name} is periodically forced: it has periodic orbits, not steady states; continue "
                             f"its forced response with --orbits (or --par2 for its torus and period-doubling curves)")
-    values = assignments(args.set, "--set", units(model).params)
+    range2 = range2_option(args, model)
     p = model.params({**start_parameters(model), **values})
-    for name in (args.par, args.par2):
-        if name is not None and name not in model.param_names:
-            raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: {', '.join(model.param_names)}")
     pmap = pmap_for(model, p, [args.par], args)
     p = pmap(p[pmap.index[0]])
     k = model.param_names.index(args.par)
-    to = quantity(args.to, units(model).params[args.par], "--to") if args.to is not None else \
-        (0.5 * p[k] if p[k] > 0 else p[k] - 1.0)
+    given_to = to  # the chart's range reads --to as given
+    if to is None:
+        to = 0.5 * p[k] if p[k] > 0 else p[k] - 1.0
     if to == p[k]:
         raise AnalysisError(f"--to must differ from the start value {args.par} = {p[k]:g}")
     start = forced_start(model, args, p)
@@ -147,7 +154,7 @@ def run_forced(args, model, emit) -> int:
     # rest) or an unlabelled periodic response (issue 34 item 4)
     followed = identify(model, start.y, p).to_json()
     if args.par2 is not None:
-        return chart_command(args, model, p, start, lambda out: emit({**out, **followed}))
+        return chart_command(args, model, p, start, given_to, range2, lambda out: emit({**out, **followed}))
     br = branches.from_orbit(model, pmap, start, 1.0 if to > p[k] else -1.0, orbit_settings(args, float(p[k]), to), to=to)
     out = {"model": model.name, "parameter": args.par, "ties": list(args.tie), "points": [],
            "orbits": [br.to_json()], "orbit_points": br.points_json(0), **followed}
@@ -162,18 +169,18 @@ def start_parameters(model) -> dict:
     return {} if sp is None else dict(zip(model.param_names, map(float, sp)))
 
 
-def chart_command(args, model, p, start, emit) -> int:
+def chart_command(args, model, p, start, to: float | None, range2: tuple | None, emit) -> int:
     """`adbgen continue MODEL --par NAME --par2 NAME2 [--tie ...] [--range2 LO:HI] [--log2] [--plot FILE]` on our
-    own continuation (forced models; autonomous ones with --tie, --plot or --log2)."""
+    own continuation (forced models; autonomous ones with --tie, --plot or --log2); `to` (--to) and `range2`
+    (--range2) as read once by the caller, None where not given."""
     from ..analysis.orbits.charts import compute, plot
     from ..analysis.orbits.parameters import ParameterMap
 
     pmap = ParameterMap(model, p, [args.par, args.par2], ties=args.tie)
     k1, k2 = pmap.index
     v1, v2 = float(p[k1]), float(p[k2])
-    to = quantity(args.to, units(model).params[args.par], "--to") if args.to is not None else None
     range1 = (min(v1, to), max(v1, to)) if to is not None else (0.5 * v1, 1.5 * v1)
-    range2 = parse_range2(args.range2) or ((0.1 * v2, 10 * v2) if v2 > 0 else (v2 - 1.0, v2 + 1.0))
+    range2 = range2 or ((0.1 * v2, 10 * v2) if v2 > 0 else (v2 - 1.0, v2 + 1.0))
     log2 = bool(getattr(args, "log2", False))
     n1, n2 = 81, 25
     if getattr(args, "grid", None):

@@ -18,7 +18,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from .arguments import Commands, _emit_json
+from .arguments import Commands, _emit_json, quantity_pair
 
 command = Commands()
 register = command.register
@@ -118,12 +118,8 @@ def _add_design(p) -> None:
 
 def _interval(text: str, option: str, unit: str) -> tuple[float, float]:
     from ..analysis.loading import AnalysisError
-    from ..analysis.units import quantity
 
-    low, sep, high = str(text).partition(":")
-    if not sep:
-        raise AnalysisError(f"{option}: expected LOW:HIGH, got {text!r}")
-    a, b = quantity(low, unit, option), quantity(high, unit, option)
+    a, b = quantity_pair(text, unit, option, "LOW:HIGH", (option, option))
     if a > b:
         raise AnalysisError(f"{option}: LOW {a:g} is above HIGH {b:g}")
     return a, b

@@ -21,7 +21,7 @@ from ..analysis.loading import AnalysisError
 from ..analysis.units import assignments, show
 from ..outputs import output_folder
 from ..progress import activity, bar as progress_bar, wanted
-from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments, _positive_int
+from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments, _positive_int, quantity_pair
 from .orbit import add_continue_options, print_orbits
 
 command = Commands()
@@ -54,19 +54,18 @@ def _start(model, args, p):
 
 def _scan_range(text: str, model) -> tuple[str, float, float]:
     name, sep, rng = str(text).partition("=")
-    lo, sep2, hi = rng.partition(":")
-    if not sep or not sep2 or not name.strip():
+    if not sep or ":" not in rng or not name.strip():
         raise AnalysisError(f"--scan: expected NAME=FROM:TO, got {text!r}")
     name = name.strip()
     if name not in model.param_names:
         raise AnalysisError(f"--scan: {name!r} is not a parameter of {model.name}; parameters: "
                             f"{', '.join(model.param_names)}")
-    from ..analysis.units import quantity, units
+    from ..analysis.units import units
 
-    unit = units(model).params[name]
-    a, b = quantity(lo, unit, f"--scan {name} FROM"), quantity(hi, unit, f"--scan {name} TO")
+    a, b = quantity_pair(rng, units(model).params[name], "--scan", "NAME=FROM:TO",
+                         (f"--scan {name} FROM", f"--scan {name} TO"))
     if a == b:
-        raise AnalysisError(f"--scan: empty range {name}={lo}:{hi}")
+        raise AnalysisError(f"--scan: empty range {name}={rng}")
     return name, a, b
 
 
@@ -321,13 +320,14 @@ def run_continue(args) -> int:
             raise AnalysisError(f"{name!r} is not a parameter of {model.name}; parameters: "
                                 f"{', '.join(model.param_names)}")
     values = assignments(args.set, "--set", u.params)
-    to = quantity(args.to, u.params[args.par], "--to") if args.to is not None else None
+    # --to as given (None: not given), before the defaults below: the chart's range1 reads it so
+    given_to = to = quantity(args.to, u.params[args.par], "--to") if args.to is not None else None
 
     def emit(out):
         _emit_json(out) if args.json else _print_continue(out, args.par, args.par2)
     if not model.autonomous:
         if glue.wants_orbits(args) or args.par2 is not None:  # our own shooting (issue 21)
-            return glue.run_forced(args, model, emit)
+            return glue.run_forced(args, model, values, given_to, emit)
         return _continue_forced(model, params(model, values), args, to, show_progress)
     if getattr(model.module, "START", None) is None and not args.y0:
         raise AnalysisError(f"{model.name} has no START state to continue from (give --y0)")
@@ -343,17 +343,7 @@ def run_continue(args) -> int:
     if args.tie and args.par2 is None and np.any(pmap.direction(p[k], 0) != np.eye(model.n_params)[k]):
         raise AnalysisError("--tie: a parameter tied to --par needs --par2 (AUTO-07p's one-parameter run cannot keep "
                             "it tied)")
-    range2 = None
-    if args.range2 is not None:
-        if args.par2 is None:
-            raise AnalysisError("--range2 needs --par2")
-        lo, sep, hi = args.range2.partition(":")
-        if not sep:
-            raise AnalysisError(f"--range2: expected LO:HI, got {args.range2!r}")
-        unit2 = u.params[args.par2]
-        range2 = (quantity(lo, unit2, "--range2 LO"), quantity(hi, unit2, "--range2 HI"))
-        if not range2[0] < range2[1]:
-            raise AnalysisError(f"--range2: LO must be below HI, got {args.range2!r}")
+    range2 = glue.range2_option(args, model)
     required = None  # the labelled state the run must start on (--state, or the one START is)
     if args.y0 and getattr(model.module, "START", None) is None:
         y, _ = steady.newton(model, p, model.state(assignments(args.y0, "--y0", u.states)))
@@ -374,7 +364,7 @@ def run_continue(args) -> int:
                                 f"balanced continuum), which this state does not share; use stability --scan")
     followed = check(model, y, p, required)
     if glue.wants_chart(args):
-        return glue.chart_command(args, model, p, y, lambda out: emit({**out, **followed.to_json()}))
+        return glue.chart_command(args, model, p, y, given_to, range2, lambda out: emit({**out, **followed.to_json()}))
     ds_max = abs(to - p[k]) / AUTO_STEPS_PER_RANGE
     with activity(f"{model.name}: AUTO-07p in {args.par}", show_progress):
         if args.par2 is None:

@@ -122,6 +122,12 @@ def test_stability_bad_input(capsys, argv, match):
     (["thesis_rotating_n2", "--par", "Omega", "--range2", "0:1"], "needs --par2"),
     (["thesis_rotating_n2", "--par", "Omega", "--par2", "mu", "--range2", "1:0"], "LO must be below HI"),
     (["thesis_rotating_n2", "--par", "Omega", "--par2", "mu", "--range2", "1"], "LO:HI"),
+    # a forced model reads --range2 with the same parser, at once (not after its start is refined), and refuses
+    # it without --par2 on its own continuation too (it was ignored there)
+    (["two_plane_fixed", "--par", "Omega", "--orbits", "--range2", "0:1"], "needs --par2"),
+    (["two_plane_fixed", "--par", "Omega", "--par2", "epsilon", "--range2", "1"], "LO:HI"),
+    (["two_plane_fixed", "--par", "Omega", "--par2", "epsilon", "--range2", "2:1"], "LO must be below HI"),
+    (["two_plane_fixed", "--par", "Omega", "--range2", "0:1"], "--range2 and --state are for steady states"),
     (["thesis_rotating_n2", "--par", "Omega", "--to", "4"], "must differ from the start"),
     (["thesis_rotating_n2", "--par", "Omega", "--set", "mu=inf"], "cannot read"),
     (["thesis_rotating_n2", "--par", "Omega", "--set", "mu=1e999"], "not finite"),

@@ -38,9 +38,10 @@ def _branch_json(points: list, name: str, column: str, amp: str, origin: float, 
                        for pt in rows if pt.label > 0 and pt.type in ("TR", "PD", "LP", "BP")]}
 
 
-def auto_branches(model: Model, name: str, p: np.ndarray, hb_values, to: float | None, args=None, nmx: int = 200,
+def auto_branches(model: Model, name: str, p: np.ndarray, hb_values, to: float | None, nmx: int = 200,
                   ds: float = 0.01, ds_max: float = 0.05, y: np.ndarray | None = None) -> list[dict]:
-    """AUTO's cycle branches (IPS = 2, ISP = 2: TR, PD, LP detected) from the HB labels nearest hb_values."""
+    """AUTO's cycle branches (IPS = 2, ISP = 2: TR, PD, LP detected) from the HB labels nearest hb_values, each
+    run at most `nmx` steps (AUTO's NMX and NPR; `continue --max-points`)."""
     k = model.param_names.index(name)
     a = auto07p.auto_parameter(k)
     amp = auto07p.auto_parameter(model.n_params)
@@ -48,7 +49,6 @@ def auto_branches(model: Model, name: str, p: np.ndarray, hb_values, to: float |
     start = float(p[k])
     to = (0.5 * start if start > 0 else start - 1.0) if to is None else float(to)
     lo, hi = min(start, to), max(start, to)
-    nmx = getattr(args, "max_points", None) or nmx
     out = []
     with auto07p.Session(model) as session:
         one = auto07p.continue_one(model, name, p, y if y is not None else None, to, session=session)
