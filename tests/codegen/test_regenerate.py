@@ -40,7 +40,7 @@ def small_tree(tmp_path_factory) -> Path:
 def test_committed_generated_folder_is_current():
     """`adbgen regenerate --check` with the reduction checks, as a user runs it: the committed generated/ is what
     the models and templates produce.  The README's test command runs it here, on one of the suite's workers,
-    rather than as a serial step before the suite (about 140 s on a quiet 2-core machine, in parallel here);
+    rather than as a serial step before the suite;
     a failure shows the command's own report, each stale file with its diff."""
     r = run("regenerate", "--check", "--quiet", timeout=1800)
     assert r.returncode == 0, r.stdout[-20000:] + r.stderr[-2000:]
