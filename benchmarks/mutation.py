@@ -25,7 +25,7 @@ and the harnesses) are not mutated: a weaker proof writes byte-identical files, 
 
 `--runtime` (issue 33 item 5): the code that runs generated models instead, the engines' C drivers and
 headers (adbgen/analysis/engines/*.c, *.h: a Butcher coefficient of dop853_tableau.h, an error-norm term,
-an event bracket of dense_search.h, SUNDIALS' root functions, ...) and the orbit code (the variational
+an event bracket of event_measures.h, SUNDIALS' root functions, ...) and the orbit code (the variational
 equations, a monodromy column of orbits/shooting.py, the test functions): the named mutants of `RUNTIME`
 and, with ``--per-driver N``, N seeded line mutants of each driver and header.  Nothing is regenerated
 for these: each is applied alone to the scratch tree and its targeted tests are run there (ENGINE_TESTS,
@@ -174,7 +174,7 @@ SAMPLE: tuple[Mutant, ...] = (
 
 # The engines' C drivers and the orbit code (issue 33 item 5): nothing is regenerated for these; each mutant
 # is applied alone and the targeted tests of what it breaks are run (pytest arguments), `caught` when they fail.
-ENGINE_TESTS = ("tests/analysis/test_dense_search.py", "tests/analysis/test_fixed_libm.py",
+ENGINE_TESTS = ("tests/analysis/test_event_measures.py", "tests/analysis/test_fixed_libm.py",
                 "tests/analysis/test_c_interface.py", "tests/analysis/test_rk_engines.py",
                 "tests/analysis/test_decay_time.py", "tests/analysis/test_matlab_ode45.py")
 ORBIT_TESTS = ("tests/analysis/test_orbits.py", "-k", "not auto and not command and not continue")
@@ -201,20 +201,23 @@ RUNTIME: tuple[Mutant, ...] = (
              "RK_ABS(y[i]) * rtol"),
     _runtime("dop853-safety-factor", f"{E}/rk_dop853.h", "#define DOP_SAFETY 0.9", "#define DOP_SAFETY 0.8"),
     _runtime("dop853-dense-F2-sign", f"{E}/rk_dop853.h", "h * (K[DOP_STAGES][i] + K[0][i])", "h * (K[DOP_STAGES][i] - K[0][i])"),
-    # the event measures on a step's interpolant (dense_search.h: cyrk-* and rk-dop853)
-    _runtime("dense-bisect-bracket-swapped", f"{E}/dense_search.h", "if (dense_r2(h, m, ix, iy) >= H2) a = m;\n        else b = m;",
+    # the event measures (event_measures.h: every engine's report; its search on a step's interpolant: cyrk-*, rk-dop853)
+    _runtime("dense-bisect-bracket-swapped", f"{E}/event_measures.h", "if (dense_r2(h, m, ix, iy) >= H2) a = m;\n        else b = m;",
              "if (dense_r2(h, m, ix, iy) >= H2) b = m;\n        else a = m;"),
-    _runtime("dense-golden-section-minimises", f"{E}/dense_search.h", "if (fc > fd) {", "if (fc < fd) {"),
-    _runtime("dense-screen-margin-dropped", f"{E}/dense_search.h", "if (p >= 0.5 * H2) return 1;", "if (p >= H2) return 1;"),
-    _runtime("dense-last-above-strict", f"{E}/dense_search.h", "if (v >= H2) *last = k;", "if (v > 1.01 * H2) *last = k;"),
+    _runtime("dense-golden-section-minimises", f"{E}/event_measures.h", "if (fc > fd) {", "if (fc < fd) {"),
+    _runtime("dense-screen-margin-dropped", f"{E}/event_measures.h", "if (p >= 0.5 * H2) return 1;", "if (p >= H2) return 1;"),
+    _runtime("dense-last-above-strict", f"{E}/event_measures.h", "if (v >= H2) *last = k;", "if (v > 1.01 * H2) *last = k;"),
     # SUNDIALS' root functions, the ode45 emulation's error and output, Taylor's in-step screen
     _runtime("sundials-threshold-root-squared-once", f"{E}/sundials_driver.c",
              "- d->threshold * d->threshold;", "- d->threshold;"),
-    _runtime("sundials-crossing-below-counted", f"{E}/sundials_driver.c",
-             "if (found[1] && r >= set->threshold) t_cross", "if (found[1] && r < set->threshold) t_cross"),
+    _runtime("sundials-extremum-counted-as-crossing", f"{E}/sundials_driver.c",
+             "if (found[0]) adb_events_crossing(&ev, t);", "if (found[1]) adb_events_crossing(&ev, t);"),
     _runtime("ode45-error-scale-new-state-dropped", f"{E}/ode45_driver.c",
              "fabs(fe / fmax(fmax(fabs(y[i]), fabs(ynew[i])), threshold_w))", "fabs(fe / fmax(fabs(y[i]), threshold_w))"),
-    _runtime("ode45-t_dec-strict", f"{E}/ode45_driver.c", "if (r2 >= o->H2) o->t_dec = t;", "if (r2 > 1.01 * o->H2) o->t_dec = t;"),
+    _runtime("events-point-above-strict", f"{E}/event_measures.h", "if (r2 >= ev->H2) ev->t_above = t;",
+             "if (r2 > 1.01 * ev->H2) ev->t_above = t;"),
+    _runtime("events-report-unsettled-ignored", f"{E}/event_measures.h", "r->t_dec = r2_end >= ev->H2 ? NAN",
+             "r->t_dec = r2_end >= 4.0 * ev->H2 ? NAN"),
     _runtime("taylor-in-step-screen-skipped", f"{E}/taylor_driver.c", "if (end2 < H2 && bound >= H2) {",
              "if (end2 < H2 && bound >= 4 * H2) {"),
     # the variational equations (variational_driver.c) and the shooting system (orbits/)

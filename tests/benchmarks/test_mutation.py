@@ -51,7 +51,7 @@ def test_every_runtime_mutant_changes_its_file_once_and_names_existing_tests():
         assert all((ROOT / a).is_file() for a in m.tests if a.startswith("tests/")), m.id
     # the four: a Butcher coefficient, an error-norm term, an event bracket, a monodromy column
     assert {"adbgen/analysis/engines/dop853_tableau.h", "adbgen/analysis/engines/rk_dop853.h",
-            "adbgen/analysis/engines/dense_search.h", "adbgen/analysis/orbits/shooting.py"} <= files
+            "adbgen/analysis/engines/event_measures.h", "adbgen/analysis/orbits/shooting.py"} <= files
     assert len({m.id for m in RUNTIME}) == len(RUNTIME)
     sampled = driver_mutants(ROOT, 1, 20)
     assert [m.id for m in sampled] == [m.id for m in driver_mutants(ROOT, 1, 20)]  # seeded: the same plan

@@ -1,5 +1,5 @@
-/* adbgen's default integration path: a generated model's C library run by CyRK's C++ Runge-Kutta
- * solvers (DOP853, Vern7, Vern8, RK45, RK23), with no Python per step or per evaluation.
+/* The cyrk-* engines: a generated model's C library run by CyRK's C++ Runge-Kutta solvers (DOP853,
+ * Vern7, Vern8, RK45, RK23), with no Python per step or per evaluation.
  *
  * One translation unit per model: it #includes the model's generated C source (ADB_MODEL_SOURCE) so
  * the compiler may inline the right-hand side into the callback.  CyRK's solver is reached through
@@ -8,13 +8,10 @@
  *
  *     -DADB_MODEL_SOURCE='"<model>.c"' -DADB_RHS=<model>_rhs -DADB_NY=<states> -DADB_NP=<parameters>
  *
- * r_max and t_dec (thesis ch. 5) are located on the continuous solution: the step holding the last
- * crossing of r = threshold and the steps around the largest peaks of r are integrated again from
- * their accepted state with CyRK's dense output (the method's own continuous extension), and the
- * crossing is found by bisection, the peak by a scan and golden section, on that interpolant.
- * t_dec = sup{t : r(t) >= H} also sees an excursion above H that starts and ends inside one step
- * (both step ends below H): the steps after the last crossing where r has an interior maximum
- * (x x' + y y' from + to -) are integrated again, latest first, until one exceeds H.
+ * r_max and t_dec (thesis ch. 5) are located on the continuous solution by event_measures.h
+ * (adb_dense_measures: the last crossing of r = threshold, an excursion above it inside one step, the
+ * largest peaks of r): each step it searches is integrated again from its accepted state with CyRK's dense
+ * output (the method's own continuous extension).
  *
  * Exact symmetry: the RK stages update every component by the same element-wise operations and the
  * generated code evaluates every ball in the same order, so identical balls stay together bit for bit.
@@ -86,84 +83,22 @@ static void *redo_step(const Settings *s, Args *args, const double *t, const dou
     return res;
 }
 
+/* event_measures.h's hooks: a step's interpolant is the step integrated again with dense output */
+typedef struct {
+    const Settings *s;
+    Args *args;
+} DenseSource;
+
+static void *dense_open(const DenseSource *src, const double *T, const double *Y, size_t k)
+{
+    return redo_step(src->s, src->args, T, Y, k);
+}
+
+static void dense_close(void *res) { cy.free(res); }
+
 #define ADB_DENSE void *
-#include "dense_search.h"
-
-/* t_dec in (t[k], t[k+1]]: r(t[k]) >= H > r(t[k+1]) */
-static double locate_crossing(const Settings *s, Args *args, const double *t, const double *Y, size_t k, int ix,
-                              int iy, double H2)
-{
-    void *res = redo_step(s, args, t, Y, k);
-    if (!res) return t[k];
-    double a = adb_bisect_down(res, t[k], t[k + 1], ix, iy, H2);
-    cy.free(res);
-    return a;
-}
-
-/* the latest excursion of r above H inside a step after step `after` whose ends are both below H: its
- * end (the interpolant's last crossing), or -1 when none */
-static double hidden_excursion(const Settings *s, Args *args, const double *t, const double *Y, size_t K,
-                               size_t after, const int *amp, double H2)
-{
-    size_t first = after == (size_t)-1 ? 0 : after + 1;
-    for (size_t k = K - 1; k-- > first;) {
-        if (!adb_may_exceed(t, Y, k, amp, H2)) continue;
-        void *res = redo_step(s, args, t, Y, k);
-        if (!res) continue;
-        double tm, v = adb_peak_on(res, t[k], t[k + 1], 16, 0, amp[0], amp[1], &tm);
-        double found = v >= H2 ? adb_bisect_down(res, tm, t[k + 1], amp[0], amp[1], H2) : -1.0;
-        cy.free(res);
-        if (found >= 0.0) return found;
-    }
-    return -1.0;
-}
-
-/* largest r^2 on [t[lo], t[hi]] by the interpolant: a scan, then golden section around its best */
-static double refine_peak(const Settings *s, Args *args, const double *t, const double *Y, size_t lo, size_t hi,
-                          int ix, int iy, double best)
-{
-    double y0[ADB_NY];
-    memcpy(y0, Y + lo * ADB_NY, sizeof y0);
-    double h = t[lo + 1] - t[lo];
-    void *res = solve(s, t[lo], t[lo] + 1.25 * fmax(t[hi] - t[lo], 2.0 * h), y0, args, true, h);
-    if (!res || !cy.success(res)) {
-        if (res) cy.free(res);
-        return best;
-    }
-    double tm;
-    best = fmax(best, adb_peak_on(res, t[lo], t[hi], 32, 0, ix, iy, &tm));
-    cy.free(res);
-    return best;
-}
-
-/* (r_max, t_dec) from the accepted steps; t_dec NaN when r(t_end) >= H, 0 when no step reaches H */
-static void measure(const Settings *s, Args *args, const double *t, const double *Y, size_t K, const int *amp,
-                    double H, int n_peaks, double *r_max, double *t_dec)
-{
-    int ix = amp[0], iy = amp[1];
-    double H2 = H * H;
-    size_t last;
-    double best = adb_scan_ends(Y, K, ix, iy, H2, &last);
-    if (adb_r2(Y + (K - 1) * ADB_NY, ix, iy) >= H2) *t_dec = NAN;
-    else {
-        /* sup{t : r(t) >= H}: an excursion inside a later step, else the last crossing at step ends */
-        double hidden = hidden_excursion(s, args, t, Y, K, last, amp, H2);
-        if (hidden >= 0.0) *t_dec = hidden;
-        else if (last == (size_t)-1) *t_dec = 0.0;
-        else *t_dec = locate_crossing(s, args, t, Y, last, ix, iy, H2);
-    }
-    /* the n_peaks largest local maxima of r at accepted steps (at least a quarter of the largest) */
-    double floor_ = 0.25 * best, done_above = INFINITY, refined = best;
-    for (int p = 0; p < n_peaks; ++p) {
-        double vb;
-        size_t kb = adb_next_peak(Y, K, ix, iy, floor_, done_above, &vb);
-        if (kb == (size_t)-1) break;
-        done_above = vb;
-        size_t lo = kb > 0 ? kb - 1 : 0, hi = kb + 1 < K ? kb + 1 : K - 1;
-        if (hi > lo) refined = refine_peak(s, args, t, Y, lo, hi, ix, iy, refined);
-    }
-    *r_max = sqrt(refined);
-}
+#define ADB_DENSE_SOURCE const DenseSource *
+#include "event_measures.h"
 
 /* One trajectory from t = 0 to s->t_end.
  *
@@ -264,14 +199,16 @@ static int adb_run(const double *y0, const double *p, const adb_settings *s, adb
         }
     }
     long evals = count;
-    if (!s->measures) {
-        /* r_max and t_dec not asked for: NaN */
-    } else if (status == ADB_SUCCESS)
-        measure(&cs, &args, T, Y, K, s->amp, s->threshold, 8, &r->r_max, &r->t_dec);
-    else {
-        double best = 0.0;
-        for (size_t k = 0; k < K; ++k) best = fmax(best, adb_r2(Y + k * ADB_NY, ix, iy));
-        r->r_max = sqrt(best);
+    if (s->measures) {
+        /* the steps are stored (store): searched on their continuous solution when the run finished */
+        adb_events ev;
+        adb_events_start(&ev, s->threshold, y0, s->amp);
+        if (status == ADB_SUCCESS) {
+            const DenseSource src = {&cs, &args};
+            adb_dense_measures(&src, T, Y, K, s->amp, 8, &ev); /* (its re-integrations not counted in n_rhs) */
+        } else
+            adb_events_points(&ev, T, Y, K, s->amp);
+        adb_events_report(&ev, 1, status, adb_r2(Y + (K - 1) * ADB_NY, ix, iy), r);
     }
     r->t_last = T[K - 1];
     memcpy(y_end, Y + (K - 1) * ADB_NY, sizeof(double) * ADB_NY);
@@ -289,7 +226,7 @@ static int adb_run(const double *y0, const double *p, const adb_settings *s, adb
 #include "adb_entries.h"
 
 /* The continuous solution of a run at `times` (n, increasing, within [T[0], T[K-1]]) into out (n x ADB_NY):
- * each step holding a time is integrated again with dense output, as measure() does, so this is the
+ * each step holding a time is integrated again with dense output, as adb_dense_measures does, so this is the
  * interpolant r_max and t_dec are located on.  Returns 0, or ADB_SOLVER_FAILURE. */
 int adb_dense(const double *T, const double *Y, long K, const double *p, const adb_settings *set, int n,
               const double *times, double *out)

@@ -1,6 +1,7 @@
-/* What every compiled engine's driver shares: the C interface (adb_engine.h), status codes, the rotor
- * amplitude, early-stop target regions.  Included after the model's generated C source, with ADB_NY
- * defined. */
+/* What the compiled engines' drivers share (and variational_driver.c, outside the interface): the C
+ * interface (adb_engine.h), status codes, the rotor amplitude, early-stop target regions.  The event
+ * measures r_max and t_dec are event_measures.h's, included after this by the drivers that report them.
+ * Included after the model's generated C source, with ADB_NY defined. */
 #ifndef ADB_DRIVER_COMMON_H
 #define ADB_DRIVER_COMMON_H
 

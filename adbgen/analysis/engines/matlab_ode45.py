@@ -16,8 +16,6 @@ sweep relies on beyond the element-wise stage updates (identical balls stay toge
 
 from __future__ import annotations
 
-import numpy as np
-
 from ..loading import AnalysisError
 from .compiled import _Compiled, _load_cached, build
 
@@ -44,10 +42,8 @@ class MatlabOde45Engine(_Compiled):
                  targets=(), measures=True):
         if targets:
             raise AnalysisError("matlab-ode45 has no early stop (a sweep's --measure attractor needs another engine)")
-        out = super().run_many(model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=threads)
-        if not measures:  # computed along the way; not asked for: NaN as the other engines report
-            out["r_max"] = out["t_dec"] = np.full(len(Y0), np.nan)
-        return out
+        return super().run_many(model, P, Y0, t_end, rtol, atol, threshold, max_steps, threads=threads,
+                                measures=measures)
 
 
 ENGINE = MatlabOde45Engine()

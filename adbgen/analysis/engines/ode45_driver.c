@@ -14,7 +14,8 @@
  *   - the output: Refine = 4, each step's end and the three points at s = 1/4, 1/2, 3/4 of it from ntrp45
  *     (the interpolant y + f*(h*BI)*[s; s^2; s^3; s^4]).
  * r_max and t_dec are read off those output points, as a MATLAB user reads them off the returned [t, y]:
- * r_max = max r(t_i), t_dec = the last t_i with r(t_i) >= threshold (0 when none).
+ * r_max = max r(t_i), t_dec = the last t_i with r(t_i) >= threshold (event_measures.h's points and report:
+ * 0 when none, NaN when r(t_end) >= threshold or the run failed).
  *
  * Compiled by adbgen.analysis.engines.compiled like the other drivers (-DADB_MODEL_SOURCE, ADB_RHS,
  * ADB_NY, ADB_NP); the libm the model calls is the pinned one of fixed_libm.h.
@@ -25,6 +26,7 @@
 
 #include ADB_MODEL_SOURCE
 #include "driver_common.h"
+#include "event_measures.h"
 
 
 /* MATLAB's eps(t): the distance from |t| to the next larger double (eps(0) = 2^-1074) */
@@ -57,19 +59,18 @@ static const double BI[7][4] = {
     {0.0, -11.0 / 7.0, 11.0 / 3.0, -55.0 / 28.0},
     {0.0, 3.0 / 2.0, -4.0, 5.0 / 2.0}};
 
+/* the output points: the measures' points (event_measures.h), and with keep the returned [t, y] */
 typedef struct {
     double *T, *Y;
     size_t k, cap;
     int keep;
-    int ix, iy;
-    double H2, r2max, t_dec;
+    const int *amp;
+    adb_events ev;
 } Output;
 
 static void emit(Output *o, double t, const double *y)
 {
-    double r2 = adb_r2(y, o->ix, o->iy);
-    if (r2 > o->r2max) o->r2max = r2;
-    if (r2 >= o->H2) o->t_dec = t;
+    adb_events_point(&o->ev, t, adb_r2(y, o->amp[0], o->amp[1]));
     if (!o->keep) return;
     if (o->k == o->cap) {
         o->cap *= 2;
@@ -100,7 +101,8 @@ static int adb_run(const double *y0, const double *p, const adb_settings *s, adb
     if (!(s->t_end > 0.0) || !(rtol > 0.0) || !(s->atol > 0.0) || !adb_all_finite(y0, ADB_NY)) return ADB_BAD_INPUT;
     if (rtol < 100.0 * DBL_EPSILON) rtol = 100.0 * DBL_EPSILON; /* as odearguments does (with a warning) */
 
-    Output o = {NULL, NULL, 0, 1024, s->keep && traj, s->amp[0], s->amp[1], s->threshold * s->threshold, 0.0, 0.0};
+    Output o = {NULL, NULL, 0, 1024, s->keep && traj, s->amp, {0.0, 0.0, 0.0}};
+    adb_events_start(&o.ev, s->threshold, y0, s->amp);
     if (o.keep) {
         o.T = malloc(o.cap * sizeof(double));
         o.Y = malloc(o.cap * ADB_NY * sizeof(double));
@@ -222,8 +224,7 @@ static int adb_run(const double *y0, const double *p, const adb_settings *s, adb
         }
     }
 finish:
-    r->r_max = sqrt(o.r2max);
-    r->t_dec = o.t_dec;
+    adb_events_report(&o.ev, s->measures, status, adb_r2(y, s->amp[0], s->amp[1]), r);
     r->t_last = t;
     memcpy(y_end, y, sizeof y);
     r->n_rhs = nfev;

@@ -71,51 +71,23 @@ static double dense_r2(const Dense *d, double t, int ix, int iy)
     return adb_r2(y, ix, iy);
 }
 
-#define ADB_DENSE const Dense *
-#include "dense_search.h"
-
-/* (r_max, t_dec) on the continuous solution; t_dec NaN when r(t_end) >= H, 0 when r never reaches H */
-static void measure(const double *p, const double *T, const double *Y, size_t K, const int *amp, double H,
-                    int n_peaks, double *r_max, double *t_dec)
-{
-    int ix = amp[0], iy = amp[1];
-    double H2 = H * H;
-    size_t last;
-    double best = adb_scan_ends(Y, K, ix, iy, H2, &last);
+/* event_measures.h's hooks: a step's interpolant is rebuilt into the source's scratch (never fails) */
+typedef struct {
+    const double *p;
     Dense d;
-    if (adb_r2(Y + (K - 1) * ADB_NY, ix, iy) >= H2) *t_dec = NAN;
-    else {
-        double found = -1.0;
-        size_t first = last == (size_t)-1 ? 0 : last + 1;
-        for (size_t k = K - 1; found < 0.0 && k-- > first;) {
-            if (!adb_may_exceed(T, Y, k, amp, H2)) continue;
-            double tm;
-            dense_of(&d, p, T, Y, k);
-            if (adb_peak_on(&d, d.t[0], d.t[1], 16, 1, ix, iy, &tm) >= H2) found = adb_bisect_down(&d, tm, T[k + 1], ix, iy, H2);
-        }
-        if (found >= 0.0) *t_dec = found;
-        else if (last == (size_t)-1) *t_dec = 0.0;
-        else {
-            dense_of(&d, p, T, Y, last);
-            *t_dec = adb_bisect_down(&d, T[last], T[last + 1], ix, iy, H2);
-        }
-    }
-    /* the n_peaks largest local maxima of r at step ends (at least a quarter of the largest): the two
-     * steps around each searched on their interpolants */
-    double floor_ = 0.25 * best, done_above = INFINITY, refined = best;
-    for (int q = 0; q < n_peaks; ++q) {
-        double vb;
-        size_t kb = adb_next_peak(Y, K, ix, iy, floor_, done_above, &vb);
-        if (kb == (size_t)-1) break;
-        done_above = vb;
-        for (size_t k = kb > 0 ? kb - 1 : 0; k <= kb && k + 1 < K; ++k) {
-            double tm;
-            dense_of(&d, p, T, Y, k);
-            refined = fmax(refined, adb_peak_on(&d, d.t[0], d.t[1], 32, 1, ix, iy, &tm));
-        }
-    }
-    *r_max = sqrt(refined);
+} DenseSource;
+
+static const Dense *dense_open(DenseSource *src, const double *T, const double *Y, size_t k)
+{
+    dense_of(&src->d, src->p, T, Y, k);
+    return &src->d;
 }
+
+static void dense_close(const Dense *d) { (void)d; }
+
+#define ADB_DENSE const Dense *
+#define ADB_DENSE_SOURCE DenseSource *
+#include "event_measures.h"
 
 /* Hairer's initial step (scipy's select_initial_step; order 7 of the error estimator) */
 static double first_step(double t, const double *y, const double *f0, double t_bound, double rtol, double atol,
@@ -159,7 +131,6 @@ static int adb_run(const double *y0, const double *p, const adb_settings *s, adb
     double seg_end = segmented ? fmin(s->t_end, s->check_dt) : s->t_end;
     double h_abs = first_step(t, y, Kst[0], seg_end, s->rtol, s->atol, ctx);
     long steps = 0;
-    double r2max = adb_r2(y, s->amp[0], s->amp[1]);
     while (t < s->t_end) {
         if (s->max_steps > 0 && steps >= s->max_steps) {
             status = ADB_MAX_STEPS;
@@ -207,7 +178,6 @@ static int adb_run(const double *y0, const double *p, const adb_settings *s, adb
         } else {
             T[0] = t;
             memcpy(Y, y, sizeof y);
-            r2max = fmax(r2max, adb_r2(y, s->amp[0], s->amp[1]));
         }
         if (t >= seg_end && t < s->t_end) {
             if (s->n_targets > 0) {
@@ -222,14 +192,17 @@ static int adb_run(const double *y0, const double *p, const adb_settings *s, adb
         }
     }
     if (status != ADB_SUCCESS && status != ADB_STOPPED) r->t_fail = t;
-    if (!s->measures) {
-        /* r_max and t_dec not asked for: NaN */
-    } else if (status == ADB_SUCCESS)
-        measure(p, T, Y, K, s->amp, s->threshold, 8, &r->r_max, &r->t_dec);
-    else {
-        double best = r2max;
-        for (size_t k = 0; k < K; ++k) best = fmax(best, adb_r2(Y + k * ADB_NY, s->amp[0], s->amp[1]));
-        r->r_max = sqrt(best);
+    if (s->measures) {
+        /* the steps are stored (store): searched on their interpolants when the run finished */
+        adb_events ev;
+        adb_events_start(&ev, s->threshold, y0, s->amp);
+        if (status == ADB_SUCCESS) {
+            DenseSource src;
+            src.p = p;
+            adb_dense_measures(&src, T, Y, K, s->amp, 8, &ev);
+        } else
+            adb_events_points(&ev, T, Y, K, s->amp);
+        adb_events_report(&ev, 1, status, adb_r2(y, s->amp[0], s->amp[1]), r);
     }
     r->t_last = t;
     memcpy(y_end, y, sizeof y);

@@ -21,7 +21,8 @@
  * are the roots of y[ix] y[ixd] + y[iy] y[iyd] (the rates of the rotor's coordinates), the threshold
  * crossings the roots of r^2 - H^2.  A maximum of r at or above H counts too (an excursion above H
  * that starts and ends inside one step changes no sign of r^2 - H^2 at step ends; SUNDIALS splits the
- * step at the maximum's root and then finds its end as a crossing).
+ * step at the maximum's root and then finds its end as a crossing).  The points and roots go to
+ * event_measures.h, which reports r_max and t_dec by the rule every engine shares.
  *
  * Exact symmetry: the explicit (ERKStep) and Adams/fixed-point methods update every component by the
  * same sequence of floating-point operations (N_Vector operations are element-wise and reductions only
@@ -43,6 +44,7 @@
 
 #include ADB_MODEL_SOURCE
 #include "driver_common.h"
+#include "event_measures.h"
 
 typedef struct {
     /* inputs */
@@ -101,8 +103,6 @@ static void err_fn(int code, const char *module, const char *function, char *msg
     RunData *d = (RunData *)user_data;
     snprintf(d->message, sizeof d->message, "%s %s: %s", module, function, msg);
 }
-
-static double amplitude(const RunData *d, const double *y) { return sqrt(adb_r2(y, d->ix, d->iy)); }
 
 typedef struct {
     int method;
@@ -240,7 +240,9 @@ static int adb_run(const double *y0, const double *p, const adb_settings *set, a
     if (s.method < 10) ERKStepSetStopTime(s.mem, set->t_end);
     else CVodeSetStopTime(s.mem, set->t_end);
 
-    double r_max = amplitude(&d, y0), t_cross = NAN, t = 0.0;
+    adb_events ev;
+    adb_events_start(&ev, set->threshold, y0, set->amp);
+    double t = 0.0;
     int sample = 0;
     double next_check = set->check_dt > 0.0 && set->n_targets > 0 ? set->check_dt : INFINITY;
     while (t < set->t_end) {
@@ -267,19 +269,18 @@ static int adb_run(const double *y0, const double *p, const adb_settings *set, a
             }
             break;
         }
-        double r = amplitude(&d, yd);
-        if (r > r_max) r_max = r;
+        const double r2 = adb_r2(yd, d.ix, d.iy);
+        /* every return is a point (a maximum of r above H between crossings counts: sup{t : r >= H}; after
+         * such a root SUNDIALS checks r^2 - H^2 again from it to the step's end, so the excursion's end is
+         * the next crossing root even when both step ends are below H) */
+        adb_events_point(&ev, t, r2);
         if (flag == 2) {
             int found[2] = {0, 0};
             solver_root_info(&s, found);
-            if (found[0]) t_cross = fmax(t_cross, t);
-            /* sup{t : r >= H} includes maxima above H between crossings; after such a root SUNDIALS
-             * checks r^2 - H^2 again from it to the step's end, so the excursion's end is the next
-             * crossing root even when both step ends are below H */
-            if (found[1] && r >= set->threshold) t_cross = fmax(t_cross, t);
+            if (found[0]) adb_events_crossing(&ev, t);
             continue;
         }
-        if (!isfinite(r)) {
+        if (!isfinite(r2)) {
             status = ADB_NONFINITE;
             out->t_fail = t;
             break;
@@ -303,13 +304,7 @@ static int adb_run(const double *y0, const double *p, const adb_settings *set, a
     long nfe, nst;
     solver_stats(&s, &nfe, &nst, &h);
     memcpy(y_end, yd, sizeof(double) * ADB_NY);
-    out->r_max = r_max;
-    /* t_dec = sup{t <= t_end : r >= H}: the last crossing when r has settled below H, 0 when never above */
-    if (status == ADB_SUCCESS) {
-        double r_end = amplitude(&d, yd);
-        if (r_end >= set->threshold) out->t_dec = NAN;
-        else out->t_dec = isnan(t_cross) ? 0.0 : t_cross;
-    }
+    adb_events_report(&ev, set->measures, status, adb_r2(yd, d.ix, d.iy), out);
     out->t_last = t;
     out->n_rhs = nfe;
     out->n_steps = nst;
@@ -320,5 +315,5 @@ static int adb_run(const double *y0, const double *p, const adb_settings *set, a
     return status;
 }
 
-/* r_max and t_dec come from the root finding along the way: set->measures saves nothing */
+/* r_max and t_dec come from the root finding along the way: set->measures 0 saves nothing but reports NaN */
 #include "adb_entries.h"

@@ -18,7 +18,8 @@
  * to the order of the method): a bound sum_k |x_k| h^k, sum_k |y_k| h^k screens the steps; r_max takes
  * the polynomial's largest value on [0, h] (its ends and the roots of d r^2/ds), t_dec the last root of
  * r^2 - H^2 in a step that ends below H.  Roots are isolated by Descartes' rule on the Bernstein
- * coefficients (subdivision by de Casteljau) and refined by bisection.
+ * coefficients (subdivision by de Casteljau) and refined by bisection.  What they find goes to
+ * event_measures.h with each step's end, which reports r_max and t_dec by the rule every engine shares.
  *
  * Exact symmetry: the series program evaluates every ball by the same lane operations, and the step
  * (norms, Horner) treats every component alike, so identical balls stay together bit for bit.
@@ -45,6 +46,7 @@ double pow(double, double) __attribute__((simd("notinbranch"), const));
 #endif
 #include ADB_TS_SOURCE
 #include "driver_common.h"
+#include "event_measures.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -325,9 +327,9 @@ static double switch_limit(const TsWork *w, int b, double t, double h)
 
 /* ------------------------------------------------------------------------------ integration */
 
-/* What a run is asked (shared by the trajectories of a batch): adb_settings with the threshold squared */
+/* What a run is asked (shared by the trajectories of a batch): adb_settings with the threshold H and H^2 */
 typedef struct {
-    double t_end, rtol, atol, fac, H2, check_dt;
+    double t_end, rtol, atol, fac, H, H2, check_dt;
     long max_steps;
     const int *amp;
     int measures, n_targets;
@@ -345,7 +347,8 @@ typedef struct {
 
 /* One trajectory's state between steps (a lane of a batch, or the single run) */
 typedef struct {
-    double t, y[NY], r2max, last_above, next_check;
+    double t, y[NY], next_check;
+    adb_events ev; /* r_max and t_dec (event_measures.h), fed each step's end and what the pending steps give */
     Pending pmax[PEND], pdec[PEND];
     int n_max, n_dec;
     long steps;
@@ -360,8 +363,7 @@ static void lane_start(Lane *L, const Settings *st, const double *y0, int keep)
 {
     memset(L, 0, sizeof *L);
     memcpy(L->y, y0, sizeof L->y);
-    L->r2max = adb_r2(y0, st->amp[0], st->amp[1]);
-    L->last_above = L->r2max >= st->H2 ? 0.0 : -1.0;
+    adb_events_start(&L->ev, st->H, y0, st->amp);
     L->next_check = st->check_dt > 0.0 ? st->check_dt : INFINITY;
     L->status = ADB_SUCCESS;
     L->target = -1;
@@ -417,11 +419,11 @@ static void resolve_max(Lane *L)
     for (;;) {
         int best = -1;
         for (int i = 0; i < L->n_max; ++i)
-            if (L->pmax[i].bound > L->r2max && (best < 0 || L->pmax[i].bound > L->pmax[best].bound)) best = i;
+            if (L->pmax[i].bound > L->ev.r2max && (best < 0 || L->pmax[i].bound > L->pmax[best].bound)) best = i;
         if (best < 0) break;
         Pending *c = &L->pmax[best];
         r2_poly(c->x, c->y, q);
-        if (q_bound(q, c->h) > L->r2max) L->r2max = fmax(L->r2max, r2_max(q, c->h));
+        if (q_bound(q, c->h) > L->ev.r2max) L->ev.r2max = fmax(L->ev.r2max, r2_max(q, c->h));
         c->bound = -INFINITY;
     }
     L->n_max = 0;
@@ -438,7 +440,7 @@ static void resolve_dec(Lane *L, double H2)
         if (q_bound(q, c->h) < H2) continue;
         const double sl = r2_last_above(q, c->h, H2);
         if (sl >= 0.0) {
-            L->last_above = c->t + sl;
+            adb_events_crossing(&L->ev, c->t + sl);
             break;
         }
     }
@@ -503,7 +505,7 @@ static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *
          * largest r^2 at a step end */
         const double end2 = adb_r2(ynew, st->amp[0], st->amp[1]), H2 = st->H2;
         const double bound = r2_bound(jet, st->amp, h);
-        if (bound > L->r2max) {
+        if (bound > L->ev.r2max) {
             if (L->n_max == PEND) resolve_max(L);
             pend(&L->pmax[L->n_max++], jet, st->amp, t, h, bound);
         }
@@ -511,11 +513,8 @@ static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *
             if (L->n_dec == PEND) resolve_dec(L, H2);
             pend(&L->pdec[L->n_dec++], jet, st->amp, t, h, bound);
         }
-        L->r2max = fmax(L->r2max, end2);
-        if (end2 >= H2) {
-            L->last_above = t1;
-            L->n_dec = 0; /* every pending step is earlier */
-        }
+        adb_events_point(&L->ev, t1, end2);
+        if (end2 >= H2) L->n_dec = 0; /* every pending step is earlier */
     }
     /* early stop: the state at each multiple of check_dt inside this step, on its polynomial (the steps
      * are the same with or without targets) */
@@ -543,15 +542,11 @@ static void lane_step(Lane *L, const Settings *st, const Jet jet, const TsWork *
 /* A finished lane's outputs (adb_result; n_rhs: order passes, steps x P, the analogue of rhs evaluations) */
 static void lane_finish(Lane *L, const Settings *st, double *y_end, adb_result *r)
 {
-    r->r_max = r->t_dec = NAN;
     if (st->measures) {
         resolve_max(L);
         resolve_dec(L, st->H2);
-        r->r_max = sqrt(L->r2max);
-        if (L->status == ADB_SUCCESS)
-            r->t_dec = adb_r2(L->y, st->amp[0], st->amp[1]) >= st->H2 ? NAN
-                       : (L->last_above < 0.0 ? 0.0 : L->last_above);
     }
+    adb_events_report(&L->ev, st->measures, L->status, adb_r2(L->y, st->amp[0], st->amp[1]), r);
     r->t_last = L->t;
     r->t_fail = L->t_fail;
     memcpy(y_end, L->y, sizeof L->y);
@@ -569,8 +564,8 @@ static int bad_settings(const adb_settings *s)
 /* the run's Settings from the interface's */
 static Settings settings_of(const adb_settings *s)
 {
-    const Settings st = {s->t_end, s->rtol, s->atol, s->step_factor, s->threshold * s->threshold, s->check_dt,
-                         s->max_steps, s->amp, s->measures, s->n_targets, s->centres, s->weights, s->cubics,
+    const Settings st = {s->t_end, s->rtol, s->atol, s->step_factor, s->threshold, s->threshold * s->threshold,
+                         s->check_dt, s->max_steps, s->amp, s->measures, s->n_targets, s->centres, s->weights, s->cubics,
                          s->levels, s->periodic};
     return st;
 }

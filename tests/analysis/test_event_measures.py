@@ -1,6 +1,7 @@
-"""The event searches of adbgen/analysis/engines/dense_search.h (r_max and t_dec on a step's continuous
-solution, thesis ch. 5), each function on an interpolant whose answer is known: the header compiled with
-a polynomial r^2(t) standing for a driver's dense output (the handle is its coefficients).
+"""The event measures of adbgen/analysis/engines/event_measures.h (r_max and t_dec, thesis ch. 5; the one
+implementation every compiled engine's driver reports them by), each function on an interpolant whose
+answer is known: the header compiled with a polynomial r^2(t) per step standing for a driver's dense
+output (the handle is its coefficients), then the whole search over stored steps and the report's rule.
 
 The engines' end-to-end results (tests/analysis/test_c_interface.py's fingerprints, test_decay_time.py)
 see a wrong search only where problem A happens to need it; here each bracket, comparison and margin is
@@ -21,17 +22,24 @@ HARNESS = r"""
 #include <math.h>
 #include <stddef.h>
 #define ADB_NY 4
-static inline double adb_r2(const double *y, int ix, int iy) { return y[ix] * y[ix] + y[iy] * y[iy]; }
+#include "driver_common.h"
+/* step k's interpolant: r^2(t) = c0 + c1 t + c2 t^2 + c3 t^3 with c = C + 4 k; NaN c0: not to be had */
 #define ADB_DENSE const double *
-/* r^2(t) = c0 + c1 t + c2 t^2 + c3 t^3: the interpolant */
+#define ADB_DENSE_SOURCE const double *
+static const double *dense_open(const double *C, const double *T, const double *Y, size_t k)
+{
+    (void)T, (void)Y;
+    return isnan(C[4 * k]) ? NULL : C + 4 * k;
+}
+static void dense_close(const double *c) { (void)c; }
 static double dense_r2(const double *c, double t, int ix, int iy)
 {
     (void)ix, (void)iy;
     return c[0] + t * (c[1] + t * (c[2] + t * c[3]));
 }
-#include "dense_search.h"
+#include "event_measures.h"
 double bisect_down(const double *c, double a, double b, double H2) { return adb_bisect_down(c, a, b, 0, 1, H2); }
-double peak_on(const double *c, double a, double b, int ns, double *tm) { return adb_peak_on(c, a, b, ns, 1, 0, 1, tm); }
+double peak_on(const double *c, double a, double b, int ns, double *tm) { return adb_peak_on(c, a, b, ns, 0, 1, tm); }
 int may_exceed(const double *t, const double *Y, long k, const int *amp, double H2)
 {
     return adb_may_exceed(t, Y, (size_t)k, amp, H2);
@@ -48,6 +56,20 @@ long next_peak(const double *Y, long K, double floor_, double done_above, double
     size_t k = adb_next_peak(Y, (size_t)K, 0, 1, floor_, done_above, value);
     return k == (size_t)-1 ? -1 : (long)k;
 }
+/* a run's report as a driver makes it: started at Y[0], the stored steps searched when it finished
+ * (status 0), their ends as points when not; out = (r_max, t_dec) */
+void measures(const double *C, const double *T, const double *Y, long K, double H, int status, int measured,
+              double *out)
+{
+    static const int amp[4] = {0, 1, 2, 3};
+    adb_events ev;
+    adb_result r;
+    adb_events_start(&ev, H, Y, amp);
+    if (status == ADB_SUCCESS) adb_dense_measures(C, T, Y, (size_t)K, amp, 8, &ev);
+    else adb_events_points(&ev, T, Y, (size_t)K, amp);
+    adb_events_report(&ev, measured, status, adb_r2(Y + (K - 1) * ADB_NY, 0, 1), &r);
+    out[0] = r.r_max, out[1] = r.t_dec;
+}
 """
 
 D = ctypes.POINTER(ctypes.c_double)
@@ -55,7 +77,7 @@ D = ctypes.POINTER(ctypes.c_double)
 
 @pytest.fixture(scope="module")
 def lib(tmp_path_factory):  # (gcc: the autouse _needs_gcc of analysis_fixtures)
-    folder = tmp_path_factory.mktemp("dense_search")
+    folder = tmp_path_factory.mktemp("event_measures")
     (folder / "harness.c").write_text(HARNESS)
     out = folder / "harness.so"
     subprocess.run([compiler(), "-std=gnu99", "-O2", "-fPIC", "-shared", f"-I{HERE}", str(folder / "harness.c"),
@@ -68,6 +90,7 @@ def lib(tmp_path_factory):  # (gcc: the autouse _needs_gcc of analysis_fixtures)
     lib.scan_ends.argtypes = [D, ctypes.c_long, ctypes.c_double, ctypes.POINTER(ctypes.c_long)]
     lib.next_peak.restype = ctypes.c_long
     lib.next_peak.argtypes = [D, ctypes.c_long, ctypes.c_double, ctypes.c_double, D]
+    lib.measures.argtypes = [D, D, D, ctypes.c_long, ctypes.c_double, ctypes.c_int, ctypes.c_int, D]
     return lib
 
 
@@ -132,3 +155,58 @@ def test_the_peaks_come_in_turn_largest_first(lib):
     assert lib.next_peak(Yp, 5, 0.0, value.value, ctypes.byref(value)) == 3 and value.value == pytest.approx(0.3)
     assert lib.next_peak(Yp, 5, 0.0, value.value, ctypes.byref(value)) == -1  # no peak below the last one
     assert lib.next_peak(Yp, 5, 0.35, np.inf, ctypes.byref(value)) == 1  # none under the floor
+
+
+def _run(lib, pieces, T, x, xd, H, status=0, measured=1):
+    """(r_max, t_dec) of a run with steps T, step ends (x, 0, xd, 0) and step k's r^2 the polynomial
+    pieces[k] in s = t - T[k] (coefficients lowest first; None: the interpolant cannot be had)."""
+    C = []
+    for k, c in enumerate(pieces):
+        if c is None:
+            C.append([np.nan] * 4)
+            continue
+        shifted = np.polynomial.Polynomial(c)(np.polynomial.Polynomial([-T[k], 1.0]))  # in t
+        C.append(list(shifted.coef) + [0.0] * (4 - len(shifted.coef)))
+    Y = np.column_stack([x, np.zeros(len(x)), xd, np.zeros(len(x))])
+    out = np.zeros(2)
+    (C, Cp), (T, Tp), (Y, Yp) = _p(C), _p(T), _p(Y)
+    lib.measures(Cp, Tp, Yp, len(T), H, status, measured, out.ctypes.data_as(D))
+    return out
+
+
+def test_t_dec_is_the_crossing_on_the_interpolant_and_r_max_its_peak(lib):
+    """Ends r^2 = (0.01, 0.5, 0.01), H^2 = 0.25: step 1's r^2 = 0.5 + 0.4 s - 0.89 s^2 peaks at
+    0.5 + 0.04/0.89 inside the step (above every end) and falls through H^2 at s = (0.4 + sqrt(1.05))/1.78.
+    Without the interpolant of the crossing's step, t_dec is that step's start (the last end above)."""
+    T, x = np.array([0.0, 1.0, 2.0]), np.sqrt([0.01, 0.5, 0.01])
+    pieces = [[0.01, 0.49], [0.5, 0.4, -0.89]]
+    r_max, t_dec = _run(lib, pieces, T, x, np.array([1.0, -1.0, -1.0]), 0.5)
+    assert r_max == pytest.approx(np.sqrt(0.5 + 0.04 / 0.89), rel=1e-12)
+    assert t_dec == pytest.approx(1.0 + (0.4 + np.sqrt(1.05)) / 1.78, abs=1e-12)
+    assert _run(lib, [pieces[0], None], T, x, np.array([1.0, -1.0, -1.0]), 0.5)[1] == 1.0
+
+
+def test_an_excursion_inside_a_later_step_is_the_decay_time(lib):
+    """Ends r^2 = (0.5, 0.1, 0.1, 0.1), H^2 = 0.25: the last end above H is t = 0 (crossing at 0.625 in
+    step 0), but step 2's r^2 = 0.1 + 0.8 s (1 - s) rises to 0.3 inside it and falls back through H^2 at
+    s = 3/4: t_dec = 2.75, the sup of r >= H."""
+    T, x = np.array([0.0, 1.0, 2.0, 3.0]), np.sqrt([0.5, 0.1, 0.1, 0.1])
+    g = np.array([-0.2, -0.1, 0.4, -0.4])  # x x': r^2' / 2 at the ends (step 2 from + to -)
+    r_max, t_dec = _run(lib, [[0.5, -0.4], [0.1], [0.1, 0.8, -0.8]], T, x, g / x, 0.5)
+    assert t_dec == pytest.approx(2.75, abs=1e-12) and r_max == pytest.approx(np.sqrt(0.5), rel=1e-14)
+
+
+def test_the_report_rule(lib):
+    """t_dec NaN when r(t_end) >= H (not settled) or the run did not finish (r_max then the largest end),
+    0 when r never reached H; both NaN when not asked for."""
+    T, xd = np.array([0.0, 1.0]), np.array([1.0, 1.0])
+    rising = [[0.01, 0.49]]  # r^2 from 0.01 to 0.5
+    r_max, t_dec = _run(lib, rising, T, np.sqrt([0.01, 0.5]), xd, 0.5)
+    assert np.isnan(t_dec) and r_max == pytest.approx(np.sqrt(0.5), rel=1e-14)
+    r_max, t_dec = _run(lib, rising, T, np.sqrt([0.01, 0.5]), xd, 0.8)
+    assert t_dec == 0.0 and r_max == pytest.approx(np.sqrt(0.5), rel=1e-14)
+    falling = [[0.5, -0.49]]
+    r_max, t_dec = _run(lib, falling, T, np.sqrt([0.5, 0.01]), -xd, 0.5, status=1)  # ADB_MAX_STEPS
+    assert np.isnan(t_dec) and r_max == np.sqrt(0.5)
+    assert np.isnan(_run(lib, falling, T, np.sqrt([0.5, 0.01]), -xd, 0.5, measured=0)).all()
+    assert _run(lib, falling, T, np.sqrt([0.5, 0.01]), -xd, 0.5)[1] == pytest.approx(0.25 / 0.49, abs=1e-12)
