@@ -1,5 +1,5 @@
 /* `matlab-ode45`: an emulation of MATLAB's ode45 (the thesis' integrator, ch. 5) on a generated model's C
- * library, for explaining published numbers (docs/matlab-ode45.md).  Not a recommended integrator.
+ * library, for explaining published numbers (docs/reproduction-method.md, `matlab-ode45`).  Not a recommended integrator.
  *
  * What it reproduces of ode45 (MATLAB 7, default options, `[t, y] = ode45(f, [0 t_end], y0)`):
  *   - Dormand-Prince 5(4) with local extrapolation and FSAL; the stages as ode45 forms them, y + f*hB(:,i)
