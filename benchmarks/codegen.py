@@ -100,7 +100,7 @@ def polyfit(ns, values, degree: int) -> dict:
 
 def build_spec(spec, system=None, form=None):
     """The model's intermediate form (`codegen.spec.build`), imported when a benchmark runs."""
-    from adbgen.codegen.lowering import DEFAULT_FORM
+    from adbgen.codegen.passes.lowering import DEFAULT_FORM
     from adbgen.codegen.spec import build
 
     return build(spec, system, form=form or DEFAULT_FORM)
@@ -154,7 +154,7 @@ def bench_speed_one(family: str, n: int, workdir: Path, *, target: float = 0.1, 
                     native: bool = True) -> dict:
     """ns per call for one model in one form (`lowering.FORMS`): numba (jitted loop, from Python), C,
     sympy.lambdify; with the emitted source sizes and the first calls' (compilation) times."""
-    from adbgen.codegen.lowering import DEFAULT_FORM
+    from adbgen.codegen.passes.lowering import DEFAULT_FORM
     from adbgen.codegen.render_and_import import import_numba, render_into
 
     form = form or DEFAULT_FORM

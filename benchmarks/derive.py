@@ -83,7 +83,7 @@ def bench_pipeline(ns=PIPELINE_NS, kinds=None, full_checks: bool = False, progre
     form unless full_checks, and the pre-write checks of every program), lower (the intermediate form,
     loop form) and emit (every target rendered), with the emitted sizes."""
     from adbgen import families
-    from adbgen.codegen.checks import check_programs, check_start
+    from adbgen.codegen.passes.checks import check_programs, check_start
     from adbgen.codegen.render import render_model
     from adbgen.codegen.spec import build as build_ir
     from adbgen.families.single_plane.model import derive

@@ -19,7 +19,7 @@ the lowering, self-description and every target's proof run), then classified:
 Why cosmic-ray and not mutmut: mutmut 3 runs its mutants only under pytest through trampolines in a
 copy it makes itself, while the question here is what `regenerate` does with each mutant; cosmic-ray's
 operators and `mutate_code(source, operator, occurrence)` give the mutated source, and this module runs
-and classifies it.  The proofs themselves (codegen/proof.py, compiler.py, checks.py, targets/*/prove.py
+and classifies it.  The proofs themselves (codegen/passes/proof.py, compiler.py, passes/checks.py, targets/*/prove.py
 and the harnesses) are not mutated: a weaker proof writes byte-identical files, which would count as
 "equivalent" and say nothing.
 
@@ -55,7 +55,8 @@ from pathlib import Path
 from .registry import Benchmark, option
 
 ROOT = Path(__file__).resolve().parents[1]
-PYTHON_SOURCES = ("balls.py", "describe.py", "emit.py", "ir.py", "loops.py", "lowering.py", "printers.py",
+PYTHON_SOURCES = ("passes/ball_split.py", "passes/description.py", "emit.py", "ir/model.py", "ir/loops.py",
+                  "passes/cse.py", "passes/loop_form.py", "passes/lowering.py", "printers.py",
                   "render.py", "spec.py", "targets/__init__.py", "targets/auto/__init__.py",
                   "targets/auto/dialect.py", "targets/c/__init__.py", "targets/c/dialect.py", "targets/c/printer.py",
                   "targets/cvode/__init__.py", "targets/numba/__init__.py", "targets/numba/dialect.py",
@@ -134,7 +135,7 @@ SAMPLE: tuple[Mutant, ...] = (
             targets=("numba",)),
     _sample("numba-jac-wrapper-out-T", f"{T}/numba/module.py.j2", "    {{ fname }}_inplace(t, y, p, out)\n",
             "    {{ fname }}_inplace(t, y, p, out.T)\n", targets=("numba",)),
-    _sample("ball-split-falls-back", f"{C}/balls.py", "if sp.expand(g.xreplace(from_ball(i)) - per_ball[i]) != 0:",
+    _sample("ball-split-falls-back", f"{C}/passes/ball_split.py", "if sp.expand(g.xreplace(from_ball(i)) - per_ball[i]) != 0:",
             "if sp.expand(g.xreplace(from_ball(i)) - per_ball[i]) == 0:", targets=("numba",)),
     _sample("ball-invariant-order-broken", f"{C}/printers.py", 'out = self._cls.get(expr) or "s:" + _INDEX.sub("#", expr.name)',
             'out = self._cls.get(expr) or "s:" + expr.name', targets=("c",), form="unrolled"),
@@ -506,7 +507,7 @@ def _outcome(scratch: Scratch, args, baseline: dict[str, str], template: bool = 
 REVIEWED_EQUIVALENTS = {
     "py:emit.py:ReplaceAndWithOr:0": "parenthesises every atom of the C text, (x) instead of x: the same "
                                      "expression trees, the same values",
-    "py:lowering.py:NumberReplacer:27": "writes the oscillator extension's zero Jacobian entries explicitly (`!= 0` "
+    "py:passes/lowering.py:NumberReplacer:27": "writes the oscillator extension's zero Jacobian entries explicitly (`!= 0` "
                                         "-> `!= -1`): every jac kernel sets all its entries (the numba one writes "
                                         "each, the C ones memset first), so the same values",
     "tpl:auto/user.c.j2:105:operator": "stpnt's copy length `ndim < NSTATES ? ndim : NSTATES` -> `<=`: the two differ "

@@ -19,7 +19,7 @@ from .. import families
 from ..cli_types import UsageError, model_name, positive_int
 from ..errors import AdbgenError, SceneError
 from ..codegen import journal, targets
-from ..codegen.lowering import DEFAULT_FORM, FORMS
+from ..codegen.passes.lowering import DEFAULT_FORM, FORMS
 from ..outputs import output_folder
 
 

@@ -10,7 +10,7 @@ flow and the addressing, which differ by target:
     auto      u[k]     par[APAR(k)]       f[r], ARRAY2D(dfdu, r, c), ARRAY2D(dfdp, r, APAR(c))
 
 Ball i reads its angle and rate from the states at first + i and N + first + i, and its own
-parameters (`balls.Slot`) through index tables, ``ball_slot_<name>[i]`` (and ``..._coef[i]`` unless
+parameters (`ir.balls.Slot`) through index tables, ``ball_slot_<name>[i]`` (and ``..._coef[i]`` unless
 every coefficient is 1): the only parts of a model's source that grow with n, with its metadata.
 """
 
@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .balls import BallSplit
-from .loops import Balls, Columns, Fetch, Get, Guard, Inc, Kernel, Let, Pos, Put, Save, Var
+from .ir.balls import BallSplit
+from .ir.loops import Balls, Columns, Fetch, Get, Guard, Inc, Kernel, Let, Pos, Put, Save, Var
 
 
 @dataclass(frozen=True)

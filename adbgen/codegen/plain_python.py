@@ -13,8 +13,8 @@ import math
 import numpy as np
 
 from .emit import Emitter, tables
-from .ir import ModelIR
-from .loops import Kernel
+from .ir.loops import Kernel
+from .ir.model import ModelIR
 from .printers import identifiers
 from .targets.numba.dialect import PythonDialect
 from .targets.numba.printer import PythonPrinter

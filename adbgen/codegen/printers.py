@@ -16,7 +16,7 @@ import re
 
 import sympy as sp
 
-from .ir import ModelIR
+from .ir.model import ModelIR
 
 # Names the calling conventions of the targets use (arguments, modules, C keywords and macros).
 RESERVED = frozenset({

@@ -34,8 +34,8 @@ import sympy as sp
 from sympy.core.mul import _keep_coeff
 
 from .emit import Emitter
-from .ir import ModelIR
-from .loops import Balls, Columns, Fetch, Get, Guard, Inc, Kernel, Let, Put, Save, Var
+from .ir.model import ModelIR
+from .ir.loops import Balls, Columns, Fetch, Get, Guard, Inc, Kernel, Let, Put, Save, Var
 from .printers import _MAX_PRODUCT_POWER, BallInvariantOrder, identifiers
 
 _FUNCTIONS = {sp.sin: "sin", sp.cos: "cos", sp.tan: "tan", sp.exp: "exp", sp.log: "log", sp.atan: "atan",

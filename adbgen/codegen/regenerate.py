@@ -16,11 +16,11 @@ from pathlib import Path
 from typing import Callable, Iterable
 
 from . import journal
-from .checks import CheckFailed, Reference, check_description, check_programs, check_start
-from .proof import prove_index, prove_model, refusal
-from .render import render_index, render_model, skipped_targets
-from .lowering import DEFAULT_FORM
 from ..core.model_spec import Check, ModelSpec
+from .passes.checks import CheckFailed, Reference, check_description, check_programs, check_start
+from .passes.lowering import DEFAULT_FORM
+from .passes.proof import prove_index, prove_model, refusal
+from .render import render_index, render_model, skipped_targets
 from .spec import build
 
 _ROOT = Path(__file__).resolve().parents[2]
@@ -30,7 +30,7 @@ IN_SOURCE_CHECKOUT = (_ROOT / "pyproject.toml").is_file() and (_ROOT / "adbgen")
 DIFF_LINES = 40  # lines of unified diff shown per stale file by `regenerate --check`
 
 __all__ = ["CheckFailed", "DEFAULT_OUT", "IN_SOURCE_CHECKOUT", "MODEL_STAGES", "Rendered", "STAGES", "Stage", "StageTime",
-           "diff", "render_all", "stale", "write"]
+           "stage_list",            "diff", "render_all", "stale", "write"]
 
 _log = logging.getLogger(__name__)
 
@@ -55,10 +55,15 @@ class Rendered:
 @dataclass(frozen=True)
 class Stage:
     """One named step of `render_all`: `run(state)` reads what earlier stages left in the state and
-    adds its own result."""
+    adds its own result; its docstring says what it takes and what it gives."""
 
     name: str
     run: Callable
+
+    @property
+    def doc(self) -> str:
+        """What the stage takes and gives (its function's docstring, on one line)."""
+        return " ".join((self.run.__doc__ or "").split())
 
 
 @dataclass
@@ -78,15 +83,19 @@ class _Model:
 
 
 def _derive(m: _Model) -> None:
+    """Takes the spec; gives `system`: the first-order system its family derives by Lagrange's equations."""
     m.system = m.spec.system()
 
 
 def _lower(m: _Model) -> None:
+    """Takes `system`; gives `ir`, the intermediate form (`spec.build`: the passes ball_split, loop_form
+    or lowering with cse, and description)."""
     m.ir = build(m.spec, m.system, form=m.form)
 
 
 def _verify(m: _Model) -> None:
-    """The lowered programs against the derived system, the self-description, the starts (`checks`)."""
+    """Takes `ir` and `system`; gives `errors` and `described`: the lowered programs against the derived
+    system, the self-description, the start points (`passes.checks`); raises CheckFailed."""
     m.reference = Reference.of(m.system)
     m.errors = check_programs(m.ir, m.system, m.reference)
     m.described = check_description(m.ir, m.system)
@@ -96,10 +105,13 @@ def _verify(m: _Model) -> None:
 
 
 def _render(m: _Model) -> None:
+    """Takes `ir`; gives `files`, {path: text}: every target's templates rendered (`render.render_model`)."""
     m.files = render_model(m.ir, m.targets)
 
 
 def _prove(m: _Model) -> None:
+    """Takes `ir` and `files`; gives `proven`: every target's files compiled and run against the
+    intermediate form (`passes.proof.prove_model`); raises ProofFailed."""
     m.proven = prove_model(m.ir, m.files, m.targets, m.form, m.reference)
 
 
@@ -132,6 +144,7 @@ def _timed(stage: Stage, state, timings: list[StageTime], model: str = "") -> No
 
 
 def _distinct_names(run: _Run) -> None:
+    """Takes the specs; gives nothing: refuses two models of one name before any is derived."""
     names = [spec.name for spec in run.specs]
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
@@ -139,7 +152,8 @@ def _distinct_names(run: _Run) -> None:
 
 
 def _reduction_checks(run: _Run) -> None:
-    """The families' reduction checks (`Check`); proportionate forms unless `full_checks`."""
+    """Takes the specs; gives progress lines: the families' reduction checks (`Check`), each once,
+    proportionate forms unless `full_checks`; raises CheckFailed."""
     if not run.run_checks:
         return
     for check in _checks_for(run.specs):
@@ -153,7 +167,8 @@ def _reduction_checks(run: _Run) -> None:
 
 
 def _models(run: _Run) -> None:
-    """`MODEL_STAGES` for every model, each timed, with one progress line per model."""
+    """Takes the specs; gives `files` and the index entries: `MODEL_STAGES` for every model, each timed,
+    with one progress line per model."""
     for k, spec in enumerate(run.specs, 1):
         start = time.perf_counter()
         m = _Model(spec, run.targets, run.form)
@@ -175,6 +190,7 @@ def _models(run: _Run) -> None:
 
 
 def _index(run: _Run) -> None:
+    """Takes the index entries; gives the output folder's own files (__init__.py, README.md), proven."""
     with refusal("the output's index"):
         package = render_index(run.index)
         prove_index(package, run.index)
@@ -184,6 +200,17 @@ def _index(run: _Run) -> None:
 # what `render_all` does, in order (the "models" stage runs `MODEL_STAGES` for each model)
 STAGES = (Stage("names", _distinct_names), Stage("reduction checks", _reduction_checks),
           Stage("models", _models), Stage("index", _index))
+
+
+def stage_list() -> list[str]:
+    """What `render_all` does, a line a stage in order ("models: ..." followed by its per-model stages):
+    `python3 -c "from adbgen.codegen.regenerate import stage_list; print(*stage_list(), sep=chr(10))"`."""
+    out = []
+    for stage in STAGES:
+        out.append(f"{stage.name}: {stage.doc}")
+        if stage.run is _models:
+            out += [f"  {s.name}: {s.doc}" for s in MODEL_STAGES]
+    return out
 
 
 def _checks_for(specs: Iterable[ModelSpec]) -> list[Check]:

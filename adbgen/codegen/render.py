@@ -31,7 +31,7 @@ from .. import __version__
 from ..errors import AdbgenError
 from . import targets
 from .emit import Emitter, tables
-from .ir import ModelIR, Program
+from .ir.model import ModelIR, Program
 from .printers import identifiers
 
 

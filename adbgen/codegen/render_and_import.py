@@ -11,7 +11,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
-from .ir import ModelIR
+from .ir.model import ModelIR
 from .render import render_model
 
 

@@ -3,16 +3,16 @@
 The spec is data the family fills in (`core.model_spec`); building its intermediate form is code
 generation's business: the start point and AUTO-07p's continuation resolved, the oscillator extension
 of a periodically forced model lowered beside it, and the self-description (`core.description`)
-turned into data and programs (`describe`).  `regenerate` reads the result.
+turned into data and programs (`passes.description`).  `regenerate` reads the result.
 """
 
 from __future__ import annotations
 
 from ..core.first_order import FirstOrderSystem
 from ..core.model_spec import Check, Continuation, ModelSpec, no_start, start_values
-from .describe import lower_description
-from .ir import ModelIR
-from .lowering import DEFAULT_FORM, build as lower
+from .ir.model import ModelIR
+from .passes.description import lower_description
+from .passes.lowering import DEFAULT_FORM, build as lower
 
 __all__ = ["Check", "Continuation", "ModelSpec", "build", "no_start", "start_values"]
 

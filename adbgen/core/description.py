@@ -5,7 +5,7 @@ coordinates are angles, which two make the rotor's amplitude, the measures it wa
 expressions), its exchange symmetries, the named parameter sets of the documents, its scales, and its
 closed-form steady states (SymPy expressions, with the conditions under which each applies), and its
 manifold of equilibria where it has one (thesis (3.6)).  Code
-generation (`adbgen.codegen.describe`) turns it into data and compiled functions of every generated
+generation (`adbgen.codegen.passes.description`) turns it into data and compiled functions of every generated
 module and checks each declaration against the rendered right-hand side before anything is written,
 so a wrong declaration is refused, not emitted.
 

@@ -80,7 +80,7 @@ class ModelSpec:
     checks: tuple[Check, ...] = ()
     continuation: Continuation | Callable[[FirstOrderSystem, tuple], Continuation | None] | None = None
     orbit_continuation: Continuation | None = None
-    # each ball's own parameters, {slot: c * parameter} per ball (`codegen.balls`); None: by name
+    # each ball's own parameters, {slot: c * parameter} per ball (`codegen.passes.ball_split`); None: by name
     balls: Callable[[FirstOrderSystem], list[dict]] | None = None
     kind: str = ""
     describe: "Callable[[FirstOrderSystem], Description] | None" = None

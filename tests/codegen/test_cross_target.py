@@ -2,7 +2,7 @@
 
 numba (`rhs`, `jac`, `jac_p`, `mass_matrix`, `forcing`), the C library (ctypes), the CVODE callbacks
 (rhs and the dense Jacobian, through N_Vector and SUNMatrix) and AUTO-07p's `func` (f, dfdu, dfdp)
-are compared with the model's own symbolic M and f (`adbgen.codegen.checks.Reference`: lambdified,
+are compared with the model's own symbolic M and f (`adbgen.codegen.passes.checks.Reference`: lambdified,
 solved densely) at random points away from equilibria (rates, time and angles random), the Jacobians
 with fourth-order central differences of that dense solve.  Two targets rendered from one wrong
 program agree with each other; they do not agree with this.
@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from adbgen import families
-from adbgen.codegen.checks import DERIVATIVE_TOLERANCE, Reference, errors_of
+from adbgen.codegen.passes.checks import DERIVATIVE_TOLERANCE, Reference, errors_of
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.render_and_import import import_numba, render_into
 from adbgen.codegen.spec import build as build_ir

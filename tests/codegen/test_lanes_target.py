@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import pytest
 
-from adbgen.codegen import compiler, proof as proofs, targets
-from adbgen.codegen.checks import Reference
+from adbgen.codegen import compiler, targets
+from adbgen.codegen.passes import proof as proofs
+from adbgen.codegen.passes.checks import Reference
 from adbgen.codegen.render import render_model
 from adbgen.codegen.spec import build as build_ir
 from adbgen.families.single_plane import models

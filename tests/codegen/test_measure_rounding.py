@@ -1,4 +1,4 @@
-"""The measures' pre-write check on a model with a time law (adbgen/codegen/checks.py `measure_errors`): where time
+"""The measures' pre-write check on a model with a time law (adbgen/codegen/passes/checks.py `measure_errors`): where time
 enters a measure, the bound is the rounding its evaluation may carry (2 n eps times `magnitudes`, the sum of the
 magnitudes it combines, sin and cos with their argument's), not LOWERING_TOLERANCE alone, which a schedule's stick
 force exceeded by rounding (1.2e-12 against 1e-12, docs/friction.md).  The model: a single-plane scene whose
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from adbgen.codegen import describe as describe_module
-from adbgen.codegen.checks import CheckFailed, check_description, magnitudes, measure_errors
+from adbgen.codegen.passes import description as describe_module
+from adbgen.codegen.passes.checks import CheckFailed, check_description, magnitudes, measure_errors
 from adbgen.codegen.spec import build as build_ir
 from adbgen.families.single_plane import models
 from adbgen.families.single_plane.scene import Scene

@@ -266,6 +266,18 @@ def test_render_all_runs_its_named_stages_in_order_and_times_each(caplog):
     assert not any("stage " in text or "seconds" in text for text in rendered.files.values())
 
 
+def test_every_stage_says_what_it_takes_and_gives_and_the_list_prints_them_in_order():
+    """`stage_list` is the stages in the order `render_all` runs them, each with its docstring (issue 33);
+    a stage without one would print an empty description."""
+    from adbgen.codegen.regenerate import MODEL_STAGES, STAGES, stage_list
+
+    lines = stage_list()
+    names = [line.split(":", 1)[0] for line in lines]
+    assert names == ["names", "reduction checks", "models"] + [f"  {s.name}" for s in MODEL_STAGES] + ["index"]
+    for stage in (*STAGES, *MODEL_STAGES):
+        assert stage.doc.startswith("Takes ") and "gives" in stage.doc, stage.name
+
+
 def test_a_failing_stage_stops_the_run_before_the_later_stages(monkeypatch):
     """Negative control: a planted failing stage raises (named for its model) and no later stage runs;
     two models of one name are refused by the first stage, before any model is derived."""

@@ -2,7 +2,7 @@
 5): every registered target is put through every check, so a new target is tested by registering it.  A
 toy target registered from the test (tests/plugins/pylist, the registry's own `register`) runs the
 whole suite, and the same toy with a dialect that transposes the Jacobian fails it (the negative
-control).  What each target's files compute is the target's own proof (codegen/proof.py); here the
+control).  What each target's files compute is the target's own proof (codegen/passes/proof.py); here the
 suite runs it on the thesis model n = 2, with every check below the proof's frame.
 """
 
@@ -13,9 +13,10 @@ from pathlib import Path
 
 import pytest
 
-from adbgen.codegen import compiler, proof as proofs, targets
-from adbgen.codegen.ir import KERNELS
-from adbgen.codegen.checks import Reference
+from adbgen.codegen import compiler, targets
+from adbgen.codegen.ir.model import KERNELS
+from adbgen.codegen.passes import proof as proofs
+from adbgen.codegen.passes.checks import Reference
 from adbgen.codegen.render import render_model
 from adbgen.codegen.spec import build as build_ir
 from adbgen.families.single_plane import models

@@ -15,8 +15,8 @@ import pytest
 import sympy as sp
 
 from adbgen import families
-from adbgen.codegen.checks import CheckFailed
-from adbgen.codegen.loops import Kernel, Let, Put, Pos
+from adbgen.codegen.passes.checks import CheckFailed
+from adbgen.codegen.ir.loops import Kernel, Let, Put, Pos
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.spec import build as build_ir
 from adbgen.codegen.targets.taylor import checks, pyeval, reference
@@ -239,8 +239,9 @@ def test_the_series_files_are_proven_and_a_wrong_recurrence_refused(tmp_path, mo
     """`regenerate`'s proof of the taylor target (targets/taylor/prove.py): the committed model's files pass;
     the same files with cos's recurrence sign flipped in the C (row 2 on wrong, row 1 = the rhs still right)
     are refused naming the target and the row."""
-    from adbgen.codegen import compiler, proof as proofs
-    from adbgen.codegen.checks import Reference
+    from adbgen.codegen import compiler
+    from adbgen.codegen.passes import proof as proofs
+    from adbgen.codegen.passes.checks import Reference
     from adbgen.codegen.render import render_model
     from adbgen.codegen.spec import build as build_ir
     from adbgen.families.single_plane import models

@@ -19,13 +19,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...registry import Registry
-from ..ir import KERNELS
+from ..ir.model import KERNELS
 
 if TYPE_CHECKING:
     from ..emit import Dialect
-    from ..ir import ModelIR
-    from ..loops import Kernel
-    from ..proof import Proof
+    from ..ir.loops import Kernel
+    from ..ir.model import ModelIR
+    from ..passes.proof import Proof
 
 # name -> "module:attribute", in rendering order; one line per target
 REGISTRY: dict[str, str] = {
@@ -101,7 +101,7 @@ class Target:
         ``proof.folder``; compare what they compute with ``proof.expected`` at ``proof.samples`` and
         refuse with ``proof.fail(...)``.  By default ``prove(target, proof)`` of the ``prove`` module in the
         target class's package (``targets/<name>/prove.py``); a target with neither that nor an override is
-        refused: nothing unproven is written (`codegen.proof`)."""
+        refused: nothing unproven is written (`codegen.passes.proof`)."""
         module = proof_module(self)
         if module is None:
             raise NotImplementedError(f"target {self.name!r} has no proof")

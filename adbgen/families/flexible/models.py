@@ -59,7 +59,7 @@ def balanced_orbit(scene: FlexibleScene):
 
 
 def ball_slots(scene: FlexibleScene):
-    """Each ball's own parameters for the loop form (`codegen.balls`): m_i, D_i for unequal balls, none for
+    """Each ball's own parameters for the loop form (`codegen.passes.ball_split`): m_i, D_i for unequal balls, none for
     equal ones (they share m, D).  Given, not found by name: the mode shapes' Phi_x_1, Phi_x_2, ... and the
     matrices' entries are indexed like ball parameters but belong to the rotor."""
     def slots(system) -> list[dict]:

@@ -46,7 +46,7 @@ def scene(preset: str = "paper-10", speed: dict | None = None, m: float = BALL_M
 
 
 def race_slots(sc: TwoPlaneScene):
-    """Each ball's own parameters for the loop form (`codegen.balls`): its mass and its race's radius,
+    """Each ball's own parameters for the loop form (`codegen.passes.ball_split`): its mass and its race's radius,
     plane and damping, by name (m_k or the symmetric m; R_t, z_t, c_bt for the balls of race t, or
     the section-3 R, +-z, c_b of `symbols.symmetric_substitution`)."""
     def slots(system) -> list[dict]:

@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from ... import compiler
-from ...proof import GUARD, SENTINEL, Guarded
+from ...passes.proof import GUARD, SENTINEL, Guarded
 from .dialect import par_index
 
 HERE = Path(__file__).resolve().parent

@@ -24,9 +24,9 @@ from pathlib import Path
 import numpy as np
 
 from ... import compiler
-from ...checks import _parameter_points
+from ...passes.checks import _parameter_points
 from ...plain_python import compile_measures, compile_steady_states
-from ...proof import Guarded
+from ...passes.proof import Guarded
 from ...render import param_domain, source_hash
 
 DOUBLE_P = ctypes.c_void_p

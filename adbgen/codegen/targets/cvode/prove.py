@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ... import compiler
-from ...proof import Guarded
+from ...passes.proof import Guarded
 
 HERE = Path(__file__).resolve().parent
 TRANSIENT = 4.0  # the transient's length in units of the fastest time scale at its start

@@ -12,7 +12,7 @@ import ctypes
 import numpy as np
 
 from ... import compiler
-from ...proof import Guarded
+from ...passes.proof import Guarded
 
 FLAGS = ("-std=gnu99", "-O2", "-Wall", "-Wextra", "-Werror")
 LANES = 2  # SSE2: a vector every x86-64 passes in registers (no ABI note under -Werror)

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...checks import _parameter_points
+from ...passes.checks import _parameter_points
 from ...plain_python import compile_measures, compile_steady_states
 from ...render import param_domain, source_hash
 

@@ -2,7 +2,7 @@
 
 1. The series program's coefficients y_0..y_5 (run in Python, `pyeval`) against the Lie derivatives
    L_f^k y / k! of the printed rhs in 60-digit series arithmetic (`reference.lie_coefficients`, no
-   recurrences), at random states away from equilibria (as `codegen.checks`: coordinates and angles in
+   recurrences), at random states away from equilibria (as `codegen.passes.checks`: coordinates and angles in
    [-0.1, 0.1], rates in [-1, 1], parameters 0.5x to 1.5x the defaults, t = 0 and random t in [0, 10],
    and a time past each Piecewise switch, so every branch of a run-up's speed law is checked): norm-wise
    relative difference per order at most `LIE_TOLERANCE`.
@@ -22,7 +22,7 @@ import math
 import mpmath
 import numpy as np
 
-from ...checks import CheckFailed
+from ...passes.checks import CheckFailed
 from .pyeval import flags as series_flags, taylor as series_taylor
 from .reference import lie_coefficients, odefun_step
 

@@ -15,7 +15,7 @@ points (`proof.samples()`):
   and refuse an order outside 0..<MODEL>_TAYLOR_MAX_ORDER (return 1, nothing written);
 - every coefficient row is bitwise exchange-invariant where identical balls coincide.
 
-The frame (`codegen.proof`: Proof, Guarded, the strict compiler) is branch `proven`'s (issue 20); the
+The frame (`codegen.passes.proof`: Proof, Guarded, the strict compiler) is branch `proven`'s (issue 20); the
 hook `TaylorTarget.prove` is what `regenerate` calls once it proves every target before writing.
 """
 
@@ -54,7 +54,7 @@ class Series:
         self._jet.argtypes = [ctypes.c_double, ctypes.c_double, DOUBLE_P, DOUBLE_P, ctypes.c_int, DOUBLE_P]
 
     def taylor(self, t: float, y, p, order: int):
-        from ...proof import Guarded
+        from ...passes.proof import Guarded
 
         y, p = np.array(y, float), np.array(p, float)
         y0, p0 = y.copy(), p.copy()
@@ -64,7 +64,7 @@ class Series:
         return code, out
 
     def jet(self, t: float, tdot: float, ycoef, p, order: int):
-        from ...proof import Guarded
+        from ...passes.proof import Guarded
 
         yc, p = np.array(ycoef, float).ravel(), np.array(p, float)
         yc0, p0 = yc.copy(), p.copy()

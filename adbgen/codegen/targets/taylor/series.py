@@ -4,7 +4,7 @@ Taylor's method needs the coefficients y_k of the solution y(t0 + s) = sum_k y_k
 order by order from the right-hand side: if every intermediate quantity w of the rhs is kept as a
 truncated series, w_K follows from its operands' coefficients up to K by the automatic-differentiation
 recurrences (Jorba & Zou 2005, sec. 2; Moore 1966), and y_{K+1} = f_K / (K + 1).  This module turns
-the model's rhs kernel (`codegen.loops.Kernel`, the loop form or the straight-line one) into such a
+the model's rhs kernel (`codegen.ir.loops.Kernel`, the loop form or the straight-line one) into such a
 program, once per model; `ccode` prints it as C, `evaluate` runs it in Python (the pre-write checks).
 
 Operations (one `Node` each; w the result, u, v operands, c constants of the parameters):
@@ -44,9 +44,9 @@ from typing import Sequence
 import numpy as np
 import sympy as sp
 
-from ... import symbol_kinds as kinds
-from ...balls import BallSplit
-from ...loops import Balls, Fetch, Inc, Kernel, Let, Put, Save, Var
+from ...ir import symbol_kinds as kinds
+from ...ir.balls import BallSplit
+from ...ir.loops import Balls, Fetch, Inc, Kernel, Let, Put, Save, Var
 from ...printers import BallInvariantOrder
 
 INF = 1 << 30  # the degree of a series that is not a polynomial in s

@@ -1,4 +1,5 @@
-"""The per-ball block of a balancer model, kept once with the ball symbolic (issue 10).
+"""The ball split: the per-ball block of a balancer model (`ir.balls.BallSplit`), kept once with the
+ball symbolic (issue 10).
 
 Every ball of a balancer has the same equations with its own angle and parameters: ball i's column
 b_i and row c_i of the mass matrix, its inertia d_i and forcing f_i (`core.structure`), and its share
@@ -24,10 +25,11 @@ races: R_t for the balls of race t, and so on) through `ModelSpec.balls`.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from typing import Sequence
 
 import sympy as sp
+
+from ..ir.balls import BallSplit, Slot
 
 BALL_PREFIX = "ball_"
 _INDEXED = re.compile(r"(.+)_(\d+)$")
@@ -35,45 +37,6 @@ _INDEXED = re.compile(r"(.+)_(\d+)$")
 
 class NoBallStructure(ValueError):
     """The model's balls are not alike (or not laid out as a loop can index them)."""
-
-
-@dataclass(frozen=True)
-class Slot:
-    """A ball's own parameter: ball i's value is coefficients[i] * p[indices[i]]."""
-
-    name: str
-    symbol: sp.Symbol  # the generic symbol, ball_<name>
-    indices: tuple[int, ...]
-    coefficients: tuple[float, ...]
-
-    @property
-    def unit_coefficients(self) -> bool:
-        return all(c == 1.0 for c in self.coefficients)
-
-
-@dataclass(frozen=True)
-class BallSplit:
-    """The model as core parts plus one generic per-ball block (r = core size, n balls).
-
-    Ball i is coordinate ``first + i``.  Core: A0 (r x r), f0 (r) of shared symbols only.  Per ball:
-    its shares A (r x r) and fc (r) of the core rows, its column B (r) and row C (r) of M, its
-    inertia D and forcing f.
-    """
-
-    first: int
-    n: int
-    q: sp.Symbol
-    qd: sp.Symbol
-    qdd: sp.Symbol
-    slots: tuple[Slot, ...]
-    A0: tuple[tuple[sp.Expr, ...], ...]
-    f0: tuple[sp.Expr, ...]
-    A: tuple[tuple[sp.Expr, ...], ...]
-    fc: tuple[sp.Expr, ...]
-    B: tuple[sp.Expr, ...]
-    C: tuple[sp.Expr, ...]
-    D: sp.Expr
-    f: sp.Expr
 
 
 def default_slots(parameters: Sequence, n: int) -> list[dict]:

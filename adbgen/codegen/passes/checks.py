@@ -19,10 +19,10 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
-from ..core.first_order import FirstOrderSystem
-from ..errors import AdbgenError
-from .plain_python import compile_program
-from .ir import ModelIR
+from ...core.first_order import FirstOrderSystem
+from ...errors import AdbgenError
+from ..ir.model import ModelIR
+from ..plain_python import compile_program
 
 LOWERING_TOLERANCE = 1e-12  # rhs, mass_matrix, forcing against the symbolic model (exact arithmetic but rounding)
 # the extension's rhs gets sin, cos(omega t) from the state, the forced model computes them: at
@@ -324,7 +324,7 @@ def measure_errors(ir: ModelIR, system: FirstOrderSystem, samples: int = 8, seed
     such a measure sums terms of the law's size (omega^2, omega t in sin and cos) that cancel to a small value, so a
     fixed relative bound is marginal there (a schedule's stick force was refused at 1.2e-12 against 1e-12:
     docs/friction.md) and could be broken by another CPU's or libm's last bits."""
-    from .plain_python import compile_measures
+    from ..plain_python import compile_measures
 
     d = ir.description
     eom = system.solve.eom
@@ -359,7 +359,7 @@ def _check_measures(ir: ModelIR, system: FirstOrderSystem) -> float:
 
 
 def _check_forcing(ir: ModelIR, system: FirstOrderSystem) -> None:
-    from ..core.description import forcing_frequency
+    from ...core.description import forcing_frequency
 
     d = ir.description
     frequency = forcing_frequency(system.solve.eom)
@@ -373,7 +373,7 @@ def _check_forcing(ir: ModelIR, system: FirstOrderSystem) -> None:
 
 
 def _check_symmetries(ir: ModelIR, rhs) -> float:
-    from ..core.description import IDENTICAL_BALLS
+    from ...core.description import IDENTICAL_BALLS
 
     worst = 0.0
     for s in ir.description.symmetries:
@@ -422,7 +422,7 @@ def _parameter_points(ir: ModelIR, samples: int, seed: int):
 
 
 def _check_steady_states(ir: ModelIR, rhs) -> tuple[float, tuple[str, ...]]:
-    from .plain_python import compile_steady_states
+    from ..plain_python import compile_steady_states
 
     d = ir.description
     if not d.steady_states:
@@ -470,7 +470,7 @@ def _check_equilibria(ir: ModelIR) -> float:
     on it (its zero states 0) at the random parameter points, the null space T of the emitted constraint
     gradients in the free states annihilates the jac (|J T| <= STEADY_TOLERANCE |J|): moving along the
     manifold keeps an equilibrium to first order.  Returns the largest |J T| / |J| seen."""
-    from .plain_python import compile_kernel, compile_steady_states
+    from ..plain_python import compile_kernel, compile_steady_states
 
     d = ir.description
     if d.equilibria is None or not d.steady_states:

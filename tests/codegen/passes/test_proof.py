@@ -1,4 +1,4 @@
-"""Every emitted file proven before it is written (issue 20): the frame (`codegen.proof`) and what it refuses.
+"""Every emitted file proven before it is written (issue 20): the frame (`codegen.passes.proof`) and what it refuses.
 
 The mutants of the CI sample (test_mutation_sample.py) show each target's proof refusing real one-line
 mistakes through the command line; here, in-process: the committed models' files pass, a wrong file
@@ -16,9 +16,10 @@ import pytest
 import sympy as sp
 
 from adbgen import cli
-from adbgen.codegen import balls, compiler, proof as proofs, targets
-from adbgen.codegen.checks import Reference
-from adbgen.codegen.lowering import LoopFormError
+from adbgen.codegen import compiler, targets
+from adbgen.codegen.passes import ball_split as balls, proof as proofs
+from adbgen.codegen.passes.checks import Reference
+from adbgen.codegen.passes.lowering import LoopFormError
 from adbgen.codegen.render import render_model
 from adbgen.codegen.spec import build as build_ir
 from adbgen.codegen.targets.auto.prove import parse_constants
@@ -111,7 +112,7 @@ def test_the_form_requested_is_the_form_produced(monkeypatch):
         f[leaves[2]] = f[leaves[2]] * sp.Rational(1001, 1000)
         return original(coords, core, leaves, mass, f, *args)
 
-    monkeypatch.setattr("adbgen.codegen.lowering.split_balls", third_ball_differs)
+    monkeypatch.setattr("adbgen.codegen.passes.lowering.split_balls", third_ball_differs)
     with pytest.raises(LoopFormError, match=r"^thesis_rotating_n3: the loop form was requested, but the balls have no "
                                             r"per-ball split: ball 3's block differs from ball 1's: "):
         build_ir(spec, system, form="loops")

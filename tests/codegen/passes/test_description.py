@@ -22,8 +22,8 @@ from hypothesis import given, settings, strategies as st
 
 from adbgen import families
 from adbgen.analysis.loading import load_model
-from adbgen.codegen.checks import CheckFailed, _project, check_description
-from adbgen.codegen.describe import DescriptionError
+from adbgen.codegen.passes.checks import CheckFailed, _project, check_description
+from adbgen.codegen.passes.description import DescriptionError
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.render_and_import import import_numba, render_into
 from adbgen.codegen.spec import build as build_ir
@@ -317,7 +317,7 @@ def test_a_wrong_existence_criterion_is_refused():
 def test_a_wrongly_rendered_measure_is_refused(monkeypatch):
     """A measure is checked against its SymPy expression: a kernel that computes A with a tilt's sign
     flipped (what a printing or lowering error would do) is caught."""
-    from adbgen.codegen import describe as describe_module
+    from adbgen.codegen.passes import description as describe_module
 
     measures = describe_module._measures
 

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from adbgen.codegen.balls import NoBallStructure, split
+from adbgen.codegen.passes.ball_split import NoBallStructure, split
 from adbgen.codegen.plain_python import compile_program
-from adbgen.codegen.ir import KERNELS
-from adbgen.codegen.lowering import _blocks
+from adbgen.codegen.ir.model import KERNELS
+from adbgen.codegen.passes.lowering import _blocks
 from adbgen.codegen.render import render_model
 from adbgen.families.single_plane import models
 from adbgen.families.single_plane.scene import Scene
@@ -149,7 +149,7 @@ def test_balls_started_together_stay_equal_bit_for_bit():
 def test_a_ball_parameter_with_a_coefficient_is_read_through_its_table(tmp_path):
     """Ball 2's mass declared as 2 m_1 (a slot value c * p[k] with c != 1, as the symmetric two-plane
     set-up's -z): the loop form reads it through the coefficient table and equals the unrolled form."""
-    from adbgen.codegen.lowering import build
+    from adbgen.codegen.passes.lowering import build
     from adbgen.core.first_order import first_order
 
     system = models.for_scene(Scene.from_mapping({"n": 2, "ball_mass": [0.05, 0.04]}), "u2").system()

@@ -1,4 +1,4 @@
-"""The name registry (`codegen.symbol_kinds`, issue 33 item 4): a symbol's kind is what its maker
+"""The name registry (`codegen.ir.symbol_kinds`, issue 33 item 4): a symbol's kind is what its maker
 registered, not what its name looks like."""
 
 from __future__ import annotations
@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 import sympy as sp
 
-from adbgen.codegen import symbol_kinds as kinds
-from adbgen.codegen.loops import Let
+from adbgen.codegen.ir import symbol_kinds as kinds
+from adbgen.codegen.ir.loops import Let
 from adbgen.codegen.spec import build
 from adbgen.codegen.targets.taylor.series import NotSeries, _find_solve, _solve_symbols
 from adbgen.families.single_plane import models

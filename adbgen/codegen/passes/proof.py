@@ -41,12 +41,12 @@ from typing import Callable
 
 import numpy as np
 
-from . import compiler, targets
-from ..errors import AdbgenError
-from ..outputs import cache_dir
+from .. import compiler, targets
+from ...errors import AdbgenError
+from ...outputs import cache_dir
+from ..ir.model import KERNELS, ModelIR
+from ..plain_python import compile_program
 from .checks import CheckFailed, Reference, _apply, _project, _state_points
-from .plain_python import compile_program
-from .ir import KERNELS, ModelIR
 
 TOLERANCE = 1e-12  # a target's function against the checked programs, norm-wise relative (measured 0)
 SYMBOLIC_TOLERANCE = 1e-12  # rhs, mass, forcing against the dense solve of the symbolic model (as `checks`)
@@ -133,7 +133,7 @@ class Proof:
     def ensure(self, name: str) -> None:
         """Render target `name`'s files into the folder for the proof (not written out) if they are not
         there already (the CVODE adaptor is built over the C library even with --targets cvode)."""
-        from .render import render_model
+        from ..render import render_model
 
         key = ("ensured", name)
         if key in self._memo:
@@ -298,7 +298,7 @@ class Proof:
         """(symmetry, t, y, p) at random states fixed by each identical-balls exchange the model
         declares (balls together), parameters made invariant: there rhs must be exchange-invariant
         bitwise (the printers' ball-invariant order)."""
-        from ..core.description import IDENTICAL_BALLS
+        from ...core.description import IDENTICAL_BALLS
 
         base = self.ir
         if base.description is None:

@@ -16,8 +16,9 @@ import pytest
 import sympy as sp
 
 from adbgen import cli
-from adbgen.codegen import loops, lowering
-from adbgen.codegen.checks import CheckFailed, check_programs, program_errors
+from adbgen.codegen.ir import loops
+from adbgen.codegen.passes import loop_form, lowering
+from adbgen.codegen.passes.checks import CheckFailed, check_programs, program_errors
 from adbgen.families.single_plane import models
 from adbgen.codegen.spec import build as build_ir
 
@@ -90,7 +91,7 @@ def test_a_wrong_sign_in_the_jacobian_lowering_is_refused(make, form, monkeypatc
     spec = make(2)
     system = spec.system()
     monkeypatch.setattr(lowering, "_residual_rows", _residual_rows_with_wrong_sign)
-    monkeypatch.setattr(loops._Kernels, "residuals", _loop_residuals_with_wrong_sign)
+    monkeypatch.setattr(loop_form._Kernels, "residuals", _loop_residuals_with_wrong_sign)
     ir = build_ir(spec, system, form=form)
     assert ir.form == form
     errors = program_errors(ir, system)
@@ -100,7 +101,7 @@ def test_a_wrong_sign_in_the_jacobian_lowering_is_refused(make, form, monkeypatc
 
 
 def test_regenerate_refuses_the_wrong_sign_before_writing(monkeypatch, tmp_path, capsys):
-    monkeypatch.setattr(loops._Kernels, "residuals", _loop_residuals_with_wrong_sign)
+    monkeypatch.setattr(loop_form._Kernels, "residuals", _loop_residuals_with_wrong_sign)
     out = tmp_path / "out"
     out.mkdir()
     (out / "keep.txt").write_text("untouched")
@@ -152,7 +153,7 @@ def test_an_overflowing_program_leaves_stderr_to_the_refusal():
 
     import numpy as np
 
-    from adbgen.codegen.checks import central_difference
+    from adbgen.codegen.passes.checks import central_difference
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from adbgen.codegen import lowering as I
-from adbgen.codegen.checks import lowering_error
+from adbgen.codegen.passes import lowering as I
+from adbgen.codegen.passes.checks import lowering_error
 from adbgen.families.single_plane import models
 from adbgen.codegen.plain_python import compile_program
-from adbgen.codegen.checks import CheckFailed, check_start as _check_start
+from adbgen.codegen.passes.checks import CheckFailed, check_start as _check_start
 from adbgen.families.single_plane.scene import Scene
 from adbgen.families.single_plane.model import derive
 from adbgen.families.single_plane.reductions import first_order

@@ -2,7 +2,7 @@
 
 A later pass that must recognise some statements (the Taylor target's series form finds the
 structured solve of thesis Appendix A, (A.9)-(A.13), in the rhs kernel) looks the symbol's kind up
-here instead of testing its name's prefix.  The code that makes such a name (`loops`, `lowering`)
+here instead of testing its name's prefix.  The code that makes such a name (`passes.loop_form`, `passes.lowering`)
 registers it with its kind and its indices; a name made twice must be made with the same kind.
 """
 

@@ -1,5 +1,5 @@
 """The lowering: a first-order system to the intermediate form (`ir`): by default the loop form
-(`balls.split` verifies the per-ball block, `loops.build_loops` makes the kernels), or the
+(`ball_split.split` verifies the per-ball block, `loop_form.build_loops` makes the kernels), or the
 straight-line programs below (`build(form="unrolled")`, and any model whose balls are not alike).
 
 Structure (thesis Appendix A, generalised in `adbgen.core.structure`): the mass matrix is
@@ -26,17 +26,18 @@ from typing import TYPE_CHECKING, Sequence
 
 import sympy as sp
 
-from ..core.first_order import FirstOrderSystem
-from ..core.oscillator import Oscillator
-from ..errors import AdbgenError
-from . import symbol_kinds as kinds
-from .balls import BALL_PREFIX, NoBallStructure, split as split_balls
-from .loops import build_loops, cse
-from .names import validate_name
-from .ir import Continuation, ModelIR, Program, State
+from ...core.first_order import FirstOrderSystem
+from ...core.oscillator import Oscillator
+from ...errors import AdbgenError
+from ..ir import symbol_kinds as kinds
+from ..ir.model import Continuation, ModelIR, Program, State
+from ..names import validate_name
+from .ball_split import BALL_PREFIX, NoBallStructure, split as split_balls
+from .cse import cse
+from .loop_form import build_loops
 
 if TYPE_CHECKING:
-    from .describe import SelfDescription
+    from ..ir.description import SelfDescription
 
 # Names the programs create; chosen so they cannot collide with a model's parameter names
 # (M, m, D, k, c, eps, ...; `build` checks it).
@@ -273,15 +274,17 @@ def _mass_forcing_programs(blocks: _Blocks) -> tuple[Program, Program]:
     return mass, forcing
 
 
-def _describe(name: str, leaves: set[str]) -> str:
-    if name.endswith("_dot"):
-        return f"rate of {name[:-4]}"
-    return "angle of a ball (rad)" if name in leaves else "rotor coordinate"
+def _describe(k: int, coordinates, leaves: set[int]) -> str:
+    """What state k of y = (positions, rates) (thesis (A.1)-(A.2)) is, by its place, not its name."""
+    N = len(coordinates)
+    if k >= N:
+        return f"rate of {coordinates[k - N].name}"
+    return "angle of a ball (rad)" if k in leaves else "rotor coordinate"
 
 
 # The one switch between the two forms (issue 10): "loops" (the per-ball block once, loops over the
 # balls; the default) or "unrolled" (straight-line programs, every ball written out).  A model whose
-# balls are not alike (`balls.NoBallStructure`) has no loop form: asked for it, the lowering refuses
+# balls are not alike (`ball_split.NoBallStructure`) has no loop form: asked for it, the lowering refuses
 # (`LoopFormError`, naming the ball and the term; issue 20) rather than fall back to the unrolled form.
 FORMS = ("loops", "unrolled")
 DEFAULT_FORM = "loops"
@@ -301,8 +304,8 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
 
     With `oscillator`, the periodically forced system is lowered in its autonomous extension
     (`Oscillator`): two more states, osc_sin and osc_cos, after the rates.  `balls`: each ball's own
-    parameters ({slot: c * parameter}, `balls.split`; default: those named <stem>_<i>).  `form`: see
-    `FORMS`.  `description`: the self-description (`describe.lower_description`), carried as it is.
+    parameters ({slot: c * parameter}, `ball_split.split`; default: those named <stem>_<i>).  `form`: see
+    `FORMS`.  `description`: the self-description (`description.lower_description`), carried as it is.
     """
     if form not in FORMS:
         raise ValueError(f"form {form!r}: one of {', '.join(FORMS)}")
@@ -310,8 +313,8 @@ def build(name: str, system: FirstOrderSystem, *, title: str, n_balls: int,
     eom = system.solve.eom
     coords = system.coordinates
     N = len(coords)
-    leaves = {coords[k].name for k in system.solve.leaves}
-    states = tuple(State(s.name, s, _describe(s.name, leaves)) for s in system.states)
+    leaves = set(system.solve.leaves)
+    states = tuple(State(s.name, s, _describe(k, coords, leaves)) for k, s in enumerate(system.states))
     params = tuple(system.parameters)
     y_syms = list(system.states)
     blocks, osc = _blocks(system, oscillator)

@@ -1,9 +1,9 @@
 """The intermediate form: data only, one per model; everything a template needs and nothing of SymPy's API.
 
-A model's first-order system y' = F(t, y; p) (y = positions, then rates) is lowered (`lowering`) to
+A model's first-order system y' = F(t, y; p) (y = positions, then rates) is lowered (`passes.lowering`) to
 straight-line *programs*: ordered assignments ``name = expression`` followed by stores into an output
 array.  Every target (`targets/`) prints the same programs, so each equation exists once.  By
-default a balancer is lowered to the loop form instead (`loops.LoopForm`, issue 10): each ball's
+default a balancer is lowered to the loop form instead (`ir.loops.LoopForm`, issue 10): each ball's
 block kept once, and kernels that loop over the balls; `ModelIR.kernels()` gives either form as
 kernels, which `emit` prints for every target.
 """
@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING, Callable
 
 import sympy as sp
 
-from ..core import Parameter
-from ..core.model_spec import Continuation  # noqa: F401  (the family decides it; the AUTO target prints it)
+from ...core import Parameter
+from ...core.model_spec import Continuation  # noqa: F401  (the family decides it; the AUTO target prints it)
 
 if TYPE_CHECKING:
-    from .describe import SelfDescription
+    from .description import SelfDescription
     from .loops import LoopForm
 
 KERNELS = ("rhs", "jac", "jac_p", "mass", "forcing")
@@ -64,7 +64,7 @@ class ModelIR:
     core: tuple[str, ...]  # coordinate names of the Schur core (the rotor)
     leaves: tuple[str, ...]  # coordinate names of the diagonal block (the balls)
     mass_pattern: tuple[tuple[int, int], ...]  # nonzero entries of M, sorted
-    rhs: Program | None  # the unrolled form's programs (None in the loop form: `loops`)
+    rhs: Program | None  # the unrolled form's programs (None in the loop form: `ir.loops`)
     jac: Program | None
     jac_p: Program | None
     mass: Program | None
@@ -77,7 +77,7 @@ class ModelIR:
     continuation: Continuation | None = None  # what AUTO-07p continues from the start (None: no AUTO files)
     extras: dict = field(default_factory=dict)
     loops: "LoopForm | None" = None  # the loop form (issue 10): kernels over the balls, size independent of n
-    # what the generated module says about itself (`describe`; None: the spec declares nothing)
+    # what the generated module says about itself (`passes.description`; None: the spec declares nothing)
     description: "SelfDescription | None" = None
     # the same model lowered unrolled, made on demand (for targets that print programs one by one)
     unrolled_form: Callable[[], "ModelIR"] | None = field(default=None, compare=False, repr=False)
