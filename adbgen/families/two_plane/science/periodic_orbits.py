@@ -197,10 +197,8 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
                  else None)
         lim = (limit(case, progress=progress) if case.figure in ("10(a)", "10(c)", "11", "13(b)") else None)
         L += render("chart", figure=case.figure, text=case.text, model=case.model, note=case.note, ties=case.ties,
-                    curves=[f"{v} {k} curve(s) of B's stability boundary" for k, v in kinds.items()],
-                    summary=chart_summary(c, case), extra=extra, image=name,
-                    limit=lim and [f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
-                                   for eps, pts in lim]) + [""]
+                    curves=[(v, k) for k, v in kinds.items()], summary=chart_summary(c, case), extra=extra,
+                    image=name, limit=lim) + [""]
     # wall times go to the progress lines (`adbgen bench reproduce` records them), never into the document,
     # which must come out byte-identical from run to run
     progress(f"two-plane orbits section: {time.perf_counter() - t0:.0f} s")

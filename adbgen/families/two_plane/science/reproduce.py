@@ -638,12 +638,9 @@ def section(res: dict, root: Path) -> list[str]:
         low_as_is=f"{a0['as_is']['A_end']:.2g}", span_high=f"{min(ph[0.1]):.2f}-{max(ph[0.1]):.2f}",
         n_above=sum(v > 1 for v in ph[0.1]), span_low=f"{min(ph[0.01]):.3f}-{max(ph[0.01]):.3f}",
         worse_high=spans(worse[0.1]), worse_share=f"{sum(b - a for a, b in worse[0.1]) / math.pi:.0%}",
-        worse_low=spans(worse[0.01]), default_ratio=f"{M['crit_16b'] / M['crit_plain']:.3f}")
-    L += notes + [""]
-    L += [
-          f"![Figure 15]({ramp['figure'].relative_to(root).as_posix()})", "",
-          f"![Figure 16]({hill['figure'].relative_to(root).as_posix()})", ""]
-    return L
+        worse_low=spans(worse[0.01]), default_ratio=f"{M['crit_16b'] / M['crit_plain']:.3f}",
+        figure_15=ramp["figure"].relative_to(root).as_posix(), figure_16=hill["figure"].relative_to(root).as_posix())
+    return L + notes
 
 
 REPRODUCTION = Reproduction("two-plane", "Two-plane paper", compute, section, coverage=coverage.SECTION)

@@ -78,8 +78,14 @@ def _chart(case):
                            else [])}
     limit = [x for x in block if x.startswith("As the imbalance vanishes")]
     limit = re.findall(r"left out\) at: (.*)\.$", limit[0])[0].split("; ") if limit else None
+    if limit:  # "eps/R = 1e-06: hopf 1.00000, fold 2.00000" -> (1e-06, [("hopf", 1.0), ("fold", 2.0)])
+        limit = [(float(eps), [] if points == "none" else [(k, float(v)) for k, v in
+                                                             (p.split(" ") for p in points.split(", "))])
+                 for eps, points in (item.removeprefix("eps/R = ").split(": ") for item in limit)]
+    curves = [] if curves == "no curve" else [re.fullmatch(r"(\d+) (\w+) curve\(s\) of B's stability boundary", c)
+                                              .groups() for c in curves.split(", ")]
     return prose.render("chart", figure=case.figure, text=case.text, model=case.model, note=case.note,
-                        ties=case.ties, curves=[] if curves == "no curve" else curves.split(", "),
+                        ties=case.ties, curves=curves,
                         summary=_summary(summary),
                         extra=extra, limit=limit, image=re.findall(r"@FIGURES@/(.*)\)", block[-1].replace(
                             "reproduction/", "@FIGURES@/"))[0]) + [""]
