@@ -622,7 +622,7 @@ def section(res: dict, root: Path) -> list[str]:
     a1, a0 = after[0.1], after[0.01]
     ph = ru["phases"]
     worse = ru["worse_phases"]
-    spans = lambda iv: " and ".join(f"({a / math.pi:.3f} pi, {b / math.pi:.3f} pi)" for a, b in iv) or "no phase"  # noqa: E731
+    spans = lambda iv: [f"({a / math.pi:.3f} pi, {b / math.pi:.3f} pi)" for a, b in iv]  # noqa: E731
     off, mass = ru["perturbed"]["offset"], ru["perturbed"]["mass"]
     notes = render(
         "runup_notes", burst=f"{M['burst_16a']:.1f}", burst_diff=_pct(_rel(M["burst_16a"], 800.0)),
@@ -630,11 +630,10 @@ def section(res: dict, root: Path) -> list[str]:
         coincident="—" if a1["coincident_from"] is None else
         f"{a1['coincident_from']:.0f} (Omega = {3.6 * a1['coincident_from'] / 6000:.3f})",
         as_is=f"{a1['as_is']['A_end']:.3g}", moved="—" if a1["moved"] is None else f"{a1['moved']:.0e}",
-        unstable=(f"{a1['unstable']} unstable eigenvalues (" + ", ".join(f"{z.real:.4f}" for z in a1["leading"]) + ")"
-                  if a1["unstable"] is not None else "no Newton convergence"),
+        n_unstable=a1["unstable"],
+        leading=None if a1["unstable"] is None else [f"{z.real:.4f}" for z in a1["leading"]],
         kick=f"{a1['kick']:g}", kicked=f"{a1['kicked']['A_end']:.2g}", offset_coincident=_t(off["coincident_from"]),
-        offset_A=f"{off['A_end']:.3g}", mass_A=f"{mass['A_end']:.3g}", mass_sync="the balls do not yet turn with the rotor" if mass["sync"] is None else
-        f"the balls turn with the rotor from t = {mass['sync']:.0f}",
+        offset_A=f"{off['A_end']:.3g}", mass_A=f"{mass['A_end']:.3g}", mass_sync=None if mass["sync"] is None else f"{mass['sync']:.0f}",
         low_as_is=f"{a0['as_is']['A_end']:.2g}", span_high=f"{min(ph[0.1]):.2f}-{max(ph[0.1]):.2f}",
         n_above=sum(v > 1 for v in ph[0.1]), span_low=f"{min(ph[0.01]):.3f}-{max(ph[0.01]):.3f}",
         worse_high=spans(worse[0.1]), worse_share=f"{sum(b - a for a, b in worse[0.1]) / math.pi:.0%}",
