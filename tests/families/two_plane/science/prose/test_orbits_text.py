@@ -25,7 +25,10 @@ def _table(header):
 
 def _head():
     crit = [row[:4] + [row[4].strip("*")] for row in _table("| eps/R + chi")]
-    inner = lambda cell: re.findall(r"\((.*)\)", cell)[0].split(", ")  # noqa: E731
+    def inner(cell):  # "(3.386, 7.081, stable)" -> ("3.386", "7.081", True): the template words the verdict
+        omega, period, stability = re.findall(r"\((.*)\)", cell)[0].split(", ")
+        assert stability in ("stable", "unstable")
+        return omega, period, stability == "stable"
     near = [{"paper": inner(r[1]), "ours": inner(r[2]), "distance": r[3]} for r in _table("| inset")]
     orbits = next(line for line in SECTION if "orbits by `continue --orbits`" in line)
     n, end = re.match(r"(\d+) orbits by `continue --orbits` \((.*)\);", orbits).groups()
