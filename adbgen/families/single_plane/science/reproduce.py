@@ -729,8 +729,7 @@ def _document(transients, results, figures, root: Path, statements=(), maps=(), 
     rows, flagged = [], []
     for case, res in results:
         sims = res["sims"]
-        head = f"| {case.figure} | {case.n} | {case.phi0_text}" + "".join(
-            f", {k} = {v:g}" for k, v in case.params.items()) + " |"
+        head = {"figure": case.figure, "n": case.n, "phi0": case.phi0_text, "params": list(case.params.items())}
         if "attractor" in case.published:
             ok = res["label"] == case.published["attractor"] or (balanced(res["label"])
                                                                  and balanced(case.published["attractor"]))

@@ -564,8 +564,9 @@ def lyapunov_lines(lyapunov: dict) -> list[str]:
 
     runs = []
     for name, v in lyapunov.items():
-        verdict = "chaotic (positive exponent)" if min(v["first_half"], v["second_half"]) > 0.01 else (
-            "not chaotic (exponent ~ 0: a cycle or torus)" if abs(v["exponent"]) < 0.005 else "undecided")
+        # chaotic: both halves of the window positive; regular: the exponent ~ 0 (a cycle or torus); else undecided
+        verdict = "chaotic" if min(v["first_half"], v["second_half"]) > 0.01 else (
+            "regular" if abs(v["exponent"]) < 0.005 else "undecided")
         runs.append((name, {**v, "verdict": verdict}))
     return render("lyapunov", runs=runs)
 

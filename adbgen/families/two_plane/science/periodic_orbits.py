@@ -172,14 +172,13 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
     t0 = time.perf_counter()
     crit = criticality(progress)
     f14 = fig14cd(crit[0], out, max_points, progress)
-    st = lambda s: "stable" if s else "unstable"  # noqa: E731
     br, stab = f14["branch"], f14["lam"][f14["stable"]]
     L = render(
         "orbits", criticality=[(f"{r['total']:g}", f"{r['hopf'].lam:.8f}", f"{r['hopf'].omega:.7f}",
                                 f"{r['hopf'].l1:.5g}", r["hopf"].criticality) for r in crit],
         n_orbits=len(br.orbits), end=br.end,
-        near=[{"paper": (str(nr["paper"][0]), str(nr["paper"][1]), st(nr["paper"][2])),
-               "ours": (f"{nr['ours'][0]:.4f}", f"{nr['ours'][1]:.4f}", st(nr["ours"][2])),
+        near=[{"paper": (str(nr["paper"][0]), str(nr["paper"][1]), nr["paper"][2]),
+               "ours": (f"{nr['ours'][0]:.4f}", f"{nr['ours'][1]:.4f}", nr["ours"][2]),
                "distance": f"{nr['distance']:.1e}"} for nr in f14["near"]],
         stable=(f"{stab.min():.6f}", f"{stab.max():.6f}") if len(stab) else None,
         specials=[(s["kind"], f"{s['Omega']:.7f}", f"{s['period']:.5f}") for s in br.specials], n1=n1, n2=n2) + [""]
@@ -197,10 +196,8 @@ def section(out: Path, progress=print, n1: int = 81, n2: int = 25, max_points: i
                  else None)
         lim = (limit(case, progress=progress) if case.figure in ("10(a)", "10(c)", "11", "13(b)") else None)
         L += render("chart", figure=case.figure, text=case.text, model=case.model, note=case.note, ties=case.ties,
-                    curves=[f"{v} {k} curve(s) of B's stability boundary" for k, v in kinds.items()],
-                    summary=chart_summary(c, case), extra=extra, image=name,
-                    limit=lim and [f"eps/R = {eps:g}: " + (", ".join(f"{k} {v:.5f}" for k, v in pts) or "none")
-                                   for eps, pts in lim]) + [""]
+                    curves=[(v, k) for k, v in kinds.items()], summary=chart_summary(c, case), extra=extra,
+                    image=name, limit=lim) + [""]
     # wall times go to the progress lines (`adbgen bench reproduce` records them), never into the document,
     # which must come out byte-identical from run to run
     progress(f"two-plane orbits section: {time.perf_counter() - t0:.0f} s")

@@ -507,12 +507,8 @@ def _pct(x):
     return f"{100 * x:+.2f} %"
 
 
-def _spans(iv, digits: int = 2) -> str:
-    return ", ".join(f"[{a:.{digits}f}, {b:.{digits}f}]" for a, b in iv) or "no speed of the grid"
-
-
-def _verdict(ok: bool) -> str:
-    return "balanced" if ok else "not balanced"
+def _spans(iv, digits: int = 2) -> list[str]:
+    return [f"[{a:.{digits}f}, {b:.{digits}f}]" for a, b in iv]
 
 
 def fig12_lines(f: dict, root: Path) -> list[str]:
@@ -520,7 +516,7 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
     (prose/fig12.md.j2)."""
     (p1g, p1), (p2g, p2) = f["peaks"][:2]
     lim = f["limit"]
-    carried = [{"Omega": f"{q['Omega']:.2f}", "first": _verdict(q["first"]), "balanced": _verdict(q["balanced"]),
+    carried = [{"Omega": f"{q['Omega']:.2f}", "first": q["first"], "balanced": q["balanced"],
                 "t": f"{q['t']:g}", "settled": q["settled"]}
                for q in f["points"] if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"]]
     limits = sorted(lim.items())
@@ -532,9 +528,8 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
     for q in f["dyn_points"]:
         b_stable = stable(q["Omega"], f["dyn_floquet"]["stable"])
         if q["t"] > 2 * FIG12_TRANSIENT or q["first"] != q["balanced"] or q["balanced"] != b_stable:
-            rows.append([f"{q['Omega']:.1f}", _verdict(q["first"]), f"{q['t']:g}" + ("" if q["settled"] else
-                         " (cap, still changing)"), f"{q['A_bar']:.3g}", _verdict(q["balanced"]),
-                         "stable" if b_stable else "unstable"])
+            rows.append({"Omega": f"{q['Omega']:.1f}", "first": q["first"], "t": f"{q['t']:g}", "settled": q["settled"],
+                         "A_bar": f"{q['A_bar']:.3g}", "balanced": q["balanced"], "stable": b_stable})
             g = growth.get(q["Omega"])
             if g is not None and g < 0 and (slow is None or q["t"] > slow["t_raw"]):
                 slow = {"Omega": f"{q['Omega']:.1f}", "mu": f"{math.exp(g):.5f}",
@@ -544,22 +539,21 @@ def fig12_lines(f: dict, root: Path) -> list[str]:
     return render(
         "fig12", grid=FIG12_GRID, step=f"{(FIG12_GRID[1] - FIG12_GRID[0]) / (FIG12_GRID[2] - 1):g}", t1=f"{FIG12_TRANSIENT:g}", t2=f"{2 * FIG12_TRANSIENT:g}", cap=f"{FIG12_CAP:g}",
         carried=carried, intervals=_spans(f["intervals"]), first_intervals=_spans(f["first_intervals"]),
-        peak_1=[f"{p1:.5f} (grid {p1g:.3f})", _pct(_rel(p1, 1.0))],
-        peak_2=[f"{p2:.5f} (grid {p2g:.3f})", _pct(_rel(p2, 2.24))],
-        limits=[f"{v:.4g} (Omega = {k:g})" for k, v in limits], limit_diffs=[_pct(_rel(v, 1e-4)) for _, v in limits],
+        peak_1=(f"{p1:.5f}", f"{p1g:.3f}", _pct(_rel(p1, 1.0))), peak_2=(f"{p2:.5f}", f"{p2g:.3f}", _pct(_rel(p2, 2.24))),
+        limits=[(f"{v:.4g}", f"{k:g}") for k, v in limits], limit_diffs=[_pct(_rel(v, 1e-4)) for _, v in limits],
         peaks=[f"{b:.3f}" for _, b in f["peaks"]], floquet=_spans(f["floquet"]["stable"], 4),
-        parity_speeds=", ".join(f"{w:.2f}" for w in par) or "no speed", parity_count=len(par),
+        parity_speeds=[f"{w:.2f}" for w in par], parity_count=len(par),
         parity_min=f"{min((m for m, _ in par.values()), default=float('nan')):.5f}",
         parity_max=f"{max((m for m, _ in par.values()), default=float('nan')):.5f}",
-        parity_signs=", ".join(sorted({f"{s:+.0f}" for _, s in par.values()})) or "—",
-        limit_note=", ".join(f"{_pct(1 / (1 - 5 / k**2) - 1)} at Omega = {k:g}" for k in sorted(lim))
-        + f"; at the grid's end, Omega = {f['omegas'][-1]:g}: {f['plain'][-1]:.4g}",
+        parity_signs=sorted({f"{s:+.0f}" for _, s in par.values()}),
+        limit_note=[(_pct(1 / (1 - 5 / k**2) - 1), f"{k:g}") for k in sorted(lim)],
+        grid_end=(f"{f['omegas'][-1]:g}", f"{f['plain'][-1]:.4g}"),
         worst=f"{f['worst_ratio'][1]:.0f}", worst_at=f"{f['worst_ratio'][0]:.2f}",
         figure=f["figure"].relative_to(root).as_posix(), figure_b=f["figure_b"].relative_to(root).as_posix(),
         dyn_floquet=_spans(f["dyn_floquet"]["stable"], 4), dyn_rows=rows,
         dyn_intervals=_spans(f["dyn_intervals"], 1), dyn_first=_spans(f["dyn_first_intervals"], 1),
         dyn_agree=dyn_agree, dyn_total=len(f["dyn_points"]),
-        dyn_disagree="" if not disagree else " (not at Omega = " + ", ".join(f"{w:.1f}" for w in disagree) + ")",
+        dyn_disagree=[f"{w:.1f}" for w in disagree],
         static_agree=static_agree, static_total=len(f["points"]), slow=slow,
         better_agreement=better_agreement(dyn_agree, len(f["dyn_points"]), static_agree, len(f["points"])),
         extra_peaks=len(f["peaks"]) != 2) + [""]
@@ -622,7 +616,7 @@ def section(res: dict, root: Path) -> list[str]:
     a1, a0 = after[0.1], after[0.01]
     ph = ru["phases"]
     worse = ru["worse_phases"]
-    spans = lambda iv: " and ".join(f"({a / math.pi:.3f} pi, {b / math.pi:.3f} pi)" for a, b in iv) or "no phase"  # noqa: E731
+    spans = lambda iv: [f"({a / math.pi:.3f} pi, {b / math.pi:.3f} pi)" for a, b in iv]  # noqa: E731
     off, mass = ru["perturbed"]["offset"], ru["perturbed"]["mass"]
     notes = render(
         "runup_notes", burst=f"{M['burst_16a']:.1f}", burst_diff=_pct(_rel(M["burst_16a"], 800.0)),
@@ -630,20 +624,16 @@ def section(res: dict, root: Path) -> list[str]:
         coincident="—" if a1["coincident_from"] is None else
         f"{a1['coincident_from']:.0f} (Omega = {3.6 * a1['coincident_from'] / 6000:.3f})",
         as_is=f"{a1['as_is']['A_end']:.3g}", moved="—" if a1["moved"] is None else f"{a1['moved']:.0e}",
-        unstable=(f"{a1['unstable']} unstable eigenvalues (" + ", ".join(f"{z.real:.4f}" for z in a1["leading"]) + ")"
-                  if a1["unstable"] is not None else "no Newton convergence"),
+        n_unstable=a1["unstable"],
+        leading=None if a1["unstable"] is None else [f"{z.real:.4f}" for z in a1["leading"]],
         kick=f"{a1['kick']:g}", kicked=f"{a1['kicked']['A_end']:.2g}", offset_coincident=_t(off["coincident_from"]),
-        offset_A=f"{off['A_end']:.3g}", mass_A=f"{mass['A_end']:.3g}", mass_sync="the balls do not yet turn with the rotor" if mass["sync"] is None else
-        f"the balls turn with the rotor from t = {mass['sync']:.0f}",
+        offset_A=f"{off['A_end']:.3g}", mass_A=f"{mass['A_end']:.3g}", mass_sync=None if mass["sync"] is None else f"{mass['sync']:.0f}",
         low_as_is=f"{a0['as_is']['A_end']:.2g}", span_high=f"{min(ph[0.1]):.2f}-{max(ph[0.1]):.2f}",
         n_above=sum(v > 1 for v in ph[0.1]), span_low=f"{min(ph[0.01]):.3f}-{max(ph[0.01]):.3f}",
         worse_high=spans(worse[0.1]), worse_share=f"{sum(b - a for a, b in worse[0.1]) / math.pi:.0%}",
-        worse_low=spans(worse[0.01]), default_ratio=f"{M['crit_16b'] / M['crit_plain']:.3f}")
-    L += notes + [""]
-    L += [
-          f"![Figure 15]({ramp['figure'].relative_to(root).as_posix()})", "",
-          f"![Figure 16]({hill['figure'].relative_to(root).as_posix()})", ""]
-    return L
+        worse_low=spans(worse[0.01]), default_ratio=f"{M['crit_16b'] / M['crit_plain']:.3f}",
+        figure_15=ramp["figure"].relative_to(root).as_posix(), figure_16=hill["figure"].relative_to(root).as_posix())
+    return L + notes
 
 
 REPRODUCTION = Reproduction("two-plane", "Two-plane paper", compute, section, coverage=coverage.SECTION)

@@ -238,5 +238,7 @@ def test_the_scan_lyapunov_and_damping_sections_render_the_published_lines(publi
     assert row in sweeps.scans_lines(res, paths, root)
     lyapunov["5.12(b), n = 2"].update(first_half=0.02, second_half=0.03)
     assert sweeps.lyapunov_lines(lyapunov)[6].endswith("| chaotic (positive exponent) |")
+    lyapunov["5.12(b), n = 2"].update(exponent=0.007, first_half=0.001, second_half=0.02)
+    assert sweeps.lyapunov_lines(lyapunov)[6].endswith("| undecided |")
     res.zeta_beta[3]["labels"][:] = "balanced 1"
     assert sweeps.damping_lines(res, paths, root)[7].startswith("| 3 | 169 | — |")

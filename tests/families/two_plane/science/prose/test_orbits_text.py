@@ -25,7 +25,10 @@ def _table(header):
 
 def _head():
     crit = [row[:4] + [row[4].strip("*")] for row in _table("| eps/R + chi")]
-    inner = lambda cell: re.findall(r"\((.*)\)", cell)[0].split(", ")  # noqa: E731
+    def inner(cell):  # "(3.386, 7.081, stable)" -> ("3.386", "7.081", True): the template words the verdict
+        omega, period, stability = re.findall(r"\((.*)\)", cell)[0].split(", ")
+        assert stability in ("stable", "unstable")
+        return omega, period, stability == "stable"
     near = [{"paper": inner(r[1]), "ours": inner(r[2]), "distance": r[3]} for r in _table("| inset")]
     orbits = next(line for line in SECTION if "orbits by `continue --orbits`" in line)
     n, end = re.match(r"(\d+) orbits by `continue --orbits` \((.*)\);", orbits).groups()
@@ -78,8 +81,14 @@ def _chart(case):
                            else [])}
     limit = [x for x in block if x.startswith("As the imbalance vanishes")]
     limit = re.findall(r"left out\) at: (.*)\.$", limit[0])[0].split("; ") if limit else None
+    if limit:  # "eps/R = 1e-06: hopf 1.00000, fold 2.00000" -> (1e-06, [("hopf", 1.0), ("fold", 2.0)])
+        limit = [(float(eps), [] if points == "none" else [(k, float(v)) for k, v in
+                                                             (p.split(" ") for p in points.split(", "))])
+                 for eps, points in (item.removeprefix("eps/R = ").split(": ") for item in limit)]
+    curves = [] if curves == "no curve" else [re.fullmatch(r"(\d+) (\w+) curve\(s\) of B's stability boundary", c)
+                                              .groups() for c in curves.split(", ")]
     return prose.render("chart", figure=case.figure, text=case.text, model=case.model, note=case.note,
-                        ties=case.ties, curves=[] if curves == "no curve" else curves.split(", "),
+                        ties=case.ties, curves=curves,
                         summary=_summary(summary),
                         extra=extra, limit=limit, image=re.findall(r"@FIGURES@/(.*)\)", block[-1].replace(
                             "reproduction/", "@FIGURES@/"))[0]) + [""]

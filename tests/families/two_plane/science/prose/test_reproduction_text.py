@@ -113,3 +113,25 @@ def test_figure_12a_changed_word_is_caught(tmp_path, monkeypatch):
                           monkeypatch):
         got = _fig12_published(rp.fig12_lines(_fig12(), ROOT / "docs"))
         assert got[0] not in DOC and all(x in DOC for x in got[1:])
+
+
+def _notes(**figures):
+    """runup_notes.md.j2 with every value but the figures a placeholder (its words are checked by hand; its
+    figure lines here)."""
+    from jinja2 import meta
+
+    env = prose._environment()
+    source = (prose.FOLDER / "runup_notes.md.j2").read_text()
+    names = meta.find_undeclared_variables(env.parse(source)) - set(figures) - set(env.globals)
+    return prose.render("runup_notes", **{n: f"<{n}>" for n in names}, **figures)
+
+
+def test_section_6_ends_with_its_two_figures_as_the_committed_page():
+    """The notes end section 6 with Figures 15 and 16 (moved from Python into runup_notes.md.j2): the
+    committed page's last lines of the section, blank line kept.  Negative control: the figures swapped."""
+    figures = {"figure_15": "reproduction/two_plane_15.png", "figure_16": "reproduction/two_plane_16.png"}
+    tail = _notes(**figures)[-5:]
+    at = DOC.index(tail[1])
+    assert tail[0] == "" and DOC[at - 1:at + 4] == tail
+    swapped = _notes(figure_15=figures["figure_16"], figure_16=figures["figure_15"])[-5:]
+    assert DOC[at - 1:at + 4] != swapped
