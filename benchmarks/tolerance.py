@@ -114,10 +114,11 @@ def references(model, p, y0, t_end) -> tuple[dict, dict]:
     return ref, chk
 
 
-def extended_references(model, p, y0, t_end) -> tuple[dict, dict, dict]:
+def extended_references(model, p, y0, t_end, factors=(EXT_TOL, EXT_CHECK_TOL)) -> tuple:
     """(reference, its check, what they are): heyoka in the widest type available (`peers.extended_type`)
     on the model's generated program at tol `EXT_TOL` x eps and at `EXT_CHECK_TOL` x eps, each stopping at
-    the program's time breakpoints and locating t_dec.  Raises PeerUnavailable (no heyoka, no wider type),
+    the program's time breakpoints and locating t_dec (`factors=(EXT_TOL,)`: the reference alone, (reference,
+    what it is)).  Raises PeerUnavailable (no heyoka, no wider type),
     ValueError (no program, or its translation off the generated rhs by more than `TRANSLATION_LIMIT`) or
     RuntimeError (a failed run): the caller falls back to the double references."""
     from . import peers
@@ -129,7 +130,7 @@ def extended_references(model, p, y0, t_end) -> tuple[dict, dict, dict]:
         raise ValueError(f"the program translated in {type_name} is {off:.2g} off the generated rhs")
     stops = peers.time_breakpoints(model.module, p, t_end)
     runs = []
-    for factor in (EXT_TOL, EXT_CHECK_TOL):
+    for factor in factors:
         started = time.process_time()
         out = peer.run_extended(y0, p, t_end, factor * eps, fp_type=fp, threshold=THRESHOLD,
                                 amplitude=model.amplitude_indices, breakpoints=stops)
@@ -137,12 +138,28 @@ def extended_references(model, p, y0, t_end) -> tuple[dict, dict, dict]:
             raise RuntimeError(f"heyoka in {type_name} at tol {factor * eps:.2g}: {out['status']}")
         out["cpu_s"] = time.process_time() - started
         runs.append(out)
-    ref, chk = runs
+    ref, chk = runs[0], runs[-1]
     info = {"engine": "heyoka taylor_adaptive on program.json", "fp_type": type_name, "eps": eps,
             "tol": EXT_TOL * eps, "check_tol": EXT_CHECK_TOL * eps, "order": ref["order"], "steps": ref["n_steps"],
             "check_order": chk["order"], "cpu_s": ref["cpu_s"], "check_cpu_s": chk["cpu_s"],
             "translation_off": off, "breakpoints": stops, "t_dec": ref["t_dec"], "check_t_dec": chk["t_dec"]}
-    return ref, chk, info
+    return (ref, info) if len(runs) == 1 else (ref, chk, info)
+
+
+REUSED = ("reference_ratio", "double_reference_ratio", "vern8_ratio", "taylor20_ratio")  # a cell's grading
+
+
+def reusable(previous: dict | None, scene: dict, rtols) -> dict | None:
+    """The previous record of the scene if its references still grade it: the same scene, the same rtols,
+    graded by the extended rule (`RULE`, no fallback).  Its references do not depend on the table, so a
+    rerun under another table keeps their grading (each cell's `REUSED` keys, the t_dec of each) and reruns
+    the extended reference alone for its final state where the record lacks it (`reference_y_end`, kept
+    from now on, so a later rerun runs no reference)."""
+    if (previous and previous.get("reference_rule") == RULE and previous.get("extended_reference")
+            and not previous.get("reference_fallback") and jsonable(previous.get("scene")) == jsonable(scene)
+            and [c["rtol"] for c in previous.get("cells") or []] == list(rtols)):
+        return previous
+    return None
 
 
 def reference_header() -> dict:
@@ -172,12 +189,18 @@ def current(scenes: dict, table: str | None) -> dict:
             if (table is None or v.get("table") == table) and v.get("reference_rule") == RULE}
 
 
-def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
+def measure_scene(scene: dict, engine: str, rtols, progress=print, previous: dict | None = None) -> dict:
+    """One scene at every rtol against its references (the module docstring); with a `reusable` previous
+    record, its references' grading is kept and only the engine (and the extended reference, for its final
+    state, where the record lacks it) is rerun."""
     from adbgen.analysis.engines import engine as get_engine
 
     model = scene_model(scene)
     p, y0 = model.params(scene.get("set", {})), model.state(scene.get("y0", {}))
     t_end = float(scene["t_end"])
+    kept = reusable(previous, scene, rtols)
+    if kept:
+        return _remeasured(kept, model, p, y0, t_end, engine, rtols, progress)
     vern8, taylor20 = references(model, p, y0, t_end)
     doubles_ok = vern8["status"] == "success" and taylor20["status"] == "success"
     try:
@@ -216,8 +239,68 @@ def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
             "load_average": load_average(), "t_dec_ref": ref["t_dec"],
             "check_t_dec": chk["t_dec"], "reference_rule": RULE, "extended_reference": extended,
             "reference_fallback": fallback, "vern8_t_dec": vern8["t_dec"], "taylor20_t_dec": taylor20["t_dec"],
-            "reference_steps": ref["n_steps"], "cells": cells, "worst_ratio": max(decided) if decided else None,
+            "reference_steps": ref["n_steps"], "reference_y_end": [float(v) for v in ref["y_end"]],
+            "cells": cells, "worst_ratio": max(decided) if decided else None,
             "undecided_cells": sum(not c["decided"] for c in cells)}
+
+
+def same_picks(previous: dict | None, scene: dict, engine: str, rtols) -> bool:
+    """Whether a scene graded by `RULE` under an earlier table (`reusable`) ran at every rtol what the current
+    table picks for its model there (engine, order, step factor, tolerances: each cell's `picked`).  A run is
+    deterministic given those, so its cells are this table's too."""
+    if not reusable(previous, scene, rtols) or any(c.get("picked") is None for c in previous["cells"]):
+        return False
+    from adbgen.analysis.engines import engine as get_engine
+
+    eng, model = get_engine(engine), scene_model(scene)
+    return all(eng.picked(c["rtol"], c["atol"], model)[3] == c["picked"] for c in previous["cells"])
+
+
+def carried(previous: dict, table: str) -> dict:
+    """A `same_picks` scene's record under the current table: its cells as measured, less the error estimate
+    (`add_estimates`: its tighter run, at rtol / 100, may take another row now; rerun by --estimates)."""
+    drop = ("error_estimate", "flagged", "rerun_differs")
+    return {**previous, "table": table, "table_carried_from": previous.get("table_carried_from", previous["table"]),
+            "cells": [{k: v for k, v in c.items() if k not in drop} for c in previous["cells"]]}
+
+
+def _remeasured(kept: dict, model, p, y0, t_end: float, engine: str, rtols, progress=print) -> dict:
+    """`measure_scene` on a `reusable` record: the engine rerun at every rtol and graded against the
+    extended reference's final state (recorded, or rerun at `EXT_TOL` x eps: deterministic, so the state the
+    record was graded against), each cell decided by its kept `reference_ratio`."""
+    from adbgen.analysis.engines import engine as get_engine
+
+    if kept.get("reference_y_end") is not None:
+        y_ref, t_dec_ref = np.asarray(kept["reference_y_end"], float), kept["t_dec_ref"]
+    else:
+        ref, _ = extended_references(model, p, y0, t_end, factors=(EXT_TOL,))
+        y_ref, t_dec_ref = np.asarray(ref["y_end"], float), ref["t_dec"]
+        if ref["n_steps"] != kept["reference_steps"] or t_dec_ref != kept["t_dec_ref"]:
+            raise RuntimeError(f"{kept['scene']['name']}: the extended reference rerun differs from the one recorded "
+                               f"({ref['n_steps']} against {kept['reference_steps']} steps, t_dec {t_dec_ref} against "
+                               f"{kept['t_dec_ref']})")
+    eng = get_engine(engine)
+    cells = []
+    for rtol, old in zip(rtols, kept["cells"]):
+        atol = rtol * ATOL_RATIO
+        run = _run(model, eng, p, y0, t_end, rtol, atol)
+        cell = {"rtol": rtol, "atol": atol, "status": run["status"], "n_steps": run["n_steps"], "picked": run["picked"],
+                **{k: old[k] for k in REUSED if k in old},
+                "decided": bool(old["reference_ratio"] <= SELF_LIMIT and run["status"] == "success")}
+        if run["status"] == "success":
+            cell["ratio"] = ratio(run["y_end"], y_ref, rtol, atol)
+            cell["t_dec"] = run["t_dec"]
+            cell["t_dec_ratio"] = t_dec_ratio(run["t_dec"], t_dec_ref, rtol, t_end)
+        cells.append(cell)
+        progress(f"  {kept['scene']['name']} rtol {rtol:g}: ratio {cell.get('ratio', float('nan')):.3g} "
+                 f"(reference {old['reference_ratio']:.2g}, kept), {run['n_steps']} steps")
+    decided = [c["ratio"] for c in cells if c["decided"]]
+    keep = ("scene", "model", "t_dec_ref", "check_t_dec", "reference_rule", "extended_reference", "reference_fallback",
+            "vern8_t_dec", "taylor20_t_dec", "reference_steps")
+    return {**{k: kept[k] for k in keep if k in kept}, "table": table_id(engine), "measured_at": utc_now(),
+            "load_average": load_average(), "references_from": kept.get("references_from", kept.get("measured_at")),
+            "reference_y_end": [float(v) for v in y_ref], "cells": cells,
+            "worst_ratio": max(decided) if decided else None, "undecided_cells": sum(not c["decided"] for c in cells)}
 
 
 def diagnose(name: str, rtol: float, progress=print) -> dict:
@@ -422,8 +505,14 @@ def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fre
     for scene in scenes:
         if scene["name"] in current(result["scenes"], table):
             continue  # measured under this table already (a stale scene, under another table, is remeasured)
+        previous = result["scenes"].get(scene["name"])
+        if table and same_picks(previous, scene, engine, rtols):
+            result["scenes"][scene["name"]] = carried(previous, table)
+            progress(f"scene {scene['name']}: the current table picks what it ran at every rtol; carried over")
+            continue
         progress(f"scene {scene['name']}")
-        result["scenes"][scene["name"]] = measure_scene(scene, engine, rtols, progress)
+        result["scenes"][scene["name"]] = measure_scene(scene, engine, rtols, progress,
+                                                        previous=result["scenes"].get(scene["name"]))
         result["summary"] = summary(result["scenes"], table)
         result["machine"]["load_average_at_end"] = load_average()
         write(jsonable(result), path)  # after every scene: an interrupted run resumes from here
@@ -433,6 +522,44 @@ def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fre
 
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "tolerance.md"
+# the held-out results under the table before its rows followed the tolerance (trimmed: cells, grading, flags)
+BEFORE = Path(__file__).resolve().parent / "tolerance_before_rows.json"
+
+
+def _counts(s: dict) -> str:
+    e = s["estimate"]
+    return (f"{len(s['over_target'])} cells above {TARGET:g} of {s['decided_cells']} graded, "
+            f"{len(e['silent_misses'])} silent misses, {len(e['false_alarms'])} false alarms "
+            f"({e['cells']} cells with the estimate)")
+
+
+def before_lines(result: dict, before: dict) -> list[str]:
+    """Old beside new: the ratio per scene and tolerance under the table before (`BEFORE`) and now, and the
+    counts the page gives for each (cells above the target, silent misses, false alarms), each counted over
+    its own table's current scenes (`summary`)."""
+    table = (result.get("summary") or {}).get("table")
+    new, old = summary(result["scenes"], table), summary(before["scenes"], before["summary"]["table"])
+    lines = ["", "## Before and after the rows followed the tolerance", "",
+             f"Old: the table before (sha256 {before['summary']['table']}..., order 20 at step factor 1.5 for every "
+             f"rtol from 1e-6 to 1e-13; `benchmarks/{BEFORE.name}`): {_counts(old)}. New: this page's table: "
+             f"{_counts(new)}. Cells: old / new ratio, ! where the estimate flags it (blank: not estimated), "
+             "parentheses: undecided.", "",
+             "| scene | " + " | ".join(f"{r:g}" for r in result["rtols"]) + " |",
+             "| --- | " + " | ".join("---" for _ in result["rtols"]) + " |"]
+    counted_new, counted_old = current(result["scenes"], table), current(before["scenes"], before["summary"]["table"])
+
+    def one(c):
+        if c is None or "ratio" not in c:
+            return "" if c is None else c["status"]
+        text = f"{c['ratio']:.3g}" if c["decided"] else f"({c['ratio']:.3g})"
+        return text + (" !" if c.get("flagged") else "")
+
+    for name in sorted(set(counted_new) | set(counted_old)):
+        olds = {c["rtol"]: c for c in counted_old.get(name, {}).get("cells") or []}
+        news = {c["rtol"]: c for c in counted_new.get(name, {}).get("cells") or []}
+        lines.append(f"| {name} | " + " | ".join(f"{one(olds.get(r))} / {one(news.get(r))}" for r in result["rtols"])
+                     + " |")
+    return lines
 
 
 def _cell(c: dict) -> str:
@@ -442,10 +569,10 @@ def _cell(c: dict) -> str:
     return text if c["decided"] else f"({text})"
 
 
-def page(result: dict) -> str:
+def page(result: dict, before: dict | None = None) -> str:
     """The benchmark's page (docs/benchmarks/tolerance.md) from its results: the run's record, the
     scenes' generator and seed, the reference and its check, the worst ratio per scene family and the
-    ratio per scene and tolerance."""
+    ratio per scene and tolerance; with `before` (a results file of an earlier table), old beside new."""
     table = (result.get("summary") or {}).get("table")
     s = summary(result["scenes"], table)
     ref = result["reference"]
@@ -500,6 +627,8 @@ def page(result: dict) -> str:
         label = name if name not in stale else f"{name} (earlier {'reference' if res.get('reference_rule') != RULE and (not table or res.get('table') == table) else 'table'}, not counted)"
         lines.append(f"| {label} | " + (" | ".join(_cell(c) for c in cells) if cells else res.get("undecided", "")) + " |")
     lines += estimate_lines(s["estimate"], counted, result["rtols"])
+    if before is not None:
+        lines += before_lines(result, before)
     lines += reference_lines(counted)
     if result.get("diagnosis"):
         lines += diagnosis_lines(result["diagnosis"])
@@ -699,7 +828,9 @@ def run(args, out: str) -> int:
 def _written(args, res: dict) -> int:
     """With --page, the page from the results; the command's exit status."""
     if args.page:
-        PAGE.write_text(page(res))
+        import json
+
+        PAGE.write_text(page(res, json.loads(BEFORE.read_text()) if BEFORE.is_file() else None))
         print(f"wrote {PAGE}")
     return 0
 
