@@ -172,13 +172,20 @@ def reference_header() -> dict:
 
 def table_id(engine: str) -> str | None:
     """What the measured engine's choices come from: for `auto`, the first 12 hex digits of the sha256 of
-    its table (adbgen/analysis/engines/auto_table.json), which `adbgen bench auto` rewrites; None for an
-    engine without a table.  A scene measured under another table is stale: remeasured, never counted."""
+    its table's rows (adbgen/analysis/engines/auto_table.json: the joint rows and each problem's roles and rows,
+    what the engine reads), which `adbgen bench auto` rewrites; None for an engine without a table.  A scene
+    measured under other rows is stale: remeasured, never counted.  The rows alone: a table remade with the same
+    rows and another record of how they were chosen (its check scenes, 2026-11-29) picks the same runs."""
     if engine != "auto":
         return None
+    import json
+
     from adbgen.analysis.engines.by_tolerance import TABLE
 
-    return hashlib.sha256(TABLE.read_bytes()).hexdigest()[:12]
+    table = json.loads(TABLE.read_text())
+    rows = {"rows": table["rows"], "by_problem": {k: {"roles": v["roles"], "rows": v["rows"]}
+                                                  for k, v in table.get("by_problem", {}).items()}}
+    return hashlib.sha256(json.dumps(rows, sort_keys=True).encode()).hexdigest()[:12]
 
 
 def current(scenes: dict, table: str | None) -> dict:
@@ -522,45 +529,6 @@ def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fre
 
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "tolerance.md"
-# the held-out results under the table before its rows followed the tolerance (trimmed: cells, grading, flags)
-BEFORE = Path(__file__).resolve().parent / "tolerance_before_rows.json"
-
-
-def _counts(s: dict) -> str:
-    e = s["estimate"]
-    return (f"{len(s['over_target'])} cells above {TARGET:g} of {s['decided_cells']} graded, "
-            f"{len(e['silent_misses'])} silent misses, {len(e['false_alarms'])} false alarms "
-            f"({e['cells']} cells with the estimate)")
-
-
-def before_lines(result: dict, before: dict) -> list[str]:
-    """Old beside new: the ratio per scene and tolerance under the table before (`BEFORE`) and now, and the
-    counts the page gives for each (cells above the target, silent misses, false alarms), each counted over
-    its own table's current scenes (`summary`)."""
-    table = (result.get("summary") or {}).get("table")
-    new, old = summary(result["scenes"], table), summary(before["scenes"], before["summary"]["table"])
-    lines = ["", "## Before and after the rows followed the tolerance", "",
-             f"Old: the table before (sha256 {before['summary']['table']}..., order 20 at step factor 1.5 for every "
-             f"rtol from 1e-6 to 1e-13; `benchmarks/{BEFORE.name}`): {_counts(old)}. New: this page's table: "
-             f"{_counts(new)}. Cells: old / new ratio, ! where the estimate flags it (blank: not estimated), "
-             "parentheses: undecided.", "",
-             "| scene | " + " | ".join(f"{r:g}" for r in result["rtols"]) + " |",
-             "| --- | " + " | ".join("---" for _ in result["rtols"]) + " |"]
-    counted_new, counted_old = current(result["scenes"], table), current(before["scenes"], before["summary"]["table"])
-
-    def one(c):
-        if c is None or "ratio" not in c:
-            return "" if c is None else c["status"]
-        text = f"{c['ratio']:.3g}" if c["decided"] else f"({c['ratio']:.3g})"
-        return text + (" !" if c.get("flagged") else "")
-
-    for name in sorted(set(counted_new) | set(counted_old)):
-        olds = {c["rtol"]: c for c in counted_old.get(name, {}).get("cells") or []}
-        news = {c["rtol"]: c for c in counted_new.get(name, {}).get("cells") or []}
-        lines.append(f"| {name} | " + " | ".join(f"{one(olds.get(r))} / {one(news.get(r))}" for r in result["rtols"])
-                     + " |")
-    return lines
-
 
 def _cell(c: dict) -> str:
     if "ratio" not in c:
@@ -569,10 +537,10 @@ def _cell(c: dict) -> str:
     return text if c["decided"] else f"({text})"
 
 
-def page(result: dict, before: dict | None = None) -> str:
+def page(result: dict) -> str:
     """The benchmark's page (docs/benchmarks/tolerance.md) from its results: the run's record, the
     scenes' generator and seed, the reference and its check, the worst ratio per scene family and the
-    ratio per scene and tolerance; with `before` (a results file of an earlier table), old beside new."""
+    ratio per scene and tolerance."""
     table = (result.get("summary") or {}).get("table")
     s = summary(result["scenes"], table)
     ref = result["reference"]
@@ -581,7 +549,7 @@ def page(result: dict, before: dict | None = None) -> str:
     dates = sorted(v["measured_at"][:16].replace("T", " ") for v in counted.values() if v.get("measured_at"))
     loads = [v["load_average"][0] for v in counted.values() if v.get("load_average")] or [float("nan")]  # 1 min
     coverage = f"{s['measured']} of {len(load())} scenes measured" + (
-        f" under the auto engine's current table (auto_table.json, sha256 {table}...)" if table else "") + (
+        f" under the auto engine's current table (auto_table.json, its rows' sha256 {table}...)" if table else "") + (
         f" between {dates[0]} and {dates[-1]} UTC (one-minute load average at each scene's end "
         f"{min(loads):.3g}-{max(loads):.3g} on 2 cores)" if dates else "") + (
         f"; {len(stale)} more were measured under an earlier table or reference rule and are not counted "
@@ -627,8 +595,6 @@ def page(result: dict, before: dict | None = None) -> str:
         label = name if name not in stale else f"{name} (earlier {'reference' if res.get('reference_rule') != RULE and (not table or res.get('table') == table) else 'table'}, not counted)"
         lines.append(f"| {label} | " + (" | ".join(_cell(c) for c in cells) if cells else res.get("undecided", "")) + " |")
     lines += estimate_lines(s["estimate"], counted, result["rtols"])
-    if before is not None:
-        lines += before_lines(result, before)
     lines += reference_lines(counted)
     if result.get("diagnosis"):
         lines += diagnosis_lines(result["diagnosis"])
@@ -828,9 +794,7 @@ def run(args, out: str) -> int:
 def _written(args, res: dict) -> int:
     """With --page, the page from the results; the command's exit status."""
     if args.page:
-        import json
-
-        PAGE.write_text(page(res, json.loads(BEFORE.read_text()) if BEFORE.is_file() else None))
+        PAGE.write_text(page(res))
         print(f"wrote {PAGE}")
     return 0
 

@@ -89,30 +89,6 @@ def test_the_page_shows_each_scene_and_marks_undecided_cells():
     assert "every rtol, so they grade nothing): 1: 36_two_plane_torque." in tolerance.page(result)
 
 
-def test_the_page_sets_old_beside_new_and_counts_each_under_its_own_table():
-    """With the results of an earlier table (`before`), the page has each cell's old / new ratio, flagged
-    cells marked, and each table's misses, silent misses and false alarms counted over its own scenes.
-    Negative control: without `before`, no such section."""
-    scene = {"family": "single_plane", "units": "thesis", "drive": "forced"}
-
-    def cells(r1, r2, flagged):
-        return [{"rtol": 1e-6, "ratio": r1, "decided": True, "status": "success", "flagged": flagged},
-                {"rtol": 1e-12, "ratio": r2, "decided": True, "status": "success", "flagged": False}]
-
-    head = {"rtols": [1e-6, 1e-12], "reference": {"engine": "cyrk-vern8", "rtol": 1e-14, "atol": 1e-18, "limit": 1.0,
-                                                  "check": {"engine": "taylor", "order": 20, "step_factor": 1.0}},
-            "machine": {}, "date": "d", "engine": "auto", "seed": 35, "atol_ratio": 1e-2, "target": 10.0}
-    before = {**head, "summary": {"table": "a" * 12}, "scenes": {"17_thesis_rotating_n4": {
-        "scene": scene, "cells": cells(0.3, 3e5, False), "reference_rule": tolerance.RULE, "table": "a" * 12}}}
-    after = {**head, "summary": {"table": "b" * 12}, "scenes": {"17_thesis_rotating_n4": {
-        "scene": scene, "cells": cells(0.02, 40.0, True), "reference_rule": tolerance.RULE, "table": "b" * 12}}}
-    text = tolerance.page(after, before)
-    assert "| 17_thesis_rotating_n4 | 0.3 / 0.02 ! | 3e+05 / 40 |" in text
-    assert "): 1 cells above 10 of 2 graded, 1 silent misses, 0 false alarms (2 cells with the estimate). New:" in text
-    assert "table: 1 cells above 10 of 2 graded, 1 silent misses, 1 false alarms (2 cells with the estimate)." in text
-    assert "## Before and after" not in tolerance.page(after)
-
-
 def test_the_page_shows_a_recorded_diagnosis_and_only_then():
     scene = {"family": "single_plane", "units": "thesis", "drive": "forced"}
     result = {"scenes": {"00_x": {"scene": scene, "cells": [], "reference_rule": tolerance.RULE}}, "rtols": [1e-4],
