@@ -114,10 +114,11 @@ def references(model, p, y0, t_end) -> tuple[dict, dict]:
     return ref, chk
 
 
-def extended_references(model, p, y0, t_end) -> tuple[dict, dict, dict]:
+def extended_references(model, p, y0, t_end, factors=(EXT_TOL, EXT_CHECK_TOL)) -> tuple:
     """(reference, its check, what they are): heyoka in the widest type available (`peers.extended_type`)
     on the model's generated program at tol `EXT_TOL` x eps and at `EXT_CHECK_TOL` x eps, each stopping at
-    the program's time breakpoints and locating t_dec.  Raises PeerUnavailable (no heyoka, no wider type),
+    the program's time breakpoints and locating t_dec (`factors=(EXT_TOL,)`: the reference alone, (reference,
+    what it is)).  Raises PeerUnavailable (no heyoka, no wider type),
     ValueError (no program, or its translation off the generated rhs by more than `TRANSLATION_LIMIT`) or
     RuntimeError (a failed run): the caller falls back to the double references."""
     from . import peers
@@ -129,7 +130,7 @@ def extended_references(model, p, y0, t_end) -> tuple[dict, dict, dict]:
         raise ValueError(f"the program translated in {type_name} is {off:.2g} off the generated rhs")
     stops = peers.time_breakpoints(model.module, p, t_end)
     runs = []
-    for factor in (EXT_TOL, EXT_CHECK_TOL):
+    for factor in factors:
         started = time.process_time()
         out = peer.run_extended(y0, p, t_end, factor * eps, fp_type=fp, threshold=THRESHOLD,
                                 amplitude=model.amplitude_indices, breakpoints=stops)
@@ -137,12 +138,28 @@ def extended_references(model, p, y0, t_end) -> tuple[dict, dict, dict]:
             raise RuntimeError(f"heyoka in {type_name} at tol {factor * eps:.2g}: {out['status']}")
         out["cpu_s"] = time.process_time() - started
         runs.append(out)
-    ref, chk = runs
+    ref, chk = runs[0], runs[-1]
     info = {"engine": "heyoka taylor_adaptive on program.json", "fp_type": type_name, "eps": eps,
             "tol": EXT_TOL * eps, "check_tol": EXT_CHECK_TOL * eps, "order": ref["order"], "steps": ref["n_steps"],
             "check_order": chk["order"], "cpu_s": ref["cpu_s"], "check_cpu_s": chk["cpu_s"],
             "translation_off": off, "breakpoints": stops, "t_dec": ref["t_dec"], "check_t_dec": chk["t_dec"]}
-    return ref, chk, info
+    return (ref, info) if len(runs) == 1 else (ref, chk, info)
+
+
+REUSED = ("reference_ratio", "double_reference_ratio", "vern8_ratio", "taylor20_ratio")  # a cell's grading
+
+
+def reusable(previous: dict | None, scene: dict, rtols) -> dict | None:
+    """The previous record of the scene if its references still grade it: the same scene, the same rtols,
+    graded by the extended rule (`RULE`, no fallback).  Its references do not depend on the table, so a
+    rerun under another table keeps their grading (each cell's `REUSED` keys, the t_dec of each) and reruns
+    the extended reference alone for its final state where the record lacks it (`reference_y_end`, kept
+    from now on, so a later rerun runs no reference)."""
+    if (previous and previous.get("reference_rule") == RULE and previous.get("extended_reference")
+            and not previous.get("reference_fallback") and jsonable(previous.get("scene")) == jsonable(scene)
+            and [c["rtol"] for c in previous.get("cells") or []] == list(rtols)):
+        return previous
+    return None
 
 
 def reference_header() -> dict:
@@ -155,13 +172,20 @@ def reference_header() -> dict:
 
 def table_id(engine: str) -> str | None:
     """What the measured engine's choices come from: for `auto`, the first 12 hex digits of the sha256 of
-    its table (adbgen/analysis/engines/auto_table.json), which `adbgen bench auto` rewrites; None for an
-    engine without a table.  A scene measured under another table is stale: remeasured, never counted."""
+    its table's rows (adbgen/analysis/engines/auto_table.json: the joint rows and each problem's roles and rows,
+    what the engine reads), which `adbgen bench auto` rewrites; None for an engine without a table.  A scene
+    measured under other rows is stale: remeasured, never counted.  The rows alone: a table remade with the same
+    rows and another record of how they were chosen (its check scenes, 2026-11-29) picks the same runs."""
     if engine != "auto":
         return None
+    import json
+
     from adbgen.analysis.engines.by_tolerance import TABLE
 
-    return hashlib.sha256(TABLE.read_bytes()).hexdigest()[:12]
+    table = json.loads(TABLE.read_text())
+    rows = {"rows": table["rows"], "by_problem": {k: {"roles": v["roles"], "rows": v["rows"]}
+                                                  for k, v in table.get("by_problem", {}).items()}}
+    return hashlib.sha256(json.dumps(rows, sort_keys=True).encode()).hexdigest()[:12]
 
 
 def current(scenes: dict, table: str | None) -> dict:
@@ -172,12 +196,18 @@ def current(scenes: dict, table: str | None) -> dict:
             if (table is None or v.get("table") == table) and v.get("reference_rule") == RULE}
 
 
-def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
+def measure_scene(scene: dict, engine: str, rtols, progress=print, previous: dict | None = None) -> dict:
+    """One scene at every rtol against its references (the module docstring); with a `reusable` previous
+    record, its references' grading is kept and only the engine (and the extended reference, for its final
+    state, where the record lacks it) is rerun."""
     from adbgen.analysis.engines import engine as get_engine
 
     model = scene_model(scene)
     p, y0 = model.params(scene.get("set", {})), model.state(scene.get("y0", {}))
     t_end = float(scene["t_end"])
+    kept = reusable(previous, scene, rtols)
+    if kept:
+        return _remeasured(kept, model, p, y0, t_end, engine, rtols, progress)
     vern8, taylor20 = references(model, p, y0, t_end)
     doubles_ok = vern8["status"] == "success" and taylor20["status"] == "success"
     try:
@@ -216,8 +246,68 @@ def measure_scene(scene: dict, engine: str, rtols, progress=print) -> dict:
             "load_average": load_average(), "t_dec_ref": ref["t_dec"],
             "check_t_dec": chk["t_dec"], "reference_rule": RULE, "extended_reference": extended,
             "reference_fallback": fallback, "vern8_t_dec": vern8["t_dec"], "taylor20_t_dec": taylor20["t_dec"],
-            "reference_steps": ref["n_steps"], "cells": cells, "worst_ratio": max(decided) if decided else None,
+            "reference_steps": ref["n_steps"], "reference_y_end": [float(v) for v in ref["y_end"]],
+            "cells": cells, "worst_ratio": max(decided) if decided else None,
             "undecided_cells": sum(not c["decided"] for c in cells)}
+
+
+def same_picks(previous: dict | None, scene: dict, engine: str, rtols) -> bool:
+    """Whether a scene graded by `RULE` under an earlier table (`reusable`) ran at every rtol what the current
+    table picks for its model there (engine, order, step factor, tolerances: each cell's `picked`).  A run is
+    deterministic given those, so its cells are this table's too."""
+    if not reusable(previous, scene, rtols) or any(c.get("picked") is None for c in previous["cells"]):
+        return False
+    from adbgen.analysis.engines import engine as get_engine
+
+    eng, model = get_engine(engine), scene_model(scene)
+    return all(eng.picked(c["rtol"], c["atol"], model)[3] == c["picked"] for c in previous["cells"])
+
+
+def carried(previous: dict, table: str) -> dict:
+    """A `same_picks` scene's record under the current table: its cells as measured, less the error estimate
+    (`add_estimates`: its tighter run, at rtol / 100, may take another row now; rerun by --estimates)."""
+    drop = ("error_estimate", "flagged", "rerun_differs")
+    return {**previous, "table": table, "table_carried_from": previous.get("table_carried_from", previous["table"]),
+            "cells": [{k: v for k, v in c.items() if k not in drop} for c in previous["cells"]]}
+
+
+def _remeasured(kept: dict, model, p, y0, t_end: float, engine: str, rtols, progress=print) -> dict:
+    """`measure_scene` on a `reusable` record: the engine rerun at every rtol and graded against the
+    extended reference's final state (recorded, or rerun at `EXT_TOL` x eps: deterministic, so the state the
+    record was graded against), each cell decided by its kept `reference_ratio`."""
+    from adbgen.analysis.engines import engine as get_engine
+
+    if kept.get("reference_y_end") is not None:
+        y_ref, t_dec_ref = np.asarray(kept["reference_y_end"], float), kept["t_dec_ref"]
+    else:
+        ref, _ = extended_references(model, p, y0, t_end, factors=(EXT_TOL,))
+        y_ref, t_dec_ref = np.asarray(ref["y_end"], float), ref["t_dec"]
+        if ref["n_steps"] != kept["reference_steps"] or t_dec_ref != kept["t_dec_ref"]:
+            raise RuntimeError(f"{kept['scene']['name']}: the extended reference rerun differs from the one recorded "
+                               f"({ref['n_steps']} against {kept['reference_steps']} steps, t_dec {t_dec_ref} against "
+                               f"{kept['t_dec_ref']})")
+    eng = get_engine(engine)
+    cells = []
+    for rtol, old in zip(rtols, kept["cells"]):
+        atol = rtol * ATOL_RATIO
+        run = _run(model, eng, p, y0, t_end, rtol, atol)
+        cell = {"rtol": rtol, "atol": atol, "status": run["status"], "n_steps": run["n_steps"], "picked": run["picked"],
+                **{k: old[k] for k in REUSED if k in old},
+                "decided": bool(old["reference_ratio"] <= SELF_LIMIT and run["status"] == "success")}
+        if run["status"] == "success":
+            cell["ratio"] = ratio(run["y_end"], y_ref, rtol, atol)
+            cell["t_dec"] = run["t_dec"]
+            cell["t_dec_ratio"] = t_dec_ratio(run["t_dec"], t_dec_ref, rtol, t_end)
+        cells.append(cell)
+        progress(f"  {kept['scene']['name']} rtol {rtol:g}: ratio {cell.get('ratio', float('nan')):.3g} "
+                 f"(reference {old['reference_ratio']:.2g}, kept), {run['n_steps']} steps")
+    decided = [c["ratio"] for c in cells if c["decided"]]
+    keep = ("scene", "model", "t_dec_ref", "check_t_dec", "reference_rule", "extended_reference", "reference_fallback",
+            "vern8_t_dec", "taylor20_t_dec", "reference_steps")
+    return {**{k: kept[k] for k in keep if k in kept}, "table": table_id(engine), "measured_at": utc_now(),
+            "load_average": load_average(), "references_from": kept.get("references_from", kept.get("measured_at")),
+            "reference_y_end": [float(v) for v in y_ref], "cells": cells,
+            "worst_ratio": max(decided) if decided else None, "undecided_cells": sum(not c["decided"] for c in cells)}
 
 
 def diagnose(name: str, rtol: float, progress=print) -> dict:
@@ -422,8 +512,14 @@ def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fre
     for scene in scenes:
         if scene["name"] in current(result["scenes"], table):
             continue  # measured under this table already (a stale scene, under another table, is remeasured)
+        previous = result["scenes"].get(scene["name"])
+        if table and same_picks(previous, scene, engine, rtols):
+            result["scenes"][scene["name"]] = carried(previous, table)
+            progress(f"scene {scene['name']}: the current table picks what it ran at every rtol; carried over")
+            continue
         progress(f"scene {scene['name']}")
-        result["scenes"][scene["name"]] = measure_scene(scene, engine, rtols, progress)
+        result["scenes"][scene["name"]] = measure_scene(scene, engine, rtols, progress,
+                                                        previous=result["scenes"].get(scene["name"]))
         result["summary"] = summary(result["scenes"], table)
         result["machine"]["load_average_at_end"] = load_average()
         write(jsonable(result), path)  # after every scene: an interrupted run resumes from here
@@ -433,7 +529,6 @@ def bench_tolerance(out: str, engine: str = "auto", names=None, rtols=RTOLS, fre
 
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "tolerance.md"
-
 
 def _cell(c: dict) -> str:
     if "ratio" not in c:
@@ -454,7 +549,7 @@ def page(result: dict) -> str:
     dates = sorted(v["measured_at"][:16].replace("T", " ") for v in counted.values() if v.get("measured_at"))
     loads = [v["load_average"][0] for v in counted.values() if v.get("load_average")] or [float("nan")]  # 1 min
     coverage = f"{s['measured']} of {len(load())} scenes measured" + (
-        f" under the auto engine's current table (auto_table.json, sha256 {table}...)" if table else "") + (
+        f" under the auto engine's current table (auto_table.json, its rows' sha256 {table}...)" if table else "") + (
         f" between {dates[0]} and {dates[-1]} UTC (one-minute load average at each scene's end "
         f"{min(loads):.3g}-{max(loads):.3g} on 2 cores)" if dates else "") + (
         f"; {len(stale)} more were measured under an earlier table or reference rule and are not counted "

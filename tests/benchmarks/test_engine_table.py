@@ -192,9 +192,53 @@ def test_the_check_scenes_constrain_the_learning_not_after_it():
     assert [r["key"] for r in rows] == ["fast", "slow"]
     assert [r["key"] for r in bench_auto.choose(problems, cands, (1e-6, 1e-9), safety=every)] == ["fast", "fast"]
     floored = {"scenes": {"long": {"errors": {"fast": 3e-9, "slow": 5e-12}, "floor": 2e-9}}}
-    assert bench_auto.passes_check(cands[0], 1e-12, floored)  # within 2 x the references' disagreement
+    assert bench_auto.passes_check(cands[0], 1e-12, floored)  # within 2 x the scene's floor: nothing does better
     failed = {"scenes": {"long": {"errors": {"fast": None, "slow": 5e-12}, "floor": 1e-12}}}
     assert not bench_auto.passes_check(cands[0], 1e-3, failed)  # a failed run never passes
+
+
+def test_check_errors_grade_by_the_extended_reference_and_floor_at_the_reference_grade_runs(monkeypatch):
+    """`check_errors`: each candidate's error against the scene's extended-precision reference, the floor the
+    median error of the reference-grade candidates (per-step aim at double's eps, not the factor-1.5 row).  So a
+    row whose error is 100x theirs fails the check below its own error, however tight T, while one within twice
+    the floor passes at any T."""
+    from benchmarks import tolerance
+
+    class Model:
+        def params(self, _):
+            return [1.0]
+
+        def state(self, _):
+            return [0.0, 0.0]
+
+    y_ref = np.array([1.0, 2.0])
+    off = {(20, 1.0): 2.2e-9, (20, 1.5): 2.95e-7, (18, 1.0): 4e-9}
+
+    class Engine:
+        def __init__(self, table):
+            self.key = table[0][1:]
+
+        def run(self, *a, **k):
+            return {"status": "success", "y_end": y_ref * (1 + off[self.key])}
+
+    def ext(model, p, y0, t_end):
+        return {"y_end": y_ref}, {"y_end": y_ref * (1 + 1e-20)}, {
+            "engine": "heyoka", "fp_type": "real128", "tol": 1e-33, "check_tol": 1e-30, "order": 39, "steps": 9,
+            "cpu_s": 1.0}
+
+    monkeypatch.setattr(tolerance, "scene_model", lambda scene: Model())
+    monkeypatch.setattr(tolerance, "extended_references", ext)
+    monkeypatch.setattr("adbgen.analysis.engines.taylor.TaylorEngine", Engine)
+    cands = [{"key": f"taylor:o{o}:f{f:g}", "engine": "taylor", "order": o, "step_factor": f} for o, f in off]
+    got = bench_auto.check_errors(cands, progress=lambda line: None, scenes=({"name": "s", "y0": {}, "t_end": 1.0},))
+    res = got["scenes"]["s"]
+    # the floor: the median of the reference-grade runs (order 20 and 18 at factor 1), not of factor 1.5
+    assert res["floor"] == pytest.approx((2.2e-9 + 4e-9) / 2 * 2 / 2.01, rel=1e-9) and res["reference"]["fp_type"] == "real128"
+    f1, f15, o18 = cands
+    assert bench_auto.passes_check(f1, 1e-13, got) and not bench_auto.passes_check(f15, 1e-7, got)
+    assert bench_auto.passes_check(f15, 3e-7, got)  # its own error: met
+    assert bench_auto.passes_check(o18, 1e-13, got)  # within 2 x the floor
+    assert not bench_auto.passes_check(f15, 1e-13, got)  # 100x the floor: its own error must meet T
 
 
 def test_every_shipped_row_passes_its_check_scenes():
@@ -225,6 +269,7 @@ def test_table_only_reuses_the_recorded_check_scenes_defined_as_now(monkeypatch)
     cands = [{"key": "taylor:o20:f1", "engine": "taylor", "order": 20, "step_factor": 1.0}]
     scenes = bench_auto.CHECK_SCENES
     recorded = {"scenes": [bench_auto.json_roundtrip(bench_auto._recorded(s)) for s in scenes],
+                "reference": bench_auto.CHECK_REFERENCE,
                 "errors": {s["name"]: {"errors": {"taylor:o20:f1": 1e-12}, "floor": 1e-13} for s in scenes}}
     measured = []
 
@@ -243,6 +288,10 @@ def test_table_only_reuses_the_recorded_check_scenes_defined_as_now(monkeypatch)
     got = bench_auto.check_and_table({"candidates": cands + [{"key": "new"}]}, progress=lambda line: None,
                                      recorded={**recorded, "scenes": recorded["scenes"][:-1]})
     assert measured == [s["name"] for s in scenes]  # a candidate without a recorded error: all measured
+    measured.clear()  # a record graded by the double references of the tables before: all measured
+    bench_auto.check_and_table({"candidates": cands}, progress=lambda line: None,
+                               recorded={k: v for k, v in recorded.items() if k != "reference"})
+    assert measured == [s["name"] for s in scenes]
 
 
 def test_the_held_in_transients_are_seeded_and_of_the_held_out_kind():

@@ -131,7 +131,7 @@ def test_a_scene_measured_under_another_table_is_stale_remeasured_and_not_counte
     assert s["met"] and s["measured"] == 1 and s["stale"] == ["36_two_plane_torque"]
     assert not tolerance.summary({k: {**v, "table": now} for k, v in old.items()}, now)["met"]  # negative control
     measured = []
-    monkeypatch.setattr(tolerance, "measure_scene", lambda sc, engine, rtols, progress=print: measured.append(
+    monkeypatch.setattr(tolerance, "measure_scene", lambda sc, engine, rtols, progress=print, previous=None: measured.append(
         sc["name"]) or {"scene": scene, "cells": good, "table": now, "reference_rule": tolerance.RULE, "measured_at": "2026-11-29T04:30:00+00:00",
                         "load_average": [9.0, 9.0, 9.0]})
     out = tmp_path / "tolerance.json"
@@ -184,26 +184,28 @@ def test_a_scene_graded_by_the_earlier_rule_is_stale_and_the_page_says_how_cells
     assert "11_single_plane_fixed_n3 at 0.0001 (50)." in text  # Taylor 20 resolves it: no floor mark
 
 
+class _Model:
+    """A scene's model as `measure_scene` uses it: two states, one parameter."""
+    name, amplitude_indices = "m", (0, 1)
+
+    def params(self, _):
+        return [1.0]
+
+    def state(self, _):
+        return [0.0, 0.0]
+
+
 def test_measure_scene_grades_by_the_extended_reference_and_falls_back_to_the_double_rule(monkeypatch):
     """A cell counts where the extended reference agrees with itself (at a 1000x looser tol) within a tenth of
     a unit; the double references become checks (their distances recorded).  Where the extended reference
     cannot be had, the earlier rule grades: Vern8 against Taylor 20 within one unit.  Negative control: the
     extended reference's check a third of a unit off grades nothing."""
-    class Model:
-        name, amplitude_indices = "m", (0, 1)
-
-        def params(self, _):
-            return [1.0]
-
-        def state(self, _):
-            return [0.0, 0.0]
-
     y = np.array([1.0, 2.0])
 
     def fake(y_end, t_dec=None):
         return {"status": "success", "y_end": np.asarray(y_end, float), "n_steps": 10, "t_dec": t_dec, "picked": None}
 
-    monkeypatch.setattr(tolerance, "scene_model", lambda scene: Model())
+    monkeypatch.setattr(tolerance, "scene_model", lambda scene: _Model())
     monkeypatch.setattr(tolerance, "table_id", lambda engine: None)
     monkeypatch.setattr(tolerance, "references", lambda *a: (fake(y + 1e-9), fake(y - 1e-9)))
     monkeypatch.setattr(tolerance, "_run", lambda model, eng, p, y0, t_end, rtol, atol: fake(y + 3 * rtol))
@@ -229,6 +231,90 @@ def test_measure_scene_grades_by_the_extended_reference_and_falls_back_to_the_do
     a, b = res["cells"]
     assert a["decided"] and not b["decided"]  # the doubles differ by 2e-9: within a unit at 1e-4, not at 1e-9
     assert "vern8_ratio" not in a
+
+
+def test_a_rerun_under_another_table_keeps_the_references_grading_and_reruns_the_engine(monkeypatch):
+    """A scene graded by the extended rule is remeasured under a new table without its double references or
+    the extended reference's check (they do not depend on the table): each cell keeps its reference_ratio and
+    is decided by it, the engine is rerun and graded against the extended reference's final state, rerun once
+    where the record lacks it (then recorded) and not at all where it has it.  A rerun reference other than the
+    one recorded stops the run.  Negative control: a record of another scene (or a fallback) is not reused."""
+    y = np.array([1.0, 2.0])
+    calls = []
+
+    def fake(y_end, steps=10):
+        return {"status": "success", "y_end": np.asarray(y_end, float), "n_steps": steps, "t_dec": None, "picked": None}
+
+    def ext(*a, factors=(tolerance.EXT_TOL, tolerance.EXT_CHECK_TOL)):
+        calls.append(("extended", factors))
+        info = {"fp_type": "real128", "breakpoints": []}
+        return (fake(y), info) if len(factors) == 1 else (fake(y), fake(y), info)
+
+    monkeypatch.setattr(tolerance, "scene_model", lambda scene: _Model())
+    monkeypatch.setattr(tolerance, "table_id", lambda engine: "new")
+    monkeypatch.setattr(tolerance, "references", lambda *a: calls.append("doubles") or (fake(y), fake(y)))
+    monkeypatch.setattr(tolerance, "_run", lambda model, eng, p, y0, t_end, rtol, atol: fake(y + 3 * rtol))
+    monkeypatch.setattr(tolerance, "extended_references", ext)
+    scene = {"name": "x", "t_end": 1.0}
+    old = [{"rtol": r, "reference_ratio": rr, "vern8_ratio": 5.0, "ratio": 99.0} for r, rr in ((1e-4, 0.01), (1e-9, 0.5))]
+    previous = {"scene": scene, "reference_rule": tolerance.RULE, "extended_reference": {"fp_type": "real128"},
+                "reference_fallback": None, "reference_steps": 10, "t_dec_ref": None, "cells": old, "table": "old",
+                "measured_at": "then"}
+    res = tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None, previous=previous)
+    assert calls == [("extended", (tolerance.EXT_TOL,))]  # no doubles, no extended check
+    a, b = res["cells"]
+    assert a["ratio"] == pytest.approx(3e-4 / (1e-6 + 1e-4)) and a["decided"] and a["vern8_ratio"] == 5.0
+    assert not b["decided"] and b["reference_ratio"] == 0.5  # graded as recorded: above the self limit
+    assert res["table"] == "new" and res["references_from"] == "then" and res["reference_y_end"] == [1.0, 2.0]
+    calls.clear()
+    again = tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None, previous=res)
+    assert calls == [] and again["cells"][0]["ratio"] == a["ratio"] and again["references_from"] == "then"
+    with pytest.raises(RuntimeError, match="differs from the one recorded"):
+        tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None,
+                                previous={**previous, "reference_steps": 11})
+    calls.clear()
+    tolerance.measure_scene(scene, "auto", [1e-4, 1e-9], progress=lambda line: None,
+                            previous={**previous, "scene": {"name": "y", "t_end": 1.0}})
+    assert calls == ["doubles", ("extended", (tolerance.EXT_TOL, tolerance.EXT_CHECK_TOL))]  # measured afresh
+    assert tolerance.reusable({**previous, "reference_fallback": "PeerUnavailable"}, scene, [1e-4, 1e-9]) is None
+
+
+def test_a_scene_whose_rows_the_new_table_keeps_is_carried_over_without_its_estimates(tmp_path, monkeypatch):
+    """A stale scene (another table) whose every cell ran what the current table picks for its model there
+    is carried over: its cells kept, their error estimates dropped (their tighter runs may take new rows),
+    the earlier table named.  Negative control: one cell whose pick changed and the scene is remeasured."""
+    scene = {"name": "17_thesis_rotating_n4", "family": "single_plane", "units": "thesis", "drive": "forced"}
+    pick = {"engine": "taylor", "order": 20, "step_factor": 1.5, "rtol": 1e-6, "atol": 1e-8}
+    cells = [{"rtol": 1e-6, "atol": 1e-8, "ratio": 0.3, "decided": True, "status": "success", "picked": pick,
+              "reference_ratio": 1e-3, "flagged": False, "error_estimate": {"ratio": 0.2}}]
+    old = {"scene": scene, "cells": cells, "table": "a" * 12, "reference_rule": tolerance.RULE,
+           "extended_reference": {"fp_type": "real128"}, "reference_fallback": None, "measured_at": "then"}
+    now = [dict(pick)]
+
+    class Auto:
+        def picked(self, rtol, atol, model):
+            return None, rtol, atol, now[0]
+
+    monkeypatch.setattr(tolerance, "load", lambda: [scene])
+    monkeypatch.setattr(tolerance, "scene_model", lambda sc: object())
+    monkeypatch.setattr(tolerance, "table_id", lambda engine: "b" * 12)
+    monkeypatch.setattr("adbgen.analysis.engines.engine", lambda name: Auto())
+    measured = []
+    monkeypatch.setattr(tolerance, "measure_scene", lambda sc, engine, rtols, progress=print, previous=None:
+                        measured.append(sc["name"]) or {**old, "table": "b" * 12})
+    out = tmp_path / "tolerance.json"
+    head = {"benchmark": "tolerance", "engine": "auto", "rtols": [1e-6], "machine": {}, "date": "d", "seed": 35,
+            "atol_ratio": 1e-2, "target": 10.0, "reference": {"engine": "cyrk-vern8", "rule": tolerance.RULE}}
+    out.write_text(json.dumps({**head, "scenes": {scene["name"]: old}}))
+    res = tolerance.bench_tolerance(str(out), rtols=[1e-6], progress=lambda line: None)
+    got = res["scenes"][scene["name"]]
+    assert measured == [] and got["table"] == "b" * 12 and got["table_carried_from"] == "a" * 12
+    assert got["cells"][0]["ratio"] == 0.3 and "flagged" not in got["cells"][0] and "error_estimate" not in got["cells"][0]
+    assert res["summary"]["measured"] == 1
+    now[0] = {**pick, "step_factor": 1.0}  # the new table picks another row: remeasured
+    out.write_text(json.dumps({**head, "scenes": {scene["name"]: old}}))
+    tolerance.bench_tolerance(str(out), rtols=[1e-6], progress=lambda line: None)
+    assert measured == [scene["name"]]
 
 
 def tolerance_peers():
