@@ -108,10 +108,24 @@ def verdicts(result: dict) -> dict:
             "q90_by_mu_s": [[m, v] for m, v in by_mu]}
 
 
-def study(side: int = DEFAULT_SIDE, workers: int | None = 1, progress=print, depths=DEPTHS, plateaus=PLATEAUS,
-          stictions=STICTIONS, dampings=DAMPINGS, unbalances=UNBALANCES) -> tuple[dict, list[dict]]:
+def run_case(model, case: dict, side: int, t_end: float, target: float, workers: int | None = 1) -> dict:
+    """One case's sweep over side x side starts (`--measure residual`, r at t_end): the case with "r" and "at_rest"
+    per start, its distribution of r at rest, whether it is feasible for `target` (every start at rest below it),
+    how many starts are below it, the smallest target it meets in every start, and its wall time."""
     from adbgen.analysis.residual import AT_REST, distribution
 
+    started = time.perf_counter()
+    out = fs.sweep(model, case["values"], side, t_end, "residual", rtol=RTOL, atol=ATOL, workers=workers)
+    dist = distribution(out["value"], out["at_rest"])
+    return {**case, "r": out["value"], "at_rest": out["at_rest"], "distribution": dist,
+            "feasible": feasible(dist, target),
+            "below_target": int(((out["at_rest"] == AT_REST) & (out["value"] < target)).sum()),
+            "every_start_below_m": every_start_below(dist, side * side),
+            "wall_s": round(time.perf_counter() - started, 2)}
+
+
+def study(side: int = DEFAULT_SIDE, workers: int | None = 1, progress=print, depths=DEPTHS, plateaus=PLATEAUS,
+          stictions=STICTIONS, dampings=DAMPINGS, unbalances=UNBALANCES) -> tuple[dict, list[dict]]:
     model = fs.load()
     base = fs.scene_values(SCENE)
     cases = grid_cases(base, depths, plateaus) + influence_cases(base, stictions, dampings, unbalances)
@@ -119,14 +133,8 @@ def study(side: int = DEFAULT_SIDE, workers: int | None = 1, progress=print, dep
     target = TARGET_FRACTION * fs.free_response(base)
     runs = []
     for case in cases:
-        started = time.perf_counter()
-        out = fs.sweep(model, case["values"], side, t_end, "residual", rtol=RTOL, atol=ATOL, workers=workers)
-        dist = distribution(out["value"], out["at_rest"])
-        runs.append({**case, "r": out["value"], "at_rest": out["at_rest"], "distribution": dist,
-                     "feasible": feasible(dist, target),
-                     "below_target": int(((out["at_rest"] == AT_REST) & (out["value"] < target)).sum()),
-                     "every_start_below_m": every_start_below(dist, side * side),
-                     "wall_s": round(time.perf_counter() - started, 2)})
+        runs.append(run_case(model, case, side, t_end, target, workers))
+        dist = runs[-1]["distribution"]
         progress(f"{case['name']} ({case['group']}): {dist['at_rest']} at rest, {dist['not_at_rest']} moving, "
                  f"{dist['failed']} failed, {dist['quantiles']}, {runs[-1]['wall_s']} s")
     keep = ("name", "group", "key", "value", "reduced", "values", "distribution", "feasible", "below_target",

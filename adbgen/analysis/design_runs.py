@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from .loading import AnalysisError, Model
+from .residual import residual_measure
 from .units import default_t_end, default_threshold
 
 JOURNAL = "design-journal.jsonl"
@@ -291,20 +292,9 @@ def residual_quantile(results: list[dict], q: float = RESIDUAL_QUANTILE) -> floa
     return float(np.quantile(values, q))
 
 
-def residual_measure(runs: Model, given: str | None = None) -> str:
-    """The measure the residual objective reads at the runs' ends: `given` (--residual-measure: an explicit name
-    wins), else the one the run model names as its residual imbalance (Model.residual_measure); a one-line
-    AnalysisError where the name is not one of its measures."""
-    name = runs.residual_measure if given is None else given
-    if name not in runs.measures:
-        raise AnalysisError(f"--residual-measure: {name!r} is not a measure of {runs.name}; its measures: "
-                            f"{', '.join(runs.measures)}")
-    return name
-
-
 def check_runs(objective: str, runs: Model, measure: str | None = None) -> None:
     """A one-line AnalysisError where the run model lacks what `objective` needs (before any computing); for
-    residual also an unknown `measure` (residual_measure)."""
+    residual also an unknown `measure` (residual.residual_measure)."""
     if objective == "residual" and not has_stick_phase(runs):
         raise AnalysisError(f"--objective residual: {runs.name} has no stick phase (a scene with static_friction "
                             "makes one): no residual imbalance to compute")

@@ -34,9 +34,10 @@ import numpy as np
 
 from .design import Design, Problem, Verdict, active_limit, sensitivity
 from .design_runs import (RESIDUAL_FORMAT, RESIDUAL_QUANTILE, RESIDUAL_SEED, RESIDUAL_STARTS, Journal, check_runs,
-                          evaluate, key_of, residual_counts, residual_measure, residual_quantile, residual_run,
+                          evaluate, key_of, residual_counts, residual_quantile, residual_run,
                           residual_starts, rest_start, run_params, run_up, run_up_trace)
 from .loading import AnalysisError
+from .residual import residual_measure
 from .simulate import simulate
 from .units import default_t_end, default_threshold
 
@@ -116,7 +117,7 @@ def by_runs(design: Design, objective: str, runs, journal: Journal | None = None
     residual the smallest `quantile` quantile of the residual imbalance over `starts` of design_runs.residual_starts
     (stick-slip, `run_time` long, default units.default_t_end), at most `target` where one is given (none below it:
     no best design, infeasible), its summary in `design.residual`; the residual is the run model's measure
-    `measure` at t_end (None: the one the run model names, design_runs.residual_measure).  A design whose run
+    `measure` at t_end (None: the one the run model names, residual.residual_measure).  A design whose run
     failed, or ended with a ball still slipping (undecided), is never chosen: its quantile is not computed."""
     problem = design.problem
     check_runs(objective, runs, measure)

@@ -3,7 +3,7 @@
 A run of a model with stick/slip modes is at rest at t_end when every ball has ended stuck on the race; its
 residual imbalance is then r = sqrt(X^2 + Y^2) at t_end (what the balls, stopped short of the balanced
 position, leave), or another of the model's own measures at t_end where its family defines the imbalance
-otherwise (`residual_at_end`: the sweep's `residual_measure`, a name from the model's MEASURES, so this module
+otherwise (`residual_at_end`: the name `residual_measure` resolves, one of the model's MEASURES, so this module
 names no family; e.g. a rigid rotor's mean amplitude A at two points one unit from the midspan, which sees the
 moment imbalance that r of the centre alone misses).  Runs whose balls still move at t_end (not at rest:
 undecided) and failed runs are counted apart and never enter the distribution.  The histogram has fixed edges from 0 to the largest
@@ -13,6 +13,8 @@ residual at rest (BINS bins), so it is deterministic for a given set of values.
 from __future__ import annotations
 
 import numpy as np
+
+from .loading import AnalysisError
 
 BINS = 40
 QUANTILES = (50, 90, 99)
@@ -26,6 +28,18 @@ def at_rest_codes(stuck: np.ndarray, failed: np.ndarray) -> np.ndarray:
     stuck = np.atleast_2d(np.asarray(stuck, dtype=bool))
     codes = np.where(stuck.all(axis=1), AT_REST, MOVING).astype(np.int8)
     return np.where(np.asarray(failed, dtype=bool), NOT_RUN, codes).astype(np.int8)
+
+
+def residual_measure(model, given: str | None = None) -> str:
+    """Which of a model's measures is its residual imbalance, for `sweep --measure residual` and `design --objective
+    residual` alike: `given` (--residual-measure: an explicit name wins, "r" included), else the one the model's
+    family names (Model.residual_measure: two planes' A, r elsewhere).  A one-line AnalysisError where the name is
+    not one of the model's measures (both commands refuse it with this wording)."""
+    name = model.residual_measure if given is None else given
+    if name not in model.measures:
+        raise AnalysisError(f"--residual-measure: {name!r} is not a measure of {model.name}; its measures: "
+                            f"{', '.join(model.measures)}")
+    return name
 
 
 def residual_at_end(model, name: str, r_end: np.ndarray, t_last: np.ndarray, y_end: np.ndarray, P: np.ndarray,

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from adbgen.analysis.loading import AnalysisError, load_model
-from adbgen.analysis.residual import AT_REST, MOVING, NOT_RUN, at_rest_codes, distribution
+from adbgen.analysis.residual import AT_REST, MOVING, NOT_RUN, at_rest_codes, distribution, residual_measure
 from adbgen.analysis.simulate import simulate
 from adbgen.analysis.sweep import SweepSpec, run_sweep
 from stick_slip_scene import TORQUE_SCENE
@@ -41,6 +41,32 @@ def test_at_rest_codes():
 def test_no_run_at_rest_gives_no_quantiles():
     d = distribution([1.0, 2.0], [MOVING, NOT_RUN])
     assert d["quantiles"]["max"] is None and d["histogram"]["counts"] == [] and d["at_rest"] == 0
+
+
+class _Measured:
+    """A stand-in with what residual_measure reads of a Model: its name, measures and own residual measure."""
+    name, measures, residual_measure = "planted", ("r", "A"), "A"
+
+
+def test_the_residual_measure_is_the_one_given_else_the_models_own():
+    assert residual_measure(_Measured()) == "A"  # the model's own
+    assert residual_measure(_Measured(), "r") == "r"  # an explicit name wins, r included
+    with pytest.raises(AnalysisError) as info:
+        residual_measure(_Measured(), "B")
+    # the one wording both `sweep` and `design` refuse an unknown name with
+    assert str(info.value) == "--residual-measure: 'B' is not a measure of planted; its measures: r, A"
+
+
+def test_a_sweep_refuses_an_unknown_residual_measure_in_one_line(stick_model, tmp_path, capsys):
+    from adbgen.cli import main
+
+    code = main(["sweep", str(stick_model.folder), "--grid", "phi_1=0:1:2", "--measure", "residual",
+                 "--residual-measure", "B", "--t-end", "1", "--out", str(tmp_path / "out")])
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert code != 0 and out == "" and len(lines) == 1, err
+    assert f"--residual-measure: 'B' is not a measure of {stick_model.name}; its measures: " in lines[0]
+    assert not (tmp_path / "out").exists()  # refused before any computing
 
 
 @pytest.fixture(scope="module")

@@ -142,5 +142,6 @@ def test_a_store_resumes_with_the_measure_it_was_written_with(model, tmp_path):
 
 
 def test_an_unknown_residual_measure_is_refused(model, tmp_path):
-    with pytest.raises(AnalysisError, match="not a measure of"):
+    with pytest.raises(AnalysisError, match="^--residual-measure: 'B' is not a measure of ") as info:
         _sweep(model, tmp_path, ["theta_1=0:1:2"], {**ROTOR, **STUCK}, measure="B")
+    assert "\n" not in str(info.value)

@@ -80,7 +80,7 @@ def test_the_residual_is_the_run_models_own_measure(capsys, scene, tmp_path):
 def test_a_wrong_measure_name_is_refused_in_one_line(capsys, scene, tmp_path):
     code, out, err = run(capsys, *argv(scene, tmp_path / "x", "--residual-measure", "B"))
     assert code == 2 and out == "" and err.startswith(PREFIX) and err.count("\n") == 1, err
-    assert "'B' is not a measure of" in err
+    assert f"--residual-measure: 'B' is not a measure of {load_scene_text(SCENE).name}; its measures: " in err
 
 
 def test_a_planted_wrong_residual_measure_in_the_module_is_refused(monkeypatch):
