@@ -18,6 +18,19 @@ where the tighter run's aim is not at least `GAIN` x finer than the asked run's,
 row (`reference_row`): Jorba & Zou's order for an aim TIGHTEN x finer (not below `AIM_FLOOR`, double
 precision's reach) at step factor 1.  Engines whose step control scales with rtol (the Runge-Kutta and
 multistep engines) use the tighter run as it is.
+
+The conditioning probe (`probe_state`, `conditioning`): where round-off amplified by an ill-conditioned
+transient dominates, the run as asked and the tighter run err alike and their difference under-reads (the
+two silent misses of docs/benchmarks/tolerance.md: 22.8 units estimated 1.18, 46.7 estimated 1.34).  The
+forward error of any computed solution is at least about the condition number of the flow map times the
+size of the perturbations the computation makes (Higham, Accuracy and Stability of Numerical Algorithms,
+2nd ed. 2002, sec. 1.6: forward error <~ condition number x backward error, and no smaller in general); the
+very first of them, rounding y0 to double, is of relative size eps / 2 in each component.  So the same
+tighter run started from y0 moved by `PROBE_ULPS` ulps of each component's weight scale, in alternating
+directions, ends at t_end as far from the unperturbed tighter run as the transient amplifies a perturbation of
+that size: `conditioning` = that distance in the asked tolerance's units, of the order of the least error any
+double-precision run reaches there (each step's round-off adds to it; the probe's direction is not the worst
+one).  It flags above the same BOUND / SAFETY as the estimate.
 """
 
 from __future__ import annotations
@@ -26,11 +39,18 @@ import math
 
 import numpy as np
 
+from .results import SUCCESS
+
 BOUND = 10.0  # the promise: the error at t_end at most this many tolerance units
 SAFETY = 5.0  # the estimate flags above BOUND / SAFETY: measured, it ran 4-35x under the true error on
 # held-out scenes where the estimate's own row errs alike (docs/benchmarks/tolerance.md, the promise restated)
 GAIN = 10.0  # the tighter run counts as tighter when it aims each step at least this many times finer
 AIM_FLOOR = 1e-16  # the finest per-step aim asked of the estimate's own row (double precision's reach)
+PROBE_ULPS = 1.0  # the conditioning probe's start: y0 moved by this many ulps (eps = 2.2e-16) of each component's
+# weight scale: twice the largest rounding of y0 (eps / 2), the least any double-precision run makes (every step
+# makes more).  At 4 ulps, measured ad hoc, it read 3-19x over the true error (13_single_plane_fixed_n3 at
+# rtol 1e-12: 432 against 22.8; 15_thesis_rotating_n4 at 1e-6: 158 against 46.7; 29_two_plane_hill at 1e-12: 10.9
+# against 1.15): so one.
 
 
 def estimate_ratio(y, y_tight, rtol: float, atol: float, angles=()) -> float:
@@ -91,6 +111,40 @@ def estimate(y, y_tight, rtol: float, atol: float, angles=(), *, against: str, r
     return out
 
 
+def probe_state(y0, rtol: float, atol: float, ulps: float = PROBE_ULPS) -> np.ndarray:
+    """The conditioning probe's start: y0_i + (-1)^i ulps eps (|y0_i| + atol / rtol), i = 0, 1, ...
+
+    ulps x eps relative where |y0_i| is above atol / rtol (the rounding of y0 to double, a few times over),
+    and as many ulps of the weights' absolute scale atol / rtol where y0_i is 0 (a ball released at rest: its
+    rounding is exact, but the first step's is not, and the probe must move every component).  The signs
+    alternate so that no common scaling of the state (which a symmetric model could absorb) is all it probes;
+    fixed, so the probe is deterministic."""
+    y0 = np.asarray(y0, float)
+    signs = np.where(np.arange(y0.size) % 2 == 0, 1.0, -1.0)
+    return y0 + signs * ulps * np.finfo(float).eps * (np.abs(y0) + atol / rtol)
+
+
+def conditioning(y_probe, y_ref, rtol: float, atol: float, angles=(), *, status: str = SUCCESS) -> dict:
+    """The conditioning record (`error_estimate.conditioning`, --json): the probe's distance at t_end from the
+    unperturbed tighter run in the asked tolerance's units (`estimate_ratio`), the ulps of its start
+    (`probe_state`), its flag (above BOUND / SAFETY); ratio None where the probe's run failed (`status`),
+    flagged: a run that fails from a start a few ulps away is not one to trust."""
+    out = {"ulps": PROBE_ULPS, "flag_above": BOUND / SAFETY, "status": status}
+    if status != SUCCESS:
+        return {**out, "ratio": None, "exceeded": None}
+    value = estimate_ratio(y_probe, y_ref, rtol, atol, angles)
+    return {**out, "ratio": value, "exceeded": bool(not value <= BOUND / SAFETY)}
+
+
+def with_conditioning(record: dict, cond: dict) -> dict:
+    """The estimate's record with the probe beside it (key `conditioning`) and `exceeded` made the OR of both:
+    True where either is above its flag, None (flagged, not known) where the probe was not made and the
+    estimate is within its flag; `estimate_exceeded` keeps the estimate's own verdict."""
+    est = record["exceeded"]
+    both = True if est or cond["exceeded"] else (None if cond["exceeded"] is None or est is None else False)
+    return {**record, "estimate_exceeded": est, "exceeded": both, "conditioning": cond}
+
+
 def finer(asked: dict | None, row: tuple[int, float]) -> bool:
     """Whether `row` aims its steps at least `GAIN` x finer than the run as asked (`step_aim`)."""
     a = step_aim(asked)
@@ -107,7 +161,18 @@ def not_made(against: str, row, why: str) -> dict:
 
 def reason(record: dict) -> str:
     """The disagreement naming the estimate: 'error estimate: 37.2 tolerance units at t_end against the
-    tighter run (bound 10)', or that it could not be made (the estimate's own run failed)."""
+    tighter run (bound 10)', or that it could not be made (the estimate's own run failed), or, where the
+    estimate is within its flag but the conditioning probe is not, the probe's distance."""
+    cond = record.get("conditioning")
+    if cond is not None and record.get("estimate_exceeded") is False:
+        if cond["ratio"] is None:
+            return (f"error estimate: the conditioning probe (the tighter run from y0 moved {cond['ulps']:g} ulps) "
+                    f"ended {cond['status']}, so the error at t_end is not known to be within "
+                    f"{record['bound']:g} tolerance units")
+        return (f"error estimate: the conditioning probe (the tighter run from y0 moved {cond['ulps']:g} ulps) ends "
+                f"{cond['ratio']:.3g} tolerance units away at t_end (flagged above {cond['flag_above']:g}): the "
+                f"transient amplifies round-off beyond what double precision resolves at this tolerance, where "
+                f"the estimate ({record['ratio']:.3g}) under-reads")
     if record.get("ratio") is None:
         return (f"error estimate: not made ({record.get('status')}), so the error at t_end is not known to be "
                 f"within {record['bound']:g} tolerance units")
@@ -116,5 +181,5 @@ def reason(record: dict) -> str:
             f"estimate's safety factor)")
 
 
-__all__ = ["AIM_FLOOR", "BOUND", "GAIN", "SAFETY", "estimate", "estimate_ratio", "finer", "not_made", "reason",
-           "reference_engine", "reference_row", "step_aim"]
+__all__ = ["AIM_FLOOR", "BOUND", "GAIN", "PROBE_ULPS", "SAFETY", "conditioning", "estimate", "estimate_ratio", "finer",
+           "not_made", "probe_state", "reason", "reference_engine", "reference_row", "step_aim", "with_conditioning"]

@@ -19,9 +19,10 @@ Any disagreement of the tighter run or of the second engine with the run as aske
 estimate above its bound (issue 35, `error_estimate`): the run as asked against a run that truly is
 tighter, max_i |y_i - y_tight,i| / (atol + rtol |y_tight,i|) at t_end above 2 tolerance units (the promise's
 `error_estimate.BOUND` = 10 over `error_estimate.SAFETY` = 5; `ToleranceCheck.error_estimate`, --json's
-"error_estimate").  Runs `shown` beside them (the
-thesis' solver, `matlab-ode45`, at its defaults) are reported with their own agreement but do not decide
-the flag: they are an explanation of a published number, not a convergence test.
+"error_estimate"), and so does its conditioning probe above the same 2 units (the run compared with, again
+from y0 moved an ulp: how much round-off the transient amplifies; "error_estimate"."conditioning").  Runs
+`shown` beside them (the thesis' solver, `matlab-ode45`, at its defaults) are reported with their own
+agreement but do not decide the flag: they are an explanation of a published number, not a convergence test.
 """
 
 from __future__ import annotations
@@ -207,8 +208,8 @@ def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float
     p = np.asarray(model.params(p) if isinstance(p, dict) or p is None else p, float)
     y0 = np.asarray(model.state(y0) if isinstance(y0, dict) or y0 is None else y0, float)
 
-    def run(eng, rtol, atol):
-        return simulate(model, p, y0, t_end=t_end, rtol=rtol, atol=atol, engine=eng, threshold=threshold,
+    def run(eng, rtol, atol, start=y0):
+        return simulate(model, p, start, t_end=t_end, rtol=rtol, atol=atol, engine=eng, threshold=threshold,
                         keep_trajectory=False, max_steps=max_steps, check=False)
 
     rt, at = tightened_tolerances(sim.rtol, sim.atol)
@@ -222,31 +223,40 @@ def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float
              for item in shown]
     check = judge(runs, extra, factor=sim.rtol / tight.rtol)
     if estimate and sim.ok and tight.ok:
-        check.error_estimate = global_error(model, sim, tight, run)
+        check.error_estimate = global_error(model, sim, tight, run, y0=y0, engine=engine)
         if check.error_estimate["exceeded"] is not False:  # exceeded, or not made (its run failed)
             check.reasons.append(error_estimate.reason(check.error_estimate))
     return check
 
 
-def global_error(model: Model, sim, tight, run) -> dict:
+def global_error(model: Model, sim, tight, run, *, y0, engine) -> dict:
     """The error estimate at t_end of `sim` (`error_estimate`): against the tighter run where it aims its
     steps finer, else against the estimate's own row, run by `run(engine, rtol, atol)` at the tighter
     tolerance; angles compared as the model describes them (`Model.angle_indices`).  Not made (ratio None,
-    so flagged) where no row within double precision's reach is finer or the estimate's own run fails."""
+    so flagged) where no row within double precision's reach is finer or the estimate's own run fails.
+
+    Beside it the conditioning probe (`error_estimate.conditioning`): the run compared with (`engine` at the
+    tighter tolerance, or the estimate's own row) again from `error_estimate.probe_state(y0)`, by
+    `run(engine, rtol, atol, start)`; the record flags where either is above its flag."""
     asked = sim.picked or {}
     row = error_estimate.reference_row(asked, tight.picked or {}, sim.rtol / tight.rtol)
-    against, y_ref = "tighter run", tight.y_end
+    against, y_ref, ref_engine = "tighter run", tight.y_end, engine
     if row is not None:
         against = f"Taylor order {row[0]}, step factor {row[1]:g}"
         if not error_estimate.finer(asked, row):
             return error_estimate.not_made(against, row, "no row finer than the run as asked within double "
                                                          "precision's reach")
-        ref = run(error_estimate.reference_engine(row), tight.rtol, tight.atol)
+        ref_engine = error_estimate.reference_engine(row)
+        ref = run(ref_engine, tight.rtol, tight.atol)
         if not ref.ok:
             return error_estimate.not_made(against, row, f"its run, {against}, ended {ref.status}")
         y_ref = ref.y_end
-    return error_estimate.estimate(sim.y_end, y_ref, sim.rtol, sim.atol, model.angle_indices, against=against,
-                                   row=row)
+    record = error_estimate.estimate(sim.y_end, y_ref, sim.rtol, sim.atol, model.angle_indices, against=against,
+                                     row=row)
+    probe = run(ref_engine, tight.rtol, tight.atol, error_estimate.probe_state(y0, sim.rtol, sim.atol))
+    cond = error_estimate.conditioning(probe.y_end, y_ref, sim.rtol, sim.atol, model.angle_indices,
+                                       status=probe.status)
+    return error_estimate.with_conditioning(record, cond)
 
 
 # ------------------------------------------------------------------------------------------ ensembles

@@ -15,7 +15,10 @@ method, and compares the label, r_max and t_dec (`analysis.tolerance`); a disagr
 (`tolerance_sensitive: true` and every outcome in --json, a mark in the table and on the plot), never
 resolved.  It also estimates the error at t_end (`analysis.error_estimate`): the run as asked against a
 run that truly is tighter, in tolerance units (--json: tolerance_check.error_estimate); above 2 (the
-bound 10 over a safety factor of 5) the run is flagged.  The default engine's promise: its error at t_end
+bound 10 over a safety factor of 5) the run is flagged.  Beside it a conditioning probe (--json:
+error_estimate.conditioning): the run compared with, again from y0 moved an ulp, whose distance at t_end
+measures the round-off the transient amplifies (where both runs err alike and the estimate under-reads);
+above 2 units it flags the run too.  The default engine's promise: its error at t_end
 is at most 10 tolerance units, or --check-tolerance says it may not be.
 """
 
@@ -146,6 +149,11 @@ def _print_simulation(model, sim, out, defaults, check=None) -> None:
         if est is not None and est.get("ratio") is not None:
             rows.append(("error estimate", f"{est['ratio']:.3g} tolerance units at t_end against the {est['against']} "
                                            f"(bound {est['bound']:g})"))
+        cond = (est or {}).get("conditioning")
+        if cond is not None:
+            rows.append(("conditioning probe", "failed" if cond["ratio"] is None else
+                         f"{cond['ratio']:.3g} tolerance units at t_end from y0 moved {cond['ulps']:g} ulp "
+                         f"(flagged above {cond['flag_above']:g})"))
         rows += [("  disagrees", r) for r in check.reasons]
     width = max(len(k) for k, _ in rows)
     for k, v in rows:

@@ -61,3 +61,51 @@ def test_an_estimate_that_cannot_be_finer_is_not_made_and_says_so():
     assert ee.finer({"order": 20, "step_factor": 1.5}, ref) and ee.finer(None, ref)
     rec = ee.not_made("Taylor order 20, step factor 1", ref, "no finer row")
     assert rec["ratio"] is None and rec["exceeded"] is None and "not made (no finer row)" in ee.reason(rec)
+
+
+def _departure(y0, lam: float, t: float):
+    """The exact flow of x' = lam (x - 1), v' = -v (a departure from the equilibrium x = 1, the shape of the
+    benchmark's ill-conditioned transients), evaluated in double: a 'run' whose only error is y0's rounding
+    and the double arithmetic, as both the run as asked and the tighter run of a converged engine are."""
+    x, v = np.asarray(y0, float)
+    return np.array([1.0 + (x - 1.0) * math.exp(lam * t), v * math.exp(-t)])
+
+
+def test_the_conditioning_probe_catches_a_planted_ill_conditioned_transient_the_estimate_misses():
+    """Planted: x(0) = 1 + 1e-12 (not a double), lam t = 22: the rounding of x(0) to double (8.9e-17) grows
+    e^22 = 3.6e9-fold, so the double result misses the exact one (mpmath, from the decimal start) by more than
+    the bound while the run as asked and the tighter run agree exactly (estimate 0: the silent miss).  The
+    probe must flag it; the control (lam t = -22, the same start: well-conditioned) it must not."""
+    mpmath = pytest.importorskip("mpmath")
+    rtol, atol, t = 1e-8, 1e-10, 1.0
+    mpmath.mp.dps = 50
+    for lam, ill in ((22.0, True), (-22.0, False)):
+        y0 = np.array([1 + 1e-12, 0.5])
+        y = _departure(y0, lam, t)  # the run as asked; the tighter run ends at the same double state
+        exact = [float(1 + mpmath.mpf("1e-12") * mpmath.exp(lam * t)), float(mpmath.mpf("0.5") * mpmath.exp(-t))]
+        true = ee.estimate_ratio(y, exact, rtol, atol)
+        record = ee.estimate(y, _departure(y0, lam, t), rtol, atol, against="tighter run")
+        assert record["ratio"] == 0.0 and record["exceeded"] is False  # the difference cannot see round-off
+        probe = ee.probe_state(y0, rtol, atol)
+        assert probe[0] > y0[0] and probe[1] < y0[1]  # alternating signs, every component moved
+        assert np.allclose(probe, y0, rtol=2 * ee.PROBE_ULPS * np.finfo(float).eps, atol=0)
+        cond = ee.conditioning(_departure(probe, lam, t), y, rtol, atol)
+        got = ee.with_conditioning(record, cond)
+        assert got["estimate_exceeded"] is False and got["ratio"] == 0.0 and got["conditioning"] is cond
+        if ill:
+            assert true > ee.BOUND  # the planted miss is real: the double run errs beyond the bound
+            assert cond["ratio"] >= true / 10 and cond["exceeded"] is True and got["exceeded"] is True
+            assert "conditioning probe" in ee.reason(got) and f"{cond['ratio']:.3g}" in ee.reason(got)
+        else:
+            assert true < 1e-3 and cond["ratio"] < 1e-3 and cond["exceeded"] is False and got["exceeded"] is False
+
+
+def test_a_failed_probe_is_flagged_and_an_exceeded_estimate_is_named_first():
+    record = ee.estimate([1.0], [1.0], 1e-8, 1e-10, against="tighter run")
+    failed = ee.with_conditioning(record, ee.conditioning(None, [1.0], 1e-8, 1e-10, status="max_steps"))
+    assert failed["conditioning"]["ratio"] is None and failed["exceeded"] is None  # not known: flagged
+    assert "conditioning probe" in ee.reason(failed) and "max_steps" in ee.reason(failed)
+    big = ee.estimate([1.0 + 5e-8], [1.0], 1e-8, 1e-10, against="tighter run")  # 5 units
+    both = ee.with_conditioning(big, ee.conditioning([1.0], [1.0], 1e-8, 1e-10))
+    assert both["exceeded"] is True and both["conditioning"]["exceeded"] is False
+    assert ee.reason(both).startswith("error estimate: 4.95 tolerance units at t_end against the tighter run")

@@ -150,6 +150,9 @@ def test_sweep_flags_exactly_the_planted_points(tmp_path, monkeypatch, saved_fig
 SCENE_17 = ("thesis_rotating_n4", {"Omega": 5.335, "beta": 0.02075, "delta": 0.01554, "mu": 0.02901, "zeta": 0.04309},
             {"phi_1": 1.924, "phi_1_dot": -0.07801, "phi_2": 4.79, "phi_2_dot": -0.4404, "phi_3": 2.789,
              "phi_3_dot": -0.07838, "phi_4": 5.5, "phi_4_dot": 0.07564}, 600.0)
+SCENE_15 = ("thesis_rotating_n4", {"Omega": 3.165, "beta": 0.02154, "delta": 0.01564, "mu": 0.02255, "zeta": 0.009618},
+            {"phi_1": 0.871, "phi_1_dot": -0.3683, "phi_2": 5.512, "phi_2_dot": 0.3893, "phi_3": 1.419,
+             "phi_3_dot": 0.3652, "phi_4": 3.129, "phi_4_dot": 0.07021}, 1000.0)  # benchmarks/tolerance_scenes/15_*
 SCENE_09 = ("thesis_rotating_n3", {"Omega": 3.271, "beta": 0.02752, "delta": 0.02115, "mu": 0.06179, "zeta": 0.03618},
             {"phi_1": 1.802, "phi_2": 2.464, "phi_3": 1.748}, 300.0)
 
@@ -195,3 +198,18 @@ def test_the_error_estimate_flags_a_chaotic_scene_and_passes_a_converged_one():
     # negative control: scene 17 at rtol 1e-6, where the engine meets the target (0.295 measured)
     _, _, loose = _auto_check(SCENE_17, rtol=1e-6)
     assert loose.error_estimate["ratio"] <= 2 and not any(r.startswith("error estimate") for r in loose.reasons)
+    assert loose.error_estimate["conditioning"]["exceeded"] is False and loose.error_estimate["exceeded"] is False
+
+
+def test_the_conditioning_probe_flags_the_round_off_miss_the_estimate_under_reads():
+    """Held-out scene 15 at rtol 1e-6 (docs/benchmarks/tolerance.md): the true ratio 46.7 against the
+    extended-precision reference, the estimate 1.34 (its own row errs alike: round-off amplified by the
+    transient), a silent miss before the probe.  The probe (the estimate's row from y0 moved an ulp) must
+    flag it and say so; the estimate's own verdict is kept beside it."""
+    _, _, check = _auto_check(SCENE_15, rtol=1e-6)
+    est = check.error_estimate
+    assert est["ratio"] <= est["flag_above"] and est["estimate_exceeded"] is False  # the miss it cannot see
+    cond = est["conditioning"]
+    assert cond["ulps"] == 1.0 and cond["ratio"] > 10 and cond["exceeded"] is True and est["exceeded"] is True
+    assert check.sensitive and any("conditioning probe" in r for r in check.reasons)
+    assert check.to_json()["error_estimate"]["conditioning"]["ratio"] == cond["ratio"]

@@ -332,7 +332,8 @@ def test_the_summary_counts_silent_misses_and_false_alarms_of_the_estimate():
 
     def cell(rtol, ratio, estimate, flagged):
         return {"rtol": rtol, "ratio": ratio, "decided": True, "status": "success", "reference_ratio": 0.0,
-                "error_estimate": {"ratio": estimate, "bound": 10.0}, "flagged": flagged}
+                "error_estimate": {"ratio": estimate, "bound": 10.0}, "flagged": flagged,
+                "estimate_rule": tolerance.ESTIMATE_RULE}
 
     cells = [cell(1e-4, 30.0, 25.0, True),  # a miss, flagged: the promise kept
              cell(1e-5, 40.0, 3.0, False),  # a miss the estimate does not see: SILENT
@@ -354,6 +355,9 @@ def test_the_summary_counts_silent_misses_and_false_alarms_of_the_estimate():
     cells[1]["flagged"] = True  # negative control: flagged, the miss is no longer silent
     e = tolerance.summary(scenes)["estimate"]
     assert e["silent_misses"] == [] and e["met"]
+    cells[1]["flagged"], cells[1]["estimate_rule"] = False, "tighter-run"  # an earlier rule's estimate: not counted
+    e = tolerance.summary(scenes)["estimate"]
+    assert e["cells"] == 3 and e["earlier_rule_cells"] == 1 and e["silent_misses"] == []
     for c in cells:  # no cell measured with the estimate: nothing counted, no section on the page
         c.pop("flagged", None)
     assert tolerance.summary(scenes)["estimate"]["cells"] == 0
@@ -391,10 +395,21 @@ def test_add_estimates_fills_current_cells_only_and_not_a_rerun_that_differs(tmp
     res = tolerance.add_estimates(str(out), progress=lambda line: None)
     a, b = res["scenes"]["x"]["cells"]
     assert a["flagged"] and a["error_estimate"]["ratio"] == 25.0
+    assert a["estimate_rule"] == tolerance.ESTIMATE_RULE
     assert "flagged" not in b and b["rerun_differs"] == 10  # 10 steps against the 99 graded: not counted
     assert "flagged" not in res["scenes"]["y"]["cells"][0]
     assert res["summary"]["estimate"]["cells"] == 1 and res["summary"]["estimate"]["met"]
     assert json.loads(out.read_text())["scenes"]["x"]["cells"][0]["flagged"] is True
+    # a cell estimated by an earlier rule (the tighter run alone) is remeasured; one by the current rule is not
+    result["scenes"]["x"]["cells"][0].update(flagged=False, error_estimate={"ratio": 1.0}, estimate_rule="tighter-run")
+    out.write_text(json.dumps(result))
+    res = tolerance.add_estimates(str(out), progress=lambda line: None)
+    assert res["scenes"]["x"]["cells"][0]["flagged"] is True and res["scenes"]["x"]["cells"][0]["error_estimate"]["ratio"] == 25.0
+    redone = []  # the rerun that differed (rtol 1e-5) is tried again; the current cell (1e-4) is not
+    monkeypatch.setattr(tolerance, "cell_estimate", lambda model, p, y0, t_end, engine, rtol, atol: redone.append(rtol)
+                        or {"error_estimate": None, "flagged": True, "rerun_steps": 10, "rerun_picked": None})
+    res = tolerance.add_estimates(str(out), names=["x"], progress=lambda line: None)
+    assert redone == [1e-5] and res["summary"]["estimate"]["cells"] == 1
     with pytest.raises(UsageError, match="not a scene measured"):
         tolerance.add_estimates(str(out), names=["y"], progress=lambda line: None)
     empty = tmp_path / "none.json"

@@ -105,7 +105,9 @@ def test_check_tolerance_keeps_every_key_and_adds_the_check(capsys):
     assert check["outcomes"][1]["rtol"] == pytest.approx(1e-10) and check["disagreements"] == []
     est = check["error_estimate"]  # the global error estimate at t_end: within the bound on this converged case
     assert est["ratio"] <= est["bound"] == 10 and est["exceeded"] is False and est["against"]
+    assert est["conditioning"]["ratio"] <= est["conditioning"]["flag_above"] == 2  # well-conditioned: the probe agrees
     assert data["r_max"] == plain["r_max"]  # the run as asked is the plain run
     code, out, _ = run(capsys, *argv, "--check-tolerance", "--quiet")
     assert code == 0 and "robust: balanced 1 (rtol 1e-08" in out and "attractor" in out
     assert "error estimate" in out and "tolerance units at t_end" in out
+    assert "conditioning probe" in out
