@@ -781,7 +781,7 @@ DIAGNOSIS = (
     "rtol 1e-4, i.e. by 2e-5 in the weights; heyoka's rule (1.8e3) and DOP853 (4.6e3) miss as well. A transient "
     "this ill-conditioned (a conditioning near 1e9 against the check scenes' 5e4) is beyond what a per-step rule "
     "learned on check scenes can promise; it would take a global error estimate (e.g. a second run with a tighter "
-    "row, compared at t_end), not attempted here. A hint at the step factor as a second cause, measured ad hoc "
+    "row, compared at t_end), since built as `--check-tolerance`'s estimate and conditioning probe (below). A hint at the step factor as a second cause, measured ad hoc "
     "(not recorded here; 16_thesis_rotating_n4 at rtol 1e-5 run to t = 1000, past its t_end of 600, where the "
     "references differ by 0.02 units): order 20 at factor 2.5 / 2 / 1 ends at ratio 157 / 0.082 / 0.021, order "
     "18 at factor 1.5 at 0.014, order 12 at factor 2 / 1 at 239 / 0.0074, DOP853 at 1.6e3: from factor 2 to 2.5 "
