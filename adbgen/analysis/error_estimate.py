@@ -48,9 +48,9 @@ GAIN = 10.0  # the tighter run counts as tighter when it aims each step at least
 AIM_FLOOR = 1e-16  # the finest per-step aim asked of the estimate's own row (double precision's reach)
 PROBE_ULPS = 1.0  # the conditioning probe's start: y0 moved by this many ulps (eps = 2.2e-16) of each component's
 # weight scale: twice the largest rounding of y0 (eps / 2), the least any double-precision run makes (every step
-# makes more).  At 4 ulps, measured ad hoc, it read 3-19x over the true error (13_single_plane_fixed_n3 at
-# rtol 1e-12: 432 against 22.8; 15_thesis_rotating_n4 at 1e-6: 158 against 46.7; 29_two_plane_hill at 1e-12: 10.9
-# against 1.15): so one.
+# makes more).  At 4 ulps, measured ad hoc, it read 3-19x over the true error (held-out scenes of
+# docs/benchmarks/tolerance.md: no. 13 at rtol 1e-12, 432 against 22.8; no. 15 at 1e-6, 158 against 46.7; no. 29 at
+# 1e-12, 10.9 against 1.15): so one.
 
 
 def estimate_ratio(y, y_tight, rtol: float, atol: float, angles=()) -> float:
