@@ -340,9 +340,30 @@ class Model:
 
 
 def _import_folder(folder: Path) -> ModuleType:
-    alias = "_adbgen_model_" + hashlib.sha256(str(folder.resolve()).encode()).hexdigest()[:12]
+    """The model module in `folder`, imported under an alias made from its __init__.py's bytes.
+
+    Not from the folder's path: numba's cache (__pycache__ beside the file, valid while the file's bytes
+    are unchanged) rebuilds a compiled function by importing the module name it was compiled under, so
+    a path-derived alias made a copied or moved folder (a CI cache, a Docker layer, a colleague's
+    ADBGEN_CACHE) fail with "No module named '_adbgen_model_...'".  Keyed by the bytes, the alias is
+    the same wherever the folder is and changes exactly when numba's own stamp does.  Two folders with
+    the same __init__.py in one process share the module: same bytes, same SOURCE_HASH, same model (the
+    folder's other files are checked against that hash by `_consistent`; `Model.folder` stays each one's).
+    A model of generated/ given by its folder is imported by its package name, the name its cache there
+    is written under (`import_generated`).
+    """
+    from .. import models
+
+    if folder.resolve().parent in {Path(p).resolve() for p in models.__path__}:
+        return import_generated(folder.name)
+    try:
+        code = (folder / "__init__.py").read_bytes()
+    except OSError as exc:
+        raise AnalysisError(f"{folder}: not a generated model ({exc.strerror})") from None
+    alias = "_adbgen_model_" + hashlib.sha256(code).hexdigest()[:16]
     if alias in sys.modules:
         return sys.modules[alias]
+    _claim_numba_cache(folder, alias)
     spec = importlib.util.spec_from_file_location(alias, folder / "__init__.py",
                                                   submodule_search_locations=[str(folder)])
     module = importlib.util.module_from_spec(spec)
@@ -353,6 +374,33 @@ def _import_folder(folder: Path) -> ModuleType:
         del sys.modules[alias]
         raise AnalysisError(f"{folder}: not a generated model ({type(exc).__name__}: {exc})") from None
     return module
+
+
+# names the module the numba entries in a model's __pycache__ were compiled under (written by `_claim_numba_cache`)
+NUMBA_CACHE_OWNER = "adbgen-module-name"
+
+
+def _claim_numba_cache(folder: Path, alias: str) -> None:
+    """Drop the numba entries in folder/__pycache__ unless they were written under `alias`, then record it.
+
+    An entry compiled under another module name cannot be loaded (numba imports that name to rebuild
+    it): entries of an adbgen that named the module by its folder's path, then copied or moved.  numba
+    recompiles what is dropped.  A __pycache__ that cannot be written is left alone: numba then neither
+    reads nor writes it (it caches in the user's folder, keyed by this folder's path)."""
+    cache = folder / "__pycache__"
+    owner = cache / NUMBA_CACHE_OWNER
+    try:
+        if owner.read_text() == alias:
+            return
+    except OSError:
+        pass
+    try:
+        for entry in cache.glob("__init__.*.nb[ic]"):
+            entry.unlink()
+        cache.mkdir(exist_ok=True)  # recorded before numba writes its first entry, so that entry is kept
+        owner.write_text(alias)
+    except OSError:
+        pass
 
 
 def _model_folder(path: Path) -> Path:

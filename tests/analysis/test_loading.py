@@ -139,3 +139,40 @@ def test_two_callers_of_a_new_scene_generate_it_once(tmp_path, monkeypatch):
     assert callers("locked") == 1
     monkeypatch.setattr(loading, "fcntl", types.SimpleNamespace(flock=lambda *_: None, LOCK_EX=0))
     assert callers("unlocked") == 2
+
+
+def test_a_model_folder_loads_from_its_numba_cache_after_a_copy_or_a_move(tmp_path):
+    """A copied ADBGEN_CACHE (a CI cache, a Docker layer, a colleague's folder) or a moved model folder loads
+    and runs from numba's cache in a fresh process: the module's name no longer depends on the folder's
+    path (it did: "No module named '_adbgen_model_...'").  Entries compiled under another name (an adbgen
+    that named the module by its path, or another importer) are dropped and rebuilt, not crashed on."""
+    import os
+    import shutil
+    from pathlib import Path
+
+    import adbgen
+
+    root = Path(adbgen.__file__).resolve().parents[1]
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}  # numba's cache in the folder
+    env.update(PYTHONPATH=str(root), NUMBA_DEBUG_CACHE="1")  # numba says "[cache] data loaded" on a hit
+    shutil.copytree(root / "generated" / "thesis_rotating_n2", tmp_path / "a" / "thesis_rotating_n2",
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    call = ("import numpy as np; y = np.linspace(0.1, 0.8, len(m.STATE_NAMES)); "
+            "print(repr(float(np.sum(m.rhs(0.0, y, m.DEFAULTS)))))")
+
+    def run(code):
+        out = subprocess.run([sys.executable, "-c", code + "; " + call], cwd=tmp_path, env=env, capture_output=True,
+                             text=True, timeout=300)
+        assert out.returncode == 0, out.stderr[-800:]
+        lines = out.stdout.splitlines()
+        return lines[-1], any(line.startswith("[cache] data loaded") for line in lines)
+
+    load = "from adbgen.analysis.loading import load_model; m = load_model({!r}).module"
+    # compiled under another module name first (what an older adbgen or another importer leaves behind)
+    other, _ = run("from pathlib import Path; from adbgen.codegen.render_and_import import import_numba; "
+                f"m = import_numba(Path({str(tmp_path / 'a' / 'thesis_rotating_n2')!r}), '_another_name')")
+    assert run(load.format(str(tmp_path / "a"))) == (other, False)  # dropped and compiled again
+    shutil.copytree(tmp_path / "a", tmp_path / "copy")
+    (tmp_path / "a").rename(tmp_path / "moved")
+    for folder in ("copy", "moved"):
+        assert run(load.format(str(tmp_path / folder))) == (other, True)  # from the cache the copy carried
