@@ -22,6 +22,7 @@ import sympy as sp
 
 from .ir.balls import BallSplit
 from .ir.loops import Balls, Columns, Fetch, Get, Guard, Inc, Kernel, Let, Pos, Put, Save, Var
+from .ir.model import TIME
 
 
 @dataclass(frozen=True)
@@ -160,7 +161,7 @@ class Emitter:
             ball_states = {self.split.q, self.split.qd}
             ball_params = {sl.symbol for sl in self.split.slots} \
                 | {sp.Symbol(f"{sl.symbol.name}_coef", real=True) for sl in self.split.slots}
-        for text in d.unused(time=not d.time or any(s.name == "t" for s in used),
+        for text in d.unused(time=not d.time or TIME in used,
                              states=any(s in self.state_index or s in ball_states for s in used),
                              params=any(s in self.param_index or s in ball_params for s in used)):
             self.line(depth, text)

@@ -34,7 +34,7 @@ import sympy as sp
 from sympy.core.mul import _keep_coeff
 
 from .emit import Emitter
-from .ir.model import ModelIR
+from .ir.model import TIME, ModelIR
 from .ir.loops import Balls, Columns, Fetch, Get, Guard, Inc, Kernel, Let, Put, Save, Var
 from .printers import _MAX_PRODUCT_POWER, BallInvariantOrder, identifiers
 
@@ -58,7 +58,7 @@ class _Trees:
         if e.is_Symbol:
             if e in self.env:
                 return self.env[e]
-            if e.name == "t":
+            if e == TIME:
                 return ["t"]
             raise ProgramError(f"unknown symbol {e} in the rhs")
         if e.is_Number or e.is_NumberSymbol:

@@ -114,7 +114,7 @@ def _program_context(program: Program, ir: ModelIR, printer, names: dict) -> dic
     return {
         "states": states,
         "params": params,
-        "uses_t": any(s.name == "t" for s in used),
+        "uses_t": ir.time in used,
         "assignments": [(printer.doprint(lhs), printer.doprint(rhs)) for lhs, rhs in program.assignments],
         "outputs": outputs,
     }

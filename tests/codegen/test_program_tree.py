@@ -59,6 +59,16 @@ def test_what_the_trees_cannot_express_is_refused_not_approximated():
         trees(sp.Piecewise((x, x <= 1), (0, True)))
 
 
+def test_the_time_is_the_models_time_symbol_not_any_symbol_named_t():
+    """The time is the IR's symbol (`ModelIR.time`), not a name: another symbol called t is unknown."""
+    from adbgen.codegen.ir.model import TIME
+
+    trees = program_tree._Trees(BallInvariantOrder(), {})
+    assert trees(TIME) == ["t"]
+    with pytest.raises(program_tree.ProgramError, match="unknown symbol t"):
+        trees(sp.Symbol("t", positive=True))
+
+
 def test_every_committed_model_has_its_rhs_as_data():
     """Every model of generated/ has a program.json (none refused: the run-ups' conditions in t too) that
     is its numba rhs bit for bit, at random states, parameters and times on both sides of a run-up's switch."""

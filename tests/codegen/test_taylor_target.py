@@ -17,6 +17,7 @@ import sympy as sp
 from adbgen import families
 from adbgen.codegen.passes.checks import CheckFailed
 from adbgen.codegen.ir.loops import Kernel, Let, Put, Pos
+from adbgen.codegen.ir.model import TIME
 from adbgen.codegen.regenerate import DEFAULT_OUT
 from adbgen.codegen.spec import build as build_ir
 from adbgen.codegen.targets.taylor import checks, pyeval, reference
@@ -96,7 +97,7 @@ def test_no_recurrence_for_tan():
     """A function without a recurrence here is refused by name (the target then skips the model)."""
     x, p = sp.Symbol("x", real=True), sp.Symbol("k", real=True)
     k = Kernel((Let(sp.Symbol("w", real=True), sp.tan(x)), Put(Pos(0), None, sp.Symbol("w", real=True))), (1,), False)
-    d = Decomposer(k, name="toy", states=[x], params=[p], time=sp.Symbol("t", real=True), split=None, n_coordinates=1)
+    d = Decomposer(k, name="toy", states=[x], params=[p], time=TIME, split=None, n_coordinates=1)
     with pytest.raises(NotSeries, match="tan"):
         d.run()
 
@@ -111,7 +112,7 @@ def test_a_three_branch_piecewise_is_refused_as_no_series():
     two = sp.Piecewise((1, p > 0), (sp.Piecewise((-1, p < 0), (0, True)), True))
     for expr, refused in ((three, True), (two, False)):
         k = Kernel((Let(w, expr * x), Put(Pos(0), None, w)), (1,), False)
-        d = Decomposer(k, name="toy", states=[x], params=[p], time=sp.Symbol("t", real=True), split=None,
+        d = Decomposer(k, name="toy", states=[x], params=[p], time=TIME, split=None,
                        n_coordinates=1)
         if refused:
             with pytest.raises(NotSeries, match="two-branch"):

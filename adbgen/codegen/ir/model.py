@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Callable
 import sympy as sp
 
 from ...core import Parameter
+from ...core.symbols import t as TIME  # the t of y' = F(t, y; p): the derivation's one time symbol
 from ...core.model_spec import Continuation  # noqa: F401  (the family decides it; the AUTO target prints it)
 
 if TYPE_CHECKING:
@@ -98,6 +99,12 @@ class ModelIR:
         from .loops import straight_line
 
         return {name: straight_line(getattr(self, name), zero=name != "rhs") for name in KERNELS}
+
+    @property
+    def time(self) -> sp.Symbol:
+        """The independent variable t of y' = F(t, y; p) (`TIME`): what the passes and printers recognise as
+        the time by the symbol itself, never by its name."""
+        return TIME
 
     @property
     def form(self) -> str:

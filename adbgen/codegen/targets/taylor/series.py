@@ -315,7 +315,7 @@ class Decomposer:
     def symbol(self, s: sp.Symbol) -> Term:
         if s in self.env:
             return self.env[s]
-        if s.name == self.time.name and s not in self.state_index:
+        if s == self.time:
             self.uses_time = True
             return Term(sp.S.One, self.node("time", degree=1))
         if s in self.state_index:
@@ -838,9 +838,8 @@ def decompose(ir) -> SeriesProgram:
     """The series program of a model's rhs (`ir`: a `ModelIR`); NotSeries if it has no series form."""
     kernel = ir.kernels()["rhs"]
     split = ir.loops.split if ir.loops is not None else None
-    time = sp.Symbol("t", real=True)
     d = Decomposer(kernel, name=ir.name, states=[s.symbol for s in ir.states],
-                   params=[p.symbol for p in ir.parameters], time=time, split=split, n_coordinates=ir.n_coordinates)
+                   params=[p.symbol for p in ir.parameters], time=ir.time, split=split, n_coordinates=ir.n_coordinates)
     return d.run()
 
 
