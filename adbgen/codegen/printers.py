@@ -48,6 +48,13 @@ def identifiers(ir: ModelIR) -> dict[sp.Symbol, str]:
 
 # A ball's index in a name: phi_3, phi_3_dot, m_3, Mcl_2_0, f_4 (one number between underscores or at
 # the end).  Anonymising it gives every ball's symbols the same class.
+# By name, not by the IR's ball split (`ir.balls`), on purpose: the order sees only an expression's symbols
+# (a printer is made from the identifiers alone, `PrintRules`), it also orders the unrolled form and models
+# without a ball split (balls not alike: `passes.ball_split.NoBallStructure`), and it anonymises every index
+# alike, the ones the split does not own too (the flexible rotor's modes q_1, K_q_1_1, the two-plane
+# supports k_1, l_1, the torque model's theta_0): classes taken from the split reorder those models' terms
+# (tried: flexible_jeffcott_n2's and two_plane_rotating's numba, C, AUTO, Taylor and lanes files changed).
+# The rule is what makes two names one class, so it stays one rule here.
 _INDEX = re.compile(r"(?<=_)\d+(?=_|$)")
 
 

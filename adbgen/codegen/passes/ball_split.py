@@ -32,6 +32,9 @@ import sympy as sp
 from ..ir.balls import BallSplit, Slot
 
 BALL_PREFIX = "ball_"
+# the default slots' naming convention, <stem>_<i> (m_1 .. m_n): read from the names because this pass is
+# what first knows which parameters are a ball's (its result, `ir.balls.BallSplit`, is what later passes
+# ask); a family whose names do not follow it declares its slots (`ModelSpec.balls`)
 _INDEXED = re.compile(r"(.+)_(\d+)$")
 
 
