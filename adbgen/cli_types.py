@@ -12,13 +12,13 @@ class UsageError(AdbgenError):
     """Bad command-line use: reported as one line, exit status 2."""
 
 
-def _whole(text: str, what: str) -> int:
+def _whole(text: str, what: str, least: int = 1) -> int:
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{what}must be at least 1, got {value}")
+    if value < least:
+        raise argparse.ArgumentTypeError(f"{what}must be at least {least}, got {value}")
     return value
 
 
@@ -30,6 +30,11 @@ def positive_int(text: str) -> int:
 def count(text: str) -> int:
     """A whole number >= 1 (--workers, --max-steps, ...)."""
     return _whole(text, "")
+
+
+def branch_points(text: str) -> int:
+    """A number of points of a continued branch (--max-points): at least 2, its start and one more."""
+    return _whole(text, "", least=2)
 
 
 def finite(text: str) -> float:

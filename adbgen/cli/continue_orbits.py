@@ -71,8 +71,6 @@ def pmap_for(model, p, names, args):
 def orbit_settings(args, lam0: float, to: float | None):
     from ..analysis.orbits.continuer import Settings
 
-    if args.max_points < 2:
-        raise AnalysisError(f"--max-points must be >= 2, got {args.max_points}")
     lo, hi = (min(lam0, to), max(lam0, to)) if to is not None else (-math.inf, math.inf)
     return Settings(ds=0.01, ds_max=0.05, max_points=args.max_points, bounds=(lo, hi))
 

@@ -25,6 +25,7 @@ import numpy as np
 
 from ..analysis.loading import AnalysisError
 from ..analysis.units import assignments, units
+from ..cli_types import branch_points
 from ..outputs import output_folder
 from .arguments import Commands, _emit_json, _finite_positive, _load, _model_arguments, _positive_int
 
@@ -155,8 +156,8 @@ def add_continue_options(p) -> None:
                         "e.g. --tie m_1=epsilon*M/R_t (repeatable, applied in order)")
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
                    help="the start state by name where the model has no START (states not given are 0)")
-    p.add_argument("--max-points", type=_positive_int, default=200, metavar="N",
-                   help="points per orbit branch (default 200)")
+    p.add_argument("--max-points", type=branch_points, default=200, metavar="N",
+                   help="points per orbit branch, at least 2 (default 200)")
     p.add_argument("--auto-orbits", action="store_true",
                    help="with --orbits: also AUTO-07p's branches of the same orbits (IPS = 2 from the HB labels)")
     p.add_argument("--plot", metavar="FILE", help="draw the orbit branches (with --par2: the stability chart, its curves "
