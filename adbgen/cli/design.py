@@ -71,8 +71,9 @@ def _add_design(p) -> None:
                         "their ends, two a chart, more an optimiser (scipy COBYLA)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="a fixed parameter")
     p.add_argument("--tie", action="append", default=[], metavar="NAME=VARIED",
-                   help="a parameter that follows a varied one (repeatable), e.g. c_bt=c_bb (both races' ball "
-                        "damping), m_2=m_1 (the balls alike)")
+                   help="parameter NAME takes the value of VARIED, the name of a --vary parameter: a name, not an "
+                        "expression (repeatable), e.g. --tie c_bt=c_bb (both races' ball damping), --tie m_2=m_1 "
+                        "(the balls alike); continue's --tie takes NAME=EXPR")
     p.add_argument("--balls", metavar="N1..N2",
                    help="with a scene file: design for each ball count from N1 to N2 (the scene's n replaced; its "
                         "per-ball values must be given once, not as lists) and choose the best count by the objective")

@@ -152,8 +152,10 @@ def add_continue_options(p) -> None:
     p.add_argument("--from-hopf", metavar="VALUE",
                    help="continue the orbits born at the Hopf point nearest VALUE of --par only (implies --orbits)")
     p.add_argument("--tie", action="append", default=[], metavar="NAME=EXPR",
-                   help="keep parameter NAME = EXPR (an expression in parameter names) along every branch and curve, "
-                        "e.g. --tie m_1=epsilon*M/R_t (repeatable, applied in order)")
+                   help="keep parameter NAME = EXPR along every branch and curve, EXPR an expression in parameter "
+                        "names, numbers, pi, + - * / ** and parentheses (repeatable, applied in order: a tie may use "
+                        "one made before it), e.g. --tie m_1=epsilon*M/R_t; design's --tie takes NAME=VARIED, a "
+                        "name only")
     p.add_argument("--y0", action="append", default=[], metavar="NAME=VALUE",
                    help="the start state by name where the model has no START (states not given are 0)")
     p.add_argument("--max-points", type=branch_points, default=200, metavar="N",

@@ -75,6 +75,15 @@ def test_json_keys_as_documented(capsys, tmp_path):
     assert any(JSON_KEYS in (h or "") for h in helps)
 
 
+def test_tie_help_says_it_takes_a_varied_name_with_an_example():
+    """`design --tie` is NAME=VARIED, a name; `continue --tie` NAME=EXPR (tests/cli/test_orbit.py)."""
+    sub = build_parser()._subparsers._group_actions[0].choices["design"]
+    tie = next(a for a in sub._actions if "--tie" in a.option_strings)
+    assert tie.metavar == "NAME=VARIED"
+    assert "the name of a --vary parameter: a name, not an expression" in tie.help
+    assert "e.g. --tie c_bt=c_bb" in tie.help and "continue's --tie takes NAME=EXPR" in tie.help
+
+
 @pytest.mark.parametrize("argv, match", [
     (["--vary", "nope=0:1"], "not a parameter"),
     (["--vary", "beta=1:0"], "LOW 1 is above HIGH 0"),

@@ -25,3 +25,12 @@ def test_max_points_keeps_its_default_and_takes_two():
     parse = build_parser().parse_args
     assert parse(["continue", "thesis_rotating_n2", "--par", "Omega"]).max_points == 200
     assert parse(["continue", "thesis_rotating_n2", "--par", "Omega", "--max-points", "2"]).max_points == 2
+
+
+def test_continue_tie_help_says_it_takes_an_expression_with_an_example():
+    """`continue --tie` is NAME=EXPR and `design --tie` NAME=VARIED (tests/cli/test_design.py): each help says its own."""
+    sub = build_parser()._subparsers._group_actions[0].choices["continue"]
+    tie = next(a for a in sub._actions if "--tie" in a.option_strings)
+    assert tie.metavar == "NAME=EXPR"
+    assert "EXPR an expression in parameter names" in tie.help and "e.g. --tie m_1=epsilon*M/R_t" in tie.help
+    assert "design's --tie takes NAME=VARIED" in tie.help
