@@ -45,6 +45,7 @@ import os
 import random
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -184,6 +185,10 @@ E, O = "adbgen/analysis/engines", "adbgen/analysis/orbits"
 DRIVER_TESTS = {"variational_driver.c": ORBIT_TESTS,
                 "hybrid_driver.c": ENGINE_TESTS + ("tests/analysis/test_hybrid_engine.py",),
                 "taylor_driver.c": ENGINE_TESTS + ("tests/analysis/test_taylor_engine.py",),
+                # ENGINE_NAMES runs one method of the driver (cvode-adams); BDF (method 10: the dense linear
+                # solver, the analytic Jacobian, CVodeFree) is run by the registry suite's case
+                "sundials_driver.c": ENGINE_TESTS + (
+                    "tests/analysis/test_engine_registry.py::test_registered_engine[reaches_the_reference[cvode-bdf]]",),
                 "symmetrize.h": ENGINE_TESTS + ("tests/families/two_plane/science/test_symmetric_integration.py",)}
 
 
@@ -578,12 +583,26 @@ REVIEWED_RUNTIME_EQUIVALENTS = {
                                      "the 200 iterations (only the early exit is lost)",
     "c:lanes.h:95:swapped-argument": "adb_lanes_max's fmax(a, c) -> fmax(c, a): fmax is symmetric but for the sign "
                                      "of a zero result, and its one user takes the max of two fabs (never -0)",
+    "c:variational_driver.c:121:operator": "arc()'s last row `ry + (m - 1) * n` -> `ry + (m - 1) / n`: the arc is solved "
+                                           "with t_eval = {t1}, and CyRK stores only the t_eval points (not the start: "
+                                           "cysolver.cpp), so m = 1 on success and both are ry; m = 0 (failure) is "
+                                           "refused by `m < 1` before `end` is read.  Checked: `abort()` when "
+                                           "success and m != 1 passes ORBIT_TESTS, when m == 1 aborts",
+    "c:cyrk_driver.c:149:operator": "the no-store path's (keep = 0, measures = 0) Y[0] <- row n - 3 read from "
+                                    "`ry - (n - 3) * ADB_NY`: Y[0]'s state is never read afterwards (the next segment, "
+                                    "the target test and y_end read Y[K - 1], K = 3; h and t_last read T) unless the "
+                                    "scan finds a nonfinite row before the last two: CyRK accepts a step only at error "
+                                    "norm < 1 (never NaN), so that needs a state overflowing past 1.8e308 and two more "
+                                    "steps accepted after it, which a state feeding the right-hand side (sin, cos of "
+                                    "inf: NaN) refuses.  The read itself is out of the solution's buffer (undefined "
+                                    "behaviour), which no test sees short of a sanitizer",
 }
 
 
 def classify_runtime(scratch: Scratch, mutant: Mutant) -> dict:
     """A mutant of the engines or the orbit code: applied alone in the scratch tree, its targeted tests run
-    there (CI=true: a missing tool fails); ``caught`` when they fail (or do not collect), ``survived`` when
+    there (CI=true: a missing tool fails); ``caught`` when they fail (or do not collect, or their process
+    dies of a signal: a driver's segmentation fault fails the suite as a failing test does), ``survived`` when
     they pass (``equivalent`` when REVIEWED_RUNTIME_EQUIVALENTS says why), ``crashed`` on a timeout.  (The compiled engines are rebuilt by their sources' digest.)"""
     start = time.perf_counter()
     result = {"id": mutant.id, "file": mutant.file, "kind": mutant.kind, "old": mutant.old, "new": mutant.new,
@@ -608,6 +627,10 @@ def _runtime_outcome(scratch: Scratch, tests: tuple[str, ...]) -> dict:
     if r.returncode in (1, 2):  # tests failed, or the mutated module did not import (a collection error)
         failed = re.findall(r"^(?:FAILED|ERROR) (\S+)", r.stdout, re.M)
         return {"status": "caught", "test": failed[0] if failed else " ".join(tests)}
+    if r.returncode < 0:  # killed by a signal (a segmentation fault in a driver): pytest's faulthandler names the test
+        frames = re.findall(r'File "[^"]*?/(tests/[^"]+\.py)", line \d+ in (test_\w+)', r.stdout + r.stderr)
+        died = f"{frames[0][0]}::{frames[0][1]}" if frames else " ".join(tests)
+        return {"status": "caught", "test": f"{died} (the test process died of {signal.Signals(-r.returncode).name})"}
     return {"status": "crashed", "message": (r.stdout + r.stderr).strip()[-300:]}
 
 

@@ -41,7 +41,7 @@ def test_every_runtime_mutant_changes_its_file_once_and_names_existing_tests():
     once in its file (Mutant.apply refuses otherwise), and each names test files that exist."""
     from pathlib import Path
 
-    from benchmarks.mutation import ROOT, RUNTIME, driver_mutants
+    from benchmarks.mutation import DRIVER_TESTS, ROOT, RUNTIME, driver_mutants
 
     files = set()
     for m in RUNTIME:
@@ -56,12 +56,12 @@ def test_every_runtime_mutant_changes_its_file_once_and_names_existing_tests():
     sampled = driver_mutants(ROOT, 1, 20)
     assert [m.id for m in sampled] == [m.id for m in driver_mutants(ROOT, 1, 20)]  # seeded: the same plan
     assert {Path(m.file).suffix for m in sampled} == {".c", ".h"} and all(m.tests for m in sampled)
+    assert all((ROOT / a.split("::")[0]).is_file() for t in DRIVER_TESTS.values() for a in t if a.startswith("tests/"))
 
 
-def test_a_runtime_mutant_is_caught_by_a_failing_test_and_survives_a_passing_one(tmp_path):
-    """classify_runtime on a tiny tree: the mutant a test sees is caught (naming the test), the one no test
-    sees survives (the negative control of the classification)."""
-    from benchmarks.mutation import Scratch, classify_runtime
+def _toy_scratch(tmp_path):
+    """A scratch copy of a tiny tree: adbgen/toy.py (double, unused) and tests/test_toy.py (double's test)."""
+    from benchmarks.mutation import Scratch
 
     src = tmp_path / "src"
     (src / "adbgen").mkdir(parents=True)
@@ -70,10 +70,31 @@ def test_a_runtime_mutant_is_caught_by_a_failing_test_and_survives_a_passing_one
     (src / "adbgen" / "toy.py").write_text("def double(x):\n    return 2 * x\n\n\ndef unused(x):\n    return x + 1\n")
     (src / "tests" / "test_toy.py").write_text("from adbgen.toy import double\n\n\ndef test_double():\n"
                                                "    assert double(3) == 6\n")
-    scratch = Scratch(root=src, folder=tmp_path / "scratch")
+    return src, Scratch(root=src, folder=tmp_path / "scratch")
+
+
+def test_a_runtime_mutant_is_caught_by_a_failing_test_and_survives_a_passing_one(tmp_path):
+    """classify_runtime on a tiny tree: the mutant a test sees is caught (naming the test), the one no test
+    sees survives (the negative control of the classification)."""
+    from benchmarks.mutation import classify_runtime
+
+    src, scratch = _toy_scratch(tmp_path)
     seen = Mutant("seen", "adbgen/toy.py", "return 2 * x", "return 3 * x", "runtime", (), ("tests/test_toy.py",))
     unseen = Mutant("unseen", "adbgen/toy.py", "return x + 1", "return x - 1", "runtime", (), ("tests/test_toy.py",))
     caught = classify_runtime(scratch, seen)
     assert caught["status"] == "caught" and caught["test"] == "tests/test_toy.py::test_double"
     assert classify_runtime(scratch, unseen)["status"] == "survived"
     assert (tmp_path / "scratch" / "adbgen" / "toy.py").read_text() == (src / "adbgen" / "toy.py").read_text()
+
+
+def test_a_runtime_mutant_whose_tests_die_of_a_signal_is_caught_naming_the_test(tmp_path):
+    """A mutant that kills the test process (as a driver's segmentation fault does: sundials_driver.c's
+    ERKStepFree on CVODE's memory) fails the suite: caught, naming the test faulthandler reports and the signal."""
+    from benchmarks.mutation import classify_runtime
+
+    _, scratch = _toy_scratch(tmp_path)
+    dies = Mutant("dies", "adbgen/toy.py", "return 2 * x", "__import__('os').abort()", "runtime", (),
+                  ("tests/test_toy.py",))
+    caught = classify_runtime(scratch, dies)
+    assert caught["status"] == "caught"
+    assert caught["test"] == "tests/test_toy.py::test_double (the test process died of SIGABRT)"
