@@ -140,7 +140,9 @@ def run_up_figure(design: Design, path: Path) -> None:
     plt.close(fig)
 
 
-def figure(design: Design, path: Path) -> None:
+def figure(design: Design, path: Path, scene: str | None = None) -> None:
+    """The design's figure, titled by the scene file where there is one (its model's name alone is a hash),
+    as `simulate --out` titles its plot; the title is also the PNG's Title."""
     from .figure_style import pyplot
 
     plt = pyplot()
@@ -192,11 +194,13 @@ def figure(design: Design, path: Path) -> None:
             ax.plot([best.design[0]], [-best.margin], "*", color="gold", mec="k", ms=14, label="best design")
         elif design.method == "chart":
             ax.plot([best.design[0]], [best.design[1]], "*", color="gold", mec="k", ms=14, label="best design")
-    ax.set_title(f"{pr.model.name}: design of {', '.join(a.name for a in pr.varied)}", fontsize=9)
+    name = f"{Path(scene).name} ({pr.model.name})" if scene else pr.model.name
+    title = f"{name}: design of {', '.join(a.name for a in pr.varied)}"
+    ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     fig.text(0.01, 0.01, textwrap.fill(BOUNDARY_NOTE, 130), fontsize=5.5, va="bottom")
-    fig.savefig(path, dpi=110, metadata={"Description": BOUNDARY_NOTE})
+    fig.savefig(path, dpi=110, metadata={"Title": title, "Description": BOUNDARY_NOTE})
     plt.close(fig)
 
 
@@ -213,7 +217,7 @@ def _class(v) -> str:
 
 
 def write(design: Design, folder: Path, command: str, objective: str = "margin", balls: list | None = None,
-          choice: dict | None = None) -> dict:
+          choice: dict | None = None, scene: str | None = None) -> dict:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     out = to_json(design, objective)
@@ -223,7 +227,7 @@ def write(design: Design, folder: Path, command: str, objective: str = "margin",
         out["chosen_balls"], out["balls_choice"] = choice["chosen"], choice
     (folder / "design.json").write_text(json.dumps(out, indent=1, allow_nan=False, default=_plain) + "\n")
     (folder / "report.md").write_text(report(design, command, objective, balls, choice))
-    figure(design, folder / "design.png")
+    figure(design, folder / "design.png", scene)
     files = {"report": str(folder / "report.md"), "figure": str(folder / "design.png"),
              "json": str(folder / "design.json")}
     if design.verification_run_up is not None and design.verification_run_up["trace"]["t"]:

@@ -7,11 +7,13 @@ log axis clipped above the round-off floor at a stated level.
     angle_panel(ax, t, angles, names, wrap)   ball angles, wrapped with pi ticks, or unwrapped
     amplitude_panel(ax, t, r, ...)            r on a log axis, threshold and t_dec lines labelled
     title(name, values, units)                "model: omega = 300 rad/s, ..." (what --set changed)
+    title_lines(title, caption)               a long title and its caption broken to the figure's width
 """
 
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 
@@ -116,3 +118,13 @@ def title(name: str, values: dict, param_units: dict, extra: str = "") -> str:
     given = ", ".join(f"{k} = {show(v, param_units.get(k, '1'), 6)}" for k, v in values.items())
     parts = [name] + ([given] if given else []) + ([extra] if extra else [])
     return "\n".join(parts)
+
+
+TITLE_WIDTH, CAPTION_WIDTH = 80, 95  # characters a line holds at fontsize 9 on a 7.5-inch figure
+
+
+def title_lines(title: str, caption: str) -> str:
+    """Title and caption fitted to the figure's width (a long one was clipped at the edges, issue 36):
+    a long title breaks before its parentheses (each remark whole on its line), the caption between words."""
+    head = [title] if len(title) <= TITLE_WIDTH else title.replace(" (", "\n(").split("\n")
+    return "\n".join(head + textwrap.wrap(caption, CAPTION_WIDTH))

@@ -510,7 +510,9 @@ def load_model(spec: str | os.PathLike | None = None, scene: str | os.PathLike |
     if os.sep in text or path.is_dir():
         if not path.is_dir():
             raise AnalysisError(f"{path}: no such folder")
-        folder = _model_folder(path)
+        # absolute: the engines compile the model's C file from their own build folder, where a path relative
+        # to the user's folder (`simulate gen/my_model`) names nothing
+        folder = _model_folder(path).resolve()
         from ..codegen.journal import recover
 
         recover(folder.parent)  # a swap of the output folder killed half-way: finish it first

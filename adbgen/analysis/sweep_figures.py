@@ -16,11 +16,11 @@ Two-dimensional grids give maps, one-dimensional grids curves; larger grids are 
 from __future__ import annotations
 
 import json
-import textwrap
 from pathlib import Path
 
 import numpy as np
 
+from .figure_style import title_lines
 from .grid import axis_symbol, tex
 
 
@@ -37,16 +37,6 @@ def _caption(ds, axes) -> str:
     if settings["measure"] != "stability":
         parts.append(f"$t_{{end}}$ = {settings['t_end']:g}, rtol {settings['rtol']:g}")
     return ", ".join(parts)
-
-
-TITLE_WIDTH, CAPTION_WIDTH = 80, 95  # characters a line holds at fontsize 9 on the 7.5-inch figure
-
-
-def title_lines(title: str, caption: str) -> str:
-    """Title and parameter caption fitted to the figure's width (a long one was clipped at the edges, issue 36):
-    a long title breaks before its parentheses (each remark whole on its line), the caption between words."""
-    head = [title] if len(title) <= TITLE_WIDTH else title.replace(" (", "\n(").split("\n")
-    return "\n".join(head + textwrap.wrap(caption, CAPTION_WIDTH))
 
 
 def write_figures(store: Path) -> list[Path]:

@@ -151,11 +151,16 @@ def _named(items, option: str, model) -> list:
     return out
 
 
+def _is_scene_file(text: str) -> bool:
+    """SCENE names a scene file (not a generated model's name or a model folder)."""
+    path = Path(text)
+    return path.suffix == ".toml" or path.is_file()
+
+
 def _load_scene(text: str):
     from ..analysis.loading import load_model
 
-    path = Path(text)
-    if path.suffix == ".toml" or path.is_file():
+    if _is_scene_file(text):
         return load_model(scene=text)
     return load_model(text)
 
@@ -379,7 +384,8 @@ def run_design(args) -> int:
         out.update({"balls": rows, "chosen_balls": chosen, "balls_choice": choice})
     command = "adbgen design " + shlex.join(sys.argv[2:]) if sys.argv[1:2] == ["design"] else "adbgen design"
     if args.out is not None:
-        out["files"] = design_report.write(design, Path(args.out), command, args.objective, rows, choice)
+        out["files"] = design_report.write(design, Path(args.out), command, args.objective, rows, choice,
+                                           scene=args.scene if _is_scene_file(args.scene) else None)
     if args.json:
         _emit_json(out)
     else:

@@ -83,3 +83,14 @@ def test_the_scopes_floquet_statement_on_paper_b():
     # negative control: an anisotropic rotor (the balanced rotor still at rest, but its period map another)
     aniso = fixed.params({**{n: values[n] for n in fixed.param_names if n in values}, "k_1Y": 2 * values["k_1"]})
     assert mismatch(aniso, T) > 1e-3
+
+
+def test_the_figure_is_titled_by_the_scene_file_where_there_is_one(design, tmp_path):
+    """A scene's model is named by a hash (scene_...): the figure of `adbgen design SCENE.toml --out` names
+    the file, as `simulate --out` does; a generated model's design keeps its name (the control)."""
+    files = dr.write(design, tmp_path / "scene", "adbgen design rig.toml ...", scene="examples/rig.toml")
+    with Image.open(files["figure"]) as im:
+        assert im.text["Title"] == "rig.toml (thesis_rotating_n3): design of beta"
+    files = dr.write(design, tmp_path / "model", "adbgen design thesis_rotating_n3 ...")
+    with Image.open(files["figure"]) as im:
+        assert im.text["Title"] == "thesis_rotating_n3: design of beta"

@@ -38,3 +38,15 @@ def test_axes_show_pi_ticks_units_and_labelled_lines(tmp_path):
     assert "wrapped" in a2.get_ylabel()
     assert fs.title("rig.toml", {"omega": 300.0}, {"omega": "rad/s"}) == "rig.toml\nomega = 300 rad/s"
     plt.close(fig)
+
+
+def test_a_long_title_breaks_before_its_remarks_and_the_caption_between_words():
+    """The sweep figures' titles (issue 36): each remark whole on its line, the caption between words."""
+    title = ("thesis_rotating_n3: unstable eigenvalues of the steady state (balanced 1, continued from START) "
+             "(3 tolerance-sensitive, marked)")
+    caption = ", ".join(f"$\\\\zeta_{k}$ = 0.01" for k in range(20))
+    lines = fs.title_lines(title, caption).splitlines()
+    assert lines[:3] == ["thesis_rotating_n3: unstable eigenvalues of the steady state",
+                         "(balanced 1, continued from START)", "(3 tolerance-sensitive, marked)"]
+    assert all(len(line) <= fs.CAPTION_WIDTH for line in lines[3:]) and len(lines) > 4
+    assert fs.title_lines("short: basins", "a = 1").splitlines() == ["short: basins", "a = 1"]  # control: as it was

@@ -176,3 +176,20 @@ def test_a_model_folder_loads_from_its_numba_cache_after_a_copy_or_a_move(tmp_pa
     (tmp_path / "a").rename(tmp_path / "moved")
     for folder in ("copy", "moved"):
         assert run(load.format(str(tmp_path / folder))) == (other, True)  # from the cache the copy carried
+
+
+def test_a_model_folder_given_relative_to_the_working_folder_compiles(tmp_path, monkeypatch):
+    """`adbgen simulate gen/MODEL` (docs/flexible.md): the compiled engine is built from the model's C file
+    in a folder of its own; a relative path failed there ('gen/.../MODEL.c: No such file or directory')."""
+    import shutil
+
+    from adbgen.analysis.simulate import simulate
+
+    thesis = load_model("thesis_rotating_n2")
+    shutil.copytree(thesis.folder, tmp_path / "gen" / thesis.name, ignore=shutil.ignore_patterns("__pycache__"))
+    monkeypatch.setenv("ADBGEN_CACHE", str(tmp_path / "cache"))  # a fresh build, not a cached library
+    monkeypatch.chdir(tmp_path)
+    m = load_model(f"gen/{thesis.name}")
+    assert m.folder == tmp_path / "gen" / thesis.name
+    sim = simulate(m, m.params(), {"phi_1": 1.0}, t_end=1.0, engine="cyrk-dop853")
+    assert sim.status == "success"

@@ -229,3 +229,29 @@ def test_a_chart_in_the_pinned_environment_finds_the_curves_it_finds_unpinned():
     plain = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
     assert pinned.returncode == 0 and plain.returncode == 0, pinned.stderr[-500:] + plain.stderr[-500:]
     assert pinned.stdout == plain.stdout and "hopf" in pinned.stdout
+
+
+def test_the_default_title_with_the_fig14a_ties_fits_the_figure():
+    """`--par2 ... --tie ... --plot`'s title: the paper's Fig. 14(a) ties broken onto lines inside the figure
+    (one line, as before, overran both edges; the control below measures that)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ties = ["chi=epsilon/R_t", "m_2=M*2*epsilon/R_t", "m_3=m_2", "m_4=m_2", "m_1=m_2", "c_bt=0.01*m_2", "c_bb=c_bt"]
+    fig = plt.figure(figsize=charts.FIGSIZE)
+    width = fig.bbox.width
+
+    def extent(text):
+        t = fig.suptitle(text, fontsize=charts.TITLE_FONTSIZE)
+        fig.canvas.draw()
+        return t.get_window_extent()
+
+    box = extent(charts.default_title("two_plane_rotating", ties))
+    assert 0 <= box.x0 and box.x1 <= width
+    assert charts.default_title("two_plane_rotating", ties).startswith("two_plane_rotating: stable region shaded\n")
+    one_line = extent("two_plane_rotating: stable region shaded; tied: " + ", ".join(ties))
+    assert one_line.x0 < 0 and one_line.x1 > width  # control: the old title did not fit
+    assert charts.default_title("m", []) == "m: stable region shaded"
+    plt.close(fig)

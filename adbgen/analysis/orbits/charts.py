@@ -33,6 +33,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .. import steady
+from ..figure_style import title_lines
 from ..loading import AnalysisError, Model
 from . import continuer
 from .boundary import FoldCurve, OrbitFollower, follower_for
@@ -565,6 +566,15 @@ def _draw_missing(ax, chart: Chart, scale2: float) -> None:
             ax.plot(chart.lam1[j], chart.lam2[i] * scale2, mk, color=color, ms=4, ls="none", label=label, zorder=3)
 
 
+FIGSIZE, TITLE_FONTSIZE = (7, 4.5), 8
+
+
+def default_title(name: str, ties: list[str]) -> str:
+    """The chart's title: the model, then its ties between words on the lines below (the ties of the paper's
+    Fig. 14(a) on one line were clipped at both edges of the figure)."""
+    return title_lines(f"{name}: stable region shaded", f"tied: {', '.join(ties)}" if ties else "")
+
+
 def plot(chart: Chart, path: Path, title: str | None = None, scale2: float = 1.0, label2: str | None = None,
          timing: bool = True) -> None:
     """The chart as the paper draws it: stable region shaded, curves by kind, lambda_2 on a log axis if asked;
@@ -575,7 +585,7 @@ def plot(chart: Chart, path: Path, title: str | None = None, scale2: float = 1.0
     import matplotlib.pyplot as plt
 
     n1, n2 = chart.names
-    fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=FIGSIZE, constrained_layout=True)
     S = np.where(chart.stable < 0, np.nan, chart.stable.astype(float))
     ax.contourf(chart.lam1, chart.lam2 * scale2, S, levels=[0.5, 1.5], colors=["0.8"])
     _draw_windows(ax, chart, scale2)
@@ -595,8 +605,7 @@ def plot(chart: Chart, path: Path, title: str | None = None, scale2: float = 1.0
     ax.set_xlabel(n1)
     ax.set_ylabel(label2 or n2)
     ax.legend(fontsize=8, loc="best")
-    ax.set_title(title or f"{chart.model.name}: stable region shaded" + (f"; tied: {', '.join(chart.ties)}" if chart.ties
-                                                                          else ""), fontsize=8)
+    ax.set_title(title or default_title(chart.model.name, chart.ties), fontsize=TITLE_FONTSIZE)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name("." + path.name + ".tmp")
