@@ -267,6 +267,9 @@ static int adb_run(const double *y0, const double *p, const adb_settings *set, a
                 status = ADB_SOLVER_FAILURE;
                 out->t_fail = t;
             }
+            /* the state it reached is a point too: r rose or fell monotonically since the last return (every
+             * maximum of r is a root, so a return), so r_max is the larger of the two (a NaN r^2 counts nothing) */
+            adb_events_point(&ev, t, adb_r2(yd, d.ix, d.iy));
             break;
         }
         const double r2 = adb_r2(yd, d.ix, d.iy);
