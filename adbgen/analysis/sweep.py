@@ -776,6 +776,8 @@ def run_sweep(spec: SweepSpec, out, *, scheduler: str | None = None, workers: in
         summary.update(tolerance_summary(path))
     if spec.measure == "attractor":
         summary["outcomes"] = outcome_counts(path)
+    if spec.measure in ("r_max", "t_dec"):
+        summary["failed"] = failed_count(path)
     if spec.measure == "residual":
         summary["residual"] = residual_summary(path, write=True)
     if spec.measure == "stability" and len(grid.shape) == 2 and spec.refine:
@@ -804,6 +806,16 @@ def tolerance_summary(path: Path) -> dict:
     check = json.loads(group.attrs["tolerance_check"])
     return {"tolerance_sensitive": int((flags[done] == 1).sum()),
             "tolerance_check": {**check, "checked": int(done.sum())}}
+
+
+def failed_count(store: Path) -> int:
+    """An r_max or t_dec store's computed points whose run failed (no value: NaN, as a t_dec not settled by t_end
+    is, so counted here and marked on the figure, never read as one)."""
+    import zarr
+
+    group = zarr.open_group(str(store), mode="r")
+    done = np.asarray(group["done"][...], dtype=bool)
+    return int((np.asarray(group["failed"][...])[done] == 1).sum())
 
 
 def residual_summary(store: Path, write: bool = False) -> dict:

@@ -76,7 +76,11 @@ def write_figures(store: Path) -> list[Path]:
         title = (f"{ds.attrs['model']}: unstable eigenvalues of the steady state"
                  + (f" ({names[start]}, continued from START)" if start >= 0 else ""))
     else:
-        _continuous(fig, ax, da, done, dims, measure)
+        failed = done & (ds["failed"].load().values == 1) if "failed" in ds else np.zeros_like(done)
+        _continuous(fig, ax, da, done & ~failed, dims, measure, failed)
+        if failed.any():  # a failed run has no value: never drawn as one, nor as "not settled"
+            title += f" ({int(failed.sum())} failed: no value, marked x)" if len(dims) == 2 else \
+                f" ({int(failed.sum())} failed: no value, not drawn)"
     flagged = _mark_sensitive(ax, ds, da, done, dims, measure)
     if flagged:
         title += f" ({flagged} tolerance-sensitive, marked)"
@@ -260,7 +264,9 @@ def _save(fig, store: Path, name: str) -> list[Path]:
     return out
 
 
-def _continuous(fig, ax, da, done, dims, measure):
+def _continuous(fig, ax, da, done, dims, measure, failed):
+    """r_max or t_dec over the grid at the points `done` (computed and not failed); grey where t_dec is NaN (r
+    not settled by t_end) or not computed; the `failed` runs (no value) marked x in red on a map."""
     z = np.where(done, da.values, np.nan)
     label = {"r_max": "$r_{max}$", "t_dec": "$t_{dec}$"}[measure]
     if len(dims) == 1:
@@ -274,3 +280,7 @@ def _continuous(fig, ax, da, done, dims, measure):
     cmap.set_bad("0.8")  # t_dec: not settled by t_end (or not computed)
     m = _map(ax, da, dims, np.ma.masked_invalid(z), cmap=cmap)
     fig.colorbar(m, ax=ax, label=label + (" (grey: not settled)" if measure == "t_dec" else ""))
+    if failed.any():
+        i, j = np.nonzero(failed)
+        ax.plot(da[dims[0]].values[i], da[dims[1]].values[j], "x", color="C3", ms=6, ls="none", label="failed run")
+        ax.legend(loc="best", fontsize=8, frameon=False)

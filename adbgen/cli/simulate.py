@@ -130,7 +130,9 @@ def _print_simulation(model, sim, out, defaults, check=None) -> None:
     from ..analysis.units import show, units
 
     u = units(model)
-    t_dec = "not settled by t_end" if sim.t_dec is None else show(sim.t_dec, u.time, 6)
+    # a failed run's t_dec is not known (it never reached t_end), which is not "not settled"
+    t_dec = (("not settled by t_end" if sim.ok else f"not known (the run ended {sim.status})") if sim.t_dec is None
+             else show(sim.t_dec, u.time, 6))
     note = {k: f" ({v})" for k, v in defaults.items() if v}
     rows = [("model", model.name + (f" ({model.module.TITLE})" if getattr(model.module, "TITLE", "") else "")),
             ("engine", sim.engine), ("rtol, atol", f"{sim.rtol:g}, {sim.atol:g}"),

@@ -6,7 +6,8 @@
 
 --json prints {"points", "computed", "reused", "wall_s", "store"} (and a few more keys).  With
 --check-tolerance every point is computed again at rtol/100, atol/100 and on a second engine, and the
-summary adds "tolerance_sensitive" (the count of points whose outcome differs) and "tolerance_check".
+summary adds "tolerance_sensitive" (the count of points whose outcome differs) and "tolerance_check".  An
+r_max or t_dec sweep's summary has "failed": the points whose run failed (no value, not "not settled").
 """
 
 from __future__ import annotations
@@ -118,6 +119,8 @@ def run_sweep_command(args: argparse.Namespace) -> int:
     else:
         print(f"{summary['points']} points: {summary['computed']} computed ({summary['integrated']} integrated), "
               f"{summary['reused']} reused, {summary['wall_s']:.2f} s; store {summary['store']}")
+        if summary.get("failed"):
+            print(f"{summary['failed']} points failed: no value (marked on the figure, never drawn as one)")
         if "tolerance_sensitive" in summary:
             c = summary["tolerance_check"]
             print(f"tolerance check: {summary['tolerance_sensitive']} of {c['checked']} points tolerance-sensitive "

@@ -417,3 +417,33 @@ def test_decided_outcomes_are_counted_and_undecided_is_never_not_balanced(tmp_pa
     finally:
         plt.Figure.savefig = real_savefig
     assert "undecided" in seen and "balanced 1" in seen
+
+
+def test_a_failed_run_is_counted_and_marked_never_drawn_as_not_settled(tmp_path):
+    """t_dec over mu x zeta with mu = 1e300 (the run overflows: non-finite): those points are failed, their NaN is
+    not a t_dec "not settled by t_end" (the map's grey): the summary counts them ("failed"), the title says so
+    and the map marks them; the settled points keep their values (control)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    spec = SweepSpec(model="thesis_rotating_n2", grid=["mu=0.05:1e300:2", "zeta=0.01:0.02:2"], measure="t_dec",
+                     t_end=50.0, threshold=0.3)
+    titles, marks = [], []
+    real_savefig = plt.Figure.savefig
+
+    def spy(fig, *a, **kw):
+        titles.extend(ax.get_title() for ax in fig.axes)
+        marks.extend(line.get_label() for ax in fig.axes for line in ax.get_lines())
+        return real_savefig(fig, *a, **kw)
+
+    plt.Figure.savefig = spy
+    try:
+        summary = run_sweep(spec, tmp_path, progress=False, workers=1)
+    finally:
+        plt.Figure.savefig = real_savefig
+    ds = _open(tmp_path)
+    assert ds["failed"].values.tolist() == [[0, 0], [1, 1]] and np.all(np.isfinite(ds["t_dec"].values[0]))
+    assert summary["failed"] == 2
+    assert any("2 failed" in t for t in titles) and "failed run" in marks

@@ -87,6 +87,8 @@ def test_failed_integration_exit_1(capsys):
     assert code == 1
     assert json.loads(out)["status"] == "max_steps"
     assert err.startswith("adbgen: error: integration failed at t = ") and "step limit" in err
+    code, out, err = run(capsys, "simulate", "thesis_rotating_n2", "--y0", "phi_1=1", "--max-steps", "20")
+    assert code == 1 and "not known (the run ended max_steps)" in out and "not settled" not in out
 
 
 def test_check_tolerance_keeps_every_key_and_adds_the_check(capsys):

@@ -174,6 +174,14 @@ static int solver_evolve(Solver *s, double tout, N_Vector y, double *t)
     return flag < 0 ? flag : 0;
 }
 
+/* SUNDIALS' step limit is per call (steps before the next return: a root, a sample, a check): the steps left
+ * of the run's max_steps (> 0), so that it bounds the whole run as the other engines' does */
+static void solver_steps_left(Solver *s, long left)
+{
+    if (s->method < 10) ERKStepSetMaxNumSteps(s->mem, left);
+    else CVodeSetMaxNumSteps(s->mem, left);
+}
+
 static void solver_root_info(Solver *s, int *found)
 {
     if (s->method < 10) ERKStepGetRootInfo(s->mem, found);
@@ -249,6 +257,17 @@ static int adb_run(const double *y0, const double *p, const adb_settings *set, a
         double tout = set->t_end;
         if (sample < set->n_samples && set->sample_times[sample] < tout) tout = set->sample_times[sample];
         if (next_check < tout) tout = next_check;
+        if (set->max_steps > 0) {
+            double h;
+            long nfe, nst;
+            solver_stats(&s, &nfe, &nst, &h);
+            if (nst >= set->max_steps) { /* the run's limit reached at a return: as the solver's own failure */
+                status = ADB_MAX_STEPS;
+                out->t_fail = t;
+                break;
+            }
+            solver_steps_left(&s, set->max_steps - nst);
+        }
         int flag = solver_evolve(&s, tout, y, &t);
         if (flag < 0) {
             double h;
@@ -267,6 +286,9 @@ static int adb_run(const double *y0, const double *p, const adb_settings *set, a
                 status = ADB_SOLVER_FAILURE;
                 out->t_fail = t;
             }
+            /* the state it reached is a point too: r rose or fell monotonically since the last return (every
+             * maximum of r is a root, so a return), so r_max is the larger of the two (a NaN r^2 counts nothing) */
+            adb_events_point(&ev, t, adb_r2(yd, d.ix, d.iy));
             break;
         }
         const double r2 = adb_r2(yd, d.ix, d.iy);

@@ -275,7 +275,8 @@ def _mass_forcing_programs(blocks: _Blocks) -> tuple[Program, Program]:
 
 
 def _describe(k: int, coordinates, leaves: set[int]) -> str:
-    """What state k of y = (positions, rates) (thesis (A.1)-(A.2)) is, by its place, not its name."""
+    """What state k of y = (positions, rates) is, by its place, not its name (the rates are thesis (A.1)'s; the
+    order is not (A.2)'s, which interleaves each coordinate with its rate)."""
     N = len(coordinates)
     if k >= N:
         return f"rate of {coordinates[k - N].name}"
