@@ -450,7 +450,7 @@ def cell_estimate(model, p, y0, t_end: float, engine: str, rtol: float, atol: fl
     sim = run(engine, rtol, atol)
     tight = run(engine, *tightened_tolerances(rtol, atol))
     # as check_simulation(estimate=True): the estimate and its conditioning probe
-    est = global_error(model, sim, tight, run, y0=y0, engine=engine) if sim.ok and tight.ok else None
+    est = global_error(model, sim, tight, run, y0=y0, p=p, engine=engine) if sim.ok and tight.ok else None
     return {"error_estimate": est, "flagged": est is None or est["exceeded"] is not False,
             "rerun_steps": sim.n_steps, "rerun_picked": sim.picked}
 

@@ -111,17 +111,69 @@ def estimate(y, y_tight, rtol: float, atol: float, angles=(), *, against: str, r
     return out
 
 
-def probe_state(y0, rtol: float, atol: float, ulps: float = PROBE_ULPS) -> np.ndarray:
-    """The conditioning probe's start: y0_i + (-1)^i ulps eps (|y0_i| + atol / rtol), i = 0, 1, ...
+def probe_state(y0, rtol: float, atol: float, ulps: float = PROBE_ULPS, *, symmetries=(), p=None) -> np.ndarray:
+    """The conditioning probe's start: y0_i + s_i ulps eps (|y0_i| + atol / rtol), s_i = (-1)^i, i = 0, 1, ...
 
     ulps x eps relative where |y0_i| is above atol / rtol (the rounding of y0 to double, a few times over),
     and as many ulps of the weights' absolute scale atol / rtol where y0_i is 0 (a ball released at rest: its
     rounding is exact, but the first step's is not, and the probe must move every component).  The signs
     alternate so that no common scaling of the state (which a symmetric model could absorb) is all it probes;
-    fixed, so the probe is deterministic."""
+    fixed, so the probe is deterministic.
+
+    Except across identical balls started together (`symmetric_signs`): where y0 lies on the fixed set of an
+    exchange of identical balls (`Model.symmetries`, kind "identical-balls": S y0 = y0 with p as S asks), the
+    engines keep the balls together bit for bit (each ball's equation is the same code on the same numbers, so
+    their round-off is the same), and no run leaves the set; a probe that did would measure how fast the balls
+    part, not how far round-off carries this run (thesis n = 2 from rest: 6.6e7 units, a false alarm).  So the
+    probe moves those balls alike."""
     y0 = np.asarray(y0, float)
-    signs = np.where(np.arange(y0.size) % 2 == 0, 1.0, -1.0)
+    signs = symmetric_signs(np.where(np.arange(y0.size) % 2 == 0, 1.0, -1.0), y0, symmetries, p)
     return y0 + signs * ulps * np.finfo(float).eps * (np.abs(y0) + atol / rtol)
+
+
+def symmetric_signs(signs: np.ndarray, y0: np.ndarray, symmetries=(), p=None) -> np.ndarray:
+    """`signs` made invariant under every exchange of identical balls whose fixed set holds y0 (with p as the
+    exchange asks): the components such an exchange maps onto each other (y[k] = signs[k] y[states[k]] on
+    the set) take the sign of their class's first component, times the exchange's signs on the way; a component mapped onto
+    its own negative gets 0 (the set fixes it at 0, and the probe must not leave the set)."""
+    signs = np.array(signs, float)
+    kept = [s for s in symmetries if s.get("kind") == "identical-balls" and _fixes(s, y0, p)]
+    if not kept:
+        return signs
+    parent = list(range(y0.size))
+    rel = [1.0] * y0.size  # component k = rel[k] x its parent's value on the fixed set
+
+    def find(k):
+        if parent[k] == k:
+            return k, 1.0
+        root, r = find(parent[k])
+        parent[k], rel[k] = root, rel[k] * r
+        return root, rel[k]
+
+    zero = set()
+    for s in kept:
+        for k, (j, sign) in enumerate(zip(s["states"], s["signs"])):  # on the set: y[k] = sign y[j]
+            (rk, ak), (rj, aj) = find(k), find(j)
+            if rk != rj:  # the later root under the earlier: y[rk] = sign aj ak y[rj] (a's are +-1)
+                lo, hi = min(rk, rj), max(rk, rj)
+                parent[hi], rel[hi] = lo, sign * aj * ak
+            elif ak != sign * aj:
+                zero.add(rk)
+    out = np.empty_like(signs)
+    for k in range(y0.size):
+        root, r = find(k)
+        out[k] = 0.0 if root in zero else r * signs[root]
+    return out
+
+
+def _fixes(symmetry: dict, y0: np.ndarray, p) -> bool:
+    """Whether y0 lies on the symmetry's fixed set, S y0 = y0 exactly, with the parameters as it asks."""
+    states, signs = np.asarray(symmetry["states"]), np.asarray(symmetry["signs"], float)
+    if p is None or len(states) != y0.size:
+        return False
+    p = np.asarray(p, float)
+    params, psigns = np.asarray(symmetry["params"]), np.asarray(symmetry["param_signs"], float)
+    return bool(np.array_equal(signs * y0[states], y0) and np.array_equal(psigns * p[params], p))
 
 
 def conditioning(y_probe, y_ref, rtol: float, atol: float, angles=(), *, status: str = SUCCESS) -> dict:
@@ -182,4 +234,5 @@ def reason(record: dict) -> str:
 
 
 __all__ = ["AIM_FLOOR", "BOUND", "GAIN", "PROBE_ULPS", "SAFETY", "conditioning", "estimate", "estimate_ratio", "finer",
-           "not_made", "probe_state", "reason", "reference_engine", "reference_row", "step_aim", "with_conditioning"]
+           "not_made", "probe_state", "reason", "reference_engine", "reference_row", "step_aim", "symmetric_signs",
+           "with_conditioning"]

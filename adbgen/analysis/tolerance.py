@@ -223,20 +223,21 @@ def check_simulation(model: Model, p, y0, sim, *, t_end: float, threshold: float
              for item in shown]
     check = judge(runs, extra, factor=sim.rtol / tight.rtol)
     if estimate and sim.ok and tight.ok:
-        check.error_estimate = global_error(model, sim, tight, run, y0=y0, engine=engine)
+        check.error_estimate = global_error(model, sim, tight, run, y0=y0, p=p, engine=engine)
         if check.error_estimate["exceeded"] is not False:  # exceeded, or not made (its run failed)
             check.reasons.append(error_estimate.reason(check.error_estimate))
     return check
 
 
-def global_error(model: Model, sim, tight, run, *, y0, engine) -> dict:
+def global_error(model: Model, sim, tight, run, *, y0, p, engine) -> dict:
     """The error estimate at t_end of `sim` (`error_estimate`): against the tighter run where it aims its
     steps finer, else against the estimate's own row, run by `run(engine, rtol, atol)` at the tighter
     tolerance; angles compared as the model describes them (`Model.angle_indices`).  Not made (ratio None,
     so flagged) where no row within double precision's reach is finer or the estimate's own run fails.
 
     Beside it the conditioning probe (`error_estimate.conditioning`): the run compared with (`engine` at the
-    tighter tolerance, or the estimate's own row) again from `error_estimate.probe_state(y0)`, by
+    tighter tolerance, or the estimate's own row) again from `error_estimate.probe_state(y0)` (identical balls
+    started together moved alike: `model.symmetries` at `p`), by
     `run(engine, rtol, atol, start)`; the record flags where either is above its flag."""
     asked = sim.picked or {}
     row = error_estimate.reference_row(asked, tight.picked or {}, sim.rtol / tight.rtol)
@@ -253,7 +254,8 @@ def global_error(model: Model, sim, tight, run, *, y0, engine) -> dict:
         y_ref = ref.y_end
     record = error_estimate.estimate(sim.y_end, y_ref, sim.rtol, sim.atol, model.angle_indices, against=against,
                                      row=row)
-    probe = run(ref_engine, tight.rtol, tight.atol, error_estimate.probe_state(y0, sim.rtol, sim.atol))
+    probe = run(ref_engine, tight.rtol, tight.atol, error_estimate.probe_state(y0, sim.rtol, sim.atol,
+                                                                         symmetries=model.symmetries, p=p))
     cond = error_estimate.conditioning(probe.y_end, y_ref, sim.rtol, sim.atol, model.angle_indices,
                                        status=probe.status)
     return error_estimate.with_conditioning(record, cond)
