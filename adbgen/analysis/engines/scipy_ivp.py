@@ -34,22 +34,25 @@ class _NonFinite(Exception):
         self.t = float(t)
 
 
-_STEP_LIMIT = "step limit reached"
-
-
 def _limited(method: str, max_steps: int):
     """scipy's OdeSolver `method` stopping as a failed step (solve_ivp then keeps the steps accepted before it)
-    when `max_steps` steps are taken or a derivative is non-finite; `failed_at` holds the time of the latter.
-    Only `_step_impl` is wrapped: every step the method takes is its own, bit for bit."""
+    when `max_steps` steps are taken (`hit_limit`) or a derivative is non-finite (`failed_at`: its time).  Only
+    `_step_impl` is wrapped: every step the method takes is its own, bit for bit.  A class per run, so that its
+    two outcomes are read off the class after solve_ivp (which keeps no solver)."""
     base = getattr(scipy.integrate, method)
 
     class Limited(base):
-        taken = 0
+        hit_limit = False
         failed_at = None
+
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            self.taken = 0
 
         def _step_impl(self):
             if self.taken >= max_steps:
-                return False, _STEP_LIMIT
+                type(self).hit_limit = True
+                return False, f"solve_ivp {method}: max_steps = {max_steps} steps taken before t_end"
             try:
                 ok, message = super()._step_impl()
             except _NonFinite as exc:
@@ -145,7 +148,7 @@ class ScipyEngine:
             status, t_fail = SUCCESS, None
         else:
             bad = np.nonzero(~np.all(np.isfinite(sol.y), axis=0))[0]
-            if sol.message == _STEP_LIMIT:
+            if method.hit_limit:
                 status = "max_steps"
             else:
                 status = "nonfinite" if (not finite or "finite" in sol.message) else (
