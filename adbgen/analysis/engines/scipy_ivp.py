@@ -37,7 +37,8 @@ class _NonFinite(Exception):
 def _limited(method: str, max_steps: int):
     """scipy's OdeSolver `method` stopping as a failed step (solve_ivp then keeps the steps accepted before it)
     when `max_steps` steps are taken (`hit_limit`) or a derivative is non-finite (`failed_at`: its time).  Only
-    `_step_impl` is wrapped: every step the method takes is its own, bit for bit.  A class per run, so that its
+    `_step_impl` is wrapped (where OdeSolver's documentation has a solver put its step; solve_ivp has no step limit
+    to pass): every step the method takes is its own, bit for bit.  A class per run, so that its
     two outcomes are read off the class after solve_ivp (which keeps no solver)."""
     base = getattr(scipy.integrate, method)
 
