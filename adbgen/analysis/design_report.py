@@ -118,7 +118,10 @@ def report(design: Design, command: str, objective: str = "margin", balls: list 
 
 
 def run_up_figure(design: Design, path: Path) -> None:
-    """r(t) through the chosen design's run-up, the schedule's end and the threshold marked."""
+    """r(t) through the chosen design's run-up, the schedule's end and the threshold marked.  A run-up whose r has
+    not settled below the threshold by t_end (design_runs.run_up_trace's `settled`) says so in the title, as
+    `simulate --out` says TOLERANCE-SENSITIVE: the figure alone must not pass for a settled run-up.  The title is
+    also the PNG's Title."""
     from .figure_style import pyplot
 
     plt = pyplot()
@@ -132,11 +135,14 @@ def run_up_figure(design: Design, path: Path) -> None:
     ax.set_yscale("log")
     ax.set_xlabel("t")
     ax.set_ylabel("rotor amplitude r")
-    ax.set_title(f"{run['run_model']}: run-up of the chosen design "
-                 + ", ".join(f"{k} = {v:.4g}" for k, v in run["design"].items()), fontsize=9)
+    title = (f"{run['run_model']}: run-up of the chosen design "
+             + ", ".join(f"{k} = {v:.4g}" for k, v in run["design"].items()))
+    if not run["settled"]:
+        title += f"\nr NOT SETTLED below the threshold by t_end = {run['t_end']:.4g} (!)"
+    ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, metadata={"Title": title})
     plt.close(fig)
 
 

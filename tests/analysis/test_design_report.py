@@ -94,3 +94,23 @@ def test_the_figure_is_titled_by_the_scene_file_where_there_is_one(design, tmp_p
     files = dr.write(design, tmp_path / "model", "adbgen design thesis_rotating_n3 ...")
     with Image.open(files["figure"]) as im:
         assert im.text["Title"] == "thesis_rotating_n3: design of beta"
+
+
+@pytest.mark.parametrize("settled", [False, True])
+def test_the_run_up_figure_says_when_r_has_not_settled(design, tmp_path, settled):
+    """run-up.png says in its title (kept as the PNG's Title) that r has not settled by t_end, as report.md does;
+    a settled run-up's title says nothing of it (the control)."""
+    import dataclasses
+
+    import numpy as np
+
+    t = np.linspace(0.0, 50.0, 101)
+    r = 0.1 * np.exp(-(0.01 if not settled else 0.3) * t)
+    run = {"run_model": "thesis_rotating_n3", "design": {"beta": 0.45}, "schedule_end": 10.0, "t_end": 50.0,
+           "threshold": 1e-3, "t_dec": None if not settled else float(t[np.flatnonzero(r >= 1e-3)[-1]]),
+           "settled": settled, "status": "success", "trace": {"t": list(t), "r": list(r)}}
+    dr.run_up_figure(dataclasses.replace(design, verification_run_up=run), tmp_path / dr.RUN_UP_FIGURE)
+    with Image.open(tmp_path / dr.RUN_UP_FIGURE) as im:
+        title = im.text["Title"]
+    assert title.startswith("thesis_rotating_n3: run-up of the chosen design beta = 0.45")
+    assert ("NOT SETTLED below the threshold by t_end = 50 (!)" in title) == (not settled)

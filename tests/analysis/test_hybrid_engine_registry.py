@@ -67,3 +67,13 @@ def test_a_batch_is_its_runs_one_by_one(stick_model):
         assert np.array_equal(ens.y_end[k], one.y_end) and ens.r_end[k] == one.r_end
         assert tuple(ens.stuck[k]) == one.stuck
     assert ens.r_end[0] != ens.r_end[1]  # row 1 is another start, not row 0 again
+
+
+def test_a_failed_run_reports_r_max_of_what_it_reached(stick_model):
+    """A run stopped by its step limit reports r_max over the part integrated, the state it stopped at included,
+    as every engine does (tests/analysis/test_simulate.py); it reported NaN before."""
+    m = stick_model
+    s = simulate(m, FRICTION, START, t_end=T_END, max_steps=50, check=False, keep_trajectory=False)
+    ix, iy, _, _ = m.amplitude_indices
+    assert s.status == "max_steps" and 0 < s.t_fail < T_END and s.t_dec is None
+    assert s.r_max >= math.hypot(s.y_end[ix], s.y_end[iy]) > 0

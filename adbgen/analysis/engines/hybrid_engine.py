@@ -6,7 +6,8 @@ gets this engine by default (`engines.engine_for`); another engine asked for suc
 none of them switches modes.  Besides the usual keys a run says per ball whether it ended stuck (`stuck`)
 and the residual imbalance at the end (`r_end`, the rotor centre's amplitude r = sqrt(X^2 + Y^2) at t_end,
 the quantity the issue calls r at rest).  r_max and t_dec are read off the `samples` output points (as
-matlab-ode45 does), not located on the continuous solution: said in `picked`.
+matlab-ode45 does), not located on the continuous solution: said in `picked`.  A failed run's r_max is over
+the part integrated, its last state included, as every engine's.
 """
 
 from __future__ import annotations
@@ -60,12 +61,16 @@ class HybridEngine:
             status = "nonfinite"
         r = np.hypot(out.y[:, ix], out.y[:, iy]) if len(out.t) else np.zeros(0)
         ok = status == SUCCESS
+        # r_max over the part integrated, failed or not (the status says a run failed): the samples reached and,
+        # on a failure, the state it stopped at (the last sample may lie well before it), as every engine reports
+        reached = np.append(r, np.hypot(out.y_end[ix], out.y_end[iy])) if not ok else r
+        reached = reached[np.isfinite(reached)]
         sw = hybrid.switching(model)
         stuck = [bool(out.params_end[i] == 1.0) for i in sw.stuck]
         r_end = float(np.hypot(out.y_end[ix], out.y_end[iy])) if ok else float("nan")
         return {"status": status, "t": out.t if keep_trajectory else np.zeros(0),
                 "y": out.y.T if keep_trajectory else np.zeros((model.n_states, 0)),
-                "r_max": float(r.max()) if ok and len(r) else float("nan"),
+                "r_max": float(reached.max()) if len(reached) else float("nan"),
                 "t_dec": _decay_time(out.t, r, threshold) if ok else float("nan"),
                 "y_end": out.y_end, "n_rhs": 12 * out.steps, "n_steps": out.steps,  # DOP853: 12 stages a step
                 "t_fail": None if ok else out.t_end, "wall_s": wall,

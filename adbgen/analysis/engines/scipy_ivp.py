@@ -6,6 +6,11 @@ symmetry: its stage combinations go through BLAS matrix products, which may roun
 components differently.  r_max and t_dec come from solve_ivp's events (extrema of r and crossings of
 the threshold) on its dense output; a maximum of r above the threshold counts for t_dec, whose
 excursion's end is then found on the dense output (brentq).
+
+solve_ivp has no step limit: the method is run as a subclass of its scipy OdeSolver (`_limited`) that refuses
+the step after `max_steps` accepted ones and stops at a non-finite derivative, both as a failed step, so
+solve_ivp returns the part integrated (a run under the limit computes exactly what the plain method does).
+A failed run reports r_max over that part, as the compiled engines do.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import time
 import warnings
 
 import numpy as np
+import scipy.integrate
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
@@ -26,6 +32,37 @@ _IMPLICIT = {"Radau", "LSODA", "BDF"}
 class _NonFinite(Exception):
     def __init__(self, t):
         self.t = float(t)
+
+
+def _limited(method: str, max_steps: int):
+    """scipy's OdeSolver `method` stopping as a failed step (solve_ivp then keeps the steps accepted before it)
+    when `max_steps` steps are taken (`hit_limit`) or a derivative is non-finite (`failed_at`: its time).  Only
+    `_step_impl` is wrapped (where OdeSolver's documentation has a solver put its step; solve_ivp has no step limit
+    to pass): every step the method takes is its own, bit for bit.  A class per run, so that its
+    two outcomes are read off the class after solve_ivp (which keeps no solver)."""
+    base = getattr(scipy.integrate, method)
+
+    class Limited(base):
+        hit_limit = False
+        failed_at = None
+
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            self.taken = 0
+
+        def _step_impl(self):
+            if self.taken >= max_steps:
+                type(self).hit_limit = True
+                return False, f"solve_ivp {method}: max_steps = {max_steps} steps taken before t_end"
+            try:
+                ok, message = super()._step_impl()
+            except _NonFinite as exc:
+                type(self).failed_at = exc.t
+                return False, "non-finite derivative"
+            self.taken += ok
+            return ok, message
+
+    return Limited
 
 
 def _decay_time(sol, peaks, r, ix, iy, threshold) -> float:
@@ -82,24 +119,29 @@ class ScipyEngine:
             return y[ix] * y[ixd] + y[iy] * y[iyd]
 
         kwargs = {"jac": (lambda t, y: mod.jac(t, y, p))} if self.use_jac else {}
+        method = _limited(self.method, max_steps)
         start = time.perf_counter()
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
-                sol = solve_ivp(f, (0.0, t_end), np.asarray(y0, float), method=self.method, rtol=rtol, atol=atol,
+                sol = solve_ivp(f, (0.0, t_end), np.asarray(y0, float), method=method, rtol=rtol, atol=atol,
                                 dense_output=True, events=(crossing, extremum), **kwargs)
-        except _NonFinite as exc:
-            return {"status": "nonfinite", "t": np.zeros(0), "y": np.zeros((len(y0), 0)), "r_max": float("nan"),
-                    "t_dec": float("nan"), "y_end": np.full(len(y0), np.nan), "n_rhs": count[0], "n_steps": 0,
+        except _NonFinite as exc:  # at the start, before a step: nothing integrated
+            y_start = np.asarray(y0, float)  # what was reached: the start, as the compiled engines report it
+            return {"status": "nonfinite", "t": np.zeros(0), "y": np.zeros((len(y0), 0)),
+                    "r_max": float(np.hypot(y_start[ix], y_start[iy])), "t_dec": float("nan"),
+                    "y_end": y_start.copy(), "n_rhs": count[0], "n_steps": 0,
                     "t_fail": exc.t, "wall_s": time.perf_counter() - start, "message": "non-finite derivative"}
         wall = time.perf_counter() - start
         y_end = sol.y[:, -1]
         t_last = float(sol.t[-1])
         finite = bool(np.all(np.isfinite(sol.y)))
+        r = np.hypot(sol.y[ix], sol.y[iy])
+        # r_max over the part integrated, failed or not (the output says a run failed): the accepted steps and
+        # the extrema located inside them
+        peaks = [float(np.hypot(*sol.sol(te)[[ix, iy]])) for te in sol.t_events[1]]
+        r_max = float(np.nanmax(np.concatenate([r, peaks])))
         if sol.status == 0 and finite:
-            r = np.hypot(sol.y[ix], sol.y[iy])
-            peaks = [float(np.hypot(*sol.sol(te)[[ix, iy]])) for te in sol.t_events[1]]
-            r_max = max([float(r.max())] + peaks)
             if r[-1] >= threshold:
                 t_dec = float("nan")
             else:
@@ -107,10 +149,14 @@ class ScipyEngine:
             status, t_fail = SUCCESS, None
         else:
             bad = np.nonzero(~np.all(np.isfinite(sol.y), axis=0))[0]
-            status = "nonfinite" if (not finite or "finite" in sol.message) else (
-                "step_underflow" if "step size" in sol.message.lower() else "solver_failure")
-            t_fail = float(sol.t[bad[0]]) if len(bad) else t_last
-            r_max, t_dec = float("nan"), float("nan")
+            if method.hit_limit:
+                status = "max_steps"
+            else:
+                status = "nonfinite" if (not finite or "finite" in sol.message) else (
+                    "step_underflow" if "step size" in sol.message.lower() else "solver_failure")
+            t_fail = float(sol.t[bad[0]]) if len(bad) else (method.failed_at if method.failed_at is not None
+                                                            else t_last)
+            t_dec = float("nan")
         return {"status": status, "t": sol.t, "y": sol.y, "r_max": r_max, "t_dec": t_dec, "y_end": y_end,
                 "n_rhs": int(sol.nfev), "n_steps": int(len(sol.t) - 1), "t_fail": t_fail, "wall_s": wall,
                 "message": "" if status == SUCCESS else sol.message}
