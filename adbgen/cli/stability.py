@@ -214,7 +214,8 @@ def _print_response(r) -> None:
         print("reached by AUTO-07p: " + "; ".join(f"{s['parameter']} from {s['from']:g} to {s['to']:g} ({s['steps']} steps)"
                                                   for s in r.route))
     print(f"max r over the orbit: {show(_rounded(r.amplitude_max), u.length, 6)}")
-    extra = f", {r.n_unstable} unstable" if r.classification == "unstable" else ""
+    # a count of unstable multipliers is part of a verdict: a marginal headline gives none
+    extra = f", {r.n_unstable} unstable" if r.classification == "unstable" and not r.margin.marginal else ""
     k = int(r.family.sum())
     print(f"classification: {r.margin.verdict(r.classification)}{extra} (Floquet multipliers, |mu| < 1: stable"
           + (f"; transverse to the {k}-dimensional family of balanced orbits)" if k else ")"))
@@ -245,8 +246,9 @@ def _print_steady(st, followed=None) -> None:
     for name, v in zip(m.state_names, st.y):
         print(f"  {name:<12} {v: .12g}" + ("" if u.states[name] == "1" else f" {u.states[name]}"))
     k = st.tangent.shape[1]
-    extra = f", {st.n_unstable} unstable" if st.classification == "unstable" else ""
-    verdict = st.classification if st.margin is None else st.margin.verdict(st.classification)
+    marginal = st.margin is not None and st.margin.marginal
+    extra = f", {st.n_unstable} unstable" if st.classification == "unstable" and not marginal else ""
+    verdict = st.margin.verdict(st.classification) if marginal else st.classification
     print(f"classification: {verdict}{extra}"
           + (f" (transverse to the {k}-dimensional family of balanced states (3.6))" if k else ""))
     if st.margin is not None:

@@ -61,7 +61,7 @@ def add_margins(model, points: list[dict], name: str, p: np.ndarray, follower=No
             margin = margin.widened(abs(slope) * row["location_uncertainty"] if np.isfinite(slope) else np.inf,
                                     f"+ |d margin / d {name}| ({abs(slope):.3g}) x where AUTO-07p placed the point"
                                     if np.isfinite(slope) else
-                                    f"the point's location error not counted (no steady state beside it in {name})")
+                                    f"the point's location error unknown (no steady state beside it in {name}): nothing certified")
         row.update(margin.to_json())
 
 

@@ -47,3 +47,19 @@ def test_a_bifurcation_point_with_a_clear_margin_is_not_made_marginal():
     row = _row(model, state, 4.0, location_tolerance(1e-8, 0.0025, 0.005))
     run_points.add_margins(model, [row], "Omega", p, follow)
     assert not row["marginal"] and row["margin_uncertainty"] < 1e-8 and row["margin"] < -1e-3
+
+
+def test_a_bifurcation_point_with_no_state_beside_it_is_not_certified():
+    """Where the followed state cannot be found on either side the location's effect is unknown: the margin is
+    certified to nothing (uncertainty inf, null in JSON) and the row is marginal, even with a clear margin."""
+    from adbgen.analysis.loading import AnalysisError
+
+    model, p, state, _, _ = _setup()
+
+    def lost(q, guess):
+        raise AnalysisError("Newton did not converge")
+
+    row = _row(model, state, 4.0, 1e-8)
+    run_points.add_margins(model, [row], "Omega", p, lost)
+    assert row["marginal"] and row["margin_uncertainty"] == float("inf") and row["margin"] < -1e-3
+    assert "nothing certified" in row["margin_estimate"]
