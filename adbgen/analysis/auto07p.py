@@ -230,6 +230,33 @@ def set_constants(text: str, **values) -> str:
     return "\n".join(lines) + "\n"
 
 
+# fort.7 and fort.8 print every number as ES19.10 (AUTO-07p's WRLINE, WRTSP8): 11 significant digits
+PRINTED_RELATIVE = 5e-11
+
+
+def constant(text: str, key: str) -> float | None:
+    """The number a constants file gives KEY (e.g. EPSS), None if it gives none."""
+    for line in text.splitlines():
+        if line.lstrip().startswith("#") or "=" not in line:
+            continue
+        for item in _split_top(line):
+            k, _, v = item.partition("=")
+            if k.strip() == key:
+                try:
+                    return float(v)
+                except ValueError:
+                    return None
+    return None
+
+
+def location_tolerance(epss: float, ds: float, ds_max: float) -> float:
+    """How far AUTO-07p may place a special point (HB, LP, BP) from the zero of its test function, in
+    arclength (with AUTO's unit weights it bounds the parameter's error too): LCSPAE (src/ae.f90) stops its
+    secant-Mueller iteration once the next correction |RDS| < EPSS (1 + sqrt|DS DSMAX|), leaving that
+    correction untaken."""
+    return float(epss) * (1.0 + math.sqrt(abs(ds * ds_max)))
+
+
 def _plain(v):
     """Python numbers and lists (numpy scalars print as np.float64(...), which AUTO cannot read)."""
     return [_plain(x) for x in v] if isinstance(v, (list, tuple)) else float(v)
@@ -303,6 +330,7 @@ class AutoRun:
     points: list[Point]
     solutions: list[Solution]
     p: np.ndarray
+    location: float | None = None  # `location_tolerance` of this run (None: not known)
 
     def column(self) -> str:
         return f"PAR({auto_parameter(self.model.param_names.index(self.name))})"
@@ -329,6 +357,9 @@ class AutoRun:
             if pt.kind == "HB" and pt.label in by_label:
                 period = by_label[pt.label].par[10]
                 row["frequency"] = 2 * math.pi / period if period > 0 else None
+            if pt.kind is not None and self.location is not None:
+                # AUTO's own location error plus the printed digits: a bifurcation point is only this well placed
+                row["location_uncertainty"] = self.location + PRINTED_RELATIVE * abs(pt.values[col])
             sol = by_label.get(pt.label)
             if sol is not None:
                 row["state"] = dict(zip(m.state_names, map(float, sol.u[0])))
@@ -393,10 +424,12 @@ def continue_one(model: Model, name: str, p: np.ndarray | None = None, y: np.nda
     session = session or Session(model)
     try:
         points, solutions, _ = session.run(**constants)
+        epss = constant(session.base, "EPSS")
     finally:
         if own:
             session.close()
-    return AutoRun(model, name, points, solutions, p)
+    location = None if epss is None else location_tolerance(epss, ds, ds_max)
+    return AutoRun(model, name, points, solutions, p, location)
 
 
 @dataclass

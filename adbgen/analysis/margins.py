@@ -2,6 +2,9 @@
 
     Margin(value, uncertainty)                 value: leading real part (steady state) or leading |mu| - 1
                                                (periodic orbit); marginal when |value| <= uncertainty
+    Margin.verdict(classification)             the classification, or "marginal (unstable by .., uncertain to
+                                               ..)" when the margin cannot support it
+    Margin.widened(extra, why)                 the same margin with `extra` added to its uncertainty
     eigenvalue_margin(A, J_moved=None)         of the (transverse) linearisation A
     multiplier_margin(M, mu, trivial, ...)     of a monodromy matrix M's non-trivial multipliers
 
@@ -40,6 +43,20 @@ class Margin:
     def marginal(self) -> bool:
         """The margin is inside what the computation can certify: the verdict may be either."""
         return bool(abs(self.value) <= self.uncertainty)
+
+    def verdict(self, classification: str) -> str:
+        """The classification a headline may state: as given when the margin certifies it; otherwise "marginal"
+        with the side the computed margin is on and how far, against its uncertainty (a sign inside the
+        uncertainty is not a verdict)."""
+        if not self.marginal:
+            return classification
+        side = "unstable" if self.value > 0 else "stable" if self.value < 0 else "on the boundary"
+        by = "" if self.value == 0 else f" by {abs(self.value):.2g}"
+        return f"marginal ({side}{by}, uncertain to {self.uncertainty:.2g})"
+
+    def widened(self, extra: float, why: str) -> Margin:
+        """This margin with `extra` (>= 0) added to its uncertainty, `why` appended to how it was estimated."""
+        return Margin(self.value, self.uncertainty + float(extra), f"{self.how}; {why}")
 
     def to_json(self) -> dict:
         return {"margin": float(self.value), "margin_uncertainty": float(self.uncertainty),

@@ -214,9 +214,10 @@ def _print_response(r) -> None:
         print("reached by AUTO-07p: " + "; ".join(f"{s['parameter']} from {s['from']:g} to {s['to']:g} ({s['steps']} steps)"
                                                   for s in r.route))
     print(f"max r over the orbit: {show(_rounded(r.amplitude_max), u.length, 6)}")
-    extra = f", {r.n_unstable} unstable" if r.classification == "unstable" else ""
+    # a count of unstable multipliers is part of a verdict: a marginal headline gives none
+    extra = f", {r.n_unstable} unstable" if r.classification == "unstable" and not r.margin.marginal else ""
     k = int(r.family.sum())
-    print(f"classification: {r.classification}{extra} (Floquet multipliers, |mu| < 1: stable"
+    print(f"classification: {r.margin.verdict(r.classification)}{extra} (Floquet multipliers, |mu| < 1: stable"
           + (f"; transverse to the {k}-dimensional family of balanced orbits)" if k else ")"))
     mg = r.margin
     print(f"margin: leading |mu| - 1 = {mg.value:.6g}, certain to {mg.uncertainty:.2g}"
@@ -245,8 +246,10 @@ def _print_steady(st, followed=None) -> None:
     for name, v in zip(m.state_names, st.y):
         print(f"  {name:<12} {v: .12g}" + ("" if u.states[name] == "1" else f" {u.states[name]}"))
     k = st.tangent.shape[1]
-    extra = f", {st.n_unstable} unstable" if st.classification == "unstable" else ""
-    print(f"classification: {st.classification}{extra}"
+    marginal = st.margin is not None and st.margin.marginal
+    extra = f", {st.n_unstable} unstable" if st.classification == "unstable" and not marginal else ""
+    verdict = st.margin.verdict(st.classification) if marginal else st.classification
+    print(f"classification: {verdict}{extra}"
           + (f" (transverse to the {k}-dimensional family of balanced states (3.6))" if k else ""))
     if st.margin is not None:
         mg = st.margin
@@ -390,7 +393,7 @@ def run_continue(args) -> int:
                 "end_at": float(end_at), "units": {args.par: u.params[args.par]}, **followed.to_json()})
     follow = lambda q, guess: pinned(model, y, q, guess)  # noqa: E731
     run_points.add_lyapunov(model, out["points"], args.par, p, follow)
-    run_points.add_margins(model, out["points"], args.par, p)
+    run_points.add_margins(model, out["points"], args.par, p, follow)
     if glue.wants_orbits(args):
         with activity(f"{model.name}: periodic orbits in {args.par} (shooting)", show_progress):
             result, found = glue.continue_orbits(model, args, p, out["points"], args.par, to, follow)
@@ -458,8 +461,11 @@ def _print_continue(out, name, name2) -> None:
     for pt in out["points"]:
         freq = f", frequency {pt['frequency']:.9g}" if pt.get("frequency") else ""
         crit = f", {pt['criticality']} (l1 = {pt['first_lyapunov']:.6g})" if "criticality" in pt else ""
-        margin = f", margin {pt['margin']:.3g}" + (" MARGINAL" if pt["marginal"] else "") if "margin" in pt else ""
-        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {pt['stability']}{freq}{crit}{margin}")
+        margin = f", margin {pt['margin']:.3g}" + (f" MARGINAL (uncertain to {pt['margin_uncertainty']:.2g})"
+                                                   if pt["marginal"] else "") if "margin" in pt else ""
+        # AUTO's flag is a sign; where the margin cannot support it the row says so first
+        verdict = f"marginal (AUTO-07p: {pt['stability']})" if pt.get("marginal") else pt["stability"]
+        print(f"  {pt['label']:>3} {pt['type']:<3} {name} = {pt[name]:.10g}  {verdict}{freq}{crit}{margin}")
     print_orbits(out, name)
     if name2:
         for c in out["curves"]:

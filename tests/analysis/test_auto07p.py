@@ -246,3 +246,22 @@ def test_two_plane_rotor_hopf_point_from_the_scan_and_auto(auto_ok):
     hb = [pt.values[run.column()] for pt in run.points if pt.kind == "HB"]
     assert len(hb) == 1 and abs(hb[0] - scan.points[0].value) < TOL
     assert abs(scan.points[0].value - 2.731992) < 1e-6
+
+
+def test_a_bifurcation_row_carries_where_auto_may_have_placed_it():
+    """`location_tolerance` is LCSPAE's stopping rule EPSS (1 + sqrt|DS DSMAX|) with the model's own EPSS (its c.
+    file); `AutoRun.to_json` gives HB / LP / BP rows that plus fort.7's printed digits, and no other row."""
+    from adbgen.analysis.loading import load_model
+
+    model = load_model("thesis_rotating_n2")
+    epss = auto07p.constant((model.folder / "auto" / "c.thesis_rotating_n2").read_text(), "EPSS")
+    assert epss == 1e-8 and auto07p.constant("NTST = 20, NCOL = 4", "EPSS") is None
+    tol = auto07p.location_tolerance(epss, 0.0025, 0.005)
+    assert tol == pytest.approx(1e-8 * (1 + np.sqrt(0.0025 * 0.005)), rel=1e-15)
+    col = f"PAR({auto07p.auto_parameter(model.param_names.index('Omega'))})"
+    points = [auto07p.Point(1, -5, ty, lab, {col: 1.5}) for ty, lab in ((3, 1), (2, 2), (1, 3), (-4, 4), (9, 5))]
+    rows = auto07p.AutoRun(model, "Omega", points, [], np.zeros(model.n_params), tol).to_json()
+    assert [r["type"] for r in rows if "location_uncertainty" in r] == ["HB", "LP", "BP"]
+    assert rows[0]["location_uncertainty"] == pytest.approx(tol + 1.5 * auto07p.PRINTED_RELATIVE, rel=1e-15)
+    # a run whose tolerance is unknown says nothing about where its points are
+    assert all("location_uncertainty" not in r for r in auto07p.AutoRun(model, "Omega", points, [], None).to_json())

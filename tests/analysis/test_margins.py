@@ -60,3 +60,19 @@ def test_an_orbit_inside_its_accuracy_is_marginal_and_neither_verdict_is_certifi
     o = _orbit([1 - 1.5e-7, 0.5], trivial_error=1e-6)
     assert o.margin.marginal and not o.stable and o.n_unstable == 0
     assert _orbit([1 + 1e-3, 0.5]).n_unstable == 1 and not _orbit([1 + 1e-3, 0.5]).stable
+
+
+def test_a_verdict_inside_the_uncertainty_says_marginal_with_its_side_and_a_certified_one_is_kept():
+    """The headline `adbgen stability` prints (docs/flexible.md's response: |mu| - 1 = 5.7e-6, certain to 8.4e-5
+    only, was headed "unstable").  Negative control: a margin outside its uncertainty keeps its classification."""
+    flexible = margins.Margin(5.7e-6, 8.4e-5, "")
+    assert flexible.verdict("unstable") == "marginal (unstable by 5.7e-06, uncertain to 8.4e-05)"
+    assert margins.Margin(-1.2e-8, 3.1e-8, "").verdict("stable") == "marginal (stable by 1.2e-08, uncertain to 3.1e-08)"
+    assert margins.Margin(0.0, 1e-12, "").verdict("neutral") == "marginal (on the boundary, uncertain to 1e-12)"
+    assert margins.Margin(5.7e-6, 1e-7, "").verdict("unstable") == "unstable"
+
+
+def test_widening_a_margin_adds_to_its_uncertainty_and_says_why():
+    m = margins.Margin(-1.2e-8, 4.3e-9, "rounding").widened(2.7e-8, "location")
+    assert m.uncertainty == pytest.approx(3.13e-8) and m.marginal and m.how == "rounding; location"
+    assert not margins.Margin(-1.2e-8, 4.3e-9, "rounding").marginal

@@ -233,3 +233,22 @@ def test_a_unit_is_printed_only_where_the_model_has_one():
     assert si["Omega"] == "rad/s" and si["M"] == "kg" and set(plain.values()) == {"dimensionless"}
     dimensional = units(load_model("single_plane_fixed_n2")).params["omega"]
     assert "rad/s" in auto_end("omega", 400.0, 100.0, dimensional, "UZ")
+
+
+def test_a_classification_the_margin_cannot_support_is_headed_marginal(capsys):
+    """At thesis_rotating_n2's Hopf point (the root of the leading real part, to 1e-15) the margin is inside its
+    uncertainty: the headline says "marginal (<side> by .., uncertain to ..)", the JSON keeps "classification"
+    and says "marginal": true.  Negative control: 1e-3 above the point the plain verdict stands."""
+    from analysis_helpers import thesis_n2_hopf
+
+    hopf, _ = thesis_n2_hopf()
+    code, out, err = run(capsys, "stability", "thesis_rotating_n2", "--set", f"Omega={hopf!r}", "--quiet")
+    assert code == 0, err
+    line = next(s for s in out.splitlines() if s.startswith("classification: "))
+    number = r"[0-9.e+-]+"
+    assert re.match(rf"classification: marginal \((stable|unstable) by {number}, uncertain to {number}\)$", line), line
+    code, out, err = run(capsys, "stability", "thesis_rotating_n2", "--set", f"Omega={hopf!r}", "--json")
+    data = json.loads(out)
+    assert data["marginal"] is True and abs(data["margin"]) <= data["margin_uncertainty"] and "classification" in data
+    code, out, err = run(capsys, "stability", "thesis_rotating_n2", "--set", f"Omega={hopf + 1e-3!r}", "--quiet")
+    assert "classification: stable" in out and "MARGINAL" not in out, out
