@@ -56,7 +56,7 @@ def add_margins(model, points: list[dict], name: str, p: np.ndarray, follower=No
         except (AnalysisError, np.linalg.LinAlgError):
             continue
         if "location_uncertainty" in row and follower is not None:
-            slope = location_slope(model, q, y, k, follower)
+            slope = location_slope(model, q, y, k, follower, at=margin.value)
             # no state on either side: the location's effect is unknown, so nothing is certified (inf)
             margin = margin.widened(abs(slope) * row["location_uncertainty"] if np.isfinite(slope) else np.inf,
                                     f"+ |d margin / d {name}| ({abs(slope):.3g}) x where AUTO-07p placed the point"
@@ -65,8 +65,8 @@ def add_margins(model, points: list[dict], name: str, p: np.ndarray, follower=No
         row.update(margin.to_json())
 
 
-def location_slope(model, q: np.ndarray, y: np.ndarray, k: int, follower, rel: float = 1e-6) -> float:
-    """d margin / d p_k at the point (q, y): a central difference of `steady.margin_at` over the state
+def location_slope(model, q: np.ndarray, y: np.ndarray, k: int, follower, *, at: float, rel: float = 1e-6) -> float:
+    """d margin / d p_k at the point (q, y), whose margin is `at` (its caller has it): a central difference of `steady.margin_at` over the state
     followed to q_k +- h, h = rel max(1, |q_k|) (the margin is smooth in p_k through a Hopf point; its O(h^2)
     error is far below the slope at 1e-6); one-sided where one side has no state (beside a fold, where the
     slope is unbounded and the one-sided difference large); nan where neither side has one."""
@@ -85,5 +85,5 @@ def location_slope(model, q: np.ndarray, y: np.ndarray, k: int, follower, rel: f
         return (side[1.0] - side[-1.0]) / (2 * h)
     if len(side) == 1:
         sign, value = next(iter(side.items()))
-        return sign * (value - steady.margin_at(model, q, y).value) / h
+        return sign * (value - at) / h
     return float("nan")
